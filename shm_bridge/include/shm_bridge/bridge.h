@@ -1,0 +1,171 @@
+// The two ends of a robot segment (layout and handshake: see layout.h).
+//
+//   Producer      created by sim_host / hw_driver: owns the segment, publishes sensors every
+//                 control cycle, waits for the controller's commands.
+//   RobotAdaptor  the controller's end, the paper's robot adaptor: open / read / write / close.
+//                 It never learns (and never needs) which kind of producer is on the other side.
+//
+// Set-up calls (Producer::Create, RobotAdaptor::open) return a Status that names what failed.
+// The cycle calls (PublishSensors, WaitCommands, read, write) never allocate, throw or log:
+// they return a result code and the caller counts problems.
+#pragma once
+
+#include <sys/types.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shm_bridge/layout.h"
+
+namespace ohrp::shm {
+
+//---------------- errors ----------------
+
+enum class Error {
+  kOk = 0,
+  kNoSegment,          // no segment of that name (the producer is not running)
+  kNotASegment,        // the object exists but has the wrong size or magic
+  kLayoutMismatch,     // version or layout hash differ: producer and controller were built apart
+  kProducerNotReady,   // the producer is still writing the header
+  kProducerDead,       // the segment is stale: its producer process is gone
+  kProducerStopped,    // the producer has ended its run
+  kControllerPresent,  // another live controller is attached
+  kSegmentBusy,        // (producer) a live producer already owns a segment of that name
+  kInvalidConfig,      // (producer) counts or names do not fit the layout
+  kSystem,             // an operating-system call failed (errno text in the message)
+};
+
+// Outcome of a set-up call: a code and a sentence for the user (what failed, what to do).
+struct Status {
+  Error code = Error::kOk;
+  std::string message;
+  bool ok() const { return code == Error::kOk; }
+  static Status Ok() { return {}; }
+};
+
+const char* ErrorName(Error e);
+
+// The file name used for a segment name: "ohrp_<name>" under /dev/shm.
+std::string SegmentObjectName(const std::string& segment_name);
+
+// True when process `pid` exists (signal 0 succeeds or fails with EPERM).
+bool ProcessAlive(pid_t pid);
+
+//---------------- producer side ----------------
+
+struct ProducerConfig {
+  std::string segment_name;   // e.g. "hrp1s"; see SegmentObjectName
+  ProducerKind kind = ProducerKind::kSimulation;
+  std::string robot_name;
+  std::vector<std::string> joint_names;  // joint-id order; <= kMaxJoints, each < kNameLen
+  std::vector<std::string> force_names;
+  std::vector<std::string> imu_names;
+  std::vector<CameraInfo> cameras;
+  std::vector<double> q_min, q_max, tau_max, default_kp, default_kd;  // njoint each
+  double physics_period = 0.0;      // [s]
+  double control_period = 0.005;    // [s]
+  double read_timeout_hint = 1.0;   // [s]
+};
+
+enum class WaitResult {
+  kCommands,        // a fresh command block was copied out
+  kTimeout,         // the controller did not answer in time (it is still alive)
+  kNoController,    // nobody is attached
+  kControllerDied,  // the attached controller's process is gone (its claim was released)
+};
+
+class Producer {
+ public:
+  // Creates the segment `config.segment_name` with owner-only permissions (0600), writes and
+  // checks the header, and sets the state to kRunning. A segment of that name left by a dead
+  // producer is removed and replaced (the message of `*status` says so); one owned by a live
+  // producer is refused with kSegmentBusy. Returns null on failure with `*status` set.
+  static std::unique_ptr<Producer> Create(const ProducerConfig& config, Status* status);
+
+  // Marks the segment kStopped (unless already kFailed), wakes a waiting controller and
+  // removes the segment.
+  ~Producer();
+  Producer(const Producer&) = delete;
+  Producer& operator=(const Producer&) = delete;
+
+  const SegmentHeader& header() const { return segment_->header; }
+  const std::string& object_name() const { return object_name_; }
+
+  // Opens the sensor block for writing (seqlock odd); fill it, then call PublishSensors.
+  SensorBlock& BeginSensors();
+  // Closes the seqlock and posts sensors_ready (never more than one pending post).
+  void PublishSensors();
+
+  // Waits until the controller posts commands for the last published cycle, or until
+  // `timeout` [s] passes, checking the controller's pid every `slice` [s]. Copies the command
+  // block into `*out` on kCommands. On kControllerDied the controller slot is freed.
+  WaitResult WaitCommands(double timeout, CommandBlock* out, double slice = 0.02);
+
+  // The attached controller's pid, 0 if none.
+  pid_t controller_pid() const;
+
+  // Sets the producer state seen by controllers (kStopped / kFailed end their reads).
+  void SetState(ProducerState state);
+
+ private:
+  Producer() = default;
+  Segment* segment_ = nullptr;
+  std::string object_name_;
+  void* region_ = nullptr;  // boost mapped_region, owned
+};
+
+//---------------- controller side: the robot adaptor ----------------
+
+enum class ReadResult {
+  kOk,               // fresh sensors copied out
+  kTimeout,          // nothing arrived in time, the producer is still alive
+  kProducerGone,     // the producer's process is gone
+  kProducerStopped,  // the producer ended its run (state kStopped or kFailed)
+  kNotOpen,
+};
+
+const char* ReadResultName(ReadResult r);
+
+struct AdaptorOptions {
+  double read_timeout = 2.0;   // [s] how long read() waits for the next cycle
+  double slice = 0.02;         // [s] how often a waiting read checks the producer's pid
+};
+
+class RobotAdaptor {
+ public:
+  RobotAdaptor() = default;
+  ~RobotAdaptor();  // close()
+  RobotAdaptor(const RobotAdaptor&) = delete;
+  RobotAdaptor& operator=(const RobotAdaptor&) = delete;
+
+  // Attaches to the segment by name: checks magic, layout version and hash, size, that the
+  // producer is alive and running, and claims the controller slot (a slot held by a dead
+  // controller is taken over). On failure nothing stays attached and the Status message says
+  // which check failed and what to do.
+  Status open(const std::string& segment_name, const AdaptorOptions& options = {});
+
+  // Blocks until the sensors of the next cycle are published, then copies them into `*out`.
+  ReadResult read(SensorBlock* out);
+
+  // Writes the commands answering the last cycle read (answers_cycle is set here) and posts
+  // commands_ready.
+  ReadResult write(const CommandBlock& commands);
+
+  // Releases the controller slot and unmaps the segment. Safe to call twice.
+  void close();
+
+  bool is_open() const { return segment_ != nullptr; }
+  // A copy of the header, validated at open (counts clamped to the capacities).
+  const SegmentHeader& header() const { return header_; }
+
+ private:
+  Segment* segment_ = nullptr;
+  void* region_ = nullptr;  // boost mapped_region, owned
+  SegmentHeader header_{};
+  AdaptorOptions options_;
+  uint64_t last_cycle_ = 0;
+  bool have_cycle_ = false;
+};
+
+}  // namespace ohrp::shm

@@ -1,0 +1,204 @@
+// The robot segment: the fixed, self-describing memory layout shared by a producer (sim_host,
+// hw_driver, a replay) and one controller. Plain data only, no pointers, SI units throughout
+// (positions [m] or [rad], velocities [m/s] or [rad/s], forces [N], torques [N m], time [s]).
+//
+// ---------------------------------------------------------------------------------------------
+// Segment = SegmentHeader | SensorBlock | CommandBlock | Sync, at the offsets of `Segment` below.
+//
+// Who writes what (one writer per block):
+//   header        producer, once before `state` becomes kRunning (then read-only), except
+//                 `controller_pid` (claimed by a controller with compare-and-swap) and `state`.
+//   sensors       producer, every control cycle, under the `sensors.seq` seqlock.
+//   commands      controller, every control cycle, under the `commands.seq` seqlock.
+//
+// Lock-step handshake (two process-shared POSIX semaphores in `Sync`, both start at 0):
+//   1. producer  : finishes the physics steps of cycle k, writes sensors (cycle = k),
+//                  posts `sensors_ready` (only if its count is 0: never more than one pending).
+//   2. controller: `read` waits on `sensors_ready` (CLOCK_MONOTONIC deadline), copies the block.
+//   3. controller: `write` fills commands (answers_cycle = k), posts `commands_ready`.
+//   4. producer  : waits on `commands_ready` until its timeout (lock-step) or until the cycle's
+//                  deadline (real time), copies the commands; they act from step k+1 on.
+// Waits are cut into short slices; between slices each side checks that its peer's pid is
+// still alive, so a dead peer is noticed within one slice, not at the end of the timeout.
+// The timed waits use sem_clockwait(CLOCK_MONOTONIC): Boost 1.74's interprocess_semaphore only
+// offers a wall-clock deadline, which jumps with the system clock.
+//
+// Seqlock rule for both data blocks: the writer increments `seq` to an odd value, writes, then
+// increments it to an even value (release). A reader copies the block and retries when `seq`
+// was odd or changed during the copy. Readers never trust counts read from the segment: every
+// count is clamped to the k* maxima below before use.
+// Fields shared across processes while both run (`state`, `controller_pid`, `seq`) are plain
+// integers accessed only through std::atomic_ref, so every block stays trivially copyable.
+// ---------------------------------------------------------------------------------------------
+#pragma once
+
+#include <semaphore.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace ohrp::shm {
+
+//---------------- capacities and identification ----------------
+
+inline constexpr char kMagic[8] = {'O', 'H', 'R', 'P', 'S', 'E', 'G', '1'};
+inline constexpr uint32_t kLayoutVersion = 1;
+inline constexpr int kMaxJoints = 64;   // actuated joints
+inline constexpr int kMaxForceSensors = 4;  // 6-axis force/torque sensors
+inline constexpr int kMaxImus = 2;
+inline constexpr int kMaxCameras = 4;
+inline constexpr int kNameLen = 32;     // bytes per name, NUL-terminated
+
+// who fills the segment; a controller never needs to ask, but tools and logs do
+enum class ProducerKind : uint32_t { kUnknown = 0, kSimulation = 1, kHardware = 2, kReplay = 3 };
+
+// producer lifecycle, in SegmentHeader::state
+enum class ProducerState : uint32_t {
+  kCreating = 0,  // header being written: do not attach yet
+  kRunning = 1,   // sensors published every cycle
+  kStopped = 2,   // producer ended its run cleanly (the segment is about to be removed)
+  kFailed = 3,    // producer stopped on an error (e.g. the simulation diverged)
+};
+
+// per-joint command mode
+enum class JointMode : uint32_t {
+  kOff = 0,       // no torque from the servo (the joint is limp)
+  kPosition = 1,  // tau = kp (q_ref - q) + kd (dq_ref - dq) + tau_ff
+  kVelocity = 2,  // tau = kd (dq_ref - dq) + tau_ff
+  kTorque = 3,    // tau = tau_ff
+};
+
+// bits of SensorBlock::status
+namespace status {
+inline constexpr uint32_t kRunning = 1u << 0;            // producer is cycling normally
+inline constexpr uint32_t kNoController = 1u << 1;       // no controller attached
+inline constexpr uint32_t kHolding = 1u << 2;            // holding last references (peer lost)
+inline constexpr uint32_t kCommandRejected = 1u << 3;    // a joint command was rejected this cycle
+inline constexpr uint32_t kCommandLate = 1u << 4;        // the last commands came too late
+inline constexpr uint32_t kShuttingDown = 1u << 5;       // last cycle: producer is ending
+inline constexpr uint32_t kDiverged = 1u << 6;           // simulation diverged; data invalid
+inline constexpr uint32_t kSimulated = 1u << 16;         // sim_truth is valid (simulation only)
+}  // namespace status
+
+//---------------- header ----------------
+
+struct CameraInfo {
+  char name[kNameLen];
+  int32_t width;       // [pixel]
+  int32_t height;      // [pixel]
+  double fovy;         // vertical field of view [deg]
+  double p_BC[3];      // camera position in its parent body frame [m]
+};
+
+struct SegmentHeader {
+  char magic[8];                    // kMagic
+  uint32_t layout_version;          // kLayoutVersion
+  uint32_t header_size;             // sizeof(SegmentHeader) as the producer built it [byte]
+  uint64_t layout_hash;             // LayoutHash() as the producer built it
+  uint64_t segment_size;            // sizeof(Segment) [byte]
+  ProducerKind producer_kind;
+  int32_t producer_pid;             // process id of the producer
+  uint32_t state;                   // ProducerState (atomic access: std::atomic_ref)
+  int32_t controller_pid;           // 0: free; else the attached controller's pid (atomic)
+  char robot_name[kNameLen];
+
+  int32_t njoint;                   // actuated joints, <= kMaxJoints
+  int32_t nforce;                   // force/torque sensors, <= kMaxForceSensors
+  int32_t nimu;                     // IMUs, <= kMaxImus
+  int32_t ncamera;                  // cameras declared, <= kMaxCameras
+  char joint_names[kMaxJoints][kNameLen];        // in joint-id order
+  char force_names[kMaxForceSensors][kNameLen];
+  char imu_names[kMaxImus][kNameLen];
+  CameraInfo cameras[kMaxCameras];
+
+  double q_min[kMaxJoints];         // joint position limits (njoint) [rad or m]
+  double q_max[kMaxJoints];
+  double tau_max[kMaxJoints];       // torque limit magnitude (njoint) [N m or N]
+  double default_kp[kMaxJoints];    // producer's suggested position gains (njoint) [N m/rad]
+  double default_kd[kMaxJoints];    // producer's suggested damping gains (njoint) [N m s/rad]
+
+  double physics_period;            // integration step [s] (0 for hardware)
+  double control_period;            // period of the sensor/command cycle [s]
+  double read_timeout_hint;         // how long a producer may take per cycle [s]
+};
+
+//---------------- sensor block (producer -> controller) ----------------
+
+struct ForceTorque {
+  double force[3];   // force on the sensor's child side, in the sensor frame [N]
+  double torque[3];  // moment about the sensor origin, in the sensor frame [N m]
+};
+
+struct Imu {
+  double gyro[3];    // angular velocity in the IMU frame [rad/s]
+  double accel[3];   // specific force in the IMU frame (reads +g when at rest) [m/s^2]
+  double quat_WI[4]; // orientation of the IMU frame in the world, (w, x, y, z)
+};
+
+// Simulation-only ground truth: valid only when status has kSimulated. A controller that
+// uses it cannot run on the robot; it is here for logging and for test checks.
+struct SimTruth {
+  double p_WB[3];     // base (root body) position in world [m]
+  double quat_WB[4];  // base orientation (w, x, y, z)
+  double v_WB[3];     // base linear velocity in world [m/s]
+  double w_WB[3];     // base angular velocity in world [rad/s]
+};
+
+struct SensorBlock {
+  uint64_t seq;                     // seqlock counter, odd while written (atomic access)
+  uint64_t cycle;                   // control cycle index k, starts at 0
+  double time;                      // simulated (or robot) time at the end of cycle k [s]
+  uint32_t status;                  // status:: bits
+  uint32_t pad0;
+  uint64_t last_command_cycle;      // answers_cycle of the last accepted command block
+  uint64_t late_commands;           // cycles whose commands missed their deadline/timeout
+  uint64_t rejected_commands;       // joint commands rejected so far (NaN, out of range)
+  uint32_t rejected_per_joint[kMaxJoints];  // same, per joint (njoint)
+
+  double q[kMaxJoints];             // joint position (njoint) [rad or m]
+  double dq[kMaxJoints];            // joint velocity (njoint) [rad/s or m/s]
+  double tau[kMaxJoints];           // joint torque applied by the servo (njoint) [N m or N]
+  ForceTorque force[kMaxForceSensors];  // (nforce)
+  Imu imu[kMaxImus];                // (nimu)
+  SimTruth sim_truth;
+};
+
+//---------------- command block (controller -> producer) ----------------
+
+struct JointCommand {
+  JointMode mode;
+  uint32_t pad0;
+  double q_ref;    // reference position [rad or m]
+  double dq_ref;   // reference velocity [rad/s or m/s]
+  double tau_ff;   // feed-forward torque [N m or N]
+  double kp;       // position gain [N m/rad]
+  double kd;       // velocity gain [N m s/rad]
+};
+
+struct CommandBlock {
+  uint64_t seq;                     // seqlock counter, odd while written (atomic access)
+  uint64_t answers_cycle;           // the sensor cycle k these commands answer
+  int32_t njoint;                   // joints filled, must equal header njoint
+  int32_t pad0;
+  JointCommand joint[kMaxJoints];   // (njoint), joint-id order
+};
+
+//---------------- synchronisation ----------------
+
+struct Sync {
+  sem_t sensors_ready;   // posted by the producer when a sensor block is published
+  sem_t commands_ready;  // posted by the controller when a command block is written
+};
+
+struct Segment {
+  SegmentHeader header;
+  alignas(64) SensorBlock sensors;
+  alignas(64) CommandBlock commands;
+  alignas(64) Sync sync;
+};
+
+// A hash of the layout (sizes and offsets of every block and of the capacities), so that a
+// controller built against another layout is refused on attach instead of misreading.
+uint64_t LayoutHash();
+
+}  // namespace ohrp::shm
