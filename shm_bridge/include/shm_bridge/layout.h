@@ -124,9 +124,12 @@ struct SegmentHeader {
 
 //---------------- sensor block (producer -> controller) ----------------
 
+// Convention (OpenHRP's): what the child side (e.g. the foot and whatever it touches) exerts on
+// the parent side (the leg), in the sensor frame. A robot standing still on two feet reads
+// about +m g / 2 along the sensor's z at each ankle when the sensor frame is upright.
 struct ForceTorque {
-  double force[3];   // force on the sensor's child side, in the sensor frame [N]
-  double torque[3];  // moment about the sensor origin, in the sensor frame [N m]
+  double force[3];   // force exerted by the child side on the parent side, sensor frame [N]
+  double torque[3];  // moment of that force about the sensor origin, sensor frame [N m]
 };
 
 struct Imu {
