@@ -1,0 +1,50 @@
+// sim_host: the simulation producer. Loads a scene, creates the robot's segment, steps MuJoCo,
+// runs the joint servos at the physics rate, publishes the sensors every control period and
+// takes the controller's commands, in lock-step (default) or paced to the wall clock.
+//
+// Time (see docs/architecture.md): the sensors of cycle k are those at the end of the physics
+// steps of cycle k; the commands answering cycle k act from the next physics step on.
+#pragma once
+
+#include <string>
+
+namespace ohrp::sim {
+
+enum class ControllerLoss {
+  kEnd,       // stop the run (exit code kExitControllerLost)
+  kWait,      // hold the robot, freeze time and wait for a new controller
+  kContinue,  // keep simulating with the last references held
+};
+
+struct HostOptions {
+  std::string scene;               // MJCF file
+  std::string segment = "hrp1s";   // segment name
+  std::string keyframe;            // initial state; empty: the model's qpos0
+  double physics_dt = 0;           // [s]; 0: the scene's timestep
+  double control_period = 0.005;   // [s]; a multiple of the physics step
+  std::string integrator;          // euler | rk4 | implicit; empty: the scene's
+  double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
+  bool realtime = false;           // pace cycles to the wall clock
+  double wait_controller = 30;     // [s] wall time to wait for the first controller; 0: run without
+  double controller_timeout = 1.0; // [s] wall time a lock-step controller may take per cycle
+  ControllerLoss on_loss = ControllerLoss::kEnd;
+  std::string log_path;            // CSV data log; empty: none
+  int log_every = 1;               // record one row every N control cycles
+  std::string summary_path;        // JSON summary at the end; empty: none
+  double progress = 2.0;           // [s] wall time between progress lines; 0: none
+  bool quiet = false;
+};
+
+// exit codes of sim_host
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitUsage = 2;           // bad option, model, keyframe or segment
+inline constexpr int kExitMujocoError = 3;
+inline constexpr int kExitDiverged = 4;
+inline constexpr int kExitControllerLost = 5;  // lost (or never got) a controller, policy "end"
+inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: clean shutdown
+
+// Runs one simulation as described by `options`; returns an exit code above. Prints set-up
+// errors and the end-of-run report on stderr.
+int RunHost(const HostOptions& options);
+
+}  // namespace ohrp::sim

@@ -1,0 +1,19 @@
+// The robot's sensors as the segment carries them, computed from MuJoCo's state.
+#pragma once
+
+#include "shm_bridge/bridge.h"
+#include "sim_host/model.h"
+
+namespace ohrp::sim {
+
+// The segment's description of `robot` (names, limits, default gains, cameras, periods).
+shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
+                                       const std::string& segment_name, double physics_period,
+                                       double control_period);
+
+// Fills the measurement part of `*out` (q, dq, tau, force/torque, IMU, ground truth) from the
+// state in `d` after mj_step (sensordata is current). Does not touch cycle, time, status or
+// counters. Never allocates.
+void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d, shm::SensorBlock* out);
+
+}  // namespace ohrp::sim

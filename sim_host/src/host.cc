@@ -1,0 +1,381 @@
+// The sim_host run loop (see host.h).
+#include "sim_host/host.h"
+
+#include <signal.h>
+#include <time.h>
+
+#include <atomic>
+#include <boost/interprocess/shared_memory_object.hpp>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "shm_bridge/bridge.h"
+#include "sim_host/model.h"
+#include "sim_host/recorder.h"
+#include "sim_host/sensors.h"
+#include "sim_host/servo.h"
+
+namespace ohrp::sim {
+namespace {
+
+std::atomic<int> g_signal{0};
+char g_segment_object[128] = "";  // removed by the fatal-error path
+
+void OnSignal(int sig) { g_signal.store(sig); }
+
+void OnFatal(const char*) {
+  if (g_segment_object[0]) boost::interprocess::shared_memory_object::remove(g_segment_object);
+}
+
+double Now() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void SleepUntil(double t) {
+  timespec ts;
+  ts.tv_sec = static_cast<time_t>(t);
+  ts.tv_nsec = static_cast<long>((t - ts.tv_sec) * 1e9);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    if (g_signal.load()) return;
+  }
+}
+
+const char* LossName(ControllerLoss l) {
+  switch (l) {
+    case ControllerLoss::kEnd: return "end";
+    case ControllerLoss::kWait: return "wait";
+    case ControllerLoss::kContinue: return "continue";
+  }
+  return "?";
+}
+
+bool StateFinite(const mjModel* m, const mjData* d) {
+  for (int i = 0; i < m->nq; ++i)
+    if (!std::isfinite(d->qpos[i])) return false;
+  for (int i = 0; i < m->nv; ++i)
+    if (!std::isfinite(d->qvel[i])) return false;
+  return true;
+}
+
+bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
+  if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
+  if (!o.integrator.empty()) {
+    if (o.integrator == "euler") m->opt.integrator = mjINT_EULER;
+    else if (o.integrator == "rk4") m->opt.integrator = mjINT_RK4;
+    else if (o.integrator == "implicit") m->opt.integrator = mjINT_IMPLICIT;
+    else {
+      *error = "unknown integrator '" + o.integrator + "' (use euler, rk4 or implicit)";
+      return false;
+    }
+  }
+  return true;
+}
+
+// what happened during the run, for the report and the summary
+struct RunStats {
+  uint64_t steps = 0;
+  uint64_t cycles = 0;
+  uint64_t commands = 0;
+  uint64_t late = 0;
+  uint64_t controller_losses = 0;
+  uint64_t controllers_seen = 0;
+  double wall_start = 0;
+  double wall_end = 0;
+  double sim_time = 0;
+  std::string outcome = "completed";
+  std::string detail;
+};
+
+}  // namespace
+
+int RunHost(const HostOptions& o) {
+  InstallMujocoHandlers(OnFatal);
+  struct sigaction sa {};
+  sa.sa_handler = OnSignal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  //---------------- set-up: scene, robot, segment ----------------
+  std::string error;
+  auto scene = Scene::Load(o.scene, &error);
+  if (!scene) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  mjModel* m = scene->m();
+  mjData* d = scene->d();
+  if (!ApplyOverrides(o, m, &error) || !scene->Reset(o.keyframe, &error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  const double dt = m->opt.timestep;
+  const double ratio = o.control_period / dt;
+  const int steps_per_cycle = static_cast<int>(std::lround(ratio));
+  if (steps_per_cycle < 1 || std::fabs(ratio - steps_per_cycle) > 1e-6) {
+    std::fprintf(stderr,
+                 "sim_host: the control period (%g s) must be a whole multiple of the physics "
+                 "step (%g s)\n", o.control_period, dt);
+    return kExitUsage;
+  }
+  RobotMap robot;
+  if (!MapRobot(m, &robot, &error)) {
+    std::fprintf(stderr, "sim_host: %s: %s\n", o.scene.c_str(), error.c_str());
+    return kExitUsage;
+  }
+
+  shm::Status status;
+  shm::ProducerConfig pc = MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
+  pc.read_timeout_hint = o.controller_timeout;
+  auto producer = shm::Producer::Create(pc, &status);
+  if (!producer) {
+    std::fprintf(stderr, "sim_host: %s\n", status.message.c_str());
+    return kExitUsage;
+  }
+  if (!status.message.empty()) std::fprintf(stderr, "sim_host: %s\n", status.message.c_str());
+  std::snprintf(g_segment_object, sizeof(g_segment_object), "%s",
+                producer->object_name().c_str());
+
+  std::unique_ptr<Recorder> recorder;
+  if (!o.log_path.empty()) {
+    recorder = Recorder::Open(o.log_path, robot, &error);
+    if (!recorder) {
+      std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+      return kExitUsage;
+    }
+  }
+
+  Servo servo(robot);
+  servo.HoldCurrent(d);
+  const char* integrators[] = {"euler", "rk4", "implicit"};
+  if (!o.quiet) {
+    std::fprintf(stderr,
+                 "sim_host: robot '%s' (%zu joints, %zu F/T, %zu IMU, %zu cameras, %.2f kg) from "
+                 "%s\nsim_host: segment '%s', physics %g s (%s), control %g s, %s, "
+                 "controller loss: %s\n",
+                 robot.name.c_str(), robot.joints.size(), robot.forces.size(), robot.imus.size(),
+                 robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
+                 integrators[m->opt.integrator], o.control_period,
+                 o.realtime ? "real time" : "lock-step", LossName(o.on_loss));
+  }
+
+  //---------------- the loop ----------------
+  RunStats st;
+  st.wall_start = Now();
+  double next_progress = st.wall_start + o.progress;
+  double wait_since = st.wall_start;
+  bool had_controller = false;
+  bool waiting = o.wait_controller > 0;  // waiting for a (new) controller, time frozen
+  uint32_t extra_status = 0;
+  long warnings_at_start = WarningCount();
+  int badqacc = d->warning[mjWARN_BADQACC].number;
+  shm::CommandBlock cmd{};
+  int exit_code = kExitOk;
+
+  auto publish = [&](uint32_t flags) {
+    shm::SensorBlock& s = producer->BeginSensors();
+    FillSensors(robot, m, d, &s);
+    s.cycle = st.cycles;
+    s.time = d->time;
+    s.status = shm::status::kRunning | shm::status::kSimulated | extra_status | flags |
+               (producer->controller_pid() ? 0u : shm::status::kNoController);
+    s.late_commands = st.late;
+    s.rejected_commands = servo.rejected_total();
+    std::memcpy(s.rejected_per_joint, servo.rejected_per_joint(),
+                robot.joints.size() * sizeof(uint32_t));
+    producer->PublishSensors();
+    if (recorder && st.cycles % static_cast<uint64_t>(o.log_every) == 0)
+      recorder->Push(s, &servo.reference(0));
+  };
+  publish(0);
+
+  auto lose_controller = [&](const char* why) {
+    ++st.controller_losses;
+    extra_status |= shm::status::kHolding;
+    std::fprintf(stderr, "sim_host: controller %s at t=%.3f s (cycle %lu); holding its last references\n",
+                 why, d->time, static_cast<unsigned long>(st.cycles));
+    switch (o.on_loss) {
+      case ControllerLoss::kEnd:
+        st.outcome = "controller_lost";
+        st.detail = std::string("controller ") + why;
+        return true;
+      case ControllerLoss::kWait:
+        std::fprintf(stderr, "sim_host: waiting for a new controller on segment '%s'\n", o.segment.c_str());
+        waiting = true;
+        wait_since = Now();
+        return false;
+      case ControllerLoss::kContinue:
+        return false;
+    }
+    return false;
+  };
+
+  double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
+  while (!g_signal.load()) {
+    if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
+
+    // commands for the cycle just published
+    const bool attached = producer->controller_pid() != 0;
+    if (waiting && !attached) {
+      if (o.on_loss != ControllerLoss::kWait || !had_controller) {
+        if (Now() - wait_since > o.wait_controller) {
+          std::fprintf(stderr,
+                       "sim_host: no controller attached to segment '%s' within %g s; start one "
+                       "(e.g. 'posture --segment %s') or pass --wait-controller 0 to run without\n",
+                       o.segment.c_str(), o.wait_controller, o.segment.c_str());
+          st.outcome = "no_controller";
+          exit_code = kExitControllerLost;
+          break;
+        }
+      }
+      timespec pause{0, 2000000};
+      nanosleep(&pause, nullptr);
+      continue;
+    }
+    if (attached) {
+      if (!had_controller || waiting) {
+        ++st.controllers_seen;
+        if (!o.quiet)
+          std::fprintf(stderr, "sim_host: controller pid %d attached\n", producer->controller_pid());
+      }
+      had_controller = true;
+      waiting = false;
+      double timeout = o.controller_timeout;
+      if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
+      switch (producer->WaitCommands(timeout, &cmd)) {
+        case shm::WaitResult::kCommands:
+          ++st.commands;
+          extra_status &= ~(shm::status::kHolding | shm::status::kCommandLate |
+                            shm::status::kCommandRejected);
+          if (servo.Accept(cmd) > 0) extra_status |= shm::status::kCommandRejected;
+          break;
+        case shm::WaitResult::kTimeout:
+          ++st.late;
+          extra_status |= shm::status::kCommandLate;
+          if (!o.realtime && lose_controller("did not answer within the timeout")) {
+            exit_code = kExitControllerLost;
+          }
+          break;
+        case shm::WaitResult::kControllerDied:
+          if (lose_controller("died")) exit_code = kExitControllerLost;
+          break;
+        case shm::WaitResult::kNoController:
+          break;
+      }
+      if (exit_code != kExitOk) break;
+      if (waiting) continue;
+    } else if (had_controller && !(extra_status & shm::status::kHolding)) {
+      // the controller detached cleanly (closed its adaptor)
+      if (lose_controller("detached")) {
+        exit_code = kExitControllerLost;
+        break;
+      }
+      if (waiting) continue;
+    }
+
+    // physics: the servo runs at every step
+    for (int s = 0; s < steps_per_cycle; ++s) {
+      servo.Apply(m, d);
+      mj_step(m, d);
+      ++st.steps;
+    }
+    if (!StateFinite(m, d) || d->warning[mjWARN_BADQACC].number != badqacc) {
+      st.outcome = "diverged";
+      st.detail = "non-finite state or bad acceleration (MuJoCo reset the state) at t=" +
+                  std::to_string(d->time) + " s, step " + std::to_string(st.steps) +
+                  "; try a smaller --physics-dt or the implicit integrator";
+      std::fprintf(stderr, "sim_host: simulation diverged: %s\n", st.detail.c_str());
+      extra_status |= shm::status::kDiverged;
+      producer->SetState(shm::ProducerState::kFailed);
+      exit_code = kExitDiverged;
+      break;
+    }
+    ++st.cycles;
+
+    if (o.realtime) {
+      deadline += o.control_period;
+      if (Now() < deadline) SleepUntil(deadline);
+    }
+    const bool last = o.duration > 0 && d->time >= o.duration - 0.5 * dt;
+    publish(last ? shm::status::kShuttingDown : 0);
+
+    // progress on long runs (one line every few wall seconds, not per cycle)
+    if (o.progress > 0 && !o.quiet) {
+      const double now = Now();
+      if (now >= next_progress) {
+        next_progress = now + o.progress;
+        std::fprintf(stderr, "sim_host: t=%.2f of %.2f s, %.2fx real time, %lu cycles, late %lu, rejected %lu\n",
+                     d->time, o.duration, d->time / (now - st.wall_start), static_cast<unsigned long>(st.cycles),
+                     static_cast<unsigned long>(st.late),
+                     static_cast<unsigned long>(servo.rejected_total()));
+      }
+    }
+  }
+
+  //---------------- shutdown ----------------
+  st.wall_end = Now();
+  st.sim_time = d->time;
+  if (g_signal.load() && exit_code == kExitOk) {
+    st.outcome = "interrupted";
+    exit_code = kExitInterrupted;
+    std::fprintf(stderr, "sim_host: interrupted (signal %d) at t=%.3f s; shutting down\n",
+                 g_signal.load(), d->time);
+  }
+  if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
+  if (recorder) recorder->Flush();
+  const double wall = st.wall_end - st.wall_start;
+  const double rtf = wall > 0 ? st.sim_time / wall : 0;
+  if (!o.quiet) {
+    std::fprintf(stderr,
+                 "sim_host: %s: %.3f s simulated in %.3f s wall (%.2fx real time), %lu steps, "
+                 "%lu cycles, %lu commands, %lu late, %lu rejected, %lu MuJoCo warnings\n",
+                 st.outcome.c_str(), st.sim_time, wall, rtf, static_cast<unsigned long>(st.steps),
+                 static_cast<unsigned long>(st.cycles), static_cast<unsigned long>(st.commands),
+                 static_cast<unsigned long>(st.late),
+                 static_cast<unsigned long>(servo.rejected_total()),
+                 WarningCount() - warnings_at_start);
+  }
+  if (!o.summary_path.empty()) {
+    nlohmann::json j;
+    j["outcome"] = st.outcome;
+    j["detail"] = st.detail;
+    j["exit_code"] = exit_code;
+    j["scene"] = o.scene;
+    j["robot"] = robot.name;
+    j["robot_mass"] = robot.total_mass;
+    j["gravity"] = {m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]};
+    j["physics_dt"] = dt;
+    j["control_period"] = o.control_period;
+    j["integrator"] = integrators[m->opt.integrator];
+    j["mode"] = o.realtime ? "realtime" : "lockstep";
+    j["sim_time"] = st.sim_time;
+    j["wall_time"] = wall;
+    j["real_time_factor"] = rtf;
+    j["steps"] = st.steps;
+    j["cycles"] = st.cycles;
+    j["commands"] = st.commands;
+    j["late_commands"] = st.late;
+    j["rejected_commands"] = servo.rejected_total();
+    j["controller_losses"] = st.controller_losses;
+    j["controllers_seen"] = st.controllers_seen;
+    j["mujoco_warnings"] = WarningCount() - warnings_at_start;
+    j["log_rows"] = recorder ? recorder->written() : 0;
+    j["log_dropped"] = recorder ? recorder->dropped() : 0;
+    // mass below each force sensor: the sensor does not carry it
+    nlohmann::json below = nlohmann::json::object();
+    for (const auto& f : robot.forces) below[f.name] = m->body_subtreemass[m->site_bodyid[f.site_id]];
+    j["mass_below"] = below;
+    std::ofstream(o.summary_path) << j.dump(2) << "\n";
+  }
+  recorder.reset();
+  producer.reset();  // removes the segment
+  g_segment_object[0] = 0;
+  return exit_code;
+}
+
+}  // namespace ohrp::sim

@@ -1,0 +1,48 @@
+// sim_host: simulate a robot and serve its segment (see sim_host/host.h and README.md).
+#include <CLI/CLI.hpp>
+
+#include "sim_host/host.h"
+
+int main(int argc, char** argv) {
+  using ohrp::sim::ControllerLoss;
+  ohrp::sim::HostOptions o;
+  std::string loss = "end";
+  CLI::App app{
+      "sim_host: simulates a robot in MuJoCo and serves its sensors and commands through the\n"
+      "shared-memory segment NAME, to which a controller attaches (e.g. 'posture --segment NAME').\n"
+      "Lock-step by default: simulated time advances only when the controller has answered."};
+  app.add_option("--scene,scene", o.scene, "MJCF scene file (e.g. mjcf/hrp1s/scene_flat.xml)")
+      ->required()->check(CLI::ExistingFile);
+  app.add_option("--segment", o.segment, "segment name the controller attaches to")
+      ->capture_default_str();
+  app.add_option("--keyframe", o.keyframe, "initial state: a keyframe of the scene (default: the model's pose)");
+  app.add_option("--physics-dt", o.physics_dt, "physics step [s] (default: the scene's timestep)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--control-period", o.control_period, "sensor/command cycle [s], a multiple of the physics step")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--integrator", o.integrator, "euler | rk4 | implicit (default: the scene's)")
+      ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
+  app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");
+  app.add_option("--wait-controller", o.wait_controller,
+                 "wall time to wait for the first controller [s]; 0 runs without one (joints hold)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--controller-timeout", o.controller_timeout,
+                 "wall time a lock-step controller may take to answer a cycle [s]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--on-controller-loss", loss,
+                 "when the controller dies, hangs or detaches: end the run, wait for a new one, or continue holding")
+      ->capture_default_str()->check(CLI::IsMember({"end", "wait", "continue"}));
+  app.add_option("--log", o.log_path, "CSV data log (base pose, joints, F/T, IMU per cycle)");
+  app.add_option("--log-every", o.log_every, "record one row every N control cycles")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--summary", o.summary_path, "JSON summary written at the end");
+  app.add_option("--progress", o.progress, "wall seconds between progress lines; 0: none")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_flag("--quiet,-q", o.quiet, "print errors only");
+  CLI11_PARSE(app, argc, argv);
+  o.on_loss = loss == "wait" ? ControllerLoss::kWait
+              : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;
+  return ohrp::sim::RunHost(o);
+}

@@ -1,0 +1,200 @@
+// Scene loading and the robot map (see model.h).
+#include "sim_host/model.h"
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "shm_bridge/layout.h"
+
+namespace ohrp::sim {
+namespace {
+
+// suggested servo: a critically damped joint closing at kServoFrequency on its own inertia
+constexpr double kServoFrequency = 6.0;  // [Hz]
+constexpr double kServoDamping = 1.0;    // damping ratio [-]
+
+void (*g_on_fatal)(const char*) = nullptr;
+std::atomic<long> g_warnings{0};
+char g_last_warning[512] = "";
+
+void OnMujocoError(const char* msg) {
+  std::fprintf(stderr, "sim_host: MuJoCo error: %s\n", msg);
+  if (g_on_fatal) g_on_fatal(msg);
+  std::_Exit(3);
+}
+
+void OnMujocoWarning(const char* msg) {
+  g_warnings.fetch_add(1, std::memory_order_relaxed);
+  std::snprintf(g_last_warning, sizeof(g_last_warning), "%s", msg);
+}
+
+std::string Name(const mjModel* m, int type, int id) {
+  const char* n = mj_id2name(m, type, id);
+  return n ? std::string(n) : std::string();
+}
+
+}  // namespace
+
+void InstallMujocoHandlers(void (*on_fatal)(const char* message)) {
+  g_on_fatal = on_fatal;
+  mju_user_error = OnMujocoError;
+  mju_user_warning = OnMujocoWarning;
+}
+
+long WarningCount() { return g_warnings.load(std::memory_order_relaxed); }
+const char* LastWarning() { return g_last_warning; }
+
+//---------------- scene ----------------
+
+std::unique_ptr<Scene> Scene::Load(const std::string& path, std::string* error) {
+  char err[1024] = "";
+  mjModel* m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
+  if (!m) {
+    *error = "cannot load scene '" + path + "': " + (err[0] ? err : "unknown MuJoCo error");
+    return nullptr;
+  }
+  std::unique_ptr<Scene> scene(new Scene());
+  scene->m_ = m;
+  scene->d_ = mj_makeData(m);
+  scene->path_ = path;
+  if (!scene->d_) {
+    *error = "cannot allocate mjData for '" + path + "'";
+    return nullptr;
+  }
+  return scene;
+}
+
+Scene::~Scene() {
+  if (d_) mj_deleteData(d_);
+  if (m_) mj_deleteModel(m_);
+}
+
+bool Scene::Reset(const std::string& keyframe, std::string* error) {
+  if (keyframe.empty()) {
+    mj_resetData(m_, d_);
+  } else {
+    const int key = mj_name2id(m_, mjOBJ_KEY, keyframe.c_str());
+    if (key < 0) {
+      *error = "scene '" + path_ + "' has no keyframe '" + keyframe + "'";
+      return false;
+    }
+    mj_resetDataKeyframe(m_, d_, key);
+  }
+  mj_forward(m_, d_);
+  return true;
+}
+
+//---------------- robot map ----------------
+
+bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
+  *robot = RobotMap{};
+  robot->name = m->names[0] ? std::string(m->names) : std::string("robot");
+
+  // base: the first free joint's body
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] == mjJNT_FREE) {
+      robot->base_body = m->jnt_bodyid[j];
+      robot->base_qpos = m->jnt_qposadr[j];
+      robot->base_dof = m->jnt_dofadr[j];
+      break;
+    }
+  }
+  for (int b = 1; b < m->nbody; ++b) robot->total_mass += m->body_mass[b];
+
+  // joints: the targets of the motors, in actuator order
+  std::vector<mjtNum> M(static_cast<size_t>(m->nv) * m->nv);
+  mjData* d = mj_makeData(m);
+  mj_forward(m, d);
+  mj_fullM(m, M.data(), d->qM);
+  mj_deleteData(d);
+  for (int a = 0; a < m->nu; ++a) {
+    if (m->actuator_trntype[a] != mjTRN_JOINT) {
+      *error = "actuator '" + Name(m, mjOBJ_ACTUATOR, a) +
+               "' does not act on a joint: the segment carries joint motors only";
+      return false;
+    }
+    if (m->actuator_gear[6 * a] != 1.0 || m->actuator_gainprm[a * mjNGAIN] != 1.0 ||
+        m->actuator_biastype[a] != mjBIAS_NONE) {
+      *error = "actuator '" + Name(m, mjOBJ_ACTUATOR, a) +
+               "' is not a plain <motor> with gear 1: sim_host's servo writes torques";
+      return false;
+    }
+    JointMap jm;
+    jm.actuator_id = a;
+    jm.joint_id = m->actuator_trnid[2 * a];
+    jm.name = Name(m, mjOBJ_JOINT, jm.joint_id);
+    jm.qpos_adr = m->jnt_qposadr[jm.joint_id];
+    jm.dof_adr = m->jnt_dofadr[jm.joint_id];
+    const int type = m->jnt_type[jm.joint_id];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) {
+      *error = "motor '" + Name(m, mjOBJ_ACTUATOR, a) + "' drives joint '" + jm.name +
+               "' which is not a hinge or slide";
+      return false;
+    }
+    if (m->jnt_limited[jm.joint_id]) {
+      jm.q_min = m->jnt_range[2 * jm.joint_id];
+      jm.q_max = m->jnt_range[2 * jm.joint_id + 1];
+    } else {
+      jm.q_min = -kNoLimit;
+      jm.q_max = kNoLimit;
+    }
+    jm.tau_max = kNoLimit;
+    if (m->actuator_ctrllimited[a]) {
+      jm.tau_max = std::fmax(std::fabs(m->actuator_ctrlrange[2 * a]),
+                             std::fabs(m->actuator_ctrlrange[2 * a + 1]));
+    }
+    const double inertia = M[static_cast<size_t>(jm.dof_adr) * m->nv + jm.dof_adr];
+    const double w = 2.0 * M_PI * kServoFrequency;
+    jm.default_kp = inertia * w * w;
+    jm.default_kd = 2.0 * kServoDamping * inertia * w;
+    robot->joints.push_back(jm);
+  }
+  if (robot->joints.empty()) {
+    *error = "the model has no <motor> actuators: nothing for a controller to command";
+    return false;
+  }
+  if (robot->joints.size() > static_cast<size_t>(shm::kMaxJoints)) {
+    *error = "the robot has " + std::to_string(robot->joints.size()) +
+             " motors; the segment carries at most " + std::to_string(shm::kMaxJoints);
+    return false;
+  }
+
+  // force/torque sensors and IMUs: sensor pairs on one site
+  auto find_on_site = [m](int type, int site) {
+    for (int s = 0; s < m->nsensor; ++s) {
+      if (m->sensor_type[s] == type && m->sensor_objtype[s] == mjOBJ_SITE &&
+          m->sensor_objid[s] == site)
+        return m->sensor_adr[s];
+    }
+    return -1;
+  };
+  for (int s = 0; s < m->nsensor; ++s) {
+    if (m->sensor_objtype[s] != mjOBJ_SITE) continue;
+    const int site = m->sensor_objid[s];
+    if (m->sensor_type[s] == mjSENS_FORCE) {
+      const int t = find_on_site(mjSENS_TORQUE, site);
+      if (t < 0) continue;
+      robot->forces.push_back({Name(m, mjOBJ_SITE, site), site, m->sensor_adr[s], t});
+    } else if (m->sensor_type[s] == mjSENS_GYRO) {
+      const int acc = find_on_site(mjSENS_ACCELEROMETER, site);
+      if (acc < 0) continue;
+      robot->imus.push_back({Name(m, mjOBJ_SITE, site), site, m->sensor_adr[s], acc,
+                             find_on_site(mjSENS_FRAMEQUAT, site)});
+    }
+  }
+  if (robot->forces.size() > static_cast<size_t>(shm::kMaxForceSensors) ||
+      robot->imus.size() > static_cast<size_t>(shm::kMaxImus)) {
+    *error = "the robot has " + std::to_string(robot->forces.size()) + " force sensors and " +
+             std::to_string(robot->imus.size()) + " IMUs; the segment carries at most " +
+             std::to_string(shm::kMaxForceSensors) + " and " + std::to_string(shm::kMaxImus);
+    return false;
+  }
+  for (int c = 0; c < m->ncam && c < shm::kMaxCameras; ++c) {
+    robot->cameras.push_back({Name(m, mjOBJ_CAMERA, c), c, m->cam_bodyid[c]});
+  }
+  return true;
+}
+
+}  // namespace ohrp::sim

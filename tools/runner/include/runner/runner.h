@@ -1,0 +1,34 @@
+// ohrp_run: one headless scripted run. Starts sim_host and the scenario's controllers as
+// separate processes side by side on a fresh segment, runs for the scenario's duration,
+// evaluates its checks and writes into the output folder:
+//   summary.json      verdict, each check with its value, simulated and wall time, real-time
+//                     factor, steps, each process's exit status
+//   log.csv           sim_host's data log (see sim_host/recorder.h)
+//   sim_summary.json  sim_host's own end-of-run summary
+//   plot.png          base height and position, foot forces, a few joints against time
+//   *.stderr          what each process printed
+#pragma once
+
+#include <string>
+
+#include "runner/scenario.h"
+
+namespace ohrp::runner {
+
+struct RunOptions {
+  std::string out_dir;      // empty: runs/<name>-<date>-<time> under the current directory
+  std::string source_dir;   // repository root: relative paths of the scenario start here
+  std::string bin_dir;      // where sim_host and the controllers are
+  bool plot = true;
+  bool echo = true;         // echo the processes' output, prefixed, while they run
+};
+
+// exit codes of ohrp_run
+inline constexpr int kRunPassed = 0;
+inline constexpr int kRunFailed = 1;       // a check failed or a process ended badly
+inline constexpr int kRunUsage = 2;        // bad scenario or options
+inline constexpr int kRunInterrupted = 130;
+
+int RunScenario(const Scenario& scenario, const RunOptions& options);
+
+}  // namespace ohrp::runner

@@ -1,0 +1,50 @@
+// Scenario files: one headless scripted run (scene, controllers, duration, pass criteria).
+// The format is documented with an example in docs/scenarios.md; scenarios/ holds the shipped
+// ones. Paths inside a scenario are relative to the repository root (or absolute).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace ohrp::runner {
+
+struct ControllerSpec {
+  std::string program;            // a program in build/bin (e.g. posture) or a path
+  std::vector<std::string> args;  // extra arguments; --segment and --attach-timeout are added
+};
+
+// One pass criterion, evaluated on the data log after the run (see checks.h for the types).
+struct CheckSpec {
+  std::string type;
+  std::map<std::string, std::string> params;  // the check's own keys, as written
+  double Number(const std::string& key, double fallback) const;
+  bool Has(const std::string& key) const { return params.count(key) > 0; }
+};
+
+struct Scenario {
+  std::string name;
+  std::string description;
+  std::string file;              // where it was read from
+  std::string scene;             // MJCF path
+  std::string keyframe;
+  double duration = 10;          // [s] simulated
+  double physics_dt = 0;         // [s], 0: the scene's
+  double control_period = 0.005; // [s]
+  std::string integrator;        // empty: the scene's
+  bool realtime = false;
+  std::string on_controller_loss = "end";
+  double controller_timeout = 1.0;  // [s]
+  double wall_timeout = 0;       // [s] wall time before the run is stopped; 0: derived
+  int log_every = 1;
+  std::vector<std::string> sim_args;  // extra sim_host arguments
+  std::vector<ControllerSpec> controllers;
+  std::vector<CheckSpec> checks;
+  std::vector<std::string> plot_joints;  // joints drawn in the plot (default: a few legs)
+};
+
+// Reads and validates a scenario. Returns false with `*error` naming the file, the key and
+// what is wrong.
+bool LoadScenario(const std::string& path, Scenario* out, std::string* error);
+
+}  // namespace ohrp::runner

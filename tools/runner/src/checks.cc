@@ -1,0 +1,211 @@
+// Scenario checks (see checks.h).
+#include "runner/checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace ohrp::runner {
+
+//---------------- CSV table ----------------
+
+bool Table::Load(const std::string& path, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot read the data log '" + path + "'";
+    return false;
+  }
+  std::string line;
+  if (!std::getline(in, line)) {
+    *error = "the data log '" + path + "' is empty";
+    return false;
+  }
+  names_.clear();
+  std::stringstream hs(line);
+  for (std::string n; std::getline(hs, n, ',');) names_.push_back(n);
+  cols_.assign(names_.size(), {});
+  size_t lineno = 1;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.empty()) continue;
+    const char* p = line.c_str();
+    for (size_t c = 0; c < names_.size(); ++c) {
+      char* end = nullptr;
+      const double v = std::strtod(p, &end);
+      if (end == p) {
+        *error = path + ":" + std::to_string(lineno) + ": expected " +
+                 std::to_string(names_.size()) + " numbers";
+        return false;
+      }
+      cols_[c].push_back(v);
+      p = (*end == ',') ? end + 1 : end;
+    }
+  }
+  return true;
+}
+
+int Table::Column(const std::string& name) const {
+  auto it = std::find(names_.begin(), names_.end(), name);
+  return it == names_.end() ? -1 : static_cast<int>(it - names_.begin());
+}
+
+//---------------- checks ----------------
+namespace {
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string Fmt(double v) {
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.4g", v);
+  return b;
+}
+
+// rows whose time lies in [after, until]
+std::vector<size_t> Window(const Table& t, double after, double until) {
+  std::vector<size_t> rows;
+  const auto& time = t.col(t.Column("time"));
+  for (size_t i = 0; i < time.size(); ++i)
+    if (time[i] >= after && time[i] <= until) rows.push_back(i);
+  return rows;
+}
+
+CheckResult Fail(CheckResult r, const std::string& why) {
+  r.passed = false;
+  r.detail = why;
+  return r;
+}
+
+CheckResult BaseHeight(const CheckSpec& s, const Table& t) {
+  CheckResult r{"base_height", false, 0, "m", "", ""};
+  const auto rows = Window(t, s.Number("after", 0), s.Number("until", 1e30));
+  if (rows.empty()) return Fail(r, "no logged data in the window");
+  const auto& z = t.col(t.Column("base_z"));
+  double ref = 0;
+  for (size_t i : rows) ref += z[i];
+  ref /= rows.size();
+  if (s.Has("reference")) ref = s.Number("reference", ref);
+  double worst = 0;
+  for (size_t i : rows) worst = std::max(worst, std::fabs(z[i] - ref));
+  const double tol = s.Number("tolerance", 0.02);
+  r.value = worst;
+  r.passed = worst <= tol;
+  r.limit = "<= " + Fmt(tol) + " from " + Fmt(ref) + " m";
+  r.detail = "largest deviation of the base height from " + Fmt(ref) + " m after t=" +
+             Fmt(s.Number("after", 0)) + " s";
+  return r;
+}
+
+CheckResult NotFallen(const CheckSpec& s, const Table& t) {
+  CheckResult r{"not_fallen", false, 0, "m", "", ""};
+  const double min_h = s.Number("min_height", 0.4);
+  const double max_tilt = s.Number("max_tilt_deg", 45);
+  const auto& z = t.col(t.Column("base_z"));
+  const auto& qw = t.col(t.Column("base_qw"));
+  const auto& qx = t.col(t.Column("base_qx"));
+  const auto& qy = t.col(t.Column("base_qy"));
+  const auto& qz = t.col(t.Column("base_qz"));
+  double lowest = 1e30, tilt = 0;
+  for (size_t i = 0; i < z.size(); ++i) {
+    lowest = std::min(lowest, z[i]);
+    // angle between the base's z axis and the world's: R_zz = 1 - 2 (qx^2 + qy^2) / |q|^2
+    const double n = qw[i] * qw[i] + qx[i] * qx[i] + qy[i] * qy[i] + qz[i] * qz[i];
+    const double rzz = 1 - 2 * (qx[i] * qx[i] + qy[i] * qy[i]) / std::max(n, 1e-300);
+    tilt = std::max(tilt, std::acos(std::clamp(rzz, -1.0, 1.0)) * 180 / M_PI);
+  }
+  r.value = lowest;
+  r.passed = !z.empty() && lowest >= min_h && tilt <= max_tilt;
+  r.limit = ">= " + Fmt(min_h) + " m, tilt <= " + Fmt(max_tilt) + " deg";
+  r.detail = "lowest base height " + Fmt(lowest) + " m, largest tilt " + Fmt(tilt) + " deg";
+  return r;
+}
+
+CheckResult FeetCarryWeight(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
+  CheckResult r{"feet_carry_weight", false, 0, "", "", ""};
+  const auto sensors = Split(s.params.count("sensors") ? s.params.at("sensors") : "");
+  if (sensors.empty()) return Fail(r, "the check needs 'sensors' (e.g. [rfsensor, lfsensor])");
+  const auto rows = Window(t, s.Number("after", 0), s.Number("until", 1e30));
+  if (rows.empty()) return Fail(r, "no logged data in the window");
+  double mass = sim.value("robot_mass", 0.0);
+  for (const auto& name : sensors) {
+    if (t.Column(name + "_fz") < 0) return Fail(r, "no force sensor '" + name + "' in the log");
+    if (sim.contains("mass_below") && sim["mass_below"].contains(name))
+      mass -= sim["mass_below"][name].get<double>();
+  }
+  const auto& grav = sim.value("gravity", std::vector<double>{0, 0, -9.81});
+  const double g = std::sqrt(grav[0] * grav[0] + grav[1] * grav[1] + grav[2] * grav[2]);
+  double sum = 0;
+  for (size_t i : rows)
+    for (const auto& name : sensors) sum += t.col(t.Column(name + "_fz"))[i];
+  const double mean = sum / rows.size();
+  const double weight = mass * g;
+  const double tol = s.Number("tolerance", 0.03);
+  r.value = std::fabs(mean - weight) / weight;
+  r.passed = r.value <= tol;
+  r.limit = "<= " + Fmt(tol) + " relative";
+  r.detail = "mean sum of fz " + Fmt(mean) + " N vs weight carried " + Fmt(weight) + " N (" +
+             Fmt(mass) + " kg above the sensors)";
+  return r;
+}
+
+CheckResult BaseDisplacement(const CheckSpec& s, const Table& t) {
+  const std::string axis = s.params.count("axis") ? s.params.at("axis") : "x";
+  CheckResult r{"base_displacement_" + axis, false, 0, "m", "", ""};
+  const int c = t.Column("base_" + axis);
+  if (c < 0) return Fail(r, "axis must be x, y or z");
+  const auto rows = Window(t, s.Number("from", 0), 1e30);
+  if (rows.empty()) return Fail(r, "no logged data");
+  const auto& p = t.col(c);
+  r.value = p[rows.back()] - p[rows.front()];
+  const double lo = s.Number("min", -1e30), hi = s.Number("max", 1e30);
+  r.passed = r.value >= lo && r.value <= hi;
+  r.limit = "[" + (s.Has("min") ? Fmt(lo) : "-inf") + ", " + (s.Has("max") ? Fmt(hi) : "inf") + "] m";
+  r.detail = "base moved " + Fmt(r.value) + " m along " + axis;
+  return r;
+}
+
+CheckResult MaxRejected(const CheckSpec& s, const nlohmann::json& sim) {
+  CheckResult r{"max_rejected", false, 0, "", "", ""};
+  r.value = sim.value("rejected_commands", 0.0);
+  r.passed = r.value <= s.Number("max", 0);
+  r.limit = "<= " + Fmt(s.Number("max", 0));
+  r.detail = "joint commands rejected by the servo";
+  return r;
+}
+
+CheckResult RealTimeFactor(const CheckSpec& s, const nlohmann::json& sim) {
+  CheckResult r{"real_time_factor", false, 0, "x", "", ""};
+  r.value = sim.value("real_time_factor", 0.0);
+  r.passed = r.value >= s.Number("min", 0);
+  r.limit = ">= " + Fmt(s.Number("min", 0));
+  r.detail = "simulated over wall time";
+  return r;
+}
+
+}  // namespace
+
+CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::json& sim) {
+  try {
+    if (spec.type == "max_rejected") return MaxRejected(spec, sim);
+    if (spec.type == "real_time_factor") return RealTimeFactor(spec, sim);
+    if (log.Column("time") < 0 || log.Column("base_z") < 0)
+      return Fail({spec.type, false, 0, "", "", ""}, "the data log has no time/base columns");
+    if (spec.type == "base_height") return BaseHeight(spec, log);
+    if (spec.type == "not_fallen") return NotFallen(spec, log);
+    if (spec.type == "feet_carry_weight") return FeetCarryWeight(spec, log, sim);
+    if (spec.type == "base_displacement") return BaseDisplacement(spec, log);
+  } catch (const std::exception& e) {
+    return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
+  }
+  return Fail({spec.type, false, 0, "", "", ""},
+              "unknown check type (known: base_height, not_fallen, feet_carry_weight, "
+              "base_displacement, max_rejected, real_time_factor)");
+}
+
+}  // namespace ohrp::runner

@@ -1,0 +1,337 @@
+// Scenario runs: processes side by side, checks, summary and plot (see runner.h).
+#include "runner/runner.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
+
+#include "runner/checks.h"
+
+namespace fs = std::filesystem;
+
+namespace ohrp::runner {
+namespace {
+
+std::atomic<int> g_signal{0};
+void OnSignal(int sig) { g_signal.store(sig); }
+
+double Now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// a child process whose output goes to a file, echoed with a prefix while it runs
+struct Child {
+  std::string label;
+  std::vector<std::string> argv;
+  std::string output;  // file receiving stdout and stderr
+  pid_t pid = -1;
+  bool done = false;
+  int exit_code = -1;  // 128 + signal when killed
+  std::streamoff echoed = 0;
+};
+
+bool Spawn(Child* c, const std::string& cwd, std::string* error) {
+  const int fd = ::open(c->output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) {
+    *error = "cannot create " + c->output;
+    return false;
+  }
+  std::vector<char*> args;
+  for (auto& a : c->argv) args.push_back(a.data());
+  args.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    ::close(fd);
+    *error = "fork failed";
+    return false;
+  }
+  if (pid == 0) {
+    dup2(fd, 1);
+    dup2(fd, 2);
+    ::close(fd);
+    const int devnull = ::open("/dev/null", O_RDONLY);
+    if (devnull >= 0) dup2(devnull, 0);
+    if (chdir(cwd.c_str()) != 0) _exit(126);
+    execv(args[0], args.data());
+    std::fprintf(stderr, "ohrp_run: cannot execute %s: %s\n", args[0], std::strerror(errno));
+    _exit(127);
+  }
+  ::close(fd);
+  c->pid = pid;
+  return true;
+}
+
+void Reap(Child* c) {
+  if (c->done || c->pid <= 0) return;
+  int st = 0;
+  if (waitpid(c->pid, &st, WNOHANG) == c->pid) {
+    c->done = true;
+    c->exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  }
+}
+
+void Echo(Child* c, bool echo) {
+  std::ifstream in(c->output);
+  in.seekg(c->echoed);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // a partial line: wait for the rest
+    c->echoed = in.tellg();
+    if (echo) std::fprintf(stderr, "  [%s] %s\n", c->label.c_str(), line.c_str());
+  }
+}
+
+void Stop(Child* c, int sig) {
+  if (!c->done && c->pid > 0) kill(c->pid, sig);
+}
+
+// waits until every child in `cs` is done or `deadline` passes
+void WaitAll(std::vector<Child*> cs, double deadline, bool echo) {
+  while (Now() < deadline) {
+    bool all = true;
+    for (Child* c : cs) {
+      Reap(c);
+      Echo(c, echo);
+      all = all && c->done;
+    }
+    if (all) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+std::string Resolve(const std::string& path, const std::string& root) {
+  if (path.empty() || path[0] == '/') return path;
+  return (fs::path(root) / path).lexically_normal().string();
+}
+
+std::string Stamp() {
+  std::time_t t = std::time(nullptr);
+  char b[32];
+  std::strftime(b, sizeof(b), "%Y%m%d-%H%M%S", std::localtime(&t));
+  return b;
+}
+
+std::string Num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.17g", v);
+  return b;
+}
+
+}  // namespace
+
+int RunScenario(const Scenario& s, const RunOptions& o) {
+  struct sigaction sa {};
+  sa.sa_handler = OnSignal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+
+  //---------------- set-up ----------------
+  const std::string out = o.out_dir.empty() ? "runs/" + s.name + "-" + Stamp() : o.out_dir;
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) {
+    std::fprintf(stderr, "ohrp_run: cannot create the output folder '%s': %s\n", out.c_str(),
+                 ec.message().c_str());
+    return kRunUsage;
+  }
+  const std::string out_abs = fs::absolute(out).string();
+  const std::string scene = Resolve(s.scene, o.source_dir);
+  if (!fs::exists(scene)) {
+    std::fprintf(stderr, "ohrp_run: %s: the scene '%s' does not exist\n", s.file.c_str(), scene.c_str());
+    return kRunUsage;
+  }
+  const std::string segment = "run_" + s.name + "_" + std::to_string(getpid());
+  std::fprintf(stderr, "ohrp_run: scenario '%s' (%g s simulated) -> %s\n", s.name.c_str(),
+               s.duration, out.c_str());
+  if (!s.description.empty()) std::fprintf(stderr, "ohrp_run: %s\n", s.description.c_str());
+
+  Child sim;
+  sim.label = "sim_host";
+  sim.output = out_abs + "/sim_host.stderr";
+  sim.argv = {o.bin_dir + "/sim_host", "--scene", scene, "--segment", segment,
+              "--duration", Num(s.duration), "--control-period", Num(s.control_period),
+              "--on-controller-loss", s.on_controller_loss,
+              "--controller-timeout", Num(s.controller_timeout),
+              "--wait-controller", s.controllers.empty() ? "0" : "20",
+              "--log", out_abs + "/log.csv", "--log-every", std::to_string(s.log_every),
+              "--summary", out_abs + "/sim_summary.json"};
+  if (s.physics_dt > 0) sim.argv.insert(sim.argv.end(), {"--physics-dt", Num(s.physics_dt)});
+  if (!s.integrator.empty()) sim.argv.insert(sim.argv.end(), {"--integrator", s.integrator});
+  if (!s.keyframe.empty()) sim.argv.insert(sim.argv.end(), {"--keyframe", s.keyframe});
+  if (s.realtime) sim.argv.push_back("--realtime");
+  sim.argv.insert(sim.argv.end(), s.sim_args.begin(), s.sim_args.end());
+
+  std::vector<Child> ctl(s.controllers.size());
+  for (size_t i = 0; i < ctl.size(); ++i) {
+    const auto& spec = s.controllers[i];
+    const std::string prog = spec.program.find('/') == std::string::npos
+                                 ? o.bin_dir + "/" + spec.program
+                                 : Resolve(spec.program, o.source_dir);
+    if (access(prog.c_str(), X_OK) != 0) {
+      std::fprintf(stderr, "ohrp_run: %s: controller program '%s' not found or not executable\n",
+                   s.file.c_str(), prog.c_str());
+      return kRunUsage;
+    }
+    ctl[i].label = fs::path(prog).filename().string() + (ctl.size() > 1 ? "#" + std::to_string(i) : "");
+    ctl[i].output = out_abs + "/" + ctl[i].label + ".stderr";
+    ctl[i].argv = {prog, "--segment", segment, "--attach-timeout", "10"};
+    ctl[i].argv.insert(ctl[i].argv.end(), spec.args.begin(), spec.args.end());
+  }
+
+  //---------------- run ----------------
+  std::string error;
+  const double t0 = Now();
+  const double wall_limit = s.wall_timeout > 0 ? s.wall_timeout : 60 + 30 * s.duration;
+  std::string aborted;
+  if (!Spawn(&sim, o.source_dir, &error)) {
+    std::fprintf(stderr, "ohrp_run: %s\n", error.c_str());
+    return kRunFailed;
+  }
+  // the segment exists once sim_host has loaded the scene
+  const std::string shm_file = "/dev/shm/ohrp_" + segment;
+  while (!fs::exists(shm_file) && Now() - t0 < 30) {
+    Reap(&sim);
+    if (sim.done) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  Echo(&sim, o.echo);
+  if (!sim.done) {
+    for (auto& c : ctl) {
+      if (!Spawn(&c, o.source_dir, &error)) aborted = error;
+    }
+  } else {
+    aborted = "sim_host ended before it created its segment (exit " + std::to_string(sim.exit_code) + ")";
+  }
+  int interrupted = 0;
+  while (!sim.done) {
+    if (g_signal.load() && !interrupted) {
+      interrupted = g_signal.load();
+      std::fprintf(stderr, "ohrp_run: interrupted; stopping the processes\n");
+      Stop(&sim, SIGINT);
+      for (auto& c : ctl) Stop(&c, SIGINT);
+    }
+    if (Now() - t0 > wall_limit && aborted.empty()) {
+      aborted = "wall-time limit of " + Num(wall_limit) + " s reached";
+      std::fprintf(stderr, "ohrp_run: %s; stopping sim_host\n", aborted.c_str());
+      Stop(&sim, SIGTERM);
+    }
+    WaitAll({&sim}, Now() + 0.1, o.echo);
+    for (auto& c : ctl) {
+      Reap(&c);
+      Echo(&c, o.echo);
+    }
+  }
+  // the controllers see the producer stop and end by themselves; give them a moment
+  std::vector<Child*> rest;
+  for (auto& c : ctl) rest.push_back(&c);
+  WaitAll(rest, Now() + 5, o.echo);
+  for (auto& c : ctl) Stop(&c, SIGTERM);
+  WaitAll(rest, Now() + 2, o.echo);
+  for (auto& c : ctl) Stop(&c, SIGKILL);
+  WaitAll(rest, Now() + 1, o.echo);
+  const double wall = Now() - t0;
+
+  //---------------- checks ----------------
+  nlohmann::json sim_summary = nlohmann::json::object();
+  {
+    std::ifstream in(out_abs + "/sim_summary.json");
+    if (in) {
+      try {
+        in >> sim_summary;
+      } catch (const std::exception&) {
+      }
+    }
+  }
+  std::vector<CheckResult> results;
+  // implicit: the processes ended as they should
+  {
+    CheckResult r{"sim_host_completed", sim.exit_code == 0, static_cast<double>(sim.exit_code),
+                  "exit code", "== 0", sim_summary.value("outcome", std::string("no summary")) +
+                                           (sim_summary.value("detail", std::string()).empty()
+                                                ? ""
+                                                : ": " + sim_summary.value("detail", std::string()))};
+    if (!aborted.empty()) r.detail = aborted;
+    results.push_back(r);
+  }
+  for (auto& c : ctl) {
+    results.push_back({c.label + "_exited_cleanly", c.exit_code == 0,
+                       static_cast<double>(c.exit_code), "exit code", "== 0",
+                       "see " + c.label + ".stderr"});
+  }
+  Table log;
+  const bool have_log = log.Load(out_abs + "/log.csv", &error);
+  for (const auto& spec : s.checks) {
+    if (!have_log) {
+      results.push_back({spec.type, false, 0, "", "", error});
+      continue;
+    }
+    results.push_back(Evaluate(spec, log, sim_summary));
+  }
+  bool passed = !interrupted;
+  for (const auto& r : results) passed = passed && r.passed;
+  const std::string verdict = interrupted ? "interrupted" : passed ? "pass" : "fail";
+
+  //---------------- summary, plot ----------------
+  nlohmann::json j;
+  j["scenario"] = s.name;
+  j["scenario_file"] = s.file;
+  j["verdict"] = verdict;
+  j["sim_time"] = sim_summary.value("sim_time", 0.0);
+  j["wall_time"] = wall;
+  j["sim_host_wall_time"] = sim_summary.value("wall_time", 0.0);
+  j["real_time_factor"] = sim_summary.value("real_time_factor", 0.0);
+  j["steps"] = sim_summary.value("steps", 0);
+  j["cycles"] = sim_summary.value("cycles", 0);
+  j["physics_dt"] = sim_summary.value("physics_dt", 0.0);
+  j["control_period"] = sim_summary.value("control_period", 0.0);
+  j["checks"] = nlohmann::json::array();
+  for (const auto& r : results) {
+    j["checks"].push_back({{"name", r.name}, {"passed", r.passed}, {"value", r.value},
+                           {"unit", r.unit}, {"limit", r.limit}, {"detail", r.detail}});
+  }
+  j["processes"] = nlohmann::json::array();
+  j["processes"].push_back({{"name", "sim_host"}, {"exit_code", sim.exit_code}});
+  for (auto& c : ctl) j["processes"].push_back({{"name", c.label}, {"exit_code", c.exit_code}});
+  j["files"] = {{"log", "log.csv"}, {"plot", "plot.png"}, {"sim_summary", "sim_summary.json"}};
+  std::ofstream(out_abs + "/summary.json") << j.dump(2) << "\n";
+
+  if (o.plot && have_log) {
+    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    std::string joints;
+    for (const auto& n : s.plot_joints) joints += (joints.empty() ? "" : ",") + n;
+    std::string cmd = python + " '" + o.source_dir + "/tools/scripts/plot_run.py' '" + out_abs +
+                      "/log.csv' '" + out_abs + "/summary.json' '" + out_abs + "/plot.png'" +
+                      (joints.empty() ? "" : " --joints " + joints) + " >> '" + out_abs +
+                      "/plot.stderr' 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+      std::fprintf(stderr, "ohrp_run: the plot could not be made (see %s/plot.stderr)\n", out.c_str());
+  }
+
+  // the verdict, readable
+  std::fprintf(stderr, "\n%-34s %-6s %14s  %s\n", "check", "result", "value", "limit / detail");
+  for (const auto& r : results) {
+    std::fprintf(stderr, "%-34s %-6s %14.6g  %s%s%s\n", r.name.c_str(), r.passed ? "pass" : "FAIL",
+                 r.value, r.limit.c_str(), r.limit.empty() ? "" : "; ", r.detail.c_str());
+  }
+  std::fprintf(stderr,
+               "\nscenario %s: %s (%.2f s simulated, %.2f s wall, %.2fx real time, %s)\n",
+               s.name.c_str(), verdict == "pass" ? "PASS" : verdict == "fail" ? "FAIL" : "INTERRUPTED",
+               j["sim_time"].get<double>(), wall, j["real_time_factor"].get<double>(), out.c_str());
+  if (interrupted) return kRunInterrupted;
+  return passed ? kRunPassed : kRunFailed;
+}
+
+}  // namespace ohrp::runner

@@ -1,0 +1,133 @@
+// Scenario parsing (see scenario.h).
+#include "runner/scenario.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+
+namespace ohrp::runner {
+namespace {
+
+const std::set<std::string> kTopKeys = {
+    "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
+    "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
+    "log_every", "sim_args", "controllers", "checks", "plot_joints"};
+
+template <typename T>
+bool Get(const YAML::Node& n, const char* key, T* out, std::string* error) {
+  if (!n[key]) return true;
+  try {
+    *out = n[key].as<T>();
+    return true;
+  } catch (const YAML::Exception& e) {
+    *error = std::string("key '") + key + "': " + e.what();
+    return false;
+  }
+}
+
+}  // namespace
+
+double CheckSpec::Number(const std::string& key, double fallback) const {
+  auto it = params.find(key);
+  return it == params.end() ? fallback : std::stod(it->second);
+}
+
+bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    *error = "cannot read scenario '" + path + "': " + e.what();
+    return false;
+  }
+  if (!root.IsMap()) {
+    *error = "scenario '" + path + "' is not a YAML mapping (see docs/scenarios.md)";
+    return false;
+  }
+  Scenario s;
+  s.file = path;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (!kTopKeys.count(key)) {
+      *error = "scenario '" + path + "': unknown key '" + key + "' (see docs/scenarios.md)";
+      return false;
+    }
+  }
+  std::string e;
+  bool ok = Get(root, "name", &s.name, &e) && Get(root, "description", &s.description, &e) &&
+            Get(root, "scene", &s.scene, &e) && Get(root, "keyframe", &s.keyframe, &e) &&
+            Get(root, "duration", &s.duration, &e) && Get(root, "physics_dt", &s.physics_dt, &e) &&
+            Get(root, "control_period", &s.control_period, &e) &&
+            Get(root, "integrator", &s.integrator, &e) && Get(root, "realtime", &s.realtime, &e) &&
+            Get(root, "on_controller_loss", &s.on_controller_loss, &e) &&
+            Get(root, "controller_timeout", &s.controller_timeout, &e) &&
+            Get(root, "wall_timeout", &s.wall_timeout, &e) &&
+            Get(root, "log_every", &s.log_every, &e) && Get(root, "sim_args", &s.sim_args, &e) &&
+            Get(root, "plot_joints", &s.plot_joints, &e);
+  if (!ok) {
+    *error = "scenario '" + path + "': " + e;
+    return false;
+  }
+  if (s.scene.empty()) {
+    *error = "scenario '" + path + "': 'scene' is required (an MJCF file, e.g. mjcf/hrp1s/scene_flat.xml)";
+    return false;
+  }
+  if (s.name.empty()) {
+    const auto slash = path.find_last_of('/');
+    s.name = path.substr(slash == std::string::npos ? 0 : slash + 1);
+    if (s.name.size() > 5 && s.name.substr(s.name.size() - 5) == ".yaml") s.name.resize(s.name.size() - 5);
+  }
+  if (!(s.duration > 0)) {
+    *error = "scenario '" + path + "': 'duration' must be > 0 simulated seconds";
+    return false;
+  }
+  if (s.on_controller_loss != "end" && s.on_controller_loss != "wait" &&
+      s.on_controller_loss != "continue") {
+    *error = "scenario '" + path + "': 'on_controller_loss' must be end, wait or continue";
+    return false;
+  }
+  if (root["controllers"]) {
+    if (!root["controllers"].IsSequence()) {
+      *error = "scenario '" + path + "': 'controllers' must be a list of {program, args}";
+      return false;
+    }
+    for (const auto& c : root["controllers"]) {
+      ControllerSpec spec;
+      if (!Get(c, "program", &spec.program, &e) || !Get(c, "args", &spec.args, &e) ||
+          spec.program.empty()) {
+        *error = "scenario '" + path + "': each controller needs 'program' (and optional 'args' list)" +
+                 (e.empty() ? "" : ": " + e);
+        return false;
+      }
+      s.controllers.push_back(spec);
+    }
+  }
+  if (root["checks"]) {
+    if (!root["checks"].IsSequence()) {
+      *error = "scenario '" + path + "': 'checks' must be a list";
+      return false;
+    }
+    for (const auto& c : root["checks"]) {
+      CheckSpec spec;
+      if (!c.IsMap() || !c["type"]) {
+        *error = "scenario '" + path + "': each check needs a 'type'";
+        return false;
+      }
+      for (const auto& kv : c) {
+        const std::string key = kv.first.as<std::string>();
+        if (key == "type") spec.type = kv.second.as<std::string>();
+        else if (kv.second.IsScalar()) spec.params[key] = kv.second.as<std::string>();
+        else if (kv.second.IsSequence()) {
+          std::string joined;
+          for (const auto& item : kv.second) joined += (joined.empty() ? "" : ",") + item.as<std::string>();
+          spec.params[key] = joined;
+        }
+      }
+      s.checks.push_back(spec);
+    }
+  }
+  *out = s;
+  return true;
+}
+
+}  // namespace ohrp::runner

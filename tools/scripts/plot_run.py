@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Draws the plot of one scenario run: plot_run.py LOG.csv SUMMARY.json OUT.png [--joints A,B].
+
+Panels: base height, base position in the plane, the vertical force of each force/torque
+sensor (and their sum beside the weight they carry), and a few joints against their references.
+Uses Debian's python3-matplotlib (installed by ./ohrp setup); no other dependency.
+"""
+import argparse
+import csv
+import json
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_log(path):
+    with open(path, newline="") as f:
+        rows = csv.reader(f)
+        names = next(rows)
+        cols = {n: [] for n in names}
+        for row in rows:
+            for n, v in zip(names, row):
+                cols[n].append(float(v))
+    return cols
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("log")
+    ap.add_argument("summary")
+    ap.add_argument("out")
+    ap.add_argument("--joints", default="", help="comma-separated joint names to draw")
+    a = ap.parse_args()
+
+    log = read_log(a.log)
+    summary = json.load(open(a.summary))
+    t = log["time"]
+    if not t:
+        sys.exit("plot_run: the log has no rows")
+    forces = sorted({n[:-3] for n in log if n.endswith("_fz")})
+    joints = [j for j in a.joints.split(",") if j] or \
+        [n[2:] for n in log if n.startswith("q_")][:4]
+
+    fig, ax = plt.subplots(4, 1, figsize=(10, 12), sharex=True)
+    ax[0].plot(t, log["base_z"], label="base z")
+    ax[0].set_ylabel("base height [m]")
+    ax[1].plot(t, log["base_x"], label="base x")
+    ax[1].plot(t, log["base_y"], label="base y")
+    ax[1].set_ylabel("base position [m]")
+    total = [0.0] * len(t)
+    for f in forces:
+        ax[2].plot(t, log[f + "_fz"], label=f + " fz", lw=0.8)
+        if "fsensor" in f or "ankle" in f.lower() or "foot" in f.lower():
+            total = [s + v for s, v in zip(total, log[f + "_fz"])]
+    if any(total):
+        ax[2].plot(t, total, "k", lw=1, label="sum of the feet")
+    ax[2].set_ylabel("vertical force [N]")
+    for j in joints:
+        if "q_" + j in log:
+            line, = ax[3].plot(t, log["q_" + j], label=j)
+            ax[3].plot(t, log["qref_" + j], "--", color=line.get_color(), lw=0.8)
+    ax[3].set_ylabel("joint angle (dashed: reference) [rad]")
+    ax[3].set_xlabel("simulated time [s]")
+    for x in ax:
+        x.grid(True, alpha=0.3)
+        x.legend(loc="best", fontsize=8)
+    verdict = summary.get("verdict", "?")
+    fig.suptitle("%s: %s (%.1f s simulated, %.2fx real time)" % (
+        summary.get("scenario", "?"), verdict.upper(), summary.get("sim_time", 0),
+        summary.get("real_time_factor", 0)))
+    fig.tight_layout()
+    fig.savefig(a.out, dpi=80)
+
+
+if __name__ == "__main__":
+    main()
