@@ -86,6 +86,8 @@ struct RunStats {
   uint64_t controllers_seen = 0;
   double wall_start = 0;
   double wall_end = 0;
+  double wall_first_command = 0;  // wall time of the first accepted command
+  uint64_t cycles_at_first_command = 0;
   double sim_time = 0;
   std::string outcome = "completed";
   std::string detail;
@@ -177,7 +179,8 @@ int RunHost(const HostOptions& o) {
   shm::CommandBlock cmd{};
   int exit_code = kExitOk;
 
-  auto publish = [&](uint32_t flags) {
+  bool republish = false;
+  auto publish = [&](uint32_t flags, bool record = true) {
     shm::SensorBlock& s = producer->BeginSensors();
     FillSensors(robot, m, d, &s);
     s.cycle = st.cycles;
@@ -189,7 +192,7 @@ int RunHost(const HostOptions& o) {
     std::memcpy(s.rejected_per_joint, servo.rejected_per_joint(),
                 robot.joints.size() * sizeof(uint32_t));
     producer->PublishSensors();
-    if (recorder && st.cycles % static_cast<uint64_t>(o.log_every) == 0)
+    if (record && recorder && st.cycles % static_cast<uint64_t>(o.log_every) == 0)
       recorder->Push(s, &servo.reference(0));
   };
   publish(0);
@@ -208,6 +211,7 @@ int RunHost(const HostOptions& o) {
         std::fprintf(stderr, "sim_host: waiting for a new controller on segment '%s'\n", o.segment.c_str());
         waiting = true;
         wait_since = Now();
+        republish = true;  // the next controller reads this cycle again, marked as holding
         return false;
       case ControllerLoss::kContinue:
         return false;
@@ -221,6 +225,10 @@ int RunHost(const HostOptions& o) {
 
     // commands for the cycle just published
     const bool attached = producer->controller_pid() != 0;
+    if (republish) {
+      republish = false;
+      publish(0, false);
+    }
     if (waiting && !attached) {
       if (o.on_loss != ControllerLoss::kWait || !had_controller) {
         if (Now() - wait_since > o.wait_controller) {
@@ -249,7 +257,10 @@ int RunHost(const HostOptions& o) {
       if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
       switch (producer->WaitCommands(timeout, &cmd)) {
         case shm::WaitResult::kCommands:
-          ++st.commands;
+          if (st.commands++ == 0) {
+            st.wall_first_command = Now();
+            st.cycles_at_first_command = st.cycles;
+          }
           extra_status &= ~(shm::status::kHolding | shm::status::kCommandLate |
                             shm::status::kCommandRejected);
           if (servo.Accept(cmd) > 0) extra_status |= shm::status::kCommandRejected;
@@ -357,6 +368,10 @@ int RunHost(const HostOptions& o) {
     j["wall_time"] = wall;
     j["real_time_factor"] = rtf;
     j["steps"] = st.steps;
+    // wall time per control cycle once a controller answers (attach and set-up excluded)
+    const uint64_t loop_cycles = st.cycles - st.cycles_at_first_command;
+    j["wall_per_cycle"] = st.commands > 0 && loop_cycles > 0
+                              ? (st.wall_end - st.wall_first_command) / loop_cycles : 0.0;
     j["cycles"] = st.cycles;
     j["commands"] = st.commands;
     j["late_commands"] = st.late;

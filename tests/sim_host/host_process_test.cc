@@ -1,0 +1,312 @@
+// Tests sim_host as a process: lock-step timing, command checks, and the faults (malformed
+// model, dead controller, dead or interrupted sim_host, stale segment), with the real binary.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "shm_bridge/bridge.h"
+#include "test_models.h"
+
+namespace ohrp::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+class SimHostProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    segment_ = "simtest_" + std::to_string(getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove("/dev/shm/" + shm::SegmentObjectName(segment_));
+    scene_ = testing::WriteTemp(testing::kTwoJointArm);
+    err_ = testing::WriteTemp("", ".stderr");
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    fs::remove("/dev/shm/" + shm::SegmentObjectName(segment_));
+  }
+
+  // starts sim_host on the arm model with `extra` options; stderr goes to err_
+  void Start(std::vector<std::string> extra) {
+    std::vector<std::string> args = {std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", scene_,
+                                     "--segment", segment_, "--physics-dt", "0.001",
+                                     "--control-period", "0.002", "--progress", "0"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    pid_ = fork();
+    if (pid_ == 0) {
+      const int fd = open(err_.c_str(), O_WRONLY | O_TRUNC);
+      dup2(fd, 2);
+      std::vector<char*> a;
+      for (auto& s : args) a.push_back(s.data());
+      a.push_back(nullptr);
+      execv(a[0], a.data());
+      _exit(127);
+    }
+  }
+  bool WaitSegment(double timeout = 5) {
+    const auto t0 = Clock::now();
+    while (Since(t0) < timeout) {
+      if (fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_))) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
+  }
+  // waits for sim_host to end; returns its exit code, or -1 on timeout
+  int Wait(double timeout = 10) {
+    const auto t0 = Clock::now();
+    int st = 0;
+    while (Since(t0) < timeout) {
+      if (waitpid(pid_, &st, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return -1;
+  }
+  std::string Stderr() {
+    std::ifstream in(err_);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  void Attach(shm::RobotAdaptor* a) {
+    ASSERT_TRUE(WaitSegment());
+    shm::Status st;
+    for (int i = 0; i < 200; ++i) {
+      st = a->open(segment_);
+      if (st.ok()) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    FAIL() << st.message;
+  }
+  static shm::CommandBlock Hold(const shm::SensorBlock& s, int n) {
+    shm::CommandBlock c{};
+    c.njoint = n;
+    for (int i = 0; i < n; ++i) {
+      c.joint[i].mode = shm::JointMode::kPosition;
+      c.joint[i].q_ref = s.q[i];
+      c.joint[i].kp = 100;
+      c.joint[i].kd = 10;
+    }
+    return c;
+  }
+
+  std::string segment_, scene_, err_;
+  pid_t pid_ = -1;
+};
+
+TEST_F(SimHostProcess, MalformedModelExitsWithMujocosTextAndLeavesNoSegment) {
+  scene_ = testing::WriteTemp("<mujoco><worldbody><body></worldbody>");
+  Start({});
+  EXPECT_EQ(Wait(), 2);
+  const std::string e = Stderr();
+  EXPECT_NE(e.find(scene_), std::string::npos) << e;
+  EXPECT_NE(e.find("XML"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+}
+
+TEST_F(SimHostProcess, MissingModelExitsNonZero) {
+  scene_ = "/nonexistent/scene.xml";
+  Start({});
+  EXPECT_NE(Wait(), 0);
+  EXPECT_NE(Stderr().find("/nonexistent/scene.xml"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+}
+
+TEST_F(SimHostProcess, LockStepCommandsActFromTheNextCycle) {
+  Start({"--duration", "1"});
+  shm::RobotAdaptor a;
+  Attach(&a);
+  ASSERT_EQ(a.header().njoint, 2);
+  EXPECT_EQ(a.header().producer_kind, shm::ProducerKind::kSimulation);
+  shm::SensorBlock s{};
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  EXPECT_EQ(s.cycle, 0u);
+  EXPECT_DOUBLE_EQ(s.time, 0.0);
+  // a torque command answering cycle 0 is what the servo applies during cycle 1
+  auto c = Hold(s, 2);
+  c.joint[0].mode = shm::JointMode::kTorque;
+  c.joint[0].tau_ff = 5.0;
+  ASSERT_EQ(a.write(c), shm::ReadResult::kOk);
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  EXPECT_EQ(s.cycle, 1u);
+  EXPECT_NEAR(s.time, 0.002, 1e-12);
+  EXPECT_DOUBLE_EQ(s.tau[0], 5.0);
+  // lock-step: every cycle is seen, none skipped, time advances by the control period
+  for (uint64_t k = 2; k < 50; ++k) {
+    ASSERT_EQ(a.write(c), shm::ReadResult::kOk);
+    ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+    ASSERT_EQ(s.cycle, k);
+    ASSERT_NEAR(s.time, 0.002 * k, 1e-9);
+  }
+  // the joint under a constant torque from t = 0 (the steps after cycle 0): q = tau t^2 / (2 I)
+  // from rest, I = armature 2; semi-implicit Euler adds dt / t = 1 %
+  const double t = s.time;
+  EXPECT_NEAR(s.q[0], 5.0 * t * t / (2 * 2.0), 0.015 * 5.0 * t * t / 4.0);
+  a.close();
+}
+
+TEST_F(SimHostProcess, NanCommandIsRejectedCountedAndTheJointHolds) {
+  Start({"--duration", "5"});
+  shm::RobotAdaptor a;
+  Attach(&a);
+  shm::SensorBlock s{};
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  auto c = Hold(s, 2);
+  c.joint[1].q_ref = 0.3;
+  c.joint[1].kd = 20;  // critically damped on j2's inertia of 1
+  for (int k = 0; k < 500; ++k) {  // move j2 to 0.3 and let it settle
+    ASSERT_EQ(a.write(c), shm::ReadResult::kOk);
+    ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  }
+  const double held = s.q[1];
+  auto bad = c;
+  bad.joint[1].q_ref = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k < 20; ++k) {
+    ASSERT_EQ(a.write(bad), shm::ReadResult::kOk);
+    ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+    EXPECT_TRUE(s.status & shm::status::kCommandRejected);
+  }
+  EXPECT_EQ(s.rejected_per_joint[1], 20u);
+  EXPECT_EQ(s.rejected_per_joint[0], 0u);
+  EXPECT_EQ(s.rejected_commands, 20u);
+  EXPECT_NEAR(s.q[1], held, 0.002);
+  EXPECT_NEAR(s.q[1], 0.3, 0.002);
+  EXPECT_TRUE(std::isfinite(s.q[1]));
+  ASSERT_EQ(a.write(c), shm::ReadResult::kOk);
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  EXPECT_FALSE(s.status & shm::status::kCommandRejected);
+}
+
+TEST_F(SimHostProcess, ControllerDeathEndsTheRunWithinTheTimeout) {
+  Start({"--duration", "100", "--on-controller-loss", "end", "--controller-timeout", "2"});
+  ASSERT_TRUE(WaitSegment());
+  const pid_t child = fork();
+  if (child == 0) {
+    shm::RobotAdaptor a;
+    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
+    shm::SensorBlock s{};
+    for (int k = 0; k < 10; ++k) {
+      if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
+      a.write(Hold(s, 2));
+    }
+    _exit(0);  // dies without closing: its claim stays on the segment
+  }
+  int st = 0;
+  waitpid(child, &st, 0);
+  ASSERT_EQ(WEXITSTATUS(st), 0);
+  const auto t0 = Clock::now();
+  EXPECT_EQ(Wait(), 5);
+  EXPECT_LT(Since(t0), 0.5);  // noticed from the pid check, well before the 2 s timeout
+  EXPECT_NE(Stderr().find("controller died"), std::string::npos) << Stderr();
+  EXPECT_NE(Stderr().find("holding its last references"), std::string::npos);
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+}
+
+TEST_F(SimHostProcess, AfterControllerLossANewControllerCanAttach) {
+  Start({"--duration", "100", "--on-controller-loss", "wait"});
+  ASSERT_TRUE(WaitSegment());
+  const pid_t child = fork();
+  if (child == 0) {
+    shm::RobotAdaptor a;
+    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
+    shm::SensorBlock s{};
+    for (int k = 0; k < 10; ++k) {
+      if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
+      a.write(Hold(s, 2));
+    }
+    _exit(0);
+  }
+  waitpid(child, nullptr, 0);
+  // attach only once sim_host has seen the loss (a quicker controller simply takes over)
+  const auto t0 = Clock::now();
+  while (Stderr().find("waiting for a new controller") == std::string::npos && Since(t0) < 2)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  shm::RobotAdaptor b;
+  Attach(&b);
+  shm::SensorBlock s{};
+  ASSERT_EQ(b.read(&s), shm::ReadResult::kOk);
+  EXPECT_GE(s.cycle, 10u);  // time went on from where the first controller left it
+  EXPECT_TRUE(s.status & shm::status::kHolding);
+  ASSERT_EQ(b.write(Hold(s, 2)), shm::ReadResult::kOk);
+  ASSERT_EQ(b.read(&s), shm::ReadResult::kOk);
+  EXPECT_FALSE(s.status & shm::status::kHolding);
+  b.close();
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130);
+}
+
+TEST_F(SimHostProcess, DeadSimHostMakesReadFailAndItsStaleSegmentIsReplaced) {
+  Start({"--duration", "100"});
+  shm::RobotAdaptor a;
+  Attach(&a);
+  shm::SensorBlock s{};
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  ASSERT_EQ(a.write(Hold(s, 2)), shm::ReadResult::kOk);
+  kill(pid_, SIGKILL);
+  waitpid(pid_, nullptr, 0);
+  pid_ = -1;
+  const auto t0 = Clock::now();
+  shm::ReadResult r = shm::ReadResult::kOk;
+  while (r == shm::ReadResult::kOk && Since(t0) < 3) r = a.read(&s);
+  EXPECT_EQ(r, shm::ReadResult::kProducerGone);
+  EXPECT_LT(Since(t0), 0.5);
+  a.close();
+  ASSERT_TRUE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));  // left behind
+  Start({"--duration", "0.1", "--wait-controller", "0"});
+  EXPECT_EQ(Wait(), 0);
+  EXPECT_NE(Stderr().find("stale"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+}
+
+TEST_F(SimHostProcess, InterruptShutsDownCleanlyWithTheLogFlushed) {
+  const std::string log = testing::WriteTemp("", ".csv");
+  Start({"--duration", "0", "--wait-controller", "0", "--log", log});
+  ASSERT_TRUE(WaitSegment());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130);
+  EXPECT_NE(Stderr().find("interrupted"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+  std::ifstream in(log);
+  std::string header, line, last;
+  int rows = 0;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("time,base_x", 0), 0u);
+  while (std::getline(in, line)) {
+    ++rows;
+    last = line;
+  }
+  EXPECT_GT(rows, 10);
+  EXPECT_EQ(std::count(last.begin(), last.end(), ','), std::count(header.begin(), header.end(), ','));
+}
+
+TEST_F(SimHostProcess, NoControllerWithinTheWaitIsAClearError) {
+  Start({"--duration", "1", "--wait-controller", "0.2"});
+  EXPECT_EQ(Wait(), 5);
+  EXPECT_NE(Stderr().find("no controller attached"), std::string::npos) << Stderr();
+}
+
+}  // namespace
+}  // namespace ohrp::sim

@@ -1,0 +1,127 @@
+// bench_loop: wall time per control cycle of sim_host + posture in lock-step (two processes,
+// 1 ms physics, 1 ms control), beside a bare in-process loop (the same servo law + mj_step on
+// the same model) measured in the same run, and the real-time factor of both.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "sim_host/model.h"
+#include "sim_host/servo.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double Now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+// bare loop: servo + mj_step, in one process; returns wall seconds per step
+double BareLoop(const std::string& scene_path, double dt, int steps) {
+  std::string error;
+  auto scene = ohrp::sim::Scene::Load(scene_path, &error);
+  if (!scene) {
+    std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
+    std::exit(2);
+  }
+  scene->m()->opt.timestep = dt;
+  scene->Reset("", &error);
+  ohrp::sim::RobotMap robot;
+  if (!ohrp::sim::MapRobot(scene->m(), &robot, &error)) {
+    std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
+    std::exit(2);
+  }
+  ohrp::sim::Servo servo(robot);
+  servo.HoldCurrent(scene->d());
+  const double t0 = Now();
+  for (int i = 0; i < steps; ++i) {
+    servo.Apply(scene->m(), scene->d());
+    mj_step(scene->m(), scene->d());
+  }
+  return (Now() - t0) / steps;
+}
+
+pid_t Spawn(const std::vector<std::string>& argv) {
+  std::vector<char*> a;
+  for (auto& s : argv) a.push_back(const_cast<char*>(s.c_str()));
+  a.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execv(a[0], a.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// sim_host + posture in lock-step; returns sim_host's wall seconds per control cycle
+double TwoProcessLoop(const std::string& bin, const std::string& scene, double dt, double duration,
+                      const std::string& summary) {
+  const std::string seg = "bench_loop_" + std::to_string(getpid());
+  const pid_t sim = Spawn({bin + "/sim_host", "--scene", scene, "--segment", seg, "--physics-dt",
+                           std::to_string(dt), "--control-period", std::to_string(dt),
+                           "--duration", std::to_string(duration), "--summary", summary,
+                           "--quiet", "--progress", "0"});
+  const pid_t ctl = Spawn({bin + "/posture", "--segment", seg, "--attach-timeout", "20"});
+  int st = 0;
+  waitpid(sim, &st, 0);
+  const bool sim_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
+  waitpid(ctl, &st, 0);
+  if (!sim_ok) {
+    std::fprintf(stderr, "bench_loop: sim_host failed; run it by hand to see why\n");
+    std::exit(1);
+  }
+  std::ifstream in(summary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto k = text.find("\"wall_per_cycle\":");
+  return k == std::string::npos ? 0 : std::stod(text.substr(k + 17));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+  double dt = 0.001, duration = 3.0;
+  int repeats = 5;
+  CLI::App app{
+      "bench_loop: wall time per control cycle of sim_host + posture in lock-step (separate\n"
+      "processes, physics step = control period) beside a bare servo + mj_step loop on the same\n"
+      "model, measured alternately in the same run. Prints medians and the ratio."};
+  app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
+  app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
+  app.add_option("--duration", duration, "simulated seconds per measurement")->capture_default_str();
+  app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  ohrp::sim::InstallMujocoHandlers(nullptr);
+  const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
+  const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";
+
+  std::vector<double> bare, loop;
+  const int steps = static_cast<int>(duration / dt);
+  for (int r = 0; r < repeats; ++r) {
+    bare.push_back(BareLoop(scene, dt, steps));
+    loop.push_back(TwoProcessLoop(bin, scene, dt, duration, summary));
+    std::fprintf(stderr, "  run %d/%d: bare %.1f us/step, sim_host+posture %.1f us/cycle\n", r + 1,
+                 repeats, bare.back() * 1e6, loop.back() * 1e6);
+  }
+  fs::remove(summary);
+  const double b = Median(bare), l = Median(loop);
+  std::printf("%-34s %14s %12s\n", "loop", "median [us]", "real time");
+  std::printf("%-34s %14.1f %11.1fx\n", "bare servo + mj_step (1 process)", b * 1e6, dt / b);
+  std::printf("%-34s %14.1f %11.1fx\n", "sim_host + posture (lock-step)", l * 1e6, dt / l);
+  std::printf("ratio: %.2f (%.1f us / %.1f us)\n", l / b, l * 1e6, b * 1e6);
+  return 0;
+}
