@@ -1,0 +1,96 @@
+// The controller lifecycle: one small state machine shared by every controller program.
+//
+//                 configure(header)              activate(first sensors)
+//   kUnconfigured ----------------> kInactive -------------------------> kActive
+//        |                           ^   |                                  |  update(sensors,
+//        |                           |   |          deactivate()            |  commands) every
+//        |                           |   +<---------------------------------+  cycle
+//        |  close()                  |  close()
+//        +-------------------------> kClosed <-- (terminal)
+//
+//   configure   set-up: match the controller's files and parameters to the robot described by
+//               the segment header (joint names and count, limits, default gains). May
+//               allocate and fail; a failure leaves the state kUnconfigured.
+//   activate    called on the first sensor block: take the current pose as the starting point.
+//               From here on commands are allowed. Does not allocate, throw or log.
+//   update      every cycle: fill the command block from the sensor block. Does not allocate,
+//               throw or log. After the controller's own update the commands are guarded:
+//               non-finite values are replaced by a hold and positions are clamped to the
+//               joint limits; both are counted (counters()), never printed per cycle.
+//   deactivate  stop issuing commands (the producer holds the last ones). Back to kInactive.
+//   close       release what configure took. Terminal.
+// A call in the wrong state does nothing and returns false (or kState).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "controllers/config_status.h"
+#include "shm_bridge/layout.h"
+
+namespace ohrp::controllers {
+
+enum class LifecycleState { kUnconfigured, kInactive, kActive, kClosed };
+const char* LifecycleStateName(LifecycleState s);
+
+// problems counted in the per-cycle path, reported after the loop
+struct CycleCounters {
+  uint64_t updates = 0;            // update() calls that produced commands
+  uint64_t non_finite_fixed = 0;   // joint commands whose non-finite values were replaced
+  uint64_t clamped = 0;            // joint position references clamped to the joint limits
+  uint64_t diverged_sensors = 0;   // sensor blocks flagged kDiverged by the producer
+};
+
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  Controller(const Controller&) = delete;
+  Controller& operator=(const Controller&) = delete;
+
+  // kUnconfigured -> kInactive. Keeps a copy of `header`; calls on_configure.
+  ConfigStatus configure(const shm::SegmentHeader& header);
+  // kInactive -> kActive. Records the first sensor block's positions as the hold pose.
+  bool activate(const shm::SensorBlock& sensors) noexcept;
+  // kActive only: fills `*commands` (njoint, modes, references, gains) and guards them.
+  bool update(const shm::SensorBlock& sensors, shm::CommandBlock* commands) noexcept;
+  // kActive -> kInactive.
+  bool deactivate() noexcept;
+  // kUnconfigured or kInactive -> kClosed.
+  bool close();
+
+  LifecycleState state() const { return state_; }
+  const CycleCounters& counters() const { return counters_; }
+  // the header given to configure (valid from kInactive on)
+  const shm::SegmentHeader& header() const { return header_; }
+  int njoint() const { return header_.njoint; }
+  // the robot's joint names, joint-id order (valid from kInactive on)
+  const std::vector<std::string>& joint_names() const { return joint_names_; }
+
+ protected:
+  Controller() = default;
+  virtual ConfigStatus on_configure(const shm::SegmentHeader& header) = 0;
+  virtual void on_activate(const shm::SensorBlock& sensors) noexcept = 0;
+  virtual void on_update(const shm::SensorBlock& sensors,
+                         shm::CommandBlock* commands) noexcept = 0;
+  virtual void on_deactivate() noexcept {}
+  virtual void on_close() {}
+
+ private:
+  void Guard(const shm::SensorBlock& sensors, shm::CommandBlock* commands) noexcept;
+
+  LifecycleState state_ = LifecycleState::kUnconfigured;
+  shm::SegmentHeader header_{};
+  std::vector<std::string> joint_names_;
+  std::array<double, shm::kMaxJoints> last_q_ref_{};  // last good reference, for the hold
+  CycleCounters counters_;
+};
+
+// The joint names of a header, joint-id order (njoint clamped to kMaxJoints).
+std::vector<std::string> JointNames(const shm::SegmentHeader& header);
+
+// True when joint j has usable limits (both finite and q_min < q_max).
+bool HasLimits(const shm::SegmentHeader& header, int j);
+
+}  // namespace ohrp::controllers

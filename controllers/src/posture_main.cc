@@ -1,0 +1,53 @@
+// posture: attach to a robot segment, ramp to a pose, hold it. See controllers/posture.h.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "controllers/posture.h"
+#include "controllers/runner.h"
+
+int main(int argc, char** argv) {
+  using namespace ohrp::controllers;
+  PostureOptions options;
+  RunOptions run;
+  run.program = "posture";
+
+  CLI::App app{
+      "posture: attach to a robot segment (sim_host or hw_driver), read the current joint\n"
+      "positions, ramp smoothly (minimum jerk) to a pose over --ramp seconds of the producer's\n"
+      "time, then hold it until the producer stops or SIGINT/SIGTERM. Position mode, gains =\n"
+      "the producer's default gains times --kp-scale / --kd-scale.",
+      "posture"};
+  app.add_option("--segment", run.segment, "robot segment name, as given to the producer")
+      ->required();
+  app.add_option("--pose", options.pose_file,
+                 "YAML pose by joint name [rad] (joints not named: 0)")
+      ->default_val(DefaultPoseFile());
+  app.add_option("--ramp", options.ramp, "ramp duration [s of producer time], 0 = jump")
+      ->default_val(2.0);
+  app.add_option("--kp-scale", options.kp_scale, "factor on the producer's default kp")
+      ->default_val(1.0);
+  app.add_option("--kd-scale", options.kd_scale, "factor on the producer's default kd")
+      ->default_val(1.0);
+  app.add_option("--attach-timeout", run.attach_timeout,
+                 "[s] wait this long for the segment to appear (0 = fail at once)")
+      ->default_val(0.0);
+  app.add_option("--read-timeout", run.read_timeout,
+                 "[s] longest wait for one sensor block before giving up")
+      ->default_val(2.0);
+  app.footer(ExitCodeHelp());
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  }
+
+  ConfigStatus status;
+  auto controller = PostureController::Create(options, &status);
+  if (!controller) {
+    std::cerr << "posture: " << status.message << "\n";
+    return status.code == ConfigError::kOption ? kExitUsage : kExitConfig;
+  }
+  InstallStopSignalHandlers();
+  return RunController(*controller, run, std::cout, std::cerr);
+}

@@ -1,0 +1,198 @@
+// The runner: attach, lifecycle, the cycle loop, and how a run ends.
+#include "controllers/runner.h"
+
+#include <csignal>
+#include <chrono>
+#include <cstdio>
+#include <ostream>
+#include <thread>
+
+#include "shm_bridge/bridge.h"
+
+namespace ohrp::controllers {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+
+void OnStopSignal(int) { g_stop = 1; }
+
+// how a producer is called in messages
+const char* ProducerLabel(shm::ProducerKind kind) {
+  switch (kind) {
+    case shm::ProducerKind::kSimulation: return "sim_host";
+    case shm::ProducerKind::kHardware: return "hw_driver";
+    case shm::ProducerKind::kReplay: return "replay";
+    case shm::ProducerKind::kUnknown: break;
+  }
+  return "producer";
+}
+
+std::string Fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+bool Retryable(shm::Error e) {
+  return e == shm::Error::kNoSegment || e == shm::Error::kProducerNotReady;
+}
+
+// Opens the adaptor, retrying a missing or not yet ready segment until the attach timeout.
+shm::Status Attach(shm::RobotAdaptor* adaptor, const RunOptions& options, bool* interrupted) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(options.attach_timeout);
+  shm::AdaptorOptions adaptor_options;
+  adaptor_options.read_timeout = options.read_timeout;
+  *interrupted = false;
+  while (true) {
+    shm::Status status = adaptor->open(options.segment, adaptor_options);
+    if (status.ok() || !Retryable(status.code) || Clock::now() >= deadline) return status;
+    if (g_stop) {
+      *interrupted = true;
+      return status;
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(options.retry_interval));
+  }
+}
+
+}  // namespace
+
+const char* ExitCodeHelp() {
+  return "Exit codes:\n"
+         "  0  the producer (sim_host / hw_driver) ended its run normally, or SIGINT/SIGTERM\n"
+         "  2  bad command line\n"
+         "  3  a file is malformed or does not fit the robot (joint names/count, limits)\n"
+         "  4  could not attach to the segment (not there within --attach-timeout, built\n"
+         "     against another layout, another controller attached, ...)\n"
+         "  5  the producer's process is gone, or sent no sensors within --read-timeout\n"
+         "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n";
+}
+
+void InstallStopSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: blocking waits return with EINTR
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+void RequestStop() noexcept { g_stop = 1; }
+void ClearStopRequest() noexcept { g_stop = 0; }
+
+int RunController(Controller& controller, const RunOptions& options, std::ostream& out,
+                  std::ostream& err, RunReport* report) {
+  RunReport local;
+  RunReport& rep = report != nullptr ? *report : local;
+  rep = RunReport{};
+  const std::string& prog = options.program;
+  const std::string seg = "'" + options.segment + "'";
+
+  //---------------- attach and configure ----------------
+  shm::RobotAdaptor adaptor;
+  bool interrupted = false;
+  shm::Status attached = Attach(&adaptor, options, &interrupted);
+  if (interrupted) {
+    out << prog << ": stopped by signal while waiting for segment " << seg << "\n";
+    return rep.exit_code = kExitOk;
+  }
+  if (!attached.ok()) {
+    err << prog << ": cannot attach to segment " << seg << " (" << shm::ErrorName(attached.code)
+        << "): " << attached.message;
+    if (Retryable(attached.code)) {
+      err << (options.attach_timeout > 0
+                  ? " (gave up after --attach-timeout " + Fixed(options.attach_timeout, 1) + " s)"
+                  : " (use --attach-timeout S to wait for the producer)");
+    }
+    err << "\n";
+    return rep.exit_code = kExitAttach;
+  }
+  const shm::SegmentHeader& header = adaptor.header();
+  const std::string producer = std::string(ProducerLabel(header.producer_kind)) + " (pid " +
+                               std::to_string(header.producer_pid) + ")";
+  ConfigStatus configured = controller.configure(header);
+  if (!configured.ok()) {
+    err << prog << ": segment " << seg << " (robot " << header.robot_name << ", "
+        << header.njoint << " joints): " << configured.message << "\n";
+    adaptor.close();
+    controller.close();
+    return rep.exit_code = kExitConfig;
+  }
+  out << prog << ": attached to segment " << seg << ": robot " << header.robot_name << ", "
+      << header.njoint << " joints, control period " << Fixed(header.control_period * 1e3, 3)
+      << " ms, producer " << producer << std::endl;
+
+  //---------------- the cycle loop: no allocation, throwing or logging ----------------
+  shm::SensorBlock sensors{};
+  shm::CommandBlock commands{};
+  shm::ReadResult result = shm::ReadResult::kOk;
+  bool stopped_by_signal = false;
+  bool active = false;
+  uint32_t last_status = 0;
+  uint64_t late = 0, rejected = 0;
+  while (true) {
+    if (g_stop) {
+      stopped_by_signal = true;
+      break;
+    }
+    result = adaptor.read(&sensors);
+    if (result != shm::ReadResult::kOk) break;
+    if (!active) {
+      active = controller.activate(sensors);
+      rep.first_time = sensors.time;
+    }
+    rep.last_time = sensors.time;
+    last_status = sensors.status;
+    late = sensors.late_commands;
+    rejected = sensors.rejected_commands;
+    controller.update(sensors, &commands);
+    result = adaptor.write(commands);
+    if (result != shm::ReadResult::kOk) break;
+    ++rep.cycles;
+  }
+  if (g_stop) stopped_by_signal = true;
+
+  //---------------- end of the run ----------------
+  controller.deactivate();
+  adaptor.close();  // frees the controller slot
+  controller.close();
+
+  std::string why;
+  if (stopped_by_signal) {
+    why = "stopped by signal";
+    rep.exit_code = kExitOk;
+  } else if (result == shm::ReadResult::kProducerStopped) {
+    if (last_status & shm::status::kDiverged) {
+      why = producer + " ended its run reporting a failure (simulation diverged)";
+      rep.exit_code = kExitProducerFailed;
+    } else {
+      why = producer + " ended its run";
+      rep.exit_code = kExitOk;
+    }
+  } else if (result == shm::ReadResult::kProducerGone) {
+    why = producer + " is gone (its process exited without ending the run)";
+    rep.exit_code = kExitProducerLost;
+  } else if (result == shm::ReadResult::kTimeout) {
+    why = "no sensors from " + producer + " for " + Fixed(options.read_timeout, 2) +
+          " s (--read-timeout): the producer is alive but not cycling";
+    rep.exit_code = kExitProducerLost;
+  } else {
+    why = std::string("the adaptor reported ") + shm::ReadResultName(result);
+    rep.exit_code = kExitProducerLost;
+  }
+  std::ostream& sink = rep.exit_code == kExitOk ? out : err;
+  sink << prog << ": " << why << "; stopped after " << rep.cycles << " cycles (producer time "
+       << Fixed(rep.first_time, 3) << " .. " << Fixed(rep.last_time, 3) << " s), segment "
+       << seg << " released\n";
+  const CycleCounters& c = controller.counters();
+  if (c.non_finite_fixed || c.clamped || c.diverged_sensors || late || rejected) {
+    err << prog << ": problems counted: " << c.non_finite_fixed
+        << " non-finite joint commands replaced by a hold, " << c.clamped
+        << " references clamped to joint limits, " << c.diverged_sensors
+        << " diverged sensor blocks; the producer counted " << late << " late command blocks and "
+        << rejected << " rejected joint commands\n";
+  }
+  return rep.exit_code;
+}
+
+}  // namespace ohrp::controllers
