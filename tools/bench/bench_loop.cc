@@ -1,6 +1,7 @@
 // bench_loop: wall time per control cycle of sim_host + posture in lock-step (two processes,
 // 1 ms physics, 1 ms control), beside a bare in-process loop (the same servo law + mj_step on
 // the same model) measured in the same run, and the real-time factor of both.
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -55,12 +56,17 @@ double BareLoop(const std::string& scene_path, double dt, int steps) {
   return (Now() - t0) / steps;
 }
 
-pid_t Spawn(const std::vector<std::string>& argv) {
+pid_t Spawn(const std::vector<std::string>& argv, bool silent) {
   std::vector<char*> a;
   for (auto& s : argv) a.push_back(const_cast<char*>(s.c_str()));
   a.push_back(nullptr);
   const pid_t pid = fork();
   if (pid == 0) {
+    if (silent) {
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+    }
     execv(a[0], a.data());
     _exit(127);
   }
@@ -74,8 +80,8 @@ double TwoProcessLoop(const std::string& bin, const std::string& scene, double d
   const pid_t sim = Spawn({bin + "/sim_host", "--scene", scene, "--segment", seg, "--physics-dt",
                            std::to_string(dt), "--control-period", std::to_string(dt),
                            "--duration", std::to_string(duration), "--summary", summary,
-                           "--quiet", "--progress", "0"});
-  const pid_t ctl = Spawn({bin + "/posture", "--segment", seg, "--attach-timeout", "20"});
+                           "--quiet", "--progress", "0"}, false);
+  const pid_t ctl = Spawn({bin + "/posture", "--segment", seg, "--attach-timeout", "20"}, true);
   int st = 0;
   waitpid(sim, &st, 0);
   const bool sim_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
