@@ -246,14 +246,18 @@ int RunHost(const HostOptions& o) {
       continue;
     }
     if (attached) {
-      if (!had_controller || waiting) {
+      // a controller just attached may still be setting up: its first answer gets the
+      // attach wait, not the per-cycle timeout
+      const bool first_answer = !had_controller || waiting;
+      if (first_answer) {
         ++st.controllers_seen;
         if (!o.quiet)
           std::fprintf(stderr, "sim_host: controller pid %d attached\n", producer->controller_pid());
       }
       had_controller = true;
       waiting = false;
-      double timeout = o.controller_timeout;
+      double timeout = first_answer ? std::fmax(o.controller_timeout, o.wait_controller)
+                                    : o.controller_timeout;
       if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
       switch (producer->WaitCommands(timeout, &cmd)) {
         case shm::WaitResult::kCommands:
