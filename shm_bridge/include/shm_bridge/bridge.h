@@ -100,6 +100,9 @@ class Producer {
   // Waits until the controller posts commands for the last published cycle, or until
   // `timeout` [s] passes, checking the controller's pid every `slice` [s]. Copies the command
   // block into `*out` on kCommands. On kControllerDied the controller slot is freed.
+  // Only the block's first njoint joints are copied; the rest of `*out` is left as it was, and
+  // `*out` is not touched unless the result is kCommands. A post answering a cycle older than
+  // the last one published (a late answer) is consumed and ignored.
   WaitResult WaitCommands(double timeout, CommandBlock* out, double slice = 0.02);
 
   // The attached controller's pid, 0 if none.
@@ -113,6 +116,9 @@ class Producer {
   Segment* segment_ = nullptr;
   std::string object_name_;
   void* region_ = nullptr;  // boost mapped_region, owned
+  uint64_t sensors_odd_seq_ = 0;    // sensors.seq while BeginSensors' write is open (else 0)
+  uint64_t published_cycle_ = 0;    // SensorBlock::cycle of the last PublishSensors
+  bool published_ = false;          // PublishSensors was called at least once
 };
 
 //---------------- controller side: the robot adaptor ----------------
@@ -146,10 +152,14 @@ class RobotAdaptor {
   Status open(const std::string& segment_name, const AdaptorOptions& options = {});
 
   // Blocks until the sensors of the next cycle are published, then copies them into `*out`.
+  // Only the entries in use (njoint, nforce, nimu of header()) are copied; the rest of `*out`
+  // is left as it was. A cycle published before open (and not yet answered) is returned first.
   ReadResult read(SensorBlock* out);
 
   // Writes the commands answering the last cycle read (answers_cycle is set here) and posts
-  // commands_ready.
+  // commands_ready. Copies commands.njoint (clamped to kMaxJoints) joints; `seq` and
+  // `answers_cycle` of `commands` are ignored. Returns kProducerStopped (writing nothing) once
+  // the producer has ended its run.
   ReadResult write(const CommandBlock& commands);
 
   // Releases the controller slot and unmaps the segment. Safe to call twice.

@@ -202,6 +202,20 @@ struct Segment {
 
 // A hash of the layout (sizes and offsets of every block and of the capacities), so that a
 // controller built against another layout is refused on attach instead of misreading.
+// Deterministic: FNV-1a (64 bit) over kLayoutVersion, the k* capacities and the sizeof and
+// offsetof of every struct and field above, each fed as 8 little-endian bytes.
 uint64_t LayoutHash();
+
+// FNV-1a (64 bit) of the `n` bytes at `data`, continuing from `h` (the FNV offset basis when
+// starting). LayoutHash is built from it; exposed so tests can check it against known vectors.
+inline constexpr uint64_t kFnv1aOffsetBasis = 14695981039346656037ull;
+inline constexpr uint64_t kFnv1aPrime = 1099511628211ull;
+constexpr uint64_t Fnv1a64(const char* data, std::size_t n, uint64_t h = kFnv1aOffsetBasis) {
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<uint8_t>(data[i]);
+    h *= kFnv1aPrime;
+  }
+  return h;
+}
 
 }  // namespace ohrp::shm

@@ -1,0 +1,209 @@
+// RobotAdaptor: the controller's end of the robot segment, open / read / write / close
+// (handshake: layout.h).
+#include <unistd.h>
+
+#include <algorithm>
+#include <boost/interprocess/exceptions.hpp>
+#include <boost/interprocess/mapped_region.hpp>
+#include <boost/interprocess/shared_memory_object.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "shm_bridge/bridge.h"
+#include "shm_bridge/checks.h"
+#include "sync.h"
+
+namespace bip = boost::interprocess;
+
+namespace ohrp::shm {
+namespace {
+
+constexpr double kNotReadyWait = 1.0;   // [s] how long open waits for a producer in kCreating
+constexpr double kNotReadyPoll = 0.01;  // [s] poll period of that wait
+constexpr int kTakeOverAttempts = 8;    // CAS rounds when the controller slot changes under us
+
+std::string Quoted(const std::string& segment_name) { return "segment '" + segment_name + "'"; }
+
+// true while the producer has not finished its header: state kCreating and the magic is either
+// still zero (fresh object) or complete, and the producer (when known) is alive
+bool StillCreating(SegmentHeader& h) {
+  if (internal::LoadState(h) != static_cast<uint32_t>(ProducerState::kCreating)) return false;
+  static constexpr char kZero[sizeof(kMagic)] = {};
+  const bool magic_ok = std::memcmp(h.magic, kMagic, sizeof(kMagic)) == 0 ||
+                        std::memcmp(h.magic, kZero, sizeof(kMagic)) == 0;
+  return magic_ok && (h.producer_pid == 0 || ProcessAlive(h.producer_pid));
+}
+
+}  // namespace
+
+RobotAdaptor::~RobotAdaptor() { close(); }
+
+//---------------- open ----------------
+
+Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions& options) {
+  close();
+  if (!(options.slice > 0.0) || !(options.read_timeout >= 0.0) || !std::isfinite(options.slice) ||
+      !std::isfinite(options.read_timeout)) {
+    return {Error::kInvalidConfig, "AdaptorOptions: slice must be > 0 and read_timeout >= 0 [s]"};
+  }
+  const std::string object_name = SegmentObjectName(segment_name);
+  const std::string where = Quoted(segment_name);
+  std::unique_ptr<bip::mapped_region> region;
+  try {
+    // the object and its size (mapping a short object would fault on access)
+    bip::shared_memory_object shm;
+    try {
+      shm = bip::shared_memory_object(bip::open_only, object_name.c_str(), bip::read_write);
+    } catch (const bip::interprocess_exception& e) {
+      if (e.get_error_code() != bip::not_found_error) throw;
+      return {Error::kNoSegment, "no segment '" + segment_name + "' (/dev/shm/" + object_name +
+                                     "): is sim_host or hw_driver running with --segment " +
+                                     segment_name + "?"};
+    }
+    bip::offset_t size = 0;
+    shm.get_size(size);
+    if (size < static_cast<bip::offset_t>(sizeof(Segment))) {
+      SegmentHeader empty{};
+      return CheckHeader(empty, static_cast<uint64_t>(std::max<bip::offset_t>(size, 0)),
+                         segment_name);
+    }
+    region = std::make_unique<bip::mapped_region>(shm, bip::read_write, 0, sizeof(Segment));
+  } catch (const bip::interprocess_exception& e) {
+    return {Error::kSystem, where + " (/dev/shm/" + object_name + "): " + e.what()};
+  }
+  auto* segment = static_cast<Segment*>(region->get_address());
+  SegmentHeader& h = segment->header;
+
+  // a producer still writing its header gets a moment
+  const int64_t ready_deadline = internal::NowNs() + internal::SecondsToNs(kNotReadyWait);
+  while (StillCreating(h) && internal::NowNs() < ready_deadline) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(kNotReadyPoll));
+  }
+
+  // identity and layout, then the producer's life
+  Status check = CheckHeader(h, sizeof(Segment), segment_name);
+  if (!check.ok()) return check;
+  const uint32_t state = internal::LoadState(h);
+  if (state == static_cast<uint32_t>(ProducerState::kCreating)) {
+    return {Error::kProducerNotReady,
+            where + " is still being created by producer pid " + std::to_string(h.producer_pid) +
+                " after " + std::to_string(kNotReadyWait) + " s; retry, or restart the producer"};
+  }
+  if (!ProcessAlive(h.producer_pid)) {
+    return {Error::kProducerDead, "stale " + where + ": its producer pid " +
+                                      std::to_string(h.producer_pid) +
+                                      " is gone; restart the producer"};
+  }
+  if (internal::IsEnded(state)) {
+    return {Error::kProducerStopped,
+            where + " belongs to producer pid " + std::to_string(h.producer_pid) + " that has " +
+                (state == static_cast<uint32_t>(ProducerState::kFailed) ? "failed" : "stopped") +
+                "; restart the producer"};
+  }
+  if (state != static_cast<uint32_t>(ProducerState::kRunning)) {
+    return {Error::kNotASegment, where + " has unknown producer state " + std::to_string(state)};
+  }
+
+  // claim the controller slot; a slot held by a dead controller is taken over
+  const pid_t self = getpid();
+  bool claimed = false;
+  for (int attempt = 0; attempt < kTakeOverAttempts && !claimed; ++attempt) {
+    pid_t holder = 0;
+    if (internal::SwapControllerPid(h, &holder, self)) {
+      claimed = true;
+    } else if (holder == self || ProcessAlive(holder)) {
+      return {Error::kControllerPresent, where + " already has a controller (pid " +
+                                             std::to_string(holder) + "); stop it first"};
+    } else {
+      claimed = internal::SwapControllerPid(h, &holder, self);
+    }
+  }
+  if (!claimed) {
+    return {Error::kControllerPresent,
+            where + ": the controller slot kept changing while attaching; retry"};
+  }
+
+  // keep a validated copy of the header; the pending sensors post (if any) is the cycle to
+  // answer first, so it is left in place
+  header_ = SanitizedHeader(h);
+  header_.state = internal::LoadState(h);
+  header_.controller_pid = self;
+  options_ = options;
+  last_cycle_ = 0;
+  have_cycle_ = false;
+  segment_ = segment;
+  region_ = region.release();
+  return Status::Ok();
+}
+
+//---------------- cycle ----------------
+
+ReadResult RobotAdaptor::read(SensorBlock* out) {
+  if (segment_ == nullptr) return ReadResult::kNotOpen;
+  SegmentHeader& h = segment_->header;
+  if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
+
+  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(options_.read_timeout);
+  const int64_t slice_ns = std::max<int64_t>(internal::SecondsToNs(options_.slice), 1000000);
+  for (;;) {
+    const int64_t until = std::min(deadline, internal::NowNs() + slice_ns);
+    const int r = internal::WaitUntil(&segment_->sync.sensors_ready, until);
+    if (r == 0) {
+      if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
+      const auto copy = [this](const SensorBlock* src, SensorBlock* dst) {
+        internal::CopySensors(src, dst, header_);
+      };
+      switch (
+          internal::SeqlockCopy(&segment_->sensors, out, copy, header_.producer_pid, deadline)) {
+        case internal::CopyResult::kOk:
+          last_cycle_ = out->cycle;
+          have_cycle_ = true;
+          return ReadResult::kOk;
+        case internal::CopyResult::kWriterGone:
+          return ReadResult::kProducerGone;
+        case internal::CopyResult::kTimeout:
+          return ReadResult::kTimeout;
+      }
+    }
+    // the slice ended (or the wait failed): check the producer, then the deadline
+    if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
+    if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
+    if (internal::NowNs() >= deadline || r != ETIMEDOUT) return ReadResult::kTimeout;
+  }
+}
+
+ReadResult RobotAdaptor::write(const CommandBlock& commands) {
+  if (segment_ == nullptr) return ReadResult::kNotOpen;
+  if (internal::IsEnded(internal::LoadState(segment_->header))) {
+    return ReadResult::kProducerStopped;
+  }
+  CommandBlock& block = segment_->commands;
+  const uint64_t odd = internal::SeqlockBegin(&block);
+  // the caller's njoint and its first njoint joints; seq and answers_cycle belong to the bridge
+  const int njoint = std::clamp(commands.njoint, 0, kMaxJoints);
+  block.njoint = njoint;
+  block.pad0 = 0;
+  internal::CopyElements<JointCommand>(&commands, &block, offsetof(CommandBlock, joint), njoint);
+  std::atomic_ref<uint64_t>(block.answers_cycle).store(last_cycle_, std::memory_order_relaxed);
+  internal::SeqlockEnd(&block, odd);
+  sem_post(&segment_->sync.commands_ready);
+  return ReadResult::kOk;
+}
+
+//---------------- close ----------------
+
+void RobotAdaptor::close() {
+  if (segment_ == nullptr) return;
+  pid_t self = getpid();
+  internal::SwapControllerPid(segment_->header, &self, 0);  // only our own claim is released
+  delete static_cast<bip::mapped_region*>(region_);
+  segment_ = nullptr;
+  region_ = nullptr;
+  have_cycle_ = false;
+}
+
+}  // namespace ohrp::shm
