@@ -1,9 +1,13 @@
 // Names and small process helpers shared by both ends of the bridge (bridge.h).
 #include "shm_bridge/bridge.h"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <string>
 
 namespace ohrp::shm {
@@ -56,7 +60,20 @@ std::string SegmentObjectName(const std::string& segment_name) { return "ohrp_" 
 
 bool ProcessAlive(pid_t pid) {
   if (pid <= 0) return false;  // kill(0 or -n, 0) would address process groups
-  return kill(pid, 0) == 0 || errno == EPERM;
+  if (kill(pid, 0) != 0 && errno != EPERM) return false;
+  // a zombie (dead, not yet reaped by its parent) still answers kill(): read its state,
+  // the field after the parenthesised command name in /proc/<pid>/stat
+  char path[32];
+  std::snprintf(path, sizeof(path), "/proc/%d/stat", static_cast<int>(pid));
+  const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return true;  // no procfs: trust kill()
+  char buf[256];
+  const ssize_t n = ::read(fd, buf, sizeof(buf) - 1);
+  ::close(fd);
+  if (n <= 0) return true;
+  buf[n] = 0;
+  const char* paren = std::strrchr(buf, ')');
+  return !(paren && paren[1] == ' ' && (paren[2] == 'Z' || paren[2] == 'X'));
 }
 
 }  // namespace ohrp::shm

@@ -3,6 +3,10 @@
 #include "shm_bridge/layout.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "shm_bridge/bridge.h"
 
 #include <cstring>
 #include <string>
@@ -136,3 +140,15 @@ TEST(SanitizedHeader, ClampsCountsAndTerminatesNames) {
 
 }  // namespace
 }  // namespace ohrp::shm
+
+// A dead child that its parent has not reaped yet is a zombie: it must count as gone.
+TEST(ProcessAliveTest, ZombieIsNotAlive) {
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  EXPECT_TRUE(ohrp::shm::ProcessAlive(getpid()));
+  // give the child time to exit, without reaping it
+  for (int i = 0; i < 200 && ohrp::shm::ProcessAlive(child); ++i) usleep(1000);
+  EXPECT_FALSE(ohrp::shm::ProcessAlive(child));
+  waitpid(child, nullptr, 0);
+  EXPECT_FALSE(ohrp::shm::ProcessAlive(child));
+}
