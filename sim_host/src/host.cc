@@ -258,6 +258,7 @@ int RunHost(const HostOptions& o) {
       waiting = false;
       double timeout = first_answer ? std::fmax(o.controller_timeout, o.wait_controller)
                                     : o.controller_timeout;
+      if (first_answer) deadline = Now();  // real time starts when the controller is there
       if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
       switch (producer->WaitCommands(timeout, &cmd)) {
         case shm::WaitResult::kCommands:

@@ -302,6 +302,20 @@ TEST_F(SimHostProcess, InterruptShutsDownCleanlyWithTheLogFlushed) {
   EXPECT_EQ(std::count(last.begin(), last.end(), ','), std::count(header.begin(), header.end(), ','));
 }
 
+TEST_F(SimHostProcess, RealTimeModePacesToTheWallClock) {
+  const std::string summary = testing::WriteTemp("", ".json");
+  const auto t0 = Clock::now();
+  Start({"--duration", "1", "--wait-controller", "0", "--realtime", "--summary", summary});
+  EXPECT_EQ(Wait(), 0);
+  const double wall = Since(t0);
+  EXPECT_GT(wall, 0.99);  // lock-step would take a few milliseconds for this model
+  EXPECT_LT(wall, 1.5);
+  std::ifstream in(summary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_NE(ss.str().find("\"mode\": \"realtime\""), std::string::npos) << ss.str();
+}
+
 TEST_F(SimHostProcess, NoControllerWithinTheWaitIsAClearError) {
   Start({"--duration", "1", "--wait-controller", "0.2"});
   EXPECT_EQ(Wait(), 5);
