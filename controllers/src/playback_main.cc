@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "controllers/playback.h"
+#include "controllers/cli.h"
 #include "controllers/runner.h"
 
 int main(int argc, char** argv) {
@@ -23,8 +24,6 @@ int main(int argc, char** argv) {
       "Without --velocities, dq_ref is the slope between neighbouring rows. Without --gains,\n"
       "the producer's default gains are used.",
       "playback"};
-  app.add_option("--segment", run.segment, "robot segment name, as given to the producer")
-      ->required();
   app.add_option("--angles", options.angles_file, "joint positions: time q0 q1 ... [s, rad]")
       ->required();
   app.add_option("--velocities", options.velocities_file,
@@ -36,18 +35,8 @@ int main(int argc, char** argv) {
   app.add_option("--time-scale", options.time_scale,
                  "trajectory seconds per producer second (2 = twice as fast)")
       ->default_val(1.0);
-  app.add_option("--attach-timeout", run.attach_timeout,
-                 "[s] wait this long for the segment to appear (0 = fail at once)")
-      ->default_val(0.0);
-  app.add_option("--read-timeout", run.read_timeout,
-                 "[s] longest wait for one sensor block before giving up")
-      ->default_val(2.0);
-  app.footer(ExitCodeHelp());
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kExitOk : kExitUsage;
-  }
+  AddRunOptions(&app, &run);
+  if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   ConfigStatus status;
   auto controller = PlaybackController::Create(options, &status);

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "controllers/posture.h"
+#include "controllers/cli.h"
 #include "controllers/runner.h"
 
 int main(int argc, char** argv) {
@@ -18,8 +19,6 @@ int main(int argc, char** argv) {
       "time, then hold it until the producer stops or SIGINT/SIGTERM. Position mode, gains =\n"
       "the producer's default gains times --kp-scale / --kd-scale.",
       "posture"};
-  app.add_option("--segment", run.segment, "robot segment name, as given to the producer")
-      ->required();
   app.add_option("--pose", options.pose_file,
                  "YAML pose by joint name [rad] (joints not named: 0)")
       ->default_val(DefaultPoseFile());
@@ -29,18 +28,8 @@ int main(int argc, char** argv) {
       ->default_val(1.0);
   app.add_option("--kd-scale", options.kd_scale, "factor on the producer's default kd")
       ->default_val(1.0);
-  app.add_option("--attach-timeout", run.attach_timeout,
-                 "[s] wait this long for the segment to appear (0 = fail at once)")
-      ->default_val(0.0);
-  app.add_option("--read-timeout", run.read_timeout,
-                 "[s] longest wait for one sensor block before giving up")
-      ->default_val(2.0);
-  app.footer(ExitCodeHelp());
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kExitOk : kExitUsage;
-  }
+  AddRunOptions(&app, &run);
+  if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   ConfigStatus status;
   auto controller = PostureController::Create(options, &status);

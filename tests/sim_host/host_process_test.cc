@@ -100,6 +100,24 @@ class SimHostProcess : public ::testing::Test {
     }
     FAIL() << st.message;
   }
+  // a controller in another process that answers 10 cycles and dies without closing (its
+  // claim stays on the segment); returns its exit code once it is reaped
+  int RunDyingController() {
+    const pid_t child = fork();
+    if (child == 0) {
+      shm::RobotAdaptor a;
+      for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
+      shm::SensorBlock s{};
+      for (int k = 0; k < 10; ++k) {
+        if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
+        a.write(Hold(s, 2));
+      }
+      _exit(0);
+    }
+    int st = 0;
+    waitpid(child, &st, 0);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  }
   static shm::CommandBlock Hold(const shm::SensorBlock& s, int n) {
     shm::CommandBlock c{};
     c.njoint = n;
@@ -202,20 +220,7 @@ TEST_F(SimHostProcess, NanCommandIsRejectedCountedAndTheJointHolds) {
 TEST_F(SimHostProcess, ControllerDeathEndsTheRunWithinTheTimeout) {
   Start({"--duration", "100", "--on-controller-loss", "end", "--controller-timeout", "2"});
   ASSERT_TRUE(WaitSegment());
-  const pid_t child = fork();
-  if (child == 0) {
-    shm::RobotAdaptor a;
-    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
-    shm::SensorBlock s{};
-    for (int k = 0; k < 10; ++k) {
-      if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
-      a.write(Hold(s, 2));
-    }
-    _exit(0);  // dies without closing: its claim stays on the segment
-  }
-  int st = 0;
-  waitpid(child, &st, 0);
-  ASSERT_EQ(WEXITSTATUS(st), 0);
+  ASSERT_EQ(RunDyingController(), 0);
   const auto t0 = Clock::now();
   EXPECT_EQ(Wait(), 5);
   EXPECT_LT(Since(t0), 0.5);  // noticed from the pid check, well before the 2 s timeout
@@ -227,18 +232,7 @@ TEST_F(SimHostProcess, ControllerDeathEndsTheRunWithinTheTimeout) {
 TEST_F(SimHostProcess, AfterControllerLossANewControllerCanAttach) {
   Start({"--duration", "100", "--on-controller-loss", "wait"});
   ASSERT_TRUE(WaitSegment());
-  const pid_t child = fork();
-  if (child == 0) {
-    shm::RobotAdaptor a;
-    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
-    shm::SensorBlock s{};
-    for (int k = 0; k < 10; ++k) {
-      if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
-      a.write(Hold(s, 2));
-    }
-    _exit(0);
-  }
-  waitpid(child, nullptr, 0);
+  ASSERT_EQ(RunDyingController(), 0);
   // attach only once sim_host has seen the loss (a quicker controller simply takes over)
   const auto t0 = Clock::now();
   while (Stderr().find("waiting for a new controller") == std::string::npos && Since(t0) < 2)
