@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
   app.add_option("--progress", o.progress, "wall seconds between progress lines; 0: none")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet,-q", o.quiet, "print errors only");
+  app.footer(
+      "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
+      "4 the simulation diverged, 5 the controller was lost (or never attached), 130 interrupted.\n"
+      "Architecture and the segment's protocol: docs/architecture.md.");
   CLI11_PARSE(app, argc, argv);
   o.on_loss = loss == "wait" ? ControllerLoss::kWait
               : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;
