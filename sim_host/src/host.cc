@@ -9,12 +9,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
 #include "shm_bridge/bridge.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
+#include "sim_host/report.h"
 #include "sim_host/sensors.h"
 #include "sim_host/servo.h"
 
@@ -76,22 +75,6 @@ bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
   return true;
 }
 
-// what happened during the run, for the report and the summary
-struct RunStats {
-  uint64_t steps = 0;
-  uint64_t cycles = 0;
-  uint64_t commands = 0;
-  uint64_t late = 0;
-  uint64_t controller_losses = 0;
-  uint64_t controllers_seen = 0;
-  double wall_start = 0;
-  double wall_end = 0;
-  double wall_first_command = 0;  // wall time of the first accepted command
-  uint64_t cycles_at_first_command = 0;
-  double sim_time = 0;
-  std::string outcome = "completed";
-  std::string detail;
-};
 
 }  // namespace
 
@@ -154,7 +137,6 @@ int RunHost(const HostOptions& o) {
 
   Servo servo(robot);
   servo.HoldCurrent(d);
-  const char* integrators[] = {"euler", "rk4", "implicit"};
   if (!o.quiet) {
     std::fprintf(stderr,
                  "sim_host: robot '%s' (%zu joints, %zu F/T, %zu IMU, %zu cameras, %.2f kg) from "
@@ -162,7 +144,7 @@ int RunHost(const HostOptions& o) {
                  "controller loss: %s\n",
                  robot.name.c_str(), robot.joints.size(), robot.forces.size(), robot.imus.size(),
                  robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
-                 integrators[m->opt.integrator], o.control_period,
+                 IntegratorName(m->opt.integrator), o.control_period,
                  o.realtime ? "real time" : "lock-step", LossName(o.on_loss));
   }
 
@@ -344,54 +326,14 @@ int RunHost(const HostOptions& o) {
   }
   if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
   if (recorder) recorder->Flush();
-  const double wall = st.wall_end - st.wall_start;
-  const double rtf = wall > 0 ? st.sim_time / wall : 0;
-  if (!o.quiet) {
-    std::fprintf(stderr,
-                 "sim_host: %s: %.3f s simulated in %.3f s wall (%.2fx real time), %lu steps, "
-                 "%lu cycles, %lu commands, %lu late, %lu rejected, %lu MuJoCo warnings\n",
-                 st.outcome.c_str(), st.sim_time, wall, rtf, static_cast<unsigned long>(st.steps),
-                 static_cast<unsigned long>(st.cycles), static_cast<unsigned long>(st.commands),
-                 static_cast<unsigned long>(st.late),
-                 static_cast<unsigned long>(servo.rejected_total()),
-                 WarningCount() - warnings_at_start);
+  st.rejected = servo.rejected_total();
+  st.warnings = WarningCount() - warnings_at_start;
+  if (recorder) {
+    st.log_rows = recorder->written();
+    st.log_dropped = recorder->dropped();
   }
-  if (!o.summary_path.empty()) {
-    nlohmann::json j;
-    j["outcome"] = st.outcome;
-    j["detail"] = st.detail;
-    j["exit_code"] = exit_code;
-    j["scene"] = o.scene;
-    j["robot"] = robot.name;
-    j["robot_mass"] = robot.total_mass;
-    j["gravity"] = {m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]};
-    j["physics_dt"] = dt;
-    j["control_period"] = o.control_period;
-    j["integrator"] = integrators[m->opt.integrator];
-    j["mode"] = o.realtime ? "realtime" : "lockstep";
-    j["sim_time"] = st.sim_time;
-    j["wall_time"] = wall;
-    j["real_time_factor"] = rtf;
-    j["steps"] = st.steps;
-    // wall time per control cycle once a controller answers (attach and set-up excluded)
-    const uint64_t loop_cycles = st.cycles - st.cycles_at_first_command;
-    j["wall_per_cycle"] = st.commands > 0 && loop_cycles > 0
-                              ? (st.wall_end - st.wall_first_command) / loop_cycles : 0.0;
-    j["cycles"] = st.cycles;
-    j["commands"] = st.commands;
-    j["late_commands"] = st.late;
-    j["rejected_commands"] = servo.rejected_total();
-    j["controller_losses"] = st.controller_losses;
-    j["controllers_seen"] = st.controllers_seen;
-    j["mujoco_warnings"] = WarningCount() - warnings_at_start;
-    j["log_rows"] = recorder ? recorder->written() : 0;
-    j["log_dropped"] = recorder ? recorder->dropped() : 0;
-    // mass below each force sensor: the sensor does not carry it
-    nlohmann::json below = nlohmann::json::object();
-    for (const auto& f : robot.forces) below[f.name] = m->body_subtreemass[m->site_bodyid[f.site_id]];
-    j["mass_below"] = below;
-    std::ofstream(o.summary_path) << j.dump(2) << "\n";
-  }
+  if (!o.quiet) PrintReport(st);
+  if (!o.summary_path.empty()) WriteSummary(o.summary_path, o, robot, m, st, exit_code);
   recorder.reset();
   producer.reset();  // removes the segment
   g_segment_object[0] = 0;

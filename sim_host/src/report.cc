@@ -1,0 +1,71 @@
+// End-of-run report and summary (see report.h).
+#include "sim_host/report.h"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace ohrp::sim {
+
+const char* IntegratorName(int integrator) {
+  switch (integrator) {
+    case mjINT_EULER: return "euler";
+    case mjINT_RK4: return "rk4";
+    case mjINT_IMPLICIT: return "implicit";
+  }
+  return "unknown";
+}
+
+void PrintReport(const RunStats& st) {
+  const double wall = st.wall_end - st.wall_start;
+  std::fprintf(stderr,
+               "sim_host: %s: %.3f s simulated in %.3f s wall (%.2fx real time), %lu steps, "
+               "%lu cycles, %lu commands, %lu late, %lu rejected, %ld MuJoCo warnings\n",
+               st.outcome.c_str(), st.sim_time, wall, wall > 0 ? st.sim_time / wall : 0.0,
+               static_cast<unsigned long>(st.steps), static_cast<unsigned long>(st.cycles),
+               static_cast<unsigned long>(st.commands), static_cast<unsigned long>(st.late),
+               static_cast<unsigned long>(st.rejected), st.warnings);
+}
+
+void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
+                  const mjModel* m, const RunStats& st, int exit_code) {
+  const double wall = st.wall_end - st.wall_start;
+  nlohmann::json j;
+  j["outcome"] = st.outcome;
+  j["detail"] = st.detail;
+  j["exit_code"] = exit_code;
+  j["scene"] = o.scene;
+  j["robot"] = robot.name;
+  j["robot_mass"] = robot.total_mass;
+  j["gravity"] = {m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]};
+  j["physics_dt"] = m->opt.timestep;
+  j["control_period"] = o.control_period;
+  j["integrator"] = IntegratorName(m->opt.integrator);
+  j["mode"] = o.realtime ? "realtime" : "lockstep";
+  j["sim_time"] = st.sim_time;
+  j["wall_time"] = wall;
+  j["real_time_factor"] = wall > 0 ? st.sim_time / wall : 0.0;
+  j["steps"] = st.steps;
+  // wall time per control cycle once a controller answers (attach and set-up excluded)
+  const uint64_t loop_cycles = st.cycles - st.cycles_at_first_command;
+  j["wall_per_cycle"] = st.commands > 0 && loop_cycles > 0
+                            ? (st.wall_end - st.wall_first_command) / loop_cycles
+                            : 0.0;
+  j["cycles"] = st.cycles;
+  j["commands"] = st.commands;
+  j["late_commands"] = st.late;
+  j["rejected_commands"] = st.rejected;
+  j["controller_losses"] = st.controller_losses;
+  j["controllers_seen"] = st.controllers_seen;
+  j["mujoco_warnings"] = st.warnings;
+  j["log_rows"] = st.log_rows;
+  j["log_dropped"] = st.log_dropped;
+  nlohmann::json below = nlohmann::json::object();
+  for (const auto& f : robot.forces) below[f.name] = m->body_subtreemass[m->site_bodyid[f.site_id]];
+  j["mass_below"] = below;
+  std::ofstream out(path);
+  out << j.dump(2) << "\n";
+  if (!out) std::fprintf(stderr, "sim_host: cannot write the summary '%s'\n", path.c_str());
+}
+
+}  // namespace ohrp::sim
