@@ -1,0 +1,130 @@
+// The geometric step of the soft-foot contact (OpenHRP, IJRR 2004, section 3.3.1): where does a
+// sole (a box, as in the robot model) penetrate the environment, and with which normal.
+//
+// What FCL 0.7 (Debian's libfcl 0.7.0, built with assertions) gives, measured on this machine,
+// and what is computed here instead:
+//  - mesh-mesh (BVHModel) contacts report per-triangle depths that are not penetration depths
+//    and miss a mesh that lies wholly inside another: not used;
+//  - fcl::distance with enable_signed_distance (GJK + EPA, libccd) between a small sphere and
+//    an fcl::Box or fcl::Convex gives the correct signed distance and nearest points for generic
+//    points, but for a sphere at a flat face of an fcl::Convex slab EPA aborts the process
+//    (assertion `isOutsidePolytopeFace` in gjk_libccd-inl.h, ComputeVisiblePatch), and it costs
+//    ~15 us per query; against an fcl::Halfspace it crashes (no libccd support function);
+//  - fcl::distance WITHOUT signed distance (GJK only) between the sole's fcl::Box and a box,
+//    convex or primitive is robust: it says whether the two touch (<= 0) or how far they are.
+// So FCL is the narrow-phase test of each (sole, object) pair that survives the cheap bound,
+// and the per-point constraint is computed in closed form, exactly: the sole's bottom face is
+// sampled with a grid of points, and for each point inside an object its penetration is the
+// distance to the nearest face of that object (for a convex object: min over its face planes;
+// boxes, spheres, capsules, cylinders: their own closed forms), the normal that face's outward
+// normal. That is the paper's "reasonable" constraint: the one that gives the smallest
+// penetration depth in the point's neighbourhood. When a point is inside several objects, the
+// deepest one wins (the sole has to leave their union). The tests check these depths against
+// FCL's signed distance where FCL is reliable (fcl::Box, generic points).
+// The cheap bound: world AABBs (for a plane: the lowest corner of the sole box along its
+// normal), so that FCL is not called for a sole far from everything.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fcl {
+template <typename S>
+class CollisionGeometry;
+}
+
+namespace ohrp::contact {
+
+enum class EnvKind { kPlane, kBox, kSphere, kCapsule, kCylinder, kConvexMesh };
+
+// One static object of the environment, in world coordinates.
+struct EnvObject {
+  std::string name;
+  EnvKind kind = EnvKind::kPlane;
+  int geom_id = -1;                 // MuJoCo geom, when built from a model
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // world <- object frame
+  // Plane: the object's +z is the outward normal through its origin. Others: the FCL shape.
+  std::shared_ptr<fcl::CollisionGeometry<double>> shape;
+  Eigen::Vector3d local_center = Eigen::Vector3d::Zero();  // local AABB (unused for planes)
+  Eigen::Vector3d local_half = Eigen::Vector3d::Zero();
+  // Closed-form data: box half sizes / (radius, half length, -) / convex face planes (local
+  // outward unit normal n and offset o: n.x - o <= 0 inside).
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector4d> planes;
+
+  static EnvObject Plane(std::string name, const Eigen::Isometry3d& pose);
+  static EnvObject Box(std::string name, const Eigen::Isometry3d& pose,
+                       const Eigen::Vector3d& half_size);
+  static EnvObject Sphere(std::string name, const Eigen::Isometry3d& pose, double radius);
+  static EnvObject Capsule(std::string name, const Eigen::Isometry3d& pose, double radius,
+                           double half_length);
+  static EnvObject Cylinder(std::string name, const Eigen::Isometry3d& pose, double radius,
+                            double half_length);
+  // A convex polytope (fcl::Convex) from its hull vertices and triangles (outward, CCW).
+  static EnvObject Convex(std::string name, const Eigen::Isometry3d& pose,
+                          std::vector<Eigen::Vector3d> vertices,
+                          const std::vector<int>& triangles);
+};
+
+// The sole: a box; its bottom face is the face at local z = -half.z().
+struct SoleBox {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // world <- sole frame
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();           // half sizes [m]
+};
+
+// A sample point of the bottom face, in the sole frame (z = -half.z), with its area fraction.
+struct SamplePoint {
+  double u = 0, v = 0;  // [m] along the sole's x and y
+  double weight = 0;    // fraction of the face's area, sums to 1
+};
+
+// Cell-centred grid of nx x ny points on the bottom face.
+std::vector<SamplePoint> MakeGrid(const Eigen::Vector3d& half, int nx, int ny);
+
+// One penetrating sample point: the paper's intersecting point with its reasonable constraint.
+struct PointContact {
+  int index = -1;                            // sample point index in the grid
+  int object = -1;                           // index of the environment object
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero();     // world position of the sample point
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // unit, out of the object (push direction)
+  double depth = 0;                          // [m] > 0
+};
+
+struct GeometryStats {
+  long long fcl_queries = 0;       // every fcl::distance call
+  long long pairs_considered = 0;  // (sole, object) pairs looked at
+  long long pairs_bound = 0;       // pairs rejected by the cheap bound (no FCL)
+  long long pairs_fcl_far = 0;     // pairs rejected by one sole-vs-object FCL distance
+  long long pairs_sampled = 0;     // pairs whose sample points were queried
+};
+
+class ContactGeometry {
+ public:
+  ContactGeometry(std::vector<EnvObject> env, double margin);
+
+  std::vector<EnvObject>& env() { return env_; }
+  const std::vector<EnvObject>& env() const { return env_; }
+  const GeometryStats& stats() const { return stats_; }
+  void ResetStats() { stats_ = {}; }
+
+  // The penetrating points of the sole's bottom face (grid from MakeGrid with the same half).
+  void Find(const SoleBox& sole, const std::vector<SamplePoint>& grid,
+            std::vector<PointContact>* out);
+
+  // Signed distance [m] of a world point to one object, closed form, no FCL: < 0 inside, exact
+  // there (the depth of the nearest face) with that face's outward normal; > 0 outside (for a
+  // box, cylinder or convex object then only a lower bound: only the sign is used).
+  static double SignedDistance(const EnvObject& o, const Eigen::Vector3d& p,
+                               Eigen::Vector3d* normal);
+
+ private:
+  bool CheapBoundSeparated(const SoleBox& sole, const EnvObject& o) const;
+  std::vector<EnvObject> env_;
+  double margin_;
+  GeometryStats stats_;
+  std::vector<int> candidates_;
+};
+
+}  // namespace ohrp::contact

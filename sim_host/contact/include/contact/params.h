@@ -1,0 +1,61 @@
+// Parameters of the soft-foot contact (OpenHRP, IJRR 2004, section 3.3) and their validation.
+//
+// The normal law is Hunt-Crossley on a penetration delta >= 0 [m] and its rate ddelta [m/s]:
+//     f_n = k * delta^n * (1 + c * ddelta),  clamped to f_n >= 0 (the contact never pulls),
+// which vanishes continuously at separation (delta -> 0). The friction is a tangential spring
+// with a damper, saturated by Coulomb's cone |f_t| <= mu * f_n (stick below, slip at the bound).
+// All stiffnesses and dampings are PER SOLE (the whole bottom face in full contact); the
+// library spreads them over the sample points of the face by area.
+#pragma once
+
+#include <string>
+
+namespace ohrp::contact {
+
+struct SoftContactParams {
+  // k [N/m^n] (N/m for n = 1): the normal stiffness of one sole (rubber + foot mechanism).
+  // Default: a 120-130 kg humanoid (HRP-1S in mjcf/hrp1s is ~120 kg, ~1200 N) standing on two
+  // feet loads each sole with ~600 N; 3e5 N/m gives a static sink of 2.0 mm per foot standing
+  // and 4.0 mm in single support: "a few mm", as a rubber sole on a spring-damper ankle does.
+  double stiffness = 3.0e5;
+  // n [-]: force ~ k * delta^n. 1 = linear mechanism spring (default, the HRP-1S foot has a
+  // mechanical spring); 1.5 = Hertz-like rubber pad. Must be in [1, 3].
+  double exponent = 1.0;
+  // c [s/m]: Hunt-Crossley damping coefficient (the "alpha" of Hunt & Crossley 1975). For small
+  // impact speeds v the coefficient of restitution is e ~= 1 - (2/3) c v (any n). Default 3 s/m:
+  // a damping ratio of about c*g/(2*omega) ~= 0.2 for the robot standing (omega ~= 70 rad/s),
+  // e ~= 0.8 for a foot landing at 0.1 m/s. Tune against the paper's figure-12 oscillation.
+  double damping = 3.0;
+  // mu [-]: Coulomb friction coefficient, rubber on a floor (matches the model's friction 1).
+  double friction = 1.0;
+  // k_t [N/m]: tangential (shear) stiffness of one sole while it sticks. 2e5 N/m: 3 mm of shear
+  // at the sliding limit of a standing foot (mu * 600 N).
+  double tangential_stiffness = 2.0e5;
+  // b_t [N s/m]: tangential damping of one sole while it sticks (damping ratio ~0.3 for 60 kg).
+  double tangential_damping = 2.0e3;
+  // Sample grid on the sole's bottom face: grid_x points along the sole's x (length), grid_y
+  // along y (width), at the cell centres, each carrying 1/(grid_x*grid_y) of the area.
+  int grid_x = 5;
+  int grid_y = 3;
+  // [m]: broad-phase margin. A sole whose bounding box is farther than this from an object's
+  // bounding box (or whose lowest corner is this far above a plane) costs no FCL query.
+  double margin = 0.01;
+  // Estimate the sole's penetration (depth + tilt) by least squares per (sole, object) pair, as
+  // the paper does, instead of using each point's raw depth.
+  bool least_squares = true;
+};
+
+// Peak load used by the stability check, as a multiple of mass_scale * g (impacts, walking).
+inline constexpr double kPeakLoadFactor = 3.0;
+// The check demands dt^2*K/m + 2*dt*beta <= kStabilityBudget; the explicit (semi-implicit
+// Euler) step of a damped oscillator is stable for values < 4, half of that is kept as margin.
+inline constexpr double kStabilityBudget = 2.0;
+
+// Checks the parameters for a physics step dt [s] and the smallest mass that rides on one sole
+// mass_scale [kg] (the robot standing: its mass / 2; a single block: its mass). Returns false
+// with every problem in *error (one per line), each naming the parameter, why, and what would
+// work. The stability check linearises the normal law at kPeakLoadFactor * mass_scale * g:
+// K = n k delta^(n-1), beta = c k delta^n / m, and the tangential law: K = k_t, beta = b_t / m.
+bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error);
+
+}  // namespace ohrp::contact

@@ -1,0 +1,89 @@
+// The soft-foot contact bound to a MuJoCo model: soles (box geoms) against static environment
+// geoms, forces written into mjData.
+//
+// Where the force goes: d->xfrc_applied of the sole's body (a world-frame force and torque at
+// the body's centre of mass, d->xipos). Not qfrc_applied through mj_applyFT: both move the
+// robot the same way, but MuJoCo builds the external body forces cfrc_ext (used by
+// mj_rnePostConstraint, hence by the force/torque sensors of the ankles) from xfrc_applied and
+// its own contacts only, so a generalized force would be invisible to the F/T sensors.
+// Who clears it: nobody. MuJoCo never clears xfrc_applied (nor qfrc_applied); Apply() removes
+// what it added on its previous call before adding the new wrench, so other writers that add
+// to xfrc_applied are kept, and Remove() takes this contact's share out (call it when the model
+// is switched off). Whoever writes xfrc_applied with "=" must do so before Apply().
+//
+// Timing, per physics step:
+//   contact.ApplyBeforeStep(m, d);   // kinematics at the current qpos/qvel, forces, xfrc_applied
+//   mj_step(m, d);
+//   contact.Commit();                // the friction anchors of this step become the state
+// The force is held over the step (explicit in every integrator; for RK4 it is a zero-order
+// hold unless Evaluate+Apply run in mjcb_control, where the kinematics are current at each
+// stage). Commit() keeps the anchors of the FIRST evaluation since the last Commit (the one at
+// the start of the step), so stage evaluations or an extra mj_forward never advance them.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "contact/force.h"
+#include "contact/geometry.h"
+#include "contact/params.h"
+
+namespace ohrp::contact {
+
+class SoftFootContact {
+ public:
+  // sole_geoms: names of box geoms (the soles). env_geoms: names of static geoms (welded to the
+  // world) they touch; empty = every geom of the world body that is not a sole. Supported
+  // environment geoms: plane, box, sphere, capsule, cylinder, mesh (its convex hull, as MuJoCo
+  // collides it). Heightfields are refused (not done yet). The parameters are validated for
+  // the model's timestep and mass_scale [kg], the smallest mass riding on one sole (see
+  // Validate). Returns null with a message in *error.
+  static std::unique_ptr<SoftFootContact> Create(const mjModel* m,
+                                                 const std::vector<std::string>& sole_geoms,
+                                                 const std::vector<std::string>& env_geoms,
+                                                 const SoftContactParams& params,
+                                                 double mass_scale, std::string* error);
+
+  // Computes the wrench of every sole from d's kinematics (xpos/xmat, cvel, subtree_com must
+  // be current: after mj_forward, inside mjcb_control, or after UpdateKinematics). Does not
+  // touch d and does not advance the friction state.
+  const std::vector<SoleWrench>& Evaluate(const mjModel* m, const mjData* d);
+  // Writes the last evaluation into d->xfrc_applied (replacing its previous contribution).
+  void Apply(const mjModel* m, mjData* d);
+  // mj_kinematics + mj_comPos + mj_comVel at the current qpos/qvel (what mj_step recomputes
+  // anyway), then Evaluate and Apply: the call to make just before mj_step.
+  void ApplyBeforeStep(const mjModel* m, mjData* d);
+  static void UpdateKinematics(const mjModel* m, mjData* d);
+  // Advances the friction anchors (call after mj_step).
+  void Commit();
+  // Removes this contact's share from d->xfrc_applied.
+  void Remove(mjData* d);
+
+  const std::vector<SoleWrench>& wrenches() const { return wrenches_; }
+  const std::vector<int>& sole_geoms() const { return sole_geom_; }
+  const SoftContactParams& params() const { return params_; }
+  ContactGeometry& geometry() { return geometry_; }
+  const GeometryStats& stats() const { return geometry_.stats(); }
+
+ private:
+  SoftFootContact(ContactGeometry geometry, const SoftContactParams& params);
+
+  ContactGeometry geometry_;
+  SoftContactParams params_;
+  std::vector<int> sole_geom_;
+  std::vector<Eigen::Vector3d> sole_half_;
+  std::vector<std::vector<SamplePoint>> grid_;
+  std::vector<std::vector<Anchor>> anchors_;   // committed
+  std::vector<std::vector<Anchor>> proposed_;  // from the first evaluation since Commit
+  bool proposed_valid_ = false;
+  std::vector<std::vector<Anchor>> scratch_;
+  std::vector<SoleWrench> wrenches_;
+  std::vector<PointContact> points_;
+  std::map<int, Eigen::Matrix<double, 6, 1>> applied_;  // body -> what Apply() added
+};
+
+}  // namespace ohrp::contact

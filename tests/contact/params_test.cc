@@ -1,0 +1,108 @@
+// Parameter validation: each refusal names the parameter, says why, and what would work; the
+// suggested value is accepted.
+#include "contact/params.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+namespace ohrp::contact {
+namespace {
+
+constexpr double kDt = 0.001;
+constexpr double kMass = 60.0;
+
+TEST(ContactParams, DefaultsAreValidForTheRobot) {
+  std::string error;
+  EXPECT_TRUE(Validate(SoftContactParams{}, kDt, kMass, &error)) << error;
+  // The robot's foot alone (a couple of kg behind the sole) is still stable at 1 ms.
+  EXPECT_TRUE(Validate(SoftContactParams{}, kDt, 5.0, &error)) << error;
+}
+
+TEST(ContactParams, NegativeStiffnessIsRefusedWithName) {
+  SoftContactParams p;
+  p.stiffness = -1e5;
+  std::string error;
+  ASSERT_FALSE(Validate(p, kDt, kMass, &error));
+  EXPECT_NE(error.find("stiffness = -100000"), std::string::npos) << error;
+  EXPECT_NE(error.find("> 0"), std::string::npos) << error;
+  EXPECT_NE(error.find("3e5"), std::string::npos) << error;  // what would work
+}
+
+TEST(ContactParams, ExponentBelowOneIsRefused) {
+  SoftContactParams p;
+  p.exponent = 0.5;
+  std::string error;
+  ASSERT_FALSE(Validate(p, kDt, kMass, &error));
+  EXPECT_NE(error.find("exponent = 0.5"), std::string::npos) << error;
+  EXPECT_NE(error.find("infinite"), std::string::npos) << error;
+}
+
+TEST(ContactParams, EveryProblemIsReported) {
+  SoftContactParams p;
+  p.friction = -0.2;
+  p.damping = -1;
+  p.grid_x = 1;
+  std::string error;
+  ASSERT_FALSE(Validate(p, kDt, kMass, &error));
+  EXPECT_NE(error.find("friction = -0.2"), std::string::npos) << error;
+  EXPECT_NE(error.find("damping = -1"), std::string::npos) << error;
+  EXPECT_NE(error.find("grid = 1 x 3"), std::string::npos) << error;
+  EXPECT_FALSE(Validate(SoftContactParams{}, 0.0, kMass, &error));
+  EXPECT_NE(error.find("dt = 0"), std::string::npos) << error;
+  EXPECT_FALSE(Validate(SoftContactParams{}, kDt, -3, &error));
+  EXPECT_NE(error.find("mass_scale = -3"), std::string::npos) << error;
+}
+
+// Pulls the number that follows `key` out of a message.
+double NumberAfter(const std::string& text, const std::string& key) {
+  const size_t at = text.find(key);
+  if (at == std::string::npos) return -1;
+  return std::stod(text.substr(at + key.size()));
+}
+
+TEST(ContactParams, UnstableDampingIsRefusedAndTheSuggestionWorks) {
+  SoftContactParams p;
+  p.damping = 200;  // 2*dt*c*3g = 11.8: far beyond the explicit limit at 1 ms
+  std::string error;
+  ASSERT_FALSE(Validate(p, kDt, kMass, &error));
+  EXPECT_NE(error.find("damping = 200 s/m makes the explicit step unstable"), std::string::npos)
+      << error;
+  const double c_max = NumberAfter(error, "use damping <= ");
+  // (2 - dt^2 k/m) / (2 dt 3 g) = (2 - 0.005) / 0.05886 = 33.9 s/m
+  EXPECT_NEAR(c_max, 33.9, 0.1) << error;
+  p.damping = 0.99 * c_max;
+  EXPECT_TRUE(Validate(p, kDt, kMass, &error)) << error;
+  p.damping = 1.02 * c_max;
+  EXPECT_FALSE(Validate(p, kDt, kMass, &error));
+  // A smaller step makes the same damping acceptable.
+  p.damping = 200;
+  EXPECT_TRUE(Validate(p, kDt / 10, kMass, &error)) << error;
+}
+
+TEST(ContactParams, TooStiffForTheStepIsRefused) {
+  SoftContactParams p;
+  p.stiffness = 1e9;
+  std::string error;
+  ASSERT_FALSE(Validate(p, kDt, kMass, &error));
+  EXPECT_NE(error.find("stiffness = 1e+09 N/m^n is too stiff for dt = 0.001"), std::string::npos)
+      << error;
+  const double dt_max = NumberAfter(error, "or dt <= ");
+  ASSERT_GT(dt_max, 0) << error;
+  EXPECT_TRUE(Validate(p, 0.99 * dt_max, kMass, &error)) << error;
+}
+
+TEST(ContactParams, UnstableTangentialDampingIsRefused) {
+  SoftContactParams p;
+  p.tangential_damping = 1e5;
+  std::string error;
+  ASSERT_FALSE(Validate(p, kDt, kMass, &error));
+  EXPECT_NE(error.find("tangential_damping = 1e+05"), std::string::npos) << error;
+  const double b_max = NumberAfter(error, "use tangential_damping <= ");
+  p.tangential_damping = 0.99 * b_max;
+  EXPECT_TRUE(Validate(p, kDt, kMass, &error)) << error;
+}
+
+}  // namespace
+}  // namespace ohrp::contact
