@@ -42,12 +42,13 @@ inline constexpr double kSoleHalf[3] = {0.125, 0.07, 0.01};
 // an environment given as MJCF geoms (MuJoCo's own contact off everywhere: contype=0).
 inline std::string BlockModel(double dt, double mass, const std::string& environment,
                               const std::string& gravity = "0 0 -9.81",
-                              const std::string& assets = "") {
+                              const std::string& assets = "",
+                              const std::string& integrator = "Euler") {
   const double a = 2 * kSoleHalf[0], b = 2 * kSoleHalf[1], c = 2 * kSoleHalf[2];
   const double ixx = mass * (b * b + c * c) / 12, iyy = mass * (a * a + c * c) / 12,
                izz = mass * (a * a + b * b) / 12;
   std::string xml = "<mujoco><option timestep=\"" + std::to_string(dt) +
-                    "\" integrator=\"Euler\" gravity=\"" + gravity + "\"/>";
+                    "\" integrator=\"" + integrator + "\" gravity=\"" + gravity + "\"/>";
   xml += "<default><geom contype=\"0\" conaffinity=\"0\"/></default>";
   if (!assets.empty()) xml += "<asset>" + assets + "</asset>";
   xml += "<worldbody>" + environment;

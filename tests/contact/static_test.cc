@@ -29,6 +29,7 @@ struct Case {
   double exponent;
   double stiffness;
   double tilt_deg;  // initial rotation about the sole's x and y
+  std::string integrator = "Euler";
 };
 
 class StaticLoad : public ::testing::TestWithParam<Case> {};
@@ -36,7 +37,7 @@ class StaticLoad : public ::testing::TestWithParam<Case> {};
 TEST_P(StaticLoad, SettlesAtTheSpringLawPenetration) {
   const Case& c = GetParam();
   std::string error;
-  ModelPtr m = LoadString(BlockModel(kDt, kMass, c.env, "0 0 -9.81", c.assets), &error);
+  ModelPtr m = LoadString(BlockModel(kDt, kMass, c.env, "0 0 -9.81", c.assets, c.integrator), &error);
   ASSERT_TRUE(m) << error;
   DataPtr d(mj_makeData(m.get()));
   SoftContactParams p;
@@ -90,7 +91,11 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"box_flat", testing::kBoxFloor, "", 1.0, 3.0e5, 0.0},
                       Case{"box_tilted", testing::kBoxFloor, "", 1.0, 3.0e5, 2.0},
                       Case{"mesh_tilted", testing::kMeshFloor, testing::kMeshAsset, 1.0, 3.0e5,
-                           2.0}),
+                           2.0},
+                      // The force is held over the step (zero-order hold) for the others too.
+                      Case{"plane_tilted_rk4", testing::kPlaneFloor, "", 1.0, 3.0e5, 2.0, "RK4"},
+                      Case{"plane_tilted_implicit", testing::kPlaneFloor, "", 1.0, 3.0e5, 2.0,
+                           "implicit"}),
     [](const ::testing::TestParamInfo<Case>& info) { return info.param.name; });
 
 }  // namespace
