@@ -1,0 +1,91 @@
+// The hardware side of hw_driver: the robot's IO boards behind the paper's four calls
+// (open, read, write, close; OpenHRP section 3.1.2). An implementation lives in a shared object
+// named on hw_driver's command line and is loaded at start-up, so that a vendor's board support
+// drops in without rebuilding the driver. Two ship with the platform: `udp` (the documented UDP
+// protocol to the motor and sensor boards, see hw_driver/udp/PROTOCOL.md) and `replay` (a
+// recorded data log played back as if it came from the boards).
+//
+// A plugin exports one C symbol, kRobotIoEntry, returning a new RobotIo (owned by the caller,
+// destroyed with `delete` through the virtual destructor; plugin and driver are built by the
+// same compiler from this header) and checks kRobotIoAbiVersion.
+//
+// Units and frames are the segment's (shm_bridge/layout.h): SI, joint-id order, force/torque in
+// OpenHRP's sign convention, IMU quaternion (w, x, y, z).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shm_bridge/layout.h"
+
+namespace ohrp::hw {
+
+inline constexpr uint32_t kRobotIoAbiVersion = 1;
+inline constexpr const char* kRobotIoEntry = "ohrp_create_robot_io";
+
+// What the driver tells the boards at open: the robot (from its model) and the plugin's own
+// arguments (--io-arg KEY=VALUE, repeated).
+struct IoConfig {
+  std::string robot_name;
+  std::vector<std::string> joint_names;  // joint-id order
+  std::vector<std::string> force_names;
+  std::vector<std::string> imu_names;
+  double period = 0.001;                 // servo cycle of the driver [s]
+  std::vector<std::string> args;         // "key=value" strings for the plugin
+};
+
+// bits of IoState::faults
+namespace io_fault {
+inline constexpr uint32_t kBoardSilent = 1u << 0;    // a board did not answer within its timeout
+inline constexpr uint32_t kPacketLost = 1u << 1;     // packets lost or corrupted this cycle
+inline constexpr uint32_t kSensorStuck = 1u << 2;    // a sensor repeats the same value (board says so)
+inline constexpr uint32_t kSensorSaturated = 1u << 3;
+inline constexpr uint32_t kBoardReset = 1u << 4;     // a board restarted (its servos are off)
+inline constexpr uint32_t kEmergencyStop = 1u << 5;  // the robot's emergency-stop input is pressed
+inline constexpr uint32_t kEndOfData = 1u << 6;      // replay: the recording is over
+}  // namespace io_fault
+
+// The boards' latest measurements, as read once per cycle.
+struct IoState {
+  uint64_t time_ns = 0;                  // the boards' timestamp of these data [ns]
+  uint32_t faults = 0;                   // io_fault:: bits
+  uint32_t silent_boards = 0;            // bit i: board i silent this cycle
+  uint64_t packets_lost = 0;             // total since open
+  double q[shm::kMaxJoints] = {};        // [rad or m]
+  double dq[shm::kMaxJoints] = {};       // [rad/s or m/s]
+  double tau[shm::kMaxJoints] = {};      // motor torque [N m or N]
+  bool servo_on[shm::kMaxJoints] = {};   // what the motor boards report
+  shm::ForceTorque force[shm::kMaxForceSensors] = {};
+  shm::Imu imu[shm::kMaxImus] = {};
+};
+
+// What the driver sends the boards once per cycle: servo power and, per joint, the command
+// the motor board's own PD runs until the next one (same meaning as shm::JointCommand).
+struct IoCommand {
+  bool servo_on[shm::kMaxJoints] = {};
+  shm::JointCommand joint[shm::kMaxJoints] = {};
+};
+
+enum class IoResult {
+  kOk,
+  kFault,   // the call went through but IoState::faults says what is wrong
+  kError,   // the transport itself failed (socket error, file gone)
+};
+
+// The boards. open/close are set-up calls (they may allocate and report in `*error`); read and
+// write run every servo cycle and never allocate, throw or block past the cycle.
+class RobotIo {
+ public:
+  virtual ~RobotIo() = default;
+  virtual bool open(const IoConfig& config, std::string* error) = 0;
+  // Fills `*state` with the latest data; must return within a small fraction of the period.
+  virtual IoResult read(IoState* state) noexcept = 0;
+  virtual IoResult write(const IoCommand& command) noexcept = 0;
+  virtual void close() noexcept = 0;
+};
+
+}  // namespace ohrp::hw
+
+// The one symbol a plugin exports (see kRobotIoEntry).
+extern "C" ohrp::hw::RobotIo* ohrp_create_robot_io(uint32_t abi_version);
