@@ -120,6 +120,89 @@ EnvObject EnvObject::Convex(std::string name, const Eigen::Isometry3d& pose,
   return o;
 }
 
+EnvObject EnvObject::HeightField(std::string name, const Eigen::Isometry3d& pose, int nrow,
+                                 int ncol, double half_x, double half_y, double base,
+                                 std::vector<double> heights) {
+  EnvObject o;
+  o.name = std::move(name);
+  o.kind = EnvKind::kHeightField;
+  o.pose = pose;
+  o.hf_nrow = nrow;
+  o.hf_ncol = ncol;
+  o.hf_sx = half_x;
+  o.hf_sy = half_y;
+  o.hf_base = base;
+  double top = 0;
+  for (double z : heights) top = std::max(top, z);
+  o.hf_z = std::move(heights);
+  o.local_center = Eigen::Vector3d(0, 0, 0.5 * (top - base));
+  o.local_half = Eigen::Vector3d(half_x, half_y, 0.5 * (top + base));
+  return o;
+}
+
+namespace {
+
+// Signed distance to a heightfield, local coordinates (see geometry.h).
+double HeightFieldDistance(const EnvObject& o, const Eigen::Vector3d& x, Eigen::Vector3d* n_out) {
+  *n_out = Eigen::Vector3d::UnitZ();
+  const double dx = 2 * o.hf_sx / (o.hf_ncol - 1), dy = 2 * o.hf_sy / (o.hf_nrow - 1);
+  const double gx = (x.x() + o.hf_sx) / dx, gy = (x.y() + o.hf_sy) / dy;
+  if (gx < 0 || gy < 0 || gx > o.hf_ncol - 1 || gy > o.hf_nrow - 1) return 1.0;  // off the field
+  if (x.z() < -o.hf_base) return -o.hf_base - x.z();                            // under it
+  const int c0 = std::min(static_cast<int>(gx), o.hf_ncol - 2);
+  const int r0 = std::min(static_cast<int>(gy), o.hf_nrow - 2);
+  auto vertex = [&](int c, int r) {
+    return Eigen::Vector3d(-o.hf_sx + c * dx, -o.hf_sy + r * dy, o.hf_z[r * o.hf_ncol + c]);
+  };
+  // Triangle t of cell (c, r): 0 = (c,r) (c+1,r) (c+1,r+1); 1 = (c,r) (c+1,r+1) (c,r+1).
+  auto triangle = [&](int c, int r, int t, Eigen::Vector3d* a, Eigen::Vector3d* b,
+                      Eigen::Vector3d* cc) {
+    *a = vertex(c, r);
+    *b = t == 0 ? vertex(c + 1, r) : vertex(c + 1, r + 1);
+    *cc = t == 0 ? vertex(c + 1, r + 1) : vertex(c, r + 1);
+  };
+  // xy point-in-triangle (with a small tolerance, the triangles share edges).
+  auto inside_xy = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                      const Eigen::Vector3d& c) {
+    const double d = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (std::abs(d) < 1e-15) return false;
+    const double l1 = ((p.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (p.y() - a.y())) / d;
+    const double l2 = ((b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y())) / d;
+    const double eps = 1e-9;
+    return l1 >= -eps && l2 >= -eps && l1 + l2 <= 1 + eps;
+  };
+  // The triangle under the point: above its surface means outside.
+  const int t0 = (gx - c0) >= (gy - r0) ? 0 : 1;
+  Eigen::Vector3d a, b, c;
+  triangle(c0, r0, t0, &a, &b, &c);
+  Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+  if (n.z() < 0) n = -n;
+  const double under = n.dot(a - x);  // > 0: below the plane of the triangle under the point
+  if (under <= 0) return -under;
+  double best = under;
+  *n_out = n;
+  for (int r = std::max(0, r0 - 1); r <= std::min(o.hf_nrow - 2, r0 + 1); ++r) {
+    for (int cc = std::max(0, c0 - 1); cc <= std::min(o.hf_ncol - 2, c0 + 1); ++cc) {
+      for (int t = 0; t < 2; ++t) {
+        if (r == r0 && cc == c0 && t == t0) continue;
+        triangle(cc, r, t, &a, &b, &c);
+        Eigen::Vector3d m = (b - a).cross(c - a);
+        if (m.norm() < 1e-15) continue;
+        m.normalize();
+        if (m.z() < 0) m = -m;
+        const double depth = m.dot(a - x);
+        if (depth <= 0 || depth >= best) continue;
+        if (!inside_xy(x + depth * m, a, b, c)) continue;  // cannot leave through it
+        best = depth;
+        *n_out = m;
+      }
+    }
+  }
+  return -best;
+}
+
+}  // namespace
+
 std::vector<SamplePoint> MakeGrid(const Eigen::Vector3d& half, int nx, int ny) {
   std::vector<SamplePoint> grid;
   grid.reserve(nx * ny);
@@ -210,6 +293,9 @@ double ContactGeometry::SignedDistance(const EnvObject& o, const Eigen::Vector3d
       }
       break;
     }
+    case EnvKind::kHeightField:
+      sd = HeightFieldDistance(o, x, &n_local);
+      break;
     case EnvKind::kConvexMesh: {
       sd = -std::numeric_limits<double>::infinity();
       for (const Eigen::Vector4d& pl : o.planes) {
@@ -237,7 +323,7 @@ void ContactGeometry::Find(const SoleBox& sole, const std::vector<SamplePoint>& 
       ++stats_.pairs_bound;
       continue;
     }
-    if (o.kind != EnvKind::kPlane) {
+    if (o.kind != EnvKind::kPlane && o.kind != EnvKind::kHeightField) {
       // One FCL distance between the whole sole box and the object: a sole that does not
       // touch the object cannot have a bottom point inside it.
       fcl::Boxd box(2 * sole.half.x(), 2 * sole.half.y(), 2 * sole.half.z());

@@ -67,11 +67,19 @@ bool MakeEnvObject(const mjModel* m, int g, EnvObject* out, std::string* error) 
       *out = EnvObject::Convex(name, I, std::move(verts), tris);
       break;
     }
-    case mjGEOM_HFIELD:
-      *error = "environment geom '" + name +
-               "' is a heightfield: not supported by the soft-foot contact yet; use boxes or "
-               "convex meshes for the terrain";
-      return false;
+    case mjGEOM_HFIELD: {
+      const int h = m->geom_dataid[g];
+      const int nrow = m->hfield_nrow[h], ncol = m->hfield_ncol[h];
+      const mjtNum* hs = m->hfield_size + 4 * h;
+      if (nrow < 2 || ncol < 2) {
+        *error = "environment geom '" + name + "' is a heightfield with fewer than 2 x 2 samples";
+        return false;
+      }
+      std::vector<double> z(static_cast<size_t>(nrow) * ncol);
+      for (size_t i = 0; i < z.size(); ++i) z[i] = hs[2] * m->hfield_data[m->hfield_adr[h] + i];
+      *out = EnvObject::HeightField(name, I, nrow, ncol, hs[0], hs[1], hs[3], std::move(z));
+      break;
+    }
     default:
       *error = "environment geom '" + name + "' has a type the soft-foot contact does not handle";
       return false;

@@ -18,7 +18,10 @@
 // distance to the nearest face of that object (for a convex object: min over its face planes;
 // boxes, spheres, capsules, cylinders: their own closed forms), the normal that face's outward
 // normal. That is the paper's "reasonable" constraint: the one that gives the smallest
-// penetration depth in the point's neighbourhood. When a point is inside several objects, the
+// penetration depth in the point's neighbourhood. For a heightfield (not convex) the
+// neighbourhood is the triangles of the 3 x 3 cells around the point: of those whose plane the
+// point is below and through which it can leave (its projection on the plane lies in the
+// triangle), the one with the smallest depth; the triangle under the point otherwise. When a point is inside several objects, the
 // deepest one wins (the sole has to leave their union). The tests check these depths against
 // FCL's signed distance where FCL is reliable (fcl::Box, generic points).
 // The cheap bound: world AABBs (for a plane: the lowest corner of the sole box along its
@@ -37,7 +40,7 @@ class CollisionGeometry;
 
 namespace ohrp::contact {
 
-enum class EnvKind { kPlane, kBox, kSphere, kCapsule, kCylinder, kConvexMesh };
+enum class EnvKind { kPlane, kBox, kSphere, kCapsule, kCylinder, kConvexMesh, kHeightField };
 
 // One static object of the environment, in world coordinates.
 struct EnvObject {
@@ -53,6 +56,11 @@ struct EnvObject {
   // outward unit normal n and offset o: n.x - o <= 0 inside).
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector4d> planes;
+  // Heightfield: nrow x ncol elevations [m] (row r at y = -sy + r*2sy/(nrow-1), column c at
+  // x = -sx + c*2sx/(ncol-1)), half extents sx, sy, the solid goes down to z = -base.
+  int hf_nrow = 0, hf_ncol = 0;
+  double hf_sx = 0, hf_sy = 0, hf_base = 0;
+  std::vector<double> hf_z;
 
   static EnvObject Plane(std::string name, const Eigen::Isometry3d& pose);
   static EnvObject Box(std::string name, const Eigen::Isometry3d& pose,
@@ -62,6 +70,11 @@ struct EnvObject {
                            double half_length);
   static EnvObject Cylinder(std::string name, const Eigen::Isometry3d& pose, double radius,
                             double half_length);
+  // A heightfield (no FCL shape: bounded by its AABB only). Each cell is split into two
+  // triangles along its (c, r)-(c+1, r+1) diagonal. heights: nrow*ncol, row-major, in metres.
+  static EnvObject HeightField(std::string name, const Eigen::Isometry3d& pose, int nrow,
+                               int ncol, double half_x, double half_y, double base,
+                               std::vector<double> heights);
   // A convex polytope (fcl::Convex) from its hull vertices and triangles (outward, CCW).
   static EnvObject Convex(std::string name, const Eigen::Isometry3d& pose,
                           std::vector<Eigen::Vector3d> vertices,

@@ -39,7 +39,8 @@ class SoftFootContact {
   // sole_geoms: names of box geoms (the soles). env_geoms: names of static geoms (welded to the
   // world) they touch; empty = every geom of the world body that is not a sole. Supported
   // environment geoms: plane, box, sphere, capsule, cylinder, mesh (its convex hull, as MuJoCo
-  // collides it). Heightfields are refused (not done yet). The parameters are validated for
+  // collides it), heightfield (its elevations are copied here: changes to m->hfield_data after
+  // Create are not seen). The parameters are validated for
   // the model's timestep and mass_scale [kg], the smallest mass riding on one sole (see
   // Validate). Returns null with a message in *error.
   static std::unique_ptr<SoftFootContact> Create(const mjModel* m,
