@@ -8,9 +8,11 @@
 // lands slower than about g/omega (0.14 m/s here) never leaves the spring, e is undefined.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "contact/soft_contact.h"
 #include "contact_test_util.h"
@@ -119,6 +121,82 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"hertz_v0_2", 1.5, 6.6e6, 1.0, 0.2},
                       Case{"hertz_v0_8", 1.5, 6.6e6, 1.0, 0.8}),
     [](const ::testing::TestParamInfo<Case>& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace ohrp::contact
+
+namespace ohrp::contact {
+namespace {
+
+// What Validate refuses is really unstable: a 60 kg block resting on the contact at dt = 1 ms,
+// nudged by 0.1 mm. With the largest damping Validate accepts it comes to rest; with one above
+// the explicit limit (2 dt c g > 4 at the static load) the step diverges until the
+// Hunt-Crossley clamp stops it: the point forces chatter between 0 and ~2 m g from one step to
+// the next, the block hops up and ends in a sustained wobble that never comes to rest.
+// Runs the law through the lower layers (geometry + ComputeWrench + xfrc_applied), which take
+// any parameters: SoftFootContact::Create would refuse the unstable ones.
+double FinalMotion(double damping, std::string* error) {
+  const double dt = 0.001;
+  ModelPtr m = LoadString(BlockModel(dt, kMass, testing::kPlaneFloor), error);
+  if (!m) return -1;
+  DataPtr d(mj_makeData(m.get()));
+  SoftContactParams p;
+  p.damping = damping;
+  const Eigen::Vector3d half(testing::kSoleHalf[0], testing::kSoleHalf[1], testing::kSoleHalf[2]);
+  ContactGeometry geometry({EnvObject::Plane("floor", Eigen::Isometry3d::Identity())}, 0.01);
+  const auto grid = MakeGrid(half, p.grid_x, p.grid_y);
+  std::vector<Anchor> anchors(grid.size()), proposed;
+  std::vector<PointContact> points;
+  const int sole = mj_name2id(m.get(), mjOBJ_GEOM, "sole");
+  const int body = m->geom_bodyid[sole];
+  const double sink = kMass * 9.81 / p.stiffness;
+  d->qpos[2] = testing::kSoleHalf[2] - sink - 1e-4;
+  double hi = 0;
+  for (int i = 0; i < 2000; ++i) {
+    SoftFootContact::UpdateKinematics(m.get(), d.get());
+    SoleBox box;
+    box.half = half;
+    box.pose.linear() =
+        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d->geom_xmat + 9 * sole);
+    box.pose.translation() = Eigen::Map<const Eigen::Vector3d>(d->geom_xpos + 3 * sole);
+    mjtNum vel[6];
+    mj_objectVelocity(m.get(), d.get(), mjOBJ_GEOM, sole, vel, 0);
+    SoleTwist twist;
+    twist.angular = Eigen::Vector3d(vel[0], vel[1], vel[2]);
+    twist.linear = Eigen::Vector3d(vel[3], vel[4], vel[5]);
+    geometry.Find(box, grid, &points);
+    SoleWrench w;
+    ComputeWrench(p, box, twist, grid, points, anchors, &proposed, &w);
+    const Eigen::Vector3d com = Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * body);
+    const Eigen::Vector3d torque = w.torque + (w.point - com).cross(w.force);
+    for (int k = 0; k < 3; ++k) {
+      d->xfrc_applied[6 * body + k] = w.force[k];
+      d->xfrc_applied[6 * body + 3 + k] = torque[k];
+    }
+    mj_step(m.get(), d.get());
+    anchors = proposed;
+    if (i >= 1500) {
+      for (int k = 0; k < 6; ++k) hi = std::max(hi, std::abs(d->qvel[k]));
+    }
+  }
+  return hi;
+}
+
+TEST(ContactStability, RefusedDampingIsReallyUnstable) {
+  std::string error;
+  SoftContactParams p;
+  p.damping = 1000;
+  ASSERT_FALSE(Validate(p, 0.001, kMass, &error));
+  const double c_max = std::stod(error.substr(error.find("use damping <= ") + 15));
+  const double stable = FinalMotion(c_max, &error);
+  ASSERT_GE(stable, 0) << error;
+  const double unstable = FinalMotion(300, &error);  // 2 dt c g = 5.9 > 4
+  ASSERT_GE(unstable, 0) << error;
+  std::printf("largest velocity component over the last 0.5 s: c = %.1f s/m (accepted) %.3e, "
+              "c = 300 s/m (refused) %.3e (m/s or rad/s)\n", c_max, stable, unstable);
+  EXPECT_LT(stable, 1e-6);
+  EXPECT_GT(unstable, 1e-3);
+}
 
 }  // namespace
 }  // namespace ohrp::contact

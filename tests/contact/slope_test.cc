@@ -119,3 +119,40 @@ TEST(ContactSlope, SlidesAboveTheFrictionAngleWithCoulombAcceleration) {
 
 }  // namespace
 }  // namespace ohrp::contact
+
+namespace ohrp::contact {
+namespace {
+
+// The friction state only advances in Commit(), from the first evaluation since the previous
+// Commit: extra evaluations at another state (an RK4 stage, an mj_forward for a viewer) leave
+// the trajectory unchanged.
+TEST(ContactSlope, ExtraEvaluationsDoNotAdvanceTheFrictionState) {
+  std::string error;
+  Slope a = Make(24.0, 0.5, &error);  // slips ~2 mm (anchors dragged), then sticks
+  ASSERT_TRUE(a.contact) << error;
+  Slope b = Make(24.0, 0.5, &error);
+  ASSERT_TRUE(b.contact) << error;
+  for (int i = 0; i < 600; ++i) {
+    a.contact->ApplyBeforeStep(a.m.get(), a.d.get());
+    mj_step(a.m.get(), a.d.get());
+    a.contact->Commit();
+
+    b.contact->ApplyBeforeStep(b.m.get(), b.d.get());
+    mj_step(b.m.get(), b.d.get());
+    SoftFootContact::UpdateKinematics(b.m.get(), b.d.get());  // the state after the step
+    b.contact->Evaluate(b.m.get(), b.d.get());
+    b.contact->Evaluate(b.m.get(), b.d.get());
+    b.contact->Commit();
+  }
+  // Equal to rounding (mj_kinematics in between perturbs the last bits); anchors taken from the
+  // post-step state instead would move the block by micrometres.
+  for (int k = 0; k < a.m->nq; ++k) EXPECT_NEAR(a.d->qpos[k], b.d->qpos[k], 1e-12) << k;
+  // And a state evaluated many times without Commit gives the same force each time.
+  const Eigen::Vector3d f0 = a.contact->Evaluate(a.m.get(), a.d.get())[0].force;
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(a.contact->Evaluate(a.m.get(), a.d.get())[0].force, f0);
+  }
+}
+
+}  // namespace
+}  // namespace ohrp::contact
