@@ -95,7 +95,14 @@ int RunHost(const HostOptions& o) {
   }
   mjModel* m = scene->m();
   mjData* d = scene->d();
-  if (!ApplyOverrides(o, m, &error) || !scene->Reset(o.keyframe, &error)) {
+  RobotMap robot;
+  if (!MapRobot(m, &robot, &error)) {
+    std::fprintf(stderr, "sim_host: %s: %s\n", o.scene.c_str(), error.c_str());
+    return kExitUsage;
+  }
+  std::unique_ptr<contact::SoftFootContact> soft;
+  if (!ApplyOverrides(o, m, &error) || !SetUpFeet(m, o.feet, robot.total_mass, &soft, &error) ||
+      !scene->Reset(o.keyframe, &error)) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
@@ -106,11 +113,6 @@ int RunHost(const HostOptions& o) {
     std::fprintf(stderr,
                  "sim_host: the control period (%g s) must be a whole multiple of the physics "
                  "step (%g s)\n", o.control_period, dt);
-    return kExitUsage;
-  }
-  RobotMap robot;
-  if (!MapRobot(m, &robot, &error)) {
-    std::fprintf(stderr, "sim_host: %s: %s\n", o.scene.c_str(), error.c_str());
     return kExitUsage;
   }
 
@@ -141,11 +143,12 @@ int RunHost(const HostOptions& o) {
     std::fprintf(stderr,
                  "sim_host: robot '%s' (%zu joints, %zu F/T, %zu IMU, %zu cameras, %.2f kg) from "
                  "%s\nsim_host: segment '%s', physics %g s (%s), control %g s, %s, "
-                 "controller loss: %s\n",
+                 "%s contact, controller loss: %s\n",
                  robot.name.c_str(), robot.joints.size(), robot.forces.size(), robot.imus.size(),
                  robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
                  IntegratorName(m->opt.integrator), o.control_period,
-                 o.realtime ? "real time" : "lock-step", LossName(o.on_loss));
+                 o.realtime ? "real time" : "lock-step", ContactModelName(o.feet.model),
+                 LossName(o.on_loss));
   }
 
   //---------------- the loop ----------------
@@ -279,7 +282,9 @@ int RunHost(const HostOptions& o) {
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
       servo.Apply(m, d);
+      if (soft) soft->ApplyBeforeStep(m, d);
       mj_step(m, d);
+      if (soft) soft->Commit();
       ++st.steps;
     }
     if (!StateFinite(m, d) || d->warning[mjWARN_BADQACC].number != badqacc) {
@@ -333,6 +338,11 @@ int RunHost(const HostOptions& o) {
     st.log_dropped = recorder->dropped();
   }
   if (!o.quiet) PrintReport(st);
+  if (soft) {
+    st.fcl_queries = soft->stats().fcl_queries;
+    st.contact_pairs = soft->stats().pairs_considered;
+    st.contact_pairs_bounded = soft->stats().pairs_bound;
+  }
   if (!o.summary_path.empty()) WriteSummary(o.summary_path, o, robot, m, st, exit_code);
   recorder.reset();
   producer.reset();  // removes the segment

@@ -22,6 +22,28 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--integrator", o.integrator, "euler | rk4 | implicit (default: the scene's)")
       ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
+  std::string contact = "soft";
+  app.add_option("--contact", contact,
+                 "contact under the soles: soft (the paper's spring-damper on FCL), native "
+                 "(MuJoCo's), rigid (MuJoCo's, near-rigid)")
+      ->capture_default_str()->check(CLI::IsMember({"soft", "native", "rigid"}));
+  app.add_option("--soles", o.feet.soles, "sole geoms (default: every geom named *_SOLE)")
+      ->delimiter(',');
+  auto& cp = o.feet.params;
+  app.add_option("--contact-stiffness", cp.stiffness, "soft: normal stiffness of one sole [N/m^n]")
+      ->capture_default_str();
+  app.add_option("--contact-exponent", cp.exponent, "soft: force ~ k delta^n, n in [1, 3]")
+      ->capture_default_str();
+  app.add_option("--contact-damping", cp.damping, "soft: Hunt-Crossley damping [s/m]")
+      ->capture_default_str();
+  app.add_option("--contact-friction", cp.friction, "soft: Coulomb friction coefficient")
+      ->capture_default_str();
+  app.add_option("--contact-tangential-stiffness", cp.tangential_stiffness,
+                 "soft: shear stiffness of one sole while it sticks [N/m]")
+      ->capture_default_str();
+  app.add_option("--contact-tangential-damping", cp.tangential_damping,
+                 "soft: shear damping of one sole while it sticks [N s/m]")
+      ->capture_default_str();
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");
@@ -46,6 +68,7 @@ int main(int argc, char** argv) {
       "4 the simulation diverged, 5 the controller was lost (or never attached), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   CLI11_PARSE(app, argc, argv);
+  ohrp::sim::ParseContactModel(contact, &o.feet.model);
   o.on_loss = loss == "wait" ? ControllerLoss::kWait
               : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;
   return ohrp::sim::RunHost(o);

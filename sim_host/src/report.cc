@@ -42,6 +42,10 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["control_period"] = o.control_period;
   j["integrator"] = IntegratorName(m->opt.integrator);
   j["mode"] = o.realtime ? "realtime" : "lockstep";
+  j["contact"] = ContactModelName(o.feet.model);
+  j["fcl_queries"] = st.fcl_queries;
+  j["contact_pairs"] = st.contact_pairs;
+  j["contact_pairs_bounded"] = st.contact_pairs_bounded;
   j["sim_time"] = st.sim_time;
   j["wall_time"] = wall;
   j["real_time_factor"] = wall > 0 ? st.sim_time / wall : 0.0;

@@ -8,6 +8,8 @@
 
 #include <string>
 
+#include "sim_host/feet.h"
+
 namespace ohrp::sim {
 
 enum class ControllerLoss {
@@ -23,6 +25,7 @@ struct HostOptions {
   double physics_dt = 0;           // [s]; 0: the scene's timestep
   double control_period = 0.005;   // [s]; a multiple of the physics step
   std::string integrator;          // euler | rk4 | implicit; empty: the scene's
+  FeetOptions feet;                // the contact under the soles (default: soft-foot)
   double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
   bool realtime = false;           // pace cycles to the wall clock
   double wait_controller = 30;     // [s] wall time to wait for the first controller; 0: run without

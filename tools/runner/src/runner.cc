@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -172,6 +173,12 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   if (!s.integrator.empty()) sim.argv.insert(sim.argv.end(), {"--integrator", s.integrator});
   if (!s.keyframe.empty()) sim.argv.insert(sim.argv.end(), {"--keyframe", s.keyframe});
   if (s.realtime) sim.argv.push_back("--realtime");
+  if (!s.contact.empty()) sim.argv.insert(sim.argv.end(), {"--contact", s.contact});
+  for (const auto& [key, value] : s.contact_params) {
+    std::string flag = "--contact-" + key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    sim.argv.insert(sim.argv.end(), {flag, Num(value)});
+  }
   sim.argv.insert(sim.argv.end(), s.sim_args.begin(), s.sim_args.end());
 
   std::vector<Child> ctl(s.controllers.size());

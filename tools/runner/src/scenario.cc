@@ -11,7 +11,10 @@ namespace {
 const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
-    "log_every", "sim_args", "controllers", "checks", "plot_joints"};
+    "log_every", "sim_args", "controllers", "checks", "plot_joints", "contact", "contact_params"};
+
+const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
+                                              "tangential_stiffness", "tangential_damping"};
 
 template <typename T>
 bool Get(const YAML::Node& n, const char* key, T* out, std::string* error) {
@@ -63,7 +66,8 @@ bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
             Get(root, "controller_timeout", &s.controller_timeout, &e) &&
             Get(root, "wall_timeout", &s.wall_timeout, &e) &&
             Get(root, "log_every", &s.log_every, &e) && Get(root, "sim_args", &s.sim_args, &e) &&
-            Get(root, "plot_joints", &s.plot_joints, &e);
+            Get(root, "plot_joints", &s.plot_joints, &e) && Get(root, "contact", &s.contact, &e) &&
+            Get(root, "contact_params", &s.contact_params, &e);
   if (!ok) {
     *error = "scenario '" + path + "': " + e;
     return false;
@@ -80,6 +84,18 @@ bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
   if (!(s.duration > 0)) {
     *error = "scenario '" + path + "': 'duration' must be > 0 simulated seconds";
     return false;
+  }
+  if (!s.contact.empty() && s.contact != "soft" && s.contact != "native" && s.contact != "rigid") {
+    *error = "scenario '" + path + "': 'contact' must be soft, native or rigid";
+    return false;
+  }
+  for (const auto& kv : s.contact_params) {
+    if (!kContactParams.count(kv.first)) {
+      *error = "scenario '" + path + "': unknown contact parameter '" + kv.first +
+               "' (known: stiffness, exponent, damping, friction, tangential_stiffness, "
+               "tangential_damping)";
+      return false;
+    }
   }
   if (s.on_controller_loss != "end" && s.on_controller_loss != "wait" &&
       s.on_controller_loss != "continue") {

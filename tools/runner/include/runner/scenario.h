@@ -37,6 +37,8 @@ struct Scenario {
   double controller_timeout = 1.0;  // [s]
   double wall_timeout = 0;       // [s] wall time before the run is stopped; 0: derived
   int log_every = 1;
+  std::string contact;           // soft | native | rigid; empty: sim_host's default (soft)
+  std::map<std::string, double> contact_params;  // soft-foot parameters, e.g. stiffness
   std::vector<std::string> sim_args;  // extra sim_host arguments
   std::vector<ControllerSpec> controllers;
   std::vector<CheckSpec> checks;
