@@ -156,10 +156,12 @@ CheckResult FeetCarryWeight(const CheckSpec& s, const Table& t, const nlohmann::
 
 CheckResult BaseDisplacement(const CheckSpec& s, const Table& t) {
   const std::string axis = s.params.count("axis") ? s.params.at("axis") : "x";
-  CheckResult r{"base_displacement_" + axis, false, 0, "m", "", ""};
+  const double from = s.Number("from", 0);
+  CheckResult r{"base_displacement_" + axis + (from > 0 ? "_after_" + Fmt(from) + "s" : ""),
+                false, 0, "m", "", ""};
   const int c = t.Column("base_" + axis);
   if (c < 0) return Fail(r, "axis must be x, y or z");
-  const auto rows = Window(t, s.Number("from", 0), 1e30);
+  const auto rows = Window(t, from, 1e30);
   if (rows.empty()) return Fail(r, "no logged data");
   const auto& p = t.col(c);
   r.value = p[rows.back()] - p[rows.front()];
