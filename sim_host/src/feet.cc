@@ -4,7 +4,8 @@
 namespace ohrp::sim {
 
 bool ParseContactModel(const std::string& name, ContactModel* model) {
-  if (name == "soft") *model = ContactModel::kSoft;
+  if (name == "auto") *model = ContactModel::kAuto;
+  else if (name == "soft") *model = ContactModel::kSoft;
   else if (name == "native") *model = ContactModel::kNative;
   else if (name == "rigid") *model = ContactModel::kRigid;
   else return false;
@@ -13,6 +14,7 @@ bool ParseContactModel(const std::string& name, ContactModel* model) {
 
 const char* ContactModelName(ContactModel model) {
   switch (model) {
+    case ContactModel::kAuto: return "auto";
     case ContactModel::kSoft: return "soft";
     case ContactModel::kNative: return "native";
     case ContactModel::kRigid: return "rigid";
@@ -21,7 +23,8 @@ const char* ContactModelName(ContactModel model) {
 }
 
 bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
-               std::unique_ptr<contact::SoftFootContact>* soft, std::string* error) {
+               std::unique_ptr<contact::SoftFootContact>* soft, std::string* error,
+               ContactModel* resolved) {
   soft->reset();
   // the soles: named, or every "*_SOLE" geom
   std::vector<std::string> soles = o.soles;
@@ -32,9 +35,12 @@ bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
       if (n.size() > 5 && n.compare(n.size() - 5, 5, "_SOLE") == 0) soles.push_back(n);
     }
   }
-  if (o.model == ContactModel::kNative) return true;
+  ContactModel model = o.model;
+  if (model == ContactModel::kAuto) model = soles.empty() ? ContactModel::kNative : ContactModel::kSoft;
+  if (resolved) *resolved = model;
+  if (model == ContactModel::kNative) return true;
   if (soles.empty()) {
-    *error = std::string("the ") + ContactModelName(o.model) +
+    *error = std::string("the ") + ContactModelName(model) +
              " contact needs the robot's soles: name them *_SOLE in the model or list them "
              "with --soles, or use --contact native";
     return false;
@@ -49,7 +55,7 @@ bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
     ids.push_back(g);
   }
 
-  if (o.model == ContactModel::kRigid) {
+  if (model == ContactModel::kRigid) {
     // near-rigid: the stiffest constraint MuJoCo keeps stable at this step (time constant of
     // two steps, critically damped), impedance close to 1 from the first tenth of a millimetre
     for (int g : ids) {

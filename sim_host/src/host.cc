@@ -101,7 +101,9 @@ int RunHost(const HostOptions& o) {
     return kExitUsage;
   }
   std::unique_ptr<contact::SoftFootContact> soft;
-  if (!ApplyOverrides(o, m, &error) || !SetUpFeet(m, o.feet, robot.total_mass, &soft, &error) ||
+  ContactModel contact_model = o.feet.model;
+  if (!ApplyOverrides(o, m, &error) ||
+      !SetUpFeet(m, o.feet, robot.total_mass, &soft, &error, &contact_model) ||
       !scene->Reset(o.keyframe, &error)) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
@@ -147,7 +149,7 @@ int RunHost(const HostOptions& o) {
                  robot.name.c_str(), robot.joints.size(), robot.forces.size(), robot.imus.size(),
                  robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
                  IntegratorName(m->opt.integrator), o.control_period,
-                 o.realtime ? "real time" : "lock-step", ContactModelName(o.feet.model),
+                 o.realtime ? "real time" : "lock-step", ContactModelName(contact_model),
                  LossName(o.on_loss));
   }
 
@@ -343,6 +345,7 @@ int RunHost(const HostOptions& o) {
     st.contact_pairs = soft->stats().pairs_considered;
     st.contact_pairs_bounded = soft->stats().pairs_bound;
   }
+  st.contact = ContactModelName(contact_model);
   if (!o.summary_path.empty()) WriteSummary(o.summary_path, o, robot, m, st, exit_code);
   recorder.reset();
   producer.reset();  // removes the segment

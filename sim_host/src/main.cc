@@ -22,11 +22,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--integrator", o.integrator, "euler | rk4 | implicit (default: the scene's)")
       ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
-  std::string contact = "soft";
+  std::string contact = "auto";
   app.add_option("--contact", contact,
                  "contact under the soles: soft (the paper's spring-damper on FCL), native "
-                 "(MuJoCo's), rigid (MuJoCo's, near-rigid)")
-      ->capture_default_str()->check(CLI::IsMember({"soft", "native", "rigid"}));
+                 "(MuJoCo's), rigid (MuJoCo's, near-rigid), auto (soft when the model has "
+                 "*_SOLE geoms, else native)")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "soft", "native", "rigid"}));
   app.add_option("--soles", o.feet.soles, "sole geoms (default: every geom named *_SOLE)")
       ->delimiter(',');
   auto& cp = o.feet.params;

@@ -42,7 +42,7 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["control_period"] = o.control_period;
   j["integrator"] = IntegratorName(m->opt.integrator);
   j["mode"] = o.realtime ? "realtime" : "lockstep";
-  j["contact"] = ContactModelName(o.feet.model);
+  j["contact"] = st.contact;
   j["fcl_queries"] = st.fcl_queries;
   j["contact_pairs"] = st.contact_pairs;
   j["contact_pairs_bounded"] = st.contact_pairs_bounded;

@@ -296,6 +296,28 @@ TEST_F(SimHostProcess, InterruptShutsDownCleanlyWithTheLogFlushed) {
   EXPECT_EQ(std::count(last.begin(), last.end(), ','), std::count(header.begin(), header.end(), ','));
 }
 
+TEST_F(SimHostProcess, ContactParametersThatCannotWorkAreRefusedAtLoad) {
+  scene_ = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+  Start({"--contact", "soft", "--contact-stiffness", "-5"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("stiffness"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+  // a damping far too strong for the step: the message says what would work
+  Start({"--contact", "soft", "--contact-damping", "1e6"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("damping"), std::string::npos) << Stderr();
+}
+
+TEST_F(SimHostProcess, SoftContactWithoutSolesIsAClearError) {
+  Start({"--contact", "soft", "--wait-controller", "0", "--duration", "0.1"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("soles"), std::string::npos) << Stderr();
+  // auto falls back to MuJoCo's contact for a model without soles
+  Start({"--contact", "auto", "--wait-controller", "0", "--duration", "0.1"});
+  EXPECT_EQ(Wait(), 0);
+  EXPECT_NE(Stderr().find("native contact"), std::string::npos) << Stderr();
+}
+
 TEST_F(SimHostProcess, RealTimeModePacesToTheWallClock) {
   const std::string summary = testing::WriteTemp("", ".json");
   const auto t0 = Clock::now();

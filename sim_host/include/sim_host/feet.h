@@ -4,7 +4,8 @@
 //           (the default: HRP-1S has a mechanical spring-damper in its feet);
 //   native  MuJoCo's soft-constraint contact as the scene defines it;
 //   rigid   MuJoCo's contact made near-rigid for the soles (constraint time constant of two
-//           physics steps, critically damped, impedance close to 1).
+//           physics steps, critically damped, impedance close to 1);
+//   auto    soft when the model has soles, native when it has none (a model without feet).
 // The soles are the box geoms named "*_SOLE" unless listed explicitly.
 #pragma once
 
@@ -17,24 +18,26 @@
 
 namespace ohrp::sim {
 
-enum class ContactModel { kSoft, kNative, kRigid };
+enum class ContactModel { kAuto, kSoft, kNative, kRigid };
 
 struct FeetOptions {
-  ContactModel model = ContactModel::kSoft;
+  ContactModel model = ContactModel::kAuto;
   std::vector<std::string> soles;          // empty: every geom whose name ends with "_SOLE"
   contact::SoftContactParams params;       // soft model only
 };
 
-// Parses "soft", "native" or "rigid"; false for anything else.
+// Parses "auto", "soft", "native" or "rigid"; false for anything else.
 bool ParseContactModel(const std::string& name, ContactModel* model);
 const char* ContactModelName(ContactModel model);
 
-// Sets the model up for the chosen contact (must run before the first mj_forward/mj_step) and,
+// Sets the model up for the chosen contact (must run before the first mj_forward/mj_step),
+// resolving kAuto into `*resolved` (which may be null), and,
 // for the soft model, creates the soft-foot contact of the soles against every static geom.
 // `mass` is the robot's mass [kg] (half of it rides on one sole when standing: the stability
 // check of the parameters uses it). Returns false with `*error` naming what is wrong (no soles,
 // a sole that is not a box, parameters refused and why). `*soft` stays null unless soft.
 bool SetUpFeet(mjModel* m, const FeetOptions& options, double mass,
-               std::unique_ptr<contact::SoftFootContact>* soft, std::string* error);
+               std::unique_ptr<contact::SoftFootContact>* soft, std::string* error,
+               ContactModel* resolved = nullptr);
 
 }  // namespace ohrp::sim

@@ -29,6 +29,7 @@ struct RunStats {
   long warnings = 0;         // MuJoCo warnings during the run
   uint64_t log_rows = 0;     // rows written to the data log
   uint64_t log_dropped = 0;  // rows the log ring could not take
+  std::string contact;                  // contact model under the soles (resolved)
   long long fcl_queries = 0;            // soft-foot contact: FCL distance queries
   long long contact_pairs = 0;          // (sole, object) pairs looked at
   long long contact_pairs_bounded = 0;  // of those, rejected by the cheap bound (no FCL)
