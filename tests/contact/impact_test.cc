@@ -117,7 +117,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"linear_v0_2", 1.0, 3.0e5, 1.0, 0.2},
                       Case{"linear_v0_5", 1.0, 3.0e5, 1.0, 0.5},
                       Case{"linear_v1_0", 1.0, 3.0e5, 1.0, 1.0},
-                      Case{"default_c3_v0_1", 1.0, 3.0e5, 3.0, 0.1},
+                      Case{"c3_v0_1", 1.0, 3.0e5, 3.0, 0.1},
+                      Case{"defaults_v0_1", 1.0, 3.0e6, 10.0, 0.1},
+                      Case{"defaults_v0_3", 1.0, 3.0e6, 10.0, 0.3},
                       Case{"hertz_v0_2", 1.5, 6.6e6, 1.0, 0.2},
                       Case{"hertz_v0_8", 1.5, 6.6e6, 1.0, 0.8}),
     [](const ::testing::TestParamInfo<Case>& info) { return info.param.name; });

@@ -87,6 +87,7 @@ INSTANTIATE_TEST_SUITE_P(
     Contact, StaticLoad,
     ::testing::Values(Case{"plane_flat", testing::kPlaneFloor, "", 1.0, 3.0e5, 0.0},
                       Case{"plane_tilted", testing::kPlaneFloor, "", 1.0, 3.0e5, 2.0},
+                      Case{"plane_tilted_default_k", testing::kPlaneFloor, "", 1.0, 3.0e6, 2.0},
                       Case{"plane_hertz_tilted", testing::kPlaneFloor, "", 1.5, 6.6e6, 2.0},
                       Case{"box_flat", testing::kBoxFloor, "", 1.0, 3.0e5, 0.0},
                       Case{"box_tilted", testing::kBoxFloor, "", 1.0, 3.0e5, 2.0},

@@ -14,27 +14,33 @@ namespace ohrp::contact {
 
 struct SoftContactParams {
   // k [N/m^n] (N/m for n = 1): the normal stiffness of one sole (rubber + foot mechanism).
-  // Default: a 120-130 kg humanoid (HRP-1S in mjcf/hrp1s is 130.8 kg, 1283 N) standing on two
-  // feet loads each sole with ~640 N; 3e5 N/m gives a static sink of 2.1 mm per foot standing
-  // and 4.3 mm in single support: "a few mm", as a rubber sole on a spring-damper ankle does.
-  // Vertical frequency standing: sqrt(2k/m) = 68 rad/s (11 Hz); explicit-step number at 1 ms:
-  // (omega dt)^2 = 0.005, far inside the stable range.
-  double stiffness = 3.0e5;
+  // Default 3e6 N/m: HRP-1S in mjcf/hrp1s (130.8 kg, 1283 N) standing sinks 0.21 mm per foot,
+  // 0.43 mm on one foot. Why not "a few mm": the robot's centre of mass stands above the ankle,
+  // 5.6 cm behind the sole's centre, outside the middle sixth (L/6 = 4.2 cm) where a bed of
+  // springs keeps the whole sole loaded, so the toes unload and the heel rows must hold the
+  // rigid robot against m g h = 975 N m/rad of toppling. Measured (tests/contact/robot_test,
+  // joints held stiff): it falls over backwards at k <= 1e6 N/m (2 mm sink: 3e5 N/m), stands
+  // from 2e6 N/m; 3e6 keeps a 1.5x margin. Vertical frequency standing: sqrt(2k/m) = 214 rad/s
+  // (34 Hz); explicit-step number at 1 ms: (omega dt)^2 = 0.05, far inside the stable range.
+  double stiffness = 3.0e6;
   // n [-]: force ~ k * delta^n. 1 = linear mechanism spring (default, the HRP-1S foot has a
   // mechanical spring); 1.5 = Hertz-like rubber pad. Must be in [1, 3].
   double exponent = 1.0;
   // c [s/m]: Hunt-Crossley damping coefficient (the "alpha" of Hunt & Crossley 1975). For small
-  // impact speeds v the coefficient of restitution is e ~= 1 - (2/3) c v (any n). Default 3 s/m:
-  // a damping ratio of about c*g/(2*omega) ~= 0.2 for the robot standing (omega ~= 70 rad/s),
-  // e ~= 0.8 for a foot landing at 0.1 m/s. Tune against the paper's figure-12 oscillation.
-  double damping = 3.0;
+  // impact speeds (c v << 1) the coefficient of restitution is e ~= 1 - (2/3) c v (any n). Default
+  // 10 s/m: a damping ratio of c*g/(2*omega) = 0.23 for the robot standing (omega = 214 rad/s);
+  // restitution (the law's ODE, tests/contact/impact_test) 0.59 for a foot landing at 0.1 m/s,
+  // 0.31 at 0.3 m/s: a well damped rubber sole. Tune against the paper's figure-12 oscillation.
+  double damping = 10.0;
   // mu [-]: Coulomb friction coefficient, rubber on a floor (matches the model's friction 1).
   double friction = 1.0;
-  // k_t [N/m]: tangential (shear) stiffness of one sole while it sticks. 2e5 N/m: 3 mm of shear
-  // at the sliding limit of a standing foot (mu * 600 N).
-  double tangential_stiffness = 2.0e5;
-  // b_t [N s/m]: tangential damping of one sole while it sticks (damping ratio ~0.3 for 60 kg).
-  double tangential_damping = 2.0e3;
+  // k_t [N/m]: tangential (shear) stiffness of one sole while it sticks. 1e6 N/m: 0.6 mm of
+  // shear at the sliding limit of a standing foot (mu * 640 N).
+  double tangential_stiffness = 1.0e6;
+  // b_t [N s/m]: tangential damping of one sole while it sticks: damping ratio
+  // b_t / (2 sqrt(k_t m)) = 0.19 for 65 kg on a sole, and still explicit-stable at 1 ms for a
+  // mass of 5 kg.
+  double tangential_damping = 3.0e3;
   // Sample grid on the sole's bottom face: grid_x points along the sole's x (length), grid_y
   // along y (width), at the cell centres, each carrying 1/(grid_x*grid_y) of the area.
   int grid_x = 5;
