@@ -206,6 +206,7 @@ int RunHost(const HostOptions& o) {
     return false;
   };
 
+  bool pushing = false;  // the push's wrench is in xfrc_applied
   double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
@@ -283,6 +284,19 @@ int RunHost(const HostOptions& o) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
+      if (o.push.active() && robot.base_body >= 0) {
+        // the push adds its wrench to the base's row of xfrc_applied while it lasts
+        const bool on = d->time >= o.push.t0 && d->time < o.push.t1;
+        if (on != pushing) {
+          const double sign = on ? 1.0 : -1.0;
+          double* row = d->xfrc_applied + 6 * robot.base_body;
+          for (int k = 0; k < 3; ++k) {
+            row[k] += sign * o.push.force[k];
+            row[3 + k] += sign * o.push.torque[k];
+          }
+          pushing = on;
+        }
+      }
       servo.Apply(m, d);
       if (soft) soft->ApplyBeforeStep(m, d);
       mj_step(m, d);

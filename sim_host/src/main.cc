@@ -45,6 +45,11 @@ int main(int argc, char** argv) {
   app.add_option("--contact-tangential-damping", cp.tangential_damping,
                  "soft: shear damping of one sole while it sticks [N s/m]")
       ->capture_default_str();
+  std::vector<double> push;
+  app.add_option("--push", push,
+                 "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
+                 "N and N m at the base's centre of mass)")
+      ->delimiter(',')->expected(8);
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");
@@ -70,6 +75,14 @@ int main(int argc, char** argv) {
       "Architecture and the segment's protocol: docs/architecture.md.");
   CLI11_PARSE(app, argc, argv);
   ohrp::sim::ParseContactModel(contact, &o.feet.model);
+  if (push.size() == 8) {
+    o.push.t0 = push[0];
+    o.push.t1 = push[1];
+    for (int k = 0; k < 3; ++k) {
+      o.push.force[k] = push[2 + k];
+      o.push.torque[k] = push[5 + k];
+    }
+  }
   o.on_loss = loss == "wait" ? ControllerLoss::kWait
               : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;
   return ohrp::sim::RunHost(o);

@@ -318,6 +318,38 @@ TEST_F(SimHostProcess, SoftContactWithoutSolesIsAClearError) {
   EXPECT_NE(Stderr().find("native contact"), std::string::npos) << Stderr();
 }
 
+// the last logged value of a column of a sim_host data log
+double LastLogged(const std::string& log, const std::string& column) {
+  std::ifstream in(log);
+  std::string header, line, last;
+  std::getline(in, header);
+  while (std::getline(in, line)) last = line;
+  std::stringstream hs(header), ls(last);
+  std::string name, value;
+  while (std::getline(hs, name, ',') && std::getline(ls, value, ','))
+    if (name == column) return std::stod(value);
+  return std::nan("");
+}
+
+// A push on the base of the robot held in its initial pose: the impulse F dt sets the base
+// moving forward, by less than the impulse over the mass since the sticking soles resist.
+TEST_F(SimHostProcess, PushActsOnTheBaseOnlyWhileItLasts) {
+  scene_ = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+  const std::string quiet_log = testing::WriteTemp("", ".csv");
+  const std::string pushed_log = testing::WriteTemp("", ".csv");
+  Start({"--wait-controller", "0", "--duration", "0.3", "--log", quiet_log});
+  ASSERT_EQ(Wait(), 0) << Stderr();
+  // 150 N forward for 0.1 s at t = 0.2 s: the base moves forward, then settles
+  Start({"--wait-controller", "0", "--duration", "0.3", "--log", pushed_log, "--push",
+         "0.2,0.3,150,0,0,0,0,0"});
+  ASSERT_EQ(Wait(), 0) << Stderr();
+  const double quiet = LastLogged(quiet_log, "base_vx");
+  const double pushed = LastLogged(pushed_log, "base_vx");
+  // an impulse of 15 N s on 130.8 kg gives at most 0.115 m/s; the sticking soles take part
+  EXPECT_GT(pushed - quiet, 0.02) << "quiet " << quiet << ", pushed " << pushed;
+  EXPECT_LT(pushed - quiet, 0.115);
+}
+
 TEST_F(SimHostProcess, RealTimeModePacesToTheWallClock) {
   const std::string summary = testing::WriteTemp("", ".json");
   const auto t0 = Clock::now();

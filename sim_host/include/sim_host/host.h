@@ -18,6 +18,15 @@ enum class ControllerLoss {
   kContinue,  // keep simulating with the last references held
 };
 
+// An external push on the base: a wrench (world frame, at the base's centre of mass) applied
+// from t0 to t1 of simulated time, e.g. to tilt the standing robot and release it.
+struct Perturbation {
+  double t0 = 0, t1 = 0;        // [s]
+  double force[3] = {0, 0, 0};  // [N]
+  double torque[3] = {0, 0, 0}; // [N m]
+  bool active() const { return t1 > t0; }
+};
+
 struct HostOptions {
   std::string scene;               // MJCF file
   std::string segment = "hrp1s";   // segment name
@@ -26,6 +35,7 @@ struct HostOptions {
   double control_period = 0.005;   // [s]; a multiple of the physics step
   std::string integrator;          // euler | rk4 | implicit; empty: the scene's
   FeetOptions feet;                // the contact under the soles (default: soft-foot)
+  Perturbation push;               // an external push on the base (none by default)
   double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
   bool realtime = false;           // pace cycles to the wall clock
   double wait_controller = 30;     // [s] wall time to wait for the first controller; 0: run without
