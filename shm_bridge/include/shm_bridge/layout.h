@@ -78,6 +78,12 @@ inline constexpr uint32_t kCommandLate = 1u << 4;        // the last commands ca
 inline constexpr uint32_t kShuttingDown = 1u << 5;       // last cycle: producer is ending
 inline constexpr uint32_t kDiverged = 1u << 6;           // simulation diverged; data invalid
 inline constexpr uint32_t kSimulated = 1u << 16;         // sim_truth is valid (simulation only)
+// set by hw_driver (a simulation producer never sets them)
+inline constexpr uint32_t kServoOff = 1u << 7;           // the robot's servos are off (before servo-on,
+                                                         // after safe mode or an emergency stop)
+inline constexpr uint32_t kBoardFault = 1u << 8;         // a board is silent, reset, or reports a
+                                                         // stuck or saturated sensor this cycle
+inline constexpr uint32_t kEmergencyStop = 1u << 9;      // the emergency stop was triggered
 }  // namespace status
 
 //---------------- header ----------------

@@ -1,0 +1,178 @@
+// hw_driver: the real-time producer that runs beside the robot. It creates the robot's segment
+// (producer kind hardware) and, every servo cycle, reads the boards through a RobotIo plugin,
+// publishes the sensor block, waits for the controller's commands until the cycle's command
+// deadline, checks them (guard.h) and writes the boards. The controller cannot tell it from
+// sim_host: same segment, same handshake (shm_bridge/layout.h).
+//
+// ---------------------------------------------------------------------------------------------
+// Timing. The servo cycle is the segment's control cycle (`period`, 1 ms by default): there is
+// no separate physics step on the robot (header physics_period = 0). Cycle k starts at the
+// absolute time T_k = T_0 + k period (CLOCK_MONOTONIC, clock_nanosleep TIMER_ABSTIME); its
+// wake-up lateness (now - T_k) goes into a histogram. Within the cycle:
+//   read boards -> publish sensors (cycle k, time k period) -> wait for the commands answering
+//   k until T_k + (1 - command_margin) period -> check -> write boards -> sleep until T_{k+1}.
+// Commands that miss the deadline are counted as late (status kCommandLate) and the joints keep
+// their last references. A cycle whose write ends after T_{k+1} is a deadline miss; when the
+// loop falls more than one period behind, the missed slots are skipped (counted), not run in a
+// burst. The loop never allocates, throws or logs: events go into a preallocated log printed
+// after the loop.
+//
+// Lifecycle (the controllers' state machine, controllers/controller.h, seen from the driver):
+//
+//              configure                 activate (first valid read)
+//   kUnconfigured -----> kInactive ---------------------------------> kActive <- commands
+//                        servos off       hold measured q, default gains,   |    accepted
+//                            ^            servos on                         |
+//                            |                 watchdog / board fault       v
+//                            |     servo-off  <------------------------- kSafeMode: damped hold
+//                            +--- (end of run) <- kStopping: damped hold    of the last valid
+//                            |       ^              (stop, duration, end     references for
+//                            |       |               of data)                safe_time
+//                            +-- emergency stop: servos off at once, from any state
+//   close: boards closed, segment removed -> kClosed.
+//
+//   configure   Create: the boards are opened (IoConfig) and the segment exists; sensors are
+//               published from the first cycle on (servos off until activate).
+//   activate    on the first valid read (no kBoardSilent, read not kError): hold the measured
+//               positions with the default gains, servos on. No valid read within
+//               servo_on_timeout ends the run (kExitIo).
+//   run         controller's commands checked and clamped, written to the boards.
+//   safe mode   entered when the controller stays silent for watchdog_cycles cycles after its
+//               first answer, dies (pid check in every command wait), or detaches; or when a
+//               board is silent for board_timeout_cycles cycles or reports a reset. Commands
+//               are ignored; after safe_time the servos go off and the run ends.
+//   stopping    SIGINT/SIGTERM, the duration reached or the replay's end of data: a damped
+//               hold for servo_off_time, then servos off, run ends.
+//   e-stop      IoState fault kEmergencyStop or SIGUSR2 (RequestEmergencyStop): the write of
+//               the same cycle turns every servo off; the run ends.
+// Status bits published (shm::status): kRunning always; kNoController while no controller is
+// attached; kCommandLate when the last commands missed their deadline; kCommandRejected when a
+// joint was rejected this cycle; kHolding in safe mode and while stopping; kServoOff while the
+// servos are off; kBoardFault when a board is silent, reset, or reports a stuck or saturated
+// sensor this cycle; kEmergencyStop after an emergency stop; kShuttingDown on the last block.
+// ---------------------------------------------------------------------------------------------
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hw_driver/lateness.h"
+#include "hw_driver/robot_io.h"
+#include "hw_driver/rt.h"
+#include "shm_bridge/bridge.h"
+
+namespace ohrp::hw {
+
+// exit codes of hw_driver (the same numbers as sim_host's where the meaning is the same)
+inline constexpr int kExitOk = 0;              // duration reached, or the replay ended
+inline constexpr int kExitUsage = 2;           // bad option, model, plugin file or segment
+inline constexpr int kExitIo = 3;              // the boards failed: open, or no valid read
+inline constexpr int kExitControllerLost = 5;  // controller silent, dead or detached: safe mode
+inline constexpr int kExitBoardFault = 6;      // a board silent or reset: safe mode
+inline constexpr int kExitEmergencyStop = 7;   // emergency stop: servos off at once
+inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: servo-off, clean shutdown
+
+enum class DriverState { kUnconfigured, kInactive, kActive, kSafeMode, kStopping, kClosed };
+const char* DriverStateName(DriverState s);
+
+struct DriverOptions {
+  double period = 0.001;           // servo cycle = control cycle [s]
+  double command_margin = 0.1;     // part of the period kept after the command wait, for the
+                                   // checks and the boards' write (0..0.9)
+  int watchdog_cycles = 20;        // controller silent this many cycles (after its first
+                                   // answer) -> safe mode
+  int board_timeout_cycles = 10;   // a board silent this many cycles -> safe mode
+  double safe_time = 1.0;          // [s] damped hold in safe mode before servo-off
+  double servo_off_time = 0.2;     // [s] damped hold before servo-off at a normal stop
+  double safe_kp_scale = 0.2;      // damped hold: kp = default_kp * this
+  double safe_kd_scale = 2.0;      //              kd = default_kd * this
+  double servo_on_timeout = 1.0;   // [s] for the boards' first valid read
+  double duration = 0;             // [s] of driver time, then stop; 0: until stopped
+  RtSettings rt;
+};
+
+// One thing that happened in the loop, recorded without allocation and printed after it.
+enum class EventKind {
+  kServoOn, kControllerAttached, kControllerSilent, kControllerDied, kControllerDetached,
+  kBoardSilent, kBoardBack, kBoardReset, kSensorFault, kSafeMode, kServoOff, kEmergencyStop,
+  kEndOfData, kStopRequested, kDurationReached, kIoError, kNoValidRead,
+};
+const char* EventName(EventKind k);
+
+struct Event {
+  uint64_t cycle;
+  double time;      // driver time [s]
+  EventKind kind;
+  int64_t value;    // kind-specific: a pid, a board mask, a count
+};
+
+// Counters readable while the loop runs (relaxed atomics written by the loop only).
+struct LiveStats {
+  std::atomic<uint64_t> cycles{0};           // cycles run
+  std::atomic<uint64_t> deadline_misses{0};  // cycles whose write ended after the next start
+  std::atomic<uint64_t> skipped{0};          // period slots skipped to catch up
+  std::atomic<uint64_t> commands{0};         // command blocks accepted
+  std::atomic<uint64_t> late_commands{0};
+  std::atomic<uint64_t> rejected{0};         // joint commands rejected
+  std::atomic<uint64_t> clamped{0};          // position references clamped into range
+  std::atomic<uint64_t> silent_reads{0};     // reads with a silent board or a read error
+  std::atomic<uint64_t> packets_lost{0};     // as the plugin counts them
+  std::atomic<uint32_t> state{0};            // DriverState
+  LatenessHistogram lateness;                // wake-up lateness [ns]
+};
+
+// What the run came to, for the report and the summary.
+struct DriverResult {
+  int exit_code = kExitOk;
+  std::string outcome = "completed";  // completed | end_of_data | interrupted | controller_lost
+                                      // | board_fault | emergency_stop | io_error
+  std::string detail;
+  double duration = 0;                // driver time run [s]
+  uint64_t safe_mode_cycle = 0;       // cycle at which safe mode began (0 and !safe_mode: never)
+  bool safe_mode = false;
+  std::vector<Event> events;
+  uint64_t events_dropped = 0;
+  std::vector<uint32_t> rejected_per_joint;
+  RtReport rt;
+};
+
+// Asks a running driver to stop (servo-off sequence) or to stop at once (emergency stop).
+// Async-signal-safe; InstallSignalHandlers routes SIGINT/SIGTERM and SIGUSR2 to them.
+void RequestStop() noexcept;
+void RequestEmergencyStop() noexcept;
+void ClearRequests() noexcept;
+void InstallSignalHandlers();
+
+class Driver {
+ public:
+  // `robot` describes the joints (limits, default gains) exactly as the segment's header;
+  // `io` is open; `producer` owns the segment. None is owned; all outlive the driver.
+  Driver(const DriverOptions& options, const shm::ProducerConfig& robot, RobotIo* io,
+         shm::Producer* producer);
+  ~Driver();
+  Driver(const Driver&) = delete;
+  Driver& operator=(const Driver&) = delete;
+
+  // Applies options.rt to the calling thread (SCHED_FIFO, mlockall, stack) once; Run calls it
+  // when the caller did not. Call it first to print its warnings before the loop starts.
+  const RtReport& PrepareRealTime();
+
+  // Runs the loop on the calling thread until the run ends; returns the exit code (also in
+  // result()). Run once per Driver.
+  int Run();
+
+  const LiveStats& live() const { return live_; }
+  const DriverResult& result() const { return result_; }
+
+ private:
+  struct Impl;
+  Impl* impl_;
+  LiveStats live_;
+  DriverResult result_;
+  RtReport rt_;
+  bool rt_prepared_ = false;
+};
+
+}  // namespace ohrp::hw

@@ -1,0 +1,45 @@
+// The hw_driver program around the loop: reads the robot from its MJCF model (sim_host's
+// parser), loads the IO plugin, opens the boards, creates the segment, runs the Driver, and
+// reports: the lateness table and the events on stderr after the loop, a JSON summary
+// (--summary), a stats file refreshed while it runs (--stats) and the table on SIGUSR1.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "hw_driver/driver.h"
+#include "shm_bridge/bridge.h"
+
+namespace ohrp::hw {
+
+struct ProgramOptions {
+  std::string model;                  // MJCF file of the robot (e.g. mjcf/hrp1s/hrp1s.xml)
+  std::string io_plugin;              // shared object exporting ohrp_create_robot_io
+  std::vector<std::string> io_args;   // "key=value", handed to the plugin's open
+  std::string segment = "hrp1s";
+  std::string summary_path;           // JSON summary at the end; empty: none
+  std::string stats_path;             // JSON stats rewritten every stats_interval; empty: none
+  double stats_interval = 1.0;        // [s]
+  bool quiet = false;                 // errors and warnings only
+  DriverOptions driver;
+};
+
+// The segment's description of the robot in `model_path`: joints (names, limits, torque
+// limits, default gains), force sensors, IMUs, cameras; kind hardware, physics_period 0,
+// control period `period`. False with `*error` (MuJoCo's text and the file) on failure.
+bool LoadRobotDescription(const std::string& model_path, const std::string& segment,
+                          double period, shm::ProducerConfig* out, std::string* error);
+
+// Runs the whole program; returns its exit code (driver.h).
+int RunProgram(const ProgramOptions& options);
+
+// The lateness histogram as a small table (octaves, counts, percentiles) for humans.
+std::string LatenessTable(const LatenessHistogram& h);
+
+// Writes the run's statistics as JSON to `path` (through a temporary file and a rename, so a
+// reader never sees half a file). `result` may be null while the loop runs. False on I/O error.
+bool WriteStats(const std::string& path, const ProgramOptions& options,
+                const shm::ProducerConfig& robot, const LiveStats& live,
+                const DriverResult* result);
+
+}  // namespace ohrp::hw

@@ -1,0 +1,424 @@
+// The driver's real-time loop and its safety state machine (see driver.h).
+#include "hw_driver/driver.h"
+
+#include <signal.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "hw_driver/guard.h"
+
+namespace ohrp::hw {
+namespace {
+
+constexpr size_t kMaxEvents = 1024;  // events kept per run; more are counted as dropped
+constexpr int64_t kNsPerS = 1000000000;
+
+std::atomic<int> g_stop_requests{0};
+std::atomic<bool> g_emergency_stop{false};
+
+void OnStopSignal(int) { RequestStop(); }
+void OnEmergencySignal(int) { RequestEmergencyStop(); }
+
+int64_t NowNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
+}
+
+// sleeps until the CLOCK_MONOTONIC time `t` [ns]; a signal does not cut the sleep short
+void SleepUntil(int64_t t) {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(t / kNsPerS);
+  ts.tv_nsec = static_cast<long>(t % kNsPerS);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+void Bump(std::atomic<uint64_t>& a, uint64_t n = 1) {
+  a.store(a.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
+}
+
+bool AllFinite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+//---------------- names and requests ----------------
+
+const char* DriverStateName(DriverState s) {
+  switch (s) {
+    case DriverState::kUnconfigured: return "unconfigured";
+    case DriverState::kInactive: return "inactive";
+    case DriverState::kActive: return "active";
+    case DriverState::kSafeMode: return "safe_mode";
+    case DriverState::kStopping: return "stopping";
+    case DriverState::kClosed: return "closed";
+  }
+  return "?";
+}
+
+const char* EventName(EventKind k) {
+  switch (k) {
+    case EventKind::kServoOn: return "servo_on";
+    case EventKind::kControllerAttached: return "controller_attached";
+    case EventKind::kControllerSilent: return "controller_silent";
+    case EventKind::kControllerDied: return "controller_died";
+    case EventKind::kControllerDetached: return "controller_detached";
+    case EventKind::kBoardSilent: return "board_silent";
+    case EventKind::kBoardBack: return "board_back";
+    case EventKind::kBoardReset: return "board_reset";
+    case EventKind::kSensorFault: return "sensor_fault";
+    case EventKind::kSafeMode: return "safe_mode";
+    case EventKind::kServoOff: return "servo_off";
+    case EventKind::kEmergencyStop: return "emergency_stop";
+    case EventKind::kEndOfData: return "end_of_data";
+    case EventKind::kStopRequested: return "stop_requested";
+    case EventKind::kDurationReached: return "duration_reached";
+    case EventKind::kIoError: return "io_error";
+    case EventKind::kNoValidRead: return "no_valid_read";
+  }
+  return "?";
+}
+
+void RequestStop() noexcept { g_stop_requests.fetch_add(1); }
+void RequestEmergencyStop() noexcept { g_emergency_stop.store(true); }
+void ClearRequests() noexcept {
+  g_stop_requests.store(0);
+  g_emergency_stop.store(false);
+}
+
+void InstallSignalHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = OnStopSignal;  // no SA_RESTART: blocking waits return and see the request
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  sa.sa_handler = OnEmergencySignal;
+  sigaction(SIGUSR2, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+//---------------- the loop's state ----------------
+
+struct Driver::Impl {
+  Impl(const DriverOptions& o, const shm::ProducerConfig& r, RobotIo* i, shm::Producer* p)
+      : opt(o), robot(r), io(i), producer(p), guard(r) {
+    njoint = static_cast<int>(r.joint_names.size());
+    nforce = static_cast<int>(r.force_names.size());
+    nimu = static_cast<int>(r.imu_names.size());
+    events.reserve(kMaxEvents);
+  }
+
+  const DriverOptions opt;
+  const shm::ProducerConfig& robot;
+  RobotIo* io;
+  shm::Producer* producer;
+  CommandGuard guard;
+  int njoint = 0, nforce = 0, nimu = 0;
+
+  IoState in{};
+  IoCommand out{};
+  shm::CommandBlock cmd{};
+  std::vector<Event> events;
+  uint64_t events_dropped = 0;
+
+  DriverState state = DriverState::kInactive;
+  bool servo_on = false;
+  bool estopped = false;
+  uint32_t late_flag = 0;      // kCommandLate until the next accepted block
+  uint32_t rejected_flag = 0;  // kCommandRejected until the next accepted block
+  uint64_t last_command_cycle = 0;
+  uint64_t k = 0;
+  double time = 0;             // driver time of cycle k [s]
+
+  void Record(EventKind kind, int64_t value = 0) noexcept {
+    if (events.size() < kMaxEvents) {
+      events.push_back(Event{k, time, kind, value});  // capacity reserved: no allocation
+    } else {
+      ++events_dropped;
+    }
+  }
+
+  void Publish(uint32_t flags, const LiveStats& live) noexcept {
+    shm::SensorBlock& s = producer->BeginSensors();
+    s.cycle = k;
+    s.time = time;
+    s.status = shm::status::kRunning | flags | late_flag | rejected_flag |
+               (producer->controller_pid() ? 0u : shm::status::kNoController) |
+               (state == DriverState::kSafeMode || state == DriverState::kStopping
+                    ? shm::status::kHolding : 0u) |
+               (servo_on ? 0u : shm::status::kServoOff) |
+               (estopped ? shm::status::kEmergencyStop : 0u);
+    s.last_command_cycle = last_command_cycle;
+    s.late_commands = live.late_commands.load(std::memory_order_relaxed);
+    s.rejected_commands = guard.rejected_total();
+    std::memcpy(s.rejected_per_joint, guard.rejected_per_joint(), njoint * sizeof(uint32_t));
+    std::memcpy(s.q, in.q, njoint * sizeof(double));
+    std::memcpy(s.dq, in.dq, njoint * sizeof(double));
+    std::memcpy(s.tau, in.tau, njoint * sizeof(double));
+    std::memcpy(s.force, in.force, nforce * sizeof(shm::ForceTorque));
+    std::memcpy(s.imu, in.imu, nimu * sizeof(shm::Imu));
+    s.sim_truth = shm::SimTruth{};
+    producer->PublishSensors();
+  }
+
+  void Write() noexcept {
+    const shm::JointCommand* ref = guard.references();
+    for (int i = 0; i < njoint; ++i) {
+      out.servo_on[i] = servo_on;
+      out.joint[i] = ref[i];
+    }
+    io->write(out);
+  }
+};
+
+Driver::Driver(const DriverOptions& options, const shm::ProducerConfig& robot, RobotIo* io,
+               shm::Producer* producer)
+    : impl_(new Impl(options, robot, io, producer)) {}
+
+Driver::~Driver() { delete impl_; }
+
+const RtReport& Driver::PrepareRealTime() {
+  if (!rt_prepared_) {
+    rt_ = SetUpRealTime(impl_->opt.rt);
+    rt_prepared_ = true;
+  }
+  return rt_;
+}
+
+//---------------- the loop ----------------
+
+int Driver::Run() {
+  Impl& d = *impl_;
+  const DriverOptions& o = d.opt;
+  result_ = DriverResult{};
+  result_.rt = PrepareRealTime();
+
+  const int64_t period = std::max<int64_t>(1000, std::llround(o.period * 1e9));
+  const int64_t window =
+      std::llround(static_cast<double>(period) * (1.0 - std::clamp(o.command_margin, 0.0, 0.9)));
+  const int64_t servo_on_timeout = std::llround(o.servo_on_timeout * 1e9);
+  const int64_t t0 = NowNs();
+  int64_t slot = t0;          // T_k
+  int64_t phase_end = 0;      // end of the safe mode or of the servo-off damping [ns]
+  int silent_board = 0;       // consecutive cycles with a silent board
+  int silent_controller = 0;  // consecutive cycles without the controller's answer
+  bool board_was_silent = false;
+  bool sensor_fault_seen = false;
+  pid_t controller = 0;
+  bool answered = false;      // the current controller has answered at least once
+  int stops_seen = 0;
+  bool done = false;
+  const char* outcome = "completed";  // copied into result_ after the loop (no allocation in it)
+  const char* detail = "";
+
+  auto enter_safe_mode = [&](int exit_code, const char* why, int64_t reason) {
+    d.state = DriverState::kSafeMode;
+    d.guard.Damp(d.in.q, o.safe_kp_scale, o.safe_kd_scale);
+    phase_end = NowNs() + std::llround(o.safe_time * 1e9);
+    result_.safe_mode = true;
+    result_.safe_mode_cycle = d.k;
+    result_.exit_code = exit_code;
+    outcome = why;
+    d.Record(EventKind::kSafeMode, reason);
+  };
+  auto begin_stopping = [&](int exit_code, const char* why) {
+    result_.exit_code = exit_code;
+    outcome = why;
+    if (!d.servo_on) {
+      done = true;
+      return;
+    }
+    d.state = DriverState::kStopping;
+    d.guard.Damp(d.in.q, o.safe_kp_scale, o.safe_kd_scale);
+    phase_end = NowNs() + std::llround(o.servo_off_time * 1e9);
+  };
+
+  for (;;) {
+    d.time = static_cast<double>(slot - t0) * 1e-9;
+    if (d.k > 0) {
+      SleepUntil(slot);
+      live_.lateness.Add(NowNs() - slot);
+    }
+    uint32_t flags = 0;
+
+    //---- read the boards
+    const IoResult r = d.io->read(&d.in);
+    const uint32_t faults = r == IoResult::kError ? 0u : d.in.faults;
+    live_.packets_lost.store(d.in.packets_lost, std::memory_order_relaxed);
+    const bool silent = r == IoResult::kError || (faults & io_fault::kBoardSilent) ||
+                        !AllFinite(d.in.q, d.njoint);
+    if (silent) {
+      Bump(live_.silent_reads);
+      ++silent_board;
+      flags |= shm::status::kBoardFault;
+      if (!board_was_silent) {
+        d.Record(r == IoResult::kError ? EventKind::kIoError : EventKind::kBoardSilent,
+                 d.in.silent_boards);
+      }
+    } else if (board_was_silent) {
+      d.Record(EventKind::kBoardBack, silent_board);
+      silent_board = 0;
+    }
+    board_was_silent = silent;
+    if (faults & (io_fault::kSensorStuck | io_fault::kSensorSaturated)) {
+      flags |= shm::status::kBoardFault;
+      if (!sensor_fault_seen) d.Record(EventKind::kSensorFault, faults);
+      sensor_fault_seen = true;
+    }
+
+    //---- emergency stop: servos off in this very cycle
+    if (!d.estopped && ((faults & io_fault::kEmergencyStop) ||
+                        g_emergency_stop.load(std::memory_order_relaxed))) {
+      d.estopped = true;
+      d.Record(EventKind::kEmergencyStop, (faults & io_fault::kEmergencyStop) ? 1 : 2);
+      if (d.servo_on) d.Record(EventKind::kServoOff);
+      d.servo_on = false;
+      result_.exit_code = kExitEmergencyStop;
+      outcome = "emergency_stop";
+      done = true;
+    }
+
+    //---- board faults, end of data, servo-on
+    if (!done) {
+      const bool running = d.state == DriverState::kActive;
+      if ((faults & io_fault::kEndOfData) &&
+          (running || d.state == DriverState::kInactive)) {
+        d.Record(EventKind::kEndOfData);
+        begin_stopping(kExitOk, "end_of_data");
+      } else if (running && (faults & io_fault::kBoardReset)) {
+        flags |= shm::status::kBoardFault;
+        d.Record(EventKind::kBoardReset, d.in.silent_boards);
+        enter_safe_mode(kExitBoardFault, "board_fault", 2);
+      } else if (running && silent_board >= o.board_timeout_cycles) {
+        enter_safe_mode(kExitBoardFault, "board_fault", 1);
+      } else if (d.state == DriverState::kInactive && !silent) {
+        d.guard.HoldMeasured(d.in.q);
+        d.servo_on = true;
+        d.state = DriverState::kActive;
+        d.Record(EventKind::kServoOn);
+      } else if (d.state == DriverState::kInactive && NowNs() - t0 > servo_on_timeout) {
+        d.Record(EventKind::kNoValidRead);
+        result_.exit_code = kExitIo;
+        outcome = "io_error";
+        detail = "no valid read from the boards within the servo-on timeout (--servo-on-timeout)";
+        done = true;
+      }
+    }
+
+    //---- publish, then the controller's commands until the command deadline
+    d.Publish(flags, live_);
+    if (!done && d.state == DriverState::kActive) {
+      const pid_t pid = d.producer->controller_pid();
+      if (pid != 0 && pid != controller) {
+        controller = pid;
+        answered = false;
+        silent_controller = 0;
+        d.Record(EventKind::kControllerAttached, pid);
+      }
+      if (controller != 0) {
+        const double remaining =
+            static_cast<double>(std::max<int64_t>(0, slot + window - NowNs())) * 1e-9;
+        switch (d.producer->WaitCommands(remaining, &d.cmd)) {
+          case shm::WaitResult::kCommands:
+            Bump(live_.commands);
+            d.last_command_cycle = d.cmd.answers_cycle;
+            d.late_flag = 0;
+            d.rejected_flag = 0;
+            silent_controller = 0;
+            answered = true;
+            if (d.guard.Accept(d.cmd) > 0) d.rejected_flag = shm::status::kCommandRejected;
+            live_.rejected.store(d.guard.rejected_total(), std::memory_order_relaxed);
+            live_.clamped.store(d.guard.clamped_total(), std::memory_order_relaxed);
+            break;
+          case shm::WaitResult::kTimeout:
+            if (!answered) break;  // a new controller is still setting up
+            Bump(live_.late_commands);
+            d.late_flag = shm::status::kCommandLate;
+            if (++silent_controller >= o.watchdog_cycles) {
+              d.Record(EventKind::kControllerSilent, silent_controller);
+              enter_safe_mode(kExitControllerLost, "controller_lost", 3);
+            }
+            break;
+          case shm::WaitResult::kControllerDied:
+            d.Record(EventKind::kControllerDied, controller);
+            if (answered) enter_safe_mode(kExitControllerLost, "controller_lost", 4);
+            controller = 0;
+            break;
+          case shm::WaitResult::kNoController:
+            d.Record(EventKind::kControllerDetached, controller);
+            if (answered) enter_safe_mode(kExitControllerLost, "controller_lost", 5);
+            controller = 0;
+            break;
+        }
+      }
+    }
+
+    //---- the end of a damped hold: servos off
+    if (!done && (d.state == DriverState::kSafeMode || d.state == DriverState::kStopping) &&
+        NowNs() >= phase_end) {
+      d.servo_on = false;
+      d.Record(EventKind::kServoOff);
+      done = true;
+    }
+
+    //---- write the boards
+    d.Write();
+    if (NowNs() > slot + period) Bump(live_.deadline_misses);
+    live_.cycles.store(d.k + 1, std::memory_order_relaxed);
+    live_.state.store(static_cast<uint32_t>(d.state), std::memory_order_relaxed);
+    if (done) break;
+
+    //---- stop requests and the duration
+    const int stops = g_stop_requests.load(std::memory_order_relaxed);
+    if (stops > stops_seen) {
+      if (stops_seen == 0) d.Record(EventKind::kStopRequested, stops);
+      stops_seen = stops;
+      if (d.state == DriverState::kActive || d.state == DriverState::kInactive) {
+        begin_stopping(kExitInterrupted, "interrupted");
+      } else if (stops >= 2) {
+        phase_end = 0;  // asked again: servos off in the next cycle
+      }
+    } else if (o.duration > 0 && static_cast<double>(slot + period - t0) * 1e-9 >=
+                                     o.duration - 0.5 * o.period &&
+               (d.state == DriverState::kActive || d.state == DriverState::kInactive)) {
+      d.Record(EventKind::kDurationReached);
+      begin_stopping(kExitOk, "completed");
+    }
+    if (done) break;
+
+    //---- next slot; skip the slots already over instead of running them in a burst
+    ++d.k;
+    slot += period;
+    const int64_t behind = NowNs() - slot;
+    if (behind > period) {
+      const int64_t skip = behind / period;
+      slot += skip * period;
+      Bump(live_.skipped, static_cast<uint64_t>(skip));
+    }
+  }
+
+  //---- last block: what the run ended with
+  d.time = static_cast<double>(slot - t0) * 1e-9;
+  d.Publish(shm::status::kShuttingDown, live_);
+  const bool failed = result_.exit_code != kExitOk && result_.exit_code != kExitInterrupted;
+  d.producer->SetState(failed ? shm::ProducerState::kFailed : shm::ProducerState::kStopped);
+  d.state = DriverState::kInactive;
+  live_.state.store(static_cast<uint32_t>(d.state), std::memory_order_relaxed);
+  result_.outcome = outcome;
+  result_.detail = detail;
+  result_.duration = d.time;
+  result_.events = d.events;
+  result_.events_dropped = d.events_dropped;
+  result_.rejected_per_joint.assign(d.guard.rejected_per_joint(),
+                                    d.guard.rejected_per_joint() + d.njoint);
+  return result_.exit_code;
+}
+
+}  // namespace ohrp::hw

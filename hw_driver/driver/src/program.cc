@@ -1,0 +1,202 @@
+// The hw_driver program: set-up, the reporter thread, the end-of-run report (see program.h).
+#include "hw_driver/program.h"
+
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <boost/interprocess/shared_memory_object.hpp>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "hw_driver/plugin.h"
+#include "sim_host/model.h"
+#include "sim_host/sensors.h"
+
+namespace ohrp::hw {
+namespace {
+
+char g_segment_object[128] = "";  // removed by MuJoCo's fatal-error path
+
+void OnMujocoFatal(const char*) {
+  if (g_segment_object[0]) boost::interprocess::shared_memory_object::remove(g_segment_object);
+  _exit(kExitUsage);
+}
+
+void PrintEvent(const Event& e) {
+  char what[96] = "";
+  switch (e.kind) {
+    case EventKind::kControllerAttached:
+    case EventKind::kControllerDied:
+    case EventKind::kControllerDetached:
+      std::snprintf(what, sizeof(what), " (pid %ld)", static_cast<long>(e.value));
+      break;
+    case EventKind::kControllerSilent:
+      std::snprintf(what, sizeof(what), " (%ld cycles without an answer)",
+                    static_cast<long>(e.value));
+      break;
+    case EventKind::kBoardSilent:
+    case EventKind::kBoardReset:
+      std::snprintf(what, sizeof(what), " (board mask 0x%lx)", static_cast<long>(e.value));
+      break;
+    case EventKind::kBoardBack:
+      std::snprintf(what, sizeof(what), " (after %ld silent cycles)", static_cast<long>(e.value));
+      break;
+    case EventKind::kSafeMode: {
+      static const char* kWhy[] = {"", "board silent", "board reset", "controller silent",
+                                   "controller died", "controller detached"};
+      const long v = static_cast<long>(e.value);
+      std::snprintf(what, sizeof(what), " (%s): damped hold, then servo-off",
+                    v >= 1 && v <= 5 ? kWhy[v] : "?");
+      break;
+    }
+    case EventKind::kEmergencyStop:
+      std::snprintf(what, sizeof(what), " (%s): servos off", e.value == 1 ? "board input" : "SIGUSR2");
+      break;
+    default:
+      break;
+  }
+  std::fprintf(stderr, "hw_driver:   cycle %lu, t=%.3f s: %s%s\n",
+               static_cast<unsigned long>(e.cycle), e.time, EventName(e.kind), what);
+}
+
+void PrintReport(const DriverResult& r, const LiveStats& live) {
+  std::fprintf(stderr,
+               "hw_driver: %s after %.3f s: %lu cycles, %lu deadline misses, %lu slots skipped, "
+               "%lu commands, %lu late, %lu rejected, %lu clamped, %lu silent reads, %lu packets "
+               "lost (%s)\n",
+               r.outcome.c_str(), r.duration, static_cast<unsigned long>(live.cycles.load()),
+               static_cast<unsigned long>(live.deadline_misses.load()),
+               static_cast<unsigned long>(live.skipped.load()),
+               static_cast<unsigned long>(live.commands.load()),
+               static_cast<unsigned long>(live.late_commands.load()),
+               static_cast<unsigned long>(live.rejected.load()),
+               static_cast<unsigned long>(live.clamped.load()),
+               static_cast<unsigned long>(live.silent_reads.load()),
+               static_cast<unsigned long>(live.packets_lost.load()), r.rt.Describe().c_str());
+  if (!r.detail.empty()) std::fprintf(stderr, "hw_driver: %s\n", r.detail.c_str());
+  std::fprintf(stderr, "hw_driver: wake-up lateness:\n%s", LatenessTable(live.lateness).c_str());
+  std::fprintf(stderr, "hw_driver: events:\n");
+  for (const Event& e : r.events) PrintEvent(e);
+  if (r.events_dropped > 0) {
+    std::fprintf(stderr, "hw_driver:   (%lu more events not kept)\n",
+                 static_cast<unsigned long>(r.events_dropped));
+  }
+}
+
+}  // namespace
+
+bool LoadRobotDescription(const std::string& model_path, const std::string& segment,
+                          double period, shm::ProducerConfig* out, std::string* error) {
+  auto scene = sim::Scene::Load(model_path, error);
+  if (!scene) return false;
+  sim::RobotMap robot;
+  if (!sim::MapRobot(scene->m(), &robot, error)) {
+    *error = model_path + ": " + *error;
+    return false;
+  }
+  *out = sim::MakeProducerConfig(robot, scene->m(), segment, 0.0, period);
+  out->kind = shm::ProducerKind::kHardware;
+  out->read_timeout_hint = 10 * period;
+  return true;
+}
+
+int RunProgram(const ProgramOptions& o) {
+  sim::InstallMujocoHandlers(OnMujocoFatal);
+  InstallSignalHandlers();
+
+  //---------------- configure: robot, plugin, boards, segment ----------------
+  std::string error;
+  shm::ProducerConfig robot;
+  if (!LoadRobotDescription(o.model, o.segment, o.driver.period, &robot, &error)) {
+    std::fprintf(stderr, "hw_driver: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  auto plugin = IoPlugin::Load(o.io_plugin, &error);
+  if (!plugin) {
+    std::fprintf(stderr, "hw_driver: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  IoConfig io_config;
+  io_config.robot_name = robot.robot_name;
+  io_config.joint_names = robot.joint_names;
+  io_config.force_names = robot.force_names;
+  io_config.imu_names = robot.imu_names;
+  io_config.period = o.driver.period;
+  io_config.args = o.io_args;
+  if (!plugin->io().open(io_config, &error)) {
+    std::fprintf(stderr, "hw_driver: IO plugin '%s' could not open the boards: %s\n",
+                 o.io_plugin.c_str(), error.c_str());
+    return kExitIo;
+  }
+  shm::Status status;
+  auto producer = shm::Producer::Create(robot, &status);
+  if (!producer) {
+    plugin->io().close();
+    std::fprintf(stderr, "hw_driver: %s\n", status.message.c_str());
+    return kExitUsage;
+  }
+  if (!status.message.empty()) std::fprintf(stderr, "hw_driver: %s\n", status.message.c_str());
+  std::snprintf(g_segment_object, sizeof(g_segment_object), "%s",
+                producer->object_name().c_str());
+  if (!o.quiet) {
+    std::fprintf(stderr,
+                 "hw_driver: robot '%s' (%zu joints, %zu F/T, %zu IMU) from %s; boards: %s\n"
+                 "hw_driver: segment '%s', servo cycle %g s, watchdog %d cycles, board timeout "
+                 "%d cycles, safe mode %g s\n",
+                 robot.robot_name.c_str(), robot.joint_names.size(), robot.force_names.size(),
+                 robot.imu_names.size(), o.model.c_str(), o.io_plugin.c_str(), o.segment.c_str(),
+                 o.driver.period, o.driver.watchdog_cycles, o.driver.board_timeout_cycles,
+                 o.driver.safe_time);
+  }
+
+  //---------------- the reporter: SIGUSR1 and the stats file, off the loop's thread ----------
+  Driver driver(o.driver, robot, &plugin->io(), producer.get());
+  sigset_t usr1, old_mask;
+  sigemptyset(&usr1);
+  sigaddset(&usr1, SIGUSR1);
+  pthread_sigmask(SIG_BLOCK, &usr1, &old_mask);  // only the reporter takes SIGUSR1
+  std::atomic<bool> reporter_stop{false};
+  std::thread reporter([&] {
+    using Clock = std::chrono::steady_clock;
+    auto next_stats = Clock::now();
+    while (!reporter_stop.load()) {
+      timespec slice{0, 50000000};
+      if (sigtimedwait(&usr1, nullptr, &slice) == SIGUSR1) {
+        std::fprintf(stderr, "hw_driver: %lu cycles, %lu deadline misses, state %s; lateness:\n%s",
+                     static_cast<unsigned long>(driver.live().cycles.load()),
+                     static_cast<unsigned long>(driver.live().deadline_misses.load()),
+                     DriverStateName(static_cast<DriverState>(driver.live().state.load())),
+                     LatenessTable(driver.live().lateness).c_str());
+      }
+      if (!o.stats_path.empty() && Clock::now() >= next_stats) {
+        next_stats += std::chrono::duration_cast<Clock::duration>(
+            std::chrono::duration<double>(o.stats_interval));
+        WriteStats(o.stats_path, o, robot, driver.live(), nullptr);
+      }
+    }
+  });
+
+  //---------------- run ----------------
+  const RtReport& rt = driver.PrepareRealTime();  // after the reporter: it stays SCHED_OTHER
+  for (const std::string& w : rt.warnings) std::fprintf(stderr, "hw_driver: warning: %s\n", w.c_str());
+  const int exit_code = driver.Run();
+  reporter_stop.store(true);
+  reporter.join();
+  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
+  plugin->io().close();
+
+  //---------------- report, then close: the segment is removed ----------------
+  const DriverResult& r = driver.result();
+  if (!o.quiet || exit_code != kExitOk) PrintReport(r, driver.live());
+  if (!o.summary_path.empty() && !WriteStats(o.summary_path, o, robot, driver.live(), &r)) {
+    std::fprintf(stderr, "hw_driver: cannot write the summary '%s'\n", o.summary_path.c_str());
+  }
+  if (!o.stats_path.empty()) WriteStats(o.stats_path, o, robot, driver.live(), &r);
+  producer.reset();
+  g_segment_object[0] = 0;
+  return exit_code;
+}
+
+}  // namespace ohrp::hw

@@ -1,0 +1,165 @@
+// Reading sim_host's CSV data log (see csv_log.h).
+#include "csv_log.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace ohrp::hw::replay {
+namespace {
+
+std::vector<std::string> Split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) {
+    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
+    out.push_back(cell);
+  }
+  return out;
+}
+
+}  // namespace
+
+bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot open the replay log '" + path + "'";
+    return false;
+  }
+  std::string line;
+  if (!std::getline(in, line)) {
+    *error = "replay log '" + path + "' is empty (expected sim_host's CSV header line)";
+    return false;
+  }
+  const std::vector<std::string> header = Split(line);
+  std::map<std::string, int> column;
+  for (size_t i = 0; i < header.size(); ++i) column[header[i]] = static_cast<int>(i);
+  if (!column.count("time")) {
+    *error = "replay log '" + path + "' has no 'time' column (not a sim_host data log?)";
+    return false;
+  }
+
+  // where each value of a row comes from (-1: not logged)
+  njoint_ = static_cast<int>(config.joint_names.size());
+  nforce_ = static_cast<int>(config.force_names.size());
+  nimu_ = static_cast<int>(config.imu_names.size());
+  width_ = 3 * njoint_ + 6 * nforce_ + 10 * nimu_;
+  std::vector<int> source(width_, -1);
+  auto find = [&](const std::string& name) {
+    auto it = column.find(name);
+    return it == column.end() ? -1 : it->second;
+  };
+  for (int j = 0; j < njoint_; ++j) {
+    const std::string& name = config.joint_names[j];
+    source[j] = find("q_" + name);
+    if (source[j] < 0) {
+      *error = "replay log '" + path + "' has no column 'q_" + name +
+               "': it was recorded from another robot than the model's";
+      return false;
+    }
+    source[2 * njoint_ + j] = find("tau_" + name);
+  }
+  int k = 3 * njoint_;
+  for (const std::string& f : config.force_names) {
+    for (const char* c : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) source[k++] = find(f + c);
+  }
+  for (const std::string& u : config.imu_names) {
+    for (const char* c : {"_gx", "_gy", "_gz", "_ax", "_ay", "_az", "_qw", "_qx", "_qy", "_qz"})
+      source[k++] = find(u + c);
+  }
+  const int time_col = column["time"];
+
+  // rows
+  int line_no = 1;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::vector<std::string> cells = Split(line);
+    if (cells.size() != header.size()) {
+      *error = path + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) +
+               " fields, the header has " + std::to_string(header.size());
+      return false;
+    }
+    std::vector<double> values(cells.size());
+    for (size_t i = 0; i < cells.size(); ++i) {
+      char* end = nullptr;
+      values[i] = std::strtod(cells[i].c_str(), &end);
+      if (end == cells[i].c_str()) {
+        *error = path + ":" + std::to_string(line_no) + ": '" + cells[i] + "' in column '" +
+                 header[i] + "' is not a number";
+        return false;
+      }
+    }
+    const double t = values[time_col];
+    if (!time_.empty() && !(t > time_.back())) {
+      *error = path + ":" + std::to_string(line_no) + ": time " + cells[time_col] +
+               " does not increase";
+      return false;
+    }
+    time_.push_back(t);
+    for (int i = 0; i < width_; ++i) data_.push_back(source[i] >= 0 ? values[source[i]] : 0.0);
+    // an IMU whose orientation was not logged reads the identity
+    for (int u = 0; u < nimu_; ++u) {
+      const int q0 = 3 * njoint_ + 6 * nforce_ + 10 * u + 6;
+      if (source[q0] < 0) data_[data_.size() - width_ + q0] = 1.0;
+    }
+  }
+  if (time_.empty()) {
+    *error = "replay log '" + path + "' has a header but no rows";
+    return false;
+  }
+
+  // joint velocities: central differences inside, one-sided at the ends
+  const int n = rows();
+  for (int r = 0; r < n; ++r) {
+    const int a = std::max(0, r - 1), b = std::min(n - 1, r + 1);
+    for (int j = 0; j < njoint_; ++j) {
+      data_[r * width_ + njoint_ + j] =
+          b > a ? (data_[b * width_ + j] - data_[a * width_ + j]) / (time_[b] - time_[a]) : 0.0;
+    }
+  }
+  return true;
+}
+
+void CsvLog::Sample(double t, bool step, int* cursor, IoState* s) const {
+  const int n = rows();
+  int r = std::clamp(*cursor, 0, n - 1);
+  if (time_[r] > t) r = 0;  // went back (a loop): search from the start
+  while (r + 1 < n && time_[r + 1] <= t) ++r;
+  *cursor = r;
+  const double* a = &data_[r * width_];
+  const double* b = r + 1 < n ? &data_[(r + 1) * width_] : a;
+  double w = 0.0;
+  if (!step && r + 1 < n && t > time_[r]) w = (t - time_[r]) / (time_[r + 1] - time_[r]);
+  w = std::clamp(w, 0.0, 1.0);
+  auto at = [&](int i) { return a[i] + w * (b[i] - a[i]); };
+  for (int j = 0; j < njoint_; ++j) {
+    s->q[j] = at(j);
+    s->dq[j] = at(njoint_ + j);
+    s->tau[j] = at(2 * njoint_ + j);
+  }
+  int k = 3 * njoint_;
+  for (int f = 0; f < nforce_; ++f) {
+    for (int i = 0; i < 3; ++i) s->force[f].force[i] = at(k++);
+    for (int i = 0; i < 3; ++i) s->force[f].torque[i] = at(k++);
+  }
+  for (int u = 0; u < nimu_; ++u) {
+    for (int i = 0; i < 3; ++i) s->imu[u].gyro[i] = at(k++);
+    for (int i = 0; i < 3; ++i) s->imu[u].accel[i] = at(k++);
+    double norm = 0;
+    for (int i = 0; i < 4; ++i) {
+      s->imu[u].quat_WI[i] = at(k++);
+      norm += s->imu[u].quat_WI[i] * s->imu[u].quat_WI[i];
+    }
+    norm = std::sqrt(norm);
+    if (norm > 0) {
+      for (int i = 0; i < 4; ++i) s->imu[u].quat_WI[i] /= norm;
+    }
+  }
+}
+
+}  // namespace ohrp::hw::replay

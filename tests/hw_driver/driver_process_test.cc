@@ -1,0 +1,513 @@
+// Tests hw_driver as a process, with the real binary: a controller (posture, or a robot
+// adaptor in a forked child) attaches to its hardware segment and commands it; NaN commands are
+// rejected and counted; a killed controller, a silent board and an emergency stop put the robot
+// into safe mode or turn the servos off; the segment is removed on every exit path; the replay
+// plugin plays a CSV data log into the segment. The boards are fake_io.cc, which records what
+// the driver wrote. Checks count cycles, not wall time, so a loaded machine does not make them
+// fail.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <boost/interprocess/mapped_region.hpp>
+#include <boost/interprocess/shared_memory_object.hpp>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "shm_bridge/bridge.h"
+
+namespace ohrp::hw {
+namespace {
+
+namespace fs = std::filesystem;
+namespace bip = boost::interprocess;
+using Clock = std::chrono::steady_clock;
+
+// two hinges with limits, a F/T sensor and an IMU: the smallest robot the driver serves
+constexpr const char* kModel = R"(
+<mujoco model="hwbot">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="l1">
+      <joint name="j1" type="hinge" axis="0 0 1" armature="1" limited="true" range="-1.5 1.5"/>
+      <geom type="sphere" size="0.05" mass="1"/>
+      <body name="l2" pos="0.1 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0" armature="1" limited="true" range="-1 1"/>
+        <geom type="sphere" size="0.05" mass="1"/>
+        <site name="ft"/>
+        <site name="imu"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor name="j1" joint="j1" ctrllimited="true" ctrlrange="-50 50"/>
+    <motor name="j2" joint="j2" ctrllimited="true" ctrlrange="-20 20"/>
+  </actuator>
+  <sensor>
+    <force site="ft"/>
+    <torque site="ft"/>
+    <gyro site="imu"/>
+    <accelerometer site="imu"/>
+  </sensor>
+</mujoco>
+)";
+
+double Since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// one line of fake_io's record: what the driver wrote once
+struct Written {
+  uint64_t reads = 0;  // reads done before this write
+  int servo = 0;       // 1 all on, 0 all off, 2 mixed
+  int mode[2] = {};
+  double q_ref[2] = {}, kp[2] = {}, kd[2] = {};
+};
+
+// read-only view of a segment, kept mapped after the driver removes it
+class Peek {
+ public:
+  explicit Peek(const std::string& segment)
+      : shm_(bip::open_only, shm::SegmentObjectName(segment).c_str(), bip::read_only),
+        region_(shm_, bip::read_only) {}
+  const shm::Segment& get() const { return *static_cast<const shm::Segment*>(region_.get_address()); }
+  uint64_t cycle() const {
+    return std::atomic_ref<const uint64_t>(get().sensors.cycle).load(std::memory_order_relaxed);
+  }
+  uint32_t status() const {
+    return std::atomic_ref<const uint32_t>(get().sensors.status).load(std::memory_order_relaxed);
+  }
+
+ private:
+  bip::shared_memory_object shm_;
+  bip::mapped_region region_;
+};
+
+class HwDriverProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    segment_ = "hwtest_" + std::to_string(getpid()) + "_" + name;
+    fs::remove(ShmPath());
+    dir_ = fs::temp_directory_path() / ("hw_driver_test_" + std::to_string(getpid()) + "_" + name);
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    model_ = Write("model.xml", kModel);
+  }
+  void TearDown() override {
+    for (pid_t p : {pid_, child_}) {
+      if (p > 0) {
+        kill(p, SIGKILL);
+        waitpid(p, nullptr, 0);
+      }
+    }
+    fs::remove(ShmPath());
+    fs::remove_all(dir_);
+  }
+
+  std::string ShmPath() const { return "/dev/shm/" + shm::SegmentObjectName(segment_); }
+  std::string Path(const std::string& file) const { return (dir_ / file).string(); }
+  std::string Write(const std::string& file, const std::string& text) {
+    std::ofstream(Path(file)) << text;
+    return Path(file);
+  }
+
+  // starts hw_driver on the test model with the fake boards (recording) unless `extra` names
+  // another --io; stderr goes to a file
+  void Start(std::vector<std::string> extra, const std::string& io = FAKE_IO_PATH) {
+    std::vector<std::string> args = {std::string(OHRP_BIN_DIR) + "/hw_driver", "--model", model_,
+                                     "--segment", segment_, "--io", io,
+                                     "--summary", Path("summary.json")};
+    if (io == FAKE_IO_PATH) {
+      args.push_back("--io-arg");
+      args.push_back("record=" + Path("record.txt"));
+    }
+    args.insert(args.end(), extra.begin(), extra.end());
+    pid_ = Exec(args, Path("driver.stderr"));
+  }
+  static pid_t Exec(std::vector<std::string> args, const std::string& err) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int fd = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(fd, 2);
+      dup2(fd, 1);
+      std::vector<char*> a;
+      for (auto& s : args) a.push_back(s.data());
+      a.push_back(nullptr);
+      execv(a[0], a.data());
+      _exit(127);
+    }
+    return pid;
+  }
+  // waits until the driver's segment exists, has its full size and says kRunning
+  bool WaitSegment(double timeout = 20) {
+    const auto t0 = Clock::now();
+    while (Since(t0) < timeout) {
+      std::error_code ec;
+      if (fs::file_size(ShmPath(), ec) == sizeof(shm::Segment) && !ec) {
+        try {
+          Peek peek(segment_);
+          const uint32_t state = std::atomic_ref<const uint32_t>(peek.get().header.state).load();
+          if (state == static_cast<uint32_t>(shm::ProducerState::kRunning)) return true;
+        } catch (const bip::interprocess_exception&) {
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+  }
+  // waits for process `*pid` to end; its exit code (128 + signal), or -1 on timeout
+  static int WaitExit(pid_t* pid, double timeout = 30) {
+    const auto t0 = Clock::now();
+    int st = 0;
+    while (Since(t0) < timeout) {
+      if (waitpid(*pid, &st, WNOHANG) == *pid) {
+        *pid = -1;
+        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return -1;
+  }
+  int Wait(double timeout = 30) { return WaitExit(&pid_, timeout); }
+  std::string Read(const std::string& file) {
+    std::ifstream in(Path(file));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  std::string Stderr() { return Read("driver.stderr"); }
+  nlohmann::json Summary() { return nlohmann::json::parse(Read("summary.json")); }
+  std::vector<Written> Records() {
+    std::vector<Written> out;
+    std::ifstream in(Path("record.txt"));
+    std::string line;
+    while (std::getline(in, line)) {
+      std::istringstream ss(line);
+      Written w;
+      size_t index = 0;
+      ss >> index >> w.reads >> w.servo;
+      for (int j = 0; j < 2; ++j) ss >> w.mode[j] >> w.q_ref[j] >> w.kp[j] >> w.kd[j];
+      out.push_back(w);
+    }
+    return out;
+  }
+  // the cycle of the first event named `name` in the summary, or -1
+  static long EventCycle(const nlohmann::json& summary, const std::string& name) {
+    for (const auto& e : summary["events"]) {
+      if (e["event"] == name) return e["cycle"].get<long>();
+    }
+    return -1;
+  }
+  // a controller in a forked child: attaches, then answers every cycle with `command` until the
+  // producer stops (exit 0) or the attach fails (exit 2); after `signal_after` answers it writes
+  // one byte to `pipe_fd` (when >= 0). Exit 0 also needs `need_status` seen in some block.
+  pid_t Controller(shm::CommandBlock command, int signal_after = -1, int pipe_fd = -1,
+                   uint32_t need_status = 0) {
+    const std::string segment = segment_;
+    const pid_t pid = fork();
+    if (pid == 0) {
+      shm::RobotAdaptor a;
+      shm::Status st;
+      for (int i = 0; i < 2000; ++i) {
+        st = a.open(segment);
+        if (st.ok()) break;
+        usleep(5000);
+      }
+      if (!st.ok()) _exit(2);
+      shm::SensorBlock s{};
+      uint32_t seen = 0;
+      for (int n = 0;; ++n) {
+        const shm::ReadResult r = a.read(&s);
+        if (r == shm::ReadResult::kProducerStopped) break;
+        if (r != shm::ReadResult::kOk) _exit(3);
+        seen |= s.status;
+        a.write(command);
+        if (n + 1 == signal_after && pipe_fd >= 0) {
+          const char c = 'x';
+          if (::write(pipe_fd, &c, 1) != 1) _exit(4);
+        }
+      }
+      _exit((seen & need_status) == need_status ? 0 : 5);
+    }
+    return pid;
+  }
+  static shm::CommandBlock Hold(double q1, double q2) {
+    shm::CommandBlock c{};
+    c.njoint = 2;
+    const double q[2] = {q1, q2};
+    for (int i = 0; i < 2; ++i) {
+      c.joint[i].mode = shm::JointMode::kPosition;
+      c.joint[i].q_ref = q[i];
+      c.joint[i].kp = 10;
+      c.joint[i].kd = 1;
+    }
+    return c;
+  }
+
+  std::string segment_, model_;
+  fs::path dir_;
+  pid_t pid_ = -1, child_ = -1;
+};
+
+//---------------- attach and command ----------------
+
+TEST_F(HwDriverProcess, PostureAttachesToTheHardwareSegmentAndCommandsIt) {
+  Start({"--duration", "3", "--watchdog-cycles", "1000000"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  {
+    Peek peek(segment_);
+    const shm::SegmentHeader& h = peek.get().header;
+    EXPECT_EQ(h.producer_kind, shm::ProducerKind::kHardware);
+    EXPECT_EQ(h.producer_pid, pid_);
+    EXPECT_EQ(h.njoint, 2);
+    EXPECT_EQ(h.nforce, 1);
+    EXPECT_EQ(h.nimu, 1);
+    EXPECT_DOUBLE_EQ(h.physics_period, 0.0);
+    EXPECT_DOUBLE_EQ(h.control_period, 0.001);
+    EXPECT_DOUBLE_EQ(h.q_max[0], 1.5);
+    EXPECT_DOUBLE_EQ(h.tau_max[1], 20.0);
+  }
+  const std::string pose = Write("pose.yaml", "joints:\n  j1: 0.5\n  j2: -0.3\n");
+  child_ = Exec({std::string(OHRP_BIN_DIR) + "/posture", "--segment", segment_, "--pose", pose,
+                 "--ramp", "0.2", "--attach-timeout", "10"},
+                Path("posture.out"));
+  EXPECT_EQ(Wait(), 0) << Stderr();
+  EXPECT_EQ(WaitExit(&child_), 0) << Read("posture.out");
+  EXPECT_FALSE(fs::exists(ShmPath()));
+
+  const auto s = Summary();
+  EXPECT_EQ(s["outcome"], "completed");
+  EXPECT_GT(s["commands"].get<long>(), 100);
+  EXPECT_GE(EventCycle(s, "controller_attached"), 0);
+  // the boards got the pose, then the servo-off sequence
+  const auto rec = Records();
+  ASSERT_GT(rec.size(), 100u);
+  EXPECT_EQ(rec.front().servo, 1);  // servo-on after the first valid read
+  EXPECT_DOUBLE_EQ(rec.front().q_ref[0], 0.1);  // holding the measured position
+  EXPECT_EQ(rec.back().servo, 0);
+  const Written& last_on = rec[rec.size() - 2];
+  EXPECT_EQ(last_on.servo, 1);
+  EXPECT_NEAR(last_on.q_ref[0], 0.5, 1e-9);
+  EXPECT_NEAR(last_on.q_ref[1], -0.3, 1e-9);
+}
+
+TEST_F(HwDriverProcess, NanCommandsAreRejectedCountedAndTheJointHolds) {
+  Start({"--duration", "1.5", "--watchdog-cycles", "1000000"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  child_ = Controller(Hold(0.2, std::numeric_limits<double>::quiet_NaN()), -1, -1,
+                      shm::status::kCommandRejected);
+  EXPECT_EQ(Wait(), 0) << Stderr();
+  EXPECT_EQ(WaitExit(&child_), 0);  // it saw kCommandRejected, then the producer stop
+  const auto s = Summary();
+  EXPECT_GT(s["rejected_per_joint"]["j2"].get<long>(), 10);
+  EXPECT_EQ(s["rejected_per_joint"]["j1"].get<long>(), 0);
+  bool reached = false;
+  for (const Written& w : Records()) {
+    ASSERT_TRUE(std::isfinite(w.q_ref[1]));
+    if (w.servo == 1) {
+      EXPECT_DOUBLE_EQ(w.q_ref[1], 0.1);  // j2 holds its servo-on position
+    }
+    reached = reached || std::fabs(w.q_ref[0] - 0.2) < 1e-12;
+  }
+  EXPECT_TRUE(reached);
+}
+
+//---------------- safety ----------------
+
+TEST_F(HwDriverProcess, KilledControllerTripsTheSafeModeWithinTwoCycles) {
+  Start({"--duration", "60", "--watchdog-cycles", "1000000", "--safe-time", "0.1"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  child_ = Controller(Hold(0.2, 0.3), 100, fds[1]);
+  char c = 0;
+  ASSERT_EQ(::read(fds[0], &c, 1), 1);  // 100 cycles answered
+  close(fds[0]);
+  close(fds[1]);
+  kill(child_, SIGKILL);
+  waitpid(child_, nullptr, 0);  // reaped: from here its death is observable
+  child_ = -1;
+  const uint64_t observable = peek.cycle();
+  EXPECT_EQ(Wait(), 5) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  const auto s = Summary();
+  ASSERT_TRUE(s["safe_mode"].get<bool>()) << s.dump(1);
+  const long safe = s["safe_mode_cycle"].get<long>();
+  EXPECT_EQ(EventCycle(s, "controller_died"), safe);
+  EXPECT_LE(safe, static_cast<long>(observable) + 2)
+      << "safe mode at cycle " << safe << ", death observable from cycle " << observable;
+  std::printf("controller death observable at cycle %lu, safe mode at cycle %ld\n",
+              static_cast<unsigned long>(observable), safe);
+  // safe mode: held references with damping gains, then servos off; status said so
+  const auto rec = Records();
+  ASSERT_FALSE(rec.empty());
+  EXPECT_EQ(rec.back().servo, 0);
+  EXPECT_EQ(rec[rec.size() - 2].servo, 1);
+  EXPECT_NEAR(rec[rec.size() - 2].q_ref[0], 0.2, 1e-12);
+  EXPECT_LT(rec[rec.size() - 2].kp[0], 10.0 * 1e3);
+  const uint32_t last = peek.status();
+  EXPECT_TRUE(last & shm::status::kServoOff);
+  EXPECT_TRUE(last & shm::status::kShuttingDown);
+}
+
+TEST_F(HwDriverProcess, SilentBoardTripsTheSafeModeWithinTheConfiguredCycles) {
+  Start({"--io-arg", "silent_at=300", "--board-timeout-cycles", "5", "--safe-time", "0.05",
+         "--duration", "60"});
+  EXPECT_EQ(Wait(), 6) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  const auto s = Summary();
+  EXPECT_EQ(s["outcome"], "board_fault");
+  EXPECT_EQ(EventCycle(s, "board_silent"), 300);
+  const long safe = s["safe_mode_cycle"].get<long>();
+  EXPECT_EQ(safe, 304);  // the 5th silent cycle
+  EXPECT_EQ(Records().back().servo, 0);
+  EXPECT_NE(Stderr().find("board silent"), std::string::npos) << Stderr();
+}
+
+TEST_F(HwDriverProcess, EmergencyStopInputTurnsTheServosOffAtOnce) {
+  Start({"--io-arg", "estop_at=200", "--duration", "60"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
+  EXPECT_EQ(Wait(), 7) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  const auto rec = Records();
+  ASSERT_EQ(rec.size(), 201u);
+  EXPECT_EQ(rec[199].servo, 1);
+  EXPECT_EQ(rec[200].reads, 201u);  // the write of the very cycle that read the e-stop
+  EXPECT_EQ(rec[200].servo, 0);
+  const uint32_t last = peek.status();
+  EXPECT_TRUE(last & shm::status::kEmergencyStop);
+  EXPECT_TRUE(last & shm::status::kServoOff);
+  EXPECT_EQ(Summary()["outcome"], "emergency_stop");
+}
+
+TEST_F(HwDriverProcess, Sigusr2IsAnEmergencyStop) {
+  Start({"--duration", "60"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
+  const auto t0 = Clock::now();
+  while (peek.cycle() < 50 && Since(t0) < 20) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  kill(pid_, SIGUSR2);
+  EXPECT_EQ(Wait(), 7) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  EXPECT_EQ(Records().back().servo, 0);
+  EXPECT_NE(Stderr().find("SIGUSR2"), std::string::npos) << Stderr();
+}
+
+//---------------- the segment is removed on every exit path ----------------
+
+TEST_F(HwDriverProcess, NormalEndRemovesTheSegment) {
+  Start({"--duration", "0.3"});
+  EXPECT_EQ(Wait(), 0) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  const auto s = Summary();
+  EXPECT_EQ(s["outcome"], "completed");
+  EXPECT_GE(s["lateness"]["count"].get<long>(), 100);
+  EXPECT_TRUE(s["lateness"].contains("p99_us"));
+}
+
+TEST_F(HwDriverProcess, SigintServosOffAndRemovesTheSegment) {
+  Start({"--duration", "60", "--servo-off-time", "0.05"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
+  const auto t0 = Clock::now();
+  while (peek.cycle() < 50 && Since(t0) < 20) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  const auto rec = Records();
+  ASSERT_GE(rec.size(), 3u);
+  EXPECT_EQ(rec.back().servo, 0);
+  // the damped hold before servo-off: lower kp than the servo-on hold
+  EXPECT_LT(rec[rec.size() - 2].kp[0], rec.front().kp[0]);
+  EXPECT_EQ(Summary()["outcome"], "interrupted");
+}
+
+TEST_F(HwDriverProcess, PluginOpenErrorExitsWithItsMessageAndNoSegment) {
+  Start({"--io-arg", "fail_open=1"});
+  EXPECT_EQ(Wait(), 3) << Stderr();
+  EXPECT_NE(Stderr().find("fake: told to fail"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
+TEST_F(HwDriverProcess, MissingPluginNamesTheFileAndDlerror) {
+  Start({}, "/nonexistent/libohrp_io_nothing.so");
+  EXPECT_EQ(Wait(), 2) << Stderr();
+  const std::string e = Stderr();
+  EXPECT_NE(e.find("/nonexistent/libohrp_io_nothing.so"), std::string::npos) << e;
+  EXPECT_NE(e.find("No such file"), std::string::npos) << e;  // dlerror's text
+  EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
+TEST_F(HwDriverProcess, MalformedModelExitsWithMujocosText) {
+  model_ = Write("bad.xml", "<mujoco><worldbody><body></worldbody>");
+  Start({});
+  EXPECT_EQ(Wait(), 2) << Stderr();
+  EXPECT_NE(Stderr().find("bad.xml"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
+//---------------- replay ----------------
+
+TEST_F(HwDriverProcess, ReplayPlaysTheLogsPositionsIntoTheSegment) {
+  // a sim_host data log: q_j1 = t, q_j2 = -2 t, every 5 ms for 0.4 s
+  std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,base_vx,base_vy,"
+                    "base_vz,q_j1,q_j2,qref_j1,qref_j2,tau_j1,tau_j2,ft_fx,ft_fy,ft_fz,ft_tx,ft_ty,"
+                    "ft_tz,imu_gx,imu_gy,imu_gz,imu_ax,imu_ay,imu_az,imu_qw,imu_qx,imu_qy,imu_qz,"
+                    "status,rejected\n";
+  for (int r = 0; r <= 80; ++r) {
+    const double t = 0.005 * r;
+    char row[512];
+    std::snprintf(row, sizeof(row),
+                  "%.9g,0,0,0,1,0,0,0,0,0,0,%.9g,%.9g,0,0,1.5,-1.5,0,0,%.9g,0,0,0,0,0,0,0,0,9.81,"
+                  "1,0,0,0,65,0\n",
+                  t, t, -2 * t, 10 + t);
+    csv += row;
+  }
+  const std::string log = Write("log.csv", csv);
+  Start({"--io-arg", "file=" + log, "--servo-off-time", "0.01"}, REPLAY_IO_PATH);
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  shm::RobotAdaptor a;
+  shm::Status st;
+  for (int i = 0; i < 200 && !(st = a.open(segment_)).ok(); ++i) usleep(2000);
+  ASSERT_TRUE(st.ok()) << st.message;
+  shm::SensorBlock s{};
+  int checked = 0;
+  for (;;) {
+    const shm::ReadResult r = a.read(&s);
+    if (r != shm::ReadResult::kOk) {
+      EXPECT_EQ(r, shm::ReadResult::kProducerStopped);
+      break;
+    }
+    const double t = 0.001 * static_cast<double>(s.cycle);  // the replay's time at cycle k
+    if (t > 0.4 || (s.status & shm::status::kShuttingDown)) continue;
+    ASSERT_NEAR(s.q[0], t, 1e-9) << "cycle " << s.cycle;
+    ASSERT_NEAR(s.q[1], -2 * t, 1e-9);
+    ASSERT_NEAR(s.dq[0], 1.0, 1e-6);
+    ASSERT_NEAR(s.tau[1], -1.5, 1e-12);
+    ASSERT_NEAR(s.force[0].force[2], 10 + t, 1e-9);
+    ASSERT_NEAR(s.imu[0].accel[2], 9.81, 1e-12);
+    ++checked;
+  }
+  a.close();
+  EXPECT_GT(checked, 10);
+  EXPECT_EQ(Wait(), 0) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+  EXPECT_EQ(Summary()["outcome"], "end_of_data");
+}
+
+}  // namespace
+}  // namespace ohrp::hw

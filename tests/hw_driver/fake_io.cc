@@ -1,0 +1,133 @@
+// A RobotIo plugin for the hw_driver tests: an ideal robot whose joints go wherever the last
+// position reference sends them while the servos are on, with faults injected at chosen reads,
+// and a record of everything the driver wrote.
+//
+// Arguments (--io-arg KEY=VALUE):
+//   q0=X            initial joint positions [rad] (default 0.1)
+//   silent_at=N     from read N on (0-based) every board is silent
+//   estop_at=N      from read N on the emergency-stop input is pressed
+//   reset_at=N      read N reports a board reset
+//   end_at=N        from read N on: end of data
+//   fail_open=1     open fails ("fake: told to fail")
+//   record=PATH     at close, one line per write: "<write> <reads> <servo> {<mode> <q_ref> <kp>
+//                   <kd>} per joint", servo = 1 all on, 0 all off, 2 mixed
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "hw_driver/robot_io.h"
+
+namespace {
+
+using namespace ohrp::hw;
+
+constexpr long kNever = -1;
+constexpr size_t kMaxRecords = 200000;
+
+struct Record {
+  uint64_t reads;
+  int servo;
+  ohrp::shm::JointCommand joint[4];
+};
+
+class FakeIo final : public RobotIo {
+ public:
+  bool open(const IoConfig& config, std::string* error) override {
+    double q0 = 0.1;
+    for (const std::string& arg : config.args) {
+      const auto eq = arg.find('=');
+      const std::string key = arg.substr(0, eq);
+      const std::string value = eq == std::string::npos ? "" : arg.substr(eq + 1);
+      if (key == "q0") q0 = std::atof(value.c_str());
+      else if (key == "silent_at") silent_at_ = std::atol(value.c_str());
+      else if (key == "estop_at") estop_at_ = std::atol(value.c_str());
+      else if (key == "reset_at") reset_at_ = std::atol(value.c_str());
+      else if (key == "end_at") end_at_ = std::atol(value.c_str());
+      else if (key == "record") record_path_ = value;
+      else if (key == "fail_open" && value == "1") {
+        *error = "fake: told to fail";
+        return false;
+      } else {
+        *error = "fake: unknown argument '" + arg + "'";
+        return false;
+      }
+    }
+    njoint_ = static_cast<int>(config.joint_names.size());
+    for (int j = 0; j < njoint_; ++j) q_[j] = q0;
+    records_.reserve(kMaxRecords);
+    return true;
+  }
+
+  IoResult read(IoState* s) noexcept override {
+    const long r = static_cast<long>(reads_++);
+    s->faults = 0;
+    s->silent_boards = 0;
+    if (silent_at_ != kNever && r >= silent_at_) {
+      s->faults |= io_fault::kBoardSilent;
+      s->silent_boards = 1;
+    }
+    if (estop_at_ != kNever && r >= estop_at_) s->faults |= io_fault::kEmergencyStop;
+    if (reset_at_ != kNever && r == reset_at_) s->faults |= io_fault::kBoardReset;
+    if (end_at_ != kNever && r >= end_at_) s->faults |= io_fault::kEndOfData;
+    s->time_ns = reads_ * 1000000;
+    for (int j = 0; j < njoint_; ++j) {
+      s->q[j] = q_[j];
+      s->dq[j] = 0;
+      s->tau[j] = 0;
+      s->servo_on[j] = servo_;
+    }
+    s->imu[0].quat_WI[0] = 1.0;
+    return s->faults ? IoResult::kFault : IoResult::kOk;
+  }
+
+  IoResult write(const IoCommand& c) noexcept override {
+    int on = 0;
+    for (int j = 0; j < njoint_; ++j) on += c.servo_on[j] ? 1 : 0;
+    servo_ = on == njoint_;
+    for (int j = 0; j < njoint_; ++j) {
+      if (c.servo_on[j] && c.joint[j].mode == ohrp::shm::JointMode::kPosition) {
+        q_[j] = c.joint[j].q_ref;
+      }
+    }
+    if (records_.size() < kMaxRecords) {
+      Record rec{reads_, on == njoint_ ? 1 : on == 0 ? 0 : 2, {}};
+      for (int j = 0; j < njoint_ && j < 4; ++j) rec.joint[j] = c.joint[j];
+      records_.push_back(rec);
+    }
+    return IoResult::kOk;
+  }
+
+  void close() noexcept override {
+    if (record_path_.empty()) return;
+    FILE* f = std::fopen(record_path_.c_str(), "w");
+    if (f == nullptr) return;
+    for (size_t i = 0; i < records_.size(); ++i) {
+      const Record& r = records_[i];
+      std::fprintf(f, "%zu %lu %d", i, static_cast<unsigned long>(r.reads), r.servo);
+      for (int j = 0; j < njoint_ && j < 4; ++j) {
+        std::fprintf(f, " %d %.17g %.17g %.17g", static_cast<int>(r.joint[j].mode),
+                     r.joint[j].q_ref, r.joint[j].kp, r.joint[j].kd);
+      }
+      std::fprintf(f, "\n");
+    }
+    std::fclose(f);
+  }
+
+ private:
+  int njoint_ = 0;
+  double q_[ohrp::shm::kMaxJoints] = {};
+  bool servo_ = false;
+  uint64_t reads_ = 0;
+  long silent_at_ = kNever, estop_at_ = kNever, reset_at_ = kNever, end_at_ = kNever;
+  std::string record_path_;
+  std::vector<Record> records_;
+};
+
+}  // namespace
+
+extern "C" ohrp::hw::RobotIo* ohrp_create_robot_io(uint32_t abi_version) {
+  if (abi_version != ohrp::hw::kRobotIoAbiVersion) return nullptr;
+  return new FakeIo();
+}
