@@ -1,0 +1,186 @@
+// Tests the paper's damped oscillation (OpenHRP IJRR 2004, figure 12): the robot standing on
+// its soft soles with stiff joints and no balance feedback, tilted about the pitch axis by a
+// push and released, rocks with the frequency and decay that the linearised rigid body on the
+// soles' spring-dampers predicts from the foot parameters.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <vector>
+
+#include "contact/geometry.h"
+#include "sim_host/feet.h"
+#include "sim_host/model.h"
+#include "sim_host/servo.h"
+
+namespace ohrp::sim {
+namespace {
+
+constexpr double kDt = 0.0005;        // [s] stiff joints want a small step
+constexpr double kGainScale = 100;    // joint kp x 100 (kd x 10): ~60 Hz joints, rigid next to the ~3 Hz rocking
+constexpr double kLean = -0.06;       // [rad] on both ankle pitches: the load centre moves under the sole's middle
+constexpr double kPushTorque = 40;    // [N m] about the world y axis
+constexpr double kPushStart = 3.0, kPushEnd = 3.5, kEnd = 6.5;  // [s]
+
+double Pitch(const mjData* d, int body) {
+  const double* q = d->xquat + 4 * body;
+  return std::asin(std::clamp(2 * (q[0] * q[2] - q[3] * q[1]), -1.0, 1.0));
+}
+
+// The rigid robot on the sample points of its soles, in the sagittal plane: coordinates the
+// centre of mass's x and z and the pitch; each point is a normal spring-damper (k w, Hunt-Crossley
+// linearised at its static depth: b = c k w delta) and a tangential one (k_t w, b_t w). Returns
+// the damped frequency [rad/s] and damping ratio of the slowest (rocking) mode.
+struct Mode {
+  double omega_d = 0, zeta = 0;
+};
+Mode PredictRocking(const std::vector<Eigen::Vector2d>& r,  // points (x, z) from the CoM [m]
+                    const std::vector<double>& w,           // their area fractions (per sole)
+                    double m, double Iyy, double g, const contact::SoftContactParams& p) {
+  // static depths: a load plane delta_i = a + b r_x,i with sum k w delta = m g and no moment
+  // about the centre of mass, sum k w delta r_x = 0
+  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+  for (size_t i = 0; i < r.size(); ++i) {
+    A(0, 0) += p.stiffness * w[i];
+    A(0, 1) += p.stiffness * w[i] * r[i].x();
+    A(1, 0) += p.stiffness * w[i] * r[i].x();
+    A(1, 1) += p.stiffness * w[i] * r[i].x() * r[i].x();
+  }
+  const Eigen::Vector2d ab = A.colPivHouseholderQr().solve(Eigen::Vector2d(m * g, 0));
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero(), B = Eigen::Matrix3d::Zero();
+  double load_times_height = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    const double delta = ab(0) + ab(1) * r[i].x();
+    EXPECT_GT(delta, 0) << "point " << i << " unloaded: the linear model does not hold";
+    // a small pitch th moves the point by (th r_z, -th r_x)
+    const Eigen::Vector3d jx(1, 0, r[i].y()), jz(0, 1, -r[i].x());
+    const double kn = p.stiffness * w[i], bn = p.damping * kn * delta;
+    K += kn * jz * jz.transpose() + p.tangential_stiffness * w[i] * jx * jx.transpose();
+    B += bn * jz * jz.transpose() + p.tangential_damping * w[i] * jx * jx.transpose();
+    load_times_height += kn * delta * r[i].y();  // r_z < 0: below the centre of mass
+  }
+  K(2, 2) += load_times_height;  // the static loads' lever shortens as the body tilts: - m g h
+  const Eigen::Matrix3d M = Eigen::Vector3d(m, m, Iyy).asDiagonal();
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(6, 6);
+  S.topRightCorner(3, 3) = Eigen::Matrix3d::Identity();
+  S.bottomLeftCorner(3, 3) = -M.inverse() * K;
+  S.bottomRightCorner(3, 3) = -M.inverse() * B;
+  Eigen::EigenSolver<Eigen::MatrixXd> es(S);
+  Mode slowest{1e30, 0};
+  for (int k = 0; k < 6; ++k) {
+    const auto l = es.eigenvalues()(k);
+    if (l.imag() > 1e-6 && l.imag() < slowest.omega_d) slowest = {l.imag(), -l.real() / std::abs(l)};
+  }
+  return slowest;
+}
+
+TEST(Rocking, StandingRobotRocksAsTheLinearisedSpringDamperPredicts) {
+  InstallMujocoHandlers(nullptr);
+  std::string error;
+  auto scene = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &error);
+  ASSERT_TRUE(scene) << error;
+  mjModel* m = scene->m();
+  mjData* d = scene->d();
+  m->opt.timestep = kDt;
+  RobotMap robot;
+  ASSERT_TRUE(MapRobot(m, &robot, &error)) << error;
+  FeetOptions feet;
+  feet.model = ContactModel::kSoft;
+  std::unique_ptr<contact::SoftFootContact> soft;
+  ASSERT_TRUE(SetUpFeet(m, feet, robot.total_mass, &soft, &error)) << error;
+  ASSERT_TRUE(scene->Reset("halfsit", &error)) << error;
+
+  // stiff joints holding the half-sitting pose, leaned forward at the ankles over the first second
+  Servo servo(robot);
+  shm::CommandBlock cmd{};
+  cmd.njoint = static_cast<int>(robot.joints.size());
+  std::vector<double> start(cmd.njoint), lean(cmd.njoint, 0.0);
+  for (int i = 0; i < cmd.njoint; ++i) {
+    const JointMap& j = robot.joints[i];
+    start[i] = d->qpos[j.qpos_adr];
+    if (j.name == "RLEG_ANKLE_P" || j.name == "LLEG_ANKLE_P") lean[i] = kLean;
+    cmd.joint[i].mode = shm::JointMode::kPosition;
+    cmd.joint[i].kp = j.default_kp * kGainScale;
+    cmd.joint[i].kd = j.default_kd * std::sqrt(kGainScale);
+  }
+  const int base = robot.base_body;
+  std::vector<double> t_free, pitch_free;
+  while (d->time < kEnd) {
+    const double s = std::min(1.0, d->time / 1.0);
+    for (int i = 0; i < cmd.njoint; ++i)
+      cmd.joint[i].q_ref = start[i] + lean[i] * 0.5 * (1 - std::cos(M_PI * s));
+    ASSERT_EQ(servo.Accept(cmd), 0);
+    const bool push = d->time >= kPushStart && d->time < kPushEnd;
+    d->xfrc_applied[6 * base + 4] = push ? kPushTorque : 0.0;
+    servo.Apply(m, d);
+    soft->ApplyBeforeStep(m, d);
+    mj_step(m, d);
+    soft->Commit();
+    if (d->time >= kPushEnd + 0.05) {
+      t_free.push_back(d->time);
+      pitch_free.push_back(Pitch(d, base));
+    }
+  }
+
+  // measured: period from upward zero crossings of the pitch about its mean, decay from the
+  // ratio of successive peaks (logarithmic decrement)
+  double mean = 0;
+  for (double p : pitch_free) mean += p;
+  mean /= pitch_free.size();
+  std::vector<double> ups, peaks;
+  double peak = 0;
+  for (size_t i = 1; i < pitch_free.size(); ++i) {
+    const double a = pitch_free[i - 1] - mean, b = pitch_free[i] - mean;
+    peak = std::max(peak, b);
+    if (a < 0 && b >= 0) {
+      ups.push_back(t_free[i - 1] + (t_free[i] - t_free[i - 1]) * (-a) / (b - a));
+      if (ups.size() > 1) peaks.push_back(peak);
+      peak = 0;
+    }
+  }
+  ASSERT_GE(ups.size(), 4u) << "no oscillation after the release";
+  const double period = (ups.back() - ups.front()) / (ups.size() - 1);
+  const double omega_measured = 2 * M_PI / period;
+  // peaks[k] lies between ups[k] and ups[k+1]; skip the first (transient of the release)
+  const double decrement = std::log(peaks[1] / peaks.back()) / (peaks.size() - 2);
+  const double zeta_measured = decrement / std::sqrt(4 * M_PI * M_PI + decrement * decrement);
+
+  // predicted: from the robot's mass, inertia and centre of mass and the soles' sample points
+  mj_forward(m, d);
+  const double* com = d->subtree_com + 3 * base;
+  double Iyy = 0;
+  for (int b = 1; b < m->nbody; ++b) {
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->ximat + 9 * b);
+    const Eigen::Vector3d I(m->body_inertia + 3 * b);
+    const Eigen::Vector3d rb = Eigen::Vector3d(d->xipos + 3 * b) - Eigen::Vector3d(com);
+    const Eigen::Matrix3d Iw = R * I.asDiagonal() * R.transpose() +
+                               m->body_mass[b] * (rb.squaredNorm() * Eigen::Matrix3d::Identity() - rb * rb.transpose());
+    Iyy += Iw(1, 1);
+  }
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> weights;
+  for (int g : soft->sole_geoms()) {
+    const Eigen::Vector3d half(m->geom_size + 3 * g);
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->geom_xmat + 9 * g);
+    const Eigen::Vector3d c(d->geom_xpos + 3 * g);
+    for (const auto& sp : contact::MakeGrid(half, soft->params().grid_x, soft->params().grid_y)) {
+      const Eigen::Vector3d p = c + R * Eigen::Vector3d(sp.u, sp.v, -half.z());
+      points.emplace_back(p.x() - com[0], p.z() - com[2]);
+      weights.push_back(sp.weight);
+    }
+  }
+  const Mode predicted = PredictRocking(points, weights, robot.total_mass, Iyy,
+                                        -m->opt.gravity[2], soft->params());
+  RecordProperty("omega_measured", std::to_string(omega_measured));
+  RecordProperty("omega_predicted", std::to_string(predicted.omega_d));
+  RecordProperty("zeta_measured", std::to_string(zeta_measured));
+  RecordProperty("zeta_predicted", std::to_string(predicted.zeta));
+  std::printf("rocking: measured %.2f rad/s, zeta %.4f; predicted %.2f rad/s, zeta %.4f\n",
+              omega_measured, zeta_measured, predicted.omega_d, predicted.zeta);
+  // the paper's criterion: frequency and decay within 10 %
+  EXPECT_NEAR(omega_measured, predicted.omega_d, 0.10 * predicted.omega_d);
+  EXPECT_NEAR(zeta_measured, predicted.zeta, 0.10 * predicted.zeta);
+}
+
+}  // namespace
+}  // namespace ohrp::sim
