@@ -18,6 +18,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -181,6 +182,15 @@ class HwDriverProcess : public ::testing::Test {
     return -1;
   }
   int Wait(double timeout = 30) { return WaitExit(&pid_, timeout); }
+  // polls `condition` every 2 ms until it holds (true) or `timeout` [s] passes (false)
+  static bool WaitUntil(const std::function<bool()>& condition, double timeout = 30) {
+    const auto t0 = Clock::now();
+    while (!condition()) {
+      if (Since(t0) > timeout) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return true;
+  }
   std::string Read(const std::string& file) {
     std::ifstream in(Path(file));
     std::stringstream ss;
@@ -264,10 +274,10 @@ class HwDriverProcess : public ::testing::Test {
 //---------------- attach and command ----------------
 
 TEST_F(HwDriverProcess, PostureAttachesToTheHardwareSegmentAndCommandsIt) {
-  Start({"--duration", "3", "--watchdog-cycles", "1000000"});
+  Start({"--duration", "120", "--watchdog-cycles", "1000000", "--servo-off-time", "0.05"});
   ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
   {
-    Peek peek(segment_);
     const shm::SegmentHeader& h = peek.get().header;
     EXPECT_EQ(h.producer_kind, shm::ProducerKind::kHardware);
     EXPECT_EQ(h.producer_pid, pid_);
@@ -283,12 +293,18 @@ TEST_F(HwDriverProcess, PostureAttachesToTheHardwareSegmentAndCommandsIt) {
   child_ = Exec({std::string(OHRP_BIN_DIR) + "/posture", "--segment", segment_, "--pose", pose,
                  "--ramp", "0.2", "--attach-timeout", "10"},
                 Path("posture.out"));
-  EXPECT_EQ(Wait(), 0) << Stderr();
-  EXPECT_EQ(WaitExit(&child_), 0) << Read("posture.out");
+  // the fake boards' joints follow the references: wait until they reached the pose
+  EXPECT_TRUE(WaitUntil([&] {
+    return std::fabs(peek.get().sensors.q[0] - 0.5) < 1e-9 &&
+           std::fabs(peek.get().sensors.q[1] + 0.3) < 1e-9;
+  })) << Read("posture.out");
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
+  EXPECT_EQ(WaitExit(&child_), 0) << Read("posture.out");  // the producer ended its run
   EXPECT_FALSE(fs::exists(ShmPath()));
 
   const auto s = Summary();
-  EXPECT_EQ(s["outcome"], "completed");
+  EXPECT_EQ(s["outcome"], "interrupted");
   EXPECT_GT(s["commands"].get<long>(), 100);
   EXPECT_GE(EventCycle(s, "controller_attached"), 0);
   // the boards got the pose, then the servo-off sequence
@@ -304,11 +320,17 @@ TEST_F(HwDriverProcess, PostureAttachesToTheHardwareSegmentAndCommandsIt) {
 }
 
 TEST_F(HwDriverProcess, NanCommandsAreRejectedCountedAndTheJointHolds) {
-  Start({"--duration", "1.5", "--watchdog-cycles", "1000000"});
+  Start({"--duration", "120", "--watchdog-cycles", "1000000", "--servo-off-time", "0.05"});
   ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
   child_ = Controller(Hold(0.2, std::numeric_limits<double>::quiet_NaN()), -1, -1,
                       shm::status::kCommandRejected);
-  EXPECT_EQ(Wait(), 0) << Stderr();
+  EXPECT_TRUE(WaitUntil([&] {
+    return peek.get().sensors.rejected_per_joint[1] > 10 &&
+           std::fabs(peek.get().sensors.q[0] - 0.2) < 1e-12;
+  }));
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
   EXPECT_EQ(WaitExit(&child_), 0);  // it saw kCommandRejected, then the producer stop
   const auto s = Summary();
   EXPECT_GT(s["rejected_per_joint"]["j2"].get<long>(), 10);
@@ -463,12 +485,12 @@ TEST_F(HwDriverProcess, MalformedModelExitsWithMujocosText) {
 //---------------- replay ----------------
 
 TEST_F(HwDriverProcess, ReplayPlaysTheLogsPositionsIntoTheSegment) {
-  // a sim_host data log: q_j1 = t, q_j2 = -2 t, every 5 ms for 0.4 s
+  // a sim_host data log: q_j1 = t, q_j2 = -2 t, every 5 ms for 2 s
   std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,base_vx,base_vy,"
                     "base_vz,q_j1,q_j2,qref_j1,qref_j2,tau_j1,tau_j2,ft_fx,ft_fy,ft_fz,ft_tx,ft_ty,"
                     "ft_tz,imu_gx,imu_gy,imu_gz,imu_ax,imu_ay,imu_az,imu_qw,imu_qx,imu_qy,imu_qz,"
                     "status,rejected\n";
-  for (int r = 0; r <= 80; ++r) {
+  for (int r = 0; r <= 400; ++r) {
     const double t = 0.005 * r;
     char row[512];
     std::snprintf(row, sizeof(row),
@@ -493,7 +515,7 @@ TEST_F(HwDriverProcess, ReplayPlaysTheLogsPositionsIntoTheSegment) {
       break;
     }
     const double t = 0.001 * static_cast<double>(s.cycle);  // the replay's time at cycle k
-    if (t > 0.4 || (s.status & shm::status::kShuttingDown)) continue;
+    if (t > 2.0 || (s.status & shm::status::kShuttingDown)) continue;
     ASSERT_NEAR(s.q[0], t, 1e-9) << "cycle " << s.cycle;
     ASSERT_NEAR(s.q[1], -2 * t, 1e-9);
     ASSERT_NEAR(s.dq[0], 1.0, 1e-6);

@@ -70,7 +70,7 @@ void Row(const char* name, const LatenessHistogram& h, unsigned long misses) {
 
 int main(int argc, char** argv) {
   double duration = 5.0, period = 0.001;
-  int rounds = 5, priority = 80;
+  int rounds = 20, priority = 80;
   std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
   CLI::App app{"bench_rt: hw_driver loop wake-up lateness vs a plain clock_nanosleep loop"};
   app.add_option("--duration", duration, "[s] measured per loop (split over the rounds)")
