@@ -33,6 +33,8 @@ def main():
     ap.add_argument("summary")
     ap.add_argument("out")
     ap.add_argument("--joints", default="", help="comma-separated joint names to draw")
+    ap.add_argument("--torques", default="",
+                    help="comma-separated joints whose torque gets a panel, with the F/T sensors' pitch moment")
     a = ap.parse_args()
 
     log = read_log(a.log)
@@ -44,7 +46,9 @@ def main():
     joints = [j for j in a.joints.split(",") if j] or \
         [n[2:] for n in log if n.startswith("q_")][:4]
 
-    fig, ax = plt.subplots(4, 1, figsize=(10, 12), sharex=True)
+    torques = [j for j in a.torques.split(",") if j]
+    panels = 5 if torques else 4
+    fig, ax = plt.subplots(panels, 1, figsize=(10, 3 * panels), sharex=True)
     ax[0].plot(t, log["base_z"], label="base z")
     ax[0].set_ylabel("base height [m]")
     ax[1].plot(t, log["base_x"], label="base x")
@@ -63,7 +67,15 @@ def main():
             line, = ax[3].plot(t, log["q_" + j], label=j)
             ax[3].plot(t, log["qref_" + j], "--", color=line.get_color(), lw=0.8)
     ax[3].set_ylabel("joint angle (dashed: reference) [rad]")
-    ax[3].set_xlabel("simulated time [s]")
+    if torques:
+        for j in torques:
+            if "tau_" + j in log:
+                ax[4].plot(t, log["tau_" + j], label=j + " motor torque", lw=0.8)
+        for f in forces:
+            if "fsensor" in f:
+                ax[4].plot(t, log[f + "_ty"], "--", label=f + " pitch moment (F/T)", lw=0.8)
+        ax[4].set_ylabel("ankle pitch torque [N m]")
+    ax[-1].set_xlabel("simulated time [s]")
     for x in ax:
         x.grid(True, alpha=0.3)
         x.legend(loc="best", fontsize=8)

@@ -317,11 +317,13 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
 
   if (o.plot && have_log) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    std::string joints;
+    std::string joints, torques;
     for (const auto& n : s.plot_joints) joints += (joints.empty() ? "" : ",") + n;
+    for (const auto& n : s.plot_torques) torques += (torques.empty() ? "" : ",") + n;
     std::string cmd = python + " '" + o.source_dir + "/tools/scripts/plot_run.py' '" + out_abs +
                       "/log.csv' '" + out_abs + "/summary.json' '" + out_abs + "/plot.png'" +
-                      (joints.empty() ? "" : " --joints " + joints) + " >> '" + out_abs +
+                      (joints.empty() ? "" : " --joints " + joints) +
+                      (torques.empty() ? "" : " --torques " + torques) + " >> '" + out_abs +
                       "/plot.stderr' 2>&1";
     if (std::system(cmd.c_str()) != 0)
       std::fprintf(stderr, "ohrp_run: the plot could not be made (see %s/plot.stderr)\n", out.c_str());

@@ -11,7 +11,8 @@ namespace {
 const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
-    "log_every", "sim_args", "controllers", "checks", "plot_joints", "contact", "contact_params"};
+    "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
+    "contact_params"};
 
 const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
                                               "tangential_stiffness", "tangential_damping"};
@@ -66,7 +67,8 @@ bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
             Get(root, "controller_timeout", &s.controller_timeout, &e) &&
             Get(root, "wall_timeout", &s.wall_timeout, &e) &&
             Get(root, "log_every", &s.log_every, &e) && Get(root, "sim_args", &s.sim_args, &e) &&
-            Get(root, "plot_joints", &s.plot_joints, &e) && Get(root, "contact", &s.contact, &e) &&
+            Get(root, "plot_joints", &s.plot_joints, &e) &&
+            Get(root, "plot_torques", &s.plot_torques, &e) && Get(root, "contact", &s.contact, &e) &&
             Get(root, "contact_params", &s.contact_params, &e);
   if (!ok) {
     *error = "scenario '" + path + "': " + e;

@@ -43,6 +43,7 @@ struct Scenario {
   std::vector<ControllerSpec> controllers;
   std::vector<CheckSpec> checks;
   std::vector<std::string> plot_joints;  // joints drawn in the plot (default: a few legs)
+  std::vector<std::string> plot_torques; // joints whose torque gets a panel of the plot
 };
 
 // Reads and validates a scenario. Returns false with `*error` naming the file, the key and
