@@ -429,6 +429,28 @@ TEST_F(HwDriverProcess, Sigusr2IsAnEmergencyStop) {
   EXPECT_NE(Stderr().find("SIGUSR2"), std::string::npos) << Stderr();
 }
 
+//---------------- lateness readable while it runs ----------------
+
+TEST_F(HwDriverProcess, LatenessIsReadableWhileItRunsFromTheStatsFileAndSigusr1) {
+  Start({"--duration", "120", "--stats", Path("stats.json"), "--stats-interval", "0.05",
+         "--servo-off-time", "0.01"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  nlohmann::json stats;
+  EXPECT_TRUE(WaitUntil([&] {
+    if (!fs::exists(Path("stats.json"))) return false;
+    stats = nlohmann::json::parse(Read("stats.json"), nullptr, false);
+    return !stats.is_discarded() && stats["lateness"]["count"].get<long>() > 20;
+  }));
+  EXPECT_EQ(stats["outcome"], "running");
+  EXPECT_EQ(stats["state"], "active");
+  EXPECT_TRUE(stats["lateness"].contains("p99_us"));
+  kill(pid_, SIGUSR1);
+  EXPECT_TRUE(WaitUntil([&] { return Stderr().find("p99") != std::string::npos; })) << Stderr();
+  kill(pid_, SIGTERM);
+  EXPECT_EQ(Wait(), 130) << Stderr();
+  EXPECT_EQ(nlohmann::json::parse(Read("stats.json"))["outcome"], "interrupted");
+}
+
 //---------------- the segment is removed on every exit path ----------------
 
 TEST_F(HwDriverProcess, NormalEndRemovesTheSegment) {
