@@ -123,6 +123,7 @@ struct Driver::Impl {
   int njoint = 0, nforce = 0, nimu = 0;
 
   IoState in{};
+  double last_valid_q[shm::kMaxJoints] = {};  // positions of the last valid read
   IoCommand out{};
   shm::CommandBlock cmd{};
   std::vector<Event> events;
@@ -220,7 +221,7 @@ int Driver::Run() {
 
   auto enter_safe_mode = [&](int exit_code, const char* why, int64_t reason) {
     d.state = DriverState::kSafeMode;
-    d.guard.Damp(d.in.q, o.safe_kp_scale, o.safe_kd_scale);
+    d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
     phase_end = NowNs() + std::llround(o.safe_time * 1e9);
     result_.safe_mode = true;
     result_.safe_mode_cycle = d.k;
@@ -236,7 +237,7 @@ int Driver::Run() {
       return;
     }
     d.state = DriverState::kStopping;
-    d.guard.Damp(d.in.q, o.safe_kp_scale, o.safe_kd_scale);
+    d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
     phase_end = NowNs() + std::llround(o.servo_off_time * 1e9);
   };
 
@@ -262,8 +263,9 @@ int Driver::Run() {
         d.Record(r == IoResult::kError ? EventKind::kIoError : EventKind::kBoardSilent,
                  d.in.silent_boards);
       }
-    } else if (board_was_silent) {
-      d.Record(EventKind::kBoardBack, silent_board);
+    } else {
+      std::memcpy(d.last_valid_q, d.in.q, d.njoint * sizeof(double));
+      if (board_was_silent) d.Record(EventKind::kBoardBack, silent_board);
       silent_board = 0;
     }
     board_was_silent = silent;
