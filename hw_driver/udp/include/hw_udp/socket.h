@@ -1,0 +1,44 @@
+// A non-blocking UDP socket on IPv4, as the udp plugin, hw_emulator and the tests use it.
+// Open is a set-up call (reports errors in text); SendTo and Receive never block or allocate.
+#pragma once
+
+#include <netinet/in.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace ohrp::hw::udp {
+
+// Resolves a dotted IPv4 address (e.g. "127.0.0.1") and a port. Returns false on a malformed
+// address or a port outside 0..65535.
+bool MakeAddress(const std::string& host, int port, sockaddr_in* out);
+
+class UdpSocket {
+ public:
+  UdpSocket() = default;
+  ~UdpSocket();
+  UdpSocket(const UdpSocket&) = delete;
+  UdpSocket& operator=(const UdpSocket&) = delete;
+
+  // Binds to host:port (port 0: the system picks one, see port()). Non-blocking, close-on-exec.
+  bool Open(const std::string& host, int port, std::string* error);
+  void Close();
+  bool is_open() const { return fd_ >= 0; }
+  int port() const { return port_; }  // the bound port
+  int fd() const { return fd_; }
+
+  // Sends one datagram. Returns false when the system refused it (full buffer, no route).
+  bool SendTo(const sockaddr_in& to, const uint8_t* data, size_t n);
+  // Receives one datagram if one is waiting: returns its size, 0 when none is waiting, -1 on a
+  // socket error. `from` may be null.
+  long Receive(uint8_t* buf, size_t cap, sockaddr_in* from);
+  // Waits up to `timeout` [s] for a datagram to arrive (poll). Returns true when one is there.
+  bool WaitReadable(double timeout);
+
+ private:
+  int fd_ = -1;
+  int port_ = 0;
+};
+
+}  // namespace ohrp::hw::udp

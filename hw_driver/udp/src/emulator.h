@@ -1,0 +1,52 @@
+// hw_emulator: the robot's boards on loopback UDP, with a MuJoCo model of the robot running in
+// real time behind them (see PROTOCOL.md for the protocol, faults.h for fault injection).
+//
+// Each cycle (absolute-deadline sleeps on the monotonic clock):
+//   1. drain the socket: hellos tell the boards where the driver is; the newest command packet
+//      of each motor board is checked and applied (servo on/off per joint, the servo's
+//      references, sim_host's Servo refusing bad joints);
+//   2. step the physics (period / timestep steps) with the motor boards' PD at every step;
+//   3. answer one state packet per board (motor boards: q, dq, tau, servo state; the sensor
+//      board: F/T and IMU), through the injected faults (loss, late, silent, stuck, saturated).
+// The robot's time stands still until the first command packet arrives (the boards keep
+// answering), so the robot does not fall before a driver is there. Servos start off.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace ohrp::hw::udp {
+
+struct EmulatorOptions {
+  std::string model;               // MJCF scene
+  std::string keyframe;            // initial state (empty: the model's)
+  std::string host = "127.0.0.1";  // bound address
+  int port = 7700;                 // bound port (0: any, see port_file)
+  std::string port_file;           // the bound port is written there once bound
+  std::string boards;              // motor boards' joint ranges (empty: DefaultLayout)
+  double period = 0.001;           // board cycle [s], a multiple of the model's timestep
+  double duration = 0;             // robot time to run [s]; 0: until SIGINT
+  double wait_driver = 0;          // wall time to wait for the first command [s]; 0: forever
+  double loss = 0;                 // packet loss probability, both directions
+  double late_rate = 0, late_ms = 0;  // fraction of state packets held back by late_ms
+  unsigned long seed = 1;          // of the loss and late draws
+  std::vector<std::string> silent, reset, stuck, saturate, estop;  // planned faults (faults.h)
+  std::string control_file;        // run-time fault commands (faults.h)
+  std::string log_path;            // CSV: robot time, base height and tilt, faults
+  int log_every = 10;              // cycles between log rows
+  bool quiet = false;
+};
+
+inline constexpr int kEmuExitOk = 0;
+inline constexpr int kEmuExitUsage = 2;
+inline constexpr int kEmuExitMujoco = 3;
+inline constexpr int kEmuExitDiverged = 4;
+inline constexpr int kEmuExitNoDriver = 5;
+inline constexpr int kEmuExitInterrupted = 130;
+
+// Runs the emulator until the duration, SIGINT/SIGTERM or a failure; returns the exit code.
+// Prints the end-of-run report on stderr, including one "hw_emulator: result key=value ..." line
+// for scripts and tests.
+int RunEmulator(const EmulatorOptions& options);
+
+}  // namespace ohrp::hw::udp

@@ -1,0 +1,93 @@
+// Non-blocking UDP socket (see socket.h).
+#include "hw_udp/socket.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace ohrp::hw::udp {
+namespace {
+
+constexpr int kSocketBuffer = 1 << 20;  // receive/send buffer asked of the kernel [byte]
+
+}  // namespace
+
+bool MakeAddress(const std::string& host, int port, sockaddr_in* out) {
+  if (port < 0 || port > 65535) return false;
+  std::memset(out, 0, sizeof(*out));
+  out->sin_family = AF_INET;
+  out->sin_port = htons(static_cast<uint16_t>(port));
+  return inet_pton(AF_INET, host.c_str(), &out->sin_addr) == 1;
+}
+
+UdpSocket::~UdpSocket() { Close(); }
+
+bool UdpSocket::Open(const std::string& host, int port, std::string* error) {
+  Close();
+  sockaddr_in addr;
+  if (!MakeAddress(host, port, &addr)) {
+    *error = "bad address '" + host + ":" + std::to_string(port) +
+             "' (expected a dotted IPv4 address such as 127.0.0.1 and a port 0..65535)";
+    return false;
+  }
+  fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd_ < 0) {
+    *error = std::string("cannot create a UDP socket: ") + std::strerror(errno);
+    return false;
+  }
+  int size = kSocketBuffer;
+  setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &size, sizeof(size));
+  setsockopt(fd_, SOL_SOCKET, SO_SNDBUF, &size, sizeof(size));
+  if (bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0) {
+    *error = "cannot bind UDP " + host + ":" + std::to_string(port) + ": " + std::strerror(errno) +
+             (errno == EADDRINUSE ? " (another program uses this port: pick another one)" : "");
+    Close();
+    return false;
+  }
+  sockaddr_in bound{};
+  socklen_t len = sizeof(bound);
+  getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
+  port_ = ntohs(bound.sin_port);
+  return true;
+}
+
+void UdpSocket::Close() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  port_ = 0;
+}
+
+bool UdpSocket::SendTo(const sockaddr_in& to, const uint8_t* data, size_t n) {
+  const ssize_t r = sendto(fd_, data, n, 0, reinterpret_cast<const sockaddr*>(&to), sizeof(to));
+  return r == static_cast<ssize_t>(n);
+}
+
+long UdpSocket::Receive(uint8_t* buf, size_t cap, sockaddr_in* from) {
+  for (;;) {
+    sockaddr_in src{};
+    socklen_t len = sizeof(src);
+    const ssize_t r = recvfrom(fd_, buf, cap, MSG_TRUNC, reinterpret_cast<sockaddr*>(&src), &len);
+    if (r >= 0) {
+      if (from) *from = src;
+      // a datagram larger than the buffer is not one of ours: report it as 1 byte (too short)
+      return static_cast<size_t>(r) > cap ? 1 : static_cast<long>(r);
+    }
+    if (errno == EINTR) continue;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
+    if (errno == ECONNREFUSED) continue;  // an ICMP error of an earlier send: not fatal
+    return -1;
+  }
+}
+
+bool UdpSocket::WaitReadable(double timeout) {
+  pollfd p{fd_, POLLIN, 0};
+  const int ms = static_cast<int>(std::ceil(std::fmax(0.0, timeout) * 1e3));
+  return poll(&p, 1, ms) > 0 && (p.revents & POLLIN);
+}
+
+}  // namespace ohrp::hw::udp

@@ -1,0 +1,394 @@
+// Tests hw_emulator as a process, driven through the udp plugin the way hw_driver drives it:
+// position hold keeps HRP-1S standing, injected loss is counted, a silent board is marked, a board
+// reset turns its servos off until re-armed, run-time faults through the control file, errors
+// and SIGINT. Bounds are generous: the machine may be loaded.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "hw_udp/udp_io.h"
+#include "sim_host/model.h"
+
+namespace ohrp::hw::udp {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const std::string kScene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+constexpr double kMaxWall = 60.0;  // [s] no test waits longer than this for the emulator
+
+double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The robot as the driver would know it (names, default gains) from the model.
+struct Robot {
+  IoConfig config;
+  std::vector<double> kp, kd;
+};
+
+const Robot& Hrp1s() {
+  static const Robot robot = [] {
+    Robot r;
+    std::string e;
+    auto scene = sim::Scene::Load(kScene, &e);
+    EXPECT_TRUE(scene) << e;
+    sim::RobotMap map;
+    EXPECT_TRUE(sim::MapRobot(scene->m(), &map, &e)) << e;
+    r.config.robot_name = map.name;
+    for (const auto& j : map.joints) {
+      r.config.joint_names.push_back(j.name);
+      r.kp.push_back(j.default_kp);
+      r.kd.push_back(j.default_kd);
+    }
+    for (const auto& f : map.forces) r.config.force_names.push_back(f.name);
+    for (const auto& i : map.imus) r.config.imu_names.push_back(i.name);
+    return r;
+  }();
+  return robot;
+}
+
+class EmulatorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string tag = std::to_string(getpid()) + "_" +
+                            ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = fs::temp_directory_path() / ("hw_udp_" + tag);
+    fs::create_directories(dir_);
+    err_ = (dir_ / "stderr").string();
+    port_file_ = (dir_ / "port").string();
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    io_.close();
+    fs::remove_all(dir_);
+  }
+
+  // starts hw_emulator with `args` (after the program and its port options)
+  void Spawn(std::vector<std::string> extra) {
+    std::vector<std::string> args = {std::string(OHRP_BIN_DIR) + "/hw_emulator", "--port", "0",
+                                     "--port-file", port_file_};
+    args.insert(args.end(), extra.begin(), extra.end());
+    fs::remove(port_file_);
+    pid_ = fork();
+    if (pid_ == 0) {
+      const int fd = open(err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+      dup2(fd, 2);
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      std::vector<char*> a;
+      for (auto& s : args) a.push_back(s.data());
+      a.push_back(nullptr);
+      execv(a[0], a.data());
+      _exit(127);
+    }
+  }
+
+  // starts hw_emulator on HRP-1S with `extra` options, on a free port; returns the port
+  int Start(std::vector<std::string> extra, const char* wait_driver = "30") {
+    std::vector<std::string> args = {"--model", kScene, "--wait-driver", wait_driver};
+    args.insert(args.end(), extra.begin(), extra.end());
+    Spawn(args);
+    const auto t0 = Clock::now();
+    while (Since(t0) < kMaxWall) {
+      std::ifstream in(port_file_);
+      int port = 0;
+      if (in >> port && port > 0) return port;
+      int status;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        ADD_FAILURE() << "hw_emulator ended before binding:\n" << Stderr();
+        return 0;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ADD_FAILURE() << "hw_emulator did not bind within " << kMaxWall << " s";
+    return 0;
+  }
+
+  // exit code of the emulator once it ended (-1: still running after `timeout`)
+  int Wait(double timeout = kMaxWall) {
+    const auto t0 = Clock::now();
+    while (pid_ > 0 && Since(t0) < timeout) {
+      int status;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return -1;
+  }
+  bool Running() {
+    int status;
+    if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    }
+    return pid_ > 0;
+  }
+
+  std::string Stderr() const {
+    std::ifstream in(err_);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  // the key=value pairs of the emulator's result line
+  std::map<std::string, double> Result() const {
+    std::map<std::string, double> r;
+    const std::string text = Stderr();
+    const size_t at = text.rfind("hw_emulator: result ");
+    if (at == std::string::npos) return r;
+    std::istringstream line(text.substr(at + 20, text.find('\n', at) - at - 20));
+    std::string kv;
+    while (line >> kv) {
+      const size_t eq = kv.find('=');
+      if (eq != std::string::npos) r[kv.substr(0, eq)] = std::stod(kv.substr(eq + 1));
+    }
+    return r;
+  }
+
+  void OpenIo(int port, std::vector<std::string> extra = {}) {
+    IoConfig c = Hrp1s().config;
+    c.period = 0.001;
+    c.args = {"port=" + std::to_string(port), "quiet=1"};
+    c.args.insert(c.args.end(), extra.begin(), extra.end());
+    std::string e;
+    ASSERT_TRUE(io_.open(c, &e)) << e;
+  }
+
+  // The driver's loop at 1 kHz (absolute deadlines) until the emulator ends: read, then once
+  // every motor board has answered, hold the first pose read (all servos on, default gains);
+  // `each` may change the commands. Returns the emulator's exit code.
+  int Drive(const std::function<void(const IoState&, IoCommand*)>& each = nullptr) {
+    const Robot& r = Hrp1s();
+    const int n = static_cast<int>(r.kp.size());
+    bool holding = false;
+    auto deadline = Clock::now();
+    const auto t0 = Clock::now();
+    while (Running() && Since(t0) < kMaxWall) {
+      io_.read(&state_);
+      if (!holding) {
+        holding = true;
+        for (int b = 0; b < io_.layout().sensor_board(); ++b)
+          holding = holding && io_.stats().board[b].received > 0;
+        if (holding) {
+          for (int j = 0; j < n; ++j) {
+            cmd_.servo_on[j] = true;
+            cmd_.joint[j].mode = shm::JointMode::kPosition;
+            cmd_.joint[j].q_ref = state_.q[j];
+            cmd_.joint[j].kp = r.kp[j];
+            cmd_.joint[j].kd = r.kd[j];
+          }
+        }
+      }
+      if (holding) {
+        if (each) each(state_, &cmd_);
+        io_.write(cmd_);
+      }
+      deadline += std::chrono::microseconds(1000);
+      if (Clock::now() > deadline + std::chrono::milliseconds(100)) deadline = Clock::now();
+      std::this_thread::sleep_until(deadline);
+    }
+    const int code = Running() ? -1 : exit_code_;
+    return code;
+  }
+
+  fs::path dir_;
+  std::string err_, port_file_;
+  pid_t pid_ = -1;
+  int exit_code_ = -1;
+  UdpIo io_;
+  IoState state_;
+  IoCommand cmd_;
+};
+
+TEST_F(EmulatorTest, PositionHoldKeepsTheRobotStanding) {
+  const int port = Start({"--duration", "2.0"});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=500"});
+  ASSERT_EQ(Drive(), 0) << Stderr();
+  auto r = Result();
+  ASSERT_FALSE(r.empty()) << Stderr();
+  EXPECT_NEAR(r["time"], 2.0, 0.01);
+  EXPECT_NEAR(r["base_z_start"], 0.7235, 1e-3);
+  // the straight-legged robot stands: its base sinks by the servos' stiffness only
+  EXPECT_GT(r["base_z_end"], 0.70) << Stderr();
+  EXPECT_GT(r["base_z_min"], 0.70);
+  EXPECT_LT(r["tilt_max_deg"], 3.0);
+  EXPECT_GT(r["commands"], 1000);
+  EXPECT_EQ(r["commands_lost"], 0);
+  // what the boards said: servos on, the feet carry the weight (~ m g in total)
+  for (int j = 0; j < 29; ++j) EXPECT_TRUE(state_.servo_on[j]) << j;
+  EXPECT_GT(state_.force[0].force[2] + state_.force[1].force[2], 100.0);
+  EXPECT_NEAR(state_.imu[0].accel[2], 9.81, 1.0);
+  const UdpIoStats& s = io_.stats();
+  ASSERT_GT(s.rtt_count, 500u);
+  std::printf("[ figures  ] stand: base z %.4f -> %.4f m (min %.4f), tilt max %.2f deg; "
+              "command->state round trip p50 %.3f ms, p99 %.3f ms, max %.3f ms, mean %.3f ms "
+              "(%llu samples); lost %llu\n",
+              r["base_z_start"], r["base_z_end"], r["base_z_min"], r["tilt_max_deg"],
+              1e3 * s.RttPercentile(0.5), 1e3 * s.RttPercentile(0.99), 1e3 * s.rtt_max_s,
+              1e3 * s.rtt_sum_s / s.rtt_count, static_cast<unsigned long long>(s.rtt_count),
+              static_cast<unsigned long long>(s.lost_total()));
+}
+
+TEST_F(EmulatorTest, InjectedLossIsCountedOnBothSides) {
+  const int port = Start({"--duration", "2.0", "--loss", "0.01", "--seed", "7"});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=500"});
+  ASSERT_EQ(Drive(), 0) << Stderr();
+  auto r = Result();
+  ASSERT_FALSE(r.empty()) << Stderr();
+  const double sent = r["states_sent"], dropped = r["states_dropped"];
+  const double counted = static_cast<double>(io_.stats().lost_total());
+  // the loss rate is about what was asked
+  EXPECT_GT(dropped, 0.005 * (sent + dropped));
+  EXPECT_LT(dropped, 0.02 * (sent + dropped));
+  // every injected loss is counted but those before a board's first or after its last packet
+  // (at most 2 per board); more only if the loaded machine let the socket buffer overflow
+  EXPECT_GE(counted, dropped - 12);
+  EXPECT_LE(counted, dropped + 0.02 * sent);
+  // the boards count the commands lost on the way to them the same way
+  EXPECT_GE(r["commands_lost"], r["commands_dropped"] - 10);
+  EXPECT_LE(r["commands_lost"], r["commands_dropped"] + 10);
+  EXPECT_GT(r["base_z_end"], 0.70);
+  std::printf("[ figures  ] 1%% loss: %.0f state packets, %.0f dropped by the emulator, %.0f "
+              "counted lost by the plugin; commands: %.0f dropped, %.0f counted by the boards\n",
+              sent + dropped, dropped, counted, r["commands_dropped"], r["commands_lost"]);
+}
+
+TEST_F(EmulatorTest, ASilentBoardIsMarkedWhileTheOthersGoOn) {
+  const int port = Start({"--duration", "1.5", "--silent", "2@0.5"});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=1000", "timeout_ms.2=50"});
+  bool only_2_silent = false;
+  ASSERT_EQ(Drive([&](const IoState& s, IoCommand*) {
+              only_2_silent = only_2_silent || s.silent_boards == (1u << 2);
+            }),
+            0)
+      << Stderr();
+  EXPECT_TRUE(only_2_silent);
+  EXPECT_EQ(io_.stats().board[2].silent_events, 1u);
+  // the others answered through the end: at least ~1 s of packets after board 2 fell silent
+  EXPECT_GT(io_.stats().board[3].received, io_.stats().board[2].received + 500);
+}
+
+TEST_F(EmulatorTest, AResetBoardTurnsItsServosOffUntilRearmed) {
+  const int port = Start({"--duration", "1.5", "--reset", "0@0.3"});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=1000"});
+  enum { kBefore, kResetSeen, kRearming, kBackOn } phase = kBefore;
+  int rearm_cycles = 0;
+  ASSERT_EQ(Drive([&](const IoState& s, IoCommand* c) {
+              switch (phase) {
+                case kBefore:
+                  if (s.faults & io_fault::kBoardReset) {
+                    phase = kResetSeen;
+                    for (int j = 0; j < 6; ++j) EXPECT_FALSE(s.servo_on[j]) << j;
+                    EXPECT_TRUE(s.servo_on[6]);
+                  }
+                  break;
+                case kResetSeen:  // as a driver's safety would: servo off, then on again
+                  for (int j = 0; j < 6; ++j) c->servo_on[j] = false;
+                  if (!(s.faults & io_fault::kBoardReset)) phase = kRearming;
+                  break;
+                case kRearming:
+                  for (int j = 0; j < 6; ++j) c->servo_on[j] = true;
+                  if (s.servo_on[0] && ++rearm_cycles > 5) phase = kBackOn;
+                  break;
+                case kBackOn:
+                  break;
+              }
+            }),
+            0)
+      << Stderr();
+  EXPECT_EQ(phase, kBackOn);
+  for (int j = 0; j < 29; ++j) EXPECT_TRUE(state_.servo_on[j]) << j;
+  EXPECT_EQ(io_.stats().board[0].lost, 0u);  // the restart of its numbering is no loss
+}
+
+TEST_F(EmulatorTest, TheControlFileInjectsFaultsWhileRunning) {
+  const std::string control = (dir_ / "control").string();
+  { std::ofstream(control) << "# faults\n"; }
+  const int port = Start({"--duration", "1.2", "--control", control});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=1000"});
+  int step = 0;
+  double stuck_fz = 0;
+  int same = 0;
+  ASSERT_EQ(Drive([&](const IoState& s, IoCommand*) {
+              if (step == 0 && s.time_ns > 200000000) {  // 0.2 s of robot time
+                std::ofstream(control, std::ios::app) << "stuck ft0\n";
+                step = 1;
+              } else if (step == 1 && (s.faults & io_fault::kSensorStuck)) {
+                stuck_fz = s.force[0].force[2];
+                step = 2;
+              } else if (step == 2) {
+                same += s.force[0].force[2] == stuck_fz;
+                if (same > 50) {
+                  std::ofstream(control, std::ios::app) << "estop on\n";
+                  step = 3;
+                }
+              } else if (step == 3 && (s.faults & io_fault::kEmergencyStop)) {
+                step = 4;
+              }
+            }),
+            0)
+      << Stderr();
+  EXPECT_EQ(step, 4) << Stderr();
+  // e-stop: every servo off
+  for (int j = 0; j < 29; ++j) EXPECT_FALSE(state_.servo_on[j]) << j;
+  EXPECT_NE(Stderr().find("control 'estop on'"), std::string::npos);
+}
+
+TEST_F(EmulatorTest, BadOptionsAreRefusedWithAMessage) {
+  Spawn({"--model", "/nonexistent.xml"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("nonexistent.xml"), std::string::npos) << Stderr();
+  Spawn({"--model", kScene, "--boards", "0-5,6-12"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("29 joints"), std::string::npos) << Stderr();
+  Spawn({"--model", kScene, "--silent", "9@1"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("BOARD 0..5"), std::string::npos) << Stderr();
+  Spawn({"--model", kScene, "--period", "0.0015"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("whole multiple"), std::string::npos) << Stderr();
+  Spawn({"--model", kScene, "--loss", "1.5"});
+  EXPECT_EQ(Wait(), 2);
+  Spawn({"--help"});
+  EXPECT_EQ(Wait(), 0);
+}
+
+TEST_F(EmulatorTest, SigintEndsTheRunCleanly) {
+  const int port = Start({});
+  ASSERT_GT(port, 0);
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130);
+  EXPECT_NE(Stderr().find("hw_emulator: result exit=130"), std::string::npos) << Stderr();
+}
+
+TEST_F(EmulatorTest, NoDriverEndsTheRunAfterTheWait) {
+  Start({}, "0.2");
+  EXPECT_EQ(Wait(), 5);
+  EXPECT_NE(Stderr().find("no command packet within"), std::string::npos) << Stderr();
+}
+
+}  // namespace
+}  // namespace ohrp::hw::udp
