@@ -100,7 +100,7 @@ void Row(const char* name, const LatenessHistogram& h, unsigned long misses) {
 
 int main(int argc, char** argv) {
   double duration = 5.0, period = 0.001;
-  int rounds = 20, priority = 80;
+  int rounds = 100, priority = 80;
   bool controller_row = true;
   std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
   CLI::App app{"bench_rt: hw_driver loop wake-up lateness vs a plain clock_nanosleep loop"};
