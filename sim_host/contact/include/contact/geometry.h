@@ -21,9 +21,10 @@
 // penetration depth in the point's neighbourhood. For a heightfield (not convex) the
 // neighbourhood is the triangles of the 3 x 3 cells around the point: of those whose plane the
 // point is below and through which it can leave (its projection on the plane lies in the
-// triangle), the one with the smallest depth; the triangle under the point otherwise. When a point is inside several objects, the
-// deepest one wins (the sole has to leave their union). The tests check these depths against
-// FCL's signed distance where FCL is reliable (fcl::Box, generic points).
+// triangle), the one with the smallest depth; the triangle under the point otherwise. When a
+// point is inside several objects, the deepest one wins (the sole has to leave their union).
+// The tests check these depths against FCL's signed distance where FCL is reliable (fcl::Box,
+// generic points) and heightfields against MuJoCo's mj_ray.
 // The cheap bound: world AABBs (for a plane: the lowest corner of the sole box along its
 // normal), so that FCL is not called for a sole far from everything.
 #pragma once
@@ -48,7 +49,8 @@ struct EnvObject {
   EnvKind kind = EnvKind::kPlane;
   int geom_id = -1;                 // MuJoCo geom, when built from a model
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // world <- object frame
-  // Plane: the object's +z is the outward normal through its origin. Others: the FCL shape.
+  // Plane: the object's +z is the outward normal through its origin. Heightfield: no shape (FCL
+  // has none). Others: the FCL shape, for the sole-vs-object narrow-phase test.
   std::shared_ptr<fcl::CollisionGeometry<double>> shape;
   Eigen::Vector3d local_center = Eigen::Vector3d::Zero();  // local AABB (unused for planes)
   Eigen::Vector3d local_half = Eigen::Vector3d::Zero();
