@@ -385,6 +385,40 @@ TEST_F(HwDriverProcess, KilledControllerTripsTheSafeModeWithinTwoCycles) {
   EXPECT_TRUE(last & shm::status::kShuttingDown);
 }
 
+TEST_F(HwDriverProcess, SilentControllerTripsTheSafeModeAfterTheWatchdogCycles) {
+  Start({"--duration", "60", "--watchdog-cycles", "10", "--safe-time", "0.05"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  child_ = Controller(Hold(0.2, 0.3), 50, fds[1]);
+  char c = 0;
+  ASSERT_EQ(::read(fds[0], &c, 1), 1);
+  close(fds[0]);
+  close(fds[1]);
+  kill(child_, SIGSTOP);  // alive, but silent
+  const int code = Wait();
+  kill(child_, SIGKILL);
+  waitpid(child_, nullptr, 0);
+  child_ = -1;
+  // a loaded machine may also make the controller late before it is stopped: then the driver
+  // trips earlier on the same rule, so only the rule is checked, on the driver's own counts
+  ASSERT_EQ(code, 5) << Stderr();
+  const auto s = Summary();
+  const long silent = EventCycle(s, "controller_silent");
+  ASSERT_GE(silent, 0) << s.dump(1);
+  EXPECT_EQ(s["safe_mode_cycle"].get<long>(), silent);
+  for (const auto& e : s["events"]) {
+    if (e["event"] == "controller_silent") {
+      EXPECT_EQ(e["value"].get<long>(), 10);
+    }
+  }
+  // the last accepted answer was 10 cycles before the trip
+  const uint64_t last_answer = peek.get().sensors.last_command_cycle;
+  EXPECT_EQ(static_cast<long>(last_answer) + 10, silent);
+  EXPECT_EQ(Records().back().servo, 0);
+}
+
 TEST_F(HwDriverProcess, SilentBoardTripsTheSafeModeWithinTheConfiguredCycles) {
   Start({"--io-arg", "silent_at=300", "--board-timeout-cycles", "5", "--safe-time", "0.05",
          "--duration", "60"});
