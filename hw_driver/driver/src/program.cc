@@ -105,6 +105,12 @@ bool LoadRobotDescription(const std::string& model_path, const std::string& segm
 int RunProgram(const ProgramOptions& o) {
   sim::InstallMujocoHandlers(OnMujocoFatal);
   InstallSignalHandlers();
+  // SIGUSR1 stays blocked in every thread but is taken by the reporter (sigtimedwait), so that
+  // it never kills the driver, even during set-up
+  sigset_t usr1;
+  sigemptyset(&usr1);
+  sigaddset(&usr1, SIGUSR1);
+  pthread_sigmask(SIG_BLOCK, &usr1, nullptr);
 
   //---------------- configure: robot, plugin, boards, segment ----------------
   std::string error;
@@ -153,10 +159,6 @@ int RunProgram(const ProgramOptions& o) {
 
   //---------------- the reporter: SIGUSR1 and the stats file, off the loop's thread ----------
   Driver driver(o.driver, robot, &plugin->io(), producer.get());
-  sigset_t usr1, old_mask;
-  sigemptyset(&usr1);
-  sigaddset(&usr1, SIGUSR1);
-  pthread_sigmask(SIG_BLOCK, &usr1, &old_mask);  // only the reporter takes SIGUSR1
   std::atomic<bool> reporter_stop{false};
   std::thread reporter([&] {
     using Clock = std::chrono::steady_clock;
@@ -184,7 +186,6 @@ int RunProgram(const ProgramOptions& o) {
   const int exit_code = driver.Run();
   reporter_stop.store(true);
   reporter.join();
-  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
   plugin->io().close();
 
   //---------------- report, then close: the segment is removed ----------------
