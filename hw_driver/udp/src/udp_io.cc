@@ -270,8 +270,8 @@ IoResult UdpIo::read(IoState* state) noexcept {
   uint64_t time_ns = 0;
   for (int b = 0; b < layout_.nboards(); ++b) {
     BoardStats& bs = stats_.board[b];
-    const int64_t since = have_[b] ? last_rx_ns_[b] : open_ns_;
-    const bool is_silent = now - since > timeout_ns_[b];
+    // a board that never answered is silent: there is nothing to read from it yet
+    const bool is_silent = !have_[b] || now - last_rx_ns_[b] > timeout_ns_[b];
     if (is_silent && !bs.silent && have_[b]) ++bs.silent_events;
     bs.silent = is_silent;
     if (is_silent) silent |= 1u << b;

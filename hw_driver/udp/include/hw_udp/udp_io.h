@@ -7,6 +7,7 @@
 //   port=7700             the boards' UDP port (board id in each packet's header)
 //   bind=127.0.0.1        local address; local_port=0 (0: the system picks one)
 //   timeout_ms=20         a board that sent nothing valid for this long is silent [ms]
+//                         (a board that never answered since open is silent at once)
 //   timeout_ms.B=N        the same for board B only
 //   boards=0-5,6-12,...   motor boards' joint ranges (default: DefaultLayout of the joint names)
 //   hello_every=100       cycles between hello packets to every board (0: only at open)

@@ -1,0 +1,178 @@
+// Tests the whole hardware chain end to end with the real binaries: hw_emulator (the boards, a
+// MuJoCo HRP-1S behind them) <- UDP -> hw_driver with libohrp_io_udp.so <- segment -> posture.
+// posture ramps the robot to half-sitting; the emulator's log says whether it stands.
+// Skipped when hw_driver or posture is not built. Bounds are generous: the machine may be loaded.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "shm_bridge/bridge.h"
+
+namespace ohrp::hw::udp {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const std::string kBin = OHRP_BIN_DIR;
+const std::string kScene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+constexpr double kHalfSitHeight = 0.6839;  // base height of the half-sitting keyframe [m]
+constexpr double kMaxWall = 90.0;          // [s] no wait in this test is longer
+
+double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+pid_t Exec(std::vector<std::string> args, const std::string& out) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    dup2(fd, 2);
+    dup2(fd, 1);
+    std::vector<char*> a;
+    for (auto& s : args) a.push_back(s.data());
+    a.push_back(nullptr);
+    execv(a[0], a.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// exit code once `*pid` ended within `timeout`, else -1
+int WaitExit(pid_t* pid, double timeout) {
+  const auto t0 = Clock::now();
+  while (*pid > 0) {
+    int status;
+    if (waitpid(*pid, &status, WNOHANG) == *pid) {
+      *pid = -1;
+      return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    }
+    if (Since(t0) >= timeout) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return -1;
+}
+
+std::string Read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class DriverEndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (const char* p : {"/hw_driver", "/posture", "/hw_emulator"})
+      if (!fs::exists(kBin + p)) GTEST_SKIP() << kBin << p << " is not built";
+    segment_ = "udpe2e_" + std::to_string(getpid());
+    dir_ = fs::temp_directory_path() / ("hw_udp_e2e_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::remove(ShmPath());
+  }
+  void TearDown() override {
+    for (pid_t* p : {&posture_, &driver_, &emulator_}) {
+      if (*p > 0) {
+        kill(*p, SIGKILL);
+        waitpid(*p, nullptr, 0);
+      }
+    }
+    fs::remove(ShmPath());
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+  std::string ShmPath() const { return "/dev/shm/" + shm::SegmentObjectName(segment_); }
+  std::string Path(const char* f) const { return (dir_ / f).string(); }
+
+  std::string segment_;
+  fs::path dir_;
+  pid_t emulator_ = -1, driver_ = -1, posture_ = -1;
+};
+
+TEST_F(DriverEndToEnd, PostureThroughHwDriverAndUdpKeepsTheEmulatedRobotStanding) {
+  // the boards
+  emulator_ = Exec({kBin + "/hw_emulator", "--model", kScene, "--port", "0", "--port-file",
+                    Path("port"), "--wait-driver", "60", "--log", Path("emu.csv"), "--log-every", "10"},
+                   Path("emulator.out"));
+  int port = 0;
+  for (auto t0 = Clock::now(); port == 0 && Since(t0) < kMaxWall;) {
+    std::ifstream in(Path("port"));
+    if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_EQ(WaitExit(&emulator_, 0), -1) << Read(Path("emulator.out"));
+  }
+  ASSERT_GT(port, 0);
+
+  // the driver: generous timeouts, a loaded machine must not trip the safe mode
+  driver_ = Exec({kBin + "/hw_driver", "--model", kScene, "--io", kBin + "/../lib/libohrp_io_udp.so",
+                  "--io-arg", "port=" + std::to_string(port), "--io-arg", "timeout_ms=100",
+                  "--segment", segment_, "--period", "0.002", "--duration", "5",
+                  "--board-timeout-cycles", "100", "--watchdog-cycles", "100",
+                  "--rt-priority", "0", "--no-mlock", "--summary", Path("driver.json")},
+                 Path("driver.out"));
+  bool segment = false;
+  for (auto t0 = Clock::now(); !segment && Since(t0) < kMaxWall;) {
+    std::error_code ec;
+    segment = fs::file_size(ShmPath(), ec) == sizeof(shm::Segment) && !ec;
+    if (!segment) {
+      ASSERT_EQ(WaitExit(&driver_, 0), -1) << Read(Path("driver.out"));
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  ASSERT_TRUE(segment) << Read(Path("driver.out"));
+
+  // the controller, as against sim_host
+  posture_ = Exec({kBin + "/posture", "--segment", segment_, "--ramp", "1.0"}, Path("posture.out"));
+  ASSERT_EQ(WaitExit(&driver_, kMaxWall), 0) << Read(Path("driver.out"));
+  EXPECT_EQ(WaitExit(&posture_, kMaxWall), 0) << Read(Path("posture.out"));
+  kill(emulator_, SIGINT);
+  ASSERT_EQ(WaitExit(&emulator_, kMaxWall), 130) << Read(Path("emulator.out"));
+
+  // the emulator's log: time, base_z, tilt_deg, servos_on, ...
+  std::ifstream log(Path("emu.csv"));
+  std::string line;
+  std::getline(log, line);
+  struct Row {
+    double t, z, tilt;
+    int on;
+  };
+  std::vector<Row> rows;
+  while (std::getline(log, line)) {
+    Row r{};
+    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%d", &r.t, &r.z, &r.tilt, &r.on) == 4) rows.push_back(r);
+  }
+  ASSERT_GT(rows.size(), 100u);
+  double t_off = 0;  // the driver's servo-off at its end
+  for (const Row& r : rows)
+    if (r.on == 29) t_off = r.t;
+  ASSERT_GT(t_off, 3.0) << "servos on for too short a time";
+  // the last second before the driver's stop sequence: half-sitting, upright
+  int checked = 0;
+  double z_lo = 1, z_hi = 0, tilt_max = 0;
+  for (const Row& r : rows) {
+    if (r.t < t_off - 1.2 || r.t > t_off - 0.3) continue;
+    ++checked;
+    z_lo = std::fmin(z_lo, r.z);
+    z_hi = std::fmax(z_hi, r.z);
+    tilt_max = std::fmax(tilt_max, r.tilt);
+  }
+  ASSERT_GT(checked, 50);
+  EXPECT_NEAR(z_lo, kHalfSitHeight, 0.02);
+  EXPECT_NEAR(z_hi, kHalfSitHeight, 0.02);
+  EXPECT_LT(tilt_max, 5.0);
+  std::printf("[ figures  ] end to end: servos on until robot time %.2f s; base z %.4f..%.4f m "
+              "(half-sitting %.4f), tilt max %.2f deg in [%.2f, %.2f] s\n",
+              t_off, z_lo, z_hi, kHalfSitHeight, tilt_max, t_off - 1.2, t_off - 0.3);
+  std::printf("%s", Read(Path("driver.out")).c_str());
+}
+
+}  // namespace
+}  // namespace ohrp::hw::udp
