@@ -357,6 +357,32 @@ TEST_F(EmulatorTest, TheControlFileInjectsFaultsWhileRunning) {
   EXPECT_NE(Stderr().find("control 'estop on'"), std::string::npos);
 }
 
+TEST_F(EmulatorTest, LatePacketsAreStaleAndSaturatedSensorsFlagged) {
+  const int port = Start({"--duration", "1.0", "--late", "0.05", "--late-ms", "3", "--saturate",
+                          "ft1@0.3"});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=1000"});
+  bool saturated = false;
+  ASSERT_EQ(Drive([&](const IoState& s, IoCommand*) {
+              if (s.faults & io_fault::kSensorSaturated) {
+                saturated = true;
+                EXPECT_EQ(std::fabs(s.force[1].force[2]), 2000.0);
+                EXPECT_EQ(std::fabs(s.force[1].torque[0]), 300.0);
+              }
+            }),
+            0)
+      << Stderr();
+  EXPECT_TRUE(saturated);
+  auto r = Result();
+  uint64_t stale = 0;
+  for (int b = 0; b < io_.stats().nboards; ++b) stale += io_.stats().board[b].stale;
+  // a late packet arrives after newer ones: a gap first, then refused as stale
+  EXPECT_GT(r["late"], 100);
+  EXPECT_GE(static_cast<double>(stale), r["late"] - 12);
+  EXPECT_LE(static_cast<double>(stale), r["late"]);
+  EXPECT_GE(static_cast<double>(io_.stats().lost_total()), static_cast<double>(stale));
+}
+
 TEST_F(EmulatorTest, BadOptionsAreRefusedWithAMessage) {
   Spawn({"--model", "/nonexistent.xml"});
   EXPECT_EQ(Wait(), 2);
