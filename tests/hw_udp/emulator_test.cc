@@ -261,16 +261,19 @@ TEST_F(EmulatorTest, InjectedLossIsCountedOnBothSides) {
   EXPECT_GT(dropped, 0.005 * (sent + dropped));
   EXPECT_LT(dropped, 0.02 * (sent + dropped));
   // every injected loss is counted but those before a board's first or after its last packet
-  // (at most 2 per board); more only if the loaded machine let the socket buffer overflow
+  // (at most 2 per board); more only where this machine lost packets itself (a full receive
+  // buffer while the test was not scheduled, or a refused send)
+  const double local = static_cast<double>(io_.stats().kernel_dropped) + r["send_failed"];
   EXPECT_GE(counted, dropped - 12);
-  EXPECT_LE(counted, dropped + 0.02 * sent);
+  EXPECT_LE(counted, dropped + local);
   // the boards count the commands lost on the way to them the same way
   EXPECT_GE(r["commands_lost"], r["commands_dropped"] - 10);
   EXPECT_LE(r["commands_lost"], r["commands_dropped"] + 10);
   EXPECT_GT(r["base_z_end"], 0.70);
   std::printf("[ figures  ] 1%% loss: %.0f state packets, %.0f dropped by the emulator, %.0f "
-              "counted lost by the plugin; commands: %.0f dropped, %.0f counted by the boards\n",
-              sent + dropped, dropped, counted, r["commands_dropped"], r["commands_lost"]);
+              "counted lost by the plugin (%.0f lost on this machine); commands: %.0f dropped, "
+              "%.0f counted by the boards\n",
+              sent + dropped, dropped, counted, local, r["commands_dropped"], r["commands_lost"]);
 }
 
 TEST_F(EmulatorTest, ASilentBoardIsMarkedWhileTheOthersGoOn) {

@@ -276,6 +276,32 @@ TEST_F(UdpIoTest, CountsInjectedLossAndCorruptionExactly) {
               static_cast<unsigned long long>(io_.stats().corrupted));
 }
 
+TEST_F(UdpIoTest, LossOnThisMachineIsToldApart) {
+  // a flood the receive buffer cannot hold while nobody reads: the kernel drops the overflow
+  Open({"timeout_ms=5000"});
+  constexpr int kFlood = 5000;
+  for (int seq = 1; seq <= kFlood; ++seq) boards_.SendMotor(0, seq, 0);
+  IoState s;
+  uint64_t received = 0;
+  auto quiet_since = Clock::now();
+  while (Clock::now() - quiet_since < std::chrono::milliseconds(100)) {  // drain what was kept
+    io_.read(&s);
+    if (io_.stats().board[0].received != received) {
+      received = io_.stats().board[0].received;
+      quiet_since = Clock::now();
+    }
+  }
+  ASSERT_GT(received, 0u);
+  boards_.SendMotor(0, kFlood + 1, 0);  // the next packet shows the gap
+  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().board[0].received == received + 1; }));
+  const BoardStats& b = io_.stats().board[0];
+  EXPECT_EQ(b.lost, io_.stats().kernel_dropped);
+  EXPECT_EQ(b.lost + b.received, static_cast<uint64_t>(kFlood + 1));
+  std::printf("[ figures  ] flood of %d packets: %llu dropped by the kernel, %llu gaps counted\n",
+              kFlood, static_cast<unsigned long long>(io_.stats().kernel_dropped),
+              static_cast<unsigned long long>(b.lost));
+}
+
 TEST_F(UdpIoTest, StaleAndDuplicatePacketsAreIgnored) {
   Open({"timeout_ms=5000"});
   boards_.SendMotor(0, 5, 2.0);

@@ -127,7 +127,7 @@ class Emulator {
   FILE* log_ = nullptr;
   // run statistics
   uint64_t cycles_ = 0, overruns_ = 0, resyncs_ = 0, corrupted_ = 0, foreign_ = 0, late_sent_ = 0,
-           late_overflow_ = 0, refused_joints_ = 0;
+           late_overflow_ = 0, refused_joints_ = 0, send_failed_ = 0;
   double z0_ = 0, z_min_ = 1e9, tilt_max_ = 0;
 };
 
@@ -362,14 +362,14 @@ void Emulator::Send(const uint8_t* data, size_t n, double now, bool may_be_late)
     }
     ++late_overflow_;  // the queue is full: sent on time
   }
-  socket_.SendTo(peer_, data, n);
+  if (!socket_.SendTo(peer_, data, n)) ++send_failed_;
 }
 
 void Emulator::FlushLate(double now) {
   if (late_count_ == 0) return;
   for (LatePacket& l : late_) {
     if (l.size == 0 || l.due > now) continue;
-    if (have_peer_) socket_.SendTo(peer_, l.data, l.size);
+    if (have_peer_ && !socket_.SendTo(peer_, l.data, l.size)) ++send_failed_;
     l.size = 0;
     --late_count_;
     ++late_sent_;
@@ -515,12 +515,14 @@ void Emulator::Report(double wall, int exit_code) {
                "hw_emulator: result exit=%d time=%.4f base_z_start=%.5f base_z_end=%.5f "
                "base_z_min=%.5f tilt_max_deg=%.3f commands=%llu commands_lost=%llu "
                "commands_dropped=%llu states_sent=%llu states_dropped=%llu late=%llu "
-               "overruns=%llu\n",
+               "send_failed=%llu overruns=%llu\n",
                exit_code, d_->time, z0_, BaseZ(), z_min_ > 1e8 ? BaseZ() : z_min_, tilt_max_,
                static_cast<unsigned long long>(cmds), static_cast<unsigned long long>(cmd_lost),
                static_cast<unsigned long long>(cmd_dropped),
                static_cast<unsigned long long>(sent), static_cast<unsigned long long>(dropped),
-               static_cast<unsigned long long>(late_sent_), static_cast<unsigned long long>(overruns_));
+               static_cast<unsigned long long>(late_sent_),
+               static_cast<unsigned long long>(send_failed_),
+               static_cast<unsigned long long>(overruns_));
 }
 
 //---------------- the loop ----------------

@@ -43,6 +43,8 @@ bool UdpSocket::Open(const std::string& host, int port, std::string* error) {
   int size = kSocketBuffer;
   setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &size, sizeof(size));
   setsockopt(fd_, SOL_SOCKET, SO_SNDBUF, &size, sizeof(size));
+  const int on = 1;
+  setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));  // best effort: counts if it can
   if (bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0) {
     *error = "cannot bind UDP " + host + ":" + std::to_string(port) + ": " + std::strerror(errno) +
              (errno == EADDRINUSE ? " (another program uses this port: pick another one)" : "");
@@ -70,12 +72,24 @@ bool UdpSocket::SendTo(const sockaddr_in& to, const uint8_t* data, size_t n) {
 long UdpSocket::Receive(uint8_t* buf, size_t cap, sockaddr_in* from) {
   for (;;) {
     sockaddr_in src{};
-    socklen_t len = sizeof(src);
-    const ssize_t r = recvfrom(fd_, buf, cap, MSG_TRUNC, reinterpret_cast<sockaddr*>(&src), &len);
+    iovec iov{buf, cap};
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(uint32_t))];
+    msghdr msg{};
+    msg.msg_name = &src;
+    msg.msg_namelen = sizeof(src);
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    msg.msg_control = control;
+    msg.msg_controllen = sizeof(control);
+    const ssize_t r = recvmsg(fd_, &msg, 0);
     if (r >= 0) {
       if (from) *from = src;
+      for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL)
+          std::memcpy(&kernel_drops_, CMSG_DATA(c), sizeof(kernel_drops_));
+      }
       // a datagram larger than the buffer is not one of ours: report it as 1 byte (too short)
-      return static_cast<size_t>(r) > cap ? 1 : static_cast<long>(r);
+      return (msg.msg_flags & MSG_TRUNC) ? 1 : static_cast<long>(r);
     }
     if (errno == EINTR) continue;
     if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;

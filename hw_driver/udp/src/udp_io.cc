@@ -167,13 +167,15 @@ void UdpIo::close() noexcept {
   }
   std::fprintf(stderr,
                "udp io: %d boards, received %llu, lost %llu, corrupted %llu, stale %llu, "
-               "silent events %llu, send failures %llu; command->state round trip p50 %.3f ms, "
+               "silent events %llu, send failures %llu, dropped by this machine %llu; "
+               "command->state round trip p50 %.3f ms, "
                "p99 %.3f ms, max %.3f ms (%llu samples)\n",
                s.nboards, static_cast<unsigned long long>(received),
                static_cast<unsigned long long>(s.lost_total()),
                static_cast<unsigned long long>(s.corrupted), static_cast<unsigned long long>(stale),
                static_cast<unsigned long long>(silent),
-               static_cast<unsigned long long>(s.send_failed), 1e3 * s.RttPercentile(0.5),
+               static_cast<unsigned long long>(s.send_failed),
+               static_cast<unsigned long long>(s.kernel_dropped), 1e3 * s.RttPercentile(0.5),
                1e3 * s.RttPercentile(0.99), 1e3 * s.rtt_max_s,
                static_cast<unsigned long long>(s.rtt_count));
 }
@@ -263,6 +265,8 @@ IoResult UdpIo::read(IoState* state) noexcept {
     }
     Handle(buf_, static_cast<size_t>(n), NowNs());
   }
+
+  stats_.kernel_dropped = socket_.kernel_drops();
 
   // the newest data of every board, and who is silent
   const int64_t now = NowNs();

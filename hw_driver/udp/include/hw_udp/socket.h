@@ -35,10 +35,14 @@ class UdpSocket {
   long Receive(uint8_t* buf, size_t cap, sockaddr_in* from);
   // Waits up to `timeout` [s] for a datagram to arrive (poll). Returns true when one is there.
   bool WaitReadable(double timeout);
+  // Datagrams the kernel dropped because this socket's receive buffer was full (SO_RXQ_OVFL),
+  // as of the last datagram received: loss on this machine, not on the network.
+  uint32_t kernel_drops() const { return kernel_drops_; }
 
  private:
   int fd_ = -1;
   int port_ = 0;
+  uint32_t kernel_drops_ = 0;
 };
 
 }  // namespace ohrp::hw::udp

@@ -52,6 +52,8 @@ struct UdpIoStats {
   uint64_t corrupted = 0;   // all undecodable datagrams (also those naming no valid board)
   uint64_t foreign = 0;     // datagrams from an unexpected address (ignored)
   uint64_t send_failed = 0;
+  uint64_t kernel_dropped = 0;  // datagrams this machine dropped (receive buffer full): they
+                                // count as lost too, but the network is not to blame
   uint64_t rtt_count = 0;   // command -> state acknowledging it, measured in read()
   double rtt_sum_s = 0, rtt_max_s = 0;
   std::array<uint32_t, kRttBins + 1> rtt_hist{};  // last bin: >= 20 ms
