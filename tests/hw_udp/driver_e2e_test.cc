@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::hw::udp {
@@ -93,85 +95,152 @@ class DriverEndToEnd : public ::testing::Test {
   std::string ShmPath() const { return "/dev/shm/" + shm::SegmentObjectName(segment_); }
   std::string Path(const char* f) const { return (dir_ / f).string(); }
 
+  // Runs the chain: hw_emulator with `emulator_args`, hw_driver (udp plugin, `driver_args`,
+  // generous timeouts so that a loaded machine does not trip the safe mode), then posture
+  // ramping to half-sitting in 1 s. Returns hw_driver's exit code; the emulator is stopped with
+  // SIGINT afterwards and its log read into rows_.
+  int RunChain(std::vector<std::string> emulator_args, std::vector<std::string> driver_args) {
+    std::vector<std::string> e = {kBin + "/hw_emulator", "--model", kScene, "--port", "0",
+                                  "--port-file", Path("port"), "--wait-driver", "60", "--log",
+                                  Path("emu.csv"), "--log-every", "10"};
+    e.insert(e.end(), emulator_args.begin(), emulator_args.end());
+    emulator_ = Exec(e, Path("emulator.out"));
+    int port = 0;
+    for (auto t0 = Clock::now(); port == 0 && Since(t0) < kMaxWall;) {
+      std::ifstream in(Path("port"));
+      if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      if (WaitExit(&emulator_, 0) != -1) {
+        ADD_FAILURE() << Read(Path("emulator.out"));
+        return -1;
+      }
+    }
+    if (port == 0) return -1;
+
+    std::vector<std::string> d = {
+        kBin + "/hw_driver", "--model", kScene, "--io", kBin + "/../lib/libohrp_io_udp.so",
+        "--io-arg", "port=" + std::to_string(port), "--segment", segment_, "--period", "0.002",
+        "--watchdog-cycles", "100", "--rt-priority", "0", "--no-mlock", "--summary",
+        Path("driver.json")};
+    d.insert(d.end(), driver_args.begin(), driver_args.end());
+    driver_ = Exec(d, Path("driver.out"));
+    bool segment = false;
+    for (auto t0 = Clock::now(); !segment && Since(t0) < kMaxWall;) {
+      std::error_code ec;
+      segment = fs::file_size(ShmPath(), ec) == sizeof(shm::Segment) && !ec;
+      if (!segment) {
+        if (WaitExit(&driver_, 0) != -1) {
+          ADD_FAILURE() << Read(Path("driver.out"));
+          return -1;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+    }
+    if (!segment) return -1;
+
+    // the controller, as against sim_host
+    posture_ = Exec({kBin + "/posture", "--segment", segment_, "--ramp", "1.0"}, Path("posture.out"));
+    const int code = WaitExit(&driver_, kMaxWall);
+    WaitExit(&posture_, kMaxWall);
+    kill(emulator_, SIGINT);
+    EXPECT_EQ(WaitExit(&emulator_, kMaxWall), 130) << Read(Path("emulator.out"));
+
+    // the emulator's log: time, base_z, tilt_deg, servos_on, ...
+    std::ifstream log(Path("emu.csv"));
+    std::string line;
+    std::getline(log, line);
+    while (std::getline(log, line)) {
+      Row r{};
+      if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%d", &r.t, &r.z, &r.tilt, &r.on) == 4)
+        rows_.push_back(r);
+    }
+    summary_ = nlohmann::json::parse(Read(Path("driver.json")), nullptr, false);
+    return code;
+  }
+
+  // the robot stood half-sitting, upright, in the second before `t_end` - 0.3 s (robot time)
+  void ExpectStanding(double t_end, const char* what) {
+    int checked = 0;
+    double z_lo = 1, z_hi = 0, tilt_max = 0;
+    for (const Row& r : rows_) {
+      if (r.t < t_end - 1.2 || r.t > t_end - 0.3) continue;
+      ++checked;
+      z_lo = std::fmin(z_lo, r.z);
+      z_hi = std::fmax(z_hi, r.z);
+      tilt_max = std::fmax(tilt_max, r.tilt);
+    }
+    ASSERT_GT(checked, 50);
+    EXPECT_NEAR(z_lo, kHalfSitHeight, 0.02);
+    EXPECT_NEAR(z_hi, kHalfSitHeight, 0.02);
+    EXPECT_LT(tilt_max, 5.0);
+    std::printf("[ figures  ] %s: base z %.4f..%.4f m (half-sitting %.4f), tilt max %.2f deg in "
+                "[%.2f, %.2f] s of robot time\n",
+                what, z_lo, z_hi, kHalfSitHeight, tilt_max, t_end - 1.2, t_end - 0.3);
+  }
+  // the last robot time at which all 29 servos were on
+  double ServosOnUntil() const {
+    double t = 0;
+    for (const Row& r : rows_)
+      if (r.on == 29) t = r.t;
+    return t;
+  }
+
+  struct Row {
+    double t, z, tilt;
+    int on;
+  };
+  std::vector<Row> rows_;
+  nlohmann::json summary_;
   std::string segment_;
   fs::path dir_;
   pid_t emulator_ = -1, driver_ = -1, posture_ = -1;
 };
 
 TEST_F(DriverEndToEnd, PostureThroughHwDriverAndUdpKeepsTheEmulatedRobotStanding) {
-  // the boards
-  emulator_ = Exec({kBin + "/hw_emulator", "--model", kScene, "--port", "0", "--port-file",
-                    Path("port"), "--wait-driver", "60", "--log", Path("emu.csv"), "--log-every", "10"},
-                   Path("emulator.out"));
-  int port = 0;
-  for (auto t0 = Clock::now(); port == 0 && Since(t0) < kMaxWall;) {
-    std::ifstream in(Path("port"));
-    if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    ASSERT_EQ(WaitExit(&emulator_, 0), -1) << Read(Path("emulator.out"));
-  }
-  ASSERT_GT(port, 0);
-
-  // the driver: generous timeouts, a loaded machine must not trip the safe mode
-  driver_ = Exec({kBin + "/hw_driver", "--model", kScene, "--io", kBin + "/../lib/libohrp_io_udp.so",
-                  "--io-arg", "port=" + std::to_string(port), "--io-arg", "timeout_ms=100",
-                  "--segment", segment_, "--period", "0.002", "--duration", "5",
-                  "--board-timeout-cycles", "100", "--watchdog-cycles", "100",
-                  "--rt-priority", "0", "--no-mlock", "--summary", Path("driver.json")},
-                 Path("driver.out"));
-  bool segment = false;
-  for (auto t0 = Clock::now(); !segment && Since(t0) < kMaxWall;) {
-    std::error_code ec;
-    segment = fs::file_size(ShmPath(), ec) == sizeof(shm::Segment) && !ec;
-    if (!segment) {
-      ASSERT_EQ(WaitExit(&driver_, 0), -1) << Read(Path("driver.out"));
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-  }
-  ASSERT_TRUE(segment) << Read(Path("driver.out"));
-
-  // the controller, as against sim_host
-  posture_ = Exec({kBin + "/posture", "--segment", segment_, "--ramp", "1.0"}, Path("posture.out"));
-  ASSERT_EQ(WaitExit(&driver_, kMaxWall), 0) << Read(Path("driver.out"));
-  EXPECT_EQ(WaitExit(&posture_, kMaxWall), 0) << Read(Path("posture.out"));
-  kill(emulator_, SIGINT);
-  ASSERT_EQ(WaitExit(&emulator_, kMaxWall), 130) << Read(Path("emulator.out"));
-
-  // the emulator's log: time, base_z, tilt_deg, servos_on, ...
-  std::ifstream log(Path("emu.csv"));
-  std::string line;
-  std::getline(log, line);
-  struct Row {
-    double t, z, tilt;
-    int on;
-  };
-  std::vector<Row> rows;
-  while (std::getline(log, line)) {
-    Row r{};
-    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%d", &r.t, &r.z, &r.tilt, &r.on) == 4) rows.push_back(r);
-  }
-  ASSERT_GT(rows.size(), 100u);
-  double t_off = 0;  // the driver's servo-off at its end
-  for (const Row& r : rows)
-    if (r.on == 29) t_off = r.t;
+  ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", "timeout_ms=100",
+                          "--board-timeout-cycles", "100"}),
+            0)
+      << Read(Path("driver.out"));
+  ASSERT_GT(rows_.size(), 100u);
+  const double t_off = ServosOnUntil();  // the driver's servo-off at its end
   ASSERT_GT(t_off, 3.0) << "servos on for too short a time";
-  // the last second before the driver's stop sequence: half-sitting, upright
-  int checked = 0;
-  double z_lo = 1, z_hi = 0, tilt_max = 0;
-  for (const Row& r : rows) {
-    if (r.t < t_off - 1.2 || r.t > t_off - 0.3) continue;
-    ++checked;
-    z_lo = std::fmin(z_lo, r.z);
-    z_hi = std::fmax(z_hi, r.z);
-    tilt_max = std::fmax(tilt_max, r.tilt);
-  }
-  ASSERT_GT(checked, 50);
-  EXPECT_NEAR(z_lo, kHalfSitHeight, 0.02);
-  EXPECT_NEAR(z_hi, kHalfSitHeight, 0.02);
-  EXPECT_LT(tilt_max, 5.0);
-  std::printf("[ figures  ] end to end: servos on until robot time %.2f s; base z %.4f..%.4f m "
-              "(half-sitting %.4f), tilt max %.2f deg in [%.2f, %.2f] s\n",
-              t_off, z_lo, z_hi, kHalfSitHeight, tilt_max, t_off - 1.2, t_off - 0.3);
+  ExpectStanding(t_off, "end to end");
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["packets_lost"], 0);
+  EXPECT_EQ(summary_["safe_mode"], false);
   std::printf("%s", Read(Path("driver.out")).c_str());
+}
+
+TEST_F(DriverEndToEnd, OnePercentLossIsSurvivedAndCounted) {
+  ASSERT_EQ(RunChain({"--loss", "0.01", "--seed", "3"},
+                     {"--duration", "4", "--io-arg", "timeout_ms=100",
+                      "--board-timeout-cycles", "100"}),
+            0)
+      << Read(Path("driver.out"));
+  ExpectStanding(ServosOnUntil(), "1% loss");
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["safe_mode"], false);
+  // 6 boards x ~1 kHz x ~4 s, 1 % lost
+  const double lost = summary_["packets_lost"].get<double>();
+  EXPECT_GT(lost, 100);
+  EXPECT_LT(lost, 600);
+  std::printf("[ figures  ] 1%% loss end to end: the driver counted %.0f packets lost\n", lost);
+}
+
+TEST_F(DriverEndToEnd, ASilentBoardTripsTheDriversSafeMode) {
+  // board 2 (left leg) falls silent at robot time 3 s; the plugin marks it after 100 ms, the
+  // driver enters safe mode after 20 cycles of silence (40 ms) and ends with exit 6
+  const int code = RunChain({"--silent", "2@3.0"},
+                            {"--duration", "6", "--io-arg", "timeout_ms=100",
+                             "--board-timeout-cycles", "20"});
+  ASSERT_EQ(code, 6) << Read(Path("driver.out"));
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["safe_mode"], true);
+  EXPECT_EQ(summary_["outcome"], "board_fault");
+  // the robot was standing before the board fell silent
+  ExpectStanding(3.0, "before the silent board");
+  bool silent_event = false;
+  for (const auto& e : summary_["events"]) silent_event |= e.dump().find("board_silent") != std::string::npos;
+  EXPECT_TRUE(silent_event) << summary_["events"].dump();
 }
 
 }  // namespace
