@@ -1,36 +1,17 @@
-// The hw_emulator loop (see emulator.h).
-#include "emulator.h"
-
+// The hw_emulator loop: set-up, real-time cycle, report (see emulator.h).
 #include <signal.h>
 #include <time.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <memory>
-#include <random>
 
-#include "faults.h"
-#include "hw_udp/protocol.h"
-#include "hw_udp/socket.h"
-#include "sim_host/model.h"
+#include "emulator_impl.h"
 #include "sim_host/sensors.h"
-#include "sim_host/servo.h"
 
 namespace ohrp::hw::udp {
 namespace {
-
-// sensor ranges: a saturated sensor reads these (with the sign of its true value)
-constexpr double kForceRange = 2000.0;   // [N]
-constexpr double kTorqueRange = 300.0;   // [N m]
-constexpr double kGyroRange = 8.0;       // [rad/s]
-constexpr double kAccelRange = 39.2;     // [m/s^2] (4 g)
-constexpr int kLateQueue = 512;          // state packets held back at most
-constexpr int kSensorResetCycles = 50;  // a restarted sensor board flags `reset` this long
-constexpr int kMaxReceive = 1024;        // datagrams handled per cycle at most
-constexpr double kMaxBehind = 0.1;       // further behind than this, real time starts again [s]
 
 std::atomic<int> g_signal{0};
 void OnSignal(int sig) { g_signal.store(sig); }
@@ -51,85 +32,9 @@ void SleepUntil(double t) {
   }
 }
 
-double Peg(double v, double range) { return v < 0 ? -range : range; }
+}  // namespace
 
-// one motor board as the emulator plays it
-struct MotorBoard {
-  int first = 0, count = 0;
-  SeqTracker rx;          // command numbering
-  uint32_t tx_seq = 0;    // state numbering
-  uint32_t ack = 0;       // seq of the last command applied
-  bool locked = false;    // after a reset or e-stop: servo-on refused until an all-off command
-  bool reset_flag = false;  // locked by a reset (reported as board_flag::kReset)
-  bool joint_fault = false;
-  uint64_t commands = 0, commands_dropped = 0, states_sent = 0, states_dropped = 0, resets = 0;
-};
-
-struct LatePacket {
-  double due = 0;
-  size_t size = 0;
-  uint8_t data[kMaxPacketSize];
-};
-
-// Everything the loop touches, allocated once at set-up.
-class Emulator {
- public:
-  explicit Emulator(const EmulatorOptions& o) : o_(o), rng_(o.seed) {}
-  int Run();
-
- private:
-  bool SetUp(int* exit_code);
-  void Receive();
-  void ApplyCommand(const CommandPacket& p);
-  void ResetBoard(int b);
-  void EstopChanged();
-  void SendStates(double now);
-  void Send(const uint8_t* data, size_t n, double now, bool may_be_late);
-  void FlushLate(double now);
-  void PollControl();
-  void Log();
-  void Report(double wall, int exit_code);
-  bool Drop() { return faults_.loss > 0 && uniform_(rng_) < faults_.loss; }
-  double BaseZ() const { return robot_.base_qpos >= 0 ? d_->qpos[robot_.base_qpos + 2] : 0; }
-  double BaseTiltDeg() const;
-
-  const EmulatorOptions& o_;
-  std::unique_ptr<sim::Scene> scene_;
-  mjModel* m_ = nullptr;
-  mjData* d_ = nullptr;
-  sim::RobotMap robot_;
-  std::unique_ptr<sim::Servo> servo_;
-  BoardLayout layout_;
-  std::vector<MotorBoard> motor_;
-  uint32_t sensor_tx_seq_ = 0;
-  int sensor_reset_cycles_ = 0;  // > 0: the sensor board restarted lately (reset flag)
-  uint64_t sensor_sent_ = 0, sensor_dropped_ = 0;
-  int steps_per_cycle_ = 1;
-  UdpSocket socket_;
-  sockaddr_in peer_{};
-  bool have_peer_ = false;
-  bool started_ = false;   // the first command arrived: robot time runs
-  bool estop_ = false;
-  bool servo_on_[shm::kMaxJoints] = {};  // per joint, what the motor boards report
-  shm::CommandBlock block_{};
-  shm::SensorBlock sensors_{};
-  shm::ForceTorque frozen_force_[shm::kMaxForceSensors] = {};
-  shm::Imu frozen_imu_[shm::kMaxImus] = {};
-  uint32_t frozen_ = 0;    // sensors whose frozen value is taken
-  FaultState faults_;
-  std::vector<FaultEvent> events_;
-  std::unique_ptr<ControlFile> control_;
-  std::vector<LatePacket> late_;
-  int late_count_ = 0;
-  std::mt19937_64 rng_;
-  std::uniform_real_distribution<double> uniform_{0.0, 1.0};
-  uint8_t buf_[kMaxPacketSize + 64];
-  FILE* log_ = nullptr;
-  // run statistics
-  uint64_t cycles_ = 0, overruns_ = 0, resyncs_ = 0, corrupted_ = 0, foreign_ = 0, late_sent_ = 0,
-           late_overflow_ = 0, refused_joints_ = 0, send_failed_ = 0;
-  double z0_ = 0, z_min_ = 1e9, tilt_max_ = 0;
-};
+namespace emu {
 
 double Emulator::BaseTiltDeg() const {
   if (robot_.base_qpos < 0) return 0;
@@ -245,222 +150,6 @@ bool Emulator::SetUp(int* exit_code) {
   }
   *exit_code = kEmuExitOk;
   return true;
-}
-
-//---------------- commands in ----------------
-
-void Emulator::Receive() {
-  for (int i = 0; i < kMaxReceive; ++i) {  // bounded: at most this many datagrams a cycle
-    sockaddr_in from;
-    const long n = socket_.Receive(buf_, kMaxPacketSize, &from);
-    if (n <= 0) return;
-    Header h;
-    if (DecodeHeader(buf_, static_cast<size_t>(n), &h) != DecodeError::kOk ||
-        h.board >= layout_.nboards()) {
-      ++corrupted_;
-      continue;
-    }
-    if (faults_.silent & (1u << h.board)) continue;  // a silent board hears nothing either
-    if (h.type == static_cast<uint8_t>(PacketType::kHello)) {
-      peer_ = from;
-      have_peer_ = true;
-      continue;
-    }
-    if (h.type != static_cast<uint8_t>(PacketType::kCommand) || h.board >= motor_.size()) {
-      ++corrupted_;
-      continue;
-    }
-    MotorBoard& b = motor_[h.board];
-    if (Drop()) {  // injected loss on the way to the board
-      ++b.commands_dropped;
-      continue;
-    }
-    CommandPacket p;
-    if (DecodeCommand(buf_, static_cast<size_t>(n), &p) != DecodeError::kOk ||
-        p.h.first != b.first || p.h.count != b.count) {
-      ++corrupted_;
-      continue;
-    }
-    peer_ = from;
-    have_peer_ = true;
-    if (!b.rx.Accept(p.h.seq, false)) continue;  // old or duplicate
-    ApplyCommand(p);
-  }
-}
-
-void Emulator::ApplyCommand(const CommandPacket& p) {
-  MotorBoard& b = motor_[p.h.board];
-  ++b.commands;
-  b.ack = p.h.seq;
-  bool any_on = false;
-  for (int k = 0; k < b.count; ++k) any_on |= p.joint[k].servo_on;
-  if (b.locked && !any_on && !estop_) {  // the driver turned every servo off: re-armed
-    b.locked = false;
-    b.reset_flag = false;
-  }
-  // the whole block: other boards' joints keep their references
-  for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
-  for (int k = 0; k < b.count; ++k) {
-    const bool on = p.joint[k].servo_on && !b.locked;
-    servo_on_[b.first + k] = on;
-    block_.joint[b.first + k] = on ? p.joint[k].cmd : shm::JointCommand{};
-  }
-  const int refused = servo_->Accept(block_);
-  refused_joints_ += refused;
-  b.joint_fault = refused > 0;
-  if (!started_) {
-    started_ = true;
-    if (!o_.quiet) std::fprintf(stderr, "hw_emulator: first command; robot time starts\n");
-  }
-}
-
-void Emulator::ResetBoard(int b) {
-  if (b >= static_cast<int>(motor_.size())) {  // the sensor board: its numbering starts again
-    sensor_tx_seq_ = 0;
-    sensor_reset_cycles_ = kSensorResetCycles;
-    return;
-  }
-  MotorBoard& mb = motor_[b];
-  for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
-  for (int k = 0; k < mb.count; ++k) {
-    block_.joint[mb.first + k] = shm::JointCommand{};
-    servo_on_[mb.first + k] = false;
-  }
-  servo_->Accept(block_);
-  mb.rx = SeqTracker{};
-  mb.tx_seq = 0;
-  mb.ack = 0;
-  mb.locked = true;
-  mb.reset_flag = true;
-  ++mb.resets;
-}
-
-void Emulator::EstopChanged() {
-  if (!estop_) return;  // released: the boards stay off until re-armed by an all-off command
-  for (int i = 0; i < block_.njoint; ++i) {
-    block_.joint[i] = shm::JointCommand{};
-    servo_on_[i] = false;
-  }
-  servo_->Accept(block_);
-  for (MotorBoard& b : motor_) b.locked = true;
-}
-
-//---------------- states out ----------------
-
-void Emulator::Send(const uint8_t* data, size_t n, double now, bool may_be_late) {
-  if (may_be_late && faults_.late_rate > 0 && uniform_(rng_) < faults_.late_rate) {
-    if (late_count_ < kLateQueue) {
-      for (LatePacket& l : late_) {
-        if (l.size == 0) {
-          l.due = now + faults_.late_s;
-          l.size = n;
-          std::memcpy(l.data, data, n);
-          ++late_count_;
-          return;
-        }
-      }
-    }
-    ++late_overflow_;  // the queue is full: sent on time
-  }
-  if (!socket_.SendTo(peer_, data, n)) ++send_failed_;
-}
-
-void Emulator::FlushLate(double now) {
-  if (late_count_ == 0) return;
-  for (LatePacket& l : late_) {
-    if (l.size == 0 || l.due > now) continue;
-    if (have_peer_ && !socket_.SendTo(peer_, l.data, l.size)) ++send_failed_;
-    l.size = 0;
-    --late_count_;
-    ++late_sent_;
-  }
-}
-
-void Emulator::SendStates(double now) {
-  const uint64_t t_ns = static_cast<uint64_t>(std::llround(d_->time * 1e9));
-  MotorStatePacket mp;
-  for (size_t bi = 0; bi < motor_.size(); ++bi) {
-    MotorBoard& b = motor_[bi];
-    const uint32_t seq = b.tx_seq++;
-    if (faults_.silent & (1u << bi)) continue;
-    mp.h = Header{};
-    mp.h.board = static_cast<uint8_t>(bi);
-    mp.h.first = static_cast<uint8_t>(b.first);
-    mp.h.count = static_cast<uint8_t>(b.count);
-    mp.h.seq = seq;
-    mp.h.ack = b.ack;
-    mp.h.time_ns = t_ns;
-    mp.h.flags = (b.reset_flag ? board_flag::kReset : 0) | (b.joint_fault ? board_flag::kJointFault : 0);
-    for (int k = 0; k < b.count; ++k) {
-      const int j = b.first + k;
-      mp.joint[k].servo_on = servo_on_[j];
-      mp.joint[k].fault = servo_->rejected_per_joint()[j] > 0 ? 1 : 0;
-      mp.joint[k].q = sensors_.q[j];
-      mp.joint[k].dq = sensors_.dq[j];
-      mp.joint[k].tau = sensors_.tau[j];
-    }
-    if (Drop()) {
-      ++b.states_dropped;
-      continue;
-    }
-    const size_t n = EncodeMotorState(mp, buf_);
-    Send(buf_, n, now, true);
-    ++b.states_sent;
-  }
-
-  // the sensor board, with its stuck and saturated sensors
-  const int sb = layout_.sensor_board();
-  const uint32_t seq = sensor_tx_seq_++;
-  if (faults_.silent & (1u << sb)) return;
-  SensorStatePacket sp{};
-  sp.h.board = static_cast<uint8_t>(sb);
-  sp.h.count = static_cast<uint8_t>(robot_.forces.size());
-  sp.h.first = static_cast<uint8_t>(robot_.imus.size());
-  sp.h.seq = seq;
-  sp.h.time_ns = t_ns;
-  for (int i = 0; i < sp.h.count; ++i) {
-    shm::ForceTorque f = sensors_.force[i];
-    if (faults_.stuck & (1u << i)) {
-      if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
-      frozen_ |= 1u << i;
-      f = frozen_force_[i];
-    } else {
-      frozen_ &= ~(1u << i);
-    }
-    if (faults_.saturated & (1u << i)) {
-      for (double& v : f.force) v = Peg(v, kForceRange);
-      for (double& v : f.torque) v = Peg(v, kTorqueRange);
-    }
-    sp.force[i] = f;
-  }
-  for (int i = 0; i < sp.h.first; ++i) {
-    const uint32_t bit = 1u << (8 + i);
-    shm::Imu u = sensors_.imu[i];
-    if (faults_.stuck & bit) {
-      if (!(frozen_ & bit)) frozen_imu_[i] = u;
-      frozen_ |= bit;
-      u = frozen_imu_[i];
-    } else {
-      frozen_ &= ~bit;
-    }
-    if (faults_.saturated & bit) {
-      for (double& v : u.gyro) v = Peg(v, kGyroRange);
-      for (double& v : u.accel) v = Peg(v, kAccelRange);
-    }
-    sp.imu[i] = u;
-  }
-  if (sensor_reset_cycles_ > 0) --sensor_reset_cycles_;
-  sp.h.flags = (sensor_reset_cycles_ > 0 ? board_flag::kReset : 0) |
-               (faults_.stuck ? board_flag::kSensorStuck : 0) |
-               (faults_.saturated ? board_flag::kSensorSaturated : 0) |
-               (faults_.estop ? board_flag::kEmergencyStop : 0);
-  if (Drop()) {
-    ++sensor_dropped_;
-    return;
-  }
-  const size_t n = EncodeSensorState(sp, buf_);
-  Send(buf_, n, now, true);
-  ++sensor_sent_;
 }
 
 //---------------- faults at run time, log, report ----------------
@@ -608,7 +297,7 @@ int Emulator::Run() {
   return exit_code;
 }
 
-}  // namespace
+}  // namespace emu
 
 int RunEmulator(const EmulatorOptions& options) {
   sim::InstallMujocoHandlers(OnFatal);
@@ -616,7 +305,7 @@ int RunEmulator(const EmulatorOptions& options) {
   sa.sa_handler = OnSignal;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-  Emulator e(options);
+  emu::Emulator e(options);
   return e.Run();
 }
 

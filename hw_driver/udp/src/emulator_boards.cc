@@ -1,0 +1,226 @@
+// hw_emulator's boards: command packets in, state packets out, through the injected faults
+// (see emulator.h, faults.h and PROTOCOL.md).
+#include <cstring>
+
+#include "emulator_impl.h"
+#include "sim_host/sensors.h"
+
+namespace ohrp::hw::udp::emu {
+
+//---------------- commands in ----------------
+
+void Emulator::Receive() {
+  for (int i = 0; i < kMaxReceive; ++i) {  // bounded: at most this many datagrams a cycle
+    sockaddr_in from;
+    const long n = socket_.Receive(buf_, kMaxPacketSize, &from);
+    if (n <= 0) return;
+    Header h;
+    if (DecodeHeader(buf_, static_cast<size_t>(n), &h) != DecodeError::kOk ||
+        h.board >= layout_.nboards()) {
+      ++corrupted_;
+      continue;
+    }
+    if (faults_.silent & (1u << h.board)) continue;  // a silent board hears nothing either
+    if (h.type == static_cast<uint8_t>(PacketType::kHello)) {
+      peer_ = from;
+      have_peer_ = true;
+      continue;
+    }
+    if (h.type != static_cast<uint8_t>(PacketType::kCommand) || h.board >= motor_.size()) {
+      ++corrupted_;
+      continue;
+    }
+    MotorBoard& b = motor_[h.board];
+    if (Drop()) {  // injected loss on the way to the board
+      ++b.commands_dropped;
+      continue;
+    }
+    CommandPacket p;
+    if (DecodeCommand(buf_, static_cast<size_t>(n), &p) != DecodeError::kOk ||
+        p.h.first != b.first || p.h.count != b.count) {
+      ++corrupted_;
+      continue;
+    }
+    peer_ = from;
+    have_peer_ = true;
+    if (!b.rx.Accept(p.h.seq, false)) continue;  // old or duplicate
+    ApplyCommand(p);
+  }
+}
+
+void Emulator::ApplyCommand(const CommandPacket& p) {
+  MotorBoard& b = motor_[p.h.board];
+  ++b.commands;
+  b.ack = p.h.seq;
+  bool any_on = false;
+  for (int k = 0; k < b.count; ++k) any_on |= p.joint[k].servo_on;
+  if (b.locked && !any_on && !estop_) {  // the driver turned every servo off: re-armed
+    b.locked = false;
+    b.reset_flag = false;
+  }
+  // the whole block: other boards' joints keep their references
+  for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
+  for (int k = 0; k < b.count; ++k) {
+    const bool on = p.joint[k].servo_on && !b.locked;
+    servo_on_[b.first + k] = on;
+    block_.joint[b.first + k] = on ? p.joint[k].cmd : shm::JointCommand{};
+  }
+  const int refused = servo_->Accept(block_);
+  refused_joints_ += refused;
+  b.joint_fault = refused > 0;
+  if (!started_) {
+    started_ = true;
+    if (!o_.quiet) std::fprintf(stderr, "hw_emulator: first command; robot time starts\n");
+  }
+}
+
+void Emulator::ResetBoard(int b) {
+  if (b >= static_cast<int>(motor_.size())) {  // the sensor board: its numbering starts again
+    sensor_tx_seq_ = 0;
+    sensor_reset_cycles_ = kSensorResetCycles;
+    return;
+  }
+  MotorBoard& mb = motor_[b];
+  for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
+  for (int k = 0; k < mb.count; ++k) {
+    block_.joint[mb.first + k] = shm::JointCommand{};
+    servo_on_[mb.first + k] = false;
+  }
+  servo_->Accept(block_);
+  mb.rx = SeqTracker{};
+  mb.tx_seq = 0;
+  mb.ack = 0;
+  mb.locked = true;
+  mb.reset_flag = true;
+  ++mb.resets;
+}
+
+void Emulator::EstopChanged() {
+  if (!estop_) return;  // released: the boards stay off until re-armed by an all-off command
+  for (int i = 0; i < block_.njoint; ++i) {
+    block_.joint[i] = shm::JointCommand{};
+    servo_on_[i] = false;
+  }
+  servo_->Accept(block_);
+  for (MotorBoard& b : motor_) b.locked = true;
+}
+
+//---------------- states out ----------------
+
+void Emulator::Send(const uint8_t* data, size_t n, double now, bool may_be_late) {
+  if (may_be_late && faults_.late_rate > 0 && uniform_(rng_) < faults_.late_rate) {
+    if (late_count_ < kLateQueue) {
+      for (LatePacket& l : late_) {
+        if (l.size == 0) {
+          l.due = now + faults_.late_s;
+          l.size = n;
+          std::memcpy(l.data, data, n);
+          ++late_count_;
+          return;
+        }
+      }
+    }
+    ++late_overflow_;  // the queue is full: sent on time
+  }
+  if (!socket_.SendTo(peer_, data, n)) ++send_failed_;
+}
+
+void Emulator::FlushLate(double now) {
+  if (late_count_ == 0) return;
+  for (LatePacket& l : late_) {
+    if (l.size == 0 || l.due > now) continue;
+    if (have_peer_ && !socket_.SendTo(peer_, l.data, l.size)) ++send_failed_;
+    l.size = 0;
+    --late_count_;
+    ++late_sent_;
+  }
+}
+
+void Emulator::SendStates(double now) {
+  const uint64_t t_ns = static_cast<uint64_t>(std::llround(d_->time * 1e9));
+  MotorStatePacket mp;
+  for (size_t bi = 0; bi < motor_.size(); ++bi) {
+    MotorBoard& b = motor_[bi];
+    const uint32_t seq = b.tx_seq++;
+    if (faults_.silent & (1u << bi)) continue;
+    mp.h = Header{};
+    mp.h.board = static_cast<uint8_t>(bi);
+    mp.h.first = static_cast<uint8_t>(b.first);
+    mp.h.count = static_cast<uint8_t>(b.count);
+    mp.h.seq = seq;
+    mp.h.ack = b.ack;
+    mp.h.time_ns = t_ns;
+    mp.h.flags = (b.reset_flag ? board_flag::kReset : 0) | (b.joint_fault ? board_flag::kJointFault : 0);
+    for (int k = 0; k < b.count; ++k) {
+      const int j = b.first + k;
+      mp.joint[k].servo_on = servo_on_[j];
+      mp.joint[k].fault = servo_->rejected_per_joint()[j] > 0 ? 1 : 0;
+      mp.joint[k].q = sensors_.q[j];
+      mp.joint[k].dq = sensors_.dq[j];
+      mp.joint[k].tau = sensors_.tau[j];
+    }
+    if (Drop()) {
+      ++b.states_dropped;
+      continue;
+    }
+    const size_t n = EncodeMotorState(mp, buf_);
+    Send(buf_, n, now, true);
+    ++b.states_sent;
+  }
+
+  // the sensor board, with its stuck and saturated sensors
+  const int sb = layout_.sensor_board();
+  const uint32_t seq = sensor_tx_seq_++;
+  if (faults_.silent & (1u << sb)) return;
+  SensorStatePacket sp{};
+  sp.h.board = static_cast<uint8_t>(sb);
+  sp.h.count = static_cast<uint8_t>(robot_.forces.size());
+  sp.h.first = static_cast<uint8_t>(robot_.imus.size());
+  sp.h.seq = seq;
+  sp.h.time_ns = t_ns;
+  for (int i = 0; i < sp.h.count; ++i) {
+    shm::ForceTorque f = sensors_.force[i];
+    if (faults_.stuck & (1u << i)) {
+      if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
+      frozen_ |= 1u << i;
+      f = frozen_force_[i];
+    } else {
+      frozen_ &= ~(1u << i);
+    }
+    if (faults_.saturated & (1u << i)) {
+      for (double& v : f.force) v = Peg(v, kForceRange);
+      for (double& v : f.torque) v = Peg(v, kTorqueRange);
+    }
+    sp.force[i] = f;
+  }
+  for (int i = 0; i < sp.h.first; ++i) {
+    const uint32_t bit = 1u << (8 + i);
+    shm::Imu u = sensors_.imu[i];
+    if (faults_.stuck & bit) {
+      if (!(frozen_ & bit)) frozen_imu_[i] = u;
+      frozen_ |= bit;
+      u = frozen_imu_[i];
+    } else {
+      frozen_ &= ~bit;
+    }
+    if (faults_.saturated & bit) {
+      for (double& v : u.gyro) v = Peg(v, kGyroRange);
+      for (double& v : u.accel) v = Peg(v, kAccelRange);
+    }
+    sp.imu[i] = u;
+  }
+  if (sensor_reset_cycles_ > 0) --sensor_reset_cycles_;
+  sp.h.flags = (sensor_reset_cycles_ > 0 ? board_flag::kReset : 0) |
+               (faults_.stuck ? board_flag::kSensorStuck : 0) |
+               (faults_.saturated ? board_flag::kSensorSaturated : 0) |
+               (faults_.estop ? board_flag::kEmergencyStop : 0);
+  if (Drop()) {
+    ++sensor_dropped_;
+    return;
+  }
+  const size_t n = EncodeSensorState(sp, buf_);
+  Send(buf_, n, now, true);
+  ++sensor_sent_;
+}
+
+}  // namespace ohrp::hw::udp::emu
