@@ -184,7 +184,8 @@ void Emulator::Report(double wall, int exit_code) {
     dropped += b.states_dropped;
     resets += b.resets;
   }
-  std::fprintf(stderr,
+  if (!o_.quiet)
+    std::fprintf(stderr,
                "hw_emulator: robot time %.3f s in %.3f s wall, %llu cycles, %llu overruns, %llu "
                "resyncs; base height %.4f m at start, %.4f m at end, %.4f m lowest; tilt %.2f deg "
                "at most\n"
