@@ -485,6 +485,27 @@ TEST_F(HwDriverProcess, LatenessIsReadableWhileItRunsFromTheStatsFileAndSigusr1)
   EXPECT_EQ(nlohmann::json::parse(Read("stats.json"))["outcome"], "interrupted");
 }
 
+//---------------- real-time set-up refused ----------------
+
+TEST_F(HwDriverProcess, WithoutRealTimePermissionsItWarnsOnceAndRuns) {
+  if (!fs::exists("/usr/bin/setpriv")) GTEST_SKIP() << "no setpriv";
+  // the capabilities that permit SCHED_FIFO and mlockall dropped for the driver
+  pid_ = Exec({"/usr/bin/setpriv", "--inh-caps=-all", "--bounding-set=-sys_nice,-ipc_lock", "--",
+               std::string(OHRP_BIN_DIR) + "/hw_driver", "--model", model_, "--segment", segment_,
+               "--io", FAKE_IO_PATH, "--duration", "0.2", "--quiet"},
+              Path("driver.stderr"));
+  const int code = Wait();
+  const std::string e = Stderr();
+  if (e.find("hw_driver") == std::string::npos && code != 0) {
+    GTEST_SKIP() << "setpriv could not drop the capabilities here: " << e;
+  }
+  EXPECT_EQ(code, 0) << e;
+  if (geteuid() == 0 || e.find("warning") != std::string::npos) {
+    EXPECT_NE(e.find("warning: SCHED_FIFO 80 refused"), std::string::npos) << e;
+  }
+  EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
 //---------------- the segment is removed on every exit path ----------------
 
 TEST_F(HwDriverProcess, NormalEndRemovesTheSegment) {
