@@ -195,6 +195,55 @@ class DriverEndToEnd : public ::testing::Test {
   pid_t emulator_ = -1, driver_ = -1, posture_ = -1;
 };
 
+// FNV-1a (64 bit) of a file's bytes: the identity of a program file
+uint64_t FileHash(const std::string& path) {
+  const std::string bytes = Read(path);
+  return shm::Fnv1a64(bytes.data(), bytes.size());
+}
+
+// The paper's claim (section 3.1): the binary developed on the simulator runs on the robot as
+// is. The same posture file, byte for byte, stands the robot on sim_host and, through
+// hw_driver and the udp plugin, on the emulated boards.
+TEST_F(DriverEndToEnd, TheSamePostureFileStandsTheRobotOnSimHostAndOnTheDriver) {
+  const std::string posture = kBin + "/posture";
+  const uint64_t hash_before = FileHash(posture);
+  ASSERT_GT(Read(posture).size(), 1000u);
+
+  // 1. against sim_host (lock-step), its own log says where the base is
+  const std::string sim_log = Path("sim.csv");
+  pid_t sim = Exec({kBin + "/sim_host", "--scene", kScene, "--segment", segment_, "--duration",
+                    "4", "--log", sim_log, "--progress", "0"},
+                   Path("sim.out"));
+  bool segment = false;
+  for (auto t0 = Clock::now(); !segment && Since(t0) < kMaxWall;) {
+    segment = fs::exists(ShmPath());
+    if (!segment) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(segment) << Read(Path("sim.out"));
+  posture_ = Exec({posture, "--segment", segment_, "--ramp", "1.0"}, Path("posture_sim.out"));
+  ASSERT_EQ(WaitExit(&sim, kMaxWall), 0) << Read(Path("sim.out"));
+  ASSERT_EQ(WaitExit(&posture_, kMaxWall), 0) << Read(Path("posture_sim.out"));
+  std::ifstream log(sim_log);
+  std::string header, line, last;
+  std::getline(log, header);
+  while (std::getline(log, line)) last = line;
+  double t = 0, x = 0, y = 0, z = 0;
+  ASSERT_EQ(std::sscanf(last.c_str(), "%lf,%lf,%lf,%lf", &t, &x, &y, &z), 4);
+  EXPECT_NEAR(z, kHalfSitHeight, 0.02) << "on sim_host";
+
+  // 2. the same file against hw_driver + udp + hw_emulator
+  ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", "timeout_ms=100",
+                          "--board-timeout-cycles", "100"}),
+            0)
+      << Read(Path("driver.out"));
+  ExpectStanding(ServosOnUntil(), "same posture file on the driver");
+
+  // 3. it was the same program both times
+  EXPECT_EQ(FileHash(posture), hash_before);
+  std::printf("[ figures  ] posture file hash %016llx: sim_host base z %.4f m, driver chain above\n",
+              static_cast<unsigned long long>(hash_before), z);
+}
+
 TEST_F(DriverEndToEnd, PostureThroughHwDriverAndUdpKeepsTheEmulatedRobotStanding) {
   ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", "timeout_ms=100",
                           "--board-timeout-cycles", "100"}),
