@@ -5,7 +5,7 @@ ForceSensor / Gyro / AccelerationSensor / VisionSensor) into a MuJoCo 2.2.2 MJCF
 How to run (from the repository root, Python 3 standard library only):
 
     python3 tools/scripts/vrml2mjcf.py \
-        /work/shared/external/openhrp3-sample/sample1.wrl \
+        ../shared/external/openhrp3-sample/sample1.wrl \
         -o mjcf/hrp1s/hrp1s.xml --source-label openhrp3-sample/sample1.wrl
 
     (the default output is stdout; the diagnostics go to stderr)
