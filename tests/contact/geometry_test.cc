@@ -172,14 +172,15 @@ TEST(ContactGeometry, EachPointTakesTheSmallestPenetrationOfItsNeighbourhood) {
   }
   // A wall (a tall box) whose face is 5 mm inside the last column of points, whose bottom is
   // 19 mm below them: the side face is the nearest one, the push is sideways.
-  ContactGeometry wall({EnvObject::Box("wall", Eigen::Isometry3d(Eigen::Translation3d(0.595, 0, 0.5)),
+  // (the last column lies on the sole's edge, x = 0.125: the face at x = 0.12)
+  ContactGeometry wall({EnvObject::Box("wall", Eigen::Isometry3d(Eigen::Translation3d(0.62, 0, 0.5)),
                                        Eigen::Vector3d(0.5, 0.5, 0.5))},
                        0.01);
   wall.Find(sole, grid, &pts);
   ASSERT_FALSE(pts.empty());
   for (const PointContact& c : pts) {
     EXPECT_NEAR(c.normal.x(), -1.0, 1e-12);
-    EXPECT_NEAR(c.depth, c.pos.x() - 0.095, 1e-12);
+    EXPECT_NEAR(c.depth, c.pos.x() - 0.12, 1e-12);
   }
 }
 

@@ -203,16 +203,34 @@ double HeightFieldDistance(const EnvObject& o, const Eigen::Vector3d& x, Eigen::
 
 }  // namespace
 
+namespace {
+
+// n points from -h to h, the first and last on the edges, with trapezoid-rule weights summing
+// to 1 (a single point sits in the middle with all the weight)
+void AxisNodes(double h, int n, std::vector<double>* at, std::vector<double>* weight) {
+  at->assign(n, 0.0);
+  weight->assign(n, 1.0);
+  if (n < 2) return;
+  for (int i = 0; i < n; ++i) {
+    (*at)[i] = -h + i * 2 * h / (n - 1);
+    (*weight)[i] = (i == 0 || i == n - 1 ? 0.5 : 1.0) / (n - 1);
+  }
+}
+
+}  // namespace
+
 std::vector<SamplePoint> MakeGrid(const Eigen::Vector3d& half, int nx, int ny) {
+  std::vector<double> ux, wx, vy, wy;
+  AxisNodes(half.x(), nx, &ux, &wx);
+  AxisNodes(half.y(), ny, &vy, &wy);
   std::vector<SamplePoint> grid;
   grid.reserve(nx * ny);
-  const double w = 1.0 / (nx * ny);
   for (int i = 0; i < nx; ++i) {
     for (int j = 0; j < ny; ++j) {
       SamplePoint s;
-      s.u = -half.x() + (i + 0.5) * 2 * half.x() / nx;
-      s.v = -half.y() + (j + 0.5) * 2 * half.y() / ny;
-      s.weight = w;
+      s.u = ux[i];
+      s.v = vy[j];
+      s.weight = wx[i] * wy[j];
       grid.push_back(s);
     }
   }

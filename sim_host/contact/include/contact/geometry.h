@@ -95,7 +95,10 @@ struct SamplePoint {
   double weight = 0;    // fraction of the face's area, sums to 1
 };
 
-// Cell-centred grid of nx x ny points on the bottom face.
+// Grid of nx x ny points on the bottom face, the outer rows and columns on the face's edges
+// (so that the sampled support polygon is the sole's own), weighted by the trapezoid rule
+// (edge points carry half a cell, corners a quarter; the weights sum to 1). A single point
+// along an axis sits in the middle.
 std::vector<SamplePoint> MakeGrid(const Eigen::Vector3d& half, int nx, int ny);
 
 // One penetrating sample point: the paper's intersecting point with its reasonable constraint.

@@ -19,8 +19,9 @@ struct SoftContactParams {
   // 5.6 cm behind the sole's centre, outside the middle sixth (L/6 = 4.2 cm) where a bed of
   // springs keeps the whole sole loaded, so the toes unload and the heel rows must hold the
   // rigid robot against m g h = 975 N m/rad of toppling. Measured (tests/contact/robot_test,
-  // joints held stiff): it falls over backwards at k <= 1e6 N/m (2 mm sink: 3e5 N/m), stands
-  // from 2e6 N/m; 3e6 keeps a 1.5x margin. Vertical frequency standing: sqrt(2k/m) = 214 rad/s
+  // joints held stiff) with an earlier cell-centred sample grid, whose support polygon was
+  // half a cell (2.5 cm) shorter at each end than the sole: it fell over backwards at
+  // k <= 1e6 N/m (2 mm sink: 3e5 N/m) and stood from 2e6 N/m; 3e6 keeps a 1.5x margin. Vertical frequency standing: sqrt(2k/m) = 214 rad/s
   // (34 Hz); explicit-step number at 1 ms: (omega dt)^2 = 0.05, far inside the stable range.
   double stiffness = 3.0e6;
   // n [-]: force ~ k * delta^n. 1 = linear mechanism spring (default, the HRP-1S foot has a
@@ -42,7 +43,8 @@ struct SoftContactParams {
   // mass of 5 kg.
   double tangential_damping = 3.0e3;
   // Sample grid on the sole's bottom face: grid_x points along the sole's x (length), grid_y
-  // along y (width), at the cell centres, each carrying 1/(grid_x*grid_y) of the area.
+  // along y (width), the outer ones on the sole's edges so that the sampled support polygon is
+  // the sole's own, weighted by the trapezoid rule (see MakeGrid).
   int grid_x = 5;
   int grid_y = 3;
   // [m]: broad-phase margin. A sole whose bounding box is farther than this from an object's
