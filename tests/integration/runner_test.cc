@@ -109,6 +109,25 @@ TEST(Checks, NotFallenSeesTheTilt) {
   EXPECT_NE(r.detail.find("11.4"), std::string::npos) << r.detail;
 }
 
+// a 100 Hz ripple of amplitude 10 N on 600 N: a 20 ms moving average removes two whole
+// periods, so the ringing is the ripple's RMS, 10 / sqrt(2) N
+TEST(Checks, ForceRingingIsTheRmsOfTheHighFrequencyPart) {
+  std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,rf_fz,lf_fz\n";
+  for (int i = 0; i <= 2000; ++i) {
+    const double t = 0.001 * i;
+    csv += std::to_string(t) + ",0,0,0.7,1,0,0,0," +
+           std::to_string(600 + 10 * std::sin(2 * M_PI * 100 * t)) + ",600\n";
+  }
+  Table t;
+  std::string error;
+  ASSERT_TRUE(t.Load(Temp(csv, ".csv"), &error)) << error;
+  auto r = Evaluate(Spec("force_ringing", {{"sensors", "rf,lf"}, {"after", "0.1"}, {"max", "8"}}), t, kSim);
+  EXPECT_NEAR(r.value, 10 / std::sqrt(2.0), 0.05 * 10 / std::sqrt(2.0)) << r.detail;
+  EXPECT_TRUE(r.passed);
+  r = Evaluate(Spec("force_ringing", {{"sensors", "rf,lf"}, {"after", "0.1"}, {"max", "6"}}), t, kSim);
+  EXPECT_FALSE(r.passed);
+}
+
 TEST(Checks, DisplacementRejectedAndUnknownTypes) {
   EXPECT_TRUE(Evaluate(Spec("base_displacement", {{"axis", "x"}, {"max", "0.01"}}), StandingLog(), kSim).passed);
   EXPECT_FALSE(Evaluate(Spec("max_rejected", {{"max", "2"}}), StandingLog(), kSim).passed);

@@ -172,6 +172,45 @@ CheckResult BaseDisplacement(const CheckSpec& s, const Table& t) {
   return r;
 }
 
+// high-frequency content of a force: the RMS of the force less its moving average over
+// `window`, the largest over the sensors (the ringing of a stiff contact at each impact)
+CheckResult ForceRinging(const CheckSpec& s, const Table& t) {
+  CheckResult r{"force_ringing", false, 0, "N", "", ""};
+  const auto sensors = Split(s.params.count("sensors") ? s.params.at("sensors") : "");
+  if (sensors.empty()) return Fail(r, "the check needs 'sensors' (e.g. [rfsensor, lfsensor])");
+  const auto rows = Window(t, s.Number("after", 0), s.Number("until", 1e30));
+  if (rows.size() < 3) return Fail(r, "no logged data in the window");
+  const auto& time = t.col(t.Column("time"));
+  const double dt = (time[rows.back()] - time[rows.front()]) / (rows.size() - 1);
+  const int half = std::max(1, static_cast<int>(std::lround(0.5 * s.Number("window", 0.02) / dt)));
+  std::string worst;
+  for (const auto& name : sensors) {
+    const int c = t.Column(name + "_fz");
+    if (c < 0) return Fail(r, "no force sensor '" + name + "' in the log");
+    const auto& f = t.col(c);
+    double sum2 = 0;
+    for (size_t k = 0; k < rows.size(); ++k) {
+      const size_t lo = k >= static_cast<size_t>(half) ? k - half : 0;
+      const size_t hi = std::min(rows.size() - 1, k + half);
+      double mean = 0;
+      for (size_t j = lo; j <= hi; ++j) mean += f[rows[j]];
+      mean /= (hi - lo + 1);
+      sum2 += (f[rows[k]] - mean) * (f[rows[k]] - mean);
+    }
+    const double rms = std::sqrt(sum2 / rows.size());
+    if (rms >= r.value) {
+      r.value = rms;
+      worst = name;
+    }
+  }
+  const double max = s.Number("max", 1e30);
+  r.passed = r.value <= max;
+  r.limit = "<= " + Fmt(max) + " N";
+  r.detail = "RMS of fz less its " + Fmt(s.Number("window", 0.02) * 1e3) +
+             " ms moving average, largest at " + worst;
+  return r;
+}
+
 CheckResult MaxRejected(const CheckSpec& s, const nlohmann::json& sim) {
   CheckResult r{"max_rejected", false, 0, "", "", ""};
   r.value = sim.value("rejected_commands", 0.0);
@@ -202,12 +241,13 @@ CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::js
     if (spec.type == "not_fallen") return NotFallen(spec, log);
     if (spec.type == "feet_carry_weight") return FeetCarryWeight(spec, log, sim);
     if (spec.type == "base_displacement") return BaseDisplacement(spec, log);
+    if (spec.type == "force_ringing") return ForceRinging(spec, log);
   } catch (const std::exception& e) {
     return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
   }
   return Fail({spec.type, false, 0, "", "", ""},
               "unknown check type (known: base_height, not_fallen, feet_carry_weight, "
-              "base_displacement, max_rejected, real_time_factor)");
+              "base_displacement, force_ringing, max_rejected, real_time_factor)");
 }
 
 }  // namespace ohrp::runner

@@ -18,6 +18,11 @@ int main(int argc, char** argv) {
       "fails, 2 on a bad scenario. Scenario format: docs/scenarios.md."};
   app.add_option("scenario", file, "scenario file (YAML)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", o.out_dir, "output folder (default: runs/<name>-<date>-<time>)");
+  std::string contact;
+  app.add_option("--contact", contact,
+                 "run with this contact under the soles instead of the scenario's "
+                 "(soft, native, rigid): to compare contact models on the same run")
+      ->check(CLI::IsMember({"soft", "native", "rigid"}));
   app.add_flag("--no-plot", no_plot, "do not draw plot.png");
   app.add_flag("--quiet,-q", quiet, "do not echo the processes' output while they run");
   CLI11_PARSE(app, argc, argv);
@@ -31,6 +36,10 @@ int main(int argc, char** argv) {
   if (!ohrp::runner::LoadScenario(file, &s, &error)) {
     std::fprintf(stderr, "ohrp_run: %s\n", error.c_str());
     return ohrp::runner::kRunUsage;
+  }
+  if (!contact.empty()) {
+    s.contact = contact;
+    s.name += "_" + contact;
   }
   return ohrp::runner::RunScenario(s, o);
 }

@@ -10,6 +10,9 @@
 //                      mass less the mass below each sensor, times g)
 //   base_displacement  axis (x | y | z), [min], [max], [from = 0]: base position at the end
 //                      minus at `from`
+//   force_ringing      after, [until], sensors (list), [window = 0.02], max [N]: the RMS of each
+//                      sensor's vertical force less its moving average over `window` (its
+//                      high-frequency content), the largest over the sensors
 //   max_rejected       [max = 0]: joint commands rejected by the servo over the run
 //   real_time_factor   min: simulated over wall time of sim_host
 #pragma once
