@@ -3,23 +3,23 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace ohrp::contact {
 namespace {
 
-// Fits depth = a + b u + c v (area-weighted) to the points of one object. A tiny ridge on the
-// slopes keeps one point, or a single row of points, solvable (the slope along the missing
+// Fits depth = a + b u + c v (area-weighted) to the points touching `object`. A tiny ridge on
+// the slopes keeps one point, or a single row of points, solvable (the slope along the missing
 // direction is then 0, and the fitted depths at the points are the least-squares ones).
 Eigen::Vector3d FitPlane(const std::vector<SamplePoint>& grid, const std::vector<PointContact>& pts,
-                         const std::vector<int>& members, double scale2) {
+                         int object, double scale2) {
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-  for (int m : members) {
-    const SamplePoint& s = grid[pts[m].index];
+  for (const PointContact& c : pts) {
+    if (c.object != object) continue;
+    const SamplePoint& s = grid[c.index];
     const Eigen::Vector3d row(1.0, s.u, s.v);
     A += s.weight * row * row.transpose();
-    rhs += s.weight * pts[m].depth * row;
+    rhs += s.weight * c.depth * row;
   }
   const double ridge = 1e-9 * A(0, 0) * scale2;
   A(1, 1) += ridge;
@@ -33,31 +33,41 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
                    const std::vector<SamplePoint>& grid, const std::vector<PointContact>& points,
                    const std::vector<Anchor>& anchors, std::vector<Anchor>* proposed,
                    SoleWrench* out) {
+  // reset the result but keep the per-point storage: no allocation once it has grown
+  std::vector<PointForce> per_point = std::move(out->per_point);
   *out = SoleWrench{};
+  out->per_point = std::move(per_point);
+  out->per_point.resize(points.size());
   proposed->assign(grid.size(), Anchor{});
   if (points.empty()) return;
 
-  // 1. least-squares penetration per object.
-  std::map<int, std::vector<int>> groups;
-  for (int i = 0; i < static_cast<int>(points.size()); ++i) groups[points[i].object].push_back(i);
-  std::vector<double> fit(points.size());
+  // 1. least-squares penetration per object (each object once, at its first point; the fitted
+  // depths go straight into the per-point results).
   const double scale2 = sole.half.squaredNorm();
-  size_t largest = 0;
-  for (const auto& [object, members] : groups) {
-    if (p.least_squares) {
-      const Eigen::Vector3d abc = FitPlane(grid, points, members, scale2);
-      for (int m : members) {
-        const SamplePoint& s = grid[points[m].index];
-        fit[m] = abc[0] + abc[1] * s.u + abc[2] * s.v;
-      }
-      if (members.size() > largest) {
-        largest = members.size();
-        out->depth = abc[0];
-        out->tilt_u = abc[1];
-        out->tilt_v = abc[2];
-      }
-    } else {
-      for (int m : members) fit[m] = points[m].depth;
+  int largest = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int object = points[i].object;
+    bool seen = false;
+    for (size_t j = 0; j < i && !seen; ++j) seen = points[j].object == object;
+    if (seen) continue;
+    if (!p.least_squares) {
+      for (size_t k = i; k < points.size(); ++k)
+        if (points[k].object == object) out->per_point[k].depth_fit = points[k].depth;
+      continue;
+    }
+    const Eigen::Vector3d abc = FitPlane(grid, points, object, scale2);
+    int members = 0;
+    for (size_t k = i; k < points.size(); ++k) {
+      if (points[k].object != object) continue;
+      const SamplePoint& s = grid[points[k].index];
+      out->per_point[k].depth_fit = abc[0] + abc[1] * s.u + abc[2] * s.v;
+      ++members;
+    }
+    if (members > largest) {
+      largest = members;
+      out->depth = abc[0];
+      out->tilt_u = abc[1];
+      out->tilt_v = abc[2];
     }
   }
 
@@ -65,17 +75,18 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
   double vel_sum = 0;
-  out->per_point.reserve(points.size());
   for (int i = 0; i < static_cast<int>(points.size()); ++i) {
     const PointContact& c = points[i];
     const double w = grid[c.index].weight;
-    PointForce f;
+    PointForce& f = out->per_point[i];
+    const double fitted = f.depth_fit;
+    f = PointForce{};
     f.index = c.index;
     f.object = c.object;
     f.pos = c.pos;
     f.normal = c.normal;
     f.depth = c.depth;
-    f.depth_fit = std::max(fit[i], 0.0);
+    f.depth_fit = std::max(fitted, 0.0);
     const Eigen::Vector3d r = c.pos - sole.pose.translation();
     const Eigen::Vector3d v = twist.linear + twist.angular.cross(r);
     const double vn = v.dot(c.normal);
@@ -111,7 +122,6 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
     vel_sum += f.fn * f.pen_vel;
     out->normal_force += f.fn;
     out->slipping += f.slipping ? 1 : 0;
-    out->per_point.push_back(f);
   }
   out->in_contact = true;
   out->points = static_cast<int>(points.size());

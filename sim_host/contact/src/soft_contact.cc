@@ -1,6 +1,9 @@
 #include "contact/soft_contact.h"
 
+#include <algorithm>
+
 #include <Eigen/Geometry>
+#include <map>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -165,6 +168,13 @@ std::unique_ptr<SoftFootContact> SoftFootContact::Create(
   c->proposed_ = c->anchors_;
   c->scratch_ = c->anchors_;
   c->wrenches_.resize(soles.size());
+  // the bodies that carry soles, each once, with what Apply() has added to them (none yet)
+  for (int g : soles) {
+    const int b = m->geom_bodyid[g];
+    if (std::find(c->bodies_.begin(), c->bodies_.end(), b) == c->bodies_.end())
+      c->bodies_.push_back(b);
+  }
+  c->applied_.assign(c->bodies_.size(), Vec6::Zero());
   return c;
 }
 
@@ -196,23 +206,20 @@ const std::vector<SoleWrench>& SoftFootContact::Evaluate(const mjModel* m, const
 }
 
 void SoftFootContact::Apply(const mjModel* m, mjData* d) {
-  std::map<int, Vec6> now;
-  for (size_t s = 0; s < sole_geom_.size(); ++s) {
-    const SoleWrench& w = wrenches_[s];
-    const int b = m->geom_bodyid[sole_geom_[s]];
-    Vec6& acc = now.try_emplace(b, Vec6::Zero()).first->second;
-    if (!w.in_contact) continue;
+  // per sole body: the new wrench about its centre of mass, replacing what was added last time
+  for (size_t k = 0; k < bodies_.size(); ++k) {
+    const int b = bodies_[k];
     const Eigen::Vector3d com = Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
-    acc.head<3>() += w.force;
-    acc.tail<3>() += w.torque + (w.point - com).cross(w.force);
+    Vec6 now = Vec6::Zero();
+    for (size_t s = 0; s < sole_geom_.size(); ++s) {
+      const SoleWrench& w = wrenches_[s];
+      if (!w.in_contact || m->geom_bodyid[sole_geom_[s]] != b) continue;
+      now.head<3>() += w.force;
+      now.tail<3>() += w.torque + (w.point - com).cross(w.force);
+    }
+    for (int i = 0; i < 6; ++i) d->xfrc_applied[6 * b + i] += now[i] - applied_[k][i];
+    applied_[k] = now;
   }
-  for (auto& [b, old] : applied_) now.try_emplace(b, Vec6::Zero());
-  for (auto& [b, wrench] : now) {
-    auto it = applied_.find(b);
-    const Vec6 delta = it == applied_.end() ? wrench : Vec6(wrench - it->second);
-    for (int k = 0; k < 6; ++k) d->xfrc_applied[6 * b + k] += delta[k];
-  }
-  applied_ = std::move(now);
 }
 
 void SoftFootContact::ApplyBeforeStep(const mjModel* m, mjData* d) {
@@ -228,10 +235,10 @@ void SoftFootContact::Commit() {
 }
 
 void SoftFootContact::Remove(mjData* d) {
-  for (auto& [b, wrench] : applied_) {
-    for (int k = 0; k < 6; ++k) d->xfrc_applied[6 * b + k] -= wrench[k];
+  for (size_t k = 0; k < bodies_.size(); ++k) {
+    for (int i = 0; i < 6; ++i) d->xfrc_applied[6 * bodies_[k] + i] -= applied_[k][i];
+    applied_[k].setZero();
   }
-  applied_.clear();
 }
 
 }  // namespace ohrp::contact

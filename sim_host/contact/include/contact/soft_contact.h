@@ -23,7 +23,6 @@
 
 #include <mujoco/mujoco.h>
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -84,7 +83,8 @@ class SoftFootContact {
   std::vector<std::vector<Anchor>> scratch_;
   std::vector<SoleWrench> wrenches_;
   std::vector<PointContact> points_;
-  std::map<int, Eigen::Matrix<double, 6, 1>> applied_;  // body -> what Apply() added
+  std::vector<int> bodies_;                               // bodies carrying soles, each once
+  std::vector<Eigen::Matrix<double, 6, 1>> applied_;      // per body: what Apply() added
 };
 
 }  // namespace ohrp::contact
