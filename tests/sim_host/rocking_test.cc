@@ -141,8 +141,13 @@ TEST(Rocking, StandingRobotRocksAsTheLinearisedSpringDamperPredicts) {
   ASSERT_GE(ups.size(), 4u) << "no oscillation after the release";
   const double period = (ups.back() - ups.front()) / (ups.size() - 1);
   const double omega_measured = 2 * M_PI / period;
-  // peaks[k] lies between ups[k] and ups[k+1]; skip the first (transient of the release)
-  const double decrement = std::log(peaks[1] / peaks.back()) / (peaks.size() - 2);
+  // peaks[k] lies between ups[k] and ups[k+1]; skip the first (transient of the release) and
+  // stop where the amplitude falls below a fifth of the second peak: past that, what is left
+  // of the other modes and of the settling offset biases the ratio
+  ASSERT_GE(peaks.size(), 3u);
+  size_t last = 2;
+  while (last + 1 < peaks.size() && peaks[last + 1] > 0.2 * peaks[1]) ++last;
+  const double decrement = std::log(peaks[1] / peaks[last]) / static_cast<double>(last - 1);
   const double zeta_measured = decrement / std::sqrt(4 * M_PI * M_PI + decrement * decrement);
 
   // predicted: from the robot's mass, inertia and centre of mass and the soles' sample points
@@ -175,8 +180,8 @@ TEST(Rocking, StandingRobotRocksAsTheLinearisedSpringDamperPredicts) {
   RecordProperty("omega_predicted", std::to_string(predicted.omega_d));
   RecordProperty("zeta_measured", std::to_string(zeta_measured));
   RecordProperty("zeta_predicted", std::to_string(predicted.zeta));
-  std::printf("rocking: measured %.2f rad/s, zeta %.4f; predicted %.2f rad/s, zeta %.4f\n",
-              omega_measured, zeta_measured, predicted.omega_d, predicted.zeta);
+  std::printf("rocking: measured %.2f rad/s, zeta %.4f (peaks 2-%zu); predicted %.2f rad/s, zeta %.4f\n",
+              omega_measured, zeta_measured, last + 1, predicted.omega_d, predicted.zeta);
   // the paper's criterion: frequency and decay within 10 %
   EXPECT_NEAR(omega_measured, predicted.omega_d, 0.10 * predicted.omega_d);
   EXPECT_NEAR(zeta_measured, predicted.zeta, 0.10 * predicted.zeta);
