@@ -84,6 +84,13 @@ bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
     *error = "soft-foot contact: " + why;
     return false;
   }
+  // RK4: the force follows the state through the step's four stages. Held over the step it
+  // would make the contact an explicit Euler step that gains energy (tests/contact/stage_test).
+  if (m->opt.integrator == mjINT_RK4 && !(*soft)->EvaluateAtEveryStage(true, &why)) {
+    soft->reset();
+    *error = "soft-foot contact with RK4: " + why;
+    return false;
+  }
   return true;
 }
 

@@ -223,6 +223,7 @@ void SoftFootContact::Apply(const mjModel* m, mjData* d) {
 }
 
 void SoftFootContact::ApplyBeforeStep(const mjModel* m, mjData* d) {
+  if (at_every_stage_) return;  // mj_step's mj_forward evaluates it (see EvaluateAtEveryStage)
   UpdateKinematics(m, d);
   Evaluate(m, d);
   Apply(m, d);
@@ -233,6 +234,41 @@ void SoftFootContact::Commit() {
   anchors_.swap(proposed_);
   proposed_valid_ = false;
 }
+
+namespace {
+// the contact evaluated from mjcb_control, and the callback that was there before it
+SoftFootContact* g_stage_contact = nullptr;
+mjfGeneric g_previous_control = nullptr;
+
+void StageControl(const mjModel* m, mjData* d) {
+  if (g_previous_control) g_previous_control(m, d);
+  if (g_stage_contact) {
+    g_stage_contact->Evaluate(m, d);  // kinematics and com velocities are current here
+    g_stage_contact->Apply(m, d);
+  }
+}
+}  // namespace
+
+bool SoftFootContact::EvaluateAtEveryStage(bool on, std::string* error) {
+  if (on == at_every_stage_) return true;
+  if (on) {
+    if (g_stage_contact) {
+      if (error) *error = "another soft-foot contact already evaluates at every stage (mjcb_control is process-wide)";
+      return false;
+    }
+    g_previous_control = mjcb_control;
+    g_stage_contact = this;
+    mjcb_control = StageControl;
+  } else {
+    mjcb_control = g_previous_control;
+    g_previous_control = nullptr;
+    g_stage_contact = nullptr;
+  }
+  at_every_stage_ = on;
+  return true;
+}
+
+SoftFootContact::~SoftFootContact() { EvaluateAtEveryStage(false); }
 
 void SoftFootContact::Remove(mjData* d) {
   for (size_t k = 0; k < bodies_.size(); ++k) {

@@ -34,7 +34,9 @@ const char* ContactModelName(ContactModel model);
 // resolving kAuto into `*resolved` (which may be null), and,
 // for the soft model, creates the soft-foot contact of the soles against every static geom.
 // `mass` is the robot's mass [kg] (half of it rides on one sole when standing: the stability
-// check of the parameters uses it). Returns false with `*error` naming what is wrong (no soles,
+// check of the parameters uses it). With RK4 (m->opt.integrator, so set it first) the soft
+// contact is evaluated at every stage (SoftFootContact::EvaluateAtEveryStage; mjcb_control,
+// so one such contact per process at a time). Returns false with `*error` naming what is wrong (no soles,
 // a sole that is not a box, parameters refused and why). `*soft` stays null unless soft.
 bool SetUpFeet(mjModel* m, const FeetOptions& options, double mass,
                std::unique_ptr<contact::SoftFootContact>* soft, std::string* error,

@@ -15,9 +15,9 @@
 //   contact.ApplyBeforeStep(m, d);   // kinematics at the current qpos/qvel, forces, xfrc_applied
 //   mj_step(m, d);
 //   contact.Commit();                // the friction anchors of this step become the state
-// The force is held over the step (explicit in every integrator; for RK4 it is a zero-order
-// hold unless Evaluate+Apply run in mjcb_control, where the kinematics are current at each
-// stage). Commit() keeps the anchors of the FIRST evaluation since the last Commit (the one at
+// The force is held over the step (explicit in every integrator; for RK4 a zero-order hold,
+// unless EvaluateAtEveryStage(true) moves the evaluation into mjcb_control, where the
+// kinematics are current at each stage). Commit() keeps the anchors of the FIRST evaluation since the last Commit (the one at
 // the start of the step), so stage evaluations or an extra mj_forward never advance them.
 #pragma once
 
@@ -60,6 +60,23 @@ class SoftFootContact {
   static void UpdateKinematics(const mjModel* m, mjData* d);
   // Advances the friction anchors (call after mj_step).
   void Commit();
+
+  // Forces at every stage of the integrator. Off (the default), ApplyBeforeStep evaluates the
+  // contact once at the start of the step and MuJoCo holds that force through it: exact for
+  // Euler and implicit, a zero-order hold that makes RK4 first-order in the contact. On, the
+  // contact is evaluated and applied from MuJoCo's mjcb_control, which mj_forward calls after
+  // the velocity stage: at the start of mj_step and at each of RK4's three later stages, with
+  // the kinematics of that stage, so RK4 stays fourth-order; ApplyBeforeStep then does nothing
+  // (mj_step's own mj_forward does the work), Commit still keeps the anchors of the first
+  // evaluation since the last commit (the step's start), and wrenches() after mj_step are those
+  // of the last stage evaluated. mjcb_control is process-wide: one contact at a time can be on
+  // (false with *error otherwise); a callback installed before is called first and restored
+  // when this contact is switched off or destroyed.
+  bool EvaluateAtEveryStage(bool on, std::string* error = nullptr);
+  bool at_every_stage() const { return at_every_stage_; }
+  ~SoftFootContact();
+  SoftFootContact(const SoftFootContact&) = delete;
+  SoftFootContact& operator=(const SoftFootContact&) = delete;
   // Removes this contact's share from d->xfrc_applied.
   void Remove(mjData* d);
 
@@ -85,6 +102,7 @@ class SoftFootContact {
   std::vector<PointContact> points_;
   std::vector<int> bodies_;                               // bodies carrying soles, each once
   std::vector<Eigen::Matrix<double, 6, 1>> applied_;      // per body: what Apply() added
+  bool at_every_stage_ = false;
 };
 
 }  // namespace ohrp::contact
