@@ -1,0 +1,379 @@
+// ohrp_video: offscreen video of a run (OSMesa, no display needed). Replays the data log of a
+// run (base pose and joint angles per row, see sim_host/recorder.h) through the scene's model and
+// renders it with MuJoCo's renderer into an MP4 (through Debian's ffmpeg) or PNG frames.
+//
+// Rendering after the run, from the log, keeps the simulation free of any rendering cost (the
+// effects it runs are the ones the scene calls for) and works on any run folder, including the
+// ones CI leaves behind.
+#include <GL/osmesa.h>
+#include <mujoco/mujoco.h>
+#include <png.h>
+#include <sys/stat.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+void OnMujocoError(const char* msg) {
+  std::fprintf(stderr, "ohrp_video: MuJoCo error: %s\n", msg);
+  std::exit(3);
+}
+void OnMujocoWarning(const char* msg) { std::fprintf(stderr, "ohrp_video: MuJoCo warning: %s\n", msg); }
+
+bool IsDir(const std::string& p) {
+  struct stat st {};
+  return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+// The log: a header row of column names, then numbers.
+struct Log {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  int Column(const std::string& name) const {
+    for (size_t i = 0; i < columns.size(); ++i)
+      if (columns[i] == name) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+bool ReadLog(const std::string& path, Log* log, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot read the data log '" + path + "'";
+    return false;
+  }
+  std::string line;
+  if (!std::getline(in, line)) {
+    *error = "'" + path + "' is empty";
+    return false;
+  }
+  std::stringstream header(line);
+  for (std::string c; std::getline(header, c, ',');) log->columns.push_back(c);
+  size_t n = 1;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty()) continue;
+    std::vector<double> row;
+    row.reserve(log->columns.size());
+    const char* p = line.c_str();
+    char* end = nullptr;
+    while (*p) {
+      row.push_back(std::strtod(p, &end));
+      if (end == p) break;
+      p = *end == ',' ? end + 1 : end;
+    }
+    if (row.size() != log->columns.size()) {
+      *error = path + ":" + std::to_string(n) + ": " + std::to_string(row.size()) +
+               " values for " + std::to_string(log->columns.size()) + " columns";
+      return false;
+    }
+    log->rows.push_back(std::move(row));
+  }
+  if (log->rows.size() < 2) {
+    *error = "'" + path + "' has fewer than two rows: nothing to replay";
+    return false;
+  }
+  return true;
+}
+
+bool WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int w, int h,
+              std::string* error) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) {
+    *error = "cannot write '" + path + "'";
+    return false;
+  }
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(f);
+    *error = "libpng failed on '" + path + "'";
+    return false;
+  }
+  png_init_io(png, f);
+  png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < h; ++y)
+    png_write_row(png, const_cast<png_bytep>(rgb.data() + static_cast<size_t>(y) * w * 3));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::fclose(f);
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  mju_user_error = OnMujocoError;
+  mju_user_warning = OnMujocoWarning;
+
+  std::string input, scene, out, frames_dir;
+  double fps = 30, speed = 1, from = 0, until = -1, distance = 3.2, azimuth = 135,
+         elevation = -12;
+  int width = 640, height = 480;
+  bool shadows = false;
+  std::vector<double> stills;
+  CLI::App app{
+      "ohrp_video: renders a run offscreen (OSMesa, no display) from its data log: the base pose\n"
+      "and joint angles of each logged row, replayed through the scene's model. Writes an MP4\n"
+      "through ffmpeg, PNG frames, or single stills."};
+  app.add_option("run", input, "a run folder (ohrp_run --out DIR: log.csv, sim_summary.json) or a log.csv")
+      ->required();
+  app.add_option("--scene", scene, "MJCF scene (default: the one recorded in the run's sim_summary.json)");
+  app.add_option("--out,-o", out, "MP4 file (default: RUN/video.mp4; needs ffmpeg, './ohrp setup' installs it)");
+  app.add_option("--frames", frames_dir, "write PNG frames frame_00000.png... into this folder instead of an MP4");
+  app.add_option("--still", stills, "write one PNG per listed time [s] (RUN/still_<t>.png) and no video")
+      ->delimiter(',');
+  app.add_option("--fps", fps, "frames per second of the video")->capture_default_str()->check(CLI::Range(1.0, 240.0));
+  app.add_option("--speed", speed, "simulated seconds per video second")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--from", from, "start time [s]")->capture_default_str();
+  app.add_option("--until", until, "end time [s] (default: the end of the log)");
+  app.add_option("--width", width, "frame width [px]")->capture_default_str()->check(CLI::Range(16, 4096));
+  app.add_option("--height", height, "frame height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
+  app.add_flag("--shadows", shadows, "render shadows and reflections (slower in software)");
+  app.add_option("--distance", distance, "camera distance from the robot's base [m]")->capture_default_str();
+  app.add_option("--azimuth", azimuth, "camera azimuth [deg]")->capture_default_str();
+  app.add_option("--elevation", elevation, "camera elevation [deg]")->capture_default_str();
+  app.footer("Example: ohrp_video runs/demo/stand            (runs/demo/stand/video.mp4)\n"
+             "         ohrp_video runs/demo/stand --still 1,5 (two PNG stills)");
+  CLI11_PARSE(app, argc, argv);
+
+  // ---- inputs: the log and the scene
+  std::string run_dir, log_path = input;
+  if (IsDir(input)) {
+    run_dir = input;
+    log_path = input + "/log.csv";
+  } else {
+    const size_t slash = input.rfind('/');
+    run_dir = slash == std::string::npos ? "." : input.substr(0, slash);
+  }
+  if (scene.empty()) {
+    std::ifstream s(run_dir + "/sim_summary.json");
+    if (s) {
+      try {
+        scene = nlohmann::json::parse(s).value("scene", "");
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "ohrp_video: %s/sim_summary.json: %s\n", run_dir.c_str(), e.what());
+      }
+    }
+    if (scene.empty()) {
+      std::fprintf(stderr, "ohrp_video: no scene recorded beside '%s': pass --scene FILE.xml\n",
+                   log_path.c_str());
+      return 2;
+    }
+  }
+  Log log;
+  std::string error;
+  if (!ReadLog(log_path, &log, &error)) {
+    std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
+    return 2;
+  }
+  char err[1000] = "";
+  mjModel* m = mj_loadXML(scene.c_str(), nullptr, err, sizeof(err));
+  if (!m) {
+    std::fprintf(stderr, "ohrp_video: %s: %s\n", scene.c_str(), err);
+    return 2;
+  }
+  mjData* d = mj_makeData(m);
+
+  // ---- which log column drives which qpos
+  struct Drive {
+    int column, qpos;
+  };
+  std::vector<Drive> drives;
+  const int time_col = log.Column("time");
+  int base_body = -1;
+  for (int j = 0; j < m->njnt && base_body < 0; ++j) {
+    if (m->jnt_type[j] != mjJNT_FREE) continue;
+    base_body = m->jnt_bodyid[j];
+    const char* names[7] = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+    for (int k = 0; k < 7; ++k) {
+      const int c = log.Column(names[k]);
+      if (c >= 0) drives.push_back({c, m->jnt_qposadr[j] + k});
+    }
+  }
+  int joints = 0;
+  std::string missing;
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) continue;
+    const char* name = mj_id2name(m, mjOBJ_JOINT, j);
+    const int c = name ? log.Column(std::string("q_") + name) : -1;
+    if (c >= 0) {
+      drives.push_back({c, m->jnt_qposadr[j]});
+      ++joints;
+    } else if (name) {
+      missing += std::string(missing.empty() ? "" : ", ") + name;
+    }
+  }
+  if (time_col < 0 || joints == 0) {
+    std::fprintf(stderr,
+                 "ohrp_video: '%s' does not match '%s': %s (the log's columns are time, base_*, "
+                 "q_<joint>...)\n",
+                 log_path.c_str(), scene.c_str(),
+                 time_col < 0 ? "no 'time' column" : "no q_<joint> column names a joint of the scene");
+    return 2;
+  }
+  if (!missing.empty())
+    std::fprintf(stderr, "ohrp_video: joints not in the log keep their initial angle: %s\n", missing.c_str());
+
+  const double t_first = log.rows.front()[time_col], t_last = log.rows.back()[time_col];
+  const double t0 = std::max(from, t_first), t1 = until > 0 ? std::min(until, t_last) : t_last;
+  if (t1 <= t0 && stills.empty()) {
+    std::fprintf(stderr, "ohrp_video: nothing to render between %g and %g s (the log covers %g to %g s)\n",
+                 from, until, t_first, t_last);
+    return 2;
+  }
+
+  // ---- OSMesa context first, then MuJoCo's
+  OSMesaContext gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  std::vector<unsigned char> gl_buffer(static_cast<size_t>(width) * height * 4);
+  if (!gl || !OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
+    std::fprintf(stderr, "ohrp_video: cannot create the OSMesa context (libosmesa6)\n");
+    return 3;
+  }
+  m->vis.global.offwidth = width;
+  m->vis.global.offheight = height;
+  mjvScene scn;
+  mjvCamera cam;
+  mjvOption opt;
+  mjrContext con;
+  mjv_defaultScene(&scn);
+  mjv_defaultCamera(&cam);
+  mjv_defaultOption(&opt);
+  mjr_defaultContext(&con);
+  mjv_makeScene(m, &scn, 4000);
+  mjr_makeContext(m, &con, mjFONTSCALE_100);
+  mjr_setBuffer(mjFB_OFFSCREEN, &con);
+  if (con.currentBuffer != mjFB_OFFSCREEN) {
+    std::fprintf(stderr, "ohrp_video: no offscreen buffer\n");
+    return 3;
+  }
+  // software rendering: shadows and reflections would cost most of the frame time
+  if (!shadows) {
+    scn.flags[mjRND_SHADOW] = 0;
+    scn.flags[mjRND_REFLECTION] = 0;
+  }
+  // a free camera following the base horizontally, looking at the base's height
+  cam.type = mjCAMERA_FREE;
+  cam.distance = distance;
+  cam.azimuth = azimuth;
+  cam.elevation = elevation;
+  const mjrRect viewport{0, 0, width, height};
+  std::vector<unsigned char> rgb(static_cast<size_t>(width) * height * 3), flipped(rgb.size());
+
+  // renders the state at time t (linear interpolation between rows) into `flipped` (top row first)
+  size_t row = 0;
+  const std::string title = run_dir.substr(run_dir.rfind('/') == std::string::npos ? 0 : run_dir.rfind('/') + 1);
+  auto render = [&](double t) {
+    while (row + 2 < log.rows.size() && log.rows[row + 1][time_col] <= t) ++row;
+    while (row > 0 && log.rows[row][time_col] > t) --row;
+    const auto& a = log.rows[row];
+    const auto& b = log.rows[std::min(row + 1, log.rows.size() - 1)];
+    const double span = b[time_col] - a[time_col];
+    const double s = span > 0 ? std::clamp((t - a[time_col]) / span, 0.0, 1.0) : 0.0;
+    for (const Drive& dr : drives) d->qpos[dr.qpos] = a[dr.column] + s * (b[dr.column] - a[dr.column]);
+    for (int j = 0; j < m->njnt; ++j)
+      if (m->jnt_type[j] == mjJNT_FREE || m->jnt_type[j] == mjJNT_BALL) {
+        const int q = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
+        mju_normalize4(d->qpos + q);
+      }
+    d->time = t;
+    if (base_body >= 0) {
+      const int q = m->jnt_qposadr[m->body_jntadr[base_body]];
+      for (int k = 0; k < 3; ++k) cam.lookat[k] = d->qpos[q + k];
+      cam.lookat[2] = std::max(0.3, d->qpos[q + 2] - 0.05);
+    }
+    mj_kinematics(m, d);
+    mj_comPos(m, d);
+    mj_camlight(m, d);
+    mjv_updateScene(m, d, &opt, nullptr, &cam, mjCAT_ALL, &scn);
+    mjr_render(viewport, &scn, &con);
+    char text[64];
+    std::snprintf(text, sizeof(text), "t = %.2f s", t);
+    mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, title.c_str(), text, &con);
+    mjr_readPixels(rgb.data(), nullptr, viewport, &con);
+    const size_t stride = static_cast<size_t>(width) * 3;
+    for (int y = 0; y < height; ++y)
+      std::copy_n(rgb.data() + (height - 1 - y) * stride, stride, flipped.data() + y * stride);
+  };
+
+  int status = 0;
+  if (!stills.empty()) {
+    for (double t : stills) {
+      if (t < t_first || t > t_last) {
+        std::fprintf(stderr, "ohrp_video: still at %g s is outside the log (%g to %g s)\n", t, t_first, t_last);
+        status = 2;
+        continue;
+      }
+      char name[64];
+      std::snprintf(name, sizeof(name), "/still_%.2f.png", t);
+      render(t);
+      if (!WritePng(run_dir + name, flipped, width, height, &error)) {
+        std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
+        status = 1;
+      } else {
+        std::printf("%s%s\n", run_dir.c_str(), name);
+      }
+    }
+  } else {
+    const int frames = static_cast<int>(std::floor((t1 - t0) / speed * fps)) + 1;
+    FILE* pipe = nullptr;
+    if (frames_dir.empty()) {
+      if (out.empty()) out = run_dir + "/video.mp4";
+      if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+        std::fprintf(stderr, "ohrp_video: ffmpeg is not installed ('./ohrp setup' installs it, or use "
+                             "--frames DIR for PNG frames)\n");
+        return 2;
+      }
+      const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " +
+                              std::to_string(width) + "x" + std::to_string(height) + " -r " +
+                              std::to_string(fps) + " -i - -pix_fmt yuv420p -vcodec libx264 '" + out + "'";
+      pipe = popen(cmd.c_str(), "w");
+      if (!pipe) {
+        std::fprintf(stderr, "ohrp_video: cannot start ffmpeg\n");
+        return 3;
+      }
+    } else if (!IsDir(frames_dir) && mkdir(frames_dir.c_str(), 0755) != 0) {
+      std::fprintf(stderr, "ohrp_video: cannot create '%s'\n", frames_dir.c_str());
+      return 2;
+    }
+    std::fprintf(stderr, "ohrp_video: %d frames (%g to %g s at %gx, %d x %d, %g fps) of %s\n", frames,
+                 t0, t1, speed, width, height, fps, scene.c_str());
+    for (int k = 0; k < frames && status == 0; ++k) {
+      render(t0 + k * speed / fps);
+      if (pipe) {
+        if (std::fwrite(flipped.data(), 1, flipped.size(), pipe) != flipped.size()) status = 1;
+      } else {
+        char name[64];
+        std::snprintf(name, sizeof(name), "/frame_%05d.png", k);
+        if (!WritePng(frames_dir + name, flipped, width, height, &error)) {
+          std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
+          status = 1;
+        }
+      }
+      if (k > 0 && k % 100 == 0) std::fprintf(stderr, "ohrp_video: frame %d of %d\n", k, frames);
+    }
+    if (pipe && pclose(pipe) != 0) {
+      std::fprintf(stderr, "ohrp_video: ffmpeg failed writing '%s'\n", out.c_str());
+      status = 1;
+    }
+    if (status == 0) std::printf("%s\n", pipe ? out.c_str() : frames_dir.c_str());
+  }
+
+  mjr_freeContext(&con);
+  mjv_freeScene(&scn);
+  OSMesaDestroyContext(gl);
+  mj_deleteData(d);
+  mj_deleteModel(m);
+  return status;
+}
