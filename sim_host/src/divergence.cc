@@ -68,8 +68,7 @@ DivergenceWatch::DivergenceWatch(const mjModel* m, const WatchLimits& limits)
       last_qpos_(m->nq, 0.0),
       last_qvel_(m->nv, 0.0),
       last_qacc_(m->nv, 0.0),
-      scratch_(m->nv, 0.0),
-      qpos_now_(m->nq, 0.0) {
+      scratch_(m->nv, 0.0) {
   double mass = 0;
   for (int b = 1; b < m->nbody; ++b) mass += m->body_mass[b];
   const double g = std::sqrt(m->opt.gravity[0] * m->opt.gravity[0] +
@@ -98,29 +97,26 @@ void DivergenceWatch::Start(const mjModel* m, mjData* d) {
 }
 
 double DivergenceWatch::Energy(const mjModel* m, mjData* d) {
-  // after mj_step, xipos and qM belong to the state at the start of the step, whose velocity is
-  // last_qvel_: E of that state, exactly (mixing in the new qvel would make a free fall gain
-  // m g^2 t dt / 2)
-  // (mj_energyPos reads the springs' qpos from d->qpos: lend it the step's starting qpos)
-  std::memcpy(qpos_now_.data(), d->qpos, sizeof(double) * m->nq);
-  std::memcpy(d->qpos, last_qpos_.data(), sizeof(double) * m->nq);
+  // after mj_step the kinematics (xipos) and the mass matrix are those of the state at the
+  // start of the step, qpos and qvel the new ones: E of the new state up to a positional lag,
+  // about M |g| |v| dt (0.1 J for 1 kg falling at 10 m/s at 1 ms), far below the margin. Using
+  // the new velocity catches a blow-up in the step it happens, while the contact that caused
+  // it is still in place for the diagnostic.
   mj_energyPos(m, d);
-  std::memcpy(d->qpos, qpos_now_.data(), sizeof(double) * m->nq);
-  mj_mulM(m, d, scratch_.data(), last_qvel_.data());
+  mj_mulM(m, d, scratch_.data(), d->qvel);
   double kinetic = 0;
-  for (int i = 0; i < m->nv; ++i) kinetic += 0.5 * last_qvel_[i] * scratch_[i];
+  for (int i = 0; i < m->nv; ++i) kinetic += 0.5 * d->qvel[i] * scratch_[i];
   d->energy[1] = kinetic;
   return d->energy[0] + kinetic;
 }
 
 //---------------- the per-step check ----------------
 
-void DivergenceWatch::Latch(DivergenceKind kind, const mjData* d, uint64_t step, int index) {
+void DivergenceWatch::Latch(DivergenceKind kind, uint64_t step, int index) {
   kind_ = kind;
   step_ = step;
   time_ = last_time_;
   index_ = index;
-  (void)d;
 }
 
 bool DivergenceWatch::Check(const mjModel* m, mjData* d, uint64_t step) {
@@ -130,7 +126,7 @@ bool DivergenceWatch::Check(const mjModel* m, mjData* d, uint64_t step) {
   for (int w : kResetWarnings) {
     if (d->warning[w].number != baseline_[w]) {
       warning_ = w;
-      Latch(DivergenceKind::kMujocoReset, d, step, d->warning[w].lastinfo);
+      Latch(DivergenceKind::kMujocoReset, step, d->warning[w].lastinfo);
       return true;
     }
   }
@@ -141,18 +137,18 @@ bool DivergenceWatch::Check(const mjModel* m, mjData* d, uint64_t step) {
       int dof = -1;
       for (int j = 0; j < m->njnt; ++j)
         if (m->jnt_qposadr[j] <= i) dof = m->jnt_dofadr[j];
-      Latch(DivergenceKind::kNonFinite, d, step, dof);
+      Latch(DivergenceKind::kNonFinite, step, dof);
       return true;
     }
   }
   for (int i = 0; i < m->nv; ++i) {
     const double v = d->qvel[i];
     if (!std::isfinite(v) || !std::isfinite(d->qacc[i])) {
-      Latch(DivergenceKind::kNonFinite, d, step, i);
+      Latch(DivergenceKind::kNonFinite, step, i);
       return true;
     }
     if (std::fabs(v) > limits_.max_speed) {
-      Latch(DivergenceKind::kRunaway, d, step, i);
+      Latch(DivergenceKind::kRunaway, step, i);
       return true;
     }
   }
@@ -160,7 +156,7 @@ bool DivergenceWatch::Check(const mjModel* m, mjData* d, uint64_t step) {
   for (int i = 0; i < m->nu; ++i) {
     if (!std::isfinite(d->ctrl[i])) {
       warning_ = mjWARN_BADCTRL;
-      Latch(DivergenceKind::kNonFinite, d, step, i);
+      Latch(DivergenceKind::kNonFinite, step, i);
       return true;
     }
   }
@@ -185,7 +181,7 @@ bool DivergenceWatch::Check(const mjModel* m, mjData* d, uint64_t step) {
   const double excess = energy_ - energy0_ - work_;
   if (excess > max_excess_) max_excess_ = excess;
   if (!(excess <= margin_)) {  // also catches a NaN energy
-    Latch(DivergenceKind::kEnergy, d, step, -1);
+    Latch(DivergenceKind::kEnergy, step, -1);
     return true;
   }
   // keep the last good state for the diagnostic
@@ -313,8 +309,8 @@ Diagnosis DivergenceWatch::Diagnose(const mjModel* m, const mjData* d,
   for (int b : bodies) x.bodies.push_back(Name(m, mjOBJ_BODY, b));
 
   // contacts touching those bodies (MuJoCo's), deepest first
-  double deepest = 0;
-  std::string deepest_pair;
+  double deepest = 0, contact_number = 0;
+  std::string deepest_pair, contact_text;
   for (int c = 0; c < d->ncon; ++c) {
     const mjContact& con = d->contact[c];
     const int b1 = m->geom_bodyid[con.geom1], b2 = m->geom_bodyid[con.geom2];
@@ -325,6 +321,28 @@ Diagnosis DivergenceWatch::Diagnose(const mjModel* m, const mjData* d,
     if (-con.dist > deepest) {
       deepest = -con.dist;
       deepest_pair = pair;
+    }
+    // a contact stiffer than the step can integrate: a direct stiffness (solref < 0) on the
+    // lighter body, or a time constant below two steps with MuJoCo's refsafe clamp off
+    const double m1 = b1 > 0 ? m->body_mass[b1] : 0, m2 = b2 > 0 ? m->body_mass[b2] : 0;
+    const double light = m1 > 0 && m2 > 0 ? std::min(m1, m2) : std::max(m1, m2);
+    double number = 0;
+    std::string what;
+    if (con.solref[0] < 0 && light > 0) {
+      number = dt * dt * (-con.solref[0]) / light;
+      what = "the contact " + pair + " has a direct stiffness of " + Fmt("%.3g", -con.solref[0]) +
+             " N/m (solref < 0) acting on " + Fmt("%.3g", light) + " kg: dt^2 k/m = " +
+             Fmt("%.3g", number) + " (stable below 4)";
+    } else if (con.solref[0] > 0 && (m->opt.disableflags & mjDSBL_REFSAFE) &&
+               con.solref[0] < 2 * dt) {
+      const double tc = con.solref[0];
+      number = 4.0 * dt * dt / (tc * tc);  // (omega dt)^2 with omega ~ 2 / tc
+      what = "the contact " + pair + " has a time constant of " + Fmt("%.3g", tc) +
+             " s, below two steps, with refsafe off";
+    }
+    if (number > contact_number) {
+      contact_number = number;
+      contact_text = what;
     }
   }
   // the soft-foot soles
@@ -398,12 +416,16 @@ Diagnosis DivergenceWatch::Diagnose(const mjModel* m, const mjData* d,
   }
 
   // equality constraints touching the involved bodies, and the solver's state
-  std::string equality;
+  std::string equality, eq_note;
   for (int e = 0; e < m->neq; ++e) {
     if (!m->eq_active[e]) continue;
     if (involved(m->eq_obj1id[e]) || involved(m->eq_obj2id[e]) ||
         m->eq_type[e] == mjEQ_JOINT || m->eq_type[e] == mjEQ_TENDON) {
       equality = Name(m, mjOBJ_EQUALITY, e);
+      const double tc = m->eq_solref[mjNREF * e];
+      if ((m->opt.disableflags & mjDSBL_REFSAFE) && tc > 0 && tc < 2 * dt)
+        eq_note = "; its time constant " + Fmt("%.3g", tc) +
+                  " s is below two steps and MuJoCo's refsafe clamp is off";
       break;
     }
   }
@@ -446,6 +468,10 @@ Diagnosis DivergenceWatch::Diagnose(const mjModel* m, const mjData* d,
                        : "lower the gains, or a smaller --physics-dt (the limit scales with dt^2 "
                          "for kp, dt for kd), or the implicit integrator for kd of MuJoCo's own "
                          "actuators, or armature on the light link";
+  } else if (contact_number > kStableStepNumber) {
+    x.cause = "too large a step for a contact's stiffness: " + contact_text;
+    x.suggestion = "a positive solref time constant of at least two steps (MuJoCo scales it "
+                   "with each contact's effective mass), or a smaller --physics-dt";
   } else if (deepest > kDeepPenetration) {
     x.cause = "penetration: " + deepest_pair + " is " + Fmt("%.3g", deepest * 1e3) +
               " mm deep; the contact pushes the bodies apart with the energy stored in the "
@@ -457,9 +483,13 @@ Diagnosis DivergenceWatch::Diagnose(const mjModel* m, const mjData* d,
               (equality.empty() ? std::string() : " (equality constraint " + equality + ")") +
               (solver_maxed ? " stopped at its iteration limit (" +
                                   std::to_string(d->solver_iter) + " iterations)"
-                            : std::string(" could not keep the constraints"));
-    x.suggestion = "more solver iterations, a smaller --physics-dt, or the implicit integrator; "
-                   "check that the closed loop is consistent at the initial pose";
+                            : std::string(" could not keep the constraints")) +
+              eq_note;
+    x.suggestion = !eq_note.empty()
+                       ? "a solref time constant of at least two steps for the equality (or "
+                         "refsafe on), or a smaller --physics-dt"
+                       : "more solver iterations, a smaller --physics-dt, or the implicit "
+                         "integrator; check that the closed loop is consistent at the initial pose";
   } else if (sole_number > 0.5 * kStableStepNumber || gain_number > 0.5 * kStableStepNumber) {
     x.cause = "a stiff element close to the explicit step's limit: " +
               (gain_number >= sole_number ? gain_text

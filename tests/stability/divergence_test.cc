@@ -39,16 +39,25 @@ TEST(DivergenceWatch, EnergyAgreesWithMujocosAndAFreeFallIsNotFlagged) {
   m->opt.enableflags |= mjENBL_ENERGY;
   DivergenceWatch watch(m);
   watch.Start(m, d);
+  double largest_lag = 0;
   for (int k = 1; k <= 1000; ++k) {
-    mj_step(m, d);  // MuJoCo's energy of the state at the start of this step, from mj_forward
-    const double mujoco = d->energy[0] + d->energy[1];
+    mj_step(m, d);
     ASSERT_FALSE(watch.Check(m, d, k));
-    ASSERT_NEAR(watch.energy(), mujoco, 1e-9 * std::fabs(mujoco)) << "step " << k;
+    // MuJoCo's energy of the same state, with current kinematics; the watch's positions lag one
+    // step: at most the bodies' weights times their vertical travel in one step
+    const double watch_energy = watch.energy();
+    mj_forward(m, d);
+    const double mujoco = d->energy[0] + d->energy[1];
+    const double lag = 9.81 * (1.0 * std::fabs(d->qvel[2]) + 0.5 * 0.25 * std::fabs(d->qvel[6])) *
+                           m->opt.timestep + 2 * std::fabs(d->qvel[6]) * m->opt.timestep;
+    ASSERT_NEAR(watch_energy, mujoco, lag + 1e-9) << "step " << k;
+    largest_lag = std::max(largest_lag, std::fabs(watch_energy - mujoco));
   }
-  // one second of free fall and swing: semi-implicit Euler loses a little, never gains
+  EXPECT_GT(largest_lag, 0.05) << "the lag bound is not exercised";
+  // one second of free fall and swing: E stays within that lag of E(0)
   EXPECT_NEAR(d->qvel[2], -9.81, 0.02);
-  EXPECT_LE(watch.max_excess(), 1e-9);
-  EXPECT_NEAR(watch.energy(), watch.energy_start(), 0.1);
+  EXPECT_LE(watch.max_excess(), 0.11);
+  EXPECT_NEAR(watch.energy(), watch.energy_start(), 0.11);
 }
 
 TEST(DivergenceWatch, NonFiniteStateIsCaughtAndNamesTheJoint) {
@@ -110,11 +119,8 @@ TEST(DivergenceWatch, EnergyNobodyPaidForIsCaughtAndAPushThatPaysIsNot) {
     watch.Start(m, d);
     mj_step(m, d);
     ASSERT_FALSE(watch.Check(m, d, 1));
-    d->qvel[0] = 20;  // seen once a step has started from it (the test lags one step)
-    mj_step(m, d);
-    ASSERT_FALSE(watch.Check(m, d, 2));
-    mj_step(m, d);
-    ASSERT_TRUE(watch.Check(m, d, 3));
+    d->qvel[0] = 20;
+    ASSERT_TRUE(watch.Check(m, d, 2));
     EXPECT_EQ(watch.kind(), DivergenceKind::kEnergy);
     EXPECT_NEAR(watch.energy() - watch.energy_start(), 200, 1);
     EXPECT_NE(watch.Diagnose(m, d).what.find("energy blow-up"), std::string::npos);
@@ -153,6 +159,42 @@ TEST(DivergenceWatch, StandingRobotIsNotFlagged) {
   ExpectStable(res, 3.0, 1.0);
   EXPECT_GT(d->xpos[3 * r.map.base_body + 2], 0.6) << "the robot fell";
   EXPECT_LT(res.max_excess, 1e-3 * DivergenceWatch(m).margin());
+}
+
+TEST(DivergenceWatch, CheckCostsLittleNextToAStepOfTheRobot) {
+  Robot r;
+  LoadRobot(r, "mjcf/hrp1s/scene_flat.xml", "halfsit");
+  ASSERT_TRUE(r.sim && r.soft);
+  mjModel* m = r.sim->m();
+  mjData* d = r.sim->d();
+  DivergenceWatch watch(m);
+  watch.SetPassiveBodies(r.soles);
+  watch.Start(m, d);
+  using Clock = std::chrono::steady_clock;
+  constexpr int kSteps = 2000;
+  double step_time = 0, check_time = 0;
+  for (int k = 1; k <= kSteps; ++k) {
+    const auto t0 = Clock::now();
+    r.servo->Apply(m, d);
+    r.soft->ApplyBeforeStep(m, d);
+    mj_step(m, d);
+    r.soft->Commit();
+    const auto t1 = Clock::now();
+    ASSERT_FALSE(watch.Check(m, d, k));
+    const auto t2 = Clock::now();
+    step_time += std::chrono::duration<double>(t1 - t0).count();
+    check_time += std::chrono::duration<double>(t2 - t1).count();
+  }
+  // a loose bound (a shared machine): the figure itself goes to build/stability/cost.md
+  EXPECT_LT(check_time, 0.25 * step_time);
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(OHRP_BIN_DIR) / ".." / "stability";
+  fs::create_directories(dir);
+  std::ofstream(dir / "cost.txt")
+      << "HRP-1S standing on soft soles, " << kSteps << " steps: servo + soft contact + mj_step "
+      << Fmt("%.2f", 1e6 * step_time / kSteps) << " us per step, the watch's Check "
+      << Fmt("%.2f", 1e6 * check_time / kSteps) << " us per step ("
+      << Fmt("%.1f", 100 * check_time / step_time) << " %)\n";
 }
 
 TEST(DivergenceWatch, SamplePdWalkIsNotFlagged) {

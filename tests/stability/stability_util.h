@@ -155,8 +155,9 @@ inline void ExpectDetected(const RunResult& r, const std::string& cause_part = "
   ASSERT_TRUE(r.diverged) << "the unstable setting ran " << r.sim_time
                           << " s without the watch firing (max energy excess " << r.max_excess
                           << " J)";
-  if (!cause_part.empty())
+  if (!cause_part.empty()) {
     EXPECT_NE(r.diagnosis.cause.find(cause_part), std::string::npos) << r.diagnosis.Text();
+  }
 }
 
 // One row of the case table: | case | setting | simulated | outcome | figure | wall |

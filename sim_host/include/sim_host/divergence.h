@@ -11,9 +11,10 @@
 //      actuator without a warning), or a speed beyond WatchLimits::max_speed (a runaway that
 //      will be non-finite a few steps later).
 //   3. energy blow-up. E = kinetic + gravity + joint/tendon spring energy (MuJoCo's
-//      mj_energyPos and M qvel), of the state at the start of the step just taken (the one
-//      whose kinematics and mass matrix mj_step left in mjData: the test lags one step and is
-//      exact). What can raise E is bounded by the work of the sources:
+//      mj_energyPos and qvel' M qvel) of the state after the step, with the kinematics and mass
+//      matrix mj_step left in mjData (those of the step's start: E is off by about
+//      M |g| |v| dt, 0.1 J for 1 kg at 10 m/s at 1 ms). What can raise E is bounded by the
+//      work of the sources:
 //          W(t) = sum over steps of dt * ( sum_i max(0, qfrc_actuator_i qvel_i)
 //                                        + sum_i max(0, qfrc_applied_i qvel_i)
 //                                        + sum over active bodies of max(0, xfrc_applied . v) )
@@ -120,15 +121,14 @@ class DivergenceWatch {
 
   bool diverged() const { return kind_ != DivergenceKind::kNone; }
   DivergenceKind kind() const { return kind_; }
-  double energy() const { return energy_; }              // [J] E at the last check (of the
-                                                         // state one step before d's)
+  double energy() const { return energy_; }              // [J] E at the last check
   double energy_start() const { return energy0_; }       // [J] E(0)
   double input_work() const { return work_; }            // [J] W so far
   double margin() const { return margin_; }              // [J]
   double max_excess() const { return max_excess_; }      // [J] largest E - E(0) - W so far
 
  private:
-  void Latch(DivergenceKind kind, const mjData* d, uint64_t step, int index);
+  void Latch(DivergenceKind kind, uint64_t step, int index);
   double Energy(const mjModel* m, mjData* d);
 
   WatchLimits limits_;
@@ -138,8 +138,7 @@ class DivergenceWatch {
   double energy0_ = 0, energy_ = 0, work_ = 0, max_excess_ = 0;
   // the last finite state (copied every step: nq + 2 nv doubles, no allocation)
   std::vector<double> last_qpos_, last_qvel_, last_qacc_;
-  std::vector<double> scratch_;   // M qvel
-  std::vector<double> qpos_now_;  // d->qpos while mj_energyPos sees last_qpos_
+  std::vector<double> scratch_;  // M qvel
   double last_time_ = 0;
   // the latched detection
   DivergenceKind kind_ = DivergenceKind::kNone;
