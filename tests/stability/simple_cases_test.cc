@@ -218,7 +218,7 @@ TEST(Stability, LongStiffChainConservesEnergyAtSmallStepsAndDivergesAtLarge) {
   const double reach = std::sqrt(p[0] * p[0] + p[1] * p[1] + (p[2] - 1) * (p[2] - 1)) + 0.01;
   EXPECT_LE(reach, 1.2 + 1e-6);
   WriteRow("long_chain", "120-link cable, bending k 0.5 N m/rad", "Euler, dt = 0.2 ms", r,
-           "|E - E(0)| = " + Fmt("%.3g", std::fabs(r.energy - r.energy0)) + " J of M g L/2 = " +
+           "abs(E - E(0)) = " + Fmt("%.3g", std::fabs(r.energy - r.energy0)) + " J of M g L/2 = " +
                Fmt("%.3g", scale) + " J");
 
   auto bad = Sim::FromFile(Src("mjcf/stability/chain120.xml"));

@@ -177,11 +177,21 @@ inline void WriteRow(const std::string& file, const std::string& case_name,
               Fmt("%.4g", r.energy0) + " J, W = " + Fmt("%.3g", r.work) + " J), " +
               std::to_string(r.total_warnings()) + " warnings";
   }
-  for (auto& c : outcome)
-    if (c == '|' || c == '\n') c = ' ';
+  std::string figure_cell = figure;
+  for (std::string* cell : {&outcome, &figure_cell})
+    for (auto& c : *cell)
+      if (c == '|' || c == '\n') c = ' ';
   row << "| " << case_name << " | " << setting << " | " << Fmt("%.3g", r.sim_time) << " s | "
-      << outcome << " | " << figure << " | " << Fmt("%.2f", r.wall) << " s |\n";
+      << outcome << " | " << figure_cell << " | " << Fmt("%.2f", r.wall) << " s |\n";
   std::ofstream(dir / (file + ".md"), std::ios::app) << row.str();
+}
+
+// Writes one line into build/stability/<file> (replacing it).
+inline void Note(const std::string& file, const std::string& line) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(OHRP_BIN_DIR) / ".." / "stability";
+  fs::create_directories(dir);
+  std::ofstream(dir / file) << line << "\n";
 }
 
 // Starts a case's row file afresh (call once at the start of each test).
