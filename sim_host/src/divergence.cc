@@ -391,8 +391,8 @@ Diagnosis DivergenceWatch::Diagnose(const mjModel* m, const mjData* d,
                   Fmt("%.3g", kp) + ", kd " + Fmt("%.3g", kd) + " on an inertia of " +
                   Fmt("%.3g", inertia) + "): dt^2 kp/I + 2 dt kd/I = " + Fmt("%.3g", number) +
                   " at dt = " + dt_text + " (the explicit step is stable below 4); kp <= " +
-                  Fmt("%.3g", kp_max) + " and kd <= " +
-                  Fmt("%.3g", 0.25 * kStableStepNumber * inertia / dt) + " would be";
+                  Fmt("%.3g", kp_max) + " with kd <= " +
+                  Fmt("%.3g", 0.25 * kStableStepNumber * inertia / dt) + " would be stable";
     }
   };
   for (const auto& g : ctx.gains)
