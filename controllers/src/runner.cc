@@ -154,6 +154,9 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
 
   //---------------- end of the run ----------------
   controller.deactivate();
+  // a producer that fails (sim_host diverging) sets the segment's state to failed before it
+  // can publish another block, so the last status seen may not carry kDiverged
+  const bool producer_failed = adaptor.producer_state() == shm::ProducerState::kFailed;
   adaptor.close();  // frees the controller slot
   controller.close();
 
@@ -162,8 +165,13 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     why = "stopped by signal";
     rep.exit_code = kExitOk;
   } else if (result == shm::ReadResult::kProducerStopped) {
-    if (last_status & shm::status::kDiverged) {
-      why = producer + " ended its run reporting a failure (simulation diverged)";
+    if ((last_status & shm::status::kDiverged) || producer_failed) {
+      why = producer + " ended its run reporting a failure" +
+            (header.producer_kind == shm::ProducerKind::kSimulation ||
+                     (last_status & shm::status::kDiverged)
+                 ? std::string(" (the simulation diverged: the producer's diagnostic says where "
+                               "and why)")
+                 : std::string(" (see the producer's output)"));
       rep.exit_code = kExitProducerFailed;
     } else {
       why = producer + " ended its run";

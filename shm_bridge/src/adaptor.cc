@@ -194,6 +194,11 @@ ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   return ReadResult::kOk;
 }
 
+ProducerState RobotAdaptor::producer_state() const {
+  if (segment_ == nullptr) return ProducerState::kStopped;
+  return static_cast<ProducerState>(internal::LoadState(segment_->header));
+}
+
 //---------------- close ----------------
 
 void RobotAdaptor::close() {

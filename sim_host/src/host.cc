@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "shm_bridge/bridge.h"
+#include "sim_host/divergence.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
 #include "sim_host/report.h"
@@ -51,14 +52,6 @@ const char* LossName(ControllerLoss l) {
     case ControllerLoss::kContinue: return "continue";
   }
   return "?";
-}
-
-bool StateFinite(const mjModel* m, const mjData* d) {
-  for (int i = 0; i < m->nq; ++i)
-    if (!std::isfinite(d->qpos[i])) return false;
-  for (int i = 0; i < m->nv; ++i)
-    if (!std::isfinite(d->qvel[i])) return false;
-  return true;
 }
 
 bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
@@ -162,7 +155,13 @@ int RunHost(const HostOptions& o) {
   bool waiting = o.wait_controller > 0;  // waiting for a (new) controller, time frozen
   uint32_t extra_status = 0;
   long warnings_at_start = WarningCount();
-  int badqacc = d->warning[mjWARN_BADQACC].number;
+  DivergenceWatch watch(m);  // non-finite state, MuJoCo's resets, energy blow-up (divergence.h)
+  if (soft) {
+    std::vector<int> sole_bodies;
+    for (int g : soft->sole_geoms()) sole_bodies.push_back(m->geom_bodyid[g]);
+    watch.SetPassiveBodies(sole_bodies);
+  }
+  watch.Start(m, d);
   shm::CommandBlock cmd{};
   int exit_code = kExitOk;
 
@@ -302,12 +301,19 @@ int RunHost(const HostOptions& o) {
       mj_step(m, d);
       if (soft) soft->Commit();
       ++st.steps;
+      if (watch.Check(m, d, st.steps)) break;
     }
-    if (!StateFinite(m, d) || d->warning[mjWARN_BADQACC].number != badqacc) {
+    if (watch.diverged()) {
+      DiagnosisContext why{soft.get(), 0.5 * robot.total_mass, {}};
+      for (size_t i = 0; i < robot.joints.size(); ++i) {
+        const shm::JointCommand& c = servo.reference(i);
+        const bool pos = c.mode == shm::JointMode::kPosition;
+        if (pos || c.mode == shm::JointMode::kVelocity)
+          why.gains.push_back({robot.joints[i].dof_adr, pos ? c.kp : 0.0, c.kd});
+      }
+      st.divergence = watch.Diagnose(m, d, why);
       st.outcome = "diverged";
-      st.detail = "non-finite state or bad acceleration (MuJoCo reset the state) at t=" +
-                  std::to_string(d->time) + " s, step " + std::to_string(st.steps) +
-                  "; try a smaller --physics-dt or the implicit integrator";
+      st.detail = st.divergence.Text();
       std::fprintf(stderr, "sim_host: simulation diverged: %s\n", st.detail.c_str());
       extra_status |= shm::status::kDiverged;
       producer->SetState(shm::ProducerState::kFailed);

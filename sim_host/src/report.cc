@@ -62,6 +62,18 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["controller_losses"] = st.controller_losses;
   j["controllers_seen"] = st.controllers_seen;
   j["mujoco_warnings"] = st.warnings;
+  if (st.divergence.kind != DivergenceKind::kNone) {
+    const Diagnosis& x = st.divergence;
+    nlohmann::json dofs = nlohmann::json::array();
+    for (const auto& r : x.dofs)
+      dofs.push_back({{"joint", r.joint}, {"body", r.body}, {"qvel", r.qvel}, {"qacc", r.qacc},
+                      {"inertia", r.inertia}});
+    j["divergence"] = {{"kind", DivergenceKindName(x.kind)}, {"step", x.step}, {"time", x.time},
+                       {"what", x.what}, {"dofs", dofs}, {"bodies", x.bodies},
+                       {"contacts", x.contacts}, {"cause", x.cause}, {"suggestion", x.suggestion},
+                       {"energy", x.energy}, {"energy_start", x.energy_start},
+                       {"input_work", x.input_work}, {"text", x.Text()}};
+  }
   j["log_rows"] = st.log_rows;
   j["log_dropped"] = st.log_dropped;
   nlohmann::json below = nlohmann::json::object();

@@ -168,6 +168,9 @@ class RobotAdaptor {
   bool is_open() const { return segment_ != nullptr; }
   // A copy of the header, validated at open (counts clamped to the capacities).
   const SegmentHeader& header() const { return header_; }
+  // The producer's state now (read from the segment, not the copy): after read() returned
+  // kProducerStopped, kFailed tells a failed run (e.g. a diverged simulation) from a clean end.
+  ProducerState producer_state() const;
 
  private:
   Segment* segment_ = nullptr;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "sim_host/divergence.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
 
@@ -33,6 +34,7 @@ struct RunStats {
   long long fcl_queries = 0;            // soft-foot contact: FCL distance queries
   long long contact_pairs = 0;          // (sole, object) pairs looked at
   long long contact_pairs_bounded = 0;  // of those, rejected by the cheap bound (no FCL)
+  Diagnosis divergence;                 // the divergence watch's diagnostic (kind none: none)
 };
 
 const char* IntegratorName(int integrator);

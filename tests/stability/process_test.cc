@@ -1,0 +1,120 @@
+// Tests sim_host's divergence stop end to end, with the real programs: sim_host on a scene
+// that diverges once the arm moves (mjcf/stability/stiff_spring_arm.xml) and posture moving it.
+// sim_host must exit 4 with the watch's diagnostic on stderr and in its summary, posture must
+// exit non-zero saying that the producer diverged, and the segment must be gone.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "shm_bridge/bridge.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+pid_t Spawn(std::vector<std::string> args, const std::string& out_file) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    std::vector<char*> a;
+    for (auto& s : args) a.push_back(s.data());
+    a.push_back(nullptr);
+    execv(a[0], a.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// exit code, or -1 after `timeout` [s] (the process is then killed)
+int WaitExit(pid_t pid, double timeout) {
+  const auto t0 = std::chrono::steady_clock::now();
+  int st = 0;
+  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout) {
+    if (waitpid(pid, &st, WNOHANG) == pid) return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -1;
+}
+
+std::string Read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(DivergenceStop, SimHostStopsWithADiagnosticAndThePostureControllerIsTold) {
+  const std::string segment = "stabtest_" + std::to_string(getpid());
+  const std::string object = "/dev/shm/" + ohrp::shm::SegmentObjectName(segment);
+  fs::remove(object);
+  const fs::path dir = fs::temp_directory_path() / ("ohrp_divergence_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string pose = (dir / "pose.yaml").string();
+  std::ofstream(pose) << "joints:\n  j1: 0.5\n  j2: 0.3\n";
+  const std::string summary = (dir / "summary.json").string();
+
+  const std::string bin = OHRP_BIN_DIR;
+  const pid_t sim = Spawn({bin + "/sim_host", "--scene",
+                           std::string(OHRP_SOURCE_DIR) + "/mjcf/stability/stiff_spring_arm.xml",
+                           "--segment", segment, "--control-period", "0.002", "--duration", "5",
+                           "--wait-controller", "20", "--progress", "0", "--summary", summary},
+                          (dir / "sim_host.txt").string());
+  // posture retries attaching until the segment is there
+  const pid_t posture = Spawn({bin + "/posture", "--segment", segment, "--pose", pose, "--ramp",
+                               "0.5", "--attach-timeout", "20"},
+                              (dir / "posture.txt").string());
+  const int sim_exit = WaitExit(sim, 60);
+  const int posture_exit = WaitExit(posture, 20);
+  const std::string sim_text = Read((dir / "sim_host.txt").string());
+  const std::string posture_text = Read((dir / "posture.txt").string());
+
+  // sim_host: exit 4, the diagnostic names the step, the joint and the cause
+  EXPECT_EQ(sim_exit, 4) << sim_text;
+  EXPECT_NE(sim_text.find("simulation diverged"), std::string::npos) << sim_text;
+  EXPECT_NE(sim_text.find("joint j2"), std::string::npos) << sim_text;
+  EXPECT_NE(sim_text.find("stiffness of the joint spring on joint j2"), std::string::npos) << sim_text;
+  EXPECT_NE(sim_text.find("at step "), std::string::npos) << sim_text;
+
+  // the summary carries the same diagnostic
+  std::ifstream in(summary);
+  ASSERT_TRUE(in) << "no summary";
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["outcome"], "diverged");
+  EXPECT_EQ(j["exit_code"], 4);
+  ASSERT_TRUE(j.contains("divergence")) << j.dump(2);
+  const auto& x = j["divergence"];
+  EXPECT_EQ(x["dofs"][0]["joint"], "j2") << x.dump(2);
+  EXPECT_EQ(x["bodies"][0], "forearm") << x.dump(2);
+  EXPECT_NE(x["cause"].get<std::string>().find("joint spring"), std::string::npos) << x.dump(2);
+  // it grows 2.4x per step once the arm moves: within a few tenths of a second of the start
+  const double t = x["time"].get<double>();
+  EXPECT_GT(t, 0.0);
+  EXPECT_LT(t, 0.3);
+  EXPECT_LT(j["sim_time"].get<double>(), 0.3);
+
+  // posture: non-zero, and it says the producer diverged
+  EXPECT_EQ(posture_exit, 6) << posture_text;
+  EXPECT_NE(posture_text.find("diverged"), std::string::npos) << posture_text;
+
+  // the segment is gone
+  EXPECT_FALSE(fs::exists(object));
+  fs::remove_all(dir);
+}
+
+}  // namespace
