@@ -119,7 +119,11 @@ void StandOnTerrain(const std::string& file, const std::string& scene, const std
   EXPECT_NEAR(force, weight, 0.02 * weight) << "at rest the soles carry the weight";
   EXPECT_LT(tilt, 0.15) << "the robot leans or fell";
   EXPECT_LT(drop, 0.03);
-  WriteRow(file, what, "soft soles, defaults (k 3e6 N/m, c 10 s/m), dt = 1 ms", res,
+  const contact::SoftContactParams defaults;
+  WriteRow(file, what,
+           "soft soles, defaults (k " + Fmt("%.3g", defaults.stiffness) + " N/m, c " +
+               Fmt("%.3g", defaults.damping) + " s/m), dt = 1 ms",
+           res,
            "sole forces " + Fmt("%.5g", force) + " N vs M g = " + Fmt("%.5g", weight) +
                " N; base tilt " + Fmt("%.3g", tilt * 180 / M_PI) + " deg, sank " +
                Fmt("%.3g", drop * 1e3) + " mm");
