@@ -234,6 +234,20 @@ void SoftFootContact::Commit() {
   proposed_valid_ = false;
 }
 
+bool SoftFootContact::RestoreState(const State& state) {
+  if (state.anchors.size() != anchors_.size() || state.applied.size() != applied_.size())
+    return false;
+  for (size_t s = 0; s < anchors_.size(); ++s) {
+    if (state.anchors[s].size() != anchors_[s].size()) return false;
+  }
+  for (size_t s = 0; s < anchors_.size(); ++s) {
+    std::copy(state.anchors[s].begin(), state.anchors[s].end(), anchors_[s].begin());
+  }
+  std::copy(state.applied.begin(), state.applied.end(), applied_.begin());
+  proposed_valid_ = false;
+  return true;
+}
+
 void SoftFootContact::Remove(mjData* d) {
   for (size_t k = 0; k < bodies_.size(); ++k) {
     for (int i = 0; i < 6; ++i) d->xfrc_applied[6 * bodies_[k] + i] -= applied_[k][i];
