@@ -218,7 +218,9 @@ TEST_F(Accuracy, SoftFootClosedForms) {
   std::string note;
   const double sink = StaticSink(box, s, &v, &x, &note);
   std::printf("static sink %.6e m, law %.6e m: %.3e relative %s\n", v, x, sink, note.c_str());
-X
+  // the block comes to rest where k delta^n = m g: only what is left of the settling after
+  // 1.5 s remains (tests/contact/static_test states 1 % after 2 s on a tilted landing)
+  EXPECT_LT(sink, 1e-6);
   const double e = Restitution(box, s, &v, &x, &note);
   std::printf("restitution %.5f, law %.5f: %.3e relative %s\n", v, x, e, note.c_str());
   EXPECT_LT(e, 2e-3);  // tests/contact/impact_test states 2 % at 0.1 ms

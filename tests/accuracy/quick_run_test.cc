@@ -40,6 +40,7 @@ std::string Shell(const std::string& cmd, int* status) {
 TEST(BenchAccuracy, QuickRunWritesASaneReport) {
   const fs::path out = fs::path(OHRP_BIN_DIR) / ".." / "test-runs" / "accuracy_quick";
   fs::remove_all(out);
+  fs::create_directories(out);
   const fs::path docs = out / "accuracy.md";
   int status = 0;
   const std::string text = Shell("OHRP_PYTHON='" + std::string(OHRP_PYTHON) + "' '" + kBench +
