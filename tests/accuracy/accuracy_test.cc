@@ -15,6 +15,7 @@ namespace {
 
 const std::string kSrc = OHRP_SOURCE_DIR;
 
+// MuJoCo errors abort, and a warning during a test fails it.
 class Accuracy : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -23,6 +24,11 @@ class Accuracy : public ::testing::Test {
       std::abort();
     });
   }
+  void SetUp() override { warnings_ = sim::WarningCount(); }
+  void TearDown() override {
+    EXPECT_EQ(sim::WarningCount(), warnings_) << "MuJoCo warning: " << sim::LastWarning();
+  }
+  long warnings_ = 0;
 };
 
 SceneSpec Pendulum(double duration) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "accuracy.h"
+#include "report.h"
 
 namespace fs = std::filesystem;
 using namespace ohrp::accuracy;
@@ -46,49 +47,6 @@ struct Options {
   double ref_dt = 1.0 / 16000;
 };
 
-struct Row {
-  std::string scene, sweep;
-  Setting s;
-  int iterations = 0;
-  double tolerance = 0;
-  std::string geometry;
-  PieceResult r;
-  std::string closed_form;
-  double closed_form_error = std::nan("");
-  bool reference = false;
-};
-
-struct ClosedRow {
-  std::string scene;
-  Setting s;
-  std::string quantity, unit;
-  double value = std::nan(""), exact = std::nan(""), error = std::nan("");
-  std::string note;
-};
-
-std::string Num(double v, const char* fmt = "%.4g") {
-  if (std::isnan(v)) return "";
-  if (std::isinf(v)) return "inf";
-  char b[64];
-  std::snprintf(b, sizeof b, fmt, v);
-  return b;
-}
-
-std::string DtName(double dt) {
-  const double ms = dt * 1e3;
-  if (ms >= 1) return Num(ms, "%.0f") + " ms";
-  return "1/" + Num(1.0 / ms, "%.0f") + " ms";
-}
-
-std::string SettingName(const Setting& s, const std::string& geometry_default) {
-  std::string r = std::string(IntegratorName(s.integrator)) + " " + DtName(s.dt);
-  if (s.contact != Contact::kNone) r += " " + std::string(ContactName(s.contact));
-  if (s.iterations >= 0) r += " iter " + std::to_string(s.iterations);
-  if (s.tolerance >= 0) r += " tol " + Num(s.tolerance, "%.0e");
-  if (!s.geometry.empty() && s.geometry != geometry_default) r += " " + s.geometry;
-  return r;
-}
-
 bool HasDamping(const SceneSpec& scene) {
   Setting s;
   s.contact = scene.contacts.front();
@@ -99,61 +57,6 @@ bool HasDamping(const SceneSpec& scene) {
   for (int i = 0; i < m->nv; ++i)
     if (m->dof_damping[i] > 0) return true;
   return false;
-}
-
-std::string CpuModel() {
-  std::ifstream f("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const auto p = line.find(':');
-      if (p != std::string::npos) return line.substr(p + 2);
-    }
-  }
-  return "unknown CPU";
-}
-
-std::string UtcNow() {
-  std::time_t t = std::time(nullptr);
-  char b[64];
-  std::strftime(b, sizeof b, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
-  return b;
-}
-
-// ---- recommendations, derived from the rows ----
-
-const Row* Fastest(const std::vector<const Row*>& rows, double max_err, double min_rtf = 0) {
-  const Row* best = nullptr;
-  for (const Row* r : rows) {
-    if (r->r.diverged || !(r->r.pos_error <= max_err) || r->r.rtf() < min_rtf) continue;
-    if (!best || r->r.rtf() > best->r.rtf()) best = r;
-  }
-  return best;
-}
-
-const Row* MostAccurate(const std::vector<const Row*>& rows, double min_rtf) {
-  const Row* best = nullptr;
-  for (const Row* r : rows) {
-    if (r->r.diverged || r->r.rtf() < min_rtf || r->reference) continue;
-    if (!best || r->r.pos_error < best->r.pos_error) best = r;
-  }
-  return best;
-}
-
-std::string Brief(const Row* r, const std::string& gdef) {
-  if (!r) return "none measured";
-  return SettingName(r->s, gdef) + " (" + Num(r->r.pos_error * 1e3, "%.3g") + " mm, " +
-         Num(r->r.force_error, "%.3g") + " N, " + Num(r->r.rtf(), "%.3g") + "x)";
-}
-
-std::string Need(const std::vector<const Row*>& rows, double err, double rtf,
-                 const std::string& gdef) {
-  const Row* both = Fastest(rows, err, rtf);
-  if (both) return Brief(both, gdef);
-  const Row* a = Fastest(rows, err);
-  const Row* b = MostAccurate(rows, rtf);
-  return "not reached; fastest within " + Num(err * 1e3, "%g") + " mm: " + Brief(a, gdef) +
-         "; most accurate at " + Num(rtf, "%g") + "x: " + Brief(b, gdef);
 }
 
 }  // namespace
@@ -336,7 +239,7 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   std::vector<ClosedRow> closed;
-  std::vector<std::string> skipped;
+  std::vector<std::string> skipped, no_damping;
   std::map<std::string, std::map<Contact, Reference>> refs;
   const double t_start = ThreadCpu();
   for (const SceneSpec& scene : scenes) {
@@ -344,9 +247,7 @@ int main(int argc, char** argv) {
     const bool damping = HasDamping(scene);
     std::vector<Integrator> integrators = {Integrator::kEuler, Integrator::kRK4};
     if (damping) integrators.push_back(Integrator::kImplicit);
-    else
-      skipped.push_back(scene.name + ": implicit skipped, the model has no joint damping (MuJoCo's "
-                        "implicit integrator then steps exactly as Euler)");
+    else no_damping.push_back(scene.name);
     for (Contact c : scene.contacts) {
       Setting rs;
       rs.integrator = Integrator::kRK4;
@@ -472,43 +373,18 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (!no_damping.empty()) {
+    std::string names;
+    for (const auto& n : no_damping) names += (names.empty() ? "" : ", ") + n;
+    skipped.push_back("implicit on " + names + ": skipped, these models have no joint damping "
+                      "(MuJoCo's implicit integrator then steps exactly as Euler)");
+  }
+
   // ---- CSV ----
   const std::string csv = o.out + "/accuracy.csv";
-  {
-    std::ofstream f(csv);
-    f << "scene,sweep,integrator,dt,contact,iterations,tolerance,geometry,rtf,pos_error_m,"
-         "force_error_N,closed_form,closed_form_error,diverged,note\n";
-    for (const Row& r : rows) {
-      std::string note = r.r.note;
-      std::replace(note.begin(), note.end(), ',', ';');
-      std::replace(note.begin(), note.end(), '\n', ' ');
-      f << r.scene << "," << r.sweep << "," << IntegratorName(r.s.integrator) << ","
-        << Num(r.s.dt, "%.9g") << "," << ContactName(r.s.contact) << "," << (r.iterations > 0 ? std::to_string(r.iterations) : "") << ","
-        << (r.iterations > 0 ? Num(r.tolerance, "%.0e") : "") << "," << r.geometry << "," << Num(r.r.rtf(), "%.6g") << ","
-        << Num(r.r.pos_error, "%.6g") << "," << Num(r.r.force_error, "%.6g") << ","
-        << r.closed_form << "," << Num(r.closed_form_error, "%.6g") << ","
-        << (note.rfind("refused", 0) == 0 ? "refused" : r.r.diverged ? "yes" : "no") << ","
-        << note << "\n";
-    }
-    if (!f) {
-      std::fprintf(stderr, "bench_accuracy: cannot write %s\n", csv.c_str());
-      return 2;
-    }
-  }
-  {
-    std::ofstream f(o.out + "/closed_forms.csv");
-    f << "scene,integrator,dt,contact,geometry,quantity,unit,value,exact,error,note\n";
-    for (const ClosedRow& c : closed) {
-      std::string note = c.note;
-      std::replace(note.begin(), note.end(), ',', ';');
-      std::replace(note.begin(), note.end(), '\n', ' ');
-      std::string q = c.quantity;
-      std::replace(q.begin(), q.end(), ',', ';');
-      f << c.scene << "," << IntegratorName(c.s.integrator) << "," << Num(c.s.dt, "%.9g") << ","
-        << ContactName(c.s.contact) << "," << (c.s.geometry.empty() ? "-" : c.s.geometry) << ","
-        << q << "," << c.unit << "," << Num(c.value, "%.10g") << "," << Num(c.exact, "%.10g")
-        << "," << Num(c.error, "%.6g") << "," << note << "\n";
-    }
+  if (!WriteCsv(csv, rows) || !WriteClosedCsv(o.out + "/closed_forms.csv", closed)) {
+    std::fprintf(stderr, "bench_accuracy: cannot write the CSV files in %s\n", o.out.c_str());
+    return 2;
   }
   std::fprintf(stderr, "wrote %s and %s/closed_forms.csv\n", csv.c_str(), o.out.c_str());
 
@@ -525,138 +401,32 @@ int main(int argc, char** argv) {
     if (plot_status != 0) std::fprintf(stderr, "bench_accuracy: plotting failed (%s)\n", cmd.c_str());
   }
 
-  // ---- what to choose, from the rows ----
-  std::ostringstream rec;  // markdown
-  std::printf("\n%-12s %-8s %-58s %-58s %-58s\n", "scene", "contact", "1 mm at 20x real time",
-              "fastest within 1 cm", "most accurate at real time");
-  rec << "| scene | contact | 1 mm at 20x real time | 0.1 mm, fastest | 1 cm, fastest | most "
-         "accurate at >= 1x real time |\n|---|---|---|---|---|---|\n";
-  for (const SceneSpec& scene : scenes) {
-    const std::string gdef = scene.geometries.empty() ? "" : scene.geometries[0];
-    for (Contact c : scene.contacts) {
-      std::vector<const Row*> sel;
-      for (const Row& r : rows)
-        if (r.scene == scene.name && r.s.contact == c) sel.push_back(&r);
-      const std::string a = Need(sel, 1e-3, 20, gdef);
-      const std::string b = Brief(Fastest(sel, 1e-4), gdef);
-      const std::string d = Brief(Fastest(sel, 1e-2), gdef);
-      const std::string e = Brief(MostAccurate(sel, 1.0), gdef);
-      std::printf("%-12s %-8s %-58s %-58s %-58s\n", scene.name.c_str(), ContactName(c), a.c_str(),
-                  d.c_str(), e.c_str());
-      rec << "| " << scene.name << " | " << ContactName(c) << " | " << a << " | " << b << " | "
-          << d << " | " << e << " |\n";
-    }
-  }
-
-  // ---- the headline ratio: the standing robot, soft soles ----
-  double ratio = std::nan("");
-  std::string ratio_text = "(no hrp1s_stand scene in this run)";
-  std::string headline;
+  // ---- what to choose, the orders and the headline, from the rows ----
+  const std::string choices = ChoiceTable(scenes, rows);
+  const std::string orders = OrderTable(scenes, rows);
+  double stand_ref_rtf = std::nan("");
   if (refs.count("hrp1s_stand") && refs["hrp1s_stand"].count(Contact::kSoft)) {
     const Reference& ref = refs["hrp1s_stand"][Contact::kSoft];
-    std::vector<const Row*> sel;
-    for (const Row& r : rows)
-      if (r.scene == "hrp1s_stand" && r.s.contact == Contact::kSoft && !r.reference)
-        sel.push_back(&r);
-    const Row* best = Fastest(sel, 1e-3);
-    const double ref_rtf = ref.sim_time / ref.cpu;
-    if (best) {
-      ratio = best->r.rtf() / ref_rtf;
-      headline = "recommended default for the standing robot on soft soles (fastest within 1 mm): " +
-                 SettingName(best->s, "") + ", " + Num(best->r.pos_error * 1e3, "%.3g") +
-                 " mm at " + Num(best->r.rtf(), "%.3g") + "x real time; the reference (RK4 1/16 ms) " +
-                 Num(ref_rtf, "%.3g") + "x";
-      ratio_text = "(" + Num(best->r.rtf(), "%.3g") + "x / " + Num(ref_rtf, "%.3g") + "x)";
-    }
+    stand_ref_rtf = ref.sim_time / ref.cpu;
   }
-  if (!headline.empty()) std::printf("\n%s\n", headline.c_str());
+  const Headline head = StandingHeadline(rows, stand_ref_rtf);
+  if (!head.text.empty()) std::printf("\n%s\n", head.text.c_str());
 
   // ---- docs ----
   if (write_docs) {
-    std::ofstream f(docs_path);
-    utsname u{};
-    uname(&u);
-    f << "# What accuracy costs in time\n\n"
-      << "<!-- GENERATED by `build/bin/bench_accuracy" << (o.quick ? " --quick" : "")
-      << " --write-docs` (tools/accuracy/bench_accuracy.cc): do not edit by hand, rerun it. -->\n\n"
-      << "Made on " << UtcNow() << " on " << CpuModel() << ", "
-      << std::thread::hardware_concurrency() << " cores (" << u.sysname << " " << u.release
-      << "), MuJoCo " << mj_versionString() << ", " << (o.quick ? "`--quick` run" : "full run")
-      << " in " << Num(ThreadCpu() - t_start, "%.0f") << " s of CPU. "
-      << "Regenerate with `./ohrp bench accuracy --write-docs` (charts and CSV land in "
-         "`build/accuracy/`).\n\n"
-      << "Hard cases that stay (or do not stay) numerically stable, and the settings they need: "
-         "[docs/stability.md](stability.md).\n\n"
-      << "## Method\n\n"
-      << "After Erez, Tassa and Todorov, \"Simulation tools for model-based robotics\" (ICRA "
-         "2015). For each scene and contact model, a reference trajectory is integrated with "
-         "RK4 at 1/16 ms, solver iterations 200 and tolerance 1e-12. Each setting then restarts "
-         "from " << o.restarts << " reference states spread along it (qpos, qvel, act, time, "
-         "qacc_warmstart, xfrc_applied and the soft-foot contact's friction anchors are restored), "
-         "integrates " << o.piece_windows << " windows of 16 ms and is compared with the reference "
-         "at each window's end: **pos error** is the mean distance of the bodies' positions "
-         "(after mj_kinematics) [m], **force error** the mean error of the 16 ms average of the "
-         "total contact normal force [N]. **rtf** is simulated time over the thread's CPU time "
-         "(CLOCK_THREAD_CPUTIME_ID) spent stepping. Controls are functions of simulated time. "
-         "Errors are against the same contact model's own reference: they say how far a "
-         "setting is from that model's converged solution, not which contact model is right. "
-         "`rigid` sets the contact's time constant to 2 dt (sim_host/src/feet.cc), so its "
-         "physics changes with dt by design. The soft-foot force and the Servo are held over a "
-         "step (zero-order hold, as sim_host does), so RK4 is first order on the robot scenes; "
-         "MuJoCo's own contact forces are re-evaluated in every RK4 stage.\n\n"
-      << "Scenes:\n\n";
-    for (const SceneSpec& s : scenes) {
-      f << "- `" << s.name << "`: " << s.description << "; reference over " << s.duration
-        << " s";
-      if (s.preroll > 0) f << " after a " << s.preroll << " s pre-roll at 1 ms Euler";
-      f << ".\n";
-    }
-    f << "\nSkipped combinations: ";
-    for (const auto& s : skipped) f << s << ". ";
-    f << "Soft-foot contact on the ball, the mesh variants and MuJoCo's humanoid: not "
-         "applicable (it samples a box sole). Solver rows: Euler at 1 ms with MuJoCo contact "
-         "only (the soft soles need no constraint solver). Geometry rows: Euler at 0.25, 1 and "
-         "4 ms. Soft-foot rows at steps where the contact's own parameter check "
-         "(contact::Validate) refuses the default parameters are marked `refused`.\n\n";
-    f << "## What to choose\n\n"
-      << "Derived from the table below by the tool (fastest setting meeting the error bound; "
-         "the error is the mean body position error).\n\n"
-      << rec.str() << "\n";
-    if (!headline.empty()) f << "Headline: " << headline << ".\n\n";
-    f << "## Refsafe\n\nAt large steps MuJoCo's `refsafe` raises a contact's time constant "
-         "to 2 dt when the model asks for less: the contact itself becomes softer, so the "
-         "error at those steps includes a change of the physics, not only of the integration. "
-         "Rows where this happens are marked in the table's notes.\n\n";
-    f << "## Closed forms\n\n| scene | setting | quantity | value | exact | error |\n"
-         "|---|---|---|---|---|---|\n";
-    for (const ClosedRow& c : closed) {
-      const std::string gdef =
-          c.scene == "box" ? "box" : c.scene == "ball" ? "sphere" : "";
-      f << "| " << c.scene << " | " << SettingName(c.s, gdef) << " | " << c.quantity << " ["
-        << c.unit << "] | " << Num(c.value, "%.8g") << " | " << Num(c.exact, "%.8g") << " | "
-        << (c.note.empty() ? Num(c.error, "%.3g") : Num(c.error, "%.3g") + " " + c.note)
-        << " |\n";
-    }
-    f << "\nErrors: relative for the period, the sink and the restitution, absolute (m, m/s) for "
-         "the free fall and the rolling speed.\n\n";
-    f << "## Table\n\n| scene | setting | rtf | pos error [m] | force error [N] | closed form | "
-         "diverged | note |\n|---|---|---|---|---|---|---|---|\n";
-    for (const Row& r : rows) {
-      const std::string gdef = r.scene == "box" ? "box" : r.scene == "ball" ? "sphere" : "";
-      std::string note = r.r.note;
-      std::replace(note.begin(), note.end(), '\n', ' ');
-      std::replace(note.begin(), note.end(), '|', '/');
-      f << "| " << r.scene << " | " << SettingName(r.s, gdef) << " | " << Num(r.r.rtf(), "%.3g")
-        << " | " << Num(r.r.pos_error, "%.3g") << " | " << Num(r.r.force_error, "%.3g") << " | "
-        << (r.closed_form.empty() ? "" : r.closed_form + " " + Num(r.closed_form_error, "%.3g"))
-        << " | " << (note.rfind("refused", 0) == 0 ? "refused" : r.r.diverged ? "yes" : "no")
-        << " | " << note << " |\n";
-    }
-    f << "\n## Charts\n\n`build/accuracy/<scene>.png`: position error (left) and force error "
-         "(right) against the real-time factor, log-log, one curve per integrator and contact "
-         "model over the time step (the step is written at each point), solver and geometry "
-         "rows as separate markers.\n";
-    if (!f) {
+    DocsInput in;
+    in.quick = o.quick;
+    in.restarts = o.restarts;
+    in.piece_windows = o.piece_windows;
+    in.cpu = ThreadCpu() - t_start;
+    in.scenes = &scenes;
+    in.skipped = &skipped;
+    in.rows = &rows;
+    in.closed = &closed;
+    in.choices = choices;
+    in.orders = orders;
+    in.headline = head.text;
+    if (!WriteDocs(docs_path, in)) {
       std::fprintf(stderr, "bench_accuracy: cannot write %s\n", docs_path.c_str());
       return 2;
     }
@@ -665,7 +435,7 @@ int main(int argc, char** argv) {
 
   std::printf("ratio = real-time factor of the recommended standing setting (hrp1s_stand, soft "
               "soles, fastest within 1 mm) / that of its reference (RK4 1/16 ms)\n");
-  std::printf("ratio: %s %s\n", std::isnan(ratio) ? "nan" : Num(ratio, "%.2f").c_str(),
-              ratio_text.c_str());
+  std::printf("ratio: %s %s\n", std::isnan(head.ratio) ? "nan" : Num(head.ratio, "%.2f").c_str(),
+              head.ratio_text.c_str());
   return plot_status == 0 ? 0 : 1;
 }
