@@ -6,8 +6,8 @@ Usage: plot_accuracy.py ACCURACY_CSV OUT_DIR
 Left: mean body position error [m]; right: mean error of the 16 ms-average contact normal
 force [N] (scenes with contact). One curve per integrator and contact model over the time step
 (the step in ms is written at each point); solver and geometry rows as separate markers.
-Diverged or refused settings and zero errors (the reference's own setting) cannot be drawn on a
-log axis and are left out (the CSV has them). Needs matplotlib (Debian's python3-matplotlib).
+Diverged or refused settings, zero errors and the reference's own integrator and step (which
+reproduces it to rounding) are left out (the CSV has them). Needs matplotlib (Debian's python3-matplotlib).
 """
 import csv
 import math
@@ -55,7 +55,10 @@ def main():
     styles = {"euler": "o-", "rk4": "s-", "implicit": "^-"}
     colors = {"none": "black", "soft": "tab:green", "native": "tab:blue", "rigid": "tab:red"}
     for scene in scenes:
-        sr = [r for r in rows if r["scene"] == scene and r["diverged"] == "no"]
+        # the reference's own integrator and step reproduces it to rounding: left out, it
+        # would only stretch the log axis
+        sr = [r for r in rows if r["scene"] == scene and r["diverged"] == "no"
+              and "reference's integrator" not in r.get("note", "")]
         has_force = any(r["contact"] != "none" for r in sr)
         fig, axes = plt.subplots(1, 2 if has_force else 1, figsize=(13 if has_force else 7, 5.5),
                                  squeeze=False)
