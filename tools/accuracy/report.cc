@@ -152,7 +152,7 @@ std::string ChoiceTable(const std::vector<SceneSpec>& scenes, const std::vector<
     for (Contact c : scene.contacts) {
       std::vector<const Row*> sel;
       for (const Row& r : rows)
-        if (r.scene == scene.name && r.s.contact == c) sel.push_back(&r);
+        if (r.scene == scene.name && r.s.contact == c && r.sweep != "refcheck") sel.push_back(&r);
       const std::string a = Need(sel, 1e-3, 20, gdef);
       const std::string b = Brief(Fastest(sel, 1e-4), gdef);
       const std::string d = Brief(Fastest(sel, 1e-2), gdef);
@@ -201,12 +201,28 @@ std::string OrderTable(const std::vector<SceneSpec>& scenes, const std::vector<R
   return orders.str();
 }
 
+std::string ReferenceCheckTable(const std::vector<Row>& rows) {
+  std::ostringstream t;
+  int n = 0;
+  t << "| scene | contact | reference's setting at half its step | pos error [m] | force error "
+       "[N] |\n|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    if (r.sweep != "refcheck") continue;
+    ++n;
+    t << "| " << r.scene << " | " << ContactName(r.s.contact) << " | "
+      << SettingName(r.s, r.s.geometry) << " | " << Num(r.r.pos_error, "%.3g") << " | "
+      << Num(r.r.force_error, "%.3g") << " |\n";
+  }
+  return n ? t.str() : std::string();
+}
+
 Headline StandingHeadline(const std::vector<Row>& rows, double ref_rtf) {
   Headline h;
   if (std::isfinite(ref_rtf)) {
     std::vector<const Row*> sel;
     for (const Row& r : rows)
-      if (r.scene == "hrp1s_stand" && r.s.contact == Contact::kSoft && !r.reference)
+      if (r.scene == "hrp1s_stand" && r.s.contact == Contact::kSoft && !r.reference &&
+          r.sweep != "refcheck")
         sel.push_back(&r);
     const Row* best = Fastest(sel, 1e-3);
     if (best) {
@@ -286,6 +302,13 @@ bool WriteDocs(const std::string& path, const DocsInput& in) {
        "there: the setting lands on another branch of the motion (an impact, a stick-slip "
        "transition) than the reference.\n\n"
     << in.orders << "\n";
+  if (!in.refcheck.empty()) {
+    f << "## How good the reference is\n\nThe reference's own setting at half its step "
+         "(1/32 ms), restarted and compared like any other setting: an estimate of the "
+         "reference's own error, below which the errors in the table say nothing. For "
+         "`rigid` it includes the change of the contact itself (time constant 2 dt).\n\n"
+      << in.refcheck << "\n";
+  }
   f << "## Refsafe\n\nAt large steps MuJoCo's `refsafe` raises a contact's time constant "
        "to 2 dt when the model asks for less: the contact itself becomes softer, so the "
        "error at those steps includes a change of the physics, not only of the integration. "

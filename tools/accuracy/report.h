@@ -49,6 +49,9 @@ std::string ChoiceTable(const std::vector<SceneSpec>& scenes, const std::vector<
 // The observed order of the position error over the step sweep (markdown table).
 std::string OrderTable(const std::vector<SceneSpec>& scenes, const std::vector<Row>& rows);
 
+// The reference check rows (the reference's setting at half its step), markdown; "" when none.
+std::string ReferenceCheckTable(const std::vector<Row>& rows);
+
 // The headline: the fastest soft-sole setting of hrp1s_stand within 1 mm, its real-time factor
 // over that of its reference (ref_rtf; NaN when the scene was not run).
 struct Headline {
@@ -66,7 +69,7 @@ struct DocsInput {
   const std::vector<std::string>* skipped = nullptr;
   const std::vector<Row>* rows = nullptr;
   const std::vector<ClosedRow>* closed = nullptr;
-  std::string choices, orders, headline;
+  std::string choices, orders, refcheck, headline;
 };
 // Writes docs/accuracy.md; false when it cannot be written.
 bool WriteDocs(const std::string& path, const DocsInput& in);
