@@ -316,11 +316,14 @@ bool WriteDocs(const std::string& path, const DocsInput& in) {
   f << "## Closed forms\n\n| scene | setting | quantity | value | exact | error |\n"
        "|---|---|---|---|---|---|\n";
   for (const ClosedRow& c : *in.closed) {
+    std::string cnote = c.note;
+    std::replace(cnote.begin(), cnote.end(), '\n', ' ');
+    std::replace(cnote.begin(), cnote.end(), '|', '/');
     const std::string gdef =
         c.scene == "box" ? "box" : c.scene == "ball" ? "sphere" : "";
     f << "| " << c.scene << " | " << SettingName(c.s, gdef) << " | " << c.quantity << " ["
       << c.unit << "] | " << Num(c.value, "%.10g") << " | " << Num(c.exact, "%.10g") << " | "
-      << (c.note.empty() ? Num(c.error, "%.3g") : Num(c.error, "%.3g") + " " + c.note)
+      << (cnote.empty() ? Num(c.error, "%.3g") : Num(c.error, "%.3g") + " " + cnote)
       << " |\n";
   }
   f << "\nErrors: relative for the period, the sink and the restitution, absolute (m, m/s) for "
