@@ -235,6 +235,20 @@ void SoftFootContact::Commit() {
   proposed_valid_ = false;
 }
 
+bool SoftFootContact::RestoreState(const State& state) {
+  if (state.anchors.size() != anchors_.size() || state.applied.size() != applied_.size())
+    return false;
+  for (size_t s = 0; s < anchors_.size(); ++s) {
+    if (state.anchors[s].size() != anchors_[s].size()) return false;
+  }
+  for (size_t s = 0; s < anchors_.size(); ++s) {
+    std::copy(state.anchors[s].begin(), state.anchors[s].end(), anchors_[s].begin());
+  }
+  std::copy(state.applied.begin(), state.applied.end(), applied_.begin());
+  proposed_valid_ = false;
+  return true;
+}
+
 namespace {
 // the contact evaluated from mjcb_control, and the callback that was there before it
 SoftFootContact* g_stage_contact = nullptr;

@@ -80,6 +80,18 @@ class SoftFootContact {
   // Removes this contact's share from d->xfrc_applied.
   void Remove(mjData* d);
 
+  // The contact's own state, for restarting a simulation from a saved point: the committed
+  // friction anchors and the wrench Apply() last added per sole body (so that the next Apply()
+  // replaces it in a restored d->xfrc_applied). Restore it together with the mjData it goes with.
+  struct State {
+    std::vector<std::vector<Anchor>> anchors;
+    std::vector<Eigen::Matrix<double, 6, 1>> applied;
+  };
+  State SaveState() const { return {anchors_, applied_}; }
+  // Takes a state saved from this contact or from one created on the same model and soles;
+  // false (nothing changed) when its sizes do not match.
+  bool RestoreState(const State& state);
+
   const std::vector<SoleWrench>& wrenches() const { return wrenches_; }
   const std::vector<int>& sole_geoms() const { return sole_geom_; }
   const SoftContactParams& params() const { return params_; }
