@@ -235,6 +235,12 @@ double Sim::Step() {
   double f = 0;
   if (soft_) {
     soft_->ApplyBeforeStep(m_, d_);
+    if (soft_->at_every_stage()) {
+      // RK4: mj_step evaluates the contact at each stage; its force at the step's start (the
+      // one recorded, as for the other integrators) needs its own evaluation here
+      contact::SoftFootContact::UpdateKinematics(m_, d_);
+      soft_->Evaluate(m_, d_);
+    }
     for (const auto& w : soft_->wrenches()) f += w.normal_force;
   }
   mj_step(m_, d_);
