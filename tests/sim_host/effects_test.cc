@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "runner/scenario.h"
 #include "sim_host/effects.h"
 #include "sim_host/model.h"
 #include "sim_host/sensors.h"
@@ -540,6 +541,30 @@ TEST(EffectsProcess, ARunPrintsTheShortTableAndSummarisesIt) {
   EXPECT_EQ(header.find("rfsensor_fx"), std::string::npos) << header;
   EXPECT_NE(header.find("imu_gx"), std::string::npos) << header;
   std::filesystem::remove_all(dir);
+}
+
+//---------------- the scenario key ----------------
+
+TEST(EffectsScenario, TheKeyBecomesSimHostsEffectsOption) {
+  const std::string path = testing::WriteTemp(
+      "scene: mjcf/hrp1s/scene_flat.xml\nduration: 1\n"
+      "effects:\n  gravity: off\n  noise: on\n  noise.force: 2.5\n", ".yaml");
+  runner::Scenario s;
+  std::string error;
+  ASSERT_TRUE(runner::LoadScenario(path, &s, &error)) << error;
+  EXPECT_EQ(s.effects.at("noise"), "on");
+  ASSERT_GE(s.sim_args.size(), 2u);
+  EXPECT_EQ(s.sim_args[0], "--effects");
+  EXPECT_EQ(s.sim_args[1], "gravity=off,noise=on,noise.force=2.5");
+  // and sim_host reads what the scenario wrote
+  EffectRequests req;
+  ASSERT_TRUE(ParseEffectRequests(s.sim_args[1], &req, &error)) << error;
+  EXPECT_EQ(req.request[static_cast<int>(Effect::kGravity)], 0);
+  EXPECT_EQ(req.noise.force, 2.5);
+  const std::string bad = testing::WriteTemp(
+      "scene: mjcf/hrp1s/scene_flat.xml\neffects: [gravity]\n", ".yaml");
+  EXPECT_FALSE(runner::LoadScenario(bad, &s, &error));
+  EXPECT_NE(error.find("'effects' must be a mapping"), std::string::npos) << error;
 }
 
 }  // namespace
