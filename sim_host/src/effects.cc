@@ -399,9 +399,10 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
 
   // the log and its channels
   declare(Effect::kLog, log, log, log ? "--log" : "no --log");
-  const bool base = robot.base_body >= 0;
-  declare(Effect::kLogBase, log && base, log && base,
-          !log ? "no --log" : base ? "the log records the base's ground truth" : "the robot has no free base");
+  declare(Effect::kLogBase, log, log,
+          !log ? "no --log"
+          : robot.base_body >= 0 ? "the log records the base's ground truth"
+                                 : "the log records the base's ground truth (zeros: the robot has no free base)");
   declare(Effect::kLogJoints, log && nj > 0, log && nj > 0, log ? "the log records q, qref, tau" : "no --log");
   declare(Effect::kLogForceTorque, log && !fts.empty(), log && !fts.empty(),
           log ? "the log records the F/T sensors" : "no --log");
