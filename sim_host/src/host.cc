@@ -95,12 +95,28 @@ int RunHost(const HostOptions& o) {
   }
   std::unique_ptr<contact::SoftFootContact> soft;
   ContactModel contact_model = o.feet.model;
+  EffectsPlan effects;  // decided on the scene as loaded, applied once the soles are set up
   if (!ApplyOverrides(o, m, &error) ||
-      !SetUpFeet(m, o.feet, robot.total_mass, &soft, &error, &contact_model) ||
-      !scene->Reset(o.keyframe, &error)) {
+      !ResolveEffects(m, robot, o.feet, !o.log_path.empty(), o.effects, &effects, &error) ||
+      !SetUpFeet(m, o.feet, robot.total_mass, &soft, &error, &contact_model)) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
+  ApplyEffects(effects, robot, m);
+  struct FilterGuard {
+    ~FilterGuard() { ClearContactFilter(); }
+  } filter_guard;
+  if (!scene->Reset(o.keyframe, &error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  if (o.explain) {
+    std::printf("effects of %s (sim_host --explain):\n%s", o.scene.c_str(), effects.Table().c_str());
+    return kExitOk;
+  }
+  const SensorSelection selection = SelectSensors(effects);
+  std::unique_ptr<SensorNoise> noise;
+  if (effects.on(Effect::kNoise)) noise = std::make_unique<SensorNoise>(effects.noise, selection);
   const double dt = m->opt.timestep;
   const double ratio = o.control_period / dt;
   const int steps_per_cycle = static_cast<int>(std::lround(ratio));
@@ -124,8 +140,13 @@ int RunHost(const HostOptions& o) {
                 producer->object_name().c_str());
 
   std::unique_ptr<Recorder> recorder;
-  if (!o.log_path.empty()) {
-    recorder = Recorder::Open(o.log_path, robot, &error);
+  if (effects.on(Effect::kLog)) {
+    RecorderChannels channels;
+    channels.base = effects.on(Effect::kLogBase);
+    channels.joints = effects.on(Effect::kLogJoints);
+    channels.force_torque = effects.on(Effect::kLogForceTorque);
+    channels.imu = effects.on(Effect::kLogImu);
+    recorder = Recorder::Open(o.log_path, robot, &error, 8192, channels);
     if (!recorder) {
       std::fprintf(stderr, "sim_host: %s\n", error.c_str());
       return kExitUsage;
@@ -144,6 +165,12 @@ int RunHost(const HostOptions& o) {
                  IntegratorName(m->opt.integrator), o.control_period,
                  o.realtime ? "real time" : "lock-step", ContactModelName(contact_model),
                  LossName(o.on_loss));
+    std::string lines = effects.Short();
+    for (size_t at = 0, nl; at < lines.size(); at = nl + 1) {
+      nl = lines.find('\n', at);
+      if (nl == std::string::npos) nl = lines.size();
+      std::fprintf(stderr, "sim_host: %s\n", lines.substr(at, nl - at).c_str());
+    }
   }
 
   //---------------- the loop ----------------
@@ -168,7 +195,8 @@ int RunHost(const HostOptions& o) {
   bool republish = false;
   auto publish = [&](uint32_t flags, bool record = true) {
     shm::SensorBlock& s = producer->BeginSensors();
-    FillSensors(robot, m, d, &s);
+    FillSensors(robot, m, d, selection, &s);
+    if (noise) noise->Apply(robot, &s);
     s.cycle = st.cycles;
     s.time = d->time;
     s.status = shm::status::kRunning | shm::status::kSimulated | extra_status | flags |
@@ -366,7 +394,7 @@ int RunHost(const HostOptions& o) {
     st.contact_pairs_bounded = soft->stats().pairs_bound;
   }
   st.contact = ContactModelName(contact_model);
-  if (!o.summary_path.empty()) WriteSummary(o.summary_path, o, robot, m, st, exit_code);
+  if (!o.summary_path.empty()) WriteSummary(o.summary_path, o, robot, m, st, exit_code, &effects);
   recorder.reset();
   producer.reset();  // removes the segment
   g_segment_object[0] = 0;

@@ -1,5 +1,6 @@
 // sim_host: simulate a robot and serve its segment (see sim_host/host.h and README.md).
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include "sim_host/host.h"
 
@@ -69,12 +70,31 @@ int main(int argc, char** argv) {
   app.add_option("--progress", o.progress, "wall seconds between progress lines; 0: none")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet,-q", o.quiet, "print errors only");
+  std::vector<std::string> effects;
+  app.add_option("--effects", effects,
+                 "switch effects on or off: NAME=on|off, contact:BODY1/BODY2=on|off, "
+                 "noise.KIND=STD (q dq tau force torque gyro accel orientation, SI units), "
+                 "noise.seed=N; comma-separated, repeatable (e.g. gravity=off,noise=on). "
+                 "Effects: gravity joint_limits passive native_contact self_collision "
+                 "soft_contact encoders joint_velocities joint_torques force_torque gyro "
+                 "accelerometer orientation rne_post other_sensors noise cameras log log_base "
+                 "log_joints log_force_torque log_imu (docs/effects.md)");
+  app.add_flag("--explain", o.explain,
+               "print each effect (on or off, and why) for this scene and these options, then "
+               "exit 0 without creating a segment");
   app.footer(
       "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
       "4 the simulation diverged, 5 the controller was lost (or never attached), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   CLI11_PARSE(app, argc, argv);
   ohrp::sim::ParseContactModel(contact, &o.feet.model);
+  for (const auto& spec : effects) {
+    std::string error;
+    if (!ohrp::sim::ParseEffectRequests(spec, &o.effects, &error)) {
+      std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+      return ohrp::sim::kExitUsage;
+    }
+  }
   if (push.size() == 8) {
     o.push.t0 = push[0];
     o.push.t1 = push[1];

@@ -8,7 +8,8 @@
 namespace ohrp::sim {
 
 std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const RobotMap& robot,
-                                         std::string* error, size_t capacity) {
+                                         std::string* error, size_t capacity,
+                                         const RecorderChannels& channels) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) {
     *error = "cannot write the log '" + path + "': " + std::strerror(errno);
@@ -16,22 +17,24 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const RobotMap
   }
   std::unique_ptr<Recorder> r(new Recorder());
   r->file_ = f;
-  r->njoint_ = static_cast<int>(robot.joints.size());
-  r->nforce_ = static_cast<int>(robot.forces.size());
-  r->nimu_ = static_cast<int>(robot.imus.size());
-  r->width_ = 11 + 3 * r->njoint_ + 6 * r->nforce_ + 10 * r->nimu_ + 2;
+  r->base_ = channels.base;
+  r->njoint_ = channels.joints ? static_cast<int>(robot.joints.size()) : 0;
+  r->nforce_ = channels.force_torque ? static_cast<int>(robot.forces.size()) : 0;
+  r->nimu_ = channels.imu ? static_cast<int>(robot.imus.size()) : 0;
+  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + 6 * r->nforce_ + 10 * r->nimu_ + 2;
   r->capacity_ = capacity;
   r->ring_.assign(r->width_ * capacity, 0.0);
 
   // header line
-  std::string h = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,base_vx,base_vy,base_vz";
+  std::string h = "time";
+  if (r->base_) h += ",base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,base_vx,base_vy,base_vz";
   for (const char* prefix : {"q_", "qref_", "tau_"})
-    for (const JointMap& j : robot.joints) h += "," + std::string(prefix) + j.name;
-  for (const ForceSensorMap& s : robot.forces)
-    for (const char* c : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) h += "," + s.name + c;
-  for (const ImuMap& s : robot.imus)
+    for (int i = 0; i < r->njoint_; ++i) h += "," + std::string(prefix) + robot.joints[i].name;
+  for (int f = 0; f < r->nforce_; ++f)
+    for (const char* c : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) h += "," + robot.forces[f].name + c;
+  for (int u = 0; u < r->nimu_; ++u)
     for (const char* c : {"_gx", "_gy", "_gz", "_ax", "_ay", "_az", "_qw", "_qx", "_qy", "_qz"})
-      h += "," + s.name + c;
+      h += "," + robot.imus[u].name + c;
   h += ",status,rejected\n";
   std::fputs(h.c_str(), f);
   r->line_.reserve(r->width_ * 24);
@@ -56,9 +59,11 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs) {
   double* row = &ring_[(head % capacity_) * width_];
   size_t k = 0;
   row[k++] = s.time;
-  for (int i = 0; i < 3; ++i) row[k++] = s.sim_truth.p_WB[i];
-  for (int i = 0; i < 4; ++i) row[k++] = s.sim_truth.quat_WB[i];
-  for (int i = 0; i < 3; ++i) row[k++] = s.sim_truth.v_WB[i];
+  if (base_) {
+    for (int i = 0; i < 3; ++i) row[k++] = s.sim_truth.p_WB[i];
+    for (int i = 0; i < 4; ++i) row[k++] = s.sim_truth.quat_WB[i];
+    for (int i = 0; i < 3; ++i) row[k++] = s.sim_truth.v_WB[i];
+  }
   for (int i = 0; i < njoint_; ++i) row[k++] = s.q[i];
   for (int i = 0; i < njoint_; ++i) row[k++] = refs[i].q_ref;
   for (int i = 0; i < njoint_; ++i) row[k++] = s.tau[i];

@@ -28,7 +28,8 @@ void PrintReport(const RunStats& st) {
 }
 
 void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
-                  const mjModel* m, const RunStats& st, int exit_code) {
+                  const mjModel* m, const RunStats& st, int exit_code,
+                  const EffectsPlan* effects) {
   const double wall = st.wall_end - st.wall_start;
   nlohmann::json j;
   j["outcome"] = st.outcome;
@@ -79,6 +80,18 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   nlohmann::json below = nlohmann::json::object();
   for (const auto& f : robot.forces) below[f.name] = m->body_subtreemass[m->site_bodyid[f.site_id]];
   j["mass_below"] = below;
+  if (effects) {
+    nlohmann::json e = nlohmann::json::object();
+    for (int i = 0; i < kEffectCount; ++i) {
+      const EffectState& x = effects->effects[i];
+      e[EffectName(static_cast<Effect>(i))] = {{"on", x.on}, {"reason", x.reason}};
+    }
+    j["effects"] = e;
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const auto& cp : effects->pairs)
+      pairs.push_back({{"pair", cp.name}, {"on", cp.on}, {"reason", cp.reason}});
+    j["contact_pairs_native"] = pairs;
+  }
   std::ofstream out(path);
   out << j.dump(2) << "\n";
   if (!out) std::fprintf(stderr, "sim_host: cannot write the summary '%s'\n", path.c_str());

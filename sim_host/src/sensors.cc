@@ -2,6 +2,7 @@
 #include "sim_host/sensors.h"
 
 #include <cstring>
+#include <limits>
 
 namespace ohrp::sim {
 namespace {
@@ -46,28 +47,36 @@ shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
 
 void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
                  shm::SensorBlock* out) {
+  FillSensors(robot, m, d, SensorSelection{}, out);
+}
+
+void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
+                 const SensorSelection& sel, shm::SensorBlock* out) {
+  constexpr double kOff = std::numeric_limits<double>::quiet_NaN();  // not measured
   const int n = static_cast<int>(robot.joints.size());
   for (int i = 0; i < n; ++i) {
     const JointMap& j = robot.joints[i];
-    out->q[i] = d->qpos[j.qpos_adr];
-    out->dq[i] = d->qvel[j.dof_adr];
-    out->tau[i] = d->actuator_force[j.actuator_id];
+    out->q[i] = sel.q ? d->qpos[j.qpos_adr] : kOff;
+    out->dq[i] = sel.dq ? d->qvel[j.dof_adr] : kOff;
+    out->tau[i] = sel.tau ? d->actuator_force[j.actuator_id] : kOff;
   }
   // MuJoCo's force/torque sensors read what the parent exerts on the child; the segment
   // carries OpenHRP's convention (child on parent), hence the sign
   for (size_t f = 0; f < robot.forces.size(); ++f) {
     for (int k = 0; k < 3; ++k) {
-      out->force[f].force[k] = -d->sensordata[robot.forces[f].force_adr + k];
-      out->force[f].torque[k] = -d->sensordata[robot.forces[f].torque_adr + k];
+      out->force[f].force[k] = sel.force_torque ? -d->sensordata[robot.forces[f].force_adr + k] : kOff;
+      out->force[f].torque[k] = sel.force_torque ? -d->sensordata[robot.forces[f].torque_adr + k] : kOff;
     }
   }
   for (size_t i = 0; i < robot.imus.size(); ++i) {
     const ImuMap& imu = robot.imus[i];
     for (int k = 0; k < 3; ++k) {
-      out->imu[i].gyro[k] = d->sensordata[imu.gyro_adr + k];
-      out->imu[i].accel[k] = d->sensordata[imu.accel_adr + k];
+      out->imu[i].gyro[k] = sel.gyro ? d->sensordata[imu.gyro_adr + k] : kOff;
+      out->imu[i].accel[k] = sel.accel ? d->sensordata[imu.accel_adr + k] : kOff;
     }
-    if (imu.quat_adr >= 0) {
+    if (!sel.orientation) {
+      for (int k = 0; k < 4; ++k) out->imu[i].quat_WI[k] = kOff;
+    } else if (imu.quat_adr >= 0) {
       for (int k = 0; k < 4; ++k) out->imu[i].quat_WI[k] = d->sensordata[imu.quat_adr + k];
     } else {
       mju_mat2Quat(out->imu[i].quat_WI, d->site_xmat + 9 * imu.site_id);

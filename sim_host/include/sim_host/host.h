@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "sim_host/effects.h"
 #include "sim_host/feet.h"
 
 namespace ohrp::sim {
@@ -46,6 +47,8 @@ struct HostOptions {
   std::string summary_path;        // JSON summary at the end; empty: none
   double progress = 2.0;           // [s] wall time between progress lines; 0: none
   bool quiet = false;
+  EffectRequests effects;          // effects switched on/off by request (sim_host/effects.h)
+  bool explain = false;            // print the effects table and exit without running
 };
 
 // exit codes of sim_host

@@ -9,6 +9,8 @@
 //   <imu>_gx, <imu>_gy, <imu>_gz, <imu>_ax, <imu>_ay, <imu>_az,
 //   <imu>_qw, <imu>_qx, <imu>_qy, <imu>_qz ...
 //   status, rejected
+// The channels (base, joints, F/T, IMU) can be left out (RecorderChannels, the log_* effects of
+// sim_host/effects.h); time, status and rejected are always there.
 #pragma once
 
 #include <atomic>
@@ -24,12 +26,21 @@
 
 namespace ohrp::sim {
 
+// which column groups the log has
+struct RecorderChannels {
+  bool base = true;          // base_x ... base_vz
+  bool joints = true;        // q_, qref_, tau_
+  bool force_torque = true;  // <ft>_fx ... <ft>_tz
+  bool imu = true;           // <imu>_gx ... <imu>_qz
+};
+
 class Recorder {
  public:
   // Opens `path` for writing and writes the header line. Returns null with `*error` set when
   // the file cannot be created. `capacity` rows are buffered in memory.
   static std::unique_ptr<Recorder> Open(const std::string& path, const RobotMap& robot,
-                                        std::string* error, size_t capacity = 8192);
+                                        std::string* error, size_t capacity = 8192,
+                                        const RecorderChannels& channels = {});
   ~Recorder();  // flushes everything and closes the file
 
   // Queues one row (copies the values; no allocation). Returns false and counts a drop when
@@ -54,7 +65,8 @@ class Recorder {
   std::atomic<uint64_t> tail_{0};  // rows written
   std::atomic<uint64_t> dropped_{0};
   uint64_t written_ = 0;
-  int njoint_ = 0, nforce_ = 0, nimu_ = 0;
+  int njoint_ = 0, nforce_ = 0, nimu_ = 0;  // 0 when the channel is off
+  bool base_ = true;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sim_host/divergence.h"
+#include "sim_host/effects.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
 
@@ -44,7 +45,9 @@ void PrintReport(const RunStats& st);
 
 // The JSON summary (outcome, timing, counts, the robot's mass and the mass below each force
 // sensor, which the sensor does not carry).
+// `effects` (may be null) adds each effect, on or off, and why.
 void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
-                  const mjModel* m, const RunStats& st, int exit_code);
+                  const mjModel* m, const RunStats& st, int exit_code,
+                  const EffectsPlan* effects = nullptr);
 
 }  // namespace ohrp::sim

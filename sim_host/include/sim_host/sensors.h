@@ -16,4 +16,15 @@ shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
 // counters. Never allocates.
 void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d, shm::SensorBlock* out);
 
+// Which of the segment's sensor fields are measured (see sim_host/effects.h: SelectSensors).
+struct SensorSelection {
+  bool q = true, dq = true, tau = true, force_torque = true, gyro = true, accel = true,
+       orientation = true;
+};
+
+// The same for the sensor kinds `selection` switches on; the fields of the kinds that are off
+// are set to NaN (not measured) and their MuJoCo sensors are not read.
+void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
+                 const SensorSelection& selection, shm::SensorBlock* out);
+
 }  // namespace ohrp::sim

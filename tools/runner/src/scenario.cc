@@ -12,7 +12,7 @@ const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
     "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
-    "contact_params"};
+    "contact_params", "effects"};
 
 const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
                                               "tangential_stiffness", "tangential_damping"};
@@ -98,6 +98,30 @@ bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
                "tangential_damping)";
       return false;
     }
+  }
+  if (root["effects"]) {
+    // NAME: on|off, contact:BODY1/BODY2: on|off, noise.KIND: STD, noise.seed: N; sim_host
+    // checks the names and values (docs/effects.md) and refuses bad ones before running
+    if (!root["effects"].IsMap()) {
+      *error = "scenario '" + path + "': 'effects' must be a mapping, e.g. {noise: on, gravity: off}";
+      return false;
+    }
+    std::string list;
+    for (const auto& kv : root["effects"]) {
+      if (!kv.second.IsScalar()) {
+        *error = "scenario '" + path + "': effects: '" + kv.first.as<std::string>() +
+                 "' must be on, off or a number";
+        return false;
+      }
+      const std::string key = kv.first.as<std::string>(), value = kv.second.as<std::string>();
+      if (key.find_first_of(",=") != std::string::npos || value.find_first_of(",=") != std::string::npos) {
+        *error = "scenario '" + path + "': effects: '" + key + "' has a ',' or '='";
+        return false;
+      }
+      s.effects[key] = value;
+      list += (list.empty() ? "" : ",") + key + "=" + value;
+    }
+    if (!list.empty()) s.sim_args.insert(s.sim_args.begin(), {"--effects", list});
   }
   if (s.on_controller_loss != "end" && s.on_controller_loss != "wait" &&
       s.on_controller_loss != "continue") {

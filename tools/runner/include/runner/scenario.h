@@ -39,6 +39,8 @@ struct Scenario {
   int log_every = 1;
   std::string contact;           // soft | native | rigid; empty: sim_host's default (soft)
   std::map<std::string, double> contact_params;  // soft-foot parameters, e.g. stiffness
+  std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
+                                               // LoadScenario passes them as sim_args --effects
   std::vector<std::string> sim_args;  // extra sim_host arguments
   std::vector<ControllerSpec> controllers;
   std::vector<CheckSpec> checks;
