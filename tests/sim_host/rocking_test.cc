@@ -9,9 +9,7 @@
 #include <vector>
 
 #include "contact/geometry.h"
-#include "sim_host/feet.h"
-#include "sim_host/model.h"
-#include "sim_host/servo.h"
+#include "leaning_robot.h"
 
 namespace ohrp::sim {
 namespace {
@@ -75,47 +73,22 @@ Mode PredictRocking(const std::vector<Eigen::Vector2d>& r,  // points (x, z) fro
 }
 
 TEST(Rocking, StandingRobotRocksAsTheLinearisedSpringDamperPredicts) {
-  InstallMujocoHandlers(nullptr);
-  std::string error;
-  auto scene = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &error);
-  ASSERT_TRUE(scene) << error;
-  mjModel* m = scene->m();
-  mjData* d = scene->d();
-  m->opt.timestep = kDt;
-  RobotMap robot;
-  ASSERT_TRUE(MapRobot(m, &robot, &error)) << error;
-  FeetOptions feet;
-  feet.model = ContactModel::kSoft;
-  std::unique_ptr<contact::SoftFootContact> soft;
-  ASSERT_TRUE(SetUpFeet(m, feet, robot.total_mass, &soft, &error)) << error;
-  ASSERT_TRUE(scene->Reset("halfsit", &error)) << error;
+  testing::LeaningRobot r;
+  r.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", kDt, kLean, kGainScale);
+  if (HasFatalFailure()) return;
+  mjModel* m = r.m();
+  mjData* d = r.d();
+  const RobotMap& robot = r.robot();
+  const contact::SoftFootContact* soft = &r.soft();
 
-  // stiff joints holding the half-sitting pose, leaned forward at the ankles over the first second
-  Servo servo(robot);
-  shm::CommandBlock cmd{};
-  cmd.njoint = static_cast<int>(robot.joints.size());
-  std::vector<double> start(cmd.njoint), lean(cmd.njoint, 0.0);
-  for (int i = 0; i < cmd.njoint; ++i) {
-    const JointMap& j = robot.joints[i];
-    start[i] = d->qpos[j.qpos_adr];
-    if (j.name == "RLEG_ANKLE_P" || j.name == "LLEG_ANKLE_P") lean[i] = kLean;
-    cmd.joint[i].mode = shm::JointMode::kPosition;
-    cmd.joint[i].kp = j.default_kp * kGainScale;
-    cmd.joint[i].kd = j.default_kd * std::sqrt(kGainScale);
-  }
+  // stiff joints holding the half-sitting pose, leaned forward at the ankles over the first
+  // second, pushed about the pitch axis and released
   const int base = robot.base_body;
   std::vector<double> t_free, pitch_free;
   while (d->time < kEnd) {
-    const double s = std::min(1.0, d->time / 1.0);
-    for (int i = 0; i < cmd.njoint; ++i)
-      cmd.joint[i].q_ref = start[i] + lean[i] * 0.5 * (1 - std::cos(M_PI * s));
-    ASSERT_EQ(servo.Accept(cmd), 0);
     const bool push = d->time >= kPushStart && d->time < kPushEnd;
     d->xfrc_applied[6 * base + 4] = push ? kPushTorque : 0.0;
-    servo.Apply(m, d);
-    soft->ApplyBeforeStep(m, d);
-    mj_step(m, d);
-    soft->Commit();
+    ASSERT_TRUE(r.Step());
     if (d->time >= kPushEnd + 0.05) {
       t_free.push_back(d->time);
       pitch_free.push_back(Pitch(d, base));

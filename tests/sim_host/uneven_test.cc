@@ -10,9 +10,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim_host/feet.h"
-#include "sim_host/model.h"
-#include "sim_host/servo.h"
+#include "leaning_robot.h"
 
 namespace ohrp::sim {
 namespace {
@@ -31,45 +29,16 @@ double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 }
 
 TEST(UnevenFloor, NormalsFollowTheSurfaceAndTheSolesCarryTheRobot) {
-  InstallMujocoHandlers(nullptr);
-  std::string error;
-  auto scene = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_uneven.xml", &error);
-  ASSERT_TRUE(scene) << error;
-  mjModel* m = scene->m();
-  mjData* d = scene->d();
-  RobotMap robot;
-  ASSERT_TRUE(MapRobot(m, &robot, &error)) << error;
-  FeetOptions feet;
-  feet.model = ContactModel::kSoft;
-  std::unique_ptr<contact::SoftFootContact> soft;
-  ASSERT_TRUE(SetUpFeet(m, feet, robot.total_mass, &soft, &error)) << error;
-  ASSERT_TRUE(scene->Reset("halfsit_uneven", &error)) << error;
-
-  // the servo holds the start pose, leaned 0.06 rad forward at the ankles over the first second
-  // (as controllers/poses/hrp1s_halfsit_lean.yaml: the load centre under the soles' middle)
-  Servo servo(robot);
-  shm::CommandBlock cmd{};
-  cmd.njoint = static_cast<int>(robot.joints.size());
-  std::vector<double> start(cmd.njoint), lean(cmd.njoint, 0.0);
-  for (int i = 0; i < cmd.njoint; ++i) {
-    const JointMap& j = robot.joints[i];
-    start[i] = d->qpos[j.qpos_adr];
-    if (j.name == "RLEG_ANKLE_P" || j.name == "LLEG_ANKLE_P") lean[i] = -0.06;
-    cmd.joint[i].mode = shm::JointMode::kPosition;
-    cmd.joint[i].kp = j.default_kp;
-    cmd.joint[i].kd = j.default_kd;
-  }
+  testing::LeaningRobot r;
+  r.Load("mjcf/hrp1s/scene_uneven.xml", "halfsit_uneven", 0, -0.06, 1.0);
+  if (HasFatalFailure()) return;
+  mjModel* m = r.m();
+  mjData* d = r.d();
+  contact::SoftFootContact* soft = &r.soft();
   double fz_sum = 0;
   int fz_n = 0;
   while (d->time < 5.0) {
-    const double s = std::min(1.0, d->time / 1.0);
-    for (int i = 0; i < cmd.njoint; ++i)
-      cmd.joint[i].q_ref = start[i] + lean[i] * 0.5 * (1 - std::cos(M_PI * s));
-    ASSERT_EQ(servo.Accept(cmd), 0);
-    servo.Apply(m, d);
-    soft->ApplyBeforeStep(m, d);
-    mj_step(m, d);
-    soft->Commit();
+    ASSERT_TRUE(r.Step());
     ASSERT_TRUE(std::isfinite(d->qpos[2])) << "t = " << d->time;
     if (d->time >= 3.0) {
       const auto& w = soft->wrenches();
@@ -107,7 +76,7 @@ TEST(UnevenFloor, NormalsFollowTheSurfaceAndTheSolesCarryTheRobot) {
   EXPECT_GT(largest_tilt, 0.5);
 
   // 2. the soles carry the whole robot (m g, within 1 %) from 3 s to 5 s
-  const double weight = robot.total_mass * -m->opt.gravity[2];
+  const double weight = r.robot().total_mass * -m->opt.gravity[2];
   EXPECT_NEAR(fz_sum / fz_n, weight, 0.01 * weight);
 }
 

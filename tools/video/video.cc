@@ -16,9 +16,10 @@
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
 
 namespace {
 
@@ -31,57 +32,6 @@ void OnMujocoWarning(const char* msg) { std::fprintf(stderr, "ohrp_video: MuJoCo
 bool IsDir(const std::string& p) {
   struct stat st {};
   return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-// The log: a header row of column names, then numbers.
-struct Log {
-  std::vector<std::string> columns;
-  std::vector<std::vector<double>> rows;
-  int Column(const std::string& name) const {
-    for (size_t i = 0; i < columns.size(); ++i)
-      if (columns[i] == name) return static_cast<int>(i);
-    return -1;
-  }
-};
-
-bool ReadLog(const std::string& path, Log* log, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = "cannot read the data log '" + path + "'";
-    return false;
-  }
-  std::string line;
-  if (!std::getline(in, line)) {
-    *error = "'" + path + "' is empty";
-    return false;
-  }
-  std::stringstream header(line);
-  for (std::string c; std::getline(header, c, ',');) log->columns.push_back(c);
-  size_t n = 1;
-  while (std::getline(in, line)) {
-    ++n;
-    if (line.empty()) continue;
-    std::vector<double> row;
-    row.reserve(log->columns.size());
-    const char* p = line.c_str();
-    char* end = nullptr;
-    while (*p) {
-      row.push_back(std::strtod(p, &end));
-      if (end == p) break;
-      p = *end == ',' ? end + 1 : end;
-    }
-    if (row.size() != log->columns.size()) {
-      *error = path + ":" + std::to_string(n) + ": " + std::to_string(row.size()) +
-               " values for " + std::to_string(log->columns.size()) + " columns";
-      return false;
-    }
-    log->rows.push_back(std::move(row));
-  }
-  if (log->rows.size() < 2) {
-    *error = "'" + path + "' has fewer than two rows: nothing to replay";
-    return false;
-  }
-  return true;
 }
 
 bool WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int w, int h,
@@ -172,10 +122,14 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  Log log;
+  ohrp::runner::Table log;
   std::string error;
-  if (!ReadLog(log_path, &log, &error)) {
+  if (!log.Load(log_path, &error)) {
     std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
+    return 2;
+  }
+  if (log.rows() < 2) {
+    std::fprintf(stderr, "ohrp_video: '%s' has fewer than two rows: nothing to replay\n", log_path.c_str());
     return 2;
   }
   char err[1000] = "";
@@ -226,7 +180,8 @@ int main(int argc, char** argv) {
   if (!missing.empty())
     std::fprintf(stderr, "ohrp_video: joints not in the log keep their initial angle: %s\n", missing.c_str());
 
-  const double t_first = log.rows.front()[time_col], t_last = log.rows.back()[time_col];
+  const std::vector<double>& times = log.col(time_col);
+  const double t_first = times.front(), t_last = times.back();
   const double t0 = std::max(from, t_first), t1 = until > 0 ? std::min(until, t_last) : t_last;
   if (t1 <= t0 && stills.empty()) {
     std::fprintf(stderr, "ohrp_video: nothing to render between %g and %g s (the log covers %g to %g s)\n",
@@ -275,13 +230,15 @@ int main(int argc, char** argv) {
   size_t row = 0;
   const std::string title = run_dir.substr(run_dir.rfind('/') == std::string::npos ? 0 : run_dir.rfind('/') + 1);
   auto render = [&](double t) {
-    while (row + 2 < log.rows.size() && log.rows[row + 1][time_col] <= t) ++row;
-    while (row > 0 && log.rows[row][time_col] > t) --row;
-    const auto& a = log.rows[row];
-    const auto& b = log.rows[std::min(row + 1, log.rows.size() - 1)];
-    const double span = b[time_col] - a[time_col];
-    const double s = span > 0 ? std::clamp((t - a[time_col]) / span, 0.0, 1.0) : 0.0;
-    for (const Drive& dr : drives) d->qpos[dr.qpos] = a[dr.column] + s * (b[dr.column] - a[dr.column]);
+    while (row + 2 < times.size() && times[row + 1] <= t) ++row;
+    while (row > 0 && times[row] > t) --row;
+    const size_t next = std::min(row + 1, times.size() - 1);
+    const double span = times[next] - times[row];
+    const double s = span > 0 ? std::clamp((t - times[row]) / span, 0.0, 1.0) : 0.0;
+    for (const Drive& dr : drives) {
+      const std::vector<double>& v = log.col(dr.column);
+      d->qpos[dr.qpos] = v[row] + s * (v[next] - v[row]);
+    }
     for (int j = 0; j < m->njnt; ++j)
       if (m->jnt_type[j] == mjJNT_FREE || m->jnt_type[j] == mjJNT_BALL) {
         const int q = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);

@@ -1,0 +1,77 @@
+// Test helper: HRP-1S in-process on its soft soles, sim_host's servo holding the start pose with
+// both ankle pitches leaned forward over the first second (the load centre moves under the
+// middle of the soles, as controllers/poses/hrp1s_halfsit_lean.yaml does).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim_host/feet.h"
+#include "sim_host/model.h"
+#include "sim_host/servo.h"
+
+namespace ohrp::sim::testing {
+
+class LeaningRobot {
+ public:
+  // Loads `scene` (a path below the source tree), soft feet, then the keyframe; dt 0 keeps the
+  // scene's step. Gains are the servo's defaults, kp times kp_scale and kd times its root.
+  void Load(const std::string& scene_file, const std::string& keyframe, double dt,
+            double ankle_lean, double kp_scale) {
+    InstallMujocoHandlers(nullptr);
+    std::string error;
+    scene_ = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/" + scene_file, &error);
+    ASSERT_TRUE(scene_) << error;
+    if (dt > 0) m()->opt.timestep = dt;
+    ASSERT_TRUE(MapRobot(m(), &robot_, &error)) << error;
+    FeetOptions feet;
+    feet.model = ContactModel::kSoft;
+    ASSERT_TRUE(SetUpFeet(m(), feet, robot_.total_mass, &soft_, &error)) << error;
+    ASSERT_TRUE(scene_->Reset(keyframe, &error)) << error;
+    servo_ = std::make_unique<Servo>(robot_);
+    cmd_.njoint = static_cast<int>(robot_.joints.size());
+    start_.assign(cmd_.njoint, 0.0);
+    lean_.assign(cmd_.njoint, 0.0);
+    for (int i = 0; i < cmd_.njoint; ++i) {
+      const JointMap& j = robot_.joints[i];
+      start_[i] = d()->qpos[j.qpos_adr];
+      if (j.name == "RLEG_ANKLE_P" || j.name == "LLEG_ANKLE_P") lean_[i] = ankle_lean;
+      cmd_.joint[i].mode = shm::JointMode::kPosition;
+      cmd_.joint[i].kp = j.default_kp * kp_scale;
+      cmd_.joint[i].kd = j.default_kd * std::sqrt(kp_scale);
+    }
+  }
+
+  // One physics step as sim_host makes it: commands (the lean ramped in over the first second),
+  // servo, soft soles, mj_step, commit. Returns false if the servo refused the commands.
+  bool Step() {
+    const double s = std::min(1.0, d()->time / 1.0);
+    for (int i = 0; i < cmd_.njoint; ++i)
+      cmd_.joint[i].q_ref = start_[i] + lean_[i] * 0.5 * (1 - std::cos(M_PI * s));
+    if (servo_->Accept(cmd_) != 0) return false;
+    servo_->Apply(m(), d());
+    soft_->ApplyBeforeStep(m(), d());
+    mj_step(m(), d());
+    soft_->Commit();
+    return true;
+  }
+
+  mjModel* m() const { return scene_->m(); }
+  mjData* d() const { return scene_->d(); }
+  const RobotMap& robot() const { return robot_; }
+  contact::SoftFootContact& soft() const { return *soft_; }
+
+ private:
+  std::unique_ptr<Scene> scene_;
+  RobotMap robot_;
+  std::unique_ptr<contact::SoftFootContact> soft_;
+  std::unique_ptr<Servo> servo_;
+  shm::CommandBlock cmd_{};
+  std::vector<double> start_, lean_;
+};
+
+}  // namespace ohrp::sim::testing
