@@ -231,7 +231,7 @@ TEST_F(Accuracy, SoftFootClosedForms) {
   std::printf("restitution %.5f, law %.5f: %.3e relative %s\n", v, x, e, note.c_str());
   EXPECT_LT(e, 2e-3);  // tests/contact/impact_test states 2 % at 0.1 ms
   // the law's own restitution, first order in c v for small c v: 1 - (2/3) c v
-  EXPECT_NEAR(HuntCrossleyRestitution(3e6, 1, 1, 60, 0.01, 1e-7), 1 - 2.0 / 3 * 0.01, 2e-4);
+  EXPECT_NEAR(contact::HuntCrossleyRestitution(3e6, 1, 1, 60, 0.01, 1e-7), 1 - 2.0 / 3 * 0.01, 2e-4);
   // a step the contact's parameter check refuses is reported, not run
   s.dt = 16e-3;
   note.clear();

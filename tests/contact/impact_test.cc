@@ -28,31 +28,6 @@ using testing::ModelPtr;
 constexpr double kMass = 60.0;
 constexpr double kDt = 1e-4;
 
-// Restitution of the 1-DOF Hunt-Crossley oscillator, integrated finely.
-double ReferenceRestitution(double k, double n, double c, double m, double v0, double h) {
-  auto acc = [&](double x, double v) {
-    if (x <= 0) return 0.0;
-    return -k / m * std::pow(x, n) * std::max(0.0, 1.0 + c * v);
-  };
-  double x = 0, v = v0;
-  for (int i = 0; i < 100000000; ++i) {
-    const double k1x = v, k1v = acc(x, v);
-    const double k2x = v + 0.5 * h * k1v, k2v = acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
-    const double k3x = v + 0.5 * h * k2v, k3v = acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
-    const double k4x = v + h * k3v, k4v = acc(x + h * k3x, v + h * k3v);
-    const double xn = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    const double vn = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-    if (i > 0 && xn <= 0 && vn < 0) {
-      // Linear interpolation of the crossing (the force vanishes there, v is nearly constant).
-      const double s = x / (x - xn);
-      return -(v + s * (vn - v)) / v0;
-    }
-    x = xn;
-    v = vn;
-  }
-  return -1;
-}
-
 struct Case {
   std::string name;
   double exponent, stiffness, damping, speed;
@@ -95,7 +70,7 @@ TEST_P(Impact, RestitutionMatchesTheHuntCrossleyLaw) {
   }
   ASSERT_TRUE(left) << "the block never left the floor";
   const double e_sim = v_out / c.speed;
-  const double e_ref = ReferenceRestitution(p.stiffness, p.exponent, p.damping, kMass, c.speed,
+  const double e_ref = HuntCrossleyRestitution(p.stiffness, p.exponent, p.damping, kMass, c.speed,
                                             kDt / 100);
   const double e_first_order = 1.0 - 2.0 / 3.0 * p.damping * c.speed;
   std::printf("[%s] v = %.3f m/s, c v = %.3f: e sim %.5f, ODE reference %.5f (error %.3f %%), "

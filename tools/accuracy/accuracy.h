@@ -180,9 +180,6 @@ double PendulumPeriod(double inertia, double mass, double g, double d, double th
 // successive downward zero crossings over `periods` periods); NaN when it diverged.
 double MeasurePendulumPeriod(const std::string& path, const Setting& setting, int periods);
 
-// Restitution of the 1-DOF Hunt-Crossley law m x'' = -k x^n (1 + c x')+ entered at speed v,
-// integrated with RK4 at step h (the law's own answer, no simulator).
-double HuntCrossleyRestitution(double k, double n, double c, double m, double v, double h);
 
 // Icosphere of radius r with `level` subdivisions (12, 42, 162, 642 vertices): the vertex list
 // for an MJCF <mesh vertex="...">.

@@ -69,29 +69,6 @@ double MeasurePendulumPeriod(const std::string& path, const Setting& setting, in
   return (crossings[periods] - crossings[0]) / periods;
 }
 
-double HuntCrossleyRestitution(double k, double n, double c, double m, double v0, double h) {
-  auto acc = [&](double x, double v) {
-    if (x <= 0) return 0.0;
-    return -k / m * std::pow(x, n) * std::max(0.0, 1.0 + c * v);
-  };
-  double x = 0, v = v0;
-  for (long i = 0; i < 100000000L; ++i) {
-    const double k1x = v, k1v = acc(x, v);
-    const double k2x = v + 0.5 * h * k1v, k2v = acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
-    const double k3x = v + 0.5 * h * k2v, k3v = acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
-    const double k4x = v + h * k3v, k4v = acc(x + h * k3x, v + h * k3v);
-    const double xn = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    const double vn = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-    if (i > 0 && xn <= 0 && vn < 0) {
-      const double s = x / (x - xn);
-      return -(v + s * (vn - v)) / v0;
-    }
-    x = xn;
-    v = vn;
-  }
-  return std::nan("");
-}
-
 std::string IcosphereVertices(double r, int level) {
   const double p = (1 + std::sqrt(5.0)) / 2;
   std::vector<std::array<double, 3>> v = {
@@ -201,7 +178,7 @@ double Restitution(const SceneSpec& scene, const Setting& s, double* value, doub
     if (i > 0 && d->qpos[2] > half_z && d->qvel[2] > 0) {
       const contact::SoftContactParams p;
       *value = d->qvel[2] / v;
-      *exact = HuntCrossleyRestitution(p.stiffness, p.exponent, p.damping, scene.soft_mass, v,
+      *exact = contact::HuntCrossleyRestitution(p.stiffness, p.exponent, p.damping, scene.soft_mass, v,
                                        1e-7);
       return std::fabs(*value - *exact) / *exact;
     }

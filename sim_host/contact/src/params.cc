@@ -1,5 +1,6 @@
 #include "contact/params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -140,6 +141,29 @@ bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::str
   msg.pop_back();
   if (error) *error = msg;
   return false;
+}
+
+double HuntCrossleyRestitution(double k, double n, double c, double m, double v0, double h) {
+  auto acc = [&](double x, double v) {
+    if (x <= 0) return 0.0;
+    return -k / m * std::pow(x, n) * std::max(0.0, 1.0 + c * v);
+  };
+  double x = 0, v = v0;
+  for (long i = 0; i < 100000000L; ++i) {
+    const double k1x = v, k1v = acc(x, v);
+    const double k2x = v + 0.5 * h * k1v, k2v = acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
+    const double k3x = v + 0.5 * h * k2v, k3v = acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
+    const double k4x = v + h * k3v, k4v = acc(x + h * k3x, v + h * k3v);
+    const double xn = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+    const double vn = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    if (i > 0 && xn <= 0 && vn < 0) {
+      const double s = x / (x - xn);
+      return -(v + s * (vn - v)) / v0;
+    }
+    x = xn;
+    v = vn;
+  }
+  return std::nan("");
 }
 
 }  // namespace ohrp::contact

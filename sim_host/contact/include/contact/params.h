@@ -75,4 +75,10 @@ inline constexpr double kStabilityBudget = 2.0;
 // K = n k delta^(n-1), beta = c k delta^n / m, and the tangential law: K = k_t, beta = b_t / m.
 bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error);
 
+// The law's coefficient of restitution for a point mass m [kg] hitting at v0 [m/s] (> 0): the
+// 1-DOF oscillator m x'' = -k x^n (1 + c x')+ integrated with RK4 at step h [s] from contact to
+// separation (crossing linearly interpolated). The reference for the impact tests and the
+// accuracy report; NaN if it has not separated after 1e8 steps.
+double HuntCrossleyRestitution(double k, double n, double c, double m, double v0, double h);
+
 }  // namespace ohrp::contact
