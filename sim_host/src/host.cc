@@ -15,8 +15,6 @@
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
 #include "sim_host/report.h"
-#include "sim_host/sensors.h"
-#include "sim_host/servo.h"
 
 namespace ohrp::sim {
 namespace {

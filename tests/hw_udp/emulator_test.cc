@@ -19,7 +19,7 @@
 #include <thread>
 
 #include "hw_udp/udp_io.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
 
 namespace ohrp::hw::udp {
 namespace {
@@ -42,10 +42,10 @@ const Robot& Hrp1s() {
   static const Robot robot = [] {
     Robot r;
     std::string e;
-    auto scene = sim::Scene::Load(kScene, &e);
+    auto scene = model::Scene::Load(kScene, &e);
     EXPECT_TRUE(scene) << e;
-    sim::RobotMap map;
-    EXPECT_TRUE(sim::MapRobot(scene->m(), &map, &e)) << e;
+    model::RobotMap map;
+    EXPECT_TRUE(model::MapRobot(scene->m(), &map, &e)) << e;
     r.config.robot_name = map.name;
     for (const auto& j : map.joints) {
       r.config.joint_names.push_back(j.name);

@@ -18,7 +18,6 @@
 #include "runner/scenario.h"
 #include "sim_host/effects.h"
 #include "sim_host/model.h"
-#include "sim_host/sensors.h"
 #include "test_models.h"
 
 namespace ohrp::sim {

@@ -1,6 +1,6 @@
 // Tests the joint servos: command checks joint by joint, and the PD law against the closed
 // form of a damped oscillator.
-#include "sim_host/servo.h"
+#include "sim_host/model.h"
 
 #include <gtest/gtest.h>
 

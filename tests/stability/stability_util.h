@@ -17,7 +17,6 @@
 
 #include "sim_host/divergence.h"
 #include "sim_host/feet.h"
-#include "sim_host/servo.h"
 #include "sim_host/model.h"
 
 namespace ohrp::sim::stability {

@@ -22,7 +22,6 @@
 #include "controllers/trajectory.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
-#include "sim_host/servo.h"
 
 namespace ohrp::accuracy {
 

@@ -10,7 +10,6 @@
 
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
-#include "sim_host/servo.h"
 
 namespace {
 

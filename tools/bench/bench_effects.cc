@@ -34,8 +34,6 @@
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
-#include "sim_host/sensors.h"
-#include "sim_host/servo.h"
 
 namespace {
 

@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "sim_host/model.h"
-#include "sim_host/servo.h"
 
 namespace fs = std::filesystem;
 

@@ -11,8 +11,8 @@
 #include <thread>
 
 #include "hw_driver/plugin.h"
-#include "sim_host/model.h"
-#include "sim_host/sensors.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
 
 namespace ohrp::hw {
 namespace {
@@ -89,21 +89,21 @@ void PrintReport(const DriverResult& r, const LiveStats& live) {
 
 bool LoadRobotDescription(const std::string& model_path, const std::string& segment,
                           double period, shm::ProducerConfig* out, std::string* error) {
-  auto scene = sim::Scene::Load(model_path, error);
+  auto scene = model::Scene::Load(model_path, error);
   if (!scene) return false;
-  sim::RobotMap robot;
-  if (!sim::MapRobot(scene->m(), &robot, error)) {
+  model::RobotMap robot;
+  if (!model::MapRobot(scene->m(), &robot, error)) {
     *error = model_path + ": " + *error;
     return false;
   }
-  *out = sim::MakeProducerConfig(robot, scene->m(), segment, 0.0, period);
+  *out = model::MakeProducerConfig(robot, scene->m(), segment, 0.0, period);
   out->kind = shm::ProducerKind::kHardware;
   out->read_timeout_hint = 10 * period;
   return true;
 }
 
 int RunProgram(const ProgramOptions& o) {
-  sim::InstallMujocoHandlers(OnMujocoFatal);
+  model::InstallMujocoHandlers(OnMujocoFatal);
   InstallSignalHandlers();
   // SIGUSR1 stays blocked in every thread but is taken by the reporter (sigtimedwait), so that
   // it never kills the driver, even during set-up

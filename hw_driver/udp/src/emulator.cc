@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "emulator_impl.h"
-#include "sim_host/sensors.h"
+#include "robot_model/sensors.h"
 
 namespace ohrp::hw::udp {
 namespace {
@@ -48,7 +48,7 @@ double Emulator::BaseTiltDeg() const {
 bool Emulator::SetUp(int* exit_code) {
   *exit_code = kEmuExitUsage;
   std::string error;
-  scene_ = sim::Scene::Load(o_.model, &error);
+  scene_ = model::Scene::Load(o_.model, &error);
   if (!scene_) {
     std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
     return false;
@@ -67,12 +67,12 @@ bool Emulator::SetUp(int* exit_code) {
                  "(%g s)\n", o_.period, m_->opt.timestep);
     return false;
   }
-  if (!sim::MapRobot(m_, &robot_, &error)) {
+  if (!model::MapRobot(m_, &robot_, &error)) {
     std::fprintf(stderr, "hw_emulator: %s: %s\n", o_.model.c_str(), error.c_str());
     return false;
   }
   std::vector<std::string> names;
-  for (const sim::JointMap& j : robot_.joints) names.push_back(j.name);
+  for (const model::JointMap& j : robot_.joints) names.push_back(j.name);
   if (o_.boards.empty()) {
     layout_ = DefaultLayout(names);
   } else if (!ParseLayout(o_.boards, static_cast<int>(names.size()), &layout_, &error)) {
@@ -110,7 +110,7 @@ bool Emulator::SetUp(int* exit_code) {
     b.count = r.count;
     motor_.push_back(b);
   }
-  servo_ = std::make_unique<sim::Servo>(robot_);
+  servo_ = std::make_unique<model::Servo>(robot_);
   block_.njoint = static_cast<int>(robot_.joints.size());
   for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = shm::JointCommand{};  // kOff
   servo_->Accept(block_);
@@ -268,7 +268,7 @@ int Emulator::Run() {
       z_min_ = std::fmin(z_min_, BaseZ());
       tilt_max_ = std::fmax(tilt_max_, BaseTiltDeg());
     }
-    sim::FillSensors(robot_, m_, d_, &sensors_);
+    model::FillSensors(robot_, m_, d_, &sensors_);
     ++cycles_;
 
     const double sent_at = Now();
@@ -301,7 +301,7 @@ int Emulator::Run() {
 }  // namespace emu
 
 int RunEmulator(const EmulatorOptions& options) {
-  sim::InstallMujocoHandlers(OnFatal);
+  model::InstallMujocoHandlers(OnFatal);
   struct sigaction sa {};
   sa.sa_handler = OnSignal;
   sigaction(SIGINT, &sa, nullptr);

@@ -3,7 +3,7 @@
 #include <cstring>
 
 #include "emulator_impl.h"
-#include "sim_host/sensors.h"
+#include "robot_model/sensors.h"
 
 namespace ohrp::hw::udp::emu {
 

@@ -12,8 +12,8 @@
 #include "faults.h"
 #include "hw_udp/protocol.h"
 #include "hw_udp/socket.h"
-#include "sim_host/model.h"
-#include "sim_host/servo.h"
+#include "robot_model/model.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::hw::udp::emu {
 
@@ -70,11 +70,11 @@ class Emulator {
   double BaseTiltDeg() const;
 
   const EmulatorOptions& o_;
-  std::unique_ptr<sim::Scene> scene_;
+  std::unique_ptr<model::Scene> scene_;
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
-  sim::RobotMap robot_;
-  std::unique_ptr<sim::Servo> servo_;
+  model::RobotMap robot_;
+  std::unique_ptr<model::Servo> servo_;
   BoardLayout layout_;
   std::vector<MotorBoard> motor_;
   uint32_t sensor_tx_seq_ = 0;

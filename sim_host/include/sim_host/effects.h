@@ -30,7 +30,6 @@
 #include "shm_bridge/layout.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
-#include "sim_host/sensors.h"
 
 namespace ohrp::sim {
 

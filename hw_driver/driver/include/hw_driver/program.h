@@ -1,4 +1,4 @@
-// The hw_driver program around the loop: reads the robot from its MJCF model (sim_host's
+// The hw_driver program around the loop: reads the robot from its MJCF model (robot_model's
 // parser), loads the IO plugin, opens the boards, creates the segment, runs the Driver, and
 // reports: the lateness table and the events on stderr after the loop, a JSON summary
 // (--summary), a stats file refreshed while it runs (--stats) and the table on SIGUSR1.

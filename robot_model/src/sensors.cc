@@ -1,10 +1,10 @@
 // Sensor simulation (see sensors.h).
-#include "sim_host/sensors.h"
+#include "robot_model/sensors.h"
 
 #include <cstring>
 #include <limits>
 
-namespace ohrp::sim {
+namespace ohrp::model {
 namespace {
 
 void CopyName(char (&dst)[shm::kNameLen], const std::string& src) {
@@ -96,4 +96,4 @@ void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
   (void)m;
 }
 
-}  // namespace ohrp::sim
+}  // namespace ohrp::model

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "shm_bridge/layout.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
 
-namespace ohrp::sim {
+namespace ohrp::model {
 
 inline constexpr double kMaxGain = 1e7;            // kp [N m/rad] or kd [N m s/rad] above this is refused
 inline constexpr double kRangeTolerance = 1e-3;    // position reference may exceed the range by this [rad]
@@ -43,4 +43,4 @@ class Servo {
   uint64_t rejected_total_ = 0;
 };
 
-}  // namespace ohrp::sim
+}  // namespace ohrp::model

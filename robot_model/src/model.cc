@@ -1,5 +1,5 @@
 // Scene loading and the robot map (see model.h).
-#include "sim_host/model.h"
+#include "robot_model/model.h"
 
 #include <atomic>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "shm_bridge/layout.h"
 
-namespace ohrp::sim {
+namespace ohrp::model {
 namespace {
 
 // suggested servo: a critically damped joint closing at kServoFrequency on its own inertia
@@ -20,7 +20,7 @@ std::atomic<long> g_warnings{0};
 char g_last_warning[512] = "";
 
 void OnMujocoError(const char* msg) {
-  std::fprintf(stderr, "sim_host: MuJoCo error: %s\n", msg);
+  std::fprintf(stderr, "MuJoCo error: %s\n", msg);
   if (g_on_fatal) g_on_fatal(msg);
   std::_Exit(3);
 }
@@ -118,7 +118,7 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     if (m->actuator_gear[6 * a] != 1.0 || m->actuator_gainprm[a * mjNGAIN] != 1.0 ||
         m->actuator_biastype[a] != mjBIAS_NONE) {
       *error = "actuator '" + Name(m, mjOBJ_ACTUATOR, a) +
-               "' is not a plain <motor> with gear 1: sim_host's servo writes torques";
+               "' is not a plain <motor> with gear 1: the segment speaks joint torques";
       return false;
     }
     JointMap jm;
@@ -197,4 +197,4 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
   return true;
 }
 
-}  // namespace ohrp::sim
+}  // namespace ohrp::model

@@ -2,9 +2,9 @@
 #pragma once
 
 #include "shm_bridge/bridge.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
 
-namespace ohrp::sim {
+namespace ohrp::model {
 
 // The segment's description of `robot` (names, limits, default gains, cameras, periods).
 shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
@@ -27,4 +27,4 @@ struct SensorSelection {
 void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
                  const SensorSelection& selection, shm::SensorBlock* out);
 
-}  // namespace ohrp::sim
+}  // namespace ohrp::model

@@ -1,10 +1,10 @@
 // Joint servos (see servo.h).
-#include "sim_host/servo.h"
+#include "robot_model/servo.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace ohrp::sim {
+namespace ohrp::model {
 
 Servo::Servo(const RobotMap& robot)
     : robot_(robot), ref_(robot.joints.size()), rejected_(robot.joints.size(), 0) {}
@@ -78,4 +78,4 @@ void Servo::Apply(const mjModel* m, mjData* d) const {
   }
 }
 
-}  // namespace ohrp::sim
+}  // namespace ohrp::model

@@ -1,0 +1,106 @@
+// Loading a scene and finding the robot in it: which MuJoCo joints, actuators and sensors make
+// up the joints, force/torque sensors, IMUs and cameras of the robot's segment.
+//
+// Conventions read from the MJCF (see mjcf/hrp1s/README.md):
+//   - the robot's joints are the targets of its `<motor>` actuators, in actuator order (this is
+//     the joint-id order of the segment); each motor has gear 1 and its ctrlrange is the torque
+//     limit;
+//   - a force/torque sensor is a `<force>` and a `<torque>` sensor on the same site; its name
+//     is the site's name;
+//   - an IMU is a `<gyro>` and an `<accelerometer>` on the same site (plus an optional
+//     `<framequat>` of that site); its name is the site's name;
+//   - the base is the body of the first free joint.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ohrp::model {
+
+struct JointMap {
+  std::string name;
+  int joint_id = -1;     // MuJoCo joint id
+  int actuator_id = -1;  // MuJoCo actuator id (drives this joint)
+  int qpos_adr = -1;
+  int dof_adr = -1;
+  double q_min = 0, q_max = 0;  // limits [rad or m]; +-kNoLimit when unlimited
+  double tau_max = 0;           // torque limit [N m or N]
+  double default_kp = 0;        // suggested PD gains (see SuggestGains in model.cc)
+  double default_kd = 0;
+};
+
+struct ForceSensorMap {
+  std::string name;
+  int site_id = -1;
+  int force_adr = -1;   // sensordata address of the <force> sensor (3 values)
+  int torque_adr = -1;  // sensordata address of the <torque> sensor (3 values)
+};
+
+struct ImuMap {
+  std::string name;
+  int site_id = -1;
+  int gyro_adr = -1;
+  int accel_adr = -1;
+  int quat_adr = -1;  // -1: orientation computed from the site's frame
+};
+
+struct CameraMap {
+  std::string name;
+  int camera_id = -1;
+  int body_id = -1;
+};
+
+// The robot as the segment sees it.
+struct RobotMap {
+  std::string name;
+  int base_body = -1;   // body of the first free joint, -1 if the robot is fixed
+  int base_qpos = -1;
+  int base_dof = -1;
+  std::vector<JointMap> joints;
+  std::vector<ForceSensorMap> forces;
+  std::vector<ImuMap> imus;
+  std::vector<CameraMap> cameras;
+  double total_mass = 0;  // [kg], all bodies but the world
+};
+
+inline constexpr double kNoLimit = 1e9;
+
+// Owns an mjModel and the mjData stepping it.
+class Scene {
+ public:
+  // Loads an MJCF file. On failure returns null and sets `*error` to MuJoCo's text prefixed by
+  // the file name.
+  static std::unique_ptr<Scene> Load(const std::string& path, std::string* error);
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  mjModel* m() const { return m_; }
+  mjData* d() const { return d_; }
+  const std::string& path() const { return path_; }
+
+  // Resets to the model's initial state or, when `keyframe` is not empty, to that keyframe.
+  // Returns false (and sets `*error`) when the keyframe does not exist.
+  bool Reset(const std::string& keyframe, std::string* error);
+
+ private:
+  Scene() = default;
+  mjModel* m_ = nullptr;
+  mjData* d_ = nullptr;
+  std::string path_;
+};
+
+// Builds the segment's view of the robot. Returns false with `*error` set when the model has no
+// robot the segment can carry (no motors, a motor not on a joint, too many joints or sensors).
+bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error);
+
+// Installs MuJoCo error and warning handlers that never wait on stdin: errors print the message
+// and run `on_fatal` (which must not return), warnings are counted (see WarningCount).
+void InstallMujocoHandlers(void (*on_fatal)(const char* message));
+long WarningCount();
+const char* LastWarning();
+
+}  // namespace ohrp::model
