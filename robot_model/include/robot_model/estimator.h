@@ -1,0 +1,79 @@
+// State estimation of the floating base from the robot's own sensors (never sim_truth, which
+// the robot does not have): what a controller needs to know where its body is.
+//
+//   orientation  the IMU: the gyro integrated, its drift in roll and pitch corrected towards
+//                the gravity direction measured by the accelerometer (a complementary filter
+//                whose crossover is `tilt_gain`; the correction is switched off while the
+//                specific force differs from g by more than `accel_trust`, i.e. during shocks).
+//                Yaw is the gyro's integral (unobservable from gravity).
+//   contact      a sole is in contact when the normal force of its F/T sensor exceeds
+//                `contact_force` (with a hysteresis of half that).
+//   position     leg kinematics: each sole in contact is anchored in the world where it
+//                touched down; the base position follows from the anchor, the estimated base
+//                orientation and the joint angles (p_WB = p_WS - R_WB p_BS), averaged over the
+//                soles in contact weighted by their normal forces.
+//   velocity     the same leg kinematics differentiated (joint velocities and the gyro),
+//                low-passed at `velocity_cutoff`.
+// At Reset the robot is assumed to stand on the soles in contact, with their bottoms on the
+// plane z = 0 of the world, and the base above the midpoint of the soles at x = y = 0 when
+// `origin_at_feet` is set (otherwise at x = y = 0 for the base itself), yaw 0.
+//
+// Update allocates nothing and never throws; it returns false (and keeps the last estimate)
+// when the sensors it needs are not finite.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+
+#include "robot_model/kinematics.h"
+#include "shm_bridge/layout.h"
+
+namespace ohrp::model {
+
+struct EstimatorOptions {
+  int imu = 0;                  // index of the IMU in the segment
+  double tilt_gain = 0.5;       // complementary filter crossover [1/s] (roll and pitch)
+  double accel_trust = 2.0;     // use the accelerometer only when | |a| - g | < this [m/s^2]
+  double contact_force = 50.0;  // normal force above which a sole is in contact [N]
+  double velocity_cutoff = 20.0;  // low-pass of the base velocity [Hz]
+};
+
+struct BaseEstimate {
+  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();    // base position [m]
+  Eigen::Quaterniond quat_WB = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();    // base linear velocity in W [m/s]
+  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();    // base angular velocity in W [rad/s]
+  Eigen::Vector3d p_WCoM = Eigen::Vector3d::Zero();  // centre of mass [m]
+  Eigen::Vector3d v_WCoM = Eigen::Vector3d::Zero();  // its velocity [m/s]
+  bool contact[2] = {false, false};                  // left, right sole in contact
+  double fz[2] = {0, 0};                             // their normal forces [N]
+};
+
+class BaseEstimator {
+ public:
+  // Uses (and updates the state of) `kin`, which must outlive the estimator. Throws
+  // std::invalid_argument when the robot has no IMU, no two soles, or no F/T sensor on each
+  // sole (what is missing is in the message).
+  BaseEstimator(Kinematics* kin, EstimatorOptions options = {});
+
+  // Starts from a sensor block (see the assumptions above). Returns false on non-finite input.
+  bool Reset(const shm::SensorBlock& s);
+  // One cycle `dt` [s] after the previous one. On return `kin` holds the estimated state.
+  bool Update(const shm::SensorBlock& s, double dt);
+
+  const BaseEstimate& estimate() const { return est_; }
+  // the anchors of the soles in contact (valid while contact[i])
+  const Eigen::Vector3d& anchor(int side) const { return anchor_[side]; }
+
+ private:
+  Kinematics* kin_;
+  EstimatorOptions options_;
+  BaseEstimate est_;
+  Eigen::Vector3d anchor_[2];
+  int sole_[2] = {-1, -1};    // left, right sole index in kin->soles()
+  int force_[2] = {-1, -1};   // their F/T sensors
+  int imu_site_ = -1;
+};
+
+}  // namespace ohrp::model

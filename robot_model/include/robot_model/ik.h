@@ -1,0 +1,79 @@
+// Inverse kinematics of one limb: the joints of the chain from a root body (held where it is,
+// e.g. the base) to a tip frame, solved so that the tip frame reaches a target pose.
+//
+// Numerical: damped least squares (Levenberg-Marquardt on the 6-D pose error, damping adapted
+// to the error), steps limited in size, joint limits respected by clamping each iterate (a joint
+// at its limit drops out of the next step). The base pose and the joints outside the chain are
+// those set in the Kinematics object; Solve changes only the chain's entries of `q`.
+//
+// Per-call work allocates nothing: the scratch matrices are sized by the constructor.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "robot_model/kinematics.h"
+
+namespace ohrp::model {
+
+struct IkOptions {
+  int max_iterations = 50;
+  double position_tolerance = 1e-5;     // [m]
+  double orientation_tolerance = 1e-5;  // [rad]
+  double damping = 1e-4;                // base Levenberg-Marquardt damping [-]
+  double max_step = 0.3;                // largest joint change per iteration [rad or m]
+  double orientation_weight = 1.0;      // weight of the rotation error against position [m/rad]
+};
+
+enum class IkStatus {
+  kConverged,      // within both tolerances
+  kUnreachable,    // stalled with an error above tolerance: the target is out of reach (or
+                   // beyond the joint limits); q holds the closest pose found
+  kMaxIterations,  // still improving when the iterations ran out
+  kBadInput,       // non-finite target or joints
+};
+const char* IkStatusName(IkStatus s);
+
+struct IkResult {
+  IkStatus status = IkStatus::kBadInput;
+  int iterations = 0;
+  double position_error = 0;     // |p_WT - p_W(tip)| at the end [m]
+  double orientation_error = 0;  // angle of R_WT^T R_W(tip) at the end [rad]
+};
+
+class LimbIk {
+ public:
+  // The limb from `root_body` (exclusive) to the frame T fixed on `tip_body`, with pose
+  // p_TipT / R_TipT in the tip body's frame. Throws std::invalid_argument when tip is not a
+  // descendant of root or the chain has no joint (set-up only).
+  LimbIk(const Kinematics& kin, int root_body, int tip_body,
+         const Eigen::Vector3d& p_TipT = Eigen::Vector3d::Zero(),
+         const Eigen::Matrix3d& R_TipT = Eigen::Matrix3d::Identity(), IkOptions options = {});
+  // The limb ending at a sole's frame S (kinematics.h), rooted at `root_body`.
+  static LimbIk ForSole(const Kinematics& kin, int root_body, int sole, IkOptions options = {});
+
+  // Solves for the chain's joints. `q` (njoint, joint-id order) is the starting guess and
+  // receives the result; `kin` is left updated at the result. Never allocates or throws.
+  IkResult Solve(Kinematics& kin, const Eigen::Vector3d& p_WT, const Eigen::Matrix3d& R_WT,
+                 double* q);
+
+  const std::vector<int>& chain() const { return chain_; }
+  // the tip frame's current pose (after kin.Update())
+  Eigen::Vector3d p_WT(const Kinematics& kin) const;
+  Eigen::Matrix3d R_WT(const Kinematics& kin) const;
+
+ private:
+  int tip_body_;
+  Eigen::Vector3d p_TipT_;
+  Eigen::Matrix3d R_TipT_;
+  IkOptions options_;
+  std::vector<int> chain_;       // segment joint ids, root outwards
+  Eigen::MatrixXd J_full_;       // 6 x nv
+  Eigen::MatrixXd J_;            // 6 x chain
+  Eigen::MatrixXd A_;            // 6 x 6
+  Eigen::VectorXd dq_;           // chain
+};
+
+}  // namespace ohrp::model
