@@ -192,6 +192,7 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
   sink << prog << ": " << why << "; stopped after " << rep.cycles << " cycles (producer time "
        << Fixed(rep.first_time, 3) << " .. " << Fixed(rep.last_time, 3) << " s), segment "
        << seg << " released\n";
+  controller.report(out);
   const CycleCounters& c = controller.counters();
   if (c.non_finite_fixed || c.clamped || c.diverged_sensors || late || rejected) {
     err << prog << ": problems counted: " << c.non_finite_fixed

@@ -24,6 +24,7 @@
 
 #include <array>
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,9 @@ class Controller {
   int njoint() const { return header_.njoint; }
   // the robot's joint names, joint-id order (valid from kInactive on)
   const std::vector<std::string>& joint_names() const { return joint_names_; }
+  // What the controller has to say after the run (the runner calls it once, after close);
+  // the default says nothing.
+  virtual void report(std::ostream& out) const { (void)out; }
 
  protected:
   Controller() = default;

@@ -1,0 +1,125 @@
+// Balance: a standing stabilizer that keeps the robot up against pushes with the robot's own
+// sensors only (ankle force/torque sensors, the IMU, the joint encoders; never sim_truth).
+//
+//   configure  loads its own copy of the robot's MJCF (--model) and refuses a producer whose
+//              robot differs (the model hash in the segment header, robot_model/model_hash.h);
+//              refuses a robot without a floating base, two soles each with a force/torque
+//              sensor, or an IMU, saying what is missing.
+//   ramp       from the measured pose to the stance pose (half-sitting by default) over `ramp`
+//              seconds of the producer's time, then `settle` seconds of quiet standing; the
+//              centre of mass measured at the end is the stance reference c_ref.
+//   stand      every cycle: the base estimator (robot_model/estimator.h) gives the CoM and its
+//              velocity; the stabilizer (stabilizer.h) turns the DCM error into a desired ZMP,
+//              foot rotation and height offsets (ankle strategy, damping control against the
+//              ankle sensors) and torso offsets (hip strategy); leg inverse kinematics
+//              (robot_model/ik.h) turns the sole targets into joint references.
+//   hold       sensors that go non-finite, or a board fault reported by the producer, latch a
+//              hold of the last commanded posture (never NaN); the reason and the time are
+//              reported at the end of the run.
+// The per-cycle path allocates nothing, throws nothing and logs nothing.
+#pragma once
+
+#include <array>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "controllers/controller.h"
+#include "controllers/pose.h"
+#include "controllers/stabilizer.h"
+#include "robot_model/estimator.h"
+#include "robot_model/ik.h"
+#include "robot_model/kinematics.h"
+
+namespace ohrp::controllers {
+
+// mjcf/hrp1s/hrp1s.xml in the source tree this library was built from
+std::string DefaultModelFile();
+
+struct BalanceOptions {
+  std::string model;        // MJCF of the robot; empty: DefaultModelFile()
+  std::string pose_file;    // stance pose (pose.h); empty: half-sitting
+  double ramp = 2.0;        // [s] from the measured pose to the stance pose
+  double settle = 0.5;      // [s] of quiet standing before c_ref is taken
+  StabilizerGains gains;
+  model::EstimatorOptions estimator;
+};
+
+// why the controller went to its hold (BalanceController::hold_reason)
+enum class HoldReason { kNone, kNonFiniteSensors, kBoardFault, kEstimatorFailed };
+const char* HoldReasonName(HoldReason r);
+
+// what happened during the run, for the report and for tests
+struct BalanceStats {
+  uint64_t stand_cycles = 0;
+  uint64_t ik_failures = 0;          // leg IK results not converged (the leg kept its last refs)
+  uint64_t hold_cycles = 0;
+  double max_zmp_error = 0;          // max |zmp_measured - zmp_desired| while standing [m]
+  double max_torso_angle = 0;        // largest torso offset used [rad]
+  double max_foot_rotation = 0;      // largest foot rotation offset used [rad]
+  double max_dcm_error = 0;          // max |xi - c_ref| [m]
+  double hold_time = -1;             // producer time of the hold (-1: never) [s]
+  HoldReason hold_reason = HoldReason::kNone;
+};
+
+class BalanceController : public Controller {
+ public:
+  // Checks the options, loads the pose and the model, checks the robot has what balance needs.
+  // Null with `*status` set on failure (kOption: a bad value; kFile: a file; kMismatch: the
+  // robot lacks a sensor balance needs).
+  static std::unique_ptr<BalanceController> Create(const BalanceOptions& options,
+                                                   ConfigStatus* status);
+
+  const BalanceStats& stats() const { return stats_; }
+  const StabilizerOutput& stabilizer_output() const { return stabilizer_.output(); }
+  const model::BaseEstimate& estimate() const { return estimator_->estimate(); }
+  bool standing() const { return phase_ == Phase::kStand; }
+  // the stance reference of the CoM (valid once standing) [m]
+  const Eigen::Vector2d& c_ref() const { return c_ref_; }
+  void report(std::ostream& out) const override;
+
+ protected:
+  ConfigStatus on_configure(const shm::SegmentHeader& header) override;
+  void on_activate(const shm::SensorBlock& sensors) noexcept override;
+  void on_update(const shm::SensorBlock& sensors, shm::CommandBlock* commands) noexcept override;
+
+ private:
+  enum class Phase { kRamp, kStand, kHold };
+  BalanceController(const BalanceOptions& options, Pose pose,
+                    std::unique_ptr<model::Kinematics> kin_est,
+                    std::unique_ptr<model::Kinematics> kin_ik);
+  bool SensorsUsable(const shm::SensorBlock& s, HoldReason* why) const noexcept;
+  void EnterStand(const shm::SensorBlock& s) noexcept;
+  void Stand(const shm::SensorBlock& s, double dt) noexcept;
+  void Write(shm::CommandBlock* commands, double dt) noexcept;
+
+  BalanceOptions options_;
+  Pose pose_;
+  std::unique_ptr<model::Kinematics> kin_est_;  // the estimator's (estimated state)
+  std::unique_ptr<model::Kinematics> kin_ik_;   // the legs' IK (base frame, upright)
+  std::unique_ptr<model::BaseEstimator> estimator_;
+  std::unique_ptr<model::LimbIk> leg_ik_[2];    // left, right
+  Stabilizer stabilizer_;
+  StabilizerInput input_;
+  int sole_[2] = {-1, -1};
+  int sensor_site_[2] = {-1, -1};
+  int force_[2] = {-1, -1};
+  int imu_ = 0;
+  int torso_pitch_joint_ = -1, torso_roll_joint_ = -1;
+  Eigen::Vector3d p_BS_nominal_[2];
+  Eigen::Matrix3d R_BS_nominal_[2];
+  Eigen::Vector2d c_ref_ = Eigen::Vector2d::Zero();
+
+  Phase phase_ = Phase::kRamp;
+  std::vector<double> target_;                   // stance pose (njoint)
+  std::array<double, shm::kMaxJoints> start_{};  // measured pose at activation
+  std::array<double, shm::kMaxJoints> q_ref_{};
+  std::array<double, shm::kMaxJoints> q_prev_{};
+  std::array<double, shm::kMaxJoints> dq_ref_{};
+  std::array<double, shm::kMaxJoints> q_ik_{};
+  double start_time_ = 0, last_time_ = 0;
+  BalanceStats stats_;
+};
+
+}  // namespace ohrp::controllers

@@ -1,0 +1,112 @@
+// The standing stabilizer: a lower-layer law, no process and no segment in it, shared by the
+// `balance` controller (and later by walking). It follows the stabilizers of position-controlled
+// HRP robots (Kajita et al. 2010, "Biped walking stabilization based on linear inverted
+// pendulum tracking"; hrpsys-base's Stabilizer), for a robot on two feet:
+//
+//   1. measured ZMP       from the two ankle force/torque sensors (MeasureZmp).
+//   2. desired ZMP        from the divergent component of motion (DCM, capture point)
+//                         xi = c + dc/omega, omega = sqrt(g / h):
+//                           p_d = xi + (k_dcm / omega) (xi - c_ref)
+//                         so that xi converges to c_ref at the rate k_dcm [1/s]; p_d is then
+//                         clamped to the support (the soles' rectangle less a margin).
+//   3. ankle strategy     the ZMP is distributed to the feet (normal force shares from p_d's
+//                         lateral position, each sole's centre of pressure at p_d as far as the
+//                         sole allows); each foot's rotation offset follows the damping
+//                         control d(theta)/dt = (tau_measured - tau_desired) / D - theta / T,
+//                         and the difference of the soles' heights follows
+//                         d(dz)/dt = (fz_diff_measured - fz_diff_desired) / D_z - dz / T_z.
+//                         On the soft soles this is the compliance the issue asks for: the foot
+//                         yields until it carries the moment the balance needs.
+//   4. hip strategy       what the clamp cut off (the ZMP the soles cannot carry) is asked of
+//                         the upper body instead: a torso rotation whose angular-momentum rate
+//                         m g (p_d_raw - p_d) supplies the missing moment about the CoM,
+//                         returned to upright by a critically damped spring once it is not
+//                         needed.
+// Frames: W (world, z up). Everything is in SI units. Update never allocates or throws.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace ohrp::controllers {
+
+// The wrench measured at one ankle sensor, expressed in W: what the foot exerts on the leg
+// (the ground reaction carried by the sensor) and its moment about the sensor origin p_WS.
+struct FootWrench {
+  Eigen::Vector3d p_WS = Eigen::Vector3d::Zero();  // sensor origin [m]
+  Eigen::Vector3d f_W = Eigen::Vector3d::Zero();   // force [N]
+  Eigen::Vector3d n_W = Eigen::Vector3d::Zero();   // moment about p_WS [N m]
+};
+
+// The ZMP of the wrenches on the horizontal plane z = ground_z. Returns false (and leaves p
+// untouched) when the total normal force is below `min_fz` [N].
+bool MeasureZmp(const FootWrench* feet, int n, double ground_z, double min_fz,
+                Eigen::Vector2d* p_W);
+
+struct StabilizerGains {
+  double k_dcm = 3.0;            // DCM convergence rate [1/s]
+  double support_margin = 0.015; // keep the desired ZMP this far inside the soles [m]
+  double ankle_damping = 300.0;  // D of the foot rotation damping control [N m s/rad]
+  double ankle_recovery = 0.5;   // T: foot rotation offsets decay with this time constant [s]
+  double max_foot_rotation = 0.15;  // clamp of the foot rotation offsets [rad]
+  double z_damping = 2.0e4;      // D_z of the sole height difference control [N s/m]
+  double z_recovery = 0.5;       // T_z [s]
+  double max_dz = 0.03;          // clamp of the sole height difference [m]
+  double hip_gain = 1.0;         // share of the cut-off moment asked of the torso [-]
+  double torso_inertia = 6.0;    // upper body inertia about the waist [kg m^2] (set from the model)
+  double hip_return = 4.0;       // natural frequency of the torso's return to upright [rad/s]
+  double max_torso_angle = 0.35; // clamp of the torso pitch and roll offsets [rad]
+  bool ankle_strategy = true;    // foot damping control on (off: feet held as commanded)
+  bool hip_strategy = true;      // torso rotation on
+};
+
+// The support: the two soles as rectangles in W (centres, yaw-free: the soles are taken as
+// aligned with W's axes, as they are in stance), and where the CoM should stand.
+struct Support {
+  Eigen::Vector2d centre[2];      // left, right sole centres [m]
+  Eigen::Vector2d half_size[2];   // their half lengths along x and y [m]
+  double ground_z = 0;            // height of the soles' bottoms [m]
+};
+
+struct StabilizerInput {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();   // centre of mass (estimated) [m]
+  Eigen::Vector3d dc = Eigen::Vector3d::Zero();  // its velocity [m/s]
+  Eigen::Vector2d c_ref = Eigen::Vector2d::Zero();  // where the CoM should stand [m]
+  FootWrench feet[2];                            // left, right ankle wrenches
+  Support support;
+  double mass = 0;                               // robot mass [kg]
+};
+
+struct StabilizerOutput {
+  Eigen::Vector2d zmp_measured = Eigen::Vector2d::Zero();  // [m] (last valid)
+  Eigen::Vector2d zmp_desired_raw = Eigen::Vector2d::Zero();  // before the clamp [m]
+  Eigen::Vector2d zmp_desired = Eigen::Vector2d::Zero();   // clamped to the support [m]
+  Eigen::Vector2d dcm = Eigen::Vector2d::Zero();           // xi [m]
+  double fz_share[2] = {0.5, 0.5};                         // desired normal force shares
+  // commands: foot rotation offsets about W's x and y (left, right) [rad], sole height
+  // difference left minus right [m] (applied +dz/2 on the left, -dz/2 on the right), and the
+  // torso's pitch (about y) and roll (about x) offsets [rad]
+  double foot_roll[2] = {0, 0}, foot_pitch[2] = {0, 0};
+  double dz = 0;
+  double torso_pitch = 0, torso_roll = 0;
+  bool zmp_valid = false;
+};
+
+class Stabilizer {
+ public:
+  explicit Stabilizer(StabilizerGains gains = {});
+  // forgets the offsets (foot, height, torso): the robot stands as commanded
+  void Reset();
+  // one control cycle of `dt` [s]
+  const StabilizerOutput& Update(const StabilizerInput& in, double dt) noexcept;
+
+  const StabilizerGains& gains() const { return gains_; }
+  StabilizerGains& gains() { return gains_; }
+  const StabilizerOutput& output() const { return out_; }
+
+ private:
+  StabilizerGains gains_;
+  StabilizerOutput out_;
+  double torso_rate_[2] = {0, 0};  // pitch, roll angular velocities of the torso offsets [rad/s]
+};
+
+}  // namespace ohrp::controllers

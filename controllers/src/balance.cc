@@ -1,0 +1,363 @@
+// The balance controller (see balance.h).
+#include "controllers/balance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+
+#include "controllers/posture.h"
+#include "controllers/ramp.h"
+#include "robot_model/model_hash.h"
+
+#ifndef OHRP_SOURCE_DIR
+#error "OHRP_SOURCE_DIR must be defined by the build"
+#endif
+
+namespace ohrp::controllers {
+namespace {
+
+// torso joints: on the path from the base to the IMU, turning about the base's y (pitch) or x
+// (roll) in the reference configuration
+constexpr double kAxisAlignment = 0.95;  // |cos| between the joint axis and the base axis [-]
+
+ConfigStatus CheckOptions(const BalanceOptions& o) {
+  auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
+  if (!(std::isfinite(o.ramp) && o.ramp >= 0)) return bad("--ramp must be a finite time >= 0 s");
+  if (!(std::isfinite(o.settle) && o.settle >= 0)) return bad("--settle must be a finite time >= 0 s");
+  const StabilizerGains& g = o.gains;
+  if (!(std::isfinite(g.k_dcm) && g.k_dcm >= 0)) return bad("--k-dcm must be finite and >= 0 [1/s]");
+  if (!(std::isfinite(g.ankle_damping) && g.ankle_damping > 0))
+    return bad("--ankle-damping must be finite and > 0 [N m s/rad]");
+  if (!(std::isfinite(g.z_damping) && g.z_damping > 0))
+    return bad("--z-damping must be finite and > 0 [N s/m]");
+  if (!(std::isfinite(g.ankle_recovery) && g.ankle_recovery > 0 && std::isfinite(g.z_recovery) &&
+        g.z_recovery > 0))
+    return bad("--ankle-recovery must be finite and > 0 [s]");
+  if (!(std::isfinite(g.hip_gain) && g.hip_gain >= 0)) return bad("--hip-gain must be finite and >= 0");
+  if (!(std::isfinite(g.support_margin) && g.support_margin >= 0))
+    return bad("--support-margin must be finite and >= 0 [m]");
+  return ConfigStatus::Ok();
+}
+
+// the joint of `chain` whose axis (in W at the reference configuration) is closest to `axis`
+int FindTorsoJoint(const model::Kinematics& kin, const std::vector<int>& chain,
+                   const Eigen::Vector3d& axis) {
+  const mjModel* m = kin.m();
+  for (int j : chain) {
+    const int jid = kin.robot().joints[j].joint_id;
+    const int body = m->jnt_bodyid[jid];
+    const Eigen::Vector3d a_local(m->jnt_axis[3 * jid], m->jnt_axis[3 * jid + 1],
+                                  m->jnt_axis[3 * jid + 2]);
+    const Eigen::Vector3d a_W = kin.R_WBody(body) * a_local;
+    if (std::abs(a_W.dot(axis)) > kAxisAlignment) return j;
+  }
+  return -1;
+}
+
+Eigen::Matrix3d Rx(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()).toRotationMatrix(); }
+Eigen::Matrix3d Ry(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix(); }
+
+}  // namespace
+
+std::string DefaultModelFile() { return std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml"; }
+
+const char* HoldReasonName(HoldReason r) {
+  switch (r) {
+    case HoldReason::kNone: return "none";
+    case HoldReason::kNonFiniteSensors: return "non-finite sensors";
+    case HoldReason::kBoardFault: return "board fault reported by the producer";
+    case HoldReason::kEstimatorFailed: return "state estimator failed";
+  }
+  return "?";
+}
+
+//---------------- set-up ----------------
+
+std::unique_ptr<BalanceController> BalanceController::Create(const BalanceOptions& options,
+                                                             ConfigStatus* status) {
+  *status = CheckOptions(options);
+  if (!status->ok()) return nullptr;
+  BalanceOptions o = options;
+  if (o.model.empty()) o.model = DefaultModelFile();
+  if (o.pose_file.empty()) o.pose_file = DefaultPoseFile();
+  Pose pose;
+  *status = LoadPoseFile(o.pose_file, &pose);
+  if (!status->ok()) return nullptr;
+  std::string error;
+  auto kin_est = model::Kinematics::Load(o.model, &error);
+  auto kin_ik = kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
+  if (!kin_est || !kin_ik) {
+    *status = ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
+    return nullptr;
+  }
+  // what balance needs of the robot
+  const model::Kinematics& k = *kin_est;
+  std::string missing;
+  if (!k.floating()) missing += " a floating base (a free joint);";
+  if (k.left_sole() < 0 || k.right_sole() < 0) {
+    missing += " two soles (box geoms named *_SOLE);";
+  } else {
+    for (int side : {k.left_sole(), k.right_sole()}) {
+      if (k.soles()[side].force_sensor < 0)
+        missing += " a force/torque sensor above sole " + k.soles()[side].name + ";";
+    }
+  }
+  if (k.robot().imus.empty()) missing += " an IMU (gyro + accelerometer on one site);";
+  if (!missing.empty()) {
+    missing.pop_back();
+    *status = ConfigStatus::Fail(ConfigError::kMismatch, "balance needs" + missing + ", and the robot of " +
+                                                             o.model + " has not");
+    return nullptr;
+  }
+  return std::unique_ptr<BalanceController>(
+      new BalanceController(o, std::move(pose), std::move(kin_est), std::move(kin_ik)));
+}
+
+BalanceController::BalanceController(const BalanceOptions& options, Pose pose,
+                                     std::unique_ptr<model::Kinematics> kin_est,
+                                     std::unique_ptr<model::Kinematics> kin_ik)
+    : options_(options),
+      pose_(std::move(pose)),
+      kin_est_(std::move(kin_est)),
+      kin_ik_(std::move(kin_ik)),
+      stabilizer_(options.gains) {}
+
+ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
+  if (ConfigStatus s = CheckOptions(options_); !s.ok()) return s;
+  // the producer's robot must be the one of --model
+  const std::string diff = model::CheckModelMatches(kin_est_->m(), kin_est_->robot(), header);
+  if (!diff.empty()) {
+    return ConfigStatus::Fail(ConfigError::kMismatch,
+                              "the producer's robot is not the robot of --model " + options_.model +
+                                  ": " + diff);
+  }
+  if (ConfigStatus s = ResolvePose(pose_, joint_names(), &target_); !s.ok()) return s;
+  if (ConfigStatus s = CheckWithinLimits(header, target_.data(), pose_.source); !s.ok()) return s;
+
+  const model::Kinematics& k = *kin_est_;
+  sole_[0] = k.left_sole();
+  sole_[1] = k.right_sole();
+  for (int i = 0; i < 2; ++i) {
+    force_[i] = k.soles()[sole_[i]].force_sensor;
+    sensor_site_[i] = k.robot().forces[force_[i]].site_id;
+  }
+  imu_ = options_.estimator.imu;
+  if (imu_ < 0 || imu_ >= static_cast<int>(k.robot().imus.size())) {
+    return ConfigStatus::Fail(ConfigError::kOption, "the robot has no IMU " + std::to_string(imu_));
+  }
+  try {
+    estimator_ = std::make_unique<model::BaseEstimator>(kin_est_.get(), options_.estimator);
+    for (int i = 0; i < 2; ++i) {
+      leg_ik_[i] = std::make_unique<model::LimbIk>(
+          model::LimbIk::ForSole(*kin_ik_, k.robot().base_body, sole_[i]));
+    }
+  } catch (const std::exception& e) {
+    return ConfigStatus::Fail(ConfigError::kMismatch, e.what());
+  }
+
+  // the torso joints for the hip strategy, and the upper body's inertia about them
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(target_.data());
+  kin_ik_->Update();
+  const int imu_body = k.m()->site_bodyid[k.robot().imus[imu_].site_id];
+  const std::vector<int> torso = k.Chain(k.robot().base_body, imu_body);
+  torso_pitch_joint_ = FindTorsoJoint(*kin_ik_, torso, Eigen::Vector3d::UnitY());
+  torso_roll_joint_ = FindTorsoJoint(*kin_ik_, torso, Eigen::Vector3d::UnitX());
+  StabilizerGains& g = stabilizer_.gains();
+  if (torso_pitch_joint_ < 0 && torso_roll_joint_ < 0) {
+    g.hip_strategy = false;  // no torso joint: ankle strategy only (reported)
+  } else {
+    const int j = torso_pitch_joint_ >= 0 ? torso_pitch_joint_ : torso_roll_joint_;
+    Eigen::MatrixXd M(kin_ik_->nv(), kin_ik_->nv());
+    kin_ik_->MassMatrix(M);
+    const int col = kin_ik_->base_columns() + j;
+    const int dof = k.robot().joints[j].dof_adr;
+    // the link inertia about the joint, without the rotor (its reaction goes to the base)
+    g.torso_inertia = std::max(M(col, col) - k.m()->dof_armature[dof], 1e-3);
+  }
+  // nominal soles in the base frame at the stance pose
+  for (int i = 0; i < 2; ++i) {
+    p_BS_nominal_[i] = kin_ik_->p_WSole(sole_[i]);
+    R_BS_nominal_[i] = kin_ik_->R_WSole(sole_[i]);
+  }
+  return ConfigStatus::Ok();
+}
+
+void BalanceController::on_activate(const shm::SensorBlock& s) noexcept {
+  for (int j = 0; j < njoint(); ++j) {
+    start_[j] = std::isfinite(s.q[j]) ? s.q[j] : target_[j];
+    q_ref_[j] = q_prev_[j] = start_[j];
+    dq_ref_[j] = 0;
+  }
+  start_time_ = last_time_ = s.time;
+  phase_ = Phase::kRamp;
+  stabilizer_.Reset();
+  HoldReason why;
+  if (!SensorsUsable(s, &why) || !estimator_->Reset(s)) {
+    phase_ = Phase::kHold;
+    stats_.hold_reason = SensorsUsable(s, &why) ? HoldReason::kEstimatorFailed : why;
+    stats_.hold_time = s.time;
+  }
+}
+
+//---------------- the cycle ----------------
+
+bool BalanceController::SensorsUsable(const shm::SensorBlock& s, HoldReason* why) const noexcept {
+  if (s.status & shm::status::kBoardFault) {
+    *why = HoldReason::kBoardFault;
+    return false;
+  }
+  bool ok = true;
+  for (int j = 0; j < njoint(); ++j) ok = ok && std::isfinite(s.q[j]) && std::isfinite(s.dq[j]);
+  for (int i = 0; i < 2; ++i) {
+    const shm::ForceTorque& ft = s.force[force_[i]];
+    for (int k = 0; k < 3; ++k) ok = ok && std::isfinite(ft.force[k]) && std::isfinite(ft.torque[k]);
+  }
+  const shm::Imu& imu = s.imu[imu_];
+  for (int k = 0; k < 3; ++k) ok = ok && std::isfinite(imu.gyro[k]) && std::isfinite(imu.accel[k]);
+  if (!ok) *why = HoldReason::kNonFiniteSensors;
+  return ok;
+}
+
+void BalanceController::EnterStand(const shm::SensorBlock& s) noexcept {
+  const model::BaseEstimate& e = estimator_->estimate();
+  c_ref_ = e.p_WCoM.head<2>();
+  stabilizer_.Reset();
+  for (int j = 0; j < njoint(); ++j) q_ik_[j] = target_[j];
+  phase_ = Phase::kStand;
+  (void)s;
+}
+
+void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
+  const model::Kinematics& k = *kin_est_;  // at the estimated state
+  const model::BaseEstimate& e = estimator_->estimate();
+
+  // the stabilizer's inputs: CoM, ankle wrenches in W, the support
+  input_.c = e.p_WCoM;
+  input_.dc = e.v_WCoM;
+  input_.c_ref = c_ref_;
+  input_.mass = k.mass();
+  double ground = 0;
+  for (int i = 0; i < 2; ++i) {
+    const shm::ForceTorque& ft = s.force[force_[i]];
+    const Eigen::Matrix3d R_WS = k.R_WSite(sensor_site_[i]);
+    FootWrench& w = input_.feet[i];
+    w.p_WS = k.p_WSite(sensor_site_[i]);
+    w.f_W = R_WS * Eigen::Vector3d(ft.force[0], ft.force[1], ft.force[2]);
+    w.n_W = R_WS * Eigen::Vector3d(ft.torque[0], ft.torque[1], ft.torque[2]);
+    const model::SoleMap& sole = k.soles()[sole_[i]];
+    const Eigen::Vector3d p = k.p_WSole(sole_[i]);
+    input_.support.centre[i] = p.head<2>();
+    input_.support.half_size[i] = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
+    ground += 0.5 * p.z();
+  }
+  input_.support.ground_z = ground;
+  const StabilizerOutput& out = stabilizer_.Update(input_, dt);
+
+  // statistics
+  ++stats_.stand_cycles;
+  if (out.zmp_valid)
+    stats_.max_zmp_error = std::max(stats_.max_zmp_error, (out.zmp_measured - out.zmp_desired).norm());
+  stats_.max_dcm_error = std::max(stats_.max_dcm_error, (out.dcm - c_ref_).norm());
+  stats_.max_torso_angle =
+      std::max({stats_.max_torso_angle, std::abs(out.torso_pitch), std::abs(out.torso_roll)});
+  for (int i = 0; i < 2; ++i) {
+    stats_.max_foot_rotation = std::max(
+        {stats_.max_foot_rotation, std::abs(out.foot_roll[i]), std::abs(out.foot_pitch[i])});
+  }
+
+  // joint references: stance pose, torso offsets, legs by IK to the offset soles
+  for (int j = 0; j < njoint(); ++j) q_ik_[j] = std::isfinite(q_ik_[j]) ? q_ik_[j] : target_[j];
+  if (torso_pitch_joint_ >= 0) q_ik_[torso_pitch_joint_] = target_[torso_pitch_joint_] + out.torso_pitch;
+  if (torso_roll_joint_ >= 0) q_ik_[torso_roll_joint_] = target_[torso_roll_joint_] + out.torso_roll;
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(q_ik_.data());
+  kin_ik_->Update();
+  for (int i = 0; i < 2; ++i) {
+    const double side = i == 0 ? 0.5 : -0.5;
+    const Eigen::Vector3d p = p_BS_nominal_[i] + Eigen::Vector3d(0, 0, side * out.dz);
+    const Eigen::Matrix3d R = Rx(out.foot_roll[i]) * Ry(out.foot_pitch[i]) * R_BS_nominal_[i];
+    std::array<double, shm::kMaxJoints> trial = q_ik_;
+    const model::IkResult r = leg_ik_[i]->Solve(*kin_ik_, p, R, trial.data());
+    if (r.status == model::IkStatus::kConverged) {
+      for (int j : leg_ik_[i]->chain()) q_ik_[j] = trial[j];
+    } else {
+      ++stats_.ik_failures;
+    }
+  }
+  for (int j = 0; j < njoint(); ++j) q_ref_[j] = q_ik_[j];
+}
+
+void BalanceController::Write(shm::CommandBlock* commands, double dt) noexcept {
+  const shm::SegmentHeader& h = header();
+  for (int j = 0; j < njoint(); ++j) {
+    shm::JointCommand& c = commands->joint[j];
+    c.mode = shm::JointMode::kPosition;
+    c.q_ref = q_ref_[j];
+    c.dq_ref = dq_ref_[j];
+    c.tau_ff = 0;
+    c.kp = h.default_kp[j];
+    c.kd = h.default_kd[j];
+  }
+  (void)dt;
+}
+
+void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* commands) noexcept {
+  double dt = s.time - last_time_;
+  if (!(dt > 0) || !std::isfinite(dt)) dt = header().control_period;
+  last_time_ = s.time;
+  for (int j = 0; j < njoint(); ++j) q_prev_[j] = q_ref_[j];
+
+  HoldReason why = HoldReason::kNone;
+  if (phase_ != Phase::kHold && (!SensorsUsable(s, &why) || !estimator_->Update(s, dt))) {
+    phase_ = Phase::kHold;
+    stats_.hold_reason = why == HoldReason::kNone ? HoldReason::kEstimatorFailed : why;
+    stats_.hold_time = s.time;
+  }
+  switch (phase_) {
+    case Phase::kRamp: {
+      const double elapsed = s.time - start_time_;
+      SampleRamp(start_.data(), target_.data(), njoint(), elapsed, options_.ramp, q_ref_.data(),
+                 dq_ref_.data());
+      if (elapsed >= options_.ramp + options_.settle) EnterStand(s);
+      break;
+    }
+    case Phase::kStand:
+      Stand(s, dt);
+      for (int j = 0; j < njoint(); ++j) dq_ref_[j] = 0;
+      break;
+    case Phase::kHold:
+      ++stats_.hold_cycles;
+      for (int j = 0; j < njoint(); ++j) dq_ref_[j] = 0;  // q_ref_ stays: the last commanded
+      break;
+  }
+  Write(commands, dt);
+}
+
+//---------------- report ----------------
+
+void BalanceController::report(std::ostream& out) const {
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "balance: stood %.2f s (%llu cycles); max |ZMP error| %.1f mm, max |DCM - c_ref| "
+                "%.1f mm, max foot rotation %.2f deg, max torso offset %.2f deg%s; %llu leg IK "
+                "results not converged\n",
+                stats_.stand_cycles * header().control_period,
+                static_cast<unsigned long long>(stats_.stand_cycles), stats_.max_zmp_error * 1e3,
+                stats_.max_dcm_error * 1e3, stats_.max_foot_rotation * 180 / M_PI,
+                stats_.max_torso_angle * 180 / M_PI,
+                stabilizer_.gains().hip_strategy ? "" : " (hip strategy off)",
+                static_cast<unsigned long long>(stats_.ik_failures));
+  out << buf;
+  if (stats_.hold_reason != HoldReason::kNone) {
+    std::snprintf(buf, sizeof buf,
+                  "balance: HELD the last commanded posture from t = %.3f s (%llu cycles): %s; "
+                  "no command after that used the sensors\n",
+                  stats_.hold_time, static_cast<unsigned long long>(stats_.hold_cycles),
+                  HoldReasonName(stats_.hold_reason));
+    out << buf;
+  }
+}
+
+}  // namespace ohrp::controllers

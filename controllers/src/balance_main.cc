@@ -1,0 +1,71 @@
+// balance: attach to a robot segment, stand, and keep standing against pushes. See
+// controllers/balance.h.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "controllers/balance.h"
+#include "controllers/cli.h"
+#include "controllers/posture.h"
+#include "controllers/runner.h"
+#include "robot_model/model.h"
+
+namespace {
+[[noreturn]] void OnMujocoFatal(const char*) { std::_Exit(ohrp::controllers::kExitConfig); }
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ohrp::controllers;
+  BalanceOptions o;
+  RunOptions run;
+  run.program = "balance";
+  StabilizerGains& g = o.gains;
+
+  CLI::App app{
+      "balance: attach to a robot segment (sim_host or hw_driver), ramp to the stance pose,\n"
+      "then keep the robot standing against pushes with its own sensors only: the base\n"
+      "estimator (IMU, leg kinematics, ankle force/torque sensors) gives the centre of mass; the\n"
+      "stabilizer turns its divergent component (capture point) into a desired ZMP, carried by\n"
+      "the feet (ankle strategy: damping control of the foot rotations and of the soles' height\n"
+      "difference against the ankle sensors) and, beyond the soles, by the torso (hip\n"
+      "strategy). Leg joints by inverse kinematics on the robot's own model (--model), which\n"
+      "must be the producer's robot (checked by the model hash in the segment header).",
+      "balance"};
+  app.add_option("--model", o.model, "MJCF of the robot (must match the producer's robot)")
+      ->default_val(DefaultModelFile());
+  app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")
+      ->default_val(DefaultPoseFile());
+  app.add_option("--ramp", o.ramp, "[s] ramp from the measured pose to the stance pose")
+      ->default_val(o.ramp);
+  app.add_option("--settle", o.settle, "[s] of quiet standing before the CoM reference is taken")
+      ->default_val(o.settle);
+  app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
+      ->default_val(g.k_dcm);
+  app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")
+      ->default_val(g.ankle_damping);
+  app.add_option("--ankle-recovery", g.ankle_recovery, "[s] foot offsets return time constant")
+      ->default_val(g.ankle_recovery);
+  app.add_option("--z-damping", g.z_damping, "[N s/m] sole height difference damping")
+      ->default_val(g.z_damping);
+  app.add_option("--hip-gain", g.hip_gain, "share of the moment beyond the soles asked of the torso")
+      ->default_val(g.hip_gain);
+  app.add_option("--support-margin", g.support_margin, "[m] desired ZMP kept this far inside the soles")
+      ->default_val(g.support_margin);
+  bool no_ankle = false, no_hip = false;
+  app.add_flag("--no-ankle", no_ankle, "feet held as commanded (no foot damping control)");
+  app.add_flag("--no-hip", no_hip, "no torso motion (ankle strategy only)");
+  AddRunOptions(&app, &run);
+  if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  g.ankle_strategy = !no_ankle;
+  g.hip_strategy = !no_hip;
+
+  ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
+  ConfigStatus status;
+  auto controller = BalanceController::Create(o, &status);
+  if (!controller) {
+    std::cerr << "balance: " << status.message << "\n";
+    return status.code == ConfigError::kOption ? kExitUsage : kExitConfig;
+  }
+  InstallStopSignalHandlers();
+  return RunController(*controller, run, std::cout, std::cerr);
+}

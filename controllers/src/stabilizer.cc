@@ -1,0 +1,132 @@
+// The standing stabilizer (see stabilizer.h).
+#include "controllers/stabilizer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ohrp::controllers {
+namespace {
+
+constexpr double kGravity = 9.81;        // [m/s^2]
+constexpr double kMinHeight = 0.1;       // CoM height used below this [m]
+constexpr double kLoadedFoot = 30.0;     // a foot carrying less [N] gets no damping control
+
+double Clamp(double v, double lim) { return std::clamp(v, -lim, lim); }
+
+}  // namespace
+
+bool MeasureZmp(const FootWrench* feet, int n, double ground_z, double min_fz,
+                Eigen::Vector2d* p_W) {
+  // moment balance about the ZMP p on z = ground_z: the horizontal moments vanish there
+  double fz = 0, mx = 0, my = 0;
+  for (int i = 0; i < n; ++i) {
+    const FootWrench& w = feet[i];
+    const double h = w.p_WS.z() - ground_z;
+    fz += w.f_W.z();
+    mx += -w.n_W.y() - h * w.f_W.x() + w.p_WS.x() * w.f_W.z();
+    my += w.n_W.x() - h * w.f_W.y() + w.p_WS.y() * w.f_W.z();
+  }
+  if (!(fz > min_fz) || !std::isfinite(mx) || !std::isfinite(my)) return false;
+  *p_W = Eigen::Vector2d(mx / fz, my / fz);
+  return true;
+}
+
+Stabilizer::Stabilizer(StabilizerGains gains) : gains_(gains) { Reset(); }
+
+void Stabilizer::Reset() {
+  out_ = StabilizerOutput{};
+  torso_rate_[0] = torso_rate_[1] = 0;
+}
+
+const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt) noexcept {
+  const StabilizerGains& g = gains_;
+  const Support& s = in.support;
+
+  //---------------- measured ZMP ----------------
+  Eigen::Vector2d zmp;
+  out_.zmp_valid = MeasureZmp(in.feet, 2, s.ground_z, 0.1 * in.mass * kGravity, &zmp);
+  if (out_.zmp_valid) out_.zmp_measured = zmp;
+
+  //---------------- desired ZMP from the DCM ----------------
+  const double h = std::max(in.c.z() - s.ground_z, kMinHeight);
+  const double omega = std::sqrt(kGravity / h);
+  const Eigen::Vector2d c = in.c.head<2>();
+  out_.dcm = c + in.dc.head<2>() / omega;
+  out_.zmp_desired_raw = out_.dcm + (g.k_dcm / omega) * (out_.dcm - in.c_ref);
+
+  // the support rectangle of the two soles, less the margin
+  Eigen::Vector2d lo = s.centre[0] - s.half_size[0], hi = s.centre[0] + s.half_size[0];
+  lo = lo.cwiseMin(s.centre[1] - s.half_size[1]);
+  hi = hi.cwiseMax(s.centre[1] + s.half_size[1]);
+  lo.array() += g.support_margin;
+  hi.array() -= g.support_margin;
+  out_.zmp_desired = out_.zmp_desired_raw.cwiseMax(lo).cwiseMin(hi);
+  const Eigen::Vector2d excess = out_.zmp_desired_raw - out_.zmp_desired;
+
+  //---------------- distribution to the feet ----------------
+  const Eigen::Vector2d& pd = out_.zmp_desired;
+  const double yl = s.centre[0].y(), yr = s.centre[1].y();
+  const double span = yl - yr;
+  const double alpha = std::abs(span) > 1e-6 ? std::clamp((pd.y() - yr) / span, 0.0, 1.0) : 0.5;
+  out_.fz_share[0] = alpha;
+  out_.fz_share[1] = 1.0 - alpha;
+  const double fz_total = in.feet[0].f_W.z() + in.feet[1].f_W.z();
+  // what the shares leave of p_d's lateral position is carried inside the soles
+  const double y_shift = pd.y() - (alpha * yl + (1.0 - alpha) * yr);
+
+  //---------------- ankle strategy: foot damping control ----------------
+  double* roll = out_.foot_roll;
+  double* pitch = out_.foot_pitch;
+  for (int i = 0; i < 2; ++i) {
+    const FootWrench& w = in.feet[i];
+    const double fz_d = out_.fz_share[i] * fz_total;
+    if (!g.ankle_strategy || !(w.f_W.z() > kLoadedFoot)) {
+      roll[i] -= dt * roll[i] / g.ankle_recovery;
+      pitch[i] -= dt * pitch[i] / g.ankle_recovery;
+      continue;
+    }
+    const Eigen::Vector2d inner = (s.half_size[i].array() - g.support_margin).max(0.0);
+    const double cop_x = std::clamp(pd.x(), s.centre[i].x() - inner.x(), s.centre[i].x() + inner.x());
+    const double cop_y = s.centre[i].y() + Clamp(y_shift, inner.y());
+    const double dzs = s.ground_z - w.p_WS.z();  // the CoP lies below the sensor
+    // moment about the sensor of the desired force at the desired CoP
+    const double nx_d = (cop_y - w.p_WS.y()) * fz_d - dzs * w.f_W.y();
+    const double ny_d = dzs * w.f_W.x() - (cop_x - w.p_WS.x()) * fz_d;
+    roll[i] += dt * ((w.n_W.x() - nx_d) / g.ankle_damping - roll[i] / g.ankle_recovery);
+    pitch[i] += dt * ((w.n_W.y() - ny_d) / g.ankle_damping - pitch[i] / g.ankle_recovery);
+    roll[i] = Clamp(roll[i], g.max_foot_rotation);
+    pitch[i] = Clamp(pitch[i], g.max_foot_rotation);
+  }
+
+  //---------------- ankle strategy: sole height difference ----------------
+  if (g.ankle_strategy && fz_total > kLoadedFoot) {
+    const double diff_m = in.feet[0].f_W.z() - in.feet[1].f_W.z();
+    const double diff_d = (out_.fz_share[0] - out_.fz_share[1]) * fz_total;
+    out_.dz += dt * ((diff_m - diff_d) / g.z_damping - out_.dz / g.z_recovery);
+  } else {
+    out_.dz -= dt * out_.dz / g.z_recovery;
+  }
+  out_.dz = Clamp(out_.dz, g.max_dz);
+
+  //---------------- hip strategy: the torso supplies what the soles cannot ----------------
+  // L_dot_y = m g e_x and L_dot_x = -m g e_y move the effective ZMP by e (stabilizer.h)
+  const double w0 = g.hip_return;
+  double acc[2] = {0, 0};
+  if (g.hip_strategy && g.torso_inertia > 0) {
+    acc[0] = g.hip_gain * in.mass * kGravity * excess.x() / g.torso_inertia;
+    acc[1] = -g.hip_gain * in.mass * kGravity * excess.y() / g.torso_inertia;
+  }
+  double* angle[2] = {&out_.torso_pitch, &out_.torso_roll};
+  for (int k = 0; k < 2; ++k) {
+    const double a = acc[k] - w0 * w0 * *angle[k] - 2.0 * w0 * torso_rate_[k];
+    torso_rate_[k] += dt * a;
+    *angle[k] += dt * torso_rate_[k];
+    if (std::abs(*angle[k]) > g.max_torso_angle) {
+      *angle[k] = Clamp(*angle[k], g.max_torso_angle);
+      torso_rate_[k] = 0;
+    }
+  }
+  return out_;
+}
+
+}  // namespace ohrp::controllers

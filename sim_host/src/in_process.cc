@@ -1,0 +1,97 @@
+// A robot simulated in-process (see in_process.h).
+#include "sim_host/in_process.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+
+namespace ohrp::sim {
+namespace {
+
+std::string UniqueSegmentName() {
+  static std::atomic<int> counter{0};
+  return "inproc_" + std::to_string(getpid()) + "_" + std::to_string(counter++);
+}
+
+}  // namespace
+
+std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o,
+                                                       std::string* error) {
+  std::unique_ptr<InProcessRobot> r(new InProcessRobot());
+  r->options_ = o;
+  r->scene_ = Scene::Load(o.scene, error);
+  if (!r->scene_) return nullptr;
+  mjModel* m = r->scene_->m();
+  if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
+  const double ratio = o.control_period / m->opt.timestep;
+  r->steps_per_cycle_ = static_cast<int>(std::lround(ratio));
+  if (r->steps_per_cycle_ < 1 || std::fabs(ratio - r->steps_per_cycle_) > 1e-6) {
+    *error = "control period " + std::to_string(o.control_period) +
+             " s is not a whole number of physics steps of " + std::to_string(m->opt.timestep) + " s";
+    return nullptr;
+  }
+  if (!MapRobot(m, &r->robot_, error)) return nullptr;
+  if (!SetUpFeet(m, o.feet, r->robot_.total_mass, &r->soft_, error)) return nullptr;
+  if (!r->scene_->Reset(o.keyframe, error)) return nullptr;
+  for (const Perturbation& p : o.pushes) {
+    if (!(p.t1 > p.t0)) {
+      *error = "a push must end after it starts (t1 > t0)";
+      return nullptr;
+    }
+  }
+  r->pushing_.assign(o.pushes.size(), 0);
+  r->servo_ = std::make_unique<Servo>(r->robot_);
+  r->servo_->HoldCurrent(r->scene_->d());
+  shm::Status status;
+  r->producer_ = shm::Producer::Create(
+      MakeProducerConfig(r->robot_, m, UniqueSegmentName(), m->opt.timestep, o.control_period),
+      &status);
+  if (!r->producer_) {
+    *error = status.message;
+    return nullptr;
+  }
+  r->Publish();
+  return r;
+}
+
+InProcessRobot::~InProcessRobot() = default;
+
+void InProcessRobot::Publish() {
+  FillSensors(robot_, m(), d(), &sensors_);
+  sensors_.cycle = cycle_;
+  sensors_.time = d()->time;
+  sensors_.status = shm::status::kRunning | shm::status::kSimulated;
+  sensors_.rejected_commands = servo_->rejected_total();
+}
+
+int InProcessRobot::Cycle(const shm::CommandBlock& commands) {
+  mjModel* m = scene_->m();
+  mjData* d = scene_->d();
+  const int rejected = servo_->Accept(commands);
+  for (int s = 0; s < steps_per_cycle_; ++s) {
+    // each push adds its wrench to the base's row of xfrc_applied while it lasts
+    for (size_t i = 0; i < options_.pushes.size() && robot_.base_body >= 0; ++i) {
+      const Perturbation& p = options_.pushes[i];
+      const bool on = d->time >= p.t0 && d->time < p.t1;
+      if (on == static_cast<bool>(pushing_[i])) continue;
+      const double sign = on ? 1.0 : -1.0;
+      double* row = d->xfrc_applied + 6 * robot_.base_body;
+      for (int k = 0; k < 3; ++k) {
+        row[k] += sign * p.force[k];
+        row[3 + k] += sign * p.torque[k];
+      }
+      pushing_[i] = on;
+    }
+    servo_->Apply(m, d);
+    if (soft_) soft_->ApplyBeforeStep(m, d);
+    mj_step(m, d);
+    if (soft_) soft_->Commit();
+  }
+  ++cycle_;
+  Publish();
+  return rejected;
+}
+
+}  // namespace ohrp::sim
