@@ -4,6 +4,8 @@
 #include <cstring>
 #include <limits>
 
+#include "robot_model/model_hash.h"
+
 namespace ohrp::model {
 namespace {
 
@@ -42,6 +44,7 @@ shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
   }
   c.physics_period = physics_period;
   c.control_period = control_period;
+  FillModelIdentity(m, robot, &c);
   return c;
 }
 

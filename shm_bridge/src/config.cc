@@ -143,6 +143,28 @@ Status ValidateConfig(const ProducerConfig& config) {
     if (config.tau_max[i] < 0.0) return Invalid(Indexed("tau_max", i) + " is negative");
   }
 
+  // the robot model's identity: per-joint entries as above, masses not negative
+  s = CheckPerJoint("link_mass", config.link_mass, njoint);
+  if (!s.ok()) return s;
+  for (std::size_t i = 0; i < config.link_mass.size(); ++i) {
+    if (config.link_mass[i] < 0.0) return Invalid(Indexed("link_mass", i) + " is negative");
+  }
+  if (!config.joint_axis.empty() && config.joint_axis.size() != njoint) {
+    return Invalid("joint_axis has " + std::to_string(config.joint_axis.size()) +
+                   " entries, expected 0 or njoint = " + std::to_string(njoint));
+  }
+  for (std::size_t i = 0; i < config.joint_axis.size(); ++i) {
+    for (double v : config.joint_axis[i]) {
+      if (!std::isfinite(v)) return Invalid(Indexed("joint_axis", i) + " is not finite");
+    }
+  }
+  if (!(config.total_mass >= 0.0) || !std::isfinite(config.total_mass)) {
+    return Invalid("total_mass must be >= 0 [kg], got " + std::to_string(config.total_mass));
+  }
+  if (config.nbody < 0) {
+    return Invalid("nbody must be >= 0, got " + std::to_string(config.nbody));
+  }
+
   // periods [s]
   if (!(config.control_period > 0.0) || !std::isfinite(config.control_period)) {
     return Invalid("control_period must be > 0 [s], got " + std::to_string(config.control_period));

@@ -71,6 +71,11 @@ constexpr uint64_t ComputeLayoutHash() {
       offsetof(SegmentHeader, physics_period),
       offsetof(SegmentHeader, control_period),
       offsetof(SegmentHeader, read_timeout_hint),
+      offsetof(SegmentHeader, model_hash),
+      offsetof(SegmentHeader, nbody),
+      offsetof(SegmentHeader, total_mass),
+      offsetof(SegmentHeader, joint_axis),
+      offsetof(SegmentHeader, link_mass),
       // sensors
       sizeof(ForceTorque),
       offsetof(ForceTorque, force),

@@ -123,6 +123,14 @@ void FillHeader(const ProducerConfig& config, SegmentHeader* h) {
   h->physics_period = config.physics_period;
   h->control_period = config.control_period;
   h->read_timeout_hint = config.read_timeout_hint;
+
+  h->model_hash = config.model_hash;
+  h->nbody = config.nbody;
+  h->total_mass = config.total_mass;
+  for (std::size_t i = 0; i < njoint && i < config.joint_axis.size(); ++i) {
+    for (int k = 0; k < 3; ++k) h->joint_axis[i][k] = config.joint_axis[i][k];
+  }
+  CopyPerJoint(h->link_mass, config.link_mass, njoint, 0.0);
 }
 
 }  // namespace

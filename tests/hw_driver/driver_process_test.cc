@@ -2,9 +2,9 @@
 // adaptor in a forked child) attaches to its hardware segment and commands it; NaN commands are
 // rejected and counted; a killed controller, a silent board and an emergency stop put the robot
 // into safe mode or turn the servos off; the segment is removed on every exit path; the replay
-// plugin plays a CSV data log into the segment. The boards are fake_io.cc, which records what
-// the driver wrote. Checks count cycles, not wall time, so a loaded machine does not make them
-// fail.
+// plugin plays a CSV data log into the segment; hw_driver and sim_host publish the same model
+// hash for the same MJCF. The boards are fake_io.cc, which records what the driver wrote.
+// Checks count cycles, not wall time, so a loaded machine does not make them fail.
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -26,6 +26,8 @@
 #include <thread>
 #include <vector>
 
+#include "robot_model/model.h"
+#include "robot_model/model_hash.h"
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::hw {
@@ -114,6 +116,7 @@ class HwDriverProcess : public ::testing::Test {
       }
     }
     fs::remove(ShmPath());
+    if (!other_segment_.empty()) fs::remove("/dev/shm/" + shm::SegmentObjectName(other_segment_));
     fs::remove_all(dir_);
   }
 
@@ -152,13 +155,16 @@ class HwDriverProcess : public ::testing::Test {
     return pid;
   }
   // waits until the driver's segment exists, has its full size and says kRunning
-  bool WaitSegment(double timeout = 20) {
+  bool WaitSegment(double timeout = 20) { return WaitRunning(segment_, timeout); }
+  // the same for any producer's segment `segment`
+  static bool WaitRunning(const std::string& segment, double timeout = 20) {
+    const std::string path = "/dev/shm/" + shm::SegmentObjectName(segment);
     const auto t0 = Clock::now();
     while (Since(t0) < timeout) {
       std::error_code ec;
-      if (fs::file_size(ShmPath(), ec) == sizeof(shm::Segment) && !ec) {
+      if (fs::file_size(path, ec) == sizeof(shm::Segment) && !ec) {
         try {
-          Peek peek(segment_);
+          Peek peek(segment);
           const uint32_t state = std::atomic_ref<const uint32_t>(peek.get().header.state).load();
           if (state == static_cast<uint32_t>(shm::ProducerState::kRunning)) return true;
         } catch (const bip::interprocess_exception&) {
@@ -267,6 +273,7 @@ class HwDriverProcess : public ::testing::Test {
   }
 
   std::string segment_, model_;
+  std::string other_segment_;  // a second producer's segment, removed in TearDown
   fs::path dir_;
   pid_t pid_ = -1, child_ = -1;
 };
@@ -504,6 +511,51 @@ TEST_F(HwDriverProcess, WithoutRealTimePermissionsItWarnsOnceAndRuns) {
     EXPECT_NE(e.find("warning: SCHED_FIFO 80 refused"), std::string::npos) << e;
   }
   EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
+//---------------- the robot model's identity ----------------
+
+TEST_F(HwDriverProcess, PublishesTheSameModelHashAsSimHostForTheSameModel) {
+  Start({"--duration", "120", "--watchdog-cycles", "1000000"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  other_segment_ = segment_ + "_sim";
+  child_ = Exec({std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", model_, "--segment",
+                 other_segment_, "--physics-dt", "0.001", "--control-period", "0.002",
+                 "--wait-controller", "60", "--progress", "0"},
+                Path("sim_host.stderr"));
+  ASSERT_TRUE(WaitRunning(other_segment_)) << Read("sim_host.stderr");
+
+  Peek hw(segment_), sim(other_segment_);
+  const shm::SegmentHeader& h = hw.get().header;
+  const shm::SegmentHeader& s = sim.get().header;
+  EXPECT_EQ(h.producer_kind, shm::ProducerKind::kHardware);
+  EXPECT_EQ(s.producer_kind, shm::ProducerKind::kSimulation);
+  EXPECT_NE(h.model_hash, 0u);
+  EXPECT_EQ(h.model_hash, s.model_hash);
+  // and the hash this process computes from the same file
+  {
+    std::string error;
+    auto scene = model::Scene::Load(model_, &error);
+    ASSERT_NE(scene, nullptr) << error;
+    model::RobotMap robot;
+    ASSERT_TRUE(model::MapRobot(scene->m(), &robot, &error)) << error;
+    EXPECT_EQ(model::ModelHash(scene->m(), robot), h.model_hash);
+    EXPECT_EQ(model::CheckModelMatches(scene->m(), robot, s), "");
+  }
+  // the identity fields, closed forms of kModel: two 1 kg links, axes z then y
+  for (const shm::SegmentHeader* p : {&h, &s}) {
+    EXPECT_EQ(p->nbody, 2);
+    EXPECT_DOUBLE_EQ(p->total_mass, 2.0);
+    EXPECT_DOUBLE_EQ(p->link_mass[0], 1.0);
+    EXPECT_DOUBLE_EQ(p->link_mass[1], 1.0);
+    EXPECT_EQ(p->joint_axis[0][2], 1.0);
+    EXPECT_EQ(p->joint_axis[1][1], 1.0);
+  }
+
+  kill(child_, SIGINT);
+  EXPECT_NE(WaitExit(&child_), -1) << Read("sim_host.stderr");
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
 }
 
 //---------------- the segment is removed on every exit path ----------------

@@ -105,6 +105,21 @@ TEST(ValidateConfig, NamesAnInconsistentVector) {
                 "q_min[2] > q_max[2] (joint 'ankle')");
 }
 
+TEST(ValidateConfig, NamesABadModelIdentity) {
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.link_mass = {1.0, 2.0}; }),
+                "link_mass has 2 entries, expected 0 or njoint = 3");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.link_mass = {1.0, -2.0, 1.0}; }),
+                "link_mass[1] is negative");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.joint_axis = {{0, 0, 1}}; }),
+                "joint_axis has 1 entries, expected 0 or njoint = 3");
+  ExpectInvalid(
+      ValidateEdited([](ProducerConfig& c) { c.joint_axis = {{0, 0, 1}, {0, NAN, 1}, {1, 0, 0}}; }),
+      "joint_axis[1] is not finite");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.total_mass = -1.0; }),
+                "total_mass must be >= 0 [kg]");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.nbody = -1; }), "nbody must be >= 0");
+}
+
 TEST(ValidateConfig, NamesABadPeriod) {
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.control_period = 0.0; }),
                 "control_period must be > 0");

@@ -87,6 +87,41 @@ TEST_F(ProducerTest, HeaderDescribesTheConfig) {
   EXPECT_EQ(producer->controller_pid(), 0);
 }
 
+TEST_F(ProducerTest, HeaderCarriesTheModelIdentityToAControllerProcess) {
+  ProducerConfig config = testing::SmallConfig(name_);
+  config.model_hash = 0x0123456789abcdefull;
+  config.nbody = 4;
+  config.total_mass = 12.5;
+  config.joint_axis = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}};
+  config.link_mass = {3.0, 2.0, 1.5};
+  Status status;
+  auto producer = Producer::Create(config, &status);
+  ASSERT_NE(producer, nullptr) << status.message;
+  // a controller in another process sees what the producer wrote
+  const pid_t child = Spawn([&] {
+    RobotAdaptor adaptor;
+    if (!adaptor.open(name_).ok()) return 1;
+    const SegmentHeader& h = adaptor.header();
+    if (h.model_hash != 0x0123456789abcdefull) return 2;
+    if (h.nbody != 4 || h.total_mass != 12.5) return 3;
+    if (h.joint_axis[0][2] != 1.0 || h.joint_axis[1][1] != 1.0 || h.joint_axis[2][0] != 1.0) {
+      return 4;
+    }
+    if (h.joint_axis[0][0] != 0.0 || h.joint_axis[3][2] != 0.0) return 5;  // past njoint: 0
+    if (h.link_mass[0] != 3.0 || h.link_mass[2] != 1.5 || h.link_mass[3] != 0.0) return 6;
+    return 0;
+  });
+  EXPECT_EQ(WaitExit(child), 0);
+}
+
+TEST_F(ProducerTest, HeaderWithoutAModelIdentityHasHashZero) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  EXPECT_EQ(producer->header().model_hash, 0u);
+  EXPECT_EQ(producer->header().nbody, 0);
+  EXPECT_EQ(producer->header().link_mass[0], 0.0);
+}
+
 TEST_F(ProducerTest, DestructorRemovesTheSegment) {
   auto producer = Create();
   ASSERT_NE(producer, nullptr);

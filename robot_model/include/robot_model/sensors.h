@@ -6,7 +6,8 @@
 
 namespace ohrp::model {
 
-// The segment's description of `robot` (names, limits, default gains, cameras, periods).
+// The segment's description of `robot` (names, limits, default gains, cameras, periods, and the
+// model identity: model_hash, masses and axes, see model_hash.h).
 shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
                                        const std::string& segment_name, double physics_period,
                                        double control_period);

@@ -12,6 +12,7 @@
 
 #include <sys/types.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,6 +67,12 @@ struct ProducerConfig {
   double physics_period = 0.0;      // [s]
   double control_period = 0.005;    // [s]
   double read_timeout_hint = 1.0;   // [s]
+  // the robot model's identity (SegmentHeader: model_hash...; robot_model/model_hash.h)
+  uint64_t model_hash = 0;          // 0: not published
+  int nbody = 0;                    // bodies of the robot
+  double total_mass = 0.0;          // [kg]
+  std::vector<std::array<double, 3>> joint_axis;  // njoint or empty (zeros) [unit vector]
+  std::vector<double> link_mass;    // njoint or empty (zeros) [kg]
 };
 
 enum class WaitResult {

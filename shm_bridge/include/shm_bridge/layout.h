@@ -42,7 +42,7 @@ namespace ohrp::shm {
 //---------------- capacities and identification ----------------
 
 inline constexpr char kMagic[8] = {'O', 'H', 'R', 'P', 'S', 'E', 'G', '1'};
-inline constexpr uint32_t kLayoutVersion = 1;
+inline constexpr uint32_t kLayoutVersion = 2;  // 2: the robot model's identity (model_hash...)
 inline constexpr int kMaxJoints = 64;   // actuated joints
 inline constexpr int kMaxForceSensors = 4;  // 6-axis force/torque sensors
 inline constexpr int kMaxImus = 2;
@@ -126,6 +126,16 @@ struct SegmentHeader {
   double physics_period;            // integration step [s] (0 for hardware)
   double control_period;            // period of the sensor/command cycle [s]
   double read_timeout_hint;         // how long a producer may take per cycle [s]
+
+  // the robot model's identity: a controller that loads its own MJCF compares it with these
+  // (robot_model/model_hash.h: CheckModelMatches) and refuses a producer whose robot differs
+  uint64_t model_hash;              // ModelHash of the producer's robot (0: not published)
+  int32_t nbody;                    // bodies of the robot (the base's subtree, or all bodies
+                                    // but the world for a fixed robot)
+  int32_t pad0;
+  double total_mass;                // mass of those bodies [kg]
+  double joint_axis[kMaxJoints][3]; // joint axis in its body's frame (njoint x 3) [unit vector]
+  double link_mass[kMaxJoints];     // mass of the body each joint moves (njoint) [kg]
 };
 
 //---------------- sensor block (producer -> controller) ----------------
