@@ -37,6 +37,7 @@ struct EstimatorOptions {
   double accel_trust = 2.0;     // use the accelerometer only when | |a| - g | < this [m/s^2]
   double contact_force = 50.0;  // normal force above which a sole is in contact [N]
   double velocity_cutoff = 20.0;  // low-pass of the base velocity [Hz]
+  bool origin_at_feet = true;   // Reset: x = y = 0 between the soles (else at the base)
 };
 
 struct BaseEstimate {
@@ -67,13 +68,35 @@ class BaseEstimator {
   const Eigen::Vector3d& anchor(int side) const { return anchor_[side]; }
 
  private:
+  bool Finite(const shm::SensorBlock& s) const;
+  void Measure(const shm::SensorBlock& s);
+  void ContactForces(const shm::SensorBlock& s, const Eigen::Matrix3d& R_WB, bool hysteresis);
+  void Publish(const shm::SensorBlock& s, const Eigen::Matrix3d& R_WB);
+
   Kinematics* kin_;
   EstimatorOptions options_;
   BaseEstimate est_;
   Eigen::Vector3d anchor_[2];
   int sole_[2] = {-1, -1};    // left, right sole index in kin->soles()
   int force_[2] = {-1, -1};   // their F/T sensors
+  int force_site_[2] = {-1, -1};  // MuJoCo site ids of those sensors
   int imu_site_ = -1;
+
+  // filter state
+  bool started_ = false;                 // Reset has run
+  bool anchored_[2] = {false, false};    // anchor_[i] holds a touchdown position
+  Eigen::Quaterniond quat_WI_ = Eigen::Quaterniond::Identity();  // IMU orientation
+  Eigen::Vector3d gyro_prev_ = Eigen::Vector3d::Zero();  // last gyro sample [rad/s]
+  Eigen::Vector3d v_WI_ = Eigen::Vector3d::Zero();       // IMU point velocity [m/s]
+  bool v_WI_from_legs_ = false;          // v_WI_ came from leg kinematics (not inertial)
+  Eigen::Vector3d v_raw_ = Eigen::Vector3d::Zero();      // unfiltered base velocity [m/s]
+
+  // the robot relative to its base, from the measured joints (Measure)
+  Eigen::MatrixXd J_;                    // 6 x nv scratch
+  Eigen::Vector3d p_BS_[2], v_BS_[2];    // sole position and velocity in B
+  Eigen::Matrix3d R_BF_[2];              // F/T sensor frames
+  Eigen::Matrix3d R_BI_;                 // IMU frame
+  Eigen::Vector3d p_BI_, v_BI_, w_BI_;   // IMU position, velocity and angular velocity in B
 };
 
 }  // namespace ohrp::model
