@@ -69,11 +69,21 @@ class LimbIk {
   Eigen::Vector3d p_TipT_;
   Eigen::Matrix3d R_TipT_;
   IkOptions options_;
+  // the weighted 6-D error (position; orientation_weight times the rotation vector) of the
+  // tip at kin's last Update, and its two norms
+  double Error(const Kinematics& kin, const Eigen::Vector3d& p_WT, const Eigen::Matrix3d& R_WT,
+               double* position_error, double* orientation_error);
+  // sets the chain's joints from q_chain_ and updates kin
+  void Apply(Kinematics& kin);
+
   std::vector<int> chain_;       // segment joint ids, root outwards
   Eigen::MatrixXd J_full_;       // 6 x nv
   Eigen::MatrixXd J_;            // 6 x chain
-  Eigen::MatrixXd A_;            // 6 x 6
+  Eigen::Matrix<double, 6, 6> A_;  // J J^T + lambda^2 I
   Eigen::VectorXd dq_;           // chain
+  Eigen::Matrix<double, 6, 1> e_;  // weighted error
+  Eigen::VectorXd q_chain_, best_q_, q_min_, q_max_;  // chain
+  std::vector<double> q_all_;    // njoint, the joints as set in kin plus the chain's
 };
 
 }  // namespace ohrp::model

@@ -137,8 +137,12 @@ class Kinematics {
   RobotMap robot_;
   std::vector<SoleMap> soles_;
   int left_sole_ = -1, right_sole_ = -1;
-  std::vector<int> column_of_dof_;  // MuJoCo dof -> our column, -1 when not carried
-  std::vector<mjtNum> jacp_, jacr_, dense_;  // scratch, sized at construction
+  int com_body_ = 0;                  // root of the robot's subtree (the base, or the world)
+  std::vector<int> column_of_dof_;    // MuJoCo dof -> our column, -1 when not carried
+  std::vector<int> joint_of_jnt_;     // MuJoCo joint -> segment joint id, -1 when not carried
+  Eigen::Vector3d w_WB_ = Eigen::Vector3d::Zero();   // base angular velocity as set, in W
+  Eigen::Vector3d v_WCoM_ = Eigen::Vector3d::Zero(); // computed by Update
+  mutable std::vector<mjtNum> jacp_, jacr_, dense_;  // scratch, sized at construction
 };
 
 }  // namespace ohrp::model
