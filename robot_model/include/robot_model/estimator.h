@@ -1,25 +1,42 @@
 // State estimation of the floating base from the robot's own sensors (never sim_truth, which
 // the robot does not have): what a controller needs to know where its body is.
 //
-//   orientation  the IMU: the gyro integrated, its drift in roll and pitch corrected towards
-//                the gravity direction measured by the accelerometer (a complementary filter
-//                whose crossover is `tilt_gain`; the correction is switched off while the
-//                specific force differs from g by more than `accel_trust`, i.e. during shocks).
-//                Yaw is the gyro's integral (unobservable from gravity).
-//   contact      a sole is in contact when the normal force of its F/T sensor exceeds
-//                `contact_force` (with a hysteresis of half that).
-//   position     leg kinematics: each sole in contact is anchored in the world where it
-//                touched down; the base position follows from the anchor, the estimated base
-//                orientation and the joint angles (p_WB = p_WS - R_WB p_BS), averaged over the
-//                soles in contact weighted by their normal forces.
-//   velocity     the same leg kinematics differentiated (joint velocities and the gyro),
-//                low-passed at `velocity_cutoff`.
-// At Reset the robot is assumed to stand on the soles in contact, with their bottoms on the
-// plane z = 0 of the world, and the base above the midpoint of the soles at x = y = 0 when
-// `origin_at_feet` is set (otherwise at x = y = 0 for the base itself), yaw 0.
+//   orientation  the IMU frame I is estimated (the IMU may sit above torso joints: on HRP-1S it
+//                is on the CHEST, WAIST_P, WAIST_R and CHEST lie between it and the base) and
+//                the base follows from the measured joints: R_WB = R_WI R_BI^T. The gyro is
+//                integrated (trapezoid over the cycle), its drift in roll and pitch corrected
+//                towards the gravity direction (a complementary filter whose crossover is
+//                `tilt_gain`): the accelerometer's specific force rotated to W, minus the
+//                IMU's own acceleration from the leg kinematics (the differentiated velocity
+//                below), is gravity. The correction is switched off while that differs from g
+//                by more than `accel_trust` (shocks) and while no sole is in contact. Yaw is
+//                the gyro's integral (unobservable from gravity). The IMU's orientation output
+//                (quat_WI) is not used.
+//   contact      a sole is in contact when its normal force exceeds `contact_force` (with a
+//                hysteresis of half that): the F/T force rotated to W with the estimated
+//                orientation, its z component.
+//   position     leg kinematics: each sole in contact is anchored in the world where the
+//                estimate puts it at touchdown and stays there while in contact; the base
+//                position follows from the anchor, the estimated base orientation and the
+//                joint angles (p_WB = p_WS - R_WB p_BS), averaged over the soles in contact
+//                weighted by their normal forces. A sole that rolls on an edge or slides breaks
+//                the assumption (its frame S moves); the soft soles of the simulation sink
+//                about 0.2 mm under the robot's weight, which the estimate does not see.
+//   velocity     the same leg kinematics differentiated (0 = v_WB + w_WB x R_WB p_BS +
+//                R_WB v_BS with v_BS from the joint velocities, w_WB from the gyro and the
+//                torso joints' velocities), low-passed at `velocity_cutoff`.
+//   in the air   with no sole in contact the accelerometer is integrated (velocity, then
+//                position): dead reckoning that drifts, usable for short flights only.
+// At Reset the robot is assumed at rest with yaw 0, roll and pitch from the accelerometer
+// (upright when it reads less than 1 m/s^2, e.g. in free fall), standing on the soles in
+// contact with their bottoms on the plane z = 0 of the world (with no sole in contact, the
+// robot is taken as held just above the ground: the lower sole's bottom on z = 0), and the
+// base above the midpoint of the two soles at x = y = 0 when `origin_at_feet` is set
+// (otherwise the base itself at x = y = 0). Update before any Reset resets.
 //
-// Update allocates nothing and never throws; it returns false (and keeps the last estimate)
-// when the sensors it needs are not finite.
+// Update allocates nothing and never throws; it returns false (and keeps the last estimate and
+// the state of `kin`) when the sensors it needs (q, dq, the IMU's gyro and accelerometer, the
+// soles' F/T forces) are not finite or dt is not positive.
 #pragma once
 
 #include <Eigen/Core>
@@ -37,6 +54,7 @@ struct EstimatorOptions {
   double accel_trust = 2.0;     // use the accelerometer only when | |a| - g | < this [m/s^2]
   double contact_force = 50.0;  // normal force above which a sole is in contact [N]
   double velocity_cutoff = 20.0;  // low-pass of the base velocity [Hz]
+  bool origin_at_feet = true;   // Reset: x = y = 0 between the soles (else at the base)
 };
 
 struct BaseEstimate {
@@ -67,13 +85,35 @@ class BaseEstimator {
   const Eigen::Vector3d& anchor(int side) const { return anchor_[side]; }
 
  private:
+  bool Finite(const shm::SensorBlock& s) const;
+  void Measure(const shm::SensorBlock& s);
+  void ContactForces(const shm::SensorBlock& s, const Eigen::Matrix3d& R_WB, bool hysteresis);
+  void Publish(const shm::SensorBlock& s, const Eigen::Matrix3d& R_WB);
+
   Kinematics* kin_;
   EstimatorOptions options_;
   BaseEstimate est_;
   Eigen::Vector3d anchor_[2];
   int sole_[2] = {-1, -1};    // left, right sole index in kin->soles()
   int force_[2] = {-1, -1};   // their F/T sensors
+  int force_site_[2] = {-1, -1};  // MuJoCo site ids of those sensors
   int imu_site_ = -1;
+
+  // filter state
+  bool started_ = false;                 // Reset has run
+  bool anchored_[2] = {false, false};    // anchor_[i] holds a touchdown position
+  Eigen::Quaterniond quat_WI_ = Eigen::Quaterniond::Identity();  // IMU orientation
+  Eigen::Vector3d gyro_prev_ = Eigen::Vector3d::Zero();  // last gyro sample [rad/s]
+  Eigen::Vector3d v_WI_ = Eigen::Vector3d::Zero();       // IMU point velocity [m/s]
+  bool v_WI_from_legs_ = false;          // v_WI_ came from leg kinematics (not inertial)
+  Eigen::Vector3d v_raw_ = Eigen::Vector3d::Zero();      // unfiltered base velocity [m/s]
+
+  // the robot relative to its base, from the measured joints (Measure)
+  Eigen::MatrixXd J_;                    // 6 x nv scratch
+  Eigen::Vector3d p_BS_[2], v_BS_[2];    // sole position and velocity in B
+  Eigen::Matrix3d R_BF_[2];              // F/T sensor frames
+  Eigen::Matrix3d R_BI_;                 // IMU frame
+  Eigen::Vector3d p_BI_, v_BI_, w_BI_;   // IMU position, velocity and angular velocity in B
 };
 
 }  // namespace ohrp::model
