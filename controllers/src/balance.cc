@@ -176,10 +176,37 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
     // the link inertia about the joint, without the rotor (its reaction goes to the base)
     g.torso_inertia = std::max(M(col, col) - k.m()->dof_armature[dof], 1e-3);
   }
-  // nominal soles in the base frame at the stance pose
+  // nominal soles in the base frame at the stance pose, and the CoM shift that puts the CoM
+  // over their middle (the base moves by it; the feet, a few % of the mass, stay)
   for (int i = 0; i < 2; ++i) {
     p_BS_nominal_[i] = kin_ik_->p_WSole(sole_[i]);
     R_BS_nominal_[i] = kin_ik_->R_WSole(sole_[i]);
+  }
+  com_shift_B_.setZero();
+  base_shift_B_.setZero();
+  if (options_.centre_com) {
+    const Eigen::Vector2d mid = 0.5 * (p_BS_nominal_[0] + p_BS_nominal_[1]).head<2>();
+    com_shift_B_ = mid - kin_ik_->p_WCoM().head<2>();
+    // the legs move with the feet, so the hips must move further than the CoM: a few fixed
+    // point iterations of leg IK with the soles held
+    for (int j = 0; j < njoint(); ++j) q_ik_[j] = target_[j];
+    for (int it = 0; it < 8; ++it) {
+      const Eigen::Vector2d s = base_shift_B_;
+      for (int i = 0; i < 2; ++i) {
+        const Eigen::Vector3d p = p_BS_nominal_[i] - Eigen::Vector3d(s.x(), s.y(), 0);
+        if (leg_ik_[i]->Solve(*kin_ik_, p, R_BS_nominal_[i], q_ik_.data()).status !=
+            model::IkStatus::kConverged) {
+          return ConfigStatus::Fail(ConfigError::kLimits,
+                                    "the legs cannot move the CoM over the middle of the soles "
+                                    "from this stance pose (use --no-centre-com)");
+        }
+      }
+      kin_ik_->Update();
+      // the CoM relative to the soles' middle, which moved by -s in the base frame
+      const Eigen::Vector2d rel = kin_ik_->p_WCoM().head<2>() - (mid - s);
+      base_shift_B_ -= rel;
+      if (rel.norm() < 1e-5) break;
+    }
   }
   return ConfigStatus::Ok();
 }
@@ -222,16 +249,25 @@ bool BalanceController::SensorsUsable(const shm::SensorBlock& s, HoldReason* why
 
 void BalanceController::EnterStand(const shm::SensorBlock& s) noexcept {
   const model::BaseEstimate& e = estimator_->estimate();
-  c_ref_ = e.p_WCoM.head<2>();
+  c_ref_start_ = c_ref_ = e.p_WCoM.head<2>();
+  stand_time_ = s.time;
   stabilizer_.Reset();
   for (int j = 0; j < njoint(); ++j) q_ik_[j] = target_[j];
   phase_ = Phase::kStand;
-  (void)s;
 }
 
 void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   const model::Kinematics& k = *kin_est_;  // at the estimated state
   const model::BaseEstimate& e = estimator_->estimate();
+
+  // the stance shift so far (minimum jerk), c_ref moving with it (yaw of the base applied)
+  const double u = options_.centre_time > 0 ? (s.time - stand_time_) / options_.centre_time : 1.0;
+  const double su = MinimumJerk(u);
+  const Eigen::Vector2d shift_B = su * base_shift_B_;
+  const Eigen::Vector3d x_W = e.quat_WB * Eigen::Vector3d::UnitX();
+  const double yaw = std::atan2(x_W.y(), x_W.x());
+  const Eigen::Rotation2Dd R_yaw(yaw);
+  c_ref_ = c_ref_start_ + R_yaw * (su * com_shift_B_);
 
   // the stabilizer's inputs: CoM, ankle wrenches in W, the support
   input_.c = e.p_WCoM;
@@ -274,9 +310,11 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   kin_ik_->SetJointPositions(q_ik_.data());
   kin_ik_->Update();
+  const Eigen::Vector2d hips_B = shift_B + R_yaw.inverse() * out.com_offset;
   for (int i = 0; i < 2; ++i) {
     const double side = i == 0 ? 0.5 : -0.5;
-    const Eigen::Vector3d p = p_BS_nominal_[i] + Eigen::Vector3d(0, 0, side * out.dz);
+    const Eigen::Vector3d p =
+        p_BS_nominal_[i] + Eigen::Vector3d(-hips_B.x(), -hips_B.y(), side * out.dz);
     const Eigen::Matrix3d R = Rx(out.foot_roll[i]) * Ry(out.foot_pitch[i]) * R_BS_nominal_[i];
     std::array<double, shm::kMaxJoints> trial = q_ik_;
     const model::IkResult r = leg_ik_[i]->Solve(*kin_ik_, p, R, trial.data());

@@ -39,6 +39,11 @@ int main(int argc, char** argv) {
       ->default_val(o.ramp);
   app.add_option("--settle", o.settle, "[s] of quiet standing before the CoM reference is taken")
       ->default_val(o.settle);
+  app.add_option("--centre-time", o.centre_time,
+                 "[s] to move the CoM over the middle of the soles once standing")
+      ->default_val(o.centre_time);
+  bool no_centre = false;
+  app.add_flag("--no-centre-com", no_centre, "keep the CoM where the stance pose puts it");
   app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(g.k_dcm);
   app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")
@@ -56,6 +61,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-hip", no_hip, "no torso motion (ankle strategy only)");
   AddRunOptions(&app, &run);
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  o.centre_com = !no_centre;
   g.ankle_strategy = !no_ankle;
   g.hip_strategy = !no_hip;
 

@@ -108,6 +108,10 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   }
   out_.dz = Clamp(out_.dz, g.max_dz);
 
+  //---------------- slow CoM correction ----------------
+  out_.com_offset += dt * g.k_com_integral * (in.c_ref - c);
+  out_.com_offset = out_.com_offset.cwiseMax(-g.max_com_offset).cwiseMin(g.max_com_offset);
+
   //---------------- hip strategy: the torso supplies what the soles cannot ----------------
   // L_dot_y = m g e_x and L_dot_x = -m g e_y move the effective ZMP by e (stabilizer.h)
   const double w0 = g.hip_return;

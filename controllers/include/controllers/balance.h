@@ -7,7 +7,11 @@
 //              sensor, or an IMU, saying what is missing.
 //   ramp       from the measured pose to the stance pose (half-sitting by default) over `ramp`
 //              seconds of the producer's time, then `settle` seconds of quiet standing; the
-//              centre of mass measured at the end is the stance reference c_ref.
+//              centre of mass measured at the end is the stance reference c_ref. Then
+//              (centre_com) the hips move so that the CoM comes over the middle of the soles,
+//              where the soles leave the same margin to the toes and to the heels: the shift
+//              is computed on the model (the CoM of the stance pose against the soles' centres)
+//              and made over `centre_time` seconds, c_ref moving with it.
 //   stand      every cycle: the base estimator (robot_model/estimator.h) gives the CoM and its
 //              velocity; the stabilizer (stabilizer.h) turns the DCM error into a desired ZMP,
 //              foot rotation and height offsets (ankle strategy, damping control against the
@@ -42,6 +46,8 @@ struct BalanceOptions {
   std::string pose_file;    // stance pose (pose.h); empty: half-sitting
   double ramp = 2.0;        // [s] from the measured pose to the stance pose
   double settle = 0.5;      // [s] of quiet standing before c_ref is taken
+  bool centre_com = true;   // move the CoM over the middle of the soles once standing
+  double centre_time = 1.0; // [s] that move takes (minimum jerk)
   StabilizerGains gains;
   model::EstimatorOptions estimator;
 };
@@ -110,6 +116,10 @@ class BalanceController : public Controller {
   Eigen::Vector3d p_BS_nominal_[2];
   Eigen::Matrix3d R_BS_nominal_[2];
   Eigen::Vector2d c_ref_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d c_ref_start_ = Eigen::Vector2d::Zero();  // measured at the stance [m]
+  Eigen::Vector2d com_shift_B_ = Eigen::Vector2d::Zero();  // CoM shift wanted, base frame [m]
+  Eigen::Vector2d base_shift_B_ = Eigen::Vector2d::Zero(); // hip shift that makes it [m]
+  double stand_time_ = 0;                                  // producer time of the stance [s]
 
   Phase phase_ = Phase::kRamp;
   std::vector<double> target_;                   // stance pose (njoint)

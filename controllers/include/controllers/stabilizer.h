@@ -17,7 +17,9 @@
 //                         d(dz)/dt = (fz_diff_measured - fz_diff_desired) / D_z - dz / T_z.
 //                         On the soft soles this is the compliance the issue asks for: the foot
 //                         yields until it carries the moment the balance needs.
-//   4. hip strategy       what the clamp cut off (the ZMP the soles cannot carry) is asked of
+//   4. CoM correction    what the (leaky) damping control leaves of the CoM error is integrated
+//                         slowly into a shift of the hips: d(offset)/dt = k_i (c_ref - c).
+//   5. hip strategy       what the clamp cut off (the ZMP the soles cannot carry) is asked of
 //                         the upper body instead: a torso rotation whose angular-momentum rate
 //                         m g (p_d_raw - p_d) supplies the missing moment about the CoM,
 //                         returned to upright by a critically damped spring once it is not
@@ -51,6 +53,8 @@ struct StabilizerGains {
   double z_damping = 2.0e4;      // D_z of the sole height difference control [N s/m]
   double z_recovery = 0.5;       // T_z [s]
   double max_dz = 0.03;          // clamp of the sole height difference [m]
+  double k_com_integral = 1.0;   // rate of the slow CoM position correction [1/s]
+  double max_com_offset = 0.03;  // clamp of that correction [m]
   double hip_gain = 1.0;         // share of the cut-off moment asked of the torso [-]
   double torso_inertia = 6.0;    // upper body inertia about the waist [kg m^2] (set from the model)
   double hip_return = 4.0;       // natural frequency of the torso's return to upright [rad/s]
@@ -88,6 +92,9 @@ struct StabilizerOutput {
   double foot_roll[2] = {0, 0}, foot_pitch[2] = {0, 0};
   double dz = 0;
   double torso_pitch = 0, torso_roll = 0;
+  // the slow correction of the CoM's stance: move the base (hips) by this in W's x and y, so
+  // that what the leaky ankle control leaves of a CoM error goes to zero [m]
+  Eigen::Vector2d com_offset = Eigen::Vector2d::Zero();
   bool zmp_valid = false;
 };
 
