@@ -48,7 +48,12 @@ int main(int argc, char** argv) {
                  "A:B - exit 1 unless controller A survives at least B's impulse in every direction "
                  "(bisection mode; A and B as given to --controller)");
   app.add_flag("--no-plot", no_plot, "do not draw push.png");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help exits 0; every malformed option exits 2
+    return app.exit(e) == 0 ? 0 : 2;
+  }
 
   if (!controllers.empty()) o.controllers = controllers;
   if (!directions.empty()) o.directions = directions;
