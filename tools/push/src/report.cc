@@ -118,6 +118,9 @@ bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::s
     j["results"].push_back(r);
   }
   js << j.dump(2) << "\n";
+  table.close();
+  csv.close();
+  js.close();  // the plot reads push.csv
 
   //---------------- plot ----------------
   if (o.plot && !settle) {
