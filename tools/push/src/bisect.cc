@@ -27,39 +27,17 @@ void Progress(Pool* pool, int index, const Trial& t, const char* what) {
 
 // the largest impulse survived in one direction
 Limit Bisect(const PushOptions& o, const std::string& controller, double direction, Pool* pool) {
-  Limit l;
+  std::string detail;
+  Limit l = BisectLargest(o.max_impulse, o.tolerance, [&](double impulse) {
+    const int index = ++pool->trials;
+    const Trial t = RunTrial(o, controller, direction, impulse, index);
+    Progress(pool, index, t, "");
+    if (!t.ok) detail = t.detail;
+    return !t.ok ? Outcome::kFailed : t.standing ? Outcome::kStanding : Outcome::kFell;
+  });
   l.controller = controller;
   l.direction = direction;
-  auto trial = [&](double impulse) {
-    const int index = ++pool->trials;
-    Trial t = RunTrial(o, controller, direction, impulse, index);
-    ++l.trials;
-    Progress(pool, index, t, "");
-    if (!t.ok) {
-      l.failed = true;
-      l.detail = t.detail;
-    }
-    return t;
-  };
-  // the top of the bracket first
-  double lo = 0, hi = o.max_impulse;
-  Trial top = trial(hi);
-  if (l.failed) return l;
-  if (top.standing) {
-    l.largest = hi;
-    l.smallest_fall = hi;
-    l.above_max = true;
-    return l;
-  }
-  // halve [lo, hi]: lo survived (0 by assumption), hi fell
-  while (hi - lo > o.tolerance) {
-    const double mid = 0.5 * (lo + hi);
-    Trial t = trial(mid);
-    if (l.failed) return l;
-    (t.standing ? lo : hi) = mid;
-  }
-  l.largest = lo;
-  l.smallest_fall = hi;
+  l.detail = detail;
   return l;
 }
 
@@ -83,6 +61,35 @@ Limit Settle(const PushOptions& o, const std::string& controller, double directi
 }
 
 }  // namespace
+
+Limit BisectLargest(double max_impulse, double tolerance, const std::function<Outcome(double)>& trial) {
+  Limit l;
+  auto run = [&](double impulse) {
+    ++l.trials;
+    const Outcome r = trial(impulse);
+    l.failed = r == Outcome::kFailed;
+    return r;
+  };
+  // the top of the bracket first
+  double lo = 0, hi = max_impulse;
+  const Outcome top = run(hi);
+  if (l.failed) return l;
+  if (top == Outcome::kStanding) {
+    l.largest = l.smallest_fall = hi;
+    l.above_max = true;
+    return l;
+  }
+  // halve [lo, hi]: lo survived (0 by assumption), hi fell
+  while (hi - lo > tolerance) {
+    const double mid = 0.5 * (lo + hi);
+    const Outcome r = run(mid);
+    if (l.failed) return l;
+    (r == Outcome::kStanding ? lo : hi) = mid;
+  }
+  l.largest = lo;
+  l.smallest_fall = hi;
+  return l;
+}
 
 std::vector<Limit> RunAll(const PushOptions& o) {
   struct Task {

@@ -1,6 +1,7 @@
 // ohrp_push: the largest push survived per direction, or the settling after a push, for one or
 // more controllers side by side (see push/push.h and docs/scenarios.md).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
@@ -11,7 +12,7 @@ int main(int argc, char** argv) {
   ohrp::push::PushOptions o;
   std::vector<std::string> controllers;
   std::vector<double> directions;
-  std::vector<std::string> not_worse;
+  std::vector<std::string> not_worse, require_settled;
   bool no_plot = false;
   CLI::App app{
       "ohrp_push: how hard a push the standing robot survives. Per controller and direction\n"
@@ -47,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--require-not-worse", not_worse,
                  "A:B - exit 1 unless controller A survives at least B's impulse in every direction "
                  "(bisection mode; A and B as given to --controller)");
+  app.add_option("--require-settled", require_settled,
+                 "NAME - exit 1 unless controller NAME stands and settles within --settle-within in "
+                 "every direction (settle mode)");
   app.add_flag("--no-plot", no_plot, "do not draw push.png");
   try {
     app.parse(argc, argv);
@@ -88,6 +92,14 @@ int main(int argc, char** argv) {
     }
     pairs.push_back({a, b});
   }
+  for (const auto& name : require_settled) {
+    if (std::find(o.controllers.begin(), o.controllers.end(), name) == o.controllers.end() ||
+        o.settle_impulse <= 0) {
+      std::fprintf(stderr, "ohrp_push: --require-settled '%s': name one of the --controller commands "
+                           "(settle mode only, with --settle IMPULSE)\n", name.c_str());
+      return 2;
+    }
+  }
 
   const auto results = ohrp::push::RunAll(o);
   std::string markdown;
@@ -99,9 +111,11 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "ohrp_push: wrote table.md, push.csv, push.json%s in %s\n",
                o.plot && o.settle_impulse <= 0 ? ", push.png" : "", o.out_dir.c_str());
 
-  // the verdict: every trial ran, and each A survives at least what B does
+  // the verdict: every trial ran, each A survives at least what B does, the named controllers
+  // settle
   int rc = 0;
   for (const auto& l : results) {
+    if (l.failed && l.detail == "interrupted") return 130;
     if (l.failed) {
       std::fprintf(stderr, "ohrp_push: %s at %g deg: %s\n", l.controller.c_str(), l.direction, l.detail.c_str());
       rc = 1;
@@ -117,6 +131,15 @@ int main(int argc, char** argv) {
                      o.controllers[a].c_str(), la.largest, o.directions[d], o.controllers[b].c_str(), lb.largest);
         rc = 1;
       }
+    }
+  }
+  for (const auto& l : results) {
+    if (std::find(require_settled.begin(), require_settled.end(), l.controller) == require_settled.end()) continue;
+    if (!l.failed && !(l.settle.standing && l.settle.settled)) {
+      std::fprintf(stderr, "ohrp_push: '%s' at %g deg: %s (base %.3f s, ankle torques %.3f s; within %.3g s required)\n",
+                   l.controller.c_str(), l.direction, l.settle.standing ? "does not settle" : "fell",
+                   l.settle.base_time, l.settle.torque_time, o.settle_within);
+      rc = 1;
     }
   }
   return rc;

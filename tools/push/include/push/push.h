@@ -25,6 +25,7 @@
 // 1 cm, 10 % of the first peak).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,11 @@ struct Limit {
   int trials = 0;
   Trial settle;            // settle mode: its one trial
 };
+
+// The bisection alone, on any trial: `trial(impulse)` says whether the robot stood. Fills
+// largest, smallest_fall, above_max, failed and trials of the result (see the file comment).
+enum class Outcome { kStanding, kFell, kFailed };
+Limit BisectLargest(double max_impulse, double tolerance, const std::function<Outcome(double)>& trial);
 
 // Runs every controller x direction (bisection or settle mode) with up to `jobs` trials at once,
 // printing progress to stderr. Returns the results in controller-major order.
