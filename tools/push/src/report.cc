@@ -30,7 +30,8 @@ std::string LimitCell(const Limit& l) {
 std::string SettleCell(const Limit& l) {
   if (l.failed) return "error";
   const Trial& t = l.settle;
-  return Fmt("%.3f", t.base_time) + " / " + Fmt("%.3f", t.torque_time) + (t.standing ? "" : " (fell)");
+  return Fmt("%.3f", t.base_time) + " (" + Fmt("%.1f", t.base_excursion * 1e3) + " mm) / " +
+         Fmt("%.3f", t.torque_time) + (t.standing ? "" : " (fell)");
 }
 
 // JSON numbers cannot be infinite: null instead
@@ -50,7 +51,7 @@ bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::s
     std::snprintf(b, sizeof(b),
                   "Settling after a %.1f N s push over %.2f s: time after the push's end until the base "
                   "stays within %.0f mm of its stance / the ankle torque oscillation stays below %.0f %% "
-                  "of its first peak [s]\n\n",
+                  "of its first peak [s]; in brackets the base's largest horizontal excursion\n\n",
                   o.settle_impulse, o.push_duration, o.settle_tolerance * 1e3, o.settle_fraction * 100);
   } else {
     std::snprintf(b, sizeof(b),
@@ -94,7 +95,8 @@ bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::s
                   {"physics_dt", 0.001}, {"control_period", 0.005}, {"contact", "soft"}};
   j["results"] = nlohmann::json::array();
   if (settle) {
-    csv << "controller,direction_deg,impulse_Ns,standing,base_settle_s,torque_settle_s,first_peak_Nm,settled,failed\n";
+    csv << "controller,direction_deg,impulse_Ns,standing,base_settle_s,torque_settle_s,first_peak_Nm,"
+           "base_excursion_m,settled,failed\n";
   } else {
     csv << "controller,direction_deg,largest_impulse_Ns,smallest_fall_Ns,above_max,trials,failed\n";
   }
@@ -105,9 +107,10 @@ bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::s
       const Trial& t = l.settle;
       r.update({{"impulse", t.impulse}, {"standing", t.standing}, {"base_settle_time", Num(t.base_time)},
                 {"torque_settle_time", Num(t.torque_time)}, {"first_peak", t.first_peak},
+                {"base_excursion", t.base_excursion},
                 {"settled", t.settled}, {"run", t.dir}});
       csv << '"' << l.controller << "\"," << l.direction << "," << t.impulse << "," << t.standing
-          << "," << t.base_time << "," << t.torque_time << "," << t.first_peak << "," << t.settled
+          << "," << t.base_time << "," << t.torque_time << "," << t.first_peak << "," << t.base_excursion << "," << t.settled
           << "," << l.failed << "\n";
     } else {
       r.update({{"largest_impulse", l.largest}, {"smallest_fall", l.smallest_fall},

@@ -181,6 +181,7 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
       t.base_time = r.base_time;
       t.torque_time = r.torque_time;
       t.first_peak = r.first_peak;
+      t.base_excursion = r.base_excursion;
       t.settled = r.settled;
     } else {
       t.detail += "; settling: " + error;

@@ -66,6 +66,7 @@ struct Trial {
   std::string detail;    // why not standing, or why the trial did not run
   double lowest_height = 0, stance_height = 0, largest_tilt = 0;  // [m], [m], [deg]
   double base_time = 0, torque_time = 0, first_peak = 0;         // settle mode: [s], [s], [N m]
+  double base_excursion = 0;  // settle mode: largest horizontal distance to the stance [m]
   bool settled = false;
   std::string dir;       // its run folder
 };
