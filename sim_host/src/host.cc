@@ -149,6 +149,11 @@ int RunHost(const HostOptions& o) {
     std::fprintf(stderr, "sim_host: %s: %s\n", o.scene.c_str(), error.c_str());
     return kExitUsage;
   }
+  if (!o.pushes.empty() && robot.base_body < 0) {
+    std::fprintf(stderr, "sim_host: %s: --push acts on the robot's free-floating base, and this model "
+                         "has none (no free joint)\n", o.scene.c_str());
+    return kExitUsage;
+  }
   std::unique_ptr<contact::SoftFootContact> soft;
   ContactModel contact_model = o.feet.model;
   EffectsPlan effects;  // decided on the scene as loaded, applied once the soles are set up
@@ -367,7 +372,7 @@ int RunHost(const HostOptions& o) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
-      if (!o.pushes.empty() && robot.base_body >= 0) {
+      if (!o.pushes.empty()) {
         // MuJoCo never clears xfrc_applied: the pushes change the base's row by the difference
         // between the wrench they want now and the one they put there, so others' wrenches stay
         double want[6];

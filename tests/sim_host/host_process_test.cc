@@ -427,6 +427,11 @@ TEST_F(SimHostProcess, BadPushesAreRefusedBeforeTheSegmentExists) {
     EXPECT_NE(Stderr().find("t0,t1,fx,fy,fz,tx,ty,tz"), std::string::npos) << Stderr();
     EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_))) << spec;
   }
+  // the arm has no free base to push
+  Start({"--wait-controller", "0", "--duration", "0.1", "--push", "0.1,0.2,1,0,0,0,0,0"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("no free joint"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
 }
 
 TEST_F(SimHostProcess, RealTimeModePacesToTheWallClock) {
