@@ -69,6 +69,64 @@ bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
 
 }  // namespace
 
+//---------------- pushes ----------------
+
+bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* error) {
+  const char* kForm = " (write t0,t1,fx,fy,fz,tx,ty,tz: start and end [s of simulated time], "
+                      "then the world-frame force [N] and torque [N m] at the base's centre of mass)";
+  double v[8];
+  int n = 0;
+  const char* p = spec.c_str();
+  while (true) {
+    char* end = nullptr;
+    const double x = std::strtod(p, &end);
+    if (end == p || (*end != ',' && *end != '\0')) {
+      *error = "--push '" + spec + "': value " + std::to_string(n + 1) + " is not a number" + kForm;
+      return false;
+    }
+    if (n == 8) {
+      *error = "--push '" + spec + "': more than 8 values" + kForm;
+      return false;
+    }
+    if (!std::isfinite(x)) {
+      *error = "--push '" + spec + "': value " + std::to_string(n + 1) + " is not finite" + kForm;
+      return false;
+    }
+    v[n++] = x;
+    if (*end == '\0') break;
+    p = end + 1;
+  }
+  if (n != 8) {
+    *error = "--push '" + spec + "': " + std::to_string(n) + " values, expected 8" + kForm;
+    return false;
+  }
+  if (v[0] < 0 || !(v[1] > v[0])) {
+    *error = "--push '" + spec + "': the window must have 0 <= t0 < t1" + kForm;
+    return false;
+  }
+  out->t0 = v[0];
+  out->t1 = v[1];
+  for (int k = 0; k < 3; ++k) {
+    out->force[k] = v[2 + k];
+    out->torque[k] = v[5 + k];
+  }
+  return true;
+}
+
+void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]) {
+  for (int k = 0; k < 6; ++k) wrench[k] = 0;
+  // a step belongs to a window when it starts in [t0, t1), with half a step of slack against
+  // the rounding of the accumulated time
+  const double t = time + 0.5 * dt;
+  for (const Perturbation& p : pushes) {
+    if (t < p.t0 || t >= p.t1) continue;
+    for (int k = 0; k < 3; ++k) {
+      wrench[k] += p.force[k];
+      wrench[3 + k] += p.torque[k];
+    }
+  }
+}
+
 int RunHost(const HostOptions& o) {
   InstallMujocoHandlers(OnFatal);
   struct sigaction sa {};
@@ -89,6 +147,11 @@ int RunHost(const HostOptions& o) {
   RobotMap robot;
   if (!MapRobot(m, &robot, &error)) {
     std::fprintf(stderr, "sim_host: %s: %s\n", o.scene.c_str(), error.c_str());
+    return kExitUsage;
+  }
+  if (!o.pushes.empty() && robot.base_body < 0) {
+    std::fprintf(stderr, "sim_host: %s: --push acts on the robot's free-floating base, and this model "
+                         "has none (no free joint)\n", o.scene.c_str());
     return kExitUsage;
   }
   std::unique_ptr<contact::SoftFootContact> soft;
@@ -231,7 +294,7 @@ int RunHost(const HostOptions& o) {
     return false;
   };
 
-  bool pushing = false;  // the push's wrench is in xfrc_applied
+  double pushed[6] = {0, 0, 0, 0, 0, 0};  // the push wrench now in the base's xfrc_applied
   double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
@@ -309,17 +372,15 @@ int RunHost(const HostOptions& o) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
-      if (o.push.active() && robot.base_body >= 0) {
-        // the push adds its wrench to the base's row of xfrc_applied while it lasts
-        const bool on = d->time >= o.push.t0 && d->time < o.push.t1;
-        if (on != pushing) {
-          const double sign = on ? 1.0 : -1.0;
-          double* row = d->xfrc_applied + 6 * robot.base_body;
-          for (int k = 0; k < 3; ++k) {
-            row[k] += sign * o.push.force[k];
-            row[3 + k] += sign * o.push.torque[k];
-          }
-          pushing = on;
+      if (!o.pushes.empty()) {
+        // MuJoCo never clears xfrc_applied: the pushes change the base's row by the difference
+        // between the wrench they want now and the one they put there, so others' wrenches stay
+        double want[6];
+        PushWrenchAt(o.pushes, d->time, m->opt.timestep, want);
+        double* row = d->xfrc_applied + 6 * robot.base_body;
+        for (int k = 0; k < 6; ++k) {
+          row[k] += want[k] - pushed[k];
+          pushed[k] = want[k];
         }
       }
       servo.Apply(m, d);

@@ -46,11 +46,12 @@ int main(int argc, char** argv) {
   app.add_option("--contact-tangential-damping", cp.tangential_damping,
                  "soft: shear damping of one sole while it sticks [N s/m]")
       ->capture_default_str();
-  std::vector<double> push;
-  app.add_option("--push", push,
+  std::vector<std::string> pushes;
+  app.add_option("--push", pushes,
                  "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
-                 "N and N m at the base's centre of mass)")
-      ->delimiter(',')->expected(8);
+                 "N and N m at the base's centre of mass); may be given several times, "
+                 "overlapping pushes add")
+      ->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");
@@ -95,13 +96,15 @@ int main(int argc, char** argv) {
       return ohrp::sim::kExitUsage;
     }
   }
-  if (push.size() == 8) {
-    o.push.t0 = push[0];
-    o.push.t1 = push[1];
-    for (int k = 0; k < 3; ++k) {
-      o.push.force[k] = push[2 + k];
-      o.push.torque[k] = push[5 + k];
+  // pushes are checked here, before the segment exists
+  for (const auto& spec : pushes) {
+    ohrp::sim::Perturbation p;
+    std::string error;
+    if (!ohrp::sim::ParsePerturbation(spec, &p, &error)) {
+      std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+      return ohrp::sim::kExitUsage;
     }
+    o.pushes.push_back(p);
   }
   o.on_loss = loss == "wait" ? ControllerLoss::kWait
               : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;

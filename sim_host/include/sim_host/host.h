@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
@@ -20,13 +21,25 @@ enum class ControllerLoss {
 };
 
 // An external push on the base: a wrench (world frame, at the base's centre of mass) applied
-// from t0 to t1 of simulated time, e.g. to tilt the standing robot and release it.
+// from t0 to t1 of simulated time, e.g. to tilt the standing robot and release it. The wrench
+// acts on every physics step that starts in [t0, t1) (to half a step), so a push lasts
+// round((t1 - t0) / dt) steps and its impulse is force * that many steps * dt. Pushes whose
+// windows overlap add.
 struct Perturbation {
   double t0 = 0, t1 = 0;        // [s]
   double force[3] = {0, 0, 0};  // [N]
   double torque[3] = {0, 0, 0}; // [N m]
   bool active() const { return t1 > t0; }
 };
+
+// Parses one `--push` value "t0,t1,fx,fy,fz,tx,ty,tz" (8 finite numbers, t0 >= 0, t1 > t0).
+// Returns false with `*error` saying what is wrong and how to write it.
+bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* error);
+
+// The total push wrench at simulated time `time` with physics step `dt`: the sum over the
+// pushes whose window holds the step starting at `time` (see Perturbation). Writes 6 numbers
+// (force then torque); no allocation.
+void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]);
 
 struct HostOptions {
   std::string scene;               // MJCF file
@@ -36,7 +49,7 @@ struct HostOptions {
   double control_period = 0.005;   // [s]; a multiple of the physics step
   std::string integrator;          // euler | rk4 | implicit; empty: the scene's
   FeetOptions feet;                // the contact under the soles (default: soft-foot)
-  Perturbation push;               // an external push on the base (none by default)
+  std::vector<Perturbation> pushes; // external pushes on the base (none by default)
   double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
   bool realtime = false;           // pace cycles to the wall clock
   double wait_controller = 30;     // [s] wall time to wait for the first controller; 0: run without

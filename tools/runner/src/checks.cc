@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "runner/recovery.h"
+
 namespace ohrp::runner {
 
 //---------------- CSV table ----------------
@@ -229,6 +231,53 @@ CheckResult RealTimeFactor(const CheckSpec& s, const nlohmann::json& sim) {
   return r;
 }
 
+// still standing after a push (runner/recovery.h)
+CheckResult Standing(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
+  CheckResult r{"standing", false, 0, "m", "", ""};
+  if (!s.Has("stance_at") || !s.Has("after"))
+    return Fail(r, "the check needs 'stance_at' (e.g. the push's start) and 'after' [s]");
+  StandingSpec spec;
+  spec.stance_at = s.Number("stance_at", 0);
+  spec.after = s.Number("after", 0);
+  spec.min_height_fraction = s.Number("min_height_fraction", spec.min_height_fraction);
+  spec.max_tilt_deg = s.Number("max_tilt_deg", spec.max_tilt_deg);
+  if (s.Has("sensors")) spec.sensors = Split(s.params.at("sensors"));
+  spec.load_tolerance = s.Number("load_tolerance", spec.load_tolerance);
+  StandingResult m;
+  std::string error;
+  if (!MeasureStanding(t, sim, spec, &m, &error)) return Fail(r, error);
+  r.value = m.lowest_height;
+  r.passed = m.standing;
+  r.limit = ">= " + Fmt(spec.min_height_fraction) + " x stance, tilt <= " + Fmt(spec.max_tilt_deg) + " deg";
+  r.detail = m.why;
+  return r;
+}
+
+// base and ankle torques settle after a push (runner/recovery.h)
+CheckResult Settles(const CheckSpec& s, const Table& t) {
+  CheckResult r{"settles", false, 0, "s", "", ""};
+  if (!s.Has("at")) return Fail(r, "the check needs 'at', the push's start [s]");
+  SettleSpec spec;
+  spec.at = s.Number("at", 0);
+  spec.duration = s.Number("duration", spec.duration);
+  spec.baseline = s.Number("baseline", spec.baseline);
+  spec.tolerance = s.Number("tolerance", spec.tolerance);
+  spec.fraction = s.Number("fraction", spec.fraction);
+  spec.within = s.Number("within", spec.within);
+  if (s.Has("sensors")) spec.sensors = Split(s.params.at("sensors"));
+  SettleResult m;
+  std::string error;
+  if (!MeasureSettling(t, spec, &m, &error)) return Fail(r, error);
+  r.value = std::max(m.base_time, m.torque_time);
+  r.passed = m.settled;
+  r.limit = "<= " + Fmt(spec.within) + " s after the push";
+  r.detail = "base within " + Fmt(spec.tolerance * 1e3) + " mm of its stance after " +
+             Fmt(m.base_time) + " s (largest excursion " + Fmt(m.base_excursion * 1e3) +
+             " mm); ankle torque oscillation below " + Fmt(spec.fraction * 100) +
+             " % of its first peak (" + Fmt(m.first_peak) + " N m) after " + Fmt(m.torque_time) + " s";
+  return r;
+}
+
 }  // namespace
 
 CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::json& sim) {
@@ -242,12 +291,14 @@ CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::js
     if (spec.type == "feet_carry_weight") return FeetCarryWeight(spec, log, sim);
     if (spec.type == "base_displacement") return BaseDisplacement(spec, log);
     if (spec.type == "force_ringing") return ForceRinging(spec, log);
+    if (spec.type == "standing") return Standing(spec, log, sim);
+    if (spec.type == "settles") return Settles(spec, log);
   } catch (const std::exception& e) {
     return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
   }
   return Fail({spec.type, false, 0, "", "", ""},
               "unknown check type (known: base_height, not_fallen, feet_carry_weight, "
-              "base_displacement, force_ringing, max_rejected, real_time_factor)");
+              "base_displacement, force_ringing, standing, settles, max_rejected, real_time_factor)");
 }
 
 }  // namespace ohrp::runner

@@ -155,9 +155,10 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     return kRunUsage;
   }
   const std::string segment = "run_" + s.name + "_" + std::to_string(getpid());
-  std::fprintf(stderr, "ohrp_run: scenario '%s' (%g s simulated) -> %s\n", s.name.c_str(),
-               s.duration, out.c_str());
-  if (!s.description.empty()) std::fprintf(stderr, "ohrp_run: %s\n", s.description.c_str());
+  if (o.report)
+    std::fprintf(stderr, "ohrp_run: scenario '%s' (%g s simulated) -> %s\n", s.name.c_str(),
+                 s.duration, out.c_str());
+  if (o.report && !s.description.empty()) std::fprintf(stderr, "ohrp_run: %s\n", s.description.c_str());
 
   Child sim;
   sim.label = "sim_host";
@@ -179,6 +180,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     std::replace(flag.begin(), flag.end(), '_', '-');
     sim.argv.insert(sim.argv.end(), {flag, Num(value)});
   }
+  for (const auto& p : s.pushes) sim.argv.insert(sim.argv.end(), {"--push", PushArgument(p)});
   sim.argv.insert(sim.argv.end(), s.sim_args.begin(), s.sim_args.end());
 
   std::vector<Child> ctl(s.controllers.size());
@@ -330,6 +332,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   }
 
   // the verdict, readable
+  if (!o.report) return interrupted ? kRunInterrupted : passed ? kRunPassed : kRunFailed;
   std::fprintf(stderr, "\n%-34s %-6s %14s  %s\n", "check", "result", "value", "limit / detail");
   for (const auto& r : results) {
     std::fprintf(stderr, "%-34s %-6s %14.6g  %s%s%s\n", r.name.c_str(), r.passed ? "pass" : "FAIL",

@@ -5,6 +5,8 @@
 
 #include <set>
 
+#include "pushes.h"
+
 namespace ohrp::runner {
 namespace {
 
@@ -12,7 +14,7 @@ const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
     "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
-    "contact_params", "effects"};
+    "contact_params", "effects", "pushes"};
 
 const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
                                               "tangential_stiffness", "tangential_damping"};
@@ -122,6 +124,16 @@ bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
       list += (list.empty() ? "" : ",") + key + "=" + value;
     }
     if (!list.empty()) s.sim_args.insert(s.sim_args.begin(), {"--effects", list});
+  }
+  if (root["pushes"]) {
+    if (!ParsePushes(root["pushes"], path, &s.pushes, error)) return false;
+    for (size_t i = 0; i < s.pushes.size(); ++i) {
+      if (s.pushes[i].at + s.pushes[i].duration > s.duration) {
+        *error = "scenario '" + path + "': pushes[" + std::to_string(i) +
+                 "]: the push ends after the run ('duration' " + std::to_string(s.duration) + " s)";
+        return false;
+      }
+    }
   }
   if (s.on_controller_loss != "end" && s.on_controller_loss != "wait" &&
       s.on_controller_loss != "continue") {

@@ -13,6 +13,12 @@
 //   force_ringing      after, [until], sensors (list), [window = 0.02], max [N]: the RMS of each
 //                      sensor's vertical force less its moving average over `window` (its
 //                      high-frequency content), the largest over the sensors
+//   standing           stance_at, after, [min_height_fraction = 0.8], [max_tilt_deg = 30],
+//                      [sensors], [load_tolerance = 0.1]: still standing after a push
+//                      (runner/recovery.h, StandingSpec)
+//   settles            at, [duration = 0.1], [tolerance = 0.01], [fraction = 0.1], [within = 1],
+//                      [baseline = 0.5], [sensors = rfsensor, lfsensor]: after the push on
+//                      [at, at + duration] the base and the ankle torques settle (SettleSpec)
 //   max_rejected       [max = 0]: joint commands rejected by the servo over the run
 //   real_time_factor   min: simulated over wall time of sim_host
 #pragma once

@@ -21,6 +21,8 @@ struct RunOptions {
   std::string bin_dir;      // where sim_host and the controllers are
   bool plot = true;
   bool echo = true;         // echo the processes' output, prefixed, while they run
+  bool report = true;       // print the start line and the table of checks (off for tools
+                            // that run many trials, e.g. tools/push)
 };
 
 // exit codes of ohrp_run

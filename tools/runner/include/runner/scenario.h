@@ -22,6 +22,23 @@ struct CheckSpec {
   bool Has(const std::string& key) const { return params.count(key) > 0; }
 };
 
+// An external push on the robot's base (scenario key `pushes`), applied by sim_host --push
+// at the base's centre of mass, world frame. Either a horizontal direction and an impulse
+// (force = impulse / duration along the direction) or an explicit force.
+struct PushSpec {
+  double at = 0;              // [s] simulated start
+  double duration = 0.1;      // [s]
+  double direction_deg = 0;   // [deg] horizontal, 0 = +x (forward), 90 = +y (left)
+  double impulse = 0;         // [N s]
+  bool explicit_force = false;
+  double force[3] = {0, 0, 0};  // [N] world frame, when explicit_force
+  // the force it applies [N], world frame
+  void Force(double f_W[3]) const;
+};
+
+// sim_host's --push value for a push: "t0,t1,fx,fy,fz,0,0,0".
+std::string PushArgument(const PushSpec& push);
+
 struct Scenario {
   std::string name;
   std::string description;
@@ -42,6 +59,7 @@ struct Scenario {
   std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
                                                // LoadScenario passes them as sim_args --effects
   std::vector<std::string> sim_args;  // extra sim_host arguments
+  std::vector<PushSpec> pushes;       // RunScenario passes each as sim_host --push
   std::vector<ControllerSpec> controllers;
   std::vector<CheckSpec> checks;
   std::vector<std::string> plot_joints;  // joints drawn in the plot (default: a few legs)
