@@ -41,7 +41,6 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
       return nullptr;
     }
   }
-  r->pushing_.assign(o.pushes.size(), 0);
   r->servo_ = std::make_unique<Servo>(r->robot_);
   r->servo_->HoldCurrent(r->scene_->d());
   shm::Status status;
@@ -71,18 +70,16 @@ int InProcessRobot::Cycle(const shm::CommandBlock& commands) {
   mjData* d = scene_->d();
   const int rejected = servo_->Accept(commands);
   for (int s = 0; s < steps_per_cycle_; ++s) {
-    // each push adds its wrench to the base's row of xfrc_applied while it lasts
-    for (size_t i = 0; i < options_.pushes.size() && robot_.base_body >= 0; ++i) {
-      const Perturbation& p = options_.pushes[i];
-      const bool on = d->time >= p.t0 && d->time < p.t1;
-      if (on == static_cast<bool>(pushing_[i])) continue;
-      const double sign = on ? 1.0 : -1.0;
+    // the pushes change the base's row of xfrc_applied by what they want now less what they
+    // put there (MuJoCo never clears it), as sim_host does
+    if (robot_.base_body >= 0 && !options_.pushes.empty()) {
+      double want[6];
+      PushWrenchAt(options_.pushes, d->time, m->opt.timestep, want);
       double* row = d->xfrc_applied + 6 * robot_.base_body;
-      for (int k = 0; k < 3; ++k) {
-        row[k] += sign * p.force[k];
-        row[3 + k] += sign * p.torque[k];
+      for (int k = 0; k < 6; ++k) {
+        row[k] += want[k] - pushed_[k];
+        pushed_[k] = want[k];
       }
-      pushing_[i] = on;
     }
     servo_->Apply(m, d);
     if (soft_) soft_->ApplyBeforeStep(m, d);

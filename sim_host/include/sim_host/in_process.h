@@ -63,7 +63,7 @@ class InProcessRobot {
   std::unique_ptr<shm::Producer> producer_;
   shm::SensorBlock sensors_{};
   int steps_per_cycle_ = 1;
-  std::vector<char> pushing_;  // per push: its wrench is in xfrc_applied
+  double pushed_[6] = {0, 0, 0, 0, 0, 0};  // the push wrench in xfrc_applied now
   uint64_t cycle_ = 0;
 };
 
