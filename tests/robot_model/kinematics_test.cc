@@ -265,6 +265,9 @@ TEST(KinematicsHrp1s, CentreOfMassJacobianAndVelocityMatchFiniteDifferences) {
     kin->SetJointVelocities(v.data() + 6);
     kin->Update();
     EXPECT_LT((kin->v_WCoM() - J * v).norm(), 1e-12);
+    Eigen::VectorXd tau(kin->nv());
+    kin->GravityTorques(tau);  // zeroes MuJoCo's body velocities: v_WCoM must not change
+    EXPECT_LT((kin->v_WCoM() - J * v).norm(), 1e-12);
     constexpr double h = 1e-6;
     State plus = s, minus = s;
     plus.p_WB += h * v.head<3>();
