@@ -59,7 +59,8 @@ bool Contains(const std::vector<int>& v, int x) { return std::find(v.begin(), v.
 
 // where the targets come from and where the solver starts
 enum class Start {
-  kNearby,       // targets over the whole joint range, start within 0.3 rad of the target
+  kNearby,       // targets over the whole joint range (knee from 0.3 rad), start within
+                 // 0.2 rad of the target on the same side of the stretched knee
   kHalfSitting,  // targets over a walking range, start at half-sitting
   kFar,          // targets over the whole joint range, start at half-sitting (not all reachable)
 };
@@ -69,13 +70,17 @@ struct RoundTrips {
   double iterations_mean = 0, position_max = 0, orientation_max = 0;
 };
 
-// the range of a leg joint to draw targets from: the knee kept 0.2 rad away from the stretched
-// singularity; the walking range a box around half-sitting
+bool IsKnee(const JointMap& jm) { return jm.name.find("KNEE") != std::string::npos; }
+
+// the range of a leg joint to draw targets from: the knee kept away from the stretched
+// singularity; the walking range a box around half-sitting. A start across the stretched knee
+// from its target (start knee <= 0, target knee > 0) converges to the mirror solution, which
+// the knee's limit (-0.0873) blocks: the nearby starts keep to the target's side.
 void TargetRange(const JointMap& jm, Start start, double* lo, double* hi) {
   const auto is = [&](const char* s) { return jm.name.find(s) != std::string::npos; };
   *lo = jm.q_min;
   *hi = jm.q_max;
-  if (is("KNEE")) *lo = 0.2;
+  if (IsKnee(jm)) *lo = start == Start::kNearby ? 0.3 : 0.2;
   if (start != Start::kHalfSitting) return;
   if (is("HIP_R") || is("ANKLE_R")) *lo = -0.35, *hi = 0.35;
   if (is("HIP_P")) *lo = -1.0, *hi = 0.3;
@@ -90,7 +95,7 @@ RoundTrips LegRoundTrips(Kinematics& kin, int sole, Start start, unsigned seed, 
   LimbIk ik = LimbIk::ForSole(kin, kin.robot().base_body, sole);
   EXPECT_EQ(ik.chain().size(), 6u);
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> noise(-0.3, 0.3);
+  std::uniform_real_distribution<double> noise(-0.2, 0.2);
   RoundTrips rt;
   for (int t = 0; t < kTrials; ++t) {
     // the target: the sole's pose at a random leg configuration
@@ -108,7 +113,10 @@ RoundTrips LegRoundTrips(Kinematics& kin, int sole, Start start, unsigned seed, 
     // solve from the start, the rest of the robot at half-sitting
     std::vector<double> q = q_half;
     if (start == Start::kNearby) {
-      for (int j : ik.chain()) q[j] = q_target[j] + noise(rng);
+      for (int j : ik.chain()) {
+        q[j] = q_target[j] + noise(rng);
+        if (IsKnee(kin.robot().joints[j])) q[j] = std::max(q[j], 0.1);
+      }
     }
     kin.SetJointPositions(q_half.data());
     const IkResult r = ik.Solve(kin, p, R, q.data());
