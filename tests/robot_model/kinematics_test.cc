@@ -144,6 +144,37 @@ TEST(KinematicsArm, ChainAndNames) {
   EXPECT_EQ(kin->left_sole(), -1);
 }
 
+TEST(KinematicsArm, PassiveJointStaysAtItsReferenceAndHasNoColumn) {
+  // the arm with a passive hinge (no motor) at the elbow, reference angle 0.5 rad
+  std::string xml = kArm;
+  const std::string link2 = R"(<body name="link2" pos="1 0 0">)";
+  xml.replace(xml.find(link2), link2.size(),
+              R"(<body name="elbow" pos="1 0 0"><joint name="passive" type="hinge" axis="0 0 1" ref="0.5"/>
+                 <inertial pos="0 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/>
+                 <body name="link2">)");
+  xml.replace(xml.find("</body>"), 0, "</body>");
+  std::string error;
+  mjModel* m = LoadString(xml.c_str(), &error);
+  ASSERT_TRUE(m) << error;
+  auto kin = Kinematics::FromModel(m, &error);
+  mj_deleteModel(m);
+  ASSERT_TRUE(kin) << error;
+  ASSERT_EQ(kin->nv(), 2);
+  EXPECT_EQ(kin->Chain(0, kin->BodyId("link2")), (std::vector<int>{0, 1}));
+  const double q[2] = {0.3, -0.9};
+  kin->SetJointPositions(q);
+  kin->Update();
+  // the passive joint at qpos0 = ref, i.e. the pose as written (MuJoCo turns a hinge by
+  // qpos - ref): the two-link closed form; at qpos = 0 the elbow would be turned by -0.5
+  const double a1 = q[0], a12 = q[0] + q[1];
+  const Eigen::Vector3d p(kL1 * std::cos(a1) + kL2 * std::cos(a12), kL1 * std::sin(a1) + kL2 * std::sin(a12), 0);
+  EXPECT_LT((kin->p_WSite(kin->SiteId("tip")) - p).norm(), 1e-12);
+  Eigen::MatrixXd J(6, 2);
+  kin->J_WSite(kin->SiteId("tip"), J);
+  EXPECT_NEAR(J(0, 1), -kL2 * std::sin(a12), 1e-12);
+  EXPECT_NEAR(J(1, 0), kL1 * std::cos(a1) + kL2 * std::cos(a12), 1e-12);
+}
+
 //---------------- the floating HRP-1S against finite differences ----------------
 
 // a state of the floating robot: base pose and joint positions
