@@ -27,6 +27,9 @@ namespace {
 // a stall: the best error improved by less than this fraction over kStallWindow iterations
 constexpr int kStallWindow = 6;
 constexpr double kStallRatio = 0.01;  // [-]
+// the base damping is scaled by a factor that shrinks after a step that reduced the error and
+// grows after one that did not (the step is then dropped)
+constexpr double kMinDampingFactor = 1e-6, kMaxDampingFactor = 1e6;  // [-]
 
 }  // namespace
 
@@ -128,74 +131,102 @@ IkResult LimbIk::Solve(Kinematics& kin, const Eigen::Vector3d& p_WT_target,
 
   // start: the joints as set in kin, the chain's from q, clamped to the limits
   for (int j = 0; j < kin.njoint(); ++j) q_all_[j] = kin.q(j);
-  for (int k = 0; k < n; ++k) q_chain_[k] = std::clamp(q[chain_[k]], q_min_[k], q_max_[k]);
+  for (int k = 0; k < n; ++k) best_q_[k] = std::clamp(q[chain_[k]], q_min_[k], q_max_[k]);
+  q_chain_ = best_q_;
   Apply(kin);
-  double err = Error(kin, p_WT_target, R_WT_target, &result.position_error,
-                     &result.orientation_error);
-  double best_err = err;
-  best_q_ = q_chain_;
-  double best_history[kStallWindow] = {};  // best error at the last iterations (a ring)
+  // the accepted iterate (best_q_) and its error
+  double best_err = Error(kin, p_WT_target, R_WT_target, &result.position_error,
+                          &result.orientation_error);
+  double best_position = result.position_error, best_orientation = result.orientation_error;
+  Eigen::Matrix<double, 6, 1> best_e = e_;
+  double best_history[kStallWindow] = {};  // best error kStallWindow iterations ago (a ring)
+  double mu = 1.0;                         // adaptive factor of the base damping
+  double nu = 2.0;                         // its growth after a failed step
+  bool at_best = true;                     // kin is at best_q_
+  bool need_jacobian = true;
 
   const int col0 = kin.base_columns();
   const double w = options_.orientation_weight;
   for (int it = 0;; ++it) {
-    // done, out of iterations, or stalled
-    if (result.position_error <= options_.position_tolerance &&
-        result.orientation_error <= options_.orientation_tolerance) {
+    // done, stalled, or out of iterations
+    result.iterations = it;
+    if (best_position <= options_.position_tolerance &&
+        best_orientation <= options_.orientation_tolerance) {
       result.status = IkStatus::kConverged;
-      result.iterations = it;
       break;
     }
     if (it >= kStallWindow && best_err > (1.0 - kStallRatio) * best_history[it % kStallWindow]) {
       result.status = IkStatus::kUnreachable;
-      result.iterations = it;
       break;
     }
     if (it >= options_.max_iterations) {
       result.status = IkStatus::kMaxIterations;
-      result.iterations = it;
       break;
     }
     best_history[it % kStallWindow] = best_err;
 
-    // the chain's weighted Jacobian at the tip frame's origin
-    kin.J_WBodyPoint(tip_body_, p_WT(kin), J_full_);
-    for (int k = 0; k < n; ++k) J_.col(k) = J_full_.col(col0 + chain_[k]);
-    J_.bottomRows<3>() *= w;
-
-    // joints on a limit that the descent direction pushes further out drop out of the step
-    dq_.noalias() = J_.transpose() * e_;
-    for (int k = 0; k < n; ++k) {
-      if ((q_chain_[k] <= q_min_[k] && dq_[k] < 0) || (q_chain_[k] >= q_max_[k] && dq_[k] > 0))
-        J_.col(k).setZero();
+    // the chain's weighted Jacobian at the accepted iterate (kin is there)
+    if (need_jacobian) {
+      kin.J_WBodyPoint(tip_body_, p_WT(kin), J_full_);
+      for (int k = 0; k < n; ++k) J_.col(k) = J_full_.col(col0 + chain_[k]);
+      J_.bottomRows<3>() *= w;
+      // joints on a limit that the descent direction pushes further out drop out of the step
+      dq_.noalias() = J_.transpose() * best_e;
+      for (int k = 0; k < n; ++k) {
+        if ((best_q_[k] <= q_min_[k] && dq_[k] < 0) || (best_q_[k] >= q_max_[k] && dq_[k] > 0))
+          J_.col(k).setZero();
+      }
+      need_jacobian = false;
     }
 
     // the damped least-squares step, limited in size
     A_.noalias() = J_.lazyProduct(J_.transpose());
-    A_.diagonal().array() += options_.damping + 0.5 * err * err;
+    A_.diagonal().array() += mu * options_.damping + 0.5 * best_err * best_err;
     const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(A_);
-    const Eigen::Matrix<double, 6, 1> y = llt.solve(e_);
+    const Eigen::Matrix<double, 6, 1> y = llt.solve(best_e);
     dq_.noalias() = J_.transpose() * y;
     const double largest = dq_.cwiseAbs().maxCoeff();
     if (largest > options_.max_step) dq_ *= options_.max_step / largest;
 
-    // the next iterate within the limits
-    for (int k = 0; k < n; ++k) q_chain_[k] = std::clamp(q_chain_[k] + dq_[k], q_min_[k], q_max_[k]);
+    // the trial iterate within the limits: kept if it reduces the error (less damping next
+    // time), else dropped (more damping)
+    for (int k = 0; k < n; ++k) {
+      q_chain_[k] = std::clamp(best_q_[k] + dq_[k], q_min_[k], q_max_[k]);
+      dq_[k] = q_chain_[k] - best_q_[k];
+    }
+    // the reduction of the squared error that the linear model predicts for this step
+    const double predicted = best_err * best_err - (best_e - J_.lazyProduct(dq_)).squaredNorm();
     Apply(kin);
-    err = Error(kin, p_WT_target, R_WT_target, &result.position_error, &result.orientation_error);
+    double position, orientation;
+    const double err = Error(kin, p_WT_target, R_WT_target, &position, &orientation);
     if (err < best_err) {
-      best_err = err;
+      // Nielsen's update: less damping the better the linear model predicted the reduction
+      const double rho = predicted > 0 ? (best_err * best_err - err * err) / predicted : 0.0;
+      const double c = 2.0 * rho - 1.0;
+      mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - c * c * c), kMinDampingFactor);
+      nu = 2.0;
       best_q_ = q_chain_;
+      best_err = err;
+      best_e = e_;
+      best_position = position;
+      best_orientation = orientation;
+      at_best = true;
+      need_jacobian = true;
+    } else {
+      mu = std::min(mu * nu, kMaxDampingFactor);
+      nu *= 2.0;
+      at_best = false;
     }
   }
 
   // the closest pose found, kin updated there
-  if (err > best_err) {
+  if (!at_best) {
     q_chain_ = best_q_;
     Apply(kin);
-    Error(kin, p_WT_target, R_WT_target, &result.position_error, &result.orientation_error);
   }
-  for (int k = 0; k < n; ++k) q[chain_[k]] = q_chain_[k];
+  result.position_error = best_position;
+  result.orientation_error = best_orientation;
+  for (int k = 0; k < n; ++k) q[chain_[k]] = best_q_[k];
   return result;
 }
 

@@ -218,13 +218,10 @@ void Kinematics::Update() {
   // positions, orientations, the composite inertias and the motion axes (for Jacobians)
   mj_kinematics(m_, d_);
   mj_comPos(m_, d_);
-  // the CoM velocity: its MuJoCo Jacobian times MuJoCo's qvel (no column mapping needed)
-  mj_jacSubtreeCom(m_, d_, jacp_.data(), com_body_);
-  v_WCoM_.setZero();
-  for (int r = 0; r < 3; ++r) {
-    const mjtNum* row = jacp_.data() + r * m_->nv;
-    for (int i = 0; i < m_->nv; ++i) v_WCoM_[r] += row[i] * d_->qvel[i];
-  }
+  // the CoM velocity: the bodies' spatial velocities, then the subtrees' CoM velocities
+  mj_comVel(m_, d_);
+  mj_subtreeVel(m_, d_);
+  v_WCoM_ = Eigen::Map<const Eigen::Vector3d>(d_->subtree_linvel + 3 * com_body_);
 }
 
 double Kinematics::q(int j) const { return d_->qpos[robot_.joints[j].qpos_adr]; }
@@ -340,8 +337,8 @@ void Kinematics::MassMatrix(Eigen::Ref<Eigen::MatrixXd> M) {
 
 void Kinematics::GravityTorques(Eigen::Ref<Eigen::VectorXd> tau_g) {
   // MuJoCo's bias force at zero velocity: mj_rne reads the velocity only through cvel and
-  // cdof_dot (mj_comVel's outputs, which nothing else here uses), so zeroing them leaves
-  // gravity alone; qvel, and so v_WCoM, stay as set
+  // cdof_dot (mj_comVel's outputs, used by Update for v_WCoM and kept in v_WCoM_ there), so
+  // zeroing them leaves gravity alone; qvel, and so v_WCoM(), stay as set
   mju_zero(d_->cvel, 6 * m_->nbody);
   mju_zero(d_->cdof_dot, 6 * m_->nv);
   mjtNum* f = dense_.data();  // nv values of scratch (dense_ holds nv x nv)

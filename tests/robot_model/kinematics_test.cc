@@ -3,10 +3,11 @@
 // differences and energy identities (the floating HRP-1S).
 #include "robot_model/kinematics.h"
 
+#include "test_models.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <memory>
 #include <random>
@@ -14,53 +15,18 @@
 namespace ohrp::model {
 namespace {
 
-// the planar arm: two links along x turning about z, gravity along -y
-constexpr double kL1 = 1.0, kLc1 = 0.4, kM1 = 2.0, kI1 = 0.06, kA1 = 0.3;  // [m, m, kg, kg m^2, kg m^2]
-constexpr double kL2 = 0.8, kLc2 = 0.3, kM2 = 1.5, kI2 = 0.04, kA2 = 0.2;
-constexpr double kG = 9.81;  // [m/s^2]
-constexpr char kArm[] = R"(
-<mujoco model="arm">
-  <option gravity="0 -9.81 0"/>
-  <worldbody>
-    <body name="link1">
-      <joint name="j1" type="hinge" axis="0 0 1" armature="0.3"/>
-      <inertial pos="0.4 0 0" mass="2" diaginertia="0.01 0.05 0.06"/>
-      <body name="link2" pos="1 0 0">
-        <joint name="j2" type="hinge" axis="0 0 1" armature="0.2"/>
-        <inertial pos="0.3 0 0" mass="1.5" diaginertia="0.01 0.03 0.04"/>
-        <site name="tip" pos="0.8 0 0"/>
-      </body>
-    </body>
-  </worldbody>
-  <actuator><motor joint="j1"/><motor joint="j2"/></actuator>
-</mujoco>)";
-
-// a model from MJCF text, through MuJoCo's virtual file system
-mjModel* LoadString(const char* xml) {
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const int size = static_cast<int>(std::strlen(xml));
-  if (mj_makeEmptyFileVFS(vfs.get(), "model.xml", size) != 0) return nullptr;
-  std::memcpy(vfs->filedata[vfs->nfile - 1], xml, size);
-  char err[512] = "";
-  mjModel* m = mj_loadXML("model.xml", vfs.get(), err, sizeof(err));
-  mj_deleteVFS(vfs.get());
-  EXPECT_TRUE(m) << err;
-  return m;
-}
+using namespace testing;  // NOLINT: the test models
 
 std::unique_ptr<Kinematics> Arm() {
-  mjModel* m = LoadString(kArm);
   std::string error;
-  auto kin = Kinematics::FromModel(m, &error);
-  mj_deleteModel(m);
+  auto kin = testing::Arm(&error);
   EXPECT_TRUE(kin) << error;
   return kin;
 }
 
 std::unique_ptr<Kinematics> Hrp1s() {
   std::string error;
-  auto kin = Kinematics::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &error);
+  auto kin = testing::Hrp1s(&error);
   EXPECT_TRUE(kin) << error;
   return kin;
 }
@@ -298,6 +264,9 @@ TEST(KinematicsHrp1s, CentreOfMassJacobianAndVelocityMatchFiniteDifferences) {
     kin->SetBaseVelocity(v.head<3>(), v.segment<3>(3));
     kin->SetJointVelocities(v.data() + 6);
     kin->Update();
+    EXPECT_LT((kin->v_WCoM() - J * v).norm(), 1e-12);
+    Eigen::VectorXd tau(kin->nv());
+    kin->GravityTorques(tau);  // zeroes MuJoCo's body velocities: v_WCoM must not change
     EXPECT_LT((kin->v_WCoM() - J * v).norm(), 1e-12);
     constexpr double h = 1e-6;
     State plus = s, minus = s;

@@ -5,6 +5,11 @@
 // to the error), steps limited in size, joint limits respected by clamping each iterate (a joint
 // at its limit drops out of the next step). The base pose and the joints outside the chain are
 // those set in the Kinematics object; Solve changes only the chain's entries of `q`.
+// A step that does not reduce the error is dropped and the damping raised (Nielsen's rule), so
+// the error never grows; when the best error improves by less than 1 % over 6 iterations the
+// target is declared unreachable. The solver is local: from a start far from the target it may
+// stop in a local minimum against a joint limit (kUnreachable); start from a nearby pose (e.g.
+// the previous cycle's solution). No analytic leg solution is provided (see ik.cc).
 //
 // Per-call work allocates nothing: the scratch matrices are sized by the constructor.
 #pragma once
@@ -22,7 +27,8 @@ struct IkOptions {
   int max_iterations = 50;
   double position_tolerance = 1e-5;     // [m]
   double orientation_tolerance = 1e-5;  // [rad]
-  double damping = 1e-4;                // base Levenberg-Marquardt damping [-]
+  double damping = 1e-4;                // base Levenberg-Marquardt damping, lambda^2 =
+                                        // mu damping + |e|^2 / 2 with mu adapted from 1 [m^2]
   double max_step = 0.3;                // largest joint change per iteration [rad or m]
   double orientation_weight = 1.0;      // weight of the rotation error against position [m/rad]
 };
@@ -38,7 +44,7 @@ const char* IkStatusName(IkStatus s);
 
 struct IkResult {
   IkStatus status = IkStatus::kBadInput;
-  int iterations = 0;
+  int iterations = 0;            // steps tried (each one Kinematics::Update)
   double position_error = 0;     // |p_WT - p_W(tip)| at the end [m]
   double orientation_error = 0;  // angle of R_WT^T R_W(tip) at the end [rad]
 };

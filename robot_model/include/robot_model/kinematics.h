@@ -93,7 +93,8 @@ class Kinematics {
   // velocities (used by Update for the CoM velocity): base v_WB and w_WB in W, joints dq
   void SetBaseVelocity(const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB);
   void SetJointVelocities(const double* dq);
-  // computes positions, orientations and the centre of mass for the state set above
+  // computes positions, orientations, the centre of mass and its velocity for the state set
+  // above (MuJoCo's mj_kinematics, mj_comPos, mj_comVel, mj_subtreeVel)
   void Update();
 
   // the state as set (joint positions in joint-id order)
@@ -120,10 +121,14 @@ class Kinematics {
   void J_WCoM(Eigen::Ref<Eigen::MatrixXd> J) const;              // 3 x nv()
 
   //---------------- dynamics (after Update) ----------------
-  // joint-space mass matrix, nv() x nv(), rotor armature included
+  // joint-space mass matrix in our columns (kinetic energy v^T M v / 2 with the base's w in
+  // W), nv() x nv(), rotor armature included
   void MassMatrix(Eigen::Ref<Eigen::MatrixXd> M);
   // generalised gravity forces that hold the current configuration still (nv(): base wrench
-  // then joint torques [N m or N]); the joint part is what the motors must supply
+  // then joint torques [N m or N]); the joint part is what the motors must supply. Sign: this
+  // is dV/dq for the potential V = m g z_CoM, i.e. MuJoCo's qfrc_bias at zero velocity (the
+  // velocities set are ignored); for a floating base its first six values are the weight
+  // (0, 0, m g) and its moment about the base origin, in W.
   void GravityTorques(Eigen::Ref<Eigen::VectorXd> tau_g);
 
  private:

@@ -1,0 +1,149 @@
+// Tests that the per-cycle calls of robot_model/kinematics and robot_model/ik allocate nothing:
+// this binary replaces malloc and its relatives (glibc), so every heap allocation (operator
+// new, Eigen, MuJoCo) made while counting is seen.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstddef>
+#include <vector>
+
+#include "robot_model/ik.h"
+#include "robot_model/kinematics.h"
+#include "test_models.h"
+
+#if defined(__GLIBC__)
+extern "C" {
+void* __libc_malloc(size_t size);
+void* __libc_calloc(size_t n, size_t size);
+void* __libc_realloc(void* p, size_t size);
+void* __libc_memalign(size_t alignment, size_t size);
+void __libc_free(void* p);
+}
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+void Count() {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+// the replacements: count, then hand over to glibc's own allocator
+extern "C" {
+void* malloc(size_t size) {
+  Count();
+  return __libc_malloc(size);
+}
+void* calloc(size_t n, size_t size) {
+  Count();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, size_t size) {
+  Count();
+  return __libc_realloc(p, size);
+}
+void* memalign(size_t alignment, size_t size) {
+  Count();
+  return __libc_memalign(alignment, size);
+}
+void* aligned_alloc(size_t alignment, size_t size) {
+  Count();
+  return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** p, size_t alignment, size_t size) {
+  Count();
+  *p = __libc_memalign(alignment, size);
+  return *p ? 0 : 12;  // ENOMEM
+}
+void free(void* p) { __libc_free(p); }
+}
+#define OHRP_CAN_COUNT 1
+#endif
+
+namespace ohrp::model {
+namespace {
+
+#if defined(OHRP_CAN_COUNT)
+
+// counts the heap allocations made by `f`
+template <typename F>
+long Allocations(F&& f) {
+  g_allocations = 0;
+  g_counting = true;
+  f();
+  g_counting = false;
+  return g_allocations.load();
+}
+
+TEST(Allocation, TheCounterSeesAnAllocation) {
+  std::vector<double>* v = nullptr;
+  EXPECT_GT(Allocations([&] { v = new std::vector<double>(100); }), 0);
+  delete v;
+  Eigen::MatrixXd* M = nullptr;
+  EXPECT_GT(Allocations([&] { M = new Eigen::MatrixXd(7, 7); }), 0);
+  delete M;
+  // and inside MuJoCo's shared library
+  std::string error;
+  auto kin = testing::Arm(&error);
+  ASSERT_TRUE(kin) << error;
+  mjData* d = nullptr;
+  EXPECT_GT(Allocations([&] { d = mj_makeData(kin->m()); }), 0);
+  mj_deleteData(d);
+}
+
+TEST(Allocation, PerCycleKinematicsAndIkAllocateNothing) {
+  std::string error;
+  auto kin = testing::Hrp1s(&error);
+  ASSERT_TRUE(kin) << error;
+  const int nv = kin->nv(), left = kin->left_sole(), right = kin->right_sole();
+  const int imu = kin->SiteId("imu"), wrist = kin->BodyId("LARM_WRIST_R");
+  std::vector<double> q(kin->njoint(), 0.0), dq(kin->njoint(), 0.1);
+  q[kin->JointId("LLEG_KNEE")] = q[kin->JointId("RLEG_KNEE")] = 0.7;
+  q[kin->JointId("LLEG_HIP_P")] = q[kin->JointId("RLEG_HIP_P")] = -0.35;
+  q[kin->JointId("LLEG_ANKLE_P")] = q[kin->JointId("RLEG_ANKLE_P")] = -0.35;
+  // everything sized before the loop, including a Jacobian written into a block
+  Eigen::MatrixXd J(6, nv), J_com(3, nv), M(nv, nv), J_big(12, nv);
+  Eigen::VectorXd tau(nv);
+  LimbIk ik_left = LimbIk::ForSole(*kin, kin->robot().base_body, left);
+  LimbIk ik_right = LimbIk::ForSole(*kin, kin->robot().base_body, right);
+  const Eigen::Quaterniond quat(Eigen::AngleAxisd(0.1, Eigen::Vector3d(1, 2, 3).normalized()));
+  kin->SetBasePose({0.1, 0.0, 0.68}, quat);
+  kin->SetJointPositions(q.data());
+  kin->Update();
+  const Eigen::Vector3d p_target = kin->p_WSole(left) + Eigen::Vector3d(0.03, 0.02, 0.05);
+  const Eigen::Matrix3d R_target = kin->R_WSole(left) * Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).matrix();
+
+  double sink = 0;
+  IkResult r_left, r_right;
+  const long n = Allocations([&] {
+    for (int cycle = 0; cycle < 3; ++cycle) {
+      kin->SetBasePose({0.1, 0.0, 0.68}, quat);
+      kin->SetJointPositions(q.data());
+      kin->SetBaseVelocity({0.1, 0.2, 0.3}, {0.3, -0.2, 0.1});
+      kin->SetJointVelocities(dq.data());
+      kin->Update();
+      sink += kin->p_WSole(left).x() + kin->R_WSole(right)(0, 0) + kin->p_WCoM().z() +
+              kin->v_WCoM().x() + kin->p_WSite(imu).y() + kin->R_WBody(wrist)(1, 1);
+      kin->J_WSole(left, J);
+      kin->J_WSite(imu, J_big.topRows(6));
+      kin->J_WBodyPoint(wrist, kin->p_WBody(wrist), J_big.bottomRows(6));
+      kin->J_WCoM(J_com);
+      kin->MassMatrix(M);
+      kin->GravityTorques(tau);
+      r_left = ik_left.Solve(*kin, p_target, R_target, q.data());
+      r_right = ik_right.Solve(*kin, kin->p_WSole(right) + Eigen::Vector3d(0, 0, 2.0),
+                               kin->R_WSole(right), q.data());  // unreachable
+    }
+  });
+  EXPECT_EQ(n, 0) << "heap allocations in the per-cycle calls";
+  EXPECT_EQ(r_left.status, IkStatus::kConverged) << IkStatusName(r_left.status);
+  EXPECT_EQ(r_right.status, IkStatus::kUnreachable) << IkStatusName(r_right.status);
+  EXPECT_TRUE(std::isfinite(sink));
+}
+
+#else
+TEST(Allocation, NeedsGlibc) { GTEST_SKIP() << "malloc is replaced through glibc's __libc_ entry points"; }
+#endif
+
+}  // namespace
+}  // namespace ohrp::model
