@@ -2,14 +2,14 @@
 // in-process simulation (sim_host's scene, soft feet and servo, the segment's sensor block every
 // 5 ms control cycle over 1 ms physics steps), the estimate compared with sim_truth every cycle
 // while standing and while pushed; the complementary filter's tilt correction against its
-// closed form; bad input, a robot in the air, and no allocation per cycle.
+// closed form; bad input and a robot in the air. (That Update allocates nothing is tested in
+// alloc_test.cc, the binary that counts allocations.)
 #include "robot_model/estimator.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -19,28 +19,6 @@
 #include "../sim_host/leaning_robot.h"
 #include "../sim_host/test_models.h"
 #include "sim_host/effects.h"
-
-// every malloc of this process is counted while `g_count_allocs` is set (glibc: the
-// executable's definition interposes the C library's, also for Eigen and MuJoCo)
-extern "C" void* __libc_malloc(size_t size);
-extern "C" void* __libc_calloc(size_t n, size_t size);
-extern "C" void* __libc_realloc(void* p, size_t size);
-namespace {
-bool g_count_allocs = false;
-long g_allocs = 0;
-}  // namespace
-extern "C" void* malloc(size_t size) {
-  if (g_count_allocs) ++g_allocs;
-  return __libc_malloc(size);
-}
-extern "C" void* calloc(size_t n, size_t size) {
-  if (g_count_allocs) ++g_allocs;
-  return __libc_calloc(n, size);
-}
-extern "C" void* realloc(void* p, size_t size) {
-  if (g_count_allocs) ++g_allocs;
-  return __libc_realloc(p, size);
-}
 
 namespace ohrp::model {
 namespace {
@@ -421,28 +399,6 @@ TEST(BaseEstimator, ResetInTheAirPutsTheLowerSoleOnTheGround) {
   for (int i = 0; i < 3; ++i) falling.imu[0].accel[i] = 0;
   ASSERT_TRUE(est.Reset(falling));
   EXPECT_LT(est.estimate().quat_WB.angularDistance(Eigen::Quaterniond::Identity()), 1e-12);
-}
-
-TEST(BaseEstimator, UpdateAllocatesNothing) {
-  EstimatedRobot r;
-  r.Load();
-  if (::testing::Test::HasFatalFailure()) return;
-  r.Settle(0.1);
-  r.Reset();
-  const shm::SensorBlock s = r.sensors();
-  g_allocs = 0;
-  g_count_allocs = true;
-  bool ok = true;
-  for (int i = 0; i < 10; ++i) ok = r.estimator().Update(s, kControlPeriod) && ok;
-  g_count_allocs = false;
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(g_allocs, 0);
-  // the counter works: an allocation is seen
-  g_count_allocs = true;
-  void* p = std::malloc(16);
-  g_count_allocs = false;
-  std::free(p);
-  EXPECT_EQ(g_allocs, 1);
 }
 
 //---------------- preconditions ----------------
