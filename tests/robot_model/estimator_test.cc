@@ -42,14 +42,16 @@ struct Errors {
   double velocity = 0;    // base linear velocity [m/s]
   double velocity_mean = 0;  // its mean over the run [m/s]
   double accel = 0;       // largest true base acceleration (over a cycle) [m/s^2]
+  double angular = 0;     // base angular velocity [rad/s]
   long cycles = 0;
   std::string Text() const {
     char buf[300];
     std::snprintf(buf, sizeof(buf),
                   "tilt %.3f deg, height %.2f mm, horizontal %.2f mm, velocity %.1f mm/s "
-                  "(mean %.1f mm/s; base acceleration up to %.2f m/s^2) over %ld cycles",
+                  "(mean %.1f mm/s; base acceleration up to %.2f m/s^2), angular velocity "
+                  "%.2g rad/s over %ld cycles",
                   tilt / kDeg, height * 1e3, horizontal * 1e3, velocity * 1e3,
-                  velocity_mean * 1e3, accel, cycles);
+                  velocity_mean * 1e3, accel, angular, cycles);
     return buf;
   }
 };
@@ -148,6 +150,7 @@ class EstimatedRobot {
     errors_.height = std::max(errors_.height, std::abs(e.p_WB.z() - p_true.z()));
     errors_.horizontal = std::max(errors_.horizontal, moved.norm());
     errors_.velocity = std::max(errors_.velocity, dv);
+    errors_.angular = std::max(errors_.angular, (e.w_WB - Eigen::Vector3d(t.w_WB)).norm());
     errors_.velocity_mean = (errors_.velocity_mean * errors_.cycles + dv) / (errors_.cycles + 1);
     if (errors_.cycles > 0)
       errors_.accel = std::max(errors_.accel, (v_true - v_prev_).norm() / kControlPeriod);
