@@ -1,6 +1,7 @@
 // Base state estimation from the IMU, the leg kinematics and the F/T contact (see estimator.h).
 #include "robot_model/estimator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,8 +9,18 @@
 namespace ohrp::model {
 namespace {
 
-constexpr double kGravity = 9.81;          // [m/s^2], what the accelerometer reads at rest
 constexpr double kMinSpecificForce = 1.0;  // below this the accelerometer shows no tilt [m/s^2]
+// weight of the Reset's accelerometer sample, in samples, in the running mean that starts the
+// tilt correction: the larger, the less one noisy gravity measurement right after Reset turns
+// the estimate (by 1 / (N + 1) of its error) and the longer the Reset's own sample lingers
+// (half of it after N cycles)
+constexpr long kStartWeight = 20;
+// low-pass of the gravity measurement (specific force minus the legs' acceleration) [Hz]: the
+// differentiated leg velocity carries the gyro's noise times the lever from the soles to the
+// IMU (at sim_host's default noise 5e-3 rad/s x 1.2 m / 5 ms = 1.7 m/s^2 per cycle, 10 deg of
+// direction), about a tenth of it after this filter. Both terms pass the same filter, so a
+// push's acceleration still cancels.
+constexpr double kGravityCutoff = 5.0;
 
 bool AllFinite(const double* x, int n) {
   for (int i = 0; i < n; ++i)
@@ -62,6 +73,10 @@ BaseEstimator::BaseEstimator(Kinematics* kin, EstimatorOptions options)
     force_site_[i] = robot.forces[sole.force_sensor].site_id;
   }
   J_.setZero(6, kin_->nv());
+  gravity_ = Eigen::Vector3d(kin_->m()->opt.gravity).norm();
+  if (gravity_ < kMinSpecificForce)
+    throw std::invalid_argument("BaseEstimator: the model of robot '" + robot.name +
+                                "' has no gravity, from which the IMU would tell the tilt");
 }
 
 //---------------- sensors ----------------
@@ -89,13 +104,13 @@ void BaseEstimator::Measure(const shm::SensorBlock& s) {
     p_BS_[i] = kin_->p_WSole(sole_[i]);
     R_BF_[i] = kin_->R_WSite(force_site_[i]);
     kin_->J_WSole(sole_[i], J_);
-    v_BS_[i] = J_.block(0, c0, 3, nj) * dq;
+    v_BS_[i] = J_.block(0, c0, 3, nj).lazyProduct(dq);
   }
   R_BI_ = kin_->R_WSite(imu_site_);
   p_BI_ = kin_->p_WSite(imu_site_);
   kin_->J_WSite(imu_site_, J_);
-  v_BI_ = J_.block(0, c0, 3, nj) * dq;
-  w_BI_ = J_.block(3, c0, 3, nj) * dq;
+  v_BI_ = J_.block(0, c0, 3, nj).lazyProduct(dq);
+  w_BI_ = J_.block(3, c0, 3, nj).lazyProduct(dq);
 }
 
 // the normal force of each sole (its F/T force rotated to W) and whether it is in contact
@@ -109,6 +124,28 @@ void BaseEstimator::ContactForces(const shm::SensorBlock& s, const Eigen::Matrix
     est_.contact[i] = (est_.contact[i] && hysteresis) ? est_.fz[i] > off : est_.fz[i] > on;
     if (!est_.contact[i]) anchored_[i] = false;
   }
+}
+
+// the base velocity from the soles in contact, taken as still (weighted by their normal
+// forces): 0 = v_WB + w_WB x R_WB p_BS + R_WB v_BS. False (and `*v_WB` untouched) without one.
+bool BaseEstimator::LegVelocity(const Eigen::Matrix3d& R_WB, const Eigen::Vector3d& w_WB,
+                                Eigen::Vector3d* v_WB) const {
+  Eigen::Vector3d v_sum = Eigen::Vector3d::Zero();
+  double w_sum = 0;
+  for (int i = 0; i < 2; ++i) {
+    if (!est_.contact[i]) continue;
+    v_sum += est_.fz[i] * (-w_WB.cross(R_WB * p_BS_[i]) - R_WB * v_BS_[i]);
+    w_sum += est_.fz[i];
+  }
+  if (w_sum <= 0) return false;
+  *v_WB = v_sum / w_sum;
+  return true;
+}
+
+// anchors sole i where the estimate (base pose p_WB, R_WB) puts it
+void BaseEstimator::Anchor(int i, const Eigen::Vector3d& p_WB, const Eigen::Matrix3d& R_WB) {
+  anchor_[i] = p_WB + R_WB * p_BS_[i];
+  anchored_[i] = true;
 }
 
 //---------------- reset ----------------
@@ -125,6 +162,9 @@ bool BaseEstimator::Reset(const shm::SensorBlock& s) {
   if (accel.norm() > kMinSpecificForce) R_WB = TiltFromUp(R_BI_ * accel.normalized());
   quat_WI_ = Eigen::Quaterniond(R_WB * R_BI_).normalized();
   gyro_prev_ = gyro;
+  samples_ = kStartWeight;
+  f_W_prev_ = quat_WI_ * accel;
+  up_W_ = f_W_prev_;
 
   // contact without hysteresis; the base height puts the soles in contact on z = 0, or the
   // lower sole when none is (a robot held in the air is taken as just above the ground)
@@ -140,17 +180,17 @@ bool BaseEstimator::Reset(const shm::SensorBlock& s) {
   }
   if (options_.origin_at_feet) p_WB.head<2>() = -0.5 * (r_L + r_R).head<2>();
   for (int i = 0; i < 2; ++i) {
-    anchored_[i] = est_.contact[i];
-    if (anchored_[i]) anchor_[i] = p_WB + R_WB * p_BS_[i];
+    anchored_[i] = false;
+    if (est_.contact[i]) Anchor(i, p_WB, R_WB);
   }
 
-  // at rest: the joint velocities alone move the IMU relative to the base
+  // velocities: from the legs when a sole is in contact, else at rest
   est_.p_WB = p_WB;
-  v_raw_.setZero();
-  est_.v_WB.setZero();
   est_.w_WB = quat_WI_ * gyro - R_WB * w_BI_;
-  v_WI_ = est_.w_WB.cross(R_WB * p_BI_) + R_WB * v_BI_;
-  v_WI_from_legs_ = wL + wR > 0;
+  v_raw_.setZero();
+  v_WI_from_legs_ = LegVelocity(R_WB, est_.w_WB, &v_raw_);
+  est_.v_WB = v_raw_;
+  v_WI_ = v_raw_ + est_.w_WB.cross(R_WB * p_BI_) + R_WB * v_BI_;
   started_ = true;
   Publish(s, R_WB);
   return true;
@@ -171,24 +211,14 @@ bool BaseEstimator::Update(const shm::SensorBlock& s, double dt) {
   Eigen::Matrix3d R_WI = quat_WI_.toRotationMatrix();
   Eigen::Matrix3d R_WB = R_WI * R_BI_.transpose();
 
-  // contact, and the base velocity from the soles in contact (taken as still):
-  // 0 = v_WB + w_WB x R_WB p_BS + R_WB v_BS
+  // contact, and the base velocity from the soles in contact
   ContactForces(s, R_WB, true);
   const Eigen::Vector3d w_WB = R_WI * gyro - R_WB * w_BI_;
-  Eigen::Vector3d v_sum = Eigen::Vector3d::Zero();
-  double w_sum = 0;
-  for (int i = 0; i < 2; ++i) {
-    if (!est_.contact[i]) continue;
-    const Eigen::Vector3d v_i = -w_WB.cross(R_WB * p_BS_[i]) - R_WB * v_BS_[i];
-    v_sum += est_.fz[i] * v_i;
-    w_sum += est_.fz[i];
-  }
-  const bool legs = w_sum > 0;
+  const bool legs = LegVelocity(R_WB, w_WB, &v_raw_);
   const Eigen::Vector3d r_BI_W = R_WB * p_BI_;
-  const Eigen::Vector3d g_W(0, 0, kGravity);
+  const Eigen::Vector3d g_W(0, 0, gravity_);
   Eigen::Vector3d v_WI, a_WI;
   if (legs) {
-    v_raw_ = v_sum / w_sum;
     v_WI = v_raw_ + w_WB.cross(r_BI_W) + R_WB * v_BI_;
     // the IMU's acceleration from the legs (differentiated velocity), none after a flight
     a_WI = v_WI_from_legs_ ? Eigen::Vector3d((v_WI - v_WI_) / dt) : Eigen::Vector3d::Zero();
@@ -201,13 +231,21 @@ bool BaseEstimator::Update(const shm::SensorBlock& s, double dt) {
   v_WI_ = v_WI;
   v_WI_from_legs_ = legs;
 
-  // tilt correction (complementary filter): the specific force minus the IMU's own
-  // acceleration is gravity; turn the estimate towards it at the rate tilt_gain
-  const Eigen::Vector3d up_W = R_WI * accel - a_WI;
+  // tilt correction (complementary filter): the specific force (averaged over the cycle, as
+  // the differentiated velocity is) minus the IMU's own acceleration is gravity; turn the
+  // estimate towards it by the fraction tilt_gain dt, or more right after Reset: 1 / (N + n)
+  // for the n-th sample, the running mean of the gravity directions in which the Reset's
+  // sample weighs N = kStartWeight
+  const Eigen::Vector3d f_W = R_WI * accel;
+  const double tau_g = 1.0 / (2 * M_PI * kGravityCutoff);
+  up_W_ += dt / (tau_g + dt) * (0.5 * (f_W + f_W_prev_) - a_WI - up_W_);
+  f_W_prev_ = f_W;
+  const Eigen::Vector3d& up_W = up_W_;
   const double up = up_W.norm();
-  if (legs && std::abs(up - kGravity) < options_.accel_trust) {
+  if (legs && std::abs(up - gravity_) < options_.accel_trust) {
+    const double gain = std::max(options_.tilt_gain * dt, 1.0 / static_cast<double>(++samples_));
     const Eigen::Vector3d e_W = (up_W / up).cross(Eigen::Vector3d::UnitZ());
-    quat_WI_ = (Exp(options_.tilt_gain * dt * e_W) * quat_WI_).normalized();
+    quat_WI_ = (Exp(gain * e_W) * quat_WI_).normalized();
     R_WI = quat_WI_.toRotationMatrix();
     R_WB = R_WI * R_BI_.transpose();
   }
@@ -225,10 +263,7 @@ bool BaseEstimator::Update(const shm::SensorBlock& s, double dt) {
                                             : Eigen::Vector3d(est_.p_WB + v_raw_ * dt);
   // soles that touched down this cycle are anchored where the estimate puts them
   for (int i = 0; i < 2; ++i) {
-    if (est_.contact[i] && !anchored_[i]) {
-      anchor_[i] = p_WB + R_WB * p_BS_[i];
-      anchored_[i] = true;
-    }
+    if (est_.contact[i] && !anchored_[i]) Anchor(i, p_WB, R_WB);
   }
 
   // velocity low-passed (first order at velocity_cutoff)

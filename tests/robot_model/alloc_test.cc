@@ -1,4 +1,5 @@
-// Tests that the per-cycle calls of robot_model/kinematics and robot_model/ik allocate nothing:
+// Tests that the per-cycle calls of robot_model/kinematics, robot_model/ik and
+// robot_model/estimator allocate nothing:
 // this binary replaces malloc and its relatives (glibc), so every heap allocation (operator
 // new, Eigen, MuJoCo) made while counting is seen.
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "robot_model/estimator.h"
 #include "robot_model/ik.h"
 #include "robot_model/kinematics.h"
 #include "test_models.h"
@@ -139,6 +141,34 @@ TEST(Allocation, PerCycleKinematicsAndIkAllocateNothing) {
   EXPECT_EQ(r_left.status, IkStatus::kConverged) << IkStatusName(r_left.status);
   EXPECT_EQ(r_right.status, IkStatus::kUnreachable) << IkStatusName(r_right.status);
   EXPECT_TRUE(std::isfinite(sink));
+}
+
+TEST(Allocation, EstimatorUpdateAllocatesNothing) {
+  // HRP-1S standing in half-sitting as its sensors would show it: torso upright (the IMU reads
+  // +g along its z), each sole carrying half the weight along its sensor's z, joints moving
+  std::string error;
+  auto kin = testing::Hrp1s(&error);
+  ASSERT_TRUE(kin) << error;
+  BaseEstimator est(kin.get());
+  shm::SensorBlock s{};
+  for (const char* leg : {"LLEG", "RLEG"}) {
+    s.q[kin->JointId(std::string(leg) + "_HIP_P")] = -0.35;
+    s.q[kin->JointId(std::string(leg) + "_KNEE")] = 0.7;
+    s.q[kin->JointId(std::string(leg) + "_ANKLE_P")] = -0.35;
+  }
+  for (int j = 0; j < kin->njoint(); ++j) s.dq[j] = 0.01;
+  s.imu[0].accel[2] = 9.81;
+  s.imu[0].gyro[1] = 0.01;
+  for (int sole : {kin->left_sole(), kin->right_sole()})
+    s.force[kin->soles()[sole].force_sensor].force[2] = 0.5 * kin->mass() * 9.81;
+  ASSERT_TRUE(est.Reset(s));
+  bool ok = true;
+  const long n = Allocations([&] {
+    for (int cycle = 0; cycle < 3; ++cycle) ok = est.Update(s, 0.005) && ok;
+  });
+  EXPECT_EQ(n, 0) << "heap allocations in BaseEstimator::Update";
+  EXPECT_TRUE(ok);
+  EXPECT_TRUE(est.estimate().contact[0] && est.estimate().contact[1]);
 }
 
 #else

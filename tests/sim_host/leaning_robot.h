@@ -1,10 +1,12 @@
 // Test helper: HRP-1S in-process on its soft soles, sim_host's servo holding the start pose with
-// both ankle pitches leaned forward over the first second (the load centre moves under the
-// middle of the soles, as controllers/poses/hrp1s_halfsit_lean.yaml does).
+// both ankle pitches leaned forward over one second, the first unless set_lean_start says
+// otherwise (the load centre moves under the middle of the soles, as
+// controllers/poses/hrp1s_halfsit_lean.yaml does).
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -45,10 +47,10 @@ class LeaningRobot {
     }
   }
 
-  // One physics step as sim_host makes it: commands (the lean ramped in over the first second),
+  // One physics step as sim_host makes it: commands (the lean ramped in over one second),
   // servo, soft soles, mj_step, commit. Returns false if the servo refused the commands.
   bool Step() {
-    const double s = std::min(1.0, d()->time / 1.0);
+    const double s = std::clamp((d()->time - lean_start_) / 1.0, 0.0, 1.0);
     for (int i = 0; i < cmd_.njoint; ++i)
       cmd_.joint[i].q_ref = start_[i] + lean_[i] * 0.5 * (1 - std::cos(M_PI * s));
     if (servo_->Accept(cmd_) != 0) return false;
@@ -58,6 +60,9 @@ class LeaningRobot {
     soft_->Commit();
     return true;
   }
+
+  // the lean's ramp starts at `t` [s] of simulated time instead of 0
+  void set_lean_start(double t) { lean_start_ = t; }
 
   mjModel* m() const { return scene_->m(); }
   mjData* d() const { return scene_->d(); }
@@ -71,6 +76,7 @@ class LeaningRobot {
   std::unique_ptr<Servo> servo_;
   shm::CommandBlock cmd_{};
   std::vector<double> start_, lean_;
+  double lean_start_ = 0;  // [s]
 };
 
 }  // namespace ohrp::sim::testing

@@ -8,10 +8,15 @@
 //                towards the gravity direction (a complementary filter whose crossover is
 //                `tilt_gain`): the accelerometer's specific force rotated to W, minus the
 //                IMU's own acceleration from the leg kinematics (the differentiated velocity
-//                below), is gravity. The correction is switched off while that differs from g
-//                by more than `accel_trust` (shocks) and while no sole is in contact. Yaw is
-//                the gyro's integral (unobservable from gravity). The IMU's orientation output
-//                (quat_WI) is not used.
+//                below), is gravity; that measurement is low-passed at 5 Hz (both terms alike,
+//                against the noise of the differentiated velocity). Right after Reset the
+//                correction is the running mean of those gravity directions, the Reset's
+//                sample weighing 20 (gain 1/(20 + n) for the n-th), until that falls below
+//                tilt_gain dt (after 2 s at the defaults and a 5 ms cycle), so that a Reset on
+//                one noisy sample converges like an average. The correction is off while
+//                that gravity differs from the model's g by more than `accel_trust` (shocks)
+//                and while no sole is in contact. Yaw is the gyro's integral (unobservable
+//                from gravity). The IMU's orientation output (quat_WI) is not used.
 //   contact      a sole is in contact when its normal force exceeds `contact_force` (with a
 //                hysteresis of half that): the F/T force rotated to W with the estimated
 //                orientation, its z component.
@@ -20,8 +25,9 @@
 //                position follows from the anchor, the estimated base orientation and the
 //                joint angles (p_WB = p_WS - R_WB p_BS), averaged over the soles in contact
 //                weighted by their normal forces. A sole that rolls on an edge or slides breaks
-//                the assumption (its frame S moves); the soft soles of the simulation sink
-//                about 0.2 mm under the robot's weight, which the estimate does not see.
+//                the assumption (its frame S moves: rolling by 1 deg about an edge 0.125 m
+//                away raises it by 2 mm); the soft soles of the simulation sink about 0.2 mm
+//                under the robot's weight, which the estimate does not see either.
 //   velocity     the same leg kinematics differentiated (0 = v_WB + w_WB x R_WB p_BS +
 //                R_WB v_BS with v_BS from the joint velocities, w_WB from the gyro and the
 //                torso joints' velocities), low-passed at `velocity_cutoff`.
@@ -34,6 +40,7 @@
 // base above the midpoint of the two soles at x = y = 0 when `origin_at_feet` is set
 // (otherwise the base itself at x = y = 0). Update before any Reset resets.
 //
+// The constructor throws std::invalid_argument also when the model has no gravity.
 // Update allocates nothing and never throws; it returns false (and keeps the last estimate and
 // the state of `kin`) when the sensors it needs (q, dq, the IMU's gyro and accelerometer, the
 // soles' F/T forces) are not finite or dt is not positive.
@@ -88,6 +95,9 @@ class BaseEstimator {
   bool Finite(const shm::SensorBlock& s) const;
   void Measure(const shm::SensorBlock& s);
   void ContactForces(const shm::SensorBlock& s, const Eigen::Matrix3d& R_WB, bool hysteresis);
+  bool LegVelocity(const Eigen::Matrix3d& R_WB, const Eigen::Vector3d& w_WB,
+                   Eigen::Vector3d* v_WB) const;
+  void Anchor(int i, const Eigen::Vector3d& p_WB, const Eigen::Matrix3d& R_WB);
   void Publish(const shm::SensorBlock& s, const Eigen::Matrix3d& R_WB);
 
   Kinematics* kin_;
@@ -98,12 +108,16 @@ class BaseEstimator {
   int force_[2] = {-1, -1};   // their F/T sensors
   int force_site_[2] = {-1, -1};  // MuJoCo site ids of those sensors
   int imu_site_ = -1;
+  double gravity_ = 9.81;  // the model's |g|: what the accelerometer reads at rest [m/s^2]
 
   // filter state
   bool started_ = false;                 // Reset has run
   bool anchored_[2] = {false, false};    // anchor_[i] holds a touchdown position
   Eigen::Quaterniond quat_WI_ = Eigen::Quaterniond::Identity();  // IMU orientation
   Eigen::Vector3d gyro_prev_ = Eigen::Vector3d::Zero();  // last gyro sample [rad/s]
+  long samples_ = 0;                     // weight of the running mean of gravity directions
+  Eigen::Vector3d f_W_prev_ = Eigen::Vector3d::Zero();   // last specific force in W [m/s^2]
+  Eigen::Vector3d up_W_ = Eigen::Vector3d::Zero();       // gravity measured, low-passed [m/s^2]
   Eigen::Vector3d v_WI_ = Eigen::Vector3d::Zero();       // IMU point velocity [m/s]
   bool v_WI_from_legs_ = false;          // v_WI_ came from leg kinematics (not inertial)
   Eigen::Vector3d v_raw_ = Eigen::Vector3d::Zero();      // unfiltered base velocity [m/s]
