@@ -109,7 +109,10 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   out_.dz = Clamp(out_.dz, g.max_dz);
 
   //---------------- slow CoM correction ----------------
-  out_.com_offset += dt * g.k_com_integral * (in.c_ref - c);
+  // only while the robot is quasi-static: during a push the DCM law acts, and what the
+  // integral would gather there (wind-up) would have to unwind slowly afterwards
+  if ((out_.dcm - in.c_ref).norm() < g.com_integral_band)
+    out_.com_offset += dt * g.k_com_integral * (in.c_ref - c);
   out_.com_offset = out_.com_offset.cwiseMax(-g.max_com_offset).cwiseMin(g.max_com_offset);
 
   //---------------- hip strategy: the torso supplies what the soles cannot ----------------

@@ -18,7 +18,8 @@
 //                         On the soft soles this is the compliance the issue asks for: the foot
 //                         yields until it carries the moment the balance needs.
 //   4. CoM correction    what the (leaky) damping control leaves of the CoM error is integrated
-//                         slowly into a shift of the hips: d(offset)/dt = k_i (c_ref - c).
+//                         slowly into a shift of the hips: d(offset)/dt = k_i (c_ref - c),
+//                         only while the DCM is near c_ref (no wind-up during a push).
 //   5. hip strategy       what the clamp cut off (the ZMP the soles cannot carry) is asked of
 //                         the upper body instead: a torso rotation whose angular-momentum rate
 //                         m g (p_d_raw - p_d) supplies the missing moment about the CoM,
@@ -48,13 +49,14 @@ struct StabilizerGains {
   double k_dcm = 3.0;            // DCM convergence rate [1/s]
   double support_margin = 0.015; // keep the desired ZMP this far inside the soles [m]
   double ankle_damping = 300.0;  // D of the foot rotation damping control [N m s/rad]
-  double ankle_recovery = 0.5;   // T: foot rotation offsets decay with this time constant [s]
+  double ankle_recovery = 2.0;   // T: foot rotation offsets decay with this time constant [s]
   double max_foot_rotation = 0.15;  // clamp of the foot rotation offsets [rad]
   double z_damping = 2.0e4;      // D_z of the sole height difference control [N s/m]
   double z_recovery = 0.5;       // T_z [s]
   double max_dz = 0.03;          // clamp of the sole height difference [m]
   double k_com_integral = 1.0;   // rate of the slow CoM position correction [1/s]
   double max_com_offset = 0.03;  // clamp of that correction [m]
+  double com_integral_band = 0.01;  // integrate only while |DCM - c_ref| is below this [m]
   double hip_gain = 1.0;         // share of the cut-off moment asked of the torso [-]
   double torso_inertia = 6.0;    // upper body inertia about the waist [kg m^2] (set from the model)
   double hip_return = 4.0;       // natural frequency of the torso's return to upright [rad/s]
