@@ -182,33 +182,53 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
     p_BS_nominal_[i] = kin_ik_->p_WSole(sole_[i]);
     R_BS_nominal_[i] = kin_ik_->R_WSole(sole_[i]);
   }
-  com_shift_B_.setZero();
-  base_shift_B_.setZero();
-  if (options_.centre_com) {
-    const Eigen::Vector2d mid = 0.5 * (p_BS_nominal_[0] + p_BS_nominal_[1]).head<2>();
-    com_shift_B_ = mid - kin_ik_->p_WCoM().head<2>();
-    // the legs move with the feet, so the hips must move further than the CoM: a few fixed
-    // point iterations of leg IK with the soles held
-    for (int j = 0; j < njoint(); ++j) q_ik_[j] = target_[j];
-    for (int it = 0; it < 8; ++it) {
-      const Eigen::Vector2d s = base_shift_B_;
-      for (int i = 0; i < 2; ++i) {
-        const Eigen::Vector3d p = p_BS_nominal_[i] - Eigen::Vector3d(s.x(), s.y(), 0);
-        if (leg_ik_[i]->Solve(*kin_ik_, p, R_BS_nominal_[i], q_ik_.data()).status !=
-            model::IkStatus::kConverged) {
-          return ConfigStatus::Fail(ConfigError::kLimits,
-                                    "the legs cannot move the CoM over the middle of the soles "
-                                    "from this stance pose (use --no-centre-com)");
-        }
-      }
-      kin_ik_->Update();
-      // the CoM relative to the soles' middle, which moved by -s in the base frame
-      const Eigen::Vector2d rel = kin_ik_->p_WCoM().head<2>() - (mid - s);
-      base_shift_B_ -= rel;
-      if (rel.norm() < 1e-5) break;
+  // the stance plan: centred, then on each sole asked for
+  StanceShift centre, side[2];
+  if (options_.centre_com &&
+      !SolveShiftOver(0.5 * (p_BS_nominal_[0] + p_BS_nominal_[1]).head<2>(), &centre)) {
+    return ConfigStatus::Fail(ConfigError::kLimits,
+                              "the legs cannot move the CoM over the middle of the soles from "
+                              "this stance pose (use --no-centre-com)");
+  }
+  for (int side_i : options_.one_leg.sides) {
+    if (side_i != 0 && side_i != 1) {
+      return ConfigStatus::Fail(ConfigError::kOption, "--one-leg takes left or right");
+    }
+    if (!SolveShiftOver(p_BS_nominal_[side_i].head<2>(), &side[side_i])) {
+      return ConfigStatus::Fail(ConfigError::kLimits,
+                                std::string("the legs cannot move the CoM over the ") +
+                                    (side_i == 0 ? "left" : "right") + " sole from this stance pose");
     }
   }
+  plan_.Configure(centre, options_.centre_com ? options_.centre_time : 0.0, side, options_.one_leg);
   return ConfigStatus::Ok();
+}
+
+bool BalanceController::SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift) {
+  // the legs move with the feet, so the hips must move further than the CoM: fixed-point
+  // iterations of leg IK with the soles held where they are
+  for (int j = 0; j < njoint(); ++j) q_ik_[j] = target_[j];
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(q_ik_.data());
+  kin_ik_->Update();
+  const Eigen::Vector2d c0 = kin_ik_->p_WCoM().head<2>();
+  Eigen::Vector2d hips = Eigen::Vector2d::Zero();
+  for (int it = 0; it < 12; ++it) {
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Vector3d p = p_BS_nominal_[i] - Eigen::Vector3d(hips.x(), hips.y(), 0);
+      if (leg_ik_[i]->Solve(*kin_ik_, p, R_BS_nominal_[i], q_ik_.data()).status !=
+          model::IkStatus::kConverged)
+        return false;
+    }
+    kin_ik_->Update();
+    // the CoM relative to the target point, which moved by -hips in the base frame
+    const Eigen::Vector2d rel = kin_ik_->p_WCoM().head<2>() - (p_B - hips);
+    hips -= rel;
+    if (rel.norm() < 1e-5) break;
+  }
+  shift->hips = hips;
+  shift->com = p_B - c0;
+  return true;
 }
 
 void BalanceController::on_activate(const shm::SensorBlock& s) noexcept {
@@ -260,14 +280,19 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   const model::Kinematics& k = *kin_est_;  // at the estimated state
   const model::BaseEstimate& e = estimator_->estimate();
 
-  // the stance shift so far (minimum jerk), c_ref moving with it (yaw of the base applied)
-  const double u = options_.centre_time > 0 ? (s.time - stand_time_) / options_.centre_time : 1.0;
-  const double su = MinimumJerk(u);
-  const Eigen::Vector2d shift_B = su * base_shift_B_;
+  // the plan's targets now, c_ref moving with the CoM shift (yaw of the base applied)
+  targets_ = plan_.At(s.time - stand_time_);
+  const StanceTargets& plan = targets_;
   const Eigen::Vector3d x_W = e.quat_WB * Eigen::Vector3d::UnitX();
   const double yaw = std::atan2(x_W.y(), x_W.x());
   const Eigen::Rotation2Dd R_yaw(yaw);
-  c_ref_ = c_ref_start_ + R_yaw * (su * com_shift_B_);
+  c_ref_ = c_ref_start_ + R_yaw * plan.shift.com;
+  // its velocity and acceleration, by central differences of the plan
+  constexpr double h = 0.01;  // [s]
+  const double t = s.time - stand_time_;
+  const Eigen::Vector2d c_m = plan_.At(t - h).shift.com, c_p = plan_.At(t + h).shift.com;
+  input_.dc_ref = R_yaw * ((c_p - c_m) / (2 * h));
+  input_.ddc_ref = R_yaw * ((c_p - 2 * plan.shift.com + c_m) / (h * h));
 
   // the stabilizer's inputs: CoM, ankle wrenches in W, the support
   input_.c = e.p_WCoM;
@@ -283,11 +308,33 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
     w.f_W = R_WS * Eigen::Vector3d(ft.force[0], ft.force[1], ft.force[2]);
     w.n_W = R_WS * Eigen::Vector3d(ft.torque[0], ft.torque[1], ft.torque[2]);
     const model::SoleMap& sole = k.soles()[sole_[i]];
+    // the sole's tilt in W, yaw of the base taken out
+    const Eigen::Vector3d n = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()) *
+                              (k.R_WSole(sole_[i]) * Eigen::Vector3d::UnitZ());
+    input_.sole_tilt[i] = Eigen::Vector2d(std::atan2(-n.y(), n.z()), std::asin(std::clamp(n.x(), -1.0, 1.0)));
     const Eigen::Vector3d p = k.p_WSole(sole_[i]);
     input_.support.centre[i] = p.head<2>();
     input_.support.half_size[i] = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
     ground += 0.5 * p.z();
   }
+  for (int i = 0; i < 2; ++i) input_.support.supporting[i] = plan.supporting[i];
+  // the swing foot's lift, measured (estimate) against the plan: the stance leg and hip yield
+  // under the whole weight, so the commanded lift is topped up by a slow integral
+  double lift_cmd[2] = {plan.lift[0], plan.lift[1]};
+  if (plan.standing_on < 0) {
+    lift_extra_ = 0;
+    for (int i = 0; i < 2; ++i) sole_z0_[i] = k.p_WSole(sole_[i]).z();
+  } else {
+    constexpr double kLiftGain = 5.0;       // [1/s]
+    constexpr double kMaxLiftExtra = 0.03;  // [m]
+    const int sw = 1 - plan.standing_on;
+    const double measured = k.p_WSole(sole_[sw]).z() - sole_z0_[sw];
+    const double full = options_.one_leg.lift > 0 ? plan.lift[sw] / options_.one_leg.lift : 0.0;
+    if (full > 0.2) lift_extra_ += dt * kLiftGain * (plan.lift[sw] - measured);
+    lift_extra_ = std::clamp(lift_extra_, 0.0, kMaxLiftExtra);
+    lift_cmd[sw] += full * lift_extra_;
+  }
+  if (plan.standing_on >= 0) ground = k.p_WSole(sole_[plan.standing_on]).z();
   input_.support.ground_z = ground;
   const StabilizerOutput& out = stabilizer_.Update(input_, dt);
 
@@ -310,11 +357,11 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   kin_ik_->SetJointPositions(q_ik_.data());
   kin_ik_->Update();
-  const Eigen::Vector2d hips_B = shift_B + R_yaw.inverse() * out.com_offset;
+  const Eigen::Vector2d hips_B = plan.shift.hips + R_yaw.inverse() * out.com_offset;
   for (int i = 0; i < 2; ++i) {
     const double side = i == 0 ? 0.5 : -0.5;
     const Eigen::Vector3d p =
-        p_BS_nominal_[i] + Eigen::Vector3d(-hips_B.x(), -hips_B.y(), side * out.dz);
+        p_BS_nominal_[i] + Eigen::Vector3d(-hips_B.x(), -hips_B.y(), side * out.dz + lift_cmd[i]);
     const Eigen::Matrix3d R = Rx(out.foot_roll[i]) * Ry(out.foot_pitch[i]) * R_BS_nominal_[i];
     std::array<double, shm::kMaxJoints> trial = q_ik_;
     const model::IkResult r = leg_ik_[i]->Solve(*kin_ik_, p, R, trial.data());

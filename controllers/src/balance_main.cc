@@ -44,6 +44,20 @@ int main(int argc, char** argv) {
       ->default_val(o.centre_time);
   bool no_centre = false;
   app.add_flag("--no-centre-com", no_centre, "keep the CoM where the stance pose puts it");
+  std::vector<std::string> one_leg;
+  app.add_option("--one-leg", one_leg,
+                 "once centred, stand on these feet in turn: left, right (e.g. --one-leg left,right)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"left", "right"}));
+  app.add_option("--lift", o.one_leg.lift, "[m] swing foot height when on one leg")
+      ->default_val(o.one_leg.lift)
+      ->check(CLI::Range(0.0, 0.3));
+  app.add_option("--hold", o.one_leg.hold, "[s] on one leg")->default_val(o.one_leg.hold)
+      ->check(CLI::Range(0.0, 3600.0));
+  app.add_option("--shift-time", o.one_leg.shift_time,
+                 "[s] to move the CoM over the stance foot (and back)")
+      ->default_val(o.one_leg.shift_time)
+      ->check(CLI::Range(0.1, 60.0));
   app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(g.k_dcm);
   app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")
@@ -62,6 +76,7 @@ int main(int argc, char** argv) {
   AddRunOptions(&app, &run);
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.centre_com = !no_centre;
+  for (const std::string& side : one_leg) o.one_leg.sides.push_back(side == "left" ? 0 : 1);
   g.ankle_strategy = !no_ankle;
   g.hip_strategy = !no_hip;
 

@@ -52,14 +52,22 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   const double omega = std::sqrt(kGravity / h);
   const Eigen::Vector2d c = in.c.head<2>();
   out_.dcm = c + in.dc.head<2>() / omega;
-  out_.zmp_desired_raw = out_.dcm + (g.k_dcm / omega) * (out_.dcm - in.c_ref);
+  const Eigen::Vector2d dcm_ref = in.c_ref + in.dc_ref / omega;
+  const Eigen::Vector2d zmp_ref = in.c_ref - in.ddc_ref / (omega * omega);
+  out_.zmp_desired_raw = zmp_ref + (1.0 + g.k_dcm / omega) * (out_.dcm - dcm_ref);
 
-  // the support rectangle of the two soles, less the margin
-  Eigen::Vector2d lo = s.centre[0] - s.half_size[0], hi = s.centre[0] + s.half_size[0];
-  lo = lo.cwiseMin(s.centre[1] - s.half_size[1]);
-  hi = hi.cwiseMax(s.centre[1] + s.half_size[1]);
+  // the support rectangle of the supporting soles, less the margin
+  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+  for (int i = 0; i < 2; ++i) {
+    if (!s.supporting[i]) continue;
+    lo = lo.cwiseMin(s.centre[i] - s.half_size[i]);
+    hi = hi.cwiseMax(s.centre[i] + s.half_size[i]);
+  }
+  if (lo.x() > hi.x()) lo = hi = c;  // no support: nothing to clamp to
   lo.array() += g.support_margin;
   hi.array() -= g.support_margin;
+  lo = lo.cwiseMin(0.5 * (lo + hi));
+  hi = hi.cwiseMax(lo);
   out_.zmp_desired = out_.zmp_desired_raw.cwiseMax(lo).cwiseMin(hi);
   const Eigen::Vector2d excess = out_.zmp_desired_raw - out_.zmp_desired;
 
@@ -67,12 +75,15 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   const Eigen::Vector2d& pd = out_.zmp_desired;
   const double yl = s.centre[0].y(), yr = s.centre[1].y();
   const double span = yl - yr;
-  const double alpha = std::abs(span) > 1e-6 ? std::clamp((pd.y() - yr) / span, 0.0, 1.0) : 0.5;
+  double alpha = std::abs(span) > 1e-6 ? std::clamp((pd.y() - yr) / span, 0.0, 1.0) : 0.5;
+  if (!s.supporting[0]) alpha = 0.0;
+  if (!s.supporting[1]) alpha = 1.0;
   out_.fz_share[0] = alpha;
   out_.fz_share[1] = 1.0 - alpha;
   const double fz_total = in.feet[0].f_W.z() + in.feet[1].f_W.z();
   // what the shares leave of p_d's lateral position is carried inside the soles
   const double y_shift = pd.y() - (alpha * yl + (1.0 - alpha) * yr);
+  const double x_shift[2] = {pd.x() - s.centre[0].x(), pd.x() - s.centre[1].x()};
 
   //---------------- ankle strategy: foot damping control ----------------
   double* roll = out_.foot_roll;
@@ -80,26 +91,43 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   for (int i = 0; i < 2; ++i) {
     const FootWrench& w = in.feet[i];
     const double fz_d = out_.fz_share[i] * fz_total;
-    if (!g.ankle_strategy || !(w.f_W.z() > kLoadedFoot)) {
-      roll[i] -= dt * roll[i] / g.ankle_recovery;
-      pitch[i] -= dt * pitch[i] / g.ankle_recovery;
+    const double back = dt / g.ankle_recovery;  // return towards the rest orientation
+    if (!g.ankle_strategy || !s.supporting[i] || !(w.f_W.z() > kLoadedFoot)) {
+      roll[i] -= back * (roll[i] - out_.rest_roll[i]);
+      pitch[i] -= back * (pitch[i] - out_.rest_pitch[i]);
       continue;
     }
     const Eigen::Vector2d inner = (s.half_size[i].array() - g.support_margin).max(0.0);
-    const double cop_x = std::clamp(pd.x(), s.centre[i].x() - inner.x(), s.centre[i].x() + inner.x());
+    const double cop_x = s.centre[i].x() + Clamp(x_shift[i], inner.x());
     const double cop_y = s.centre[i].y() + Clamp(y_shift, inner.y());
     const double dzs = s.ground_z - w.p_WS.z();  // the CoP lies below the sensor
     // moment about the sensor of the desired force at the desired CoP
     const double nx_d = (cop_y - w.p_WS.y()) * fz_d - dzs * w.f_W.y();
     const double ny_d = dzs * w.f_W.x() - (cop_x - w.p_WS.x()) * fz_d;
-    roll[i] += dt * ((w.n_W.x() - nx_d) / g.ankle_damping - roll[i] / g.ankle_recovery);
-    pitch[i] += dt * ((w.n_W.y() - ny_d) / g.ankle_damping - pitch[i] / g.ankle_recovery);
+    roll[i] += dt * (w.n_W.x() - nx_d) / g.ankle_damping - back * (roll[i] - out_.rest_roll[i]);
+    pitch[i] += dt * (w.n_W.y() - ny_d) / g.ankle_damping - back * (pitch[i] - out_.rest_pitch[i]);
     roll[i] = Clamp(roll[i], g.max_foot_rotation);
     pitch[i] = Clamp(pitch[i], g.max_foot_rotation);
+
+    // ground adaptation: while this sole's own CoP stays well inside it, it stands flat, and
+    // its measured tilt is the ground's
+    if (g.ground_adaptation > 0) {
+      const double fz = w.f_W.z();
+      const double px = w.p_WS.x() + (-w.n_W.y() - (w.p_WS.z() - s.ground_z) * w.f_W.x()) / fz;
+      const double py = w.p_WS.y() + (w.n_W.x() - (w.p_WS.z() - s.ground_z) * w.f_W.y()) / fz;
+      const Eigen::Vector2d d = (Eigen::Vector2d(px, py) - s.centre[i]).cwiseAbs();
+      if ((s.half_size[i] - d).minCoeff() > g.flat_margin) {
+        const double k = dt / g.ground_adaptation;
+        out_.rest_roll[i] += k * (in.sole_tilt[i].x() - out_.rest_roll[i]);
+        out_.rest_pitch[i] += k * (in.sole_tilt[i].y() - out_.rest_pitch[i]);
+        out_.rest_roll[i] = Clamp(out_.rest_roll[i], g.max_foot_rotation);
+        out_.rest_pitch[i] = Clamp(out_.rest_pitch[i], g.max_foot_rotation);
+      }
+    }
   }
 
   //---------------- ankle strategy: sole height difference ----------------
-  if (g.ankle_strategy && fz_total > kLoadedFoot) {
+  if (g.ankle_strategy && s.supporting[0] && s.supporting[1] && fz_total > kLoadedFoot) {
     const double diff_m = in.feet[0].f_W.z() - in.feet[1].f_W.z();
     const double diff_d = (out_.fz_share[0] - out_.fz_share[1]) * fz_total;
     out_.dz += dt * ((diff_m - diff_d) / g.z_damping - out_.dz / g.z_recovery);

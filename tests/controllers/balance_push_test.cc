@@ -29,10 +29,21 @@ TEST(BalancePush, DISABLED_Explore) {
   g.hip_return = Env("OHRP_TUNE_HIPW", g.hip_return);
   g.ankle_strategy = Env("OHRP_TUNE_ANKLE", 1) > 0;
   g.support_margin = Env("OHRP_TUNE_MARGIN", g.support_margin);
+  g.ground_adaptation = Env("OHRP_TUNE_GA", g.ground_adaptation);
   o.centre_com = Env("OHRP_TUNE_CENTRE", 1) > 0;
   const double impulse = Env("OHRP_TUNE_IMPULSE", 15);
   const bool posture = Env("OHRP_TUNE_POSTURE", 0) > 0;
   const bool bisect = Env("OHRP_TUNE_BISECT", 0) > 0;
+  if (Env("OHRP_TUNE_ONELEG", 0) > 0) {
+    o.one_leg.sides = {0, 1};
+    PushTrial t;
+    t.options = o;
+    t.scene = std::getenv("OHRP_TUNE_SCENE") ? std::getenv("OHRP_TUNE_SCENE") : t.scene;
+    const OneLegOutcome r = RunOneLegTrial(t);
+    std::printf("one leg: %s, min stance CoP margin %.1f mm, max swing load %.1f N, min lift %.1f mm\n",
+                r.standing ? "standing" : "FELL", r.min_cop_margin * 1e3, r.max_swing_fz, r.min_lift * 1e3);
+    return;
+  }
   for (int dir = 0; dir < 360; dir += 45) {
     if (bisect) {
       double lo = 0, hi = 200;

@@ -151,4 +151,91 @@ inline PushOutcome RunPushTrial(const PushTrial& t) {
   return out;
 }
 
+struct OneLegOutcome {
+  bool standing = false;        // at the end, base above 80 % of its start height, tilt < 30 deg
+  double min_cop_margin = 1e9;  // while on one foot (lift complete): the stance sole's CoP
+                                // distance to its nearest edge, smallest [m]
+  double max_swing_fz = 0;      // the swing foot's largest normal force then [N]
+  double min_lift = 1e9;        // the swing sole's smallest height above where it was [m]
+  int holds = 0;                // sides held
+  double hold_time = 0;         // time spent on one foot with the foot fully lifted [s]
+};
+
+// balance standing on each foot in turn (options.one_leg.sides), judged on the truth
+inline OneLegOutcome RunOneLegTrial(const PushTrial& t, const std::string& keyframe = "halfsit") {
+  OneLegOutcome out;
+  sim::InProcessOptions io;
+  io.scene = std::string(OHRP_SOURCE_DIR) + "/" + t.scene;
+  io.keyframe = keyframe;
+  std::string error;
+  auto robot = sim::InProcessRobot::Create(io, &error);
+  EXPECT_TRUE(robot) << error;
+  if (!robot) return out;
+  ConfigStatus status;
+  BalanceOptions o = t.options;
+  o.ramp = 0.5;
+  auto c = BalanceController::Create(o, &status);
+  EXPECT_TRUE(c) << status.message;
+  if (!c) return out;
+  status = c->configure(robot->header());
+  EXPECT_TRUE(status.ok()) << status.message;
+  if (!status.ok()) return out;
+  c->activate(robot->sensors());
+  // the soles' rectangles in their sensors' frames, from the model at the start
+  const mjModel* m = robot->m();
+  const mjData* d = robot->d();
+  int geom[2], site[2], ft[2] = {-1, -1};
+  for (int i = 0; i < 2; ++i) {
+    const char* sensor = i == 0 ? "lfsensor" : "rfsensor";
+    geom[i] = mj_name2id(m, mjOBJ_GEOM, i == 0 ? "LLEG_SOLE" : "RLEG_SOLE");
+    site[i] = mj_name2id(m, mjOBJ_SITE, sensor);
+    for (int k = 0; k < robot->header().nforce; ++k)
+      if (std::string(robot->header().force_names[k]) == sensor) ft[i] = k;
+    EXPECT_GE(ft[i], 0);
+    EXPECT_GE(geom[i], 0);
+    EXPECT_GE(site[i], 0);
+    if (geom[i] < 0 || site[i] < 0 || ft[i] < 0) return out;
+  }
+  const double z0 = robot->sensors().sim_truth.p_WB[2];
+  shm::CommandBlock cmd{};
+  double sole_z0[2] = {0, 0};
+  const double t_end = 1.0 + 1.0 + o.one_leg.sides.size() * (2 * o.one_leg.shift_time +
+                       2 * o.one_leg.lift_time + o.one_leg.hold + o.one_leg.pause) + 1.0;
+  int last_side = -1;
+  while (robot->sensors().time < t_end) {
+    c->update(robot->sensors(), &cmd);
+    robot->Cycle(cmd);
+    const shm::SensorBlock& s = robot->sensors();
+    const StanceTargets& tg = c->targets();
+    if (tg.standing_on < 0) {
+      for (int i = 0; i < 2; ++i) sole_z0[i] = d->geom_xpos[3 * geom[i] + 2];
+      continue;
+    }
+    const int st = tg.standing_on, sw = 1 - st;
+    if (tg.lift[sw] < 0.999 * o.one_leg.lift) continue;
+    if (st != last_side) ++out.holds, last_side = st;
+    out.hold_time += 0.005;
+    // the stance sole's CoP in its sensor's frame (the sensor on the sole's bottom plane),
+    // against the sole's rectangle there
+    const shm::ForceTorque& f = s.force[ft[st]];
+    const double fz = f.force[2];
+    if (fz > 50) {
+      const double cx = -f.torque[1] / fz, cy = f.torque[0] / fz;
+      // sole rectangle in the sensor frame: geom centre relative to the site, in the site frame
+      double rel_W[3], rel_S[3];
+      for (int k = 0; k < 3; ++k) rel_W[k] = d->geom_xpos[3 * geom[st] + k] - d->site_xpos[3 * site[st] + k];
+      mju_rotVecMatT(rel_S, rel_W, d->site_xmat + 9 * site[st]);
+      const double hx = m->geom_size[3 * geom[st]], hy = m->geom_size[3 * geom[st] + 1];
+      const double margin = std::min({hx - std::abs(cx - rel_S[0]), hy - std::abs(cy - rel_S[1])});
+      out.min_cop_margin = std::min(out.min_cop_margin, margin);
+    }
+    const shm::ForceTorque& fs = s.force[ft[sw]];
+    out.max_swing_fz = std::max(out.max_swing_fz, fs.force[2]);
+    out.min_lift = std::min(out.min_lift, d->geom_xpos[3 * geom[sw] + 2] - sole_z0[sw]);
+  }
+  const shm::SensorBlock& s = robot->sensors();
+  out.standing = s.sim_truth.p_WB[2] > 0.8 * z0 && Tilt(s.sim_truth.quat_WB) < 30 * M_PI / 180;
+  return out;
+}
+
 }  // namespace ohrp::controllers::testing

@@ -11,7 +11,9 @@
 //              (centre_com) the hips move so that the CoM comes over the middle of the soles,
 //              where the soles leave the same margin to the toes and to the heels: the shift
 //              is computed on the model (the CoM of the stance pose against the soles' centres)
-//              and made over `centre_time` seconds, c_ref moving with it.
+//              and made over `centre_time` seconds, c_ref moving with it. Then, if asked,
+//              standing on one leg in turn (stance_plan.h): the CoM over one sole, the other
+//              lifted, held, put down, back to the middle.
 //   stand      every cycle: the base estimator (robot_model/estimator.h) gives the CoM and its
 //              velocity; the stabilizer (stabilizer.h) turns the DCM error into a desired ZMP,
 //              foot rotation and height offsets (ankle strategy, damping control against the
@@ -32,6 +34,7 @@
 #include "controllers/controller.h"
 #include "controllers/pose.h"
 #include "controllers/stabilizer.h"
+#include "controllers/stance_plan.h"
 #include "robot_model/estimator.h"
 #include "robot_model/ik.h"
 #include "robot_model/kinematics.h"
@@ -48,6 +51,7 @@ struct BalanceOptions {
   double settle = 0.5;      // [s] of quiet standing before c_ref is taken
   bool centre_com = true;   // move the CoM over the middle of the soles once standing
   double centre_time = 1.0; // [s] that move takes (minimum jerk)
+  OneLegOptions one_leg;    // standing on one foot in turn after that (stance_plan.h)
   StabilizerGains gains;
   model::EstimatorOptions estimator;
 };
@@ -83,6 +87,8 @@ class BalanceController : public Controller {
   bool standing() const { return phase_ == Phase::kStand; }
   // the stance reference of the CoM (valid once standing) [m]
   const Eigen::Vector2d& c_ref() const { return c_ref_; }
+  // the stance plan's targets of the last cycle (while standing)
+  const StanceTargets& targets() const { return targets_; }
   void report(std::ostream& out) const override;
 
  protected:
@@ -97,6 +103,9 @@ class BalanceController : public Controller {
                     std::unique_ptr<model::Kinematics> kin_ik);
   bool SensorsUsable(const shm::SensorBlock& s, HoldReason* why) const noexcept;
   void EnterStand(const shm::SensorBlock& s) noexcept;
+  // the hip shift (base frame) that puts the model's CoM over `p_B` (base frame) with the soles
+  // held, and how far the CoM moves; false when the legs cannot reach
+  bool SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift);
   void Stand(const shm::SensorBlock& s, double dt) noexcept;
   void Write(shm::CommandBlock* commands, double dt) noexcept;
 
@@ -117,8 +126,10 @@ class BalanceController : public Controller {
   Eigen::Matrix3d R_BS_nominal_[2];
   Eigen::Vector2d c_ref_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d c_ref_start_ = Eigen::Vector2d::Zero();  // measured at the stance [m]
-  Eigen::Vector2d com_shift_B_ = Eigen::Vector2d::Zero();  // CoM shift wanted, base frame [m]
-  Eigen::Vector2d base_shift_B_ = Eigen::Vector2d::Zero(); // hip shift that makes it [m]
+  StancePlan plan_;                                         // hips, CoM, support over time
+  StanceTargets targets_;                                   // its targets of the last cycle
+  double lift_extra_ = 0;    // closes the swing foot's measured lift onto the plan's [m]
+  double sole_z0_[2] = {0, 0};  // the soles' estimated heights while both stand [m]
   double stand_time_ = 0;                                  // producer time of the stance [s]
 
   Phase phase_ = Phase::kRamp;

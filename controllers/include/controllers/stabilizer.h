@@ -5,10 +5,12 @@
 //
 //   1. measured ZMP       from the two ankle force/torque sensors (MeasureZmp).
 //   2. desired ZMP        from the divergent component of motion (DCM, capture point)
-//                         xi = c + dc/omega, omega = sqrt(g / h):
-//                           p_d = xi + (k_dcm / omega) (xi - c_ref)
-//                         so that xi converges to c_ref at the rate k_dcm [1/s]; p_d is then
-//                         clamped to the support (the soles' rectangle less a margin).
+//                         xi = c + dc/omega, omega = sqrt(g / h), tracking the reference's
+//                         xi_r = c_r + dc_r/omega with the reference's ZMP p_r = c_r - ddc_r/omega^2:
+//                           p_d = p_r + (1 + k_dcm / omega) (xi - xi_r)
+//                         so that xi - xi_r decays at the rate k_dcm [1/s] (for a still
+//                         reference: p_d = xi + (k_dcm / omega)(xi - c_r)); p_d is then clamped
+//                         to the support (the supporting soles' rectangle less a margin).
 //   3. ankle strategy     the ZMP is distributed to the feet (normal force shares from p_d's
 //                         lateral position, each sole's centre of pressure at p_d as far as the
 //                         sole allows); each foot's rotation offset follows the damping
@@ -16,7 +18,12 @@
 //                         and the difference of the soles' heights follows
 //                         d(dz)/dt = (fz_diff_measured - fz_diff_desired) / D_z - dz / T_z.
 //                         On the soft soles this is the compliance the issue asks for: the foot
-//                         yields until it carries the moment the balance needs.
+//                         yields until it carries the moment the balance needs. The offsets
+//                         return (time constant T) to a rest orientation that follows the
+//                         sole's measured tilt while its own CoP stays well inside it (it
+//                         stands flat, so its tilt is the ground's): on a slope or a wave the
+//                         feet keep the ground's tilt instead of being pulled back onto an
+//                         edge, and on flat ground the rest stays flat (ground adaptation).
 //   4. CoM correction    what the (leaky) damping control leaves of the CoM error is integrated
 //                         slowly into a shift of the hips: d(offset)/dt = k_i (c_ref - c),
 //                         only while the DCM is near c_ref (no wind-up during a push).
@@ -51,6 +58,10 @@ struct StabilizerGains {
   double ankle_damping = 300.0;  // D of the foot rotation damping control [N m s/rad]
   double ankle_recovery = 2.0;   // T: foot rotation offsets decay with this time constant [s]
   double max_foot_rotation = 0.15;  // clamp of the foot rotation offsets [rad]
+  double ground_adaptation = 1.0;   // time constant with which the feet's rest orientation
+                                    // follows the measured tilt of the sole while it stands
+                                    // flat [s] (0: off; the offsets then return to zero)
+  double flat_margin = 0.02;        // a sole stands flat while its CoP is this far inside [m]
   double z_damping = 2.0e4;      // D_z of the sole height difference control [N s/m]
   double z_recovery = 0.5;       // T_z [s]
   double max_dz = 0.03;          // clamp of the sole height difference [m]
@@ -71,13 +82,20 @@ struct Support {
   Eigen::Vector2d centre[2];      // left, right sole centres [m]
   Eigen::Vector2d half_size[2];   // their half lengths along x and y [m]
   double ground_z = 0;            // height of the soles' bottoms [m]
+  bool supporting[2] = {true, true};  // which soles carry the robot (false: a swing foot,
+                                      // given no load, no damping control, no height control)
 };
 
 struct StabilizerInput {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();   // centre of mass (estimated) [m]
   Eigen::Vector3d dc = Eigen::Vector3d::Zero();  // its velocity [m/s]
-  Eigen::Vector2d c_ref = Eigen::Vector2d::Zero();  // where the CoM should stand [m]
+  Eigen::Vector2d c_ref = Eigen::Vector2d::Zero();  // where the CoM should be [m]
+  Eigen::Vector2d dc_ref = Eigen::Vector2d::Zero();   // its velocity [m/s]
+  Eigen::Vector2d ddc_ref = Eigen::Vector2d::Zero();  // its acceleration [m/s^2]
   FootWrench feet[2];                            // left, right ankle wrenches
+  // the soles' measured tilt in W (estimated base orientation and joint angles): roll about
+  // x and pitch about y such that the sole's normal is Rx(roll) Ry(pitch) e_z [rad]
+  Eigen::Vector2d sole_tilt[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
   Support support;
   double mass = 0;                               // robot mass [kg]
 };
@@ -92,6 +110,9 @@ struct StabilizerOutput {
   // difference left minus right [m] (applied +dz/2 on the left, -dz/2 on the right), and the
   // torso's pitch (about y) and roll (about x) offsets [rad]
   double foot_roll[2] = {0, 0}, foot_pitch[2] = {0, 0};
+  // the orientation the offsets return to: learnt while the sole stands flat on the ground,
+  // so that a foot on a slope stays parallel to it (ground adaptation) [rad]
+  double rest_roll[2] = {0, 0}, rest_pitch[2] = {0, 0};
   double dz = 0;
   double torso_pitch = 0, torso_roll = 0;
   // the slow correction of the CoM's stance: move the base (hips) by this in W's x and y, so
