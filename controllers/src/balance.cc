@@ -20,6 +20,7 @@ namespace {
 // torso joints: on the path from the base to the IMU, turning about the base's y (pitch) or x
 // (roll) in the reference configuration
 constexpr double kAxisAlignment = 0.95;  // |cos| between the joint axis and the base axis [-]
+constexpr double kMaxWaitForContact = 1.0;  // [s] before the ramp starts without both soles down
 
 ConfigStatus CheckOptions(const BalanceOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
@@ -237,15 +238,48 @@ void BalanceController::on_activate(const shm::SensorBlock& s) noexcept {
     q_ref_[j] = q_prev_[j] = start_[j];
     dq_ref_[j] = 0;
   }
-  start_time_ = last_time_ = s.time;
+  start_time_ = last_time_ = activate_time_ = s.time;
   phase_ = Phase::kRamp;
   stabilizer_.Reset();
+  for (int j = 0; j < njoint(); ++j) ramp_target_[j] = target_[j];
   HoldReason why;
   if (!SensorsUsable(s, &why) || !estimator_->Reset(s)) {
     phase_ = Phase::kHold;
     stats_.hold_reason = SensorsUsable(s, &why) ? HoldReason::kEstimatorFailed : why;
     stats_.hold_time = s.time;
+    return;
   }
+  ramp_started_ = false;
+}
+
+void BalanceController::StartRamp(double time) noexcept {
+  ramp_started_ = true;
+  start_time_ = time;
+  // the stance pose with each loaded sole kept at the tilt it stands on
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(ramp_target_.data());
+  kin_ik_->Update();
+  const model::BaseEstimate& e = estimator_->estimate();
+  for (int i = 0; i < 2; ++i) {
+    if (!e.contact[i]) continue;
+    const Eigen::Vector2d tilt = SoleTilt(i).cwiseMax(-options_.gains.max_foot_rotation)
+                                     .cwiseMin(options_.gains.max_foot_rotation);
+    const Eigen::Matrix3d R = Rx(tilt.x()) * Ry(tilt.y()) * R_BS_nominal_[i];
+    std::array<double, shm::kMaxJoints> trial = ramp_target_;
+    if (leg_ik_[i]->Solve(*kin_ik_, p_BS_nominal_[i], R, trial.data()).status ==
+        model::IkStatus::kConverged) {
+      for (int j : leg_ik_[i]->chain()) ramp_target_[j] = trial[j];
+    }
+  }
+}
+
+Eigen::Vector2d BalanceController::SoleTilt(int i) const {
+  const model::Kinematics& k = *kin_est_;
+  const Eigen::Vector3d x_W = estimator_->estimate().quat_WB * Eigen::Vector3d::UnitX();
+  const double yaw = std::atan2(x_W.y(), x_W.x());
+  const Eigen::Vector3d n = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()) *
+                            (k.R_WSole(sole_[i]) * Eigen::Vector3d::UnitZ());
+  return Eigen::Vector2d(std::atan2(-n.y(), n.z()), std::asin(std::clamp(n.x(), -1.0, 1.0)));
 }
 
 //---------------- the cycle ----------------
@@ -271,8 +305,9 @@ void BalanceController::EnterStand(const shm::SensorBlock& s) noexcept {
   const model::BaseEstimate& e = estimator_->estimate();
   c_ref_start_ = c_ref_ = e.p_WCoM.head<2>();
   stand_time_ = s.time;
-  stabilizer_.Reset();
-  for (int j = 0; j < njoint(); ++j) q_ik_[j] = target_[j];
+  const Eigen::Vector2d tilt[2] = {SoleTilt(0), SoleTilt(1)};
+  stabilizer_.Reset(tilt);
+  for (int j = 0; j < njoint(); ++j) q_ik_[j] = ramp_target_[j];
   phase_ = Phase::kStand;
 }
 
@@ -308,10 +343,7 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
     w.f_W = R_WS * Eigen::Vector3d(ft.force[0], ft.force[1], ft.force[2]);
     w.n_W = R_WS * Eigen::Vector3d(ft.torque[0], ft.torque[1], ft.torque[2]);
     const model::SoleMap& sole = k.soles()[sole_[i]];
-    // the sole's tilt in W, yaw of the base taken out
-    const Eigen::Vector3d n = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()) *
-                              (k.R_WSole(sole_[i]) * Eigen::Vector3d::UnitZ());
-    input_.sole_tilt[i] = Eigen::Vector2d(std::atan2(-n.y(), n.z()), std::asin(std::clamp(n.x(), -1.0, 1.0)));
+    input_.sole_tilt[i] = SoleTilt(i);
     const Eigen::Vector3d p = k.p_WSole(sole_[i]);
     input_.support.centre[i] = p.head<2>();
     input_.support.half_size[i] = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
@@ -321,18 +353,28 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   // the swing foot's lift, measured (estimate) against the plan: the stance leg and hip yield
   // under the whole weight, so the commanded lift is topped up by a slow integral
   double lift_cmd[2] = {plan.lift[0], plan.lift[1]};
+  constexpr double kLiftGain = 5.0;        // [1/s]
+  constexpr double kMaxLiftExtra = 0.03;   // [m]
+  constexpr double kLiftExtraDecay = 0.5;  // [s] once the foot is down again
   if (plan.standing_on < 0) {
-    lift_extra_ = 0;
-    for (int i = 0; i < 2; ++i) sole_z0_[i] = k.p_WSole(sole_[i]).z();
+    // back on both feet: what was added goes away slowly (the dz control takes over)
+    lift_extra_ -= dt * lift_extra_ / kLiftExtraDecay;
+    lift_cmd[last_swing_] += lift_extra_;
+    lifted_ = false;
+    if (lift_extra_ < 1e-4)
+      for (int i = 0; i < 2; ++i) sole_z0_[i] = k.p_WSole(sole_[i]).z();
   } else {
-    constexpr double kLiftGain = 5.0;       // [1/s]
-    constexpr double kMaxLiftExtra = 0.03;  // [m]
     const int sw = 1 - plan.standing_on;
+    last_swing_ = sw;
     const double measured = k.p_WSole(sole_[sw]).z() - sole_z0_[sw];
     const double full = options_.one_leg.lift > 0 ? plan.lift[sw] / options_.one_leg.lift : 0.0;
-    if (full > 0.2) lift_extra_ += dt * kLiftGain * (plan.lift[sw] - measured);
+    if (full > 0.999) lifted_ = true;
+    // while rising, the extra grows with the lift; once up, it stays with the foot through the
+    // lowering, so that the foot meets the ground with the lift's zero speed, not early
+    if (full > 0.2 && !(lifted_ && full < 0.999))
+      lift_extra_ += dt * kLiftGain * (plan.lift[sw] - measured);
     lift_extra_ = std::clamp(lift_extra_, 0.0, kMaxLiftExtra);
-    lift_cmd[sw] += full * lift_extra_;
+    lift_cmd[sw] += (lifted_ ? 1.0 : full) * lift_extra_;
   }
   if (plan.standing_on >= 0) ground = k.p_WSole(sole_[plan.standing_on]).z();
   input_.support.ground_z = ground;
@@ -351,7 +393,7 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   }
 
   // joint references: stance pose, torso offsets, legs by IK to the offset soles
-  for (int j = 0; j < njoint(); ++j) q_ik_[j] = std::isfinite(q_ik_[j]) ? q_ik_[j] : target_[j];
+  for (int j = 0; j < njoint(); ++j) q_ik_[j] = std::isfinite(q_ik_[j]) ? q_ik_[j] : ramp_target_[j];
   if (torso_pitch_joint_ >= 0) q_ik_[torso_pitch_joint_] = target_[torso_pitch_joint_] + out.torso_pitch;
   if (torso_roll_joint_ >= 0) q_ik_[torso_roll_joint_] = target_[torso_roll_joint_] + out.torso_roll;
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
@@ -402,8 +444,16 @@ void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* 
   }
   switch (phase_) {
     case Phase::kRamp: {
+      // the ramp starts once both soles are on the ground (their tilt is the ground's then),
+      // or after kMaxWaitForContact
+      if (!ramp_started_) {
+        const model::BaseEstimate& e = estimator_->estimate();
+        if ((e.contact[0] && e.contact[1]) || s.time - activate_time_ > kMaxWaitForContact)
+          StartRamp(s.time);
+        break;  // q_ref_ holds the measured start pose
+      }
       const double elapsed = s.time - start_time_;
-      SampleRamp(start_.data(), target_.data(), njoint(), elapsed, options_.ramp, q_ref_.data(),
+      SampleRamp(start_.data(), ramp_target_.data(), njoint(), elapsed, options_.ramp, q_ref_.data(),
                  dq_ref_.data());
       if (elapsed >= options_.ramp + options_.settle) EnterStand(s);
       break;

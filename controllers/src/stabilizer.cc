@@ -38,6 +38,14 @@ void Stabilizer::Reset() {
   torso_rate_[0] = torso_rate_[1] = 0;
 }
 
+void Stabilizer::Reset(const Eigen::Vector2d ground_tilt[2]) {
+  Reset();
+  for (int i = 0; i < 2; ++i) {
+    out_.foot_roll[i] = out_.rest_roll[i] = Clamp(ground_tilt[i].x(), gains_.max_foot_rotation);
+    out_.foot_pitch[i] = out_.rest_pitch[i] = Clamp(ground_tilt[i].y(), gains_.max_foot_rotation);
+  }
+}
+
 const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt) noexcept {
   const StabilizerGains& g = gains_;
   const Support& s = in.support;

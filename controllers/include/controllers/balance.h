@@ -5,8 +5,12 @@
 //              robot differs (the model hash in the segment header, robot_model/model_hash.h);
 //              refuses a robot without a floating base, two soles each with a force/torque
 //              sensor, or an IMU, saying what is missing.
-//   ramp       from the measured pose to the stance pose (half-sitting by default) over `ramp`
-//              seconds of the producer's time, then `settle` seconds of quiet standing; the
+//   ramp       once both soles are on the ground (at most 1 s after the first sensors, holding
+//              the measured pose until then), from the measured pose to the stance pose
+//              (half-sitting by default) over `ramp`
+//              seconds of the producer's time, the soles kept at the tilt the estimator measures
+//              at the start (on a ramp or a wave the ankles keep the ground's slope instead of
+//              putting the soles on an edge), then `settle` seconds of quiet standing; the
 //              centre of mass measured at the end is the stance reference c_ref. Then
 //              (centre_com) the hips move so that the CoM comes over the middle of the soles,
 //              where the soles leave the same margin to the toes and to the heels: the shift
@@ -103,6 +107,10 @@ class BalanceController : public Controller {
                     std::unique_ptr<model::Kinematics> kin_ik);
   bool SensorsUsable(const shm::SensorBlock& s, HoldReason* why) const noexcept;
   void EnterStand(const shm::SensorBlock& s) noexcept;
+  // the ramp to the stance pose, the legs fitted to the ground under the loaded soles
+  void StartRamp(double time) noexcept;
+  // sole i's tilt in W as the estimator sees it (roll, pitch; stabilizer.h), base yaw removed
+  Eigen::Vector2d SoleTilt(int i) const;
   // the hip shift (base frame) that puts the model's CoM over `p_B` (base frame) with the soles
   // held, and how far the CoM moves; false when the legs cannot reach
   bool SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift);
@@ -130,16 +138,20 @@ class BalanceController : public Controller {
   StanceTargets targets_;                                   // its targets of the last cycle
   double lift_extra_ = 0;    // closes the swing foot's measured lift onto the plan's [m]
   double sole_z0_[2] = {0, 0};  // the soles' estimated heights while both stand [m]
+  int last_swing_ = 0;          // the sole lifted last
+  bool lifted_ = false;         // the swing foot has reached its full lift
   double stand_time_ = 0;                                  // producer time of the stance [s]
 
   Phase phase_ = Phase::kRamp;
   std::vector<double> target_;                   // stance pose (njoint)
+  std::array<double, shm::kMaxJoints> ramp_target_{};  // the same, legs fitted to the ground
   std::array<double, shm::kMaxJoints> start_{};  // measured pose at activation
   std::array<double, shm::kMaxJoints> q_ref_{};
   std::array<double, shm::kMaxJoints> q_prev_{};
   std::array<double, shm::kMaxJoints> dq_ref_{};
   std::array<double, shm::kMaxJoints> q_ik_{};
-  double start_time_ = 0, last_time_ = 0;
+  double start_time_ = 0, last_time_ = 0, activate_time_ = 0;
+  bool ramp_started_ = false;
   BalanceStats stats_;
 };
 

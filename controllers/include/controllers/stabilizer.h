@@ -126,6 +126,9 @@ class Stabilizer {
   explicit Stabilizer(StabilizerGains gains = {});
   // forgets the offsets (foot, height, torso): the robot stands as commanded
   void Reset();
+  // the same, with the feet starting at (and resting on) the given tilts [rad]: the ground's
+  // under each sole, when the robot starts on uneven ground
+  void Reset(const Eigen::Vector2d ground_tilt[2]);
   // one control cycle of `dt` [s]
   const StabilizerOutput& Update(const StabilizerInput& in, double dt) noexcept;
 
