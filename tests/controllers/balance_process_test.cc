@@ -131,8 +131,18 @@ TEST(BalanceProcess, StandsOnSimHost) {
   EXPECT_NEAR(z_stance, 0.6839, 0.02);
   EXPECT_LT(hi - z_stance, 0.003);
   EXPECT_LT(z_stance - lo, 0.003);
-  std::printf("[ figures  ] balance on sim_host: base z at 3.5 s %.4f m, %.4f..%.4f m to 5 s\n%s",
-              z_stance, lo, hi, report.c_str());
+  // upright: the base's tilt (the angle of its z axis from the vertical) below 3 degrees
+  const auto qw = Column(csv, "base_qw"), qz = Column(csv, "base_qz");
+  ASSERT_EQ(qw.size(), qz.size());
+  double tilt_max = 0;
+  for (std::size_t i = 0; i < qw.size(); ++i) {
+    const double c = std::sqrt(qw[i].second * qw[i].second + qz[i].second * qz[i].second);
+    tilt_max = std::max(tilt_max, 2 * std::acos(std::min(1.0, c)) * 180 / M_PI);
+  }
+  EXPECT_LT(tilt_max, 3.0);
+  std::printf("[ figures  ] balance on sim_host: base z at 3.5 s %.4f m, %.4f..%.4f m to 5 s; "
+              "tilt max %.2f deg\n%s",
+              z_stance, lo, hi, tilt_max, report.c_str());
   for (const auto& f : {csv, sim_out, bal_out, summary}) fs::remove(f);
 }
 
