@@ -44,7 +44,9 @@ struct Chain {
 // then balance; the emulator is stopped with SIGINT once the driver ended.
 Chain RunChain(const std::string& tag, std::vector<std::string> emulator_args, double duration) {
   Chain c;
-  const fs::path dir = TempPath(tag) + "_dir";
+  const std::string base = TempPath(tag);
+  const fs::path dir = base + "_dir";
+  fs::remove(base);
   fs::create_directories(dir);
   auto path = [&](const char* f) { return (dir / f).string(); };
   std::vector<std::string> e = {Program("hw_emulator"), "--model", kScene, "--keyframe",

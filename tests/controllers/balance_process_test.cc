@@ -61,7 +61,9 @@ std::vector<std::pair<double, double>> Column(const std::string& path, const std
 // a copy of the robot file with `edit` applied, in a fresh directory next to an unchanged copy
 // of the flat scene (which includes "hrp1s.xml"); returns the robot file's path
 std::string EditedRobot(const std::string& tag, const std::function<void(std::string*)>& edit) {
-  const fs::path dir = fs::path(TempPath(tag)).string() + "_dir";
+  const std::string base = TempPath(tag);
+  const fs::path dir = base + "_dir";
+  fs::remove(base);
   fs::create_directories(dir);
   std::string text = ReadText(kRobotFile);
   edit(&text);
