@@ -69,6 +69,7 @@ const char* HoldReasonName(HoldReason r) {
     case HoldReason::kNonFiniteSensors: return "non-finite sensors";
     case HoldReason::kBoardFault: return "board fault reported by the producer";
     case HoldReason::kEstimatorFailed: return "state estimator failed";
+    case HoldReason::kStaleSensors: return "stale sensors (their time stopped advancing)";
   }
   return "?";
 }
@@ -130,8 +131,7 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
   const std::string diff = model::CheckModelMatches(kin_est_->m(), kin_est_->robot(), header);
   if (!diff.empty()) {
     return ConfigStatus::Fail(ConfigError::kMismatch,
-                              "the producer's robot is not the robot of --model " + options_.model +
-                                  ": " + diff);
+                              "--model " + options_.model + ": " + diff);
   }
   if (ConfigStatus s = ResolvePose(pose_, joint_names(), &target_); !s.ok()) return s;
   if (ConfigStatus s = CheckWithinLimits(header, target_.data(), pose_.source); !s.ok()) return s;
@@ -432,12 +432,16 @@ void BalanceController::Write(shm::CommandBlock* commands, double dt) noexcept {
 
 void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* commands) noexcept {
   double dt = s.time - last_time_;
+  // a block whose time does not advance is stale (the producer republished old data); the
+  // activation block comes twice (activate, then the first update)
+  const bool stale = !(dt > 0) && s.time != activate_time_;
+  HoldReason why = stale ? HoldReason::kStaleSensors : HoldReason::kNone;
   if (!(dt > 0) || !std::isfinite(dt)) dt = header().control_period;
   last_time_ = s.time;
   for (int j = 0; j < njoint(); ++j) q_prev_[j] = q_ref_[j];
 
-  HoldReason why = HoldReason::kNone;
-  if (phase_ != Phase::kHold && (!SensorsUsable(s, &why) || !estimator_->Update(s, dt))) {
+  if (phase_ != Phase::kHold && (why != HoldReason::kNone || !SensorsUsable(s, &why) ||
+                                 !estimator_->Update(s, dt))) {
     phase_ = Phase::kHold;
     stats_.hold_reason = why == HoldReason::kNone ? HoldReason::kEstimatorFailed : why;
     stats_.hold_time = s.time;

@@ -232,8 +232,8 @@ std::string CheckModelMatches(const mjModel* m, const RobotMap& robot,
 
   std::string message = "the producer's robot is not this model's robot";
   if (robot.name != h.robot_name) {
-    message += " (robot '" + std::string(h.robot_name) + "' in the segment, '" + robot.name +
-               "' here)";
+    message += " (model names, not compared: '" + std::string(h.robot_name) +
+               "' in the segment, '" + robot.name + "' here)";
   }
   std::string difference = FirstDifference(m, robot, h);
   if (difference.empty()) {

@@ -196,7 +196,7 @@ TEST(BalanceNaN, NaNDuringTheRampHoldsTheRampsLastReference) {
 // and does not say so. The issue asks for a hold and a report. On hw_driver a stuck sensor or a
 // silent board comes with kBoardFault (tested in balance_hw_test.cc), so this is the case of a
 // producer that does not flag its stale data. Enable once balance detects it.
-TEST(BalanceNaN, DISABLED_SensorsWhoseTimeStopsLatchTheHold) {
+TEST(BalanceNaN, SensorsWhoseTimeStopsLatchTheHold) {
   // from kBad on the measurements and the time repeat the block of kBad (the cycle counts on)
   shm::SensorBlock frozen{};
   bool have = false;

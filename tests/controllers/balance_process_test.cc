@@ -172,7 +172,8 @@ TEST(BalanceProcess, RefusesAProducerWhoseRobotDiffers) {
                             kWall);
   const std::string err = ReadText(bal_out);
   EXPECT_EQ(code, 3) << err;
-  EXPECT_NE(err.find("is not the robot of --model"), std::string::npos) << err;
+  EXPECT_NE(err.find("--model " + copy + ": the producer's robot is not this model's robot"),
+            std::string::npos) << err;
   EXPECT_NE(err.find("'CHEST' moves a body of 13 kg in the segment, 14 kg here"),
             std::string::npos) << err;
   EXPECT_NE(err.find("hash"), std::string::npos) << err;

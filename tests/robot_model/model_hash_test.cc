@@ -275,8 +275,8 @@ TEST_F(ModelHashTest, ADifferentRobotNameIsANoteBeforeTheDifference) {
     std::ofstream(renamed) << text;
   }
   const std::string m = CheckAgainstOriginal(renamed);
-  EXPECT_NE(m.find("the producer's robot is not this model's robot (robot 'hrp1s' in the "
-                   "segment, 'hrp2' here): the robot's total mass is 130.8 kg"),
+  EXPECT_NE(m.find("the producer's robot is not this model's robot (model names, not compared: "
+                   "'hrp1s' in the segment, 'hrp2' here): the robot's total mass is 130.8 kg"),
             std::string::npos)
       << m;
   ExpectEndsWithHashes(m);

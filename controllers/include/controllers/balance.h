@@ -23,7 +23,8 @@
 //              foot rotation and height offsets (ankle strategy, damping control against the
 //              ankle sensors) and torso offsets (hip strategy); leg inverse kinematics
 //              (robot_model/ik.h) turns the sole targets into joint references.
-//   hold       sensors that go non-finite, or a board fault reported by the producer, latch a
+//   hold       sensors that go non-finite or stale (their time stops advancing), or a board
+//              fault reported by the producer, latch a
 //              hold of the last commanded posture (never NaN); the reason and the time are
 //              reported at the end of the run.
 // The per-cycle path allocates nothing, throws nothing and logs nothing.
@@ -61,7 +62,7 @@ struct BalanceOptions {
 };
 
 // why the controller went to its hold (BalanceController::hold_reason)
-enum class HoldReason { kNone, kNonFiniteSensors, kBoardFault, kEstimatorFailed };
+enum class HoldReason { kNone, kNonFiniteSensors, kBoardFault, kEstimatorFailed, kStaleSensors };
 const char* HoldReasonName(HoldReason r);
 
 // what happened during the run, for the report and for tests
