@@ -21,6 +21,7 @@ namespace {
 // (roll) in the reference configuration
 constexpr double kAxisAlignment = 0.95;  // |cos| between the joint axis and the base axis [-]
 constexpr double kMaxWaitForContact = 1.0;  // [s] before the ramp starts without both soles down
+constexpr double kEstimatorSettle = 0.3;    // [s] of estimation before the soles' tilt is trusted
 
 ConfigStatus CheckOptions(const BalanceOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
@@ -448,11 +449,14 @@ void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* 
   }
   switch (phase_) {
     case Phase::kRamp: {
-      // the ramp starts once both soles are on the ground (their tilt is the ground's then),
-      // or after kMaxWaitForContact
+      // the ramp starts once both soles are on the ground (their tilt is the ground's then) and
+      // the estimator has settled (its tilt from one accelerometer sample at Reset is not
+      // trusted), or after kMaxWaitForContact
       if (!ramp_started_) {
         const model::BaseEstimate& e = estimator_->estimate();
-        if ((e.contact[0] && e.contact[1]) || s.time - activate_time_ > kMaxWaitForContact)
+        const double waited = s.time - activate_time_;
+        if ((e.contact[0] && e.contact[1] && waited >= kEstimatorSettle) ||
+            waited > kMaxWaitForContact)
           StartRamp(s.time);
         break;  // q_ref_ holds the measured start pose
       }

@@ -5,8 +5,9 @@
 //              robot differs (the model hash in the segment header, robot_model/model_hash.h);
 //              refuses a robot without a floating base, two soles each with a force/torque
 //              sensor, or an IMU, saying what is missing.
-//   ramp       once both soles are on the ground (at most 1 s after the first sensors, holding
-//              the measured pose until then), from the measured pose to the stance pose
+//   ramp       once both soles are on the ground and the estimator has run 0.3 s (at most 1 s
+//              after the first sensors, holding the measured pose until then), from the
+//              measured pose to the stance pose
 //              (half-sitting by default) over `ramp`
 //              seconds of the producer's time, the soles kept at the tilt the estimator measures
 //              at the start (on a ramp or a wave the ankles keep the ground's slope instead of
