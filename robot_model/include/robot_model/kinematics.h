@@ -29,7 +29,7 @@
 // iterations, the estimator's relative kinematics). The CoM and the motion axes behind the
 // Jacobians and the dynamics are computed on the first query that needs them, the poses of
 // sites and soles on each query; results are those of MuJoCo's full mj_kinematics, mj_comPos,
-// mj_comVel, mj_subtreeVel, bit for bit.
+// mj_comVel, mj_subtreeVel run once per change of the state, bit for bit.
 #pragma once
 
 #include <mujoco/mujoco.h>
