@@ -386,6 +386,11 @@ TEST(KinematicsHrp1s, GravityTorquesAreTheWeightThroughTheCentreOfMassJacobian) 
 // what MuJoCo's full pipeline (mj_kinematics, mj_comPos, mj_comVel, mj_subtreeVel on the full
 // model) gives for the state set, run once per change of it (positions, or velocities only),
 // bit for bit (tolerance 0: the same operations in the same order)
+// MuJoCo's row-major 3x3
+Eigen::Matrix3d Mat3(const mjtNum* x) {
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(x);
+}
+
 TEST(KinematicsHrp1s, IncrementalUpdatesEqualMujocosFullPipelineExactly) {
   auto kin = Hrp1s();
   ASSERT_TRUE(kin);
@@ -404,7 +409,8 @@ TEST(KinematicsHrp1s, IncrementalUpdatesEqualMujocosFullPipelineExactly) {
   // base quaternion in qpos, which the next velocity conversion reads)
   auto set_positions = [&] {
     const Eigen::Quaterniond quat = s.quat_WB.normalized();
-    const double pose[7] = {s.p_WB.x(), s.p_WB.y(), s.p_WB.z(), quat.w(), quat.x(), quat.y(), quat.z()};
+    const double pose[7] = {s.p_WB.x(), s.p_WB.y(), s.p_WB.z(),
+                            quat.w(),   quat.x(),   quat.y(),   quat.z()};
     for (int k = 0; k < 7; ++k) d->qpos[qb + k] = pose[k];
     for (int j = 0; j < kin->njoint(); ++j) d->qpos[kin->robot().joints[j].qpos_adr] = s.q[j];
   };
@@ -413,7 +419,7 @@ TEST(KinematicsHrp1s, IncrementalUpdatesEqualMujocosFullPipelineExactly) {
   auto reference = [&](bool positions) {
     mjtNum R[9];
     mju_quat2Mat(R, d->qpos + qb + 3);
-    const Eigen::Matrix3d R_WB = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R);
+    const Eigen::Matrix3d R_WB = Mat3(R);
     const Eigen::Vector3d w_B = R_WB.transpose() * w_WB;  // as kinematics.cc writes it
     for (int k = 0; k < 3; ++k) {
       d->qvel[vb + k] = v_WB[k];
@@ -430,17 +436,18 @@ TEST(KinematicsHrp1s, IncrementalUpdatesEqualMujocosFullPipelineExactly) {
     SCOPED_TRACE(what);
     for (int b = 0; b < m->nbody; ++b) {
       EXPECT_EQ(kin->p_WBody(b), Eigen::Vector3d(d->xpos + 3 * b));
-      EXPECT_EQ(kin->R_WBody(b), (Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d->xmat + 9 * b)));
+      EXPECT_EQ(kin->R_WBody(b), Mat3(d->xmat + 9 * b));
     }
     for (int i = 0; i < m->nsite; ++i) {
       EXPECT_EQ(kin->p_WSite(i), Eigen::Vector3d(d->site_xpos + 3 * i));
-      EXPECT_EQ(kin->R_WSite(i), (Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d->site_xmat + 9 * i)));
+      EXPECT_EQ(kin->R_WSite(i), Mat3(d->site_xmat + 9 * i));
     }
     for (int i = 0; i < 2; ++i) {
       const SoleMap& sole = kin->soles()[i];
-      const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d->geom_xmat + 9 * sole.geom_id);
+      const Eigen::Matrix3d R = Mat3(d->geom_xmat + 9 * sole.geom_id);
+      const Eigen::Vector3d centre(d->geom_xpos + 3 * sole.geom_id);
       EXPECT_EQ(kin->R_WSole(i), R);
-      EXPECT_EQ(kin->p_WSole(i), Eigen::Vector3d(Eigen::Vector3d(d->geom_xpos + 3 * sole.geom_id) - sole.half_size[2] * R.col(2)));
+      EXPECT_EQ(kin->p_WSole(i), Eigen::Vector3d(centre - sole.half_size[2] * R.col(2)));
     }
     EXPECT_EQ(kin->p_WCoM(), Eigen::Vector3d(d->subtree_com + 3 * base));
     if (velocity) {

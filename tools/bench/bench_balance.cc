@@ -167,8 +167,8 @@ int main(int argc, char** argv) {
   }
   const double overhead = ThreadCpuOverhead();
   const double b = Quantile(loops[0].wall, 0.5), p = Quantile(loops[1].wall, 0.5);
-  std::printf("%-44s %26s   %26s\n", "one control cycle (update only) [us]", "wall: median  p90  p99",
-              "thread CPU: median  p90  p99");
+  std::printf("%-44s %26s   %26s\n", "one control cycle (update only) [us]",
+              "wall: median  p90  p99", "thread CPU: median  p90  p99");
   PrintRow("posture (ramp, then hold)", loops[1].wall, loops[1].cpu, overhead);
   PrintRow("balance (estimator + stabilizer + 2 leg IK)", loops[0].wall, loops[0].cpu, overhead);
   std::printf("(%zu cycles each; thread CPU clock read cost %.2f us subtracted)\n",
