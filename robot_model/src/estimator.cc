@@ -96,7 +96,7 @@ bool BaseEstimator::Finite(const shm::SensorBlock& s) const {
 void BaseEstimator::Measure(const shm::SensorBlock& s) {
   kin_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   kin_->SetJointPositions(s.q);
-  kin_->Update();
+  kin_->UpdatePositions();  // no CoM velocity here: Publish computes it at the estimate
   const int nj = kin_->njoint();
   const int c0 = kin_->base_columns();
   const Eigen::Map<const Eigen::VectorXd> dq(s.dq, nj);

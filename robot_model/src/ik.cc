@@ -115,7 +115,7 @@ double LimbIk::Error(const Kinematics& kin, const Eigen::Vector3d& p_WT_target,
 void LimbIk::Apply(Kinematics& kin) {
   for (size_t k = 0; k < chain_.size(); ++k) q_all_[chain_[k]] = q_chain_[k];
   kin.SetJointPositions(q_all_.data());
-  kin.Update();
+  kin.UpdatePositions();  // the CoM velocity is not needed here
 }
 
 //---------------- solve ----------------

@@ -6,10 +6,18 @@
 //   qvel_mj = T v,  T = identity but for the base's angular block, which is R^T,
 // so a Jacobian becomes J_mj T (angular columns times R^T), a generalised force T^T f_mj
 // (angular entries times R) and the mass matrix T^T M_mj T.
+//
+// Work per Update is only what a query needs (see kinematics.h): setters note whether a value
+// changed; mj_kinematics runs on a shallow copy of the model that has no geoms and no sites
+// (the robot has many geoms, the queries need a few sole and site poses, which are computed
+// per query with MuJoCo's own mj_local2Global, as mj_kinematics would); mj_comPos runs on the
+// first query that needs it; the CoM velocity sums the bodies' momenta as mj_subtreeVel does
+// (same operations in the same order) without its angular momenta, which nothing here reads.
 #include "robot_model/kinematics.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace ohrp::model {
 namespace {
@@ -26,6 +34,13 @@ void RotateTriplet(const Eigen::Matrix3d& R, mjtNum* p, int stride) {
   p[0] = w.x();
   p[stride] = w.y();
   p[2 * stride] = w.z();
+}
+
+// sets *x to v, true when that changed its bits (so -0 vs 0 and NaNs count as they compute)
+bool Assign(mjtNum* x, mjtNum v) {
+  if (std::memcmp(x, &v, sizeof v) == 0) return false;
+  *x = v;
+  return true;
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
@@ -100,6 +115,10 @@ bool Kinematics::Init(mjModel* m, std::string* error) {
     *error = "cannot allocate mjData";
     return false;
   }
+  // the model as mj_kinematics sees it: the same arrays, geoms and sites left out
+  m_bodies_ = *m_;
+  m_bodies_.ngeom = 0;
+  m_bodies_.nsite = 0;
   if (!MapRobot(m_, &robot_, error)) return false;
   com_body_ = floating() ? robot_.base_body : 0;
 
@@ -116,6 +135,7 @@ bool Kinematics::Init(mjModel* m, std::string* error) {
   jacp_.assign(3 * m_->nv, 0);
   jacr_.assign(3 * m_->nv, 0);
   dense_.assign(static_cast<size_t>(m_->nv) * std::max(m_->nv, 1), 0);
+  momentum_.assign(3 * m_->nbody, 0);
 
   // the reference configuration (qpos0, zero velocity): mj_makeData starts there
   Update();
@@ -181,33 +201,54 @@ void Kinematics::SetBasePose(const Eigen::Vector3d& p_WB, const Eigen::Quaternio
   if (!floating()) return;
   mjtNum* qpos = d_->qpos + robot_.base_qpos;
   const Eigen::Quaterniond q = quat_WB.normalized();
-  qpos[0] = p_WB.x();
-  qpos[1] = p_WB.y();
-  qpos[2] = p_WB.z();
-  qpos[3] = q.w();
-  qpos[4] = q.x();
-  qpos[5] = q.y();
-  qpos[6] = q.z();
+  const mjtNum v[7] = {p_WB.x(), p_WB.y(), p_WB.z(), q.w(), q.x(), q.y(), q.z()};
+  bool changed = false;
+  for (int k = 0; k < 7; ++k) changed |= Assign(qpos + k, v[k]);
+  if (changed) frames_valid_ = false;
 }
 
 void Kinematics::SetJointPositions(const double* q) {
-  for (int j = 0; j < njoint(); ++j) d_->qpos[robot_.joints[j].qpos_adr] = q[j];
+  bool changed = false;
+  for (int j = 0; j < njoint(); ++j) changed |= Assign(d_->qpos + robot_.joints[j].qpos_adr, q[j]);
+  if (changed) frames_valid_ = false;
 }
 
 void Kinematics::SetBaseVelocity(const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB) {
   if (!floating()) return;
   mjtNum* qvel = d_->qvel + robot_.base_dof;
-  qvel[0] = v_WB.x();
-  qvel[1] = v_WB.y();
-  qvel[2] = v_WB.z();
-  w_WB_ = w_WB;  // turned into MuJoCo's body-frame angular velocity by Update (needs R_WB)
+  bool changed = false;
+  for (int k = 0; k < 3; ++k) {
+    changed |= Assign(qvel + k, v_WB[k]);
+    // turned into MuJoCo's body-frame angular velocity by Update (needs R_WB)
+    changed |= Assign(w_WB_.data() + k, w_WB[k]);
+  }
+  if (changed) velocity_valid_ = false;
 }
 
 void Kinematics::SetJointVelocities(const double* dq) {
-  for (int j = 0; j < njoint(); ++j) d_->qvel[robot_.joints[j].dof_adr] = dq[j];
+  bool changed = false;
+  for (int j = 0; j < njoint(); ++j) changed |= Assign(d_->qvel + robot_.joints[j].dof_adr, dq[j]);
+  if (changed) velocity_valid_ = false;
+}
+
+void Kinematics::UpdatePositions() {
+  if (frames_valid_) return;
+  // the bodies' positions and orientations, the joints' anchors and axes (not geoms, sites)
+  mj_kinematics(&m_bodies_, d_);
+  frames_valid_ = true;
+  com_valid_ = false;
+  velocity_valid_ = false;
+}
+
+void Kinematics::EnsureCom() const {
+  if (com_valid_) return;
+  // the subtrees' centres of mass, the composite inertias and the motion axes (for Jacobians)
+  mj_comPos(m_, d_);
+  com_valid_ = true;
 }
 
 void Kinematics::Update() {
+  if (frames_valid_ && velocity_valid_) return;
   // the base's angular velocity in B, as MuJoCo's free joint wants it
   if (floating()) {
     mjtNum R[9];
@@ -215,13 +256,23 @@ void Kinematics::Update() {
     const Eigen::Vector3d w_B = Mat(R).transpose() * w_WB_;
     for (int k = 0; k < 3; ++k) d_->qvel[robot_.base_dof + 3 + k] = w_B[k];
   }
-  // positions, orientations, the composite inertias and the motion axes (for Jacobians)
-  mj_kinematics(m_, d_);
-  mj_comPos(m_, d_);
-  // the CoM velocity: the bodies' spatial velocities, then the subtrees' CoM velocities
+  UpdatePositions();
+  EnsureCom();
+  // the bodies' spatial velocities
   mj_comVel(m_, d_);
-  mj_subtreeVel(m_, d_);
-  v_WCoM_ = Eigen::Map<const Eigen::Vector3d>(d_->subtree_linvel + 3 * com_body_);
+  // the CoM velocity: each body's momentum (mass times the velocity of its centre of mass)
+  // added to its parent's from the leaves inwards, the robot's subtree's over its mass
+  mjtNum* p = momentum_.data();
+  for (int b = 0; b < m_->nbody; ++b) {
+    mjtNum v[6];  // angular, then linear velocity at the body's centre of mass, in W
+    mj_objectVelocity(m_, d_, mjOBJ_BODY, b, v, 0);
+    mju_scl3(p + 3 * b, v + 3, m_->body_mass[b]);
+  }
+  for (int b = m_->nbody - 1; b > 0; --b) mju_addTo3(p + 3 * m_->body_parentid[b], p + 3 * b);
+  mjtNum v_com[3];
+  mju_scl3(v_com, p + 3 * com_body_, 1 / std::max(mjMINVAL, m_->body_subtreemass[com_body_]));
+  v_WCoM_ = Eigen::Map<const Eigen::Vector3d>(v_com);
+  velocity_valid_ = true;
 }
 
 double Kinematics::q(int j) const { return d_->qpos[robot_.joints[j].qpos_adr]; }
@@ -246,24 +297,45 @@ Eigen::Vector3d Kinematics::p_WBody(int body) const {
 
 Eigen::Matrix3d Kinematics::R_WBody(int body) const { return Mat(d_->xmat + 9 * body); }
 
-Eigen::Vector3d Kinematics::p_WSite(int site) const {
-  return Eigen::Map<const Eigen::Vector3d>(d_->site_xpos + 3 * site);
+void Kinematics::FrameToWorld(int body, const mjtNum* pos, const mjtNum* quat, mjtByte sameframe,
+                              mjtNum xpos[3], mjtNum xmat[9]) const {
+  mj_local2Global(d_, xpos, xmat, pos, quat, body, sameframe);
 }
 
-Eigen::Matrix3d Kinematics::R_WSite(int site) const { return Mat(d_->site_xmat + 9 * site); }
+Eigen::Vector3d Kinematics::p_WSite(int site) const {
+  mjtNum p[3];
+  FrameToWorld(m_->site_bodyid[site], m_->site_pos + 3 * site, nullptr, m_->site_sameframe[site], p,
+               nullptr);
+  return Eigen::Map<const Eigen::Vector3d>(p);
+}
+
+Eigen::Matrix3d Kinematics::R_WSite(int site) const {
+  mjtNum R[9];
+  FrameToWorld(m_->site_bodyid[site], nullptr, m_->site_quat + 4 * site, m_->site_sameframe[site],
+               nullptr, R);
+  return Mat(R);
+}
 
 Eigen::Vector3d Kinematics::p_WSole(int sole) const {
   // the centre of the box offset by half its height along its -z
   const SoleMap& s = soles_[sole];
-  const Eigen::Vector3d centre = Eigen::Map<const Eigen::Vector3d>(d_->geom_xpos + 3 * s.geom_id);
-  return centre - s.half_size[2] * R_WSole(sole).col(2);
+  const int g = s.geom_id;
+  mjtNum centre[3], R[9];
+  FrameToWorld(m_->geom_bodyid[g], m_->geom_pos + 3 * g, m_->geom_quat + 4 * g,
+               m_->geom_sameframe[g], centre, R);
+  return Eigen::Map<const Eigen::Vector3d>(centre) - s.half_size[2] * Mat(R).col(2);
 }
 
 Eigen::Matrix3d Kinematics::R_WSole(int sole) const {
-  return Mat(d_->geom_xmat + 9 * soles_[sole].geom_id);
+  const int g = soles_[sole].geom_id;
+  mjtNum R[9];
+  FrameToWorld(m_->geom_bodyid[g], nullptr, m_->geom_quat + 4 * g, m_->geom_sameframe[g], nullptr,
+               R);
+  return Mat(R);
 }
 
 Eigen::Vector3d Kinematics::p_WCoM() const {
+  EnsureCom();
   return Eigen::Map<const Eigen::Vector3d>(d_->subtree_com + 3 * com_body_);
 }
 
@@ -293,6 +365,7 @@ void Kinematics::ToColumns(const mjtNum* jac_mj, Eigen::Ref<Eigen::MatrixXd> J, 
 void Kinematics::J_WBodyPoint(int body, const Eigen::Vector3d& p_W,
                               Eigen::Ref<Eigen::MatrixXd> J) const {
   const mjtNum point[3] = {p_W.x(), p_W.y(), p_W.z()};
+  EnsureCom();
   mj_jac(m_, d_, jacp_.data(), jacr_.data(), point, body);
   ToColumns(jacp_.data(), J, 0);
   ToColumns(jacr_.data(), J, 3);
@@ -307,6 +380,7 @@ void Kinematics::J_WSite(int site, Eigen::Ref<Eigen::MatrixXd> J) const {
 }
 
 void Kinematics::J_WCoM(Eigen::Ref<Eigen::MatrixXd> J) const {
+  EnsureCom();
   mj_jacSubtreeCom(m_, d_, jacp_.data(), com_body_);
   ToColumns(jacp_.data(), J, 0);
 }
@@ -316,6 +390,7 @@ void Kinematics::J_WCoM(Eigen::Ref<Eigen::MatrixXd> J) const {
 void Kinematics::MassMatrix(Eigen::Ref<Eigen::MatrixXd> M) {
   const int nv_mj = m_->nv;
   // MuJoCo's composite rigid body inertia (armature added), as a dense row-major matrix
+  EnsureCom();
   mj_crb(m_, d_);
   mj_fullM(m_, dense_.data(), d_->qM);
   // T^T M T: the base's angular rows and columns turned by R_WB
@@ -339,6 +414,7 @@ void Kinematics::GravityTorques(Eigen::Ref<Eigen::VectorXd> tau_g) {
   // MuJoCo's bias force at zero velocity: mj_rne reads the velocity only through cvel and
   // cdof_dot (mj_comVel's outputs, used by Update for v_WCoM and kept in v_WCoM_ there), so
   // zeroing them leaves gravity alone; qvel, and so v_WCoM(), stay as set
+  EnsureCom();
   mju_zero(d_->cvel, 6 * m_->nbody);
   mju_zero(d_->cdof_dot, 6 * m_->nv);
   mjtNum* f = dense_.data();  // nv values of scratch (dense_ holds nv x nv)

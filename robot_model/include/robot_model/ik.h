@@ -44,7 +44,7 @@ const char* IkStatusName(IkStatus s);
 
 struct IkResult {
   IkStatus status = IkStatus::kBadInput;
-  int iterations = 0;            // steps tried (each one Kinematics::Update)
+  int iterations = 0;            // steps tried (each one Kinematics::UpdatePositions)
   double position_error = 0;     // |p_WT - p_W(tip)| at the end [m]
   double orientation_error = 0;  // angle of R_WT^T R_W(tip) at the end [rad]
 };
@@ -61,7 +61,8 @@ class LimbIk {
   static LimbIk ForSole(const Kinematics& kin, int root_body, int sole, IkOptions options = {});
 
   // Solves for the chain's joints. `q` (njoint, joint-id order) is the starting guess and
-  // receives the result; `kin` is left updated at the result. Never allocates or throws.
+  // receives the result; `kin` is left updated at the result, without the CoM velocity
+  // (Kinematics::UpdatePositions; call kin.Update() for it). Never allocates or throws.
   IkResult Solve(Kinematics& kin, const Eigen::Vector3d& p_WT, const Eigen::Matrix3d& R_WT,
                  double* q);
 
@@ -79,7 +80,7 @@ class LimbIk {
   // tip at kin's last Update, and its two norms
   double Error(const Kinematics& kin, const Eigen::Vector3d& p_WT, const Eigen::Matrix3d& R_WT,
                double* position_error, double* orientation_error);
-  // sets the chain's joints from q_chain_ and updates kin
+  // sets the chain's joints from q_chain_ and updates kin's positions
   void Apply(Kinematics& kin);
 
   std::vector<int> chain_;       // segment joint ids, root outwards

@@ -22,6 +22,14 @@
 // Queries read the state of the last Update(); calling them before the first Update() gives
 // the model's reference configuration. A Kinematics object is not thread-safe; each thread
 // (or each controller) owns its own.
+//
+// Cost: Update() recomputes only what changed since the last one (nothing when the state was
+// set to the same values, the velocity part alone when only velocities changed);
+// UpdatePositions() leaves the CoM velocity out, for the callers that do not read it (IK
+// iterations, the estimator's relative kinematics). The CoM and the motion axes behind the
+// Jacobians and the dynamics are computed on the first query that needs them, the poses of
+// sites and soles on each query; results are those of MuJoCo's full mj_kinematics, mj_comPos,
+// mj_comVel, mj_subtreeVel run once per change of the state, bit for bit.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -96,6 +104,9 @@ class Kinematics {
   // computes positions, orientations, the centre of mass and its velocity for the state set
   // above (MuJoCo's mj_kinematics, mj_comPos, mj_comVel, mj_subtreeVel)
   void Update();
+  // the same without the CoM velocity: every query but v_WCoM() reads the state set above;
+  // v_WCoM() keeps the value of the last Update()
+  void UpdatePositions();
 
   // the state as set (joint positions in joint-id order)
   double q(int j) const;
@@ -136,9 +147,20 @@ class Kinematics {
   bool Init(mjModel* m, std::string* error);
   // copies MuJoCo's 3 x nv Jacobian rows (jac, world frame) into our columns
   void ToColumns(const mjtNum* jac_mj, Eigen::Ref<Eigen::MatrixXd> J, int row0) const;
+  // MuJoCo's composite inertias and motion axes (mj_comPos), once per mj_kinematics
+  void EnsureCom() const;
+  // the world pose of a frame fixed on `body` (MuJoCo's geom or site convention)
+  void FrameToWorld(int body, const mjtNum* pos, const mjtNum* quat, mjtByte sameframe,
+                    mjtNum xpos[3], mjtNum xmat[9]) const;
 
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
+  mjModel m_bodies_{};  // a shallow copy of *m_ without geoms and sites, for mj_kinematics
+  // what is up to date for the state set: the bodies' poses (mj_kinematics), the composite
+  // inertias and motion axes (mj_comPos), the CoM velocity (v_WCoM_)
+  bool frames_valid_ = false;
+  mutable bool com_valid_ = false;
+  bool velocity_valid_ = false;
   RobotMap robot_;
   std::vector<SoleMap> soles_;
   int left_sole_ = -1, right_sole_ = -1;
@@ -148,6 +170,7 @@ class Kinematics {
   Eigen::Vector3d w_WB_ = Eigen::Vector3d::Zero();   // base angular velocity as set, in W
   Eigen::Vector3d v_WCoM_ = Eigen::Vector3d::Zero(); // computed by Update
   mutable std::vector<mjtNum> jacp_, jacr_, dense_;  // scratch, sized at construction
+  std::vector<mjtNum> momentum_;      // 3 x nbody scratch: the bodies' subtree momenta
 };
 
 }  // namespace ohrp::model
