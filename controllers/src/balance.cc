@@ -259,7 +259,7 @@ void BalanceController::StartRamp(double time) noexcept {
   // the stance pose with each loaded sole kept at the tilt it stands on
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   kin_ik_->SetJointPositions(ramp_target_.data());
-  kin_ik_->Update();
+  kin_ik_->UpdatePositions();
   const model::BaseEstimate& e = estimator_->estimate();
   for (int i = 0; i < 2; ++i) {
     if (!e.contact[i]) continue;
@@ -399,7 +399,7 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   if (torso_roll_joint_ >= 0) q_ik_[torso_roll_joint_] = target_[torso_roll_joint_] + out.torso_roll;
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   kin_ik_->SetJointPositions(q_ik_.data());
-  kin_ik_->Update();
+  kin_ik_->UpdatePositions();
   const Eigen::Vector2d hips_B = plan.shift.hips + R_yaw.inverse() * out.com_offset;
   for (int i = 0; i < 2; ++i) {
     const double side = i == 0 ? 0.5 : -0.5;
