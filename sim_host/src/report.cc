@@ -3,7 +3,10 @@
 
 #include <cstdio>
 #include <fstream>
+#include <algorithm>
 #include <nlohmann/json.hpp>
+
+#include "robot_model/kinematics.h"
 
 namespace ohrp::sim {
 
@@ -14,6 +17,54 @@ const char* IntegratorName(int integrator) {
     case mjINT_IMPLICIT: return "implicit";
   }
   return "unknown";
+}
+
+std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robot) {
+  std::vector<SoleRectangle> out;
+  mjData* d = mj_makeData(m);
+  if (!d) return out;
+  mj_kinematics(m, d);  // the reference configuration qpos0
+  mj_comPos(m, d);      // subtree centres of mass
+  for (const model::SoleMap& s : model::FindSoles(m, robot)) {
+    if (s.force_sensor < 0) continue;
+    const int site = robot.forces[s.force_sensor].site_id;
+    const mjtNum* p_WS = d->site_xpos + 3 * site;     // sensor origin in W
+    const mjtNum* R_WS = d->site_xmat + 9 * site;     // sensor axes in W (row-major)
+    const mjtNum* p_WG = d->geom_xpos + 3 * s.geom_id;
+    const mjtNum* R_WG = d->geom_xmat + 9 * s.geom_id;
+    SoleRectangle r;
+    r.sensor = robot.forces[s.force_sensor].name;
+    r.sole = s.name;
+    r.x[0] = r.y[0] = 1e300;
+    r.x[1] = r.y[1] = -1e300;
+    r.z = 0;
+    // the four corners of the bottom face, from W into the sensor frame: p_S = R_WS^T (p_W - p_WS)
+    for (int c = 0; c < 4; ++c) {
+      const double local[3] = {(c & 1 ? 1 : -1) * s.half_size[0], (c & 2 ? 1 : -1) * s.half_size[1],
+                               -s.half_size[2]};
+      double p_S[3] = {0, 0, 0};
+      for (int i = 0; i < 3; ++i) {
+        double w = p_WG[i] - p_WS[i];
+        for (int k = 0; k < 3; ++k) w += R_WG[3 * i + k] * local[k];
+        for (int a = 0; a < 3; ++a) p_S[a] += R_WS[3 * i + a] * w;
+      }
+      r.x[0] = std::min(r.x[0], p_S[0]);
+      r.x[1] = std::max(r.x[1], p_S[0]);
+      r.y[0] = std::min(r.y[0], p_S[1]);
+      r.y[1] = std::max(r.y[1], p_S[1]);
+      r.z += 0.25 * p_S[2];
+    }
+    // the mass below the sensor and its centre of mass in the sensor frame
+    const int b = m->site_bodyid[site];
+    r.foot_mass = m->body_subtreemass[b];
+    for (int a = 0; a < 3; ++a) {
+      r.foot_com[a] = 0;
+      for (int i = 0; i < 3; ++i) r.foot_com[a] += R_WS[3 * i + a] * (d->subtree_com[3 * b + i] - p_WS[i]);
+    }
+    out.push_back(r);
+  }
+  mj_deleteData(d);
+  return out;
 }
 
 void PrintReport(const RunStats& st) {
@@ -80,6 +131,12 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   nlohmann::json below = nlohmann::json::object();
   for (const auto& f : robot.forces) below[f.name] = m->body_subtreemass[m->site_bodyid[f.site_id]];
   j["mass_below"] = below;
+  nlohmann::json soles = nlohmann::json::object();
+  for (const SoleRectangle& r : SoleRectangles(m, robot))
+    soles[r.sensor] = {{"sole", r.sole}, {"x", {r.x[0], r.x[1]}}, {"y", {r.y[0], r.y[1]}}, {"z", r.z},
+                       {"foot_mass", r.foot_mass},
+                       {"foot_com", {r.foot_com[0], r.foot_com[1], r.foot_com[2]}}};
+  j["soles"] = soles;
   if (effects) {
     nlohmann::json e = nlohmann::json::object();
     for (int i = 0; i < kEffectCount; ++i) {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "sim_host/divergence.h"
 #include "sim_host/effects.h"
@@ -40,11 +41,30 @@ struct RunStats {
 
 const char* IntegratorName(int integrator);
 
+// A sole seen from the F/T sensor above it: the rectangle of the sole box's bottom face in the
+// sensor's frame, at the model's reference configuration (the sole is fixed to the foot, so
+// this is constant when the sensor sits on the sole's body). The scenario check `cop_inside`
+// (tools/runner) judges the centre of pressure against it.
+struct SoleRectangle {
+  std::string sensor;           // F/T sensor (site) name, e.g. "lfsensor"
+  std::string sole;             // sole geom name, e.g. "LLEG_SOLE"
+  double x[2] = {0, 0};         // [m] min, max of the bottom face's corners along the sensor's x
+  double y[2] = {0, 0};         // [m] the same along y
+  double z = 0;                 // [m] height of the bottom face's centre along the sensor's z
+  double foot_mass = 0;         // [kg] mass below the sensor (the subtree of the sensor's body)
+  double foot_com[3] = {0, 0, 0};  // [m] its centre of mass in the sensor frame
+};
+
+// Every sole of `m` with an F/T sensor above it (model::FindSoles), in geom order.
+std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robot);
+
 // One line: outcome, simulated and wall time, real-time factor, counts.
 void PrintReport(const RunStats& st);
 
 // The JSON summary (outcome, timing, counts, the robot's mass and the mass below each force
-// sensor, which the sensor does not carry).
+// sensor, which the sensor does not carry, and the soles' rectangles in their sensors' frames,
+// "soles": {sensor: {"sole", "x": [min, max], "y": [min, max], "z", "foot_mass",
+// "foot_com": [x, y, z]}}).
 // `effects` (may be null) adds each effect, on or off, and why.
 void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "runner/recovery.h"
+#include "runner/sole_checks.h"
 
 namespace ohrp::runner {
 
@@ -293,12 +294,15 @@ CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::js
     if (spec.type == "force_ringing") return ForceRinging(spec, log);
     if (spec.type == "standing") return Standing(spec, log, sim);
     if (spec.type == "settles") return Settles(spec, log);
+    if (spec.type == "cop_inside") return CopInside(spec, log, sim);
+    if (spec.type == "foot_lifted") return FootLifted(spec, log);
   } catch (const std::exception& e) {
     return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
   }
   return Fail({spec.type, false, 0, "", "", ""},
               "unknown check type (known: base_height, not_fallen, feet_carry_weight, "
-              "base_displacement, force_ringing, standing, settles, max_rejected, real_time_factor)");
+              "base_displacement, force_ringing, standing, settles, cop_inside, foot_lifted, "
+              "max_rejected, real_time_factor)");
 }
 
 }  // namespace ohrp::runner

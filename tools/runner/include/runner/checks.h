@@ -19,6 +19,13 @@
 //   settles            at, [duration = 0.1], [tolerance = 0.01], [fraction = 0.1], [within = 1],
 //                      [baseline = 0.5], [sensors = rfsensor, lfsensor]: after the push on
 //                      [at, at + duration] the base and the ankle torques settle (SettleSpec)
+//   cop_inside         after, [until], [sensors = every sensor with a sole], [margin = 0.01],
+//                      [min_fz = 50], [require_loaded = false]: at every row each sole carrying
+//                      at least min_fz has its centre of pressure `margin` inside its edges (a
+//                      lighter sole is lifted and not judged, or fails with require_loaded); the
+//                      value is the smallest distance inside (runner/sole_checks.h)
+//   foot_lifted        sensor, after, until, [max_fz = 10]: the sensor's vertical force stays
+//                      below max_fz [N] over the window (the foot is in the air)
 //   max_rejected       [max = 0]: joint commands rejected by the servo over the run
 //   real_time_factor   min: simulated over wall time of sim_host
 #pragma once
