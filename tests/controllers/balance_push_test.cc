@@ -103,6 +103,10 @@ TEST(BalanceStand, BothSolesFlatOnTheWavyFloor) {
   ExpectFlatSoles("mjcf/hrp1s/scene_uneven.xml", "halfsit_uneven");
 }
 
+TEST(BalanceStand, BothSolesFlatOnTheFiveDegreeRamp) {
+  ExpectFlatSoles("mjcf/hrp1s/scene_slope.xml", "halfsit_ramp");
+}
+
 //---------------- a development aid (disabled) ----------------
 
 double Env(const char* name, double fallback) {
