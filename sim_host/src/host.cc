@@ -113,6 +113,17 @@ bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* 
   return true;
 }
 
+void ApplyPushes(const std::vector<Perturbation>& pushes, const mjModel* m, mjData* d, int body,
+                 double pushed[6]) {
+  double want[6];
+  PushWrenchAt(pushes, d->time, m->opt.timestep, want);
+  double* row = d->xfrc_applied + 6 * body;
+  for (int k = 0; k < 6; ++k) {
+    row[k] += want[k] - pushed[k];
+    pushed[k] = want[k];
+  }
+}
+
 void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]) {
   for (int k = 0; k < 6; ++k) wrench[k] = 0;
   // a step belongs to a window when it starts in [t0, t1), with half a step of slack against
@@ -372,17 +383,7 @@ int RunHost(const HostOptions& o) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
-      if (!o.pushes.empty()) {
-        // MuJoCo never clears xfrc_applied: the pushes change the base's row by the difference
-        // between the wrench they want now and the one they put there, so others' wrenches stay
-        double want[6];
-        PushWrenchAt(o.pushes, d->time, m->opt.timestep, want);
-        double* row = d->xfrc_applied + 6 * robot.base_body;
-        for (int k = 0; k < 6; ++k) {
-          row[k] += want[k] - pushed[k];
-          pushed[k] = want[k];
-        }
-      }
+      if (!o.pushes.empty()) ApplyPushes(o.pushes, m, d, robot.base_body, pushed);
       servo.Apply(m, d);
       if (soft) soft->ApplyBeforeStep(m, d);
       mj_step(m, d);

@@ -70,17 +70,8 @@ int InProcessRobot::Cycle(const shm::CommandBlock& commands) {
   mjData* d = scene_->d();
   const int rejected = servo_->Accept(commands);
   for (int s = 0; s < steps_per_cycle_; ++s) {
-    // the pushes change the base's row of xfrc_applied by what they want now less what they
-    // put there (MuJoCo never clears it), as sim_host does
-    if (robot_.base_body >= 0 && !options_.pushes.empty()) {
-      double want[6];
-      PushWrenchAt(options_.pushes, d->time, m->opt.timestep, want);
-      double* row = d->xfrc_applied + 6 * robot_.base_body;
-      for (int k = 0; k < 6; ++k) {
-        row[k] += want[k] - pushed_[k];
-        pushed_[k] = want[k];
-      }
-    }
+    if (robot_.base_body >= 0 && !options_.pushes.empty())
+      ApplyPushes(options_.pushes, m, d, robot_.base_body, pushed_);
     servo_->Apply(m, d);
     if (soft_) soft_->ApplyBeforeStep(m, d);
     mj_step(m, d);

@@ -41,6 +41,13 @@ bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* 
 // (force then torque); no allocation.
 void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]);
 
+// Puts the pushes' wrench for the step about to run on body `body`'s row of d->xfrc_applied.
+// MuJoCo never clears xfrc_applied, so the row changes by the difference between the wrench
+// wanted now and `pushed` (what the pushes put there before, updated here): other wrenches on
+// the row stay. No allocation.
+void ApplyPushes(const std::vector<Perturbation>& pushes, const mjModel* m, mjData* d, int body,
+                 double pushed[6]);
+
 struct HostOptions {
   std::string scene;               // MJCF file
   std::string segment = "hrp1s";   // segment name
