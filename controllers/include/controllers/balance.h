@@ -116,7 +116,14 @@ class BalanceController : public Controller {
   // the hip shift (base frame) that puts the model's CoM over `p_B` (base frame) with the soles
   // held, and how far the CoM moves; false when the legs cannot reach
   bool SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift);
+  // one stance cycle, in stages:
   void Stand(const shm::SensorBlock& s, double dt) noexcept;
+  void FillStabilizerInput(const shm::SensorBlock& s, double t,
+                           const Eigen::Rotation2Dd& R_yaw) noexcept;
+  void SwingLift(double dt, double lift[2]) noexcept;
+  void CountStand(const StabilizerOutput& out) noexcept;
+  void SolveJoints(const StabilizerOutput& out, const Eigen::Vector2d& offset_B,
+                   const double lift[2]) noexcept;
   void Write(shm::CommandBlock* commands, double dt) noexcept;
 
   BalanceOptions options_;
