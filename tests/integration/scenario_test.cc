@@ -136,6 +136,8 @@ TEST(ScenarioStrict, BadRunValuesAreRefusedWithLineAndKey) {
       {Variant(0, "effects: {gravty: off}"), "line 9: effects: unknown effect 'gravty'"},
       {Variant(0, "effects: {noise.force: -1}"), "line 9: effects: noise.force must be a standard deviation >= 0"},
       {Variant(0, "duration: 3"), "line 9: 'duration' is given twice"},
+      {Variant(0, "pushes: [{at: 1, at: 0.5, direction: 0, impulse: 1}]"),
+       "line 9: pushes[0]: 'at' is given twice"},
       {Variant(0, "duraton: 3"), "line 9: unknown key 'duraton'"},
       {Variant(6, "  - {program: posture, arg: [--ramp, \"1.0\"]}"),
        "line 6: controllers[0]: unknown key 'arg' (known: args, program)"},

@@ -163,7 +163,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
                  "' not found or not executable (a program in " + o.bin_dir + " or a path)";
   }
   if (!missing.empty()) {
-    std::fprintf(stderr, "ohrp_run: %s: cannot run:%s\n", s.file.c_str(), missing.c_str());
+    std::fprintf(stderr, "ohrp_run: cannot start the run:%s\n", missing.c_str());
     return kRunUsage;
   }
   const std::string out = o.out_dir.empty() ? "runs/" + s.name + "-" + Stamp() : o.out_dir;
