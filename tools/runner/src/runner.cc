@@ -222,9 +222,15 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     std::fprintf(stderr, "ohrp_run: %s\n", error.c_str());
     return kRunFailed;
   }
-  // the segment exists once sim_host has loaded the scene
+  // the segment exists once sim_host has loaded the scene and sized it (a controller started
+  // between the creation and the sizing finds 0 bytes and refuses the segment)
   const std::string shm_file = "/dev/shm/ohrp_" + segment;
-  while (!fs::exists(shm_file) && Now() - t0 < 30) {
+  const auto sized = [&] {
+    std::error_code size_error;
+    const auto size = fs::file_size(shm_file, size_error);
+    return !size_error && size > 0;
+  };
+  while (!sized() && Now() - t0 < 30) {
     Reap(&sim);
     if (sim.done) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
