@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "runner/check_keys.h"
+#include "runner/recovery.h"
 #include "runner/scenario.h"
 #include "temp_file.h"
 
@@ -209,6 +213,35 @@ TEST(ScenarioStrict, TheDocsListTheCheckKeysOfTheParser) {
   doc << in.rdbuf();
   EXPECT_NE(doc.str().find(CheckTableMarkdown()), std::string::npos)
       << "docs/scenarios.md, section Checks, should hold this table:\n" << CheckTableMarkdown();
+}
+
+// the defaults the evaluators read are the table's, and the docs show them
+TEST(ScenarioStrict, TheTableHoldsTheDefaultsTheEvaluatorsUse) {
+  for (const auto& type : CheckTypes()) {
+    for (const auto& key : type.keys) {
+      if (std::isnan(key.fallback)) continue;
+      char shown[32];
+      std::snprintf(shown, sizeof(shown), "%g", key.fallback);
+      const std::string doc = key.doc;
+      EXPECT_EQ(doc.substr(doc.size() - std::min(doc.size(), std::strlen(shown))), shown)
+          << type.type << "." << key.name << ": the docs say '" << doc << "'";
+      CheckSpec spec;
+      spec.type = type.type;
+      EXPECT_EQ(spec.Number(key.name), key.fallback) << type.type << "." << key.name;
+    }
+  }
+  // the push tool's specs (recovery.h) start from the same defaults
+  const StandingSpec standing;
+  EXPECT_EQ(CheckDefault("standing", "min_height_fraction"), standing.min_height_fraction);
+  EXPECT_EQ(CheckDefault("standing", "max_tilt_deg"), standing.max_tilt_deg);
+  EXPECT_EQ(CheckDefault("standing", "load_tolerance"), standing.load_tolerance);
+  const SettleSpec settle;
+  EXPECT_EQ(CheckDefault("settles", "duration"), settle.duration);
+  EXPECT_EQ(CheckDefault("settles", "baseline"), settle.baseline);
+  EXPECT_EQ(CheckDefault("settles", "tolerance"), settle.tolerance);
+  EXPECT_EQ(CheckDefault("settles", "fraction"), settle.fraction);
+  EXPECT_EQ(CheckDefault("settles", "within"), settle.within);
+  EXPECT_TRUE(std::isnan(CheckDefault("standing", "stance_at")));
 }
 
 }  // namespace

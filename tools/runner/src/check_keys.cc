@@ -2,6 +2,7 @@
 #include "runner/check_keys.h"
 
 #include <cstdio>
+#include <limits>
 #include <set>
 
 #include "check_parse.h"
@@ -17,11 +18,11 @@ CheckKey Time(const char* name, bool required = false, const char* doc = nullptr
   return {name, KeyKind::kTime, required, doc ? doc : required ? "s, required" : "s"};
 }
 CheckKey Num(const char* name, const char* doc, double lo, double hi, bool lo_open,
-             bool required = false) {
-  return {name, KeyKind::kNumber, required, doc, lo, hi, lo_open};
+             bool required = false, double fallback = std::numeric_limits<double>::quiet_NaN()) {
+  return {name, KeyKind::kNumber, required, doc, lo, hi, lo_open, fallback};
 }
-CheckKey Positive(const char* name, const char* doc, bool required = false) {
-  return Num(name, doc, 0, kBig, true, required);
+CheckKey Positive(const char* name, const char* doc, double fallback) {
+  return Num(name, doc, 0, kBig, true, false, fallback);
 }
 CheckKey List(const char* name, const char* doc, bool required = false) {
   return {name, KeyKind::kList, required, doc};
@@ -53,17 +54,17 @@ std::string RangeText(const CheckKey& k) {
 const std::vector<CheckType>& CheckTypes() {
   static const std::vector<CheckType> types = {
       {"base_height",
-       {Time("after"), Time("until"), Positive("tolerance", "m, 0.02"),
+       {Time("after"), Time("until"), Positive("tolerance", "m, 0.02", 0.02),
         Num("reference", "m, default: the window's mean", -kBig, kBig, false)},
        "the base height stays within `tolerance` of `reference` in the window"},
       {"not_fallen",
-       {Num("min_height", "m, 0.4", -kBig, kBig, false),
-        Num("max_tilt_deg", "deg, 45", 0, 180, true)},
+       {Num("min_height", "m, 0.4", -kBig, kBig, false, false, 0.4),
+        Num("max_tilt_deg", "deg, 45", 0, 180, true, false, 45)},
        "over the whole run, the base stays above `min_height` and its z axis within "
        "`max_tilt_deg` of vertical"},
       {"feet_carry_weight",
        {Time("after"), Time("until"), List("sensors", "list, required", true),
-        Positive("tolerance", "relative, 0.03")},
+        Positive("tolerance", "relative, 0.03", 0.03)},
        "the mean of the sensors' summed vertical force equals the weight they carry: the robot's "
        "mass less the mass below each sensor, times g"},
       {"base_displacement",
@@ -73,34 +74,34 @@ const std::vector<CheckType>& CheckTypes() {
        "the two)"},
       {"force_ringing",
        {Time("after"), Time("until"), List("sensors", "list, required", true),
-        Positive("window", "s, 0.02"), Num("max", "N, required", 0, kBig, false, true)},
+        Positive("window", "s, 0.02", 0.02), Num("max", "N, required", 0, kBig, false, true)},
        "the RMS of each sensor's vertical force less its moving average over `window` (the "
        "high-frequency ringing of a stiff contact) stays below `max`"},
       {"standing",
        {Time("stance_at", true), Time("after", true),
-        Num("min_height_fraction", "0.8", 0, 1, true), Num("max_tilt_deg", "deg, 30", 0, 180, true),
-        List("sensors", "list, optional"), Positive("load_tolerance", "relative, 0.1")},
+        Num("min_height_fraction", "0.8", 0, 1, true, false, 0.8), Num("max_tilt_deg", "deg, 30", 0, 180, true, false, 30),
+        List("sensors", "list, optional"), Positive("load_tolerance", "relative, 0.1", 0.1)},
        "still standing after a push (below)"},
       {"settles",
-       {Time("at", true), Positive("duration", "s, 0.1"), Positive("tolerance", "m, 0.01"),
-        Num("fraction", "0.1", 0, 1, true), Positive("within", "s, 1.0"),
-        Positive("baseline", "s, 0.5"), List("sensors", "list; rfsensor, lfsensor")},
+       {Time("at", true), Positive("duration", "s, 0.1", 0.1), Positive("tolerance", "m, 0.01", 0.01),
+        Num("fraction", "0.1", 0, 1, true, false, 0.1), Positive("within", "s, 1", 1.0),
+        Positive("baseline", "s, 0.5", 0.5), List("sensors", "list; rfsensor, lfsensor")},
        "after the push on [at, at + duration] the base and the ankle torques settle within "
        "`within` (below); the value is the later of the two times"},
       {"cop_inside",
        {Time("after"), Time("until"), List("sensors", "list; default: every sensor with a sole"),
-        Num("margin", "m, 0.01", -kBig, kBig, false), Num("min_fz", "N, 50", 0, kBig, false),
+        Num("margin", "m, 0.01", -kBig, kBig, false, false, 0.01), Num("min_fz", "N, 50", 0, kBig, false, false, 50),
         Flag("require_loaded", "false"), Flag("foot_weight", "true")},
        "at every row each sole carrying at least `min_fz` has its centre of pressure at least "
        "`margin` inside its edges (below); the value is the smallest distance inside "
        "(negative: outside)"},
       {"foot_lifted",
        {{"sensor", KeyKind::kText, true, "required"}, Time("after", true), Time("until", true),
-        Positive("max_fz", "N, 10")},
+        Positive("max_fz", "N, 10", 10)},
        "the sensor's vertical force stays below `max_fz` over [after, until] (the foot is in "
        "the air); a log ending before `until` fails"},
       {"max_rejected",
-       {Num("max", "0", 0, kBig, false)},
+       {Num("max", "0", 0, kBig, false, false, 0)},
        "joint commands rejected by the servos (NaN, out of range) are at most `max`"},
       {"real_time_factor",
        {Num("min", "required", 0, kBig, true, true)},
@@ -113,6 +114,13 @@ const CheckType* FindCheckType(const std::string& type) {
   for (const auto& t : CheckTypes())
     if (type == t.type) return &t;
   return nullptr;
+}
+
+double CheckDefault(const std::string& type, const std::string& key) {
+  if (const CheckType* t = FindCheckType(type))
+    for (const auto& k : t->keys)
+      if (key == k.name) return k.fallback;
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string CheckTypeNames() {

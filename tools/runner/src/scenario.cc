@@ -7,6 +7,7 @@
 #include <set>
 
 #include "check_parse.h"
+#include "runner/check_keys.h"
 #include "pushes.h"
 #include "sim_host/effects.h"
 #include "yaml_read.h"
@@ -278,6 +279,10 @@ bool ReadChecks(const YAML::Node& root, const std::string& path, Scenario* s, st
 double CheckSpec::Number(const std::string& key, double fallback) const {
   auto it = params.find(key);
   return it == params.end() ? fallback : std::stod(it->second);
+}
+
+double CheckSpec::Number(const std::string& key) const {
+  return Has(key) ? Number(key, 0) : CheckDefault(type, key);
 }
 
 bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {

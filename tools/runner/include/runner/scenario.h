@@ -22,6 +22,8 @@ struct CheckSpec {
   std::map<std::string, std::string> params;  // the check's own keys (numbers as "%.17g", lists
                                               // joined with ',', booleans true/false)
   double Number(const std::string& key, double fallback) const;
+  // the key's value, or its default in the table of check keys (check_keys.h; NaN: none)
+  double Number(const std::string& key) const;
   bool Has(const std::string& key) const { return params.count(key) > 0; }
 };
 
