@@ -2,9 +2,8 @@
 // sim_host/recorder.h) and its JSON summary.
 //
 // The check types and the keys each takes are one table, runner/check_keys.h (which the
-// scenario parser checks entries against and docs/scenarios.md shows). Evaluate reads the keys
-// of an entry; the defaults of absent keys are written in the evaluators (here, sole_checks.cc,
-// recovery.h) and repeated in the table's text: change both together.
+// scenario parser checks entries against and docs/scenarios.md shows), with the defaults of
+// the numbers, which Evaluate reads through CheckSpec::Number(key).
 #pragma once
 
 #include <nlohmann/json.hpp>
