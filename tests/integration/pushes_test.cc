@@ -8,16 +8,10 @@
 #include <sstream>
 
 #include "runner/scenario.h"
+#include "temp_file.h"
 
 namespace ohrp::runner {
 namespace {
-
-std::string Temp(const std::string& text) {
-  static int n = 0;
-  const std::string p = "/tmp/ohrp_pushes_test_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".yaml";
-  std::ofstream(p) << text;
-  return p;
-}
 
 // the numbers of a --push value
 std::vector<double> Values(const std::string& arg) {
@@ -28,6 +22,7 @@ std::vector<double> Values(const std::string& arg) {
 }
 
 constexpr const char* kHead = "scene: a.xml\nduration: 5\n";
+constexpr const char* kTail = "controllers: []\nchecks: [{type: not_fallen}]\n";
 
 TEST(Pushes, DirectionAndImpulseBecomeAForceOverTheWindow) {
   Scenario s;
@@ -36,7 +31,7 @@ TEST(Pushes, DirectionAndImpulseBecomeAForceOverTheWindow) {
                                 "pushes:\n"
                                 "  - {at: 1.0, direction: 90, impulse: 15}\n"
                                 "  - {at: 2.0, duration: 0.2, direction: 225, impulse: 30}\n"
-                                "  - {at: 3.0, duration: 0.05, force: [1, -2, 3]}\n"),
+                                "  - {at: 3.0, duration: 0.05, force: [1, -2, 3]}\n" + kTail),
                            &s, &error))
       << error;
   ASSERT_EQ(s.pushes.size(), 3u);

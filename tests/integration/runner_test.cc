@@ -8,15 +8,10 @@
 
 #include "runner/checks.h"
 #include "runner/scenario.h"
+#include "temp_file.h"
 
 namespace ohrp::runner {
 namespace {
-
-std::string Temp(const std::string& text, const char* suffix) {
-  const std::string p = "/tmp/ohrp_runner_test_" + std::to_string(getpid()) + suffix;
-  std::ofstream(p) << text;
-  return p;
-}
 
 TEST(Scenario, ParsesTheShippedStandScenario) {
   Scenario s;

@@ -547,7 +547,8 @@ TEST(EffectsProcess, ARunPrintsTheShortTableAndSummarisesIt) {
 TEST(EffectsScenario, TheKeyBecomesSimHostsEffectsOption) {
   const std::string path = testing::WriteTemp(
       "scene: mjcf/hrp1s/scene_flat.xml\nduration: 1\n"
-      "effects:\n  gravity: off\n  noise: on\n  noise.force: 2.5\n", ".yaml");
+      "effects:\n  gravity: off\n  noise: on\n  noise.force: 2.5\n"
+      "controllers: []\nchecks: [{type: not_fallen}]\n", ".yaml");
   runner::Scenario s;
   std::string error;
   ASSERT_TRUE(runner::LoadScenario(path, &s, &error)) << error;

@@ -96,7 +96,7 @@ CheckResult BaseHeight(const CheckSpec& s, const Table& t) {
   if (s.Has("reference")) ref = s.Number("reference", ref);
   double worst = 0;
   for (size_t i : rows) worst = std::max(worst, std::fabs(z[i] - ref));
-  const double tol = s.Number("tolerance", 0.02);
+  const double tol = s.Number("tolerance");
   r.value = worst;
   r.passed = worst <= tol;
   r.limit = "<= " + Fmt(tol) + " from " + Fmt(ref) + " m";
@@ -107,8 +107,8 @@ CheckResult BaseHeight(const CheckSpec& s, const Table& t) {
 
 CheckResult NotFallen(const CheckSpec& s, const Table& t) {
   CheckResult r{"not_fallen", false, 0, "m", "", ""};
-  const double min_h = s.Number("min_height", 0.4);
-  const double max_tilt = s.Number("max_tilt_deg", 45);
+  const double min_h = s.Number("min_height");
+  const double max_tilt = s.Number("max_tilt_deg");
   const auto& z = t.col(t.Column("base_z"));
   const auto& qw = t.col(t.Column("base_qw"));
   const auto& qx = t.col(t.Column("base_qx"));
@@ -148,7 +148,7 @@ CheckResult FeetCarryWeight(const CheckSpec& s, const Table& t, const nlohmann::
     for (const auto& name : sensors) sum += t.col(t.Column(name + "_fz"))[i];
   const double mean = sum / rows.size();
   const double weight = mass * g;
-  const double tol = s.Number("tolerance", 0.03);
+  const double tol = s.Number("tolerance");
   r.value = std::fabs(mean - weight) / weight;
   r.passed = r.value <= tol;
   r.limit = "<= " + Fmt(tol) + " relative";
@@ -185,7 +185,7 @@ CheckResult ForceRinging(const CheckSpec& s, const Table& t) {
   if (rows.size() < 3) return Fail(r, "no logged data in the window");
   const auto& time = t.col(t.Column("time"));
   const double dt = (time[rows.back()] - time[rows.front()]) / (rows.size() - 1);
-  const int half = std::max(1, static_cast<int>(std::lround(0.5 * s.Number("window", 0.02) / dt)));
+  const int half = std::max(1, static_cast<int>(std::lround(0.5 * s.Number("window") / dt)));
   std::string worst;
   for (const auto& name : sensors) {
     const int c = t.Column(name + "_fz");
@@ -209,7 +209,7 @@ CheckResult ForceRinging(const CheckSpec& s, const Table& t) {
   const double max = s.Number("max", 1e30);
   r.passed = r.value <= max;
   r.limit = "<= " + Fmt(max) + " N";
-  r.detail = "RMS of fz less its " + Fmt(s.Number("window", 0.02) * 1e3) +
+  r.detail = "RMS of fz less its " + Fmt(s.Number("window") * 1e3) +
              " ms moving average, largest at " + worst;
   return r;
 }
@@ -217,8 +217,8 @@ CheckResult ForceRinging(const CheckSpec& s, const Table& t) {
 CheckResult MaxRejected(const CheckSpec& s, const nlohmann::json& sim) {
   CheckResult r{"max_rejected", false, 0, "", "", ""};
   r.value = sim.value("rejected_commands", 0.0);
-  r.passed = r.value <= s.Number("max", 0);
-  r.limit = "<= " + Fmt(s.Number("max", 0));
+  r.passed = r.value <= s.Number("max");
+  r.limit = "<= " + Fmt(s.Number("max"));
   r.detail = "joint commands rejected by the servo";
   return r;
 }
@@ -240,10 +240,10 @@ CheckResult Standing(const CheckSpec& s, const Table& t, const nlohmann::json& s
   StandingSpec spec;
   spec.stance_at = s.Number("stance_at", 0);
   spec.after = s.Number("after", 0);
-  spec.min_height_fraction = s.Number("min_height_fraction", spec.min_height_fraction);
-  spec.max_tilt_deg = s.Number("max_tilt_deg", spec.max_tilt_deg);
+  spec.min_height_fraction = s.Number("min_height_fraction");
+  spec.max_tilt_deg = s.Number("max_tilt_deg");
   if (s.Has("sensors")) spec.sensors = Split(s.params.at("sensors"));
-  spec.load_tolerance = s.Number("load_tolerance", spec.load_tolerance);
+  spec.load_tolerance = s.Number("load_tolerance");
   StandingResult m;
   std::string error;
   if (!MeasureStanding(t, sim, spec, &m, &error)) return Fail(r, error);
@@ -260,11 +260,11 @@ CheckResult Settles(const CheckSpec& s, const Table& t) {
   if (!s.Has("at")) return Fail(r, "the check needs 'at', the push's start [s]");
   SettleSpec spec;
   spec.at = s.Number("at", 0);
-  spec.duration = s.Number("duration", spec.duration);
-  spec.baseline = s.Number("baseline", spec.baseline);
-  spec.tolerance = s.Number("tolerance", spec.tolerance);
-  spec.fraction = s.Number("fraction", spec.fraction);
-  spec.within = s.Number("within", spec.within);
+  spec.duration = s.Number("duration");
+  spec.baseline = s.Number("baseline");
+  spec.tolerance = s.Number("tolerance");
+  spec.fraction = s.Number("fraction");
+  spec.within = s.Number("within");
   if (s.Has("sensors")) spec.sensors = Split(s.params.at("sensors"));
   SettleResult m;
   std::string error;

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <set>
 
+#include "yaml_read.h"
+
 namespace ohrp::runner {
 namespace {
 
@@ -74,13 +76,7 @@ bool ParsePushes(const YAML::Node& list, const std::string& path, std::vector<Pu
       *error = where + "each push must be a mapping, e.g. {at: 2.0, direction: 90, impulse: 15}";
       return false;
     }
-    for (const auto& kv : push) {
-      const std::string key = kv.first.as<std::string>();
-      if (!kPushKeys.count(key)) {
-        *error = where + "unknown key '" + key + "' (known: at, duration, direction, impulse, force)";
-        return false;
-      }
-    }
+    if (!KnownKeysOnly(push, kPushKeys, path, "pushes[" + std::to_string(i) + "]: ", error)) return false;
     PushSpec p;
     if (!Number(push, "at", true, &p.at, where, error) ||
         !Number(push, "duration", false, &p.duration, where, error))

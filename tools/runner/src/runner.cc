@@ -76,7 +76,8 @@ bool Spawn(Child* c, const std::string& cwd, std::string* error) {
 }
 
 void Reap(Child* c) {
-  if (c->done || c->pid <= 0) return;
+  if (c->pid <= 0) c->done = true;  // never started: nothing to wait for
+  if (c->done) return;
   int st = 0;
   if (waitpid(c->pid, &st, WNOHANG) == c->pid) {
     c->done = true;
@@ -125,6 +126,11 @@ std::string Stamp() {
   return b;
 }
 
+// "scenario 'FILE': line N: " (no line for a scenario built in code)
+std::string Where(const Scenario& s, int line) {
+  return line > 0 ? "scenario '" + s.file + "': line " + std::to_string(line) + ": " : "";
+}
+
 std::string Num(double v) {
   char b[32];
   std::snprintf(b, sizeof(b), "%.17g", v);
@@ -140,6 +146,26 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   sigaction(SIGTERM, &sa, nullptr);
 
   //---------------- set-up ----------------
+  // the files it needs exist, before anything is created or started
+  const std::string scene = Resolve(s.scene, o.source_dir);
+  std::vector<std::string> programs;
+  std::string missing;
+  if (!fs::exists(scene))
+    missing += "\n  " + Where(s, s.scene_line) + "scene: '" + scene + "' does not exist";
+  if (access((o.bin_dir + "/sim_host").c_str(), X_OK) != 0)
+    missing += "\n  sim_host is not in " + o.bin_dir + " (build it: cmake --build build)";
+  for (const auto& spec : s.controllers) {
+    programs.push_back(spec.program.find('/') == std::string::npos
+                           ? o.bin_dir + "/" + spec.program
+                           : Resolve(spec.program, o.source_dir));
+    if (access(programs.back().c_str(), X_OK) != 0)
+      missing += "\n  " + Where(s, spec.line) + "controller program '" + programs.back() +
+                 "' not found or not executable (a program in " + o.bin_dir + " or a path)";
+  }
+  if (!missing.empty()) {
+    std::fprintf(stderr, "ohrp_run: cannot start the run:%s\n", missing.c_str());
+    return kRunUsage;
+  }
   const std::string out = o.out_dir.empty() ? "runs/" + s.name + "-" + Stamp() : o.out_dir;
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -149,11 +175,6 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     return kRunUsage;
   }
   const std::string out_abs = fs::absolute(out).string();
-  const std::string scene = Resolve(s.scene, o.source_dir);
-  if (!fs::exists(scene)) {
-    std::fprintf(stderr, "ohrp_run: %s: the scene '%s' does not exist\n", s.file.c_str(), scene.c_str());
-    return kRunUsage;
-  }
   const std::string segment = "run_" + s.name + "_" + std::to_string(getpid());
   if (o.report)
     std::fprintf(stderr, "ohrp_run: scenario '%s' (%g s simulated) -> %s\n", s.name.c_str(),
@@ -185,19 +206,11 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
 
   std::vector<Child> ctl(s.controllers.size());
   for (size_t i = 0; i < ctl.size(); ++i) {
-    const auto& spec = s.controllers[i];
-    const std::string prog = spec.program.find('/') == std::string::npos
-                                 ? o.bin_dir + "/" + spec.program
-                                 : Resolve(spec.program, o.source_dir);
-    if (access(prog.c_str(), X_OK) != 0) {
-      std::fprintf(stderr, "ohrp_run: %s: controller program '%s' not found or not executable\n",
-                   s.file.c_str(), prog.c_str());
-      return kRunUsage;
-    }
+    const std::string& prog = programs[i];
     ctl[i].label = fs::path(prog).filename().string() + (ctl.size() > 1 ? "#" + std::to_string(i) : "");
     ctl[i].output = out_abs + "/" + ctl[i].label + ".stderr";
     ctl[i].argv = {prog, "--segment", segment, "--attach-timeout", "10"};
-    ctl[i].argv.insert(ctl[i].argv.end(), spec.args.begin(), spec.args.end());
+    ctl[i].argv.insert(ctl[i].argv.end(), s.controllers[i].args.begin(), s.controllers[i].args.end());
   }
 
   //---------------- run ----------------
@@ -209,9 +222,15 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     std::fprintf(stderr, "ohrp_run: %s\n", error.c_str());
     return kRunFailed;
   }
-  // the segment exists once sim_host has loaded the scene
+  // the segment exists once sim_host has loaded the scene and sized it (a controller started
+  // between the creation and the sizing finds 0 bytes and refuses the segment)
   const std::string shm_file = "/dev/shm/ohrp_" + segment;
-  while (!fs::exists(shm_file) && Now() - t0 < 30) {
+  const auto sized = [&] {
+    std::error_code size_error;
+    const auto size = fs::file_size(shm_file, size_error);
+    return !size_error && size > 0;
+  };
+  while (!sized() && Now() - t0 < 30) {
     Reap(&sim);
     if (sim.done) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -221,6 +240,14 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     for (auto& c : ctl) {
       if (!Spawn(&c, o.source_dir, &error)) aborted = error;
     }
+  } else if (sim.exit_code == kRunUsage) {
+    // sim_host refused a setting (a keyframe, contact parameters...): a bad scenario
+    std::ifstream in(sim.output);
+    std::string said, line;
+    while (std::getline(in, line)) said += "\n  " + line;
+    std::fprintf(stderr, "ohrp_run: %s: sim_host refused the scenario's settings (exit 2):%s\n",
+                 s.file.c_str(), said.c_str());
+    return kRunUsage;
   } else {
     aborted = "sim_host ended before it created its segment (exit " + std::to_string(sim.exit_code) + ")";
   }

@@ -92,8 +92,8 @@ bool SoleFromSummary(const nlohmann::json& sim, const std::string& sensor, SoleR
 CheckResult CopInside(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
   CheckResult r{"cop_inside", false, 0, "m", "", ""};
   const double after = s.Number("after", 0), until = s.Number("until", 1e30);
-  const double margin = s.Number("margin", 0.01);
-  const double min_fz = s.Number("min_fz", 50);
+  const double margin = s.Number("margin");
+  const double min_fz = s.Number("min_fz");
   const bool require_loaded = s.Has("require_loaded") && Truthy(s.params.at("require_loaded"));
   const bool foot_weight = !s.Has("foot_weight") || Truthy(s.params.at("foot_weight"));
   const auto& grav = sim.value("gravity", std::vector<double>{0, 0, -9.81});
@@ -178,7 +178,7 @@ CheckResult FootLifted(const CheckSpec& s, const Table& t) {
   const std::string sensor = s.params.at("sensor");
   r.name = "foot_lifted_" + sensor;
   const double after = s.Number("after", 0), until = s.Number("until", 0);
-  const double max_fz = s.Number("max_fz", 10);
+  const double max_fz = s.Number("max_fz");
   const int c = t.Column(sensor + "_fz");
   if (c < 0) return Fail(r, "no force sensor '" + sensor + "' in the log");
   const auto& time = t.col(t.Column("time"));

@@ -1,33 +1,9 @@
 // Pass criteria of a scenario, evaluated on sim_host's data log (CSV, see
 // sim_host/recorder.h) and its JSON summary.
 //
-// Check types (keys beyond `type`; times are simulated seconds, lengths metres):
-//   base_height        after, [until], tolerance, [reference]: the base height stays within
-//                      `tolerance` of `reference` (default: its mean over the window)
-//   not_fallen         [min_height = 0.4], [max_tilt_deg = 45]: over the whole run
-//   feet_carry_weight  after, [until], sensors (list), tolerance (relative): the mean of the sum
-//                      of the sensors' vertical forces equals the weight they carry (the robot's
-//                      mass less the mass below each sensor, times g)
-//   base_displacement  axis (x | y | z), [min], [max], [from = 0]: base position at the end
-//                      minus at `from`
-//   force_ringing      after, [until], sensors (list), [window = 0.02], max [N]: the RMS of each
-//                      sensor's vertical force less its moving average over `window` (its
-//                      high-frequency content), the largest over the sensors
-//   standing           stance_at, after, [min_height_fraction = 0.8], [max_tilt_deg = 30],
-//                      [sensors], [load_tolerance = 0.1]: still standing after a push
-//                      (runner/recovery.h, StandingSpec)
-//   settles            at, [duration = 0.1], [tolerance = 0.01], [fraction = 0.1], [within = 1],
-//                      [baseline = 0.5], [sensors = rfsensor, lfsensor]: after the push on
-//                      [at, at + duration] the base and the ankle torques settle (SettleSpec)
-//   cop_inside         after, [until], [sensors = every sensor with a sole], [margin = 0.01],
-//                      [min_fz = 50], [require_loaded = false]: at every row each sole carrying
-//                      at least min_fz has its centre of pressure `margin` inside its edges (a
-//                      lighter sole is lifted and not judged, or fails with require_loaded); the
-//                      value is the smallest distance inside (runner/sole_checks.h)
-//   foot_lifted        sensor, after, until, [max_fz = 10]: the sensor's vertical force stays
-//                      below max_fz [N] over the window (the foot is in the air)
-//   max_rejected       [max = 0]: joint commands rejected by the servo over the run
-//   real_time_factor   min: simulated over wall time of sim_host
+// The check types and the keys each takes are one table, runner/check_keys.h (which the
+// scenario parser checks entries against and docs/scenarios.md shows), with the defaults of
+// the numbers, which Evaluate reads through CheckSpec::Number(key).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -12,13 +12,18 @@ namespace ohrp::runner {
 struct ControllerSpec {
   std::string program;            // a program in build/bin (e.g. posture) or a path
   std::vector<std::string> args;  // extra arguments; --segment and --attach-timeout are added
+  int line = 0;                   // where the scenario file gives it (0: not from a file)
 };
 
-// One pass criterion, evaluated on the data log after the run (see checks.h for the types).
+// One pass criterion, evaluated on the data log after the run (see checks.h for the types and
+// check_keys.h for the keys each one takes).
 struct CheckSpec {
   std::string type;
-  std::map<std::string, std::string> params;  // the check's own keys, as written
+  std::map<std::string, std::string> params;  // the check's own keys (numbers as "%.17g", lists
+                                              // joined with ',', booleans true/false)
   double Number(const std::string& key, double fallback) const;
+  // the key's value, or its default in the table of check keys (check_keys.h; NaN: none)
+  double Number(const std::string& key) const;
   bool Has(const std::string& key) const { return params.count(key) > 0; }
 };
 
@@ -44,6 +49,7 @@ struct Scenario {
   std::string description;
   std::string file;              // where it was read from
   std::string scene;             // MJCF path
+  int scene_line = 0;            // where the file gives it (0: not from a file)
   std::string keyframe;
   double duration = 10;          // [s] simulated
   double physics_dt = 0;         // [s], 0: the scene's
@@ -54,7 +60,7 @@ struct Scenario {
   double controller_timeout = 1.0;  // [s]
   double wall_timeout = 0;       // [s] wall time before the run is stopped; 0: derived
   int log_every = 1;
-  std::string contact;           // soft | native | rigid; empty: sim_host's default (soft)
+  std::string contact;           // soft | native | rigid | auto; empty: sim_host's default (auto)
   std::map<std::string, double> contact_params;  // soft-foot parameters, e.g. stiffness
   std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
                                                // LoadScenario passes them as sim_args --effects
@@ -66,8 +72,14 @@ struct Scenario {
   std::vector<std::string> plot_torques; // joints whose torque gets a panel of the plot
 };
 
-// Reads and validates a scenario. Returns false with `*error` naming the file, the key and
-// what is wrong.
+// Reads and validates a scenario: unknown or repeated keys at every level, values of the wrong
+// type or out of range (physics_dt in (0, 0.1] s, control_period a whole multiple of it,
+// duration from one control period to 1e5 s, integrator, contact, effects as sim_host takes
+// them), unknown check types and check keys, check times outside the run, a missing `checks`
+// (or an empty list) and a missing `controllers` (write `controllers: []` to run without one)
+// are refused. Returns false with `*error` naming the file, the line, the key and what would do.
+// Whether the scene and the controller programs exist is checked by RunScenario (runner.h),
+// which knows the repository and the programs' folder.
 bool LoadScenario(const std::string& path, Scenario* out, std::string* error);
 
 }  // namespace ohrp::runner
