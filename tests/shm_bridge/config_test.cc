@@ -105,6 +105,13 @@ TEST(ValidateConfig, NamesAnInconsistentVector) {
                 "q_min[2] > q_max[2] (joint 'ankle')");
 }
 
+TEST(ValidateConfig, NamesNegativeOrInfiniteDefaultGains) {
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.default_kp[1] = -1.0; }),
+                "default_kp[1] must be finite and >= 0");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.default_kd[0] = HUGE_VAL; }),
+                "default_kd[0] must be finite and >= 0");
+}
+
 TEST(ValidateConfig, NamesABadModelIdentity) {
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.link_mass = {1.0, 2.0}; }),
                 "link_mass has 2 entries, expected 0 or njoint = 3");
