@@ -127,8 +127,11 @@ bool UdpIo::open(const IoConfig& config, std::string* error) {
     *error = "udp io: bad board address '" + host + "' (a dotted IPv4 address, e.g. 127.0.0.1)";
     return false;
   }
+  // the socket hears the boards' address only: the kernel drops datagrams from anywhere else
   std::string why;
-  if (!socket_.Open(bind_host, static_cast<int>(local_port), &why)) {
+  if (!socket_.Open(bind_host, static_cast<int>(local_port), &why) ||
+      !socket_.Connect(boards_addr_, &why)) {
+    socket_.Close();
     *error = "udp io: " + why;
     return false;
   }
@@ -254,11 +257,12 @@ IoResult UdpIo::read(IoState* state) noexcept {
   for (int i = 0; i < kMaxDrain; ++i) {
     sockaddr_in from;
     const long n = socket_.Receive(buf_, kMaxPacketSize, &from);
-    if (n == 0) break;
-    if (n < 0) {
+    if (n == kNoDatagram) break;
+    if (n == kReceiveFailed) {
       socket_error = true;
       break;
     }
+    // an empty datagram is one (too short: counted corrupted), not the end of the queue
     if (from.sin_addr.s_addr != boards_addr_.sin_addr.s_addr || from.sin_port != boards_addr_.sin_port) {
       ++stats_.foreign;
       continue;
