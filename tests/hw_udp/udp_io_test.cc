@@ -1,6 +1,6 @@
 // Tests the udp RobotIo against fake boards played by the test on loopback: state in, commands
 // out, silent boards, loss / corruption / stale counting, board resets and sensor flags, empty
-// datagrams (one, or a flood from another port), and the
+// datagrams (one, or a flood from another port), a NaN from a board, and the
 // plugin's exported entry loaded with dlopen.
 #include <dlfcn.h>
 
@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <random>
 #include <thread>
 
@@ -343,6 +344,24 @@ TEST_F(UdpIoTest, SensorBoardFlagsBecomeFaults) {
   IoState s;
   const uint32_t want = io_fault::kSensorStuck | io_fault::kSensorSaturated | io_fault::kEmergencyStop;
   ASSERT_TRUE(ReadUntil(&s, [&](const IoState& x) { return (x.faults & want) == want; }));
+}
+
+// a NaN in a board's state is passed on, and named: io_fault::kNonFinite and the board's bit
+TEST_F(UdpIoTest, ANanFromABoardNamesTheBoard) {
+  Open({"timeout_ms=5000"});
+  boards_.SendAll(1, 2.0);
+  boards_.SendMotor(2, 2, std::nan(""));  // board 2's joints read NaN
+  IoState s;
+  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().board[2].received == 2; }));
+  EXPECT_TRUE(s.faults & io_fault::kNonFinite);
+  EXPECT_EQ(s.nonfinite_boards, 1u << 2);
+  EXPECT_EQ(s.silent_boards, 0u);
+  EXPECT_TRUE(std::isnan(s.q[boards_.layout().motor[2].first]));
+  // the next good packet clears it
+  boards_.SendMotor(2, 3, 2.0);
+  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().board[2].received == 3; }));
+  EXPECT_FALSE(s.faults & io_fault::kNonFinite);
+  EXPECT_EQ(s.nonfinite_boards, 0u);
 }
 
 TEST_F(UdpIoTest, PacketsFromElsewhereAreIgnored) {
