@@ -183,6 +183,11 @@ Status ValidateConfig(const ProducerConfig& config) {
     return Invalid("physics_period must be >= 0 [s] (0 for hardware), got " +
                    std::to_string(config.physics_period));
   }
+  if (config.physics_period > config.control_period) {
+    return Invalid("physics_period " + std::to_string(config.physics_period) +
+                   " s is longer than control_period " + std::to_string(config.control_period) +
+                   " s: a control cycle is a whole number of physics steps");
+  }
   if (!(config.read_timeout_hint > 0.0) || !std::isfinite(config.read_timeout_hint)) {
     return Invalid("read_timeout_hint must be > 0 [s], got " +
                    std::to_string(config.read_timeout_hint));

@@ -132,6 +132,8 @@ TEST(ValidateConfig, NamesABadPeriod) {
                 "control_period must be > 0");
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.physics_period = -0.001; }),
                 "physics_period must be >= 0");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.physics_period = 0.01; }),
+                "physics_period 0.010000 s is longer than control_period 0.005000 s");
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.read_timeout_hint = 0.0; }),
                 "read_timeout_hint");
 }

@@ -14,9 +14,10 @@ namespace ohrp::shm {
 
 // Checks `config` against the layout: segment name, counts <= capacities, every name non-empty
 // (joints, sensors) and shorter than kNameLen, per-joint vectors empty or of njoint entries,
-// finite limits with q_min <= q_max, tau_max >= 0, control_period > 0, physics_period >= 0
-// (0 for hardware), read_timeout_hint > 0, default gains finite and >= 0; the model identity: link_mass and joint_axis empty
-// or of njoint finite entries, masses >= 0, nbody >= 0. Returns kOk, or kInvalidConfig with a
+// finite limits with q_min <= q_max, tau_max >= 0, default gains finite and >= 0,
+// control_period > 0, physics_period in [0, control_period] (0 for hardware),
+// read_timeout_hint > 0; the model identity: link_mass and joint_axis empty or of njoint finite
+// entries, masses >= 0, nbody >= 0. Returns kOk, or kInvalidConfig with a
 // message that names the offending field (e.g. "joint_names[3]").
 Status ValidateConfig(const ProducerConfig& config);
 
