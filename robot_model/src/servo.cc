@@ -20,8 +20,9 @@ void Servo::HoldCurrent(const mjData* d) {
   }
 }
 
-bool Servo::Valid(int i, const shm::JointCommand& c) const {
-  const JointMap& j = robot_.joints[i];
+// the command checks, mode by mode: each mode checks what it uses
+bool CommandAcceptable(const shm::JointCommand& c, double q_min, double q_max,
+                       double tau_max) noexcept {
   if (!(std::isfinite(c.q_ref) && std::isfinite(c.dq_ref) && std::isfinite(c.tau_ff) &&
         std::isfinite(c.kp) && std::isfinite(c.kd)))
     return false;
@@ -29,15 +30,21 @@ bool Servo::Valid(int i, const shm::JointCommand& c) const {
     case shm::JointMode::kOff:
       return true;
     case shm::JointMode::kPosition:
-      if (c.q_ref < j.q_min - kRangeTolerance || c.q_ref > j.q_max + kRangeTolerance) return false;
+      if (c.q_ref < q_min - kRangeTolerance || c.q_ref > q_max + kRangeTolerance) return false;
       [[fallthrough]];
     case shm::JointMode::kVelocity:
+      if (std::fabs(c.dq_ref) > kMaxJointSpeed) return false;
       if (c.kp < 0 || c.kd < 0 || c.kp > kMaxGain || c.kd > kMaxGain) return false;
       [[fallthrough]];
     case shm::JointMode::kTorque:
-      return std::fabs(c.tau_ff) <= j.tau_max;
+      return std::fabs(c.tau_ff) <= tau_max;
   }
   return false;  // unknown mode
+}
+
+bool Servo::Valid(int i, const shm::JointCommand& c) const {
+  const JointMap& j = robot_.joints[i];
+  return CommandAcceptable(c, j.q_min, j.q_max, j.tau_max);
 }
 
 int Servo::Accept(const shm::CommandBlock& commands) {

@@ -108,6 +108,11 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
     return {Error::kNotASegment, where + " has unknown producer state " + std::to_string(state)};
   }
 
+  // the values, checked on a copy so that what was checked is what is kept
+  const SegmentHeader copy = h;
+  check = CheckHeaderValues(copy, segment_name);
+  if (!check.ok()) return check;
+
   // claim the controller slot; a slot held by a dead controller is taken over
   const pid_t self = getpid();
   bool claimed = false;
@@ -129,7 +134,7 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
 
   // keep a validated copy of the header; the pending sensors post (if any) is the cycle to
   // answer first, so it is left in place
-  header_ = SanitizedHeader(h);
+  header_ = SanitizedHeader(copy);
   header_.state = internal::LoadState(h);
   header_.controller_pid = self;
   options_ = options;

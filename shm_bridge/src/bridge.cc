@@ -22,6 +22,8 @@ const char* ErrorName(Error e) {
       return "not a segment";
     case Error::kLayoutMismatch:
       return "layout mismatch";
+    case Error::kInvalidHeader:
+      return "invalid header";
     case Error::kProducerNotReady:
       return "producer not ready";
     case Error::kProducerDead:

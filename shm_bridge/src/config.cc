@@ -142,6 +142,16 @@ Status ValidateConfig(const ProducerConfig& config) {
   for (std::size_t i = 0; i < config.tau_max.size(); ++i) {
     if (config.tau_max[i] < 0.0) return Invalid(Indexed("tau_max", i) + " is negative");
   }
+  // suggested gains: a controller refuses a header with negative or infinite ones
+  for (const auto* gains : {&config.default_kp, &config.default_kd}) {
+    const char* field = gains == &config.default_kp ? "default_kp" : "default_kd";
+    for (std::size_t i = 0; i < gains->size(); ++i) {
+      if (!((*gains)[i] >= 0.0) || !std::isfinite((*gains)[i])) {
+        return Invalid(Indexed(field, i) + " must be finite and >= 0, got " +
+                       std::to_string((*gains)[i]));
+      }
+    }
+  }
 
   // the robot model's identity: per-joint entries as above, masses not negative
   s = CheckPerJoint("link_mass", config.link_mass, njoint);
@@ -172,6 +182,11 @@ Status ValidateConfig(const ProducerConfig& config) {
   if (!(config.physics_period >= 0.0) || !std::isfinite(config.physics_period)) {
     return Invalid("physics_period must be >= 0 [s] (0 for hardware), got " +
                    std::to_string(config.physics_period));
+  }
+  if (config.physics_period > config.control_period) {
+    return Invalid("physics_period " + std::to_string(config.physics_period) +
+                   " s is longer than control_period " + std::to_string(config.control_period) +
+                   " s: a control cycle is a whole number of physics steps");
   }
   if (!(config.read_timeout_hint > 0.0) || !std::isfinite(config.read_timeout_hint)) {
     return Invalid("read_timeout_hint must be > 0 [s], got " +

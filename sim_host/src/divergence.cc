@@ -96,13 +96,70 @@ void DivergenceWatch::Start(const mjModel* m, mjData* d) {
   index_ = warning_ = -1;
 }
 
+namespace {
+
+// Potential energy of the state in `d` as MuJoCo defines it (gravity on every body's centre of
+// mass, joint springs about qpos_spring, tendon springs about their spring length), computed
+// here because MuJoCo 2.2's mj_energyPos leaves 0 unless the scene enables the `energy` flag.
+double PotentialEnergy(const mjModel* m, const mjData* d) {
+  double e = 0;
+  // gravity: -sum_b m_b g . p_W(com of b)
+  if (!(m->opt.disableflags & mjDSBL_GRAVITY)) {
+    const double* g = m->opt.gravity;
+    for (int b = 1; b < m->nbody; ++b) {
+      const double* p = d->xipos + 3 * b;
+      e -= m->body_mass[b] * (g[0] * p[0] + g[1] * p[1] + g[2] * p[2]);
+    }
+  }
+  if (m->opt.disableflags & mjDSBL_PASSIVE) return e;  // springs are passive forces
+  // joint springs: 0.5 k |q - q_spring|^2, rotations as the angle of the quaternion difference
+  for (int j = 0; j < m->njnt; ++j) {
+    const double k = m->jnt_stiffness[j];
+    if (k == 0) continue;
+    const int a = m->jnt_qposadr[j];
+    const double* q = d->qpos + a;
+    const double* q0 = m->qpos_spring + a;
+    double sq = 0;
+    int rot = -1;  // qpos address of a quaternion, if any
+    switch (m->jnt_type[j]) {
+      case mjJNT_FREE:
+        for (int i = 0; i < 3; ++i) sq += (q[i] - q0[i]) * (q[i] - q0[i]);
+        rot = a + 3;
+        break;
+      case mjJNT_BALL:
+        rot = a;
+        break;
+      default:  // hinge, slide
+        sq = (q[0] - q0[0]) * (q[0] - q0[0]);
+    }
+    if (rot >= 0) {
+      double quat[4], w[3];
+      for (int i = 0; i < 4; ++i) quat[i] = d->qpos[rot + i];
+      mju_normalize4(quat);
+      mju_subQuat(w, quat, m->qpos_spring + rot);
+      sq += w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    }
+    e += 0.5 * k * sq;
+  }
+  // tendon springs: 0.5 k (L - L_spring)^2
+  for (int t = 0; t < m->ntendon; ++t) {
+    const double k = m->tendon_stiffness[t];
+    if (k == 0) continue;
+    const double dl = d->ten_length[t] - m->tendon_lengthspring[t];
+    e += 0.5 * k * dl * dl;
+  }
+  return e;
+}
+
+}  // namespace
+
 double DivergenceWatch::Energy(const mjModel* m, mjData* d) {
   // after mj_step the kinematics (xipos) and the mass matrix are those of the state at the
   // start of the step, qpos and qvel the new ones: E of the new state up to a positional lag,
   // about M |g| |v| dt (0.1 J for 1 kg falling at 10 m/s at 1 ms), far below the margin. Using
   // the new velocity catches a blow-up in the step it happens, while the contact that caused
   // it is still in place for the diagnostic.
-  mj_energyPos(m, d);
+  d->energy[0] = PotentialEnergy(m, d);
   mj_mulM(m, d, scratch_.data(), d->qvel);
   double kinetic = 0;
   for (int i = 0; i < m->nv; ++i) kinetic += 0.5 * d->qvel[i] * scratch_[i];

@@ -440,6 +440,27 @@ TEST_F(HwDriverProcess, SilentBoardTripsTheSafeModeWithinTheConfiguredCycles) {
   EXPECT_NE(Stderr().find("board silent"), std::string::npos) << Stderr();
 }
 
+// a NaN from a board is no valid read: safe mode as for a silent board, but the event and the
+// safe mode name the NaN and the board, not "board_silent (board mask 0x0)"
+TEST_F(HwDriverProcess, NanFromABoardTripsTheSafeModeNamingTheNanAndTheBoard) {
+  Start({"--io-arg", "nan_at=300", "--board-timeout-cycles", "5", "--safe-time", "0.05",
+         "--duration", "60"});
+  EXPECT_EQ(Wait(), 6) << Stderr();
+  const auto s = Summary();
+  EXPECT_EQ(s["outcome"], "board_fault");
+  EXPECT_EQ(EventCycle(s, "board_non_finite"), 300) << s.dump(1);
+  EXPECT_EQ(EventCycle(s, "board_silent"), -1) << s.dump(1);
+  for (const auto& e : s["events"]) {
+    if (e["event"] == "board_non_finite") EXPECT_EQ(e["value"].get<long>(), 1);
+    if (e["event"] == "safe_mode") EXPECT_EQ(e["value"].get<long>(), 6);  // kSafeBoardNonFinite
+  }
+  EXPECT_EQ(s["safe_mode_cycle"].get<long>(), 304);
+  EXPECT_EQ(Records().back().servo, 0);
+  EXPECT_NE(Stderr().find("board_non_finite (NaN or inf from board mask 0x1)"), std::string::npos)
+      << Stderr();
+  EXPECT_NE(Stderr().find("safe_mode (NaN or inf from a board)"), std::string::npos) << Stderr();
+}
+
 TEST_F(HwDriverProcess, EmergencyStopInputTurnsTheServosOffAtOnce) {
   Start({"--io-arg", "estop_at=200", "--duration", "60"});
   ASSERT_TRUE(WaitSegment()) << Stderr();

@@ -7,6 +7,7 @@
 //   silent_at=N     from read N on (0-based) every board is silent
 //   estop_at=N      from read N on the emergency-stop input is pressed
 //   reset_at=N      read N reports a board reset
+//   nan_at=N        from read N on joint 0's position is NaN (board 0, io_fault::kNonFinite)
 //   end_at=N        from read N on: end of data
 //   fail_open=1     open fails ("fake: told to fail")
 //   record=PATH     at close, one line per write: "<write> <reads> <servo> {<mode> <q_ref> <kp>
@@ -44,6 +45,7 @@ class FakeIo final : public RobotIo {
       else if (key == "silent_at") silent_at_ = std::atol(value.c_str());
       else if (key == "estop_at") estop_at_ = std::atol(value.c_str());
       else if (key == "reset_at") reset_at_ = std::atol(value.c_str());
+      else if (key == "nan_at") nan_at_ = std::atol(value.c_str());
       else if (key == "end_at") end_at_ = std::atol(value.c_str());
       else if (key == "record") record_path_ = value;
       else if (key == "fail_open" && value == "1") {
@@ -64,6 +66,7 @@ class FakeIo final : public RobotIo {
     const long r = static_cast<long>(reads_++);
     s->faults = 0;
     s->silent_boards = 0;
+    s->nonfinite_boards = 0;
     if (silent_at_ != kNever && r >= silent_at_) {
       s->faults |= io_fault::kBoardSilent;
       s->silent_boards = 1;
@@ -77,6 +80,11 @@ class FakeIo final : public RobotIo {
       s->dq[j] = 0;
       s->tau[j] = 0;
       s->servo_on[j] = servo_;
+    }
+    if (nan_at_ != kNever && r >= nan_at_ && njoint_ > 0) {
+      s->q[0] = std::nan("");
+      s->faults |= io_fault::kNonFinite;
+      s->nonfinite_boards = 1;
     }
     s->imu[0].quat_WI[0] = 1.0;
     return s->faults ? IoResult::kFault : IoResult::kOk;
@@ -120,7 +128,8 @@ class FakeIo final : public RobotIo {
   double q_[ohrp::shm::kMaxJoints] = {};
   bool servo_ = false;
   uint64_t reads_ = 0;
-  long silent_at_ = kNever, estop_at_ = kNever, reset_at_ = kNever, end_at_ = kNever;
+  long silent_at_ = kNever, estop_at_ = kNever, reset_at_ = kNever, end_at_ = kNever,
+       nan_at_ = kNever;
   std::string record_path_;
   std::vector<Record> records_;
 };

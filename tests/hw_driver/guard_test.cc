@@ -1,4 +1,5 @@
-// Tests the driver's command guard: rejection of bad joint commands (the joint holds),
+// Tests the driver's command guard: rejection of bad joint commands (velocity references beyond
+// the joint speed among them; the joint holds),
 // clamping into the range, the servo-on hold and the damped hold of the safe mode.
 #include "hw_driver/guard.h"
 
@@ -71,6 +72,23 @@ TEST(CommandGuard, OutOfRangeBadGainsAndExcessTorqueAreRejected) {
   EXPECT_EQ(g.Accept(c), 1);
   c.njoint = 3;  // a block for another robot: every joint
   EXPECT_EQ(g.Accept(c), 2);
+}
+
+TEST(CommandGuard, VelocityReferencesBeyondTheJointSpeedAreRejected) {
+  CommandGuard g(TwoJoints());
+  const double q[2] = {0.0, 0.1};
+  g.HoldMeasured(q);
+  auto c = Position(0.5, 0.2);
+  c.joint[0].dq_ref = 1e300;
+  c.joint[1].mode = shm::JointMode::kVelocity;
+  c.joint[1].dq_ref = -2.0 * kMaxJointSpeed;
+  EXPECT_EQ(g.Accept(c), 2);
+  EXPECT_DOUBLE_EQ(g.references()[0].q_ref, 0.0);  // held
+  EXPECT_DOUBLE_EQ(g.references()[0].dq_ref, 0.0);
+  EXPECT_EQ(g.references()[1].mode, shm::JointMode::kPosition);
+  c.joint[0].dq_ref = kMaxJointSpeed;
+  c.joint[1].dq_ref = -kMaxJointSpeed;
+  EXPECT_EQ(g.Accept(c), 0);
 }
 
 TEST(CommandGuard, ReferencesWithinTheToleranceAreClampedIntoTheRange) {

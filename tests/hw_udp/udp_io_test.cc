@@ -1,11 +1,15 @@
 // Tests the udp RobotIo against fake boards played by the test on loopback: state in, commands
-// out, silent boards, loss / corruption / stale counting, board resets and sensor flags, and the
+// out, silent boards, loss / corruption / stale counting, board resets and sensor flags, empty
+// datagrams (one, or a flood from another port), a NaN from a board, and the
 // plugin's exported entry loaded with dlopen.
 #include <dlfcn.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <random>
 #include <thread>
 
@@ -98,6 +102,12 @@ class FakeBoards {
   void SendAll(uint32_t seq, double value = 0) {
     for (size_t b = 0; b < layout_.motor.size(); ++b) SendMotor(static_cast<int>(b), seq, value);
     SendSensors(seq);
+  }
+
+  // a datagram of zero bytes from the boards' own address
+  void SendEmpty() {
+    uint8_t none[1] = {};
+    ASSERT_TRUE(socket_.SendTo(peer_, none, 0));
   }
 
   // receives the next command packet (skipping hellos) within `timeout`
@@ -336,6 +346,24 @@ TEST_F(UdpIoTest, SensorBoardFlagsBecomeFaults) {
   ASSERT_TRUE(ReadUntil(&s, [&](const IoState& x) { return (x.faults & want) == want; }));
 }
 
+// a NaN in a board's state is passed on, and named: io_fault::kNonFinite and the board's bit
+TEST_F(UdpIoTest, ANanFromABoardNamesTheBoard) {
+  Open({"timeout_ms=5000"});
+  boards_.SendAll(1, 2.0);
+  boards_.SendMotor(2, 2, std::nan(""));  // board 2's joints read NaN
+  IoState s;
+  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().board[2].received == 2; }));
+  EXPECT_TRUE(s.faults & io_fault::kNonFinite);
+  EXPECT_EQ(s.nonfinite_boards, 1u << 2);
+  EXPECT_EQ(s.silent_boards, 0u);
+  EXPECT_TRUE(std::isnan(s.q[boards_.layout().motor[2].first]));
+  // the next good packet clears it
+  boards_.SendMotor(2, 3, 2.0);
+  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().board[2].received == 3; }));
+  EXPECT_FALSE(s.faults & io_fault::kNonFinite);
+  EXPECT_EQ(s.nonfinite_boards, 0u);
+}
+
 TEST_F(UdpIoTest, PacketsFromElsewhereAreIgnored) {
   Open({"timeout_ms=5000"});
   UdpSocket other;
@@ -345,9 +373,70 @@ TEST_F(UdpIoTest, PacketsFromElsewhereAreIgnored) {
   ASSERT_TRUE(MakeAddress("127.0.0.1", io_.local_port(), &plugin));
   uint8_t junk[40] = {1, 2, 3};
   ASSERT_TRUE(other.SendTo(plugin, junk, sizeof(junk)));
+  // the socket is connected to the boards: the kernel drops the junk, the boards get through
+  boards_.SendAll(1, 2.0);
   IoState s;
-  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().foreign == 1; }));
+  ASSERT_TRUE(ReadUntil(&s, [&](const IoState&) { return io_.stats().board[0].received == 1; }));
+  EXPECT_EQ(io_.stats().corrupted, 0u);
   EXPECT_EQ(s.packets_lost, 0u);
+}
+
+// an empty datagram is a datagram (too short: corrupted), not "nothing waiting": the packets
+// queued behind it are read in the same call
+TEST_F(UdpIoTest, AnEmptyDatagramDoesNotHideThePacketsBehindIt) {
+  Open({"timeout_ms=5000"});
+  boards_.SendEmpty();
+  boards_.SendAll(1, 2.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // all of them queued
+  IoState s;
+  io_.read(&s);
+  for (int b = 0; b < boards_.layout().nboards(); ++b) {
+    EXPECT_EQ(io_.stats().board[b].received, 1u) << "board " << b;
+  }
+  EXPECT_EQ(io_.stats().corrupted, 1u);
+}
+
+// a flood of empty datagrams from another port while the boards run: every board packet is
+// read within a few cycles, none is lost
+TEST_F(UdpIoTest, AFloodOfEmptyDatagramsFromAnotherPortDoesNotStallTheBoards) {
+  Open({"timeout_ms=5000"});
+  UdpSocket other;
+  std::string e;
+  ASSERT_TRUE(other.Open("127.0.0.1", 0, &e)) << e;
+  sockaddr_in plugin;
+  ASSERT_TRUE(MakeAddress("127.0.0.1", io_.local_port(), &plugin));
+  std::atomic<bool> stop{false};
+  std::atomic<long> sent{0};
+  std::thread flood([&] {
+    uint8_t none[1] = {};
+    while (!stop.load()) {
+      if (other.SendTo(plugin, none, 0)) sent.fetch_add(1);
+    }
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the flood fills the queue
+  double worst = 0;
+  const int nboards = boards_.layout().nboards();
+  for (uint32_t seq = 1; seq <= 100; ++seq) {
+    boards_.SendAll(seq, seq);
+    const auto t0 = Clock::now();
+    IoState s;
+    const bool got = ReadUntil(&s, [&](const IoState&) {
+      for (int b = 0; b < nboards; ++b) {
+        if (io_.stats().board[b].received != seq) return false;
+      }
+      return true;
+    });
+    worst = std::max(worst, std::chrono::duration<double>(Clock::now() - t0).count());
+    if (!got) {
+      ADD_FAILURE() << "cycle " << seq << ": the boards' packets did not get through";
+      break;
+    }
+  }
+  stop.store(true);
+  flood.join();
+  EXPECT_GT(sent.load(), 1000) << "the flood did not run";
+  EXPECT_LT(worst, 0.1) << "worst delay of a cycle's packets [s]";
+  EXPECT_EQ(io_.stats().lost_total(), 0u);
 }
 
 TEST(UdpIoOpen, RefusesBadArguments) {

@@ -1,8 +1,10 @@
-// Tests the robot adaptor (controller end) across real processes: every refusal of open, the
+// Tests the robot adaptor (controller end) across real processes: every refusal of open (a
+// header with corrupt counts, gains or periods among them), the
 // controller slot, the lock-step ping-pong with data checks, a late controller answering the
 // pending cycle, and read's results when nothing comes or the producer dies.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -154,6 +156,65 @@ TEST_F(AdaptorTest, OpenReportsAProducerThatStaysInCreation) {
   const Status s = adaptor.open(name_);
   EXPECT_EQ(s.code, Error::kProducerNotReady) << s.message;
   EXPECT_FALSE(adaptor.is_open());
+}
+
+// a header of the right layout whose values are corrupt: refused with the field and the value
+struct CorruptHeader {
+  const char* what;                         // the field as the message names it
+  void (*corrupt)(SegmentHeader* h);
+  const char* expected;                     // part of the message
+};
+
+TEST_F(AdaptorTest, OpenRefusesAHeaderWithNonPhysicalValues) {
+  const CorruptHeader cases[] = {
+      {"njoint", [](SegmentHeader* h) { h->njoint = 100000; }, "njoint = 100000 is outside [0, 64]"},
+      {"nforce", [](SegmentHeader* h) { h->nforce = -1; }, "nforce = -1 is outside [0, 4]"},
+      {"nimu", [](SegmentHeader* h) { h->nimu = 3; }, "nimu = 3 is outside [0, 2]"},
+      {"default_kp", [](SegmentHeader* h) { h->default_kp[1] = -200.0; },
+       "default_kp[1] = -200 (joint 'knee') must be finite and >= 0"},
+      {"default_kd", [](SegmentHeader* h) { h->default_kd[2] = NAN; },
+       "default_kd[2] = nan (joint 'ankle') must be finite and >= 0"},
+      {"q_min > q_max", [](SegmentHeader* h) { h->q_min[0] = 2.0; },
+       "q_min[0] = 2 and q_max[0] = 1 (joint 'hip') are not a range"},
+      {"tau_max", [](SegmentHeader* h) { h->tau_max[0] = -1.0; },
+       "tau_max[0] = -1 (joint 'hip') must be >= 0"},
+      {"control_period", [](SegmentHeader* h) { h->control_period = 0.0; },
+       "control_period = 0 must be finite and > 0"},
+      {"control_period NaN", [](SegmentHeader* h) { h->control_period = NAN; },
+       "control_period = nan"},
+      {"physics_period", [](SegmentHeader* h) { h->physics_period = -0.001; },
+       "physics_period = -0.001 must be in [0, control_period = 0.005]"},
+      {"read_timeout_hint", [](SegmentHeader* h) { h->read_timeout_hint = INFINITY; },
+       "read_timeout_hint = inf"},
+      {"total_mass", [](SegmentHeader* h) { h->total_mass = -3.0; }, "total_mass = -3"},
+  };
+  for (const CorruptHeader& c : cases) {
+    SCOPED_TRACE(c.what);
+    auto producer = Create();
+    ASSERT_NE(producer, nullptr);
+    RawSegment raw(name_);
+    c.corrupt(&raw.get()->header);
+    RobotAdaptor adaptor;
+    const Status s = adaptor.open(name_);
+    EXPECT_EQ(s.code, Error::kInvalidHeader) << s.message;
+    EXPECT_TRUE(Contains(s.message, c.expected)) << s.message;
+    EXPECT_TRUE(Contains(s.message, "segment '" + name_ + "'")) << s.message;
+    EXPECT_FALSE(adaptor.is_open());
+    EXPECT_EQ(producer->controller_pid(), 0);  // nothing stays attached
+  }
+}
+
+TEST_F(AdaptorTest, OpenAcceptsUnlimitedJointsAndAHardwarePeriod) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  RawSegment raw(name_);
+  raw.get()->header.q_min[0] = -INFINITY;  // a joint without limits
+  raw.get()->header.q_max[0] = INFINITY;
+  raw.get()->header.tau_max[1] = INFINITY;
+  raw.get()->header.physics_period = 0.0;  // hardware
+  RobotAdaptor adaptor;
+  const Status s = adaptor.open(name_);
+  EXPECT_TRUE(s.ok()) << s.message;
 }
 
 //---------------- open: the controller slot ----------------

@@ -105,6 +105,13 @@ TEST(ValidateConfig, NamesAnInconsistentVector) {
                 "q_min[2] > q_max[2] (joint 'ankle')");
 }
 
+TEST(ValidateConfig, NamesNegativeOrInfiniteDefaultGains) {
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.default_kp[1] = -1.0; }),
+                "default_kp[1] must be finite and >= 0");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.default_kd[0] = HUGE_VAL; }),
+                "default_kd[0] must be finite and >= 0");
+}
+
 TEST(ValidateConfig, NamesABadModelIdentity) {
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.link_mass = {1.0, 2.0}; }),
                 "link_mass has 2 entries, expected 0 or njoint = 3");
@@ -125,6 +132,8 @@ TEST(ValidateConfig, NamesABadPeriod) {
                 "control_period must be > 0");
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.physics_period = -0.001; }),
                 "physics_period must be >= 0");
+  ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.physics_period = 0.01; }),
+                "physics_period 0.010000 s is longer than control_period 0.005000 s");
   ExpectInvalid(ValidateEdited([](ProducerConfig& c) { c.read_timeout_hint = 0.0; }),
                 "read_timeout_hint");
 }

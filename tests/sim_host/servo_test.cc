@@ -1,5 +1,5 @@
-// Tests the joint servos: command checks joint by joint, and the PD law against the closed
-// form of a damped oscillator.
+// Tests the joint servos: command checks joint by joint (velocity references among them), and
+// the PD law against the closed form of a damped oscillator.
 #include "sim_host/model.h"
 
 #include <gtest/gtest.h>
@@ -74,6 +74,25 @@ TEST_F(ServoTest, RejectsBadGainsModesAndTorques) {
   c.joint[0].tau_ff = std::numeric_limits<double>::infinity();
   EXPECT_EQ(servo_->Accept(c), 2);
   EXPECT_EQ(servo_->rejected_total(), 8u);
+}
+
+// dq_ref = 1e300 would drive the joint at full torque: refused like a position out of range
+TEST_F(ServoTest, RejectsVelocityReferencesBeyondTheJointSpeed) {
+  servo_->Accept(Position(0.2, 0.1));
+  auto c = Position(0.3, 0.3);
+  c.joint[0].dq_ref = 1e300;
+  c.joint[1].mode = shm::JointMode::kVelocity;
+  c.joint[1].dq_ref = -1.01 * model::kMaxJointSpeed;
+  EXPECT_EQ(servo_->Accept(c), 2);
+  EXPECT_DOUBLE_EQ(servo_->reference(0).q_ref, 0.2);  // both hold
+  EXPECT_DOUBLE_EQ(servo_->reference(0).dq_ref, 0.0);
+  EXPECT_EQ(servo_->reference(1).mode, shm::JointMode::kPosition);
+  servo_->Apply(scene_->m(), scene_->d());
+  EXPECT_LT(std::fabs(scene_->d()->ctrl[0]), 50.0);  // not at the torque limit
+
+  c.joint[0].dq_ref = model::kMaxJointSpeed;  // the bound itself is a speed
+  c.joint[1].dq_ref = -model::kMaxJointSpeed;
+  EXPECT_EQ(servo_->Accept(c), 0);
 }
 
 TEST_F(ServoTest, BlockForAnotherRobotIsRejectedWhole) {

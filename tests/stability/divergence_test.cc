@@ -1,7 +1,7 @@
 // Tests the divergence watch (sim_host/divergence.h): what it detects (non-finite state,
 // MuJoCo's bad-acceleration reset, an energy jump nothing paid for), what it must not flag (a
 // push it is told about, the standing robot, OpenHRP's SamplePD walk), and its energy account
-// against MuJoCo's own (mjENBL_ENERGY).
+// against MuJoCo's own (mjENBL_ENERGY), and without that flag (a free fall is not a blow-up).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,6 +58,35 @@ TEST(DivergenceWatch, EnergyAgreesWithMujocosAndAFreeFallIsNotFlagged) {
   EXPECT_NEAR(d->qvel[2], -9.81, 0.02);
   EXPECT_LE(watch.max_excess(), 0.11);
   EXPECT_NEAR(watch.energy(), watch.energy_start(), 0.11);
+}
+
+// MuJoCo 2.2's mj_energyPos is 0 without the scene's `energy` flag: the watch computes the
+// potential energy itself, so a body falling for 3 s (44 m, 430 J of kinetic energy against a
+// 15 J margin) is not energy from nowhere, and a real jump is still caught
+TEST(DivergenceWatch, FreeFallWithoutTheEnergyFlagIsNotFlaggedAndAJumpStillIs) {
+  auto sim = Sim::FromString(kBodies);
+  ASSERT_TRUE(sim);
+  mjModel* m = sim->m();
+  mjData* d = sim->d();
+  d->qpos[7] = 0.5;  // the pendulum's spring stores energy too
+  ASSERT_FALSE(m->opt.enableflags & mjENBL_ENERGY);
+  DivergenceWatch watch(m);
+  watch.Start(m, d);
+  EXPECT_NEAR(watch.energy_start(), -(-9.81) * (1.0 * 1.0 + 0.5 * (1.0 - 0.25 * std::cos(0.5))) +
+                                        0.5 * 2.0 * 0.25, 1e-6)
+      << "m g z of both bodies and the spring's k q^2 / 2";
+  for (int k = 1; k <= 3000; ++k) {
+    mj_step(m, d);
+    ASSERT_FALSE(watch.Check(m, d, k)) << "step " << k << ": " << watch.Diagnose(m, d).what;
+  }
+  EXPECT_NEAR(d->qvel[2], -3 * 9.81, 0.05);
+  EXPECT_NEAR(watch.energy(), watch.energy_start(), 0.35) << "a fall conserves E (lag M g v dt)";
+
+  // 20 m/s sideways from nowhere (200 J): still an energy blow-up
+  mj_step(m, d);
+  d->qvel[0] = 20;
+  ASSERT_TRUE(watch.Check(m, d, 3001));
+  EXPECT_EQ(watch.kind(), DivergenceKind::kEnergy);
 }
 
 TEST(DivergenceWatch, NonFiniteStateIsCaughtAndNamesTheJoint) {

@@ -1,7 +1,8 @@
 // Tests sim_host's divergence stop end to end, with the real programs: sim_host on a scene
 // that diverges once the arm moves (mjcf/stability/stiff_spring_arm.xml) and posture moving it.
 // sim_host must exit 4 with the watch's diagnostic on stderr and in its summary, posture must
-// exit non-zero saying that the producer diverged, and the segment must be gone.
+// exit non-zero saying that the producer diverged, and the segment must be gone. And a body
+// falling beside the robot in a scene without MuJoCo's `energy` flag is no divergence.
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -114,6 +115,44 @@ TEST(DivergenceStop, SimHostStopsWithADiagnosticAndThePostureControllerIsTold) {
 
   // the segment is gone
   EXPECT_FALSE(fs::exists(object));
+  fs::remove_all(dir);
+}
+
+// a body that is not the robot falling freely in a scene without MuJoCo's `energy` flag: 3 s
+// of free fall (20 kg, 8.6 kJ of kinetic energy against a margin of 200 J) is no divergence
+TEST(DivergenceStop, AFallingBodyBesideTheRobotDoesNotStopTheRun) {
+  const std::string segment = "stabfall_" + std::to_string(getpid());
+  const fs::path dir = fs::temp_directory_path() / ("ohrp_fall_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string scene = (dir / "arm_and_ball.xml").string();
+  std::ofstream(scene) << R"(<mujoco model="arm_and_ball">
+  <option timestep="0.001"/>
+  <worldbody>
+    <body name="link">
+      <joint name="j1" type="hinge" axis="0 1 0" limited="true" range="-1 1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>
+    </body>
+    <body name="ball" pos="1 0 1">
+      <freejoint/>
+      <geom type="sphere" size="0.1" mass="20" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+  <actuator><motor name="m1" joint="j1" ctrllimited="true" ctrlrange="-50 50"/></actuator>
+</mujoco>)";
+  const std::string summary = (dir / "summary.json").string();
+  const pid_t sim = Spawn({std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", scene,
+                           "--segment", segment, "--duration", "3", "--wait-controller", "0",
+                           "--progress", "0", "--summary", summary},
+                          (dir / "sim_host.txt").string());
+  const int code = WaitExit(sim, 60);
+  const std::string text = Read((dir / "sim_host.txt").string());
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_EQ(text.find("diverged"), std::string::npos) << text;
+  std::ifstream in(summary);
+  ASSERT_TRUE(in) << "no summary: " << text;
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_NE(j["outcome"], "diverged") << j.dump(2);
+  EXPECT_NEAR(j["sim_time"].get<double>(), 3.0, 0.01) << j.dump(2);
   fs::remove_all(dir);
 }
 

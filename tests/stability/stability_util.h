@@ -35,7 +35,7 @@ struct RunResult {
   Diagnosis diagnosis;       // when diverged
   double sim_time = 0;       // [s] reached
   long steps = 0;
-  double energy0 = 0, energy = 0, work = 0, max_excess = 0;  // [J] (watch, mjENBL_ENERGY on)
+  double energy0 = 0, energy = 0, work = 0, max_excess = 0;  // [J] (the watch's account)
   int warnings[mjNWARNING] = {};  // d->warning[].number grown during the run
   long handler_warnings = 0;      // calls to sim_host's MuJoCo warning handler
   double wall = 0;                // [s]
@@ -91,8 +91,7 @@ class Sim {
   RunResult Run(double duration, const std::function<void()>& before = {},
                 const std::function<void()>& after = {},
                 const std::vector<int>& passive = {}) {
-    m_->opt.enableflags |= mjENBL_ENERGY;
-    RunResult r;
+    RunResult r;  // the scene's flags as they are: the watch needs no `energy` flag
     DivergenceWatch watch(m_);
     watch.SetPassiveBodies(passive);
     watch.Start(m_, d_);

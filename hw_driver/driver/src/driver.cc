@@ -83,6 +83,7 @@ const char* EventName(EventKind k) {
     case EventKind::kDurationReached: return "duration_reached";
     case EventKind::kIoError: return "io_error";
     case EventKind::kNoValidRead: return "no_valid_read";
+    case EventKind::kBoardNonFinite: return "board_non_finite";
   }
   return "?";
 }
@@ -211,6 +212,7 @@ int Driver::Run() {
   int silent_board = 0;       // consecutive cycles with a silent board
   int silent_controller = 0;  // consecutive cycles without the controller's answer
   bool board_was_silent = false;
+  int64_t silent_reason = kSafeBoardSilent;  // why the boards gave no valid read (safe mode value)
   bool sensor_fault_seen = false;
   pid_t controller = 0;
   bool answered = false;      // the current controller has answered at least once
@@ -253,15 +255,23 @@ int Driver::Run() {
     const IoResult r = d.io->read(&d.in);
     const uint32_t faults = r == IoResult::kError ? 0u : d.in.faults;
     live_.packets_lost.store(d.in.packets_lost, std::memory_order_relaxed);
-    const bool silent = r == IoResult::kError || (faults & io_fault::kBoardSilent) ||
-                        !AllFinite(d.in.q, d.njoint);
+    // a NaN or inf from a board is no valid read either, but named as what it is
+    const bool nonfinite = (faults & io_fault::kNonFinite) || !AllFinite(d.in.q, d.njoint);
+    const bool no_answer = r == IoResult::kError || (faults & io_fault::kBoardSilent);
+    const bool silent = no_answer || nonfinite;
     if (silent) {
       Bump(live_.silent_reads);
       ++silent_board;
       flags |= shm::status::kBoardFault;
       if (!board_was_silent) {
-        d.Record(r == IoResult::kError ? EventKind::kIoError : EventKind::kBoardSilent,
-                 d.in.silent_boards);
+        if (r == IoResult::kError) {
+          d.Record(EventKind::kIoError, d.in.silent_boards);
+        } else if (no_answer) {
+          d.Record(EventKind::kBoardSilent, d.in.silent_boards);
+        } else {
+          d.Record(EventKind::kBoardNonFinite, d.in.nonfinite_boards);
+        }
+        silent_reason = no_answer ? kSafeBoardSilent : kSafeBoardNonFinite;
       }
     } else {
       std::memcpy(d.last_valid_q, d.in.q, d.njoint * sizeof(double));
@@ -297,9 +307,9 @@ int Driver::Run() {
       } else if (running && (faults & io_fault::kBoardReset)) {
         flags |= shm::status::kBoardFault;
         d.Record(EventKind::kBoardReset, d.in.silent_boards);
-        enter_safe_mode(kExitBoardFault, "board_fault", 2);
+        enter_safe_mode(kExitBoardFault, "board_fault", kSafeBoardReset);
       } else if (running && silent_board >= o.board_timeout_cycles) {
-        enter_safe_mode(kExitBoardFault, "board_fault", 1);
+        enter_safe_mode(kExitBoardFault, "board_fault", silent_reason);
       } else if (d.state == DriverState::kInactive && !silent) {
         d.guard.HoldMeasured(d.in.q);
         d.servo_on = true;

@@ -33,23 +33,7 @@ void CommandGuard::HoldMeasured(const double* q) noexcept {
 }
 
 bool CommandGuard::Valid(int i, const shm::JointCommand& c) const noexcept {
-  if (!(std::isfinite(c.q_ref) && std::isfinite(c.dq_ref) && std::isfinite(c.tau_ff) &&
-        std::isfinite(c.kp) && std::isfinite(c.kd)))
-    return false;
-  switch (c.mode) {
-    case shm::JointMode::kOff:
-      return true;
-    case shm::JointMode::kPosition:
-      if (c.q_ref < q_min_[i] - kRangeTolerance || c.q_ref > q_max_[i] + kRangeTolerance)
-        return false;
-      [[fallthrough]];
-    case shm::JointMode::kVelocity:
-      if (c.kp < 0 || c.kd < 0 || c.kp > kMaxGain || c.kd > kMaxGain) return false;
-      [[fallthrough]];
-    case shm::JointMode::kTorque:
-      return std::fabs(c.tau_ff) <= tau_max_[i];
-  }
-  return false;  // unknown mode
+  return model::CommandAcceptable(c, q_min_[i], q_max_[i], tau_max_[i]);
 }
 
 int CommandGuard::Accept(const shm::CommandBlock& commands) noexcept {

@@ -40,15 +40,24 @@ void PrintEvent(const Event& e) {
     case EventKind::kBoardReset:
       std::snprintf(what, sizeof(what), " (board mask 0x%lx)", static_cast<long>(e.value));
       break;
+    case EventKind::kBoardNonFinite:
+      if (e.value != 0) {
+        std::snprintf(what, sizeof(what), " (NaN or inf from board mask 0x%lx)",
+                      static_cast<long>(e.value));
+      } else {
+        std::snprintf(what, sizeof(what), " (NaN or inf in the joint positions read)");
+      }
+      break;
     case EventKind::kBoardBack:
       std::snprintf(what, sizeof(what), " (after %ld silent cycles)", static_cast<long>(e.value));
       break;
     case EventKind::kSafeMode: {
       static const char* kWhy[] = {"", "board silent", "board reset", "controller silent",
-                                   "controller died", "controller detached"};
+                                   "controller died", "controller detached",
+                                   "NaN or inf from a board"};
       const long v = static_cast<long>(e.value);
       std::snprintf(what, sizeof(what), " (%s): damped hold, then servo-off",
-                    v >= 1 && v <= 5 ? kWhy[v] : "?");
+                    v >= 1 && v <= kSafeBoardNonFinite ? kWhy[v] : "?");
       break;
     }
     case EventKind::kEmergencyStop:

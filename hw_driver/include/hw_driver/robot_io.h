@@ -21,7 +21,7 @@
 
 namespace ohrp::hw {
 
-inline constexpr uint32_t kRobotIoAbiVersion = 1;
+inline constexpr uint32_t kRobotIoAbiVersion = 2;  // 2: IoState::nonfinite_boards
 inline constexpr const char* kRobotIoEntry = "ohrp_create_robot_io";
 
 // What the driver tells the boards at open: the robot (from its model) and the plugin's own
@@ -44,6 +44,8 @@ inline constexpr uint32_t kSensorSaturated = 1u << 3;
 inline constexpr uint32_t kBoardReset = 1u << 4;     // a board restarted (its servos are off)
 inline constexpr uint32_t kEmergencyStop = 1u << 5;  // the robot's emergency-stop input is pressed
 inline constexpr uint32_t kEndOfData = 1u << 6;      // replay: the recording is over
+inline constexpr uint32_t kNonFinite = 1u << 7;      // a board sent a NaN or infinite value
+                                                     // (IoState::nonfinite_boards says which)
 }  // namespace io_fault
 
 // The boards' latest measurements, as read once per cycle.
@@ -51,6 +53,7 @@ struct IoState {
   uint64_t time_ns = 0;                  // the boards' timestamp of these data [ns]
   uint32_t faults = 0;                   // io_fault:: bits
   uint32_t silent_boards = 0;            // bit i: board i silent this cycle
+  uint32_t nonfinite_boards = 0;         // bit i: board i's latest data hold a NaN or inf
   uint64_t packets_lost = 0;             // total since open
   double q[shm::kMaxJoints] = {};        // [rad or m]
   double dq[shm::kMaxJoints] = {};       // [rad/s or m/s]

@@ -13,7 +13,7 @@ void Emulator::Receive() {
   for (int i = 0; i < kMaxReceive; ++i) {  // bounded: at most this many datagrams a cycle
     sockaddr_in from;
     const long n = socket_.Receive(buf_, kMaxPacketSize, &from);
-    if (n <= 0) return;
+    if (n == kNoDatagram || n == kReceiveFailed) return;  // an empty datagram is corrupted below
     Header h;
     if (DecodeHeader(buf_, static_cast<size_t>(n), &h) != DecodeError::kOk ||
         h.board >= layout_.nboards()) {

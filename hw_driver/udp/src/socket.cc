@@ -64,9 +64,20 @@ void UdpSocket::Close() {
   port_ = 0;
 }
 
+bool UdpSocket::Connect(const sockaddr_in& peer, std::string* error) {
+  if (connect(fd_, reinterpret_cast<const sockaddr*>(&peer), sizeof(peer)) == 0) return true;
+  *error = std::string("cannot connect the UDP socket to its peer: ") + std::strerror(errno);
+  return false;
+}
+
 bool UdpSocket::SendTo(const sockaddr_in& to, const uint8_t* data, size_t n) {
-  const ssize_t r = sendto(fd_, data, n, 0, reinterpret_cast<const sockaddr*>(&to), sizeof(to));
-  return r == static_cast<ssize_t>(n);
+  // a connected socket reports an earlier send's ICMP error on this one: consumed, sent again
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const ssize_t r = sendto(fd_, data, n, 0, reinterpret_cast<const sockaddr*>(&to), sizeof(to));
+    if (r == static_cast<ssize_t>(n)) return true;
+    if (r >= 0 || errno != ECONNREFUSED) return false;
+  }
+  return false;
 }
 
 long UdpSocket::Receive(uint8_t* buf, size_t cap, sockaddr_in* from) {
@@ -92,9 +103,9 @@ long UdpSocket::Receive(uint8_t* buf, size_t cap, sockaddr_in* from) {
       return (msg.msg_flags & MSG_TRUNC) ? 1 : static_cast<long>(r);
     }
     if (errno == EINTR) continue;
-    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return kNoDatagram;
     if (errno == ECONNREFUSED) continue;  // an ICMP error of an earlier send: not fatal
-    return -1;
+    return kReceiveFailed;
   }
 }
 

@@ -24,6 +24,13 @@ bool ParseNumber(const std::string& s, double* out) {
   return !s.empty() && end && *end == 0 && std::isfinite(*out);
 }
 
+bool AllFinite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
 bool ParseInt(const std::string& s, long lo, long hi, long* out) {
   char* end = nullptr;
   *out = std::strtol(s.c_str(), &end, 10);
@@ -127,8 +134,11 @@ bool UdpIo::open(const IoConfig& config, std::string* error) {
     *error = "udp io: bad board address '" + host + "' (a dotted IPv4 address, e.g. 127.0.0.1)";
     return false;
   }
+  // the socket hears the boards' address only: the kernel drops datagrams from anywhere else
   std::string why;
-  if (!socket_.Open(bind_host, static_cast<int>(local_port), &why)) {
+  if (!socket_.Open(bind_host, static_cast<int>(local_port), &why) ||
+      !socket_.Connect(boards_addr_, &why)) {
+    socket_.Close();
     *error = "udp io: " + why;
     return false;
   }
@@ -254,11 +264,12 @@ IoResult UdpIo::read(IoState* state) noexcept {
   for (int i = 0; i < kMaxDrain; ++i) {
     sockaddr_in from;
     const long n = socket_.Receive(buf_, kMaxPacketSize, &from);
-    if (n == 0) break;
-    if (n < 0) {
+    if (n == kNoDatagram) break;
+    if (n == kReceiveFailed) {
       socket_error = true;
       break;
     }
+    // an empty datagram is one (too short: counted corrupted), not the end of the queue
     if (from.sin_addr.s_addr != boards_addr_.sin_addr.s_addr || from.sin_port != boards_addr_.sin_port) {
       ++stats_.foreign;
       continue;
@@ -270,7 +281,7 @@ IoResult UdpIo::read(IoState* state) noexcept {
 
   // the newest data of every board, and who is silent
   const int64_t now = NowNs();
-  uint32_t faults = 0, silent = 0;
+  uint32_t faults = 0, silent = 0, nonfinite = 0;
   uint64_t time_ns = 0;
   for (int b = 0; b < layout_.nboards(); ++b) {
     BoardStats& bs = stats_.board[b];
@@ -285,10 +296,20 @@ IoResult UdpIo::read(IoState* state) noexcept {
     if (f & board_flag::kSensorStuck) faults |= io_fault::kSensorStuck;
     if (f & board_flag::kSensorSaturated) faults |= io_fault::kSensorSaturated;
     if (f & board_flag::kEmergencyStop) faults |= io_fault::kEmergencyStop;
+    // the data, passed on as they came; a NaN or inf marks its board
+    bool finite = true;
     if (b == layout_.sensor_board()) {
       time_ns = std::max(time_ns, sensor_.h.time_ns);
-      for (int i = 0; i < nforce_; ++i) state->force[i] = sensor_.force[i];
-      for (int i = 0; i < nimu_; ++i) state->imu[i] = sensor_.imu[i];
+      for (int i = 0; i < nforce_; ++i) {
+        state->force[i] = sensor_.force[i];
+        finite = finite && AllFinite(sensor_.force[i].force, 3) &&
+                 AllFinite(sensor_.force[i].torque, 3);
+      }
+      for (int i = 0; i < nimu_; ++i) {
+        const shm::Imu& u = sensor_.imu[i];
+        state->imu[i] = u;
+        finite = finite && AllFinite(u.gyro, 3) && AllFinite(u.accel, 3) && AllFinite(u.quat_WI, 4);
+      }
     } else {
       const MotorStatePacket& p = motor_[b];
       time_ns = std::max(time_ns, p.h.time_ns);
@@ -298,16 +319,21 @@ IoResult UdpIo::read(IoState* state) noexcept {
         state->dq[j] = p.joint[k].dq;
         state->tau[j] = p.joint[k].tau;
         state->servo_on[j] = p.joint[k].servo_on;
+        finite = finite && std::isfinite(p.joint[k].q) && std::isfinite(p.joint[k].dq) &&
+                 std::isfinite(p.joint[k].tau);
       }
     }
+    if (!finite) nonfinite |= 1u << b;
   }
   if (silent) faults |= io_fault::kBoardSilent;
+  if (nonfinite) faults |= io_fault::kNonFinite;
   const uint64_t lost = stats_.lost_total();
   if (lost + stats_.corrupted != lost_at_last_read_) faults |= io_fault::kPacketLost;
   lost_at_last_read_ = lost + stats_.corrupted;
   state->time_ns = time_ns;
   state->faults = faults;
   state->silent_boards = silent;
+  state->nonfinite_boards = nonfinite;
   state->packets_lost = lost;
   if (socket_error) return IoResult::kError;
   return faults ? IoResult::kFault : IoResult::kOk;

@@ -28,6 +28,7 @@ enum class Error {
   kNoSegment,          // no segment of that name (the producer is not running)
   kNotASegment,        // the object exists but has the wrong size or magic
   kLayoutMismatch,     // version or layout hash differ: producer and controller were built apart
+  kInvalidHeader,      // the header's counts, limits, gains or periods are not physical
   kProducerNotReady,   // the producer is still writing the header
   kProducerDead,       // the segment is stale: its producer process is gone
   kProducerStopped,    // the producer has ended its run
@@ -152,9 +153,10 @@ class RobotAdaptor {
   RobotAdaptor(const RobotAdaptor&) = delete;
   RobotAdaptor& operator=(const RobotAdaptor&) = delete;
 
-  // Attaches to the segment by name: checks magic, layout version and hash, size, that the
-  // producer is alive and running, and claims the controller slot (a slot held by a dead
-  // controller is taken over). On failure nothing stays attached and the Status message says
+  // Attaches to the segment by name: checks magic, layout version and hash, size, the header's
+  // values (CheckHeaderValues in checks.h: counts within capacity, physical limits, gains and
+  // periods), that the producer is alive and running, and claims the controller slot (a slot
+  // held by a dead controller is taken over). On failure nothing stays attached and the Status message says
   // which check failed and what to do.
   Status open(const std::string& segment_name, const AdaptorOptions& options = {});
 
@@ -173,7 +175,7 @@ class RobotAdaptor {
   void close();
 
   bool is_open() const { return segment_ != nullptr; }
-  // A copy of the header, validated at open (counts clamped to the capacities).
+  // A copy of the header, validated at open (CheckHeaderValues; names NUL-terminated).
   const SegmentHeader& header() const { return header_; }
   // The producer's state now (read from the segment, not the copy): after read() returned
   // kProducerStopped, kFailed tells a failed run (e.g. a diverged simulation) from a clean end.

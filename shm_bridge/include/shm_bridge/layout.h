@@ -25,8 +25,9 @@
 //
 // Seqlock rule for both data blocks: the writer increments `seq` to an odd value, writes, then
 // increments it to an even value (release). A reader copies the block and retries when `seq`
-// was odd or changed during the copy. Readers never trust counts read from the segment: every
-// count is clamped to the k* maxima below before use.
+// was odd or changed during the copy. Readers never trust counts read from the segment: a
+// controller refuses a header whose counts exceed the k* maxima below (CheckHeaderValues), and
+// every count is clamped to them before use.
 // Fields shared across processes while both run (`state`, `controller_pid`, `seq`) are plain
 // integers accessed only through std::atomic_ref, so every block stays trivially copyable.
 // ---------------------------------------------------------------------------------------------

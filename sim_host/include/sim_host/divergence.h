@@ -10,8 +10,10 @@
 //   2. a non-finite qpos, qvel, qacc or ctrl (MuJoCo clamps an infinite control of a limited
 //      actuator without a warning), or a speed beyond WatchLimits::max_speed (a runaway that
 //      will be non-finite a few steps later).
-//   3. energy blow-up. E = kinetic + gravity + joint/tendon spring energy (MuJoCo's
-//      mj_energyPos and qvel' M qvel) of the state after the step, with the kinematics and mass
+//   3. energy blow-up. E = kinetic + gravity + joint/tendon spring energy (MuJoCo's definition
+//      of mj_energyPos, computed by the watch itself whatever the scene's `energy` flag: MuJoCo
+//      2.2 leaves it 0 when the flag is off, which made any fall look like energy from nowhere;
+//      and qvel' M qvel) of the state after the step, with the kinematics and mass
 //      matrix mj_step left in mjData (those of the step's start: E is off by about
 //      M |g| |v| dt, 0.1 J for 1 kg at 10 m/s at 1 ms). What can raise E is bounded by the
 //      work of the sources:
@@ -113,7 +115,7 @@ class DivergenceWatch {
 
   // After each mj_step: true when the run has diverged (the first detection is latched with
   // the last finite state; later calls return true and change nothing). No allocation, no
-  // output. Writes d->energy (mj_energyPos, and the kinetic energy in d->energy[1]).
+  // output. Writes d->energy (the potential energy in d->energy[0], the kinetic in [1]).
   bool Check(const mjModel* m, mjData* d, uint64_t step);
 
   // The diagnostic of the latched detection (allocates; call once, after Check returned true).

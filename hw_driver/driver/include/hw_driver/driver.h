@@ -39,7 +39,8 @@
 //   run         controller's commands checked and clamped, written to the boards.
 //   safe mode   entered when the controller stays silent for watchdog_cycles cycles after its
 //               first answer, dies (pid check in every command wait), or detaches; or when a
-//               board is silent for board_timeout_cycles cycles or reports a reset. Commands
+//               board is silent or sends a NaN or inf (event board_non_finite, not
+//               board_silent) for board_timeout_cycles cycles, or reports a reset. Commands
 //               are ignored; after safe_time the servos go off and the run ends.
 //   stopping    SIGINT/SIGTERM, the duration reached or the replay's end of data: a damped
 //               hold for servo_off_time, then servos off, run ends.
@@ -48,8 +49,8 @@
 // Status bits published (shm::status): kRunning always; kNoController while no controller is
 // attached; kCommandLate when the last commands missed their deadline; kCommandRejected when a
 // joint was rejected this cycle; kHolding in safe mode and while stopping; kServoOff while the
-// servos are off; kBoardFault when a board is silent, reset, or reports a stuck or saturated
-// sensor this cycle; kEmergencyStop after an emergency stop; kShuttingDown on the last block.
+// servos are off; kBoardFault when a board is silent, reset, sends a NaN or inf, or reports a
+// stuck or saturated sensor this cycle; kEmergencyStop after an emergency stop; kShuttingDown on the last block.
 // ---------------------------------------------------------------------------------------------
 #pragma once
 
@@ -98,8 +99,17 @@ enum class EventKind {
   kServoOn, kControllerAttached, kControllerSilent, kControllerDied, kControllerDetached,
   kBoardSilent, kBoardBack, kBoardReset, kSensorFault, kSafeMode, kServoOff, kEmergencyStop,
   kEndOfData, kStopRequested, kDurationReached, kIoError, kNoValidRead,
+  kBoardNonFinite,  // a board sent a NaN or inf: no valid read (value: IoState::nonfinite_boards)
 };
 const char* EventName(EventKind k);
+
+// Event::value of kSafeMode: why the safe mode began
+inline constexpr int64_t kSafeBoardSilent = 1;
+inline constexpr int64_t kSafeBoardReset = 2;
+inline constexpr int64_t kSafeControllerSilent = 3;
+inline constexpr int64_t kSafeControllerDied = 4;
+inline constexpr int64_t kSafeControllerDetached = 5;
+inline constexpr int64_t kSafeBoardNonFinite = 6;  // a board's data held a NaN or inf
 
 struct Event {
   uint64_t cycle;

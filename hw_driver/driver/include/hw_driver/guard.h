@@ -2,10 +2,11 @@
 // reaches the motor boards, and the references the boards get when the driver, not the
 // controller, decides (servo-on hold, safe mode, servo-off damping).
 //
-// Checks (the idea of sim_host's Servo, applied on the robot): joint by joint, a command whose
-// values are not finite, whose mode is unknown, whose position reference lies outside the
-// joint's range by more than kRangeTolerance, whose gains are negative or above kMaxGain, or
-// whose feed-forward torque exceeds the joint's torque limit is rejected: the joint keeps its
+// Checks (sim_host's, model::CommandAcceptable in robot_model/servo.h, applied on the robot):
+// joint by joint, a command whose values are not finite, whose mode is unknown, whose position
+// reference lies outside the joint's range by more than kRangeTolerance, whose velocity
+// reference exceeds kMaxJointSpeed, whose gains are negative or above kMaxGain, or whose
+// feed-forward torque exceeds the joint's torque limit is rejected: the joint keeps its
 // previous reference (it holds) and the rejection is counted per joint. A block for another
 // number of joints is rejected whole. Accepted position references are clamped into the
 // joint's range. Nothing here allocates after construction.
@@ -14,12 +15,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "robot_model/servo.h"
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::hw {
 
-inline constexpr double kMaxGain = 1e7;          // kp [N m/rad] or kd [N m s/rad] above: refused
-inline constexpr double kRangeTolerance = 1e-3;  // position reference may exceed the range [rad]
+// the servo's bounds (robot_model/servo.h), under the names the driver's tests use
+inline constexpr double kMaxGain = model::kMaxGain;              // kp, kd above: refused
+inline constexpr double kRangeTolerance = model::kRangeTolerance;  // [rad or m]
+inline constexpr double kMaxJointSpeed = model::kMaxJointSpeed;    // |dq_ref| above [rad/s or m/s]
 
 class CommandGuard {
  public:

@@ -14,6 +14,10 @@ namespace ohrp::hw::udp {
 // address or a port outside 0..65535.
 bool MakeAddress(const std::string& host, int port, sockaddr_in* out);
 
+// what Receive returns besides a datagram's size (a datagram may have 0 bytes)
+inline constexpr long kNoDatagram = -1;     // nothing is waiting
+inline constexpr long kReceiveFailed = -2;  // the socket failed
+
 class UdpSocket {
  public:
   UdpSocket() = default;
@@ -28,10 +32,17 @@ class UdpSocket {
   int port() const { return port_; }  // the bound port
   int fd() const { return fd_; }
 
+  // Accepts datagrams from `peer` only (connect): the kernel drops those of any other address
+  // or port before they reach this socket's queue, so a flood from elsewhere cannot delay or
+  // crowd out the peer's. Sending to other addresses stays possible. A set-up call.
+  bool Connect(const sockaddr_in& peer, std::string* error);
   // Sends one datagram. Returns false when the system refused it (full buffer, no route).
+  // An error the kernel kept from an earlier send (ICMP port unreachable, reported on a
+  // connected socket) is consumed and the send tried once more.
   bool SendTo(const sockaddr_in& to, const uint8_t* data, size_t n);
-  // Receives one datagram if one is waiting: returns its size, 0 when none is waiting, -1 on a
-  // socket error. `from` may be null.
+  // Receives one datagram if one is waiting: returns its size (0 for an empty datagram: it is
+  // one), kNoDatagram when none is waiting, kReceiveFailed on a socket error. `from` may be
+  // null. A datagram larger than `cap` is reported as 1 byte (too short for any packet).
   long Receive(uint8_t* buf, size_t cap, sockaddr_in* from);
   // Waits up to `timeout` [s] for a datagram to arrive (poll). Returns true when one is there.
   bool WaitReadable(double timeout);

@@ -13,8 +13,11 @@
 //   hello_every=100       cycles between hello packets to every board (0: only at open)
 //   quiet=1               no summary on stderr at close
 //
-// open() binds the socket and sends a hello to every board; read() drains the socket without
-// blocking (at most kMaxDrain datagrams), keeps the newest valid packet per board and counts lost
+// open() binds the socket, connects it to the boards' address (the kernel then drops datagrams
+// from any other address or port: a flood from elsewhere never reaches the queue) and sends a
+// hello to every board; read() drains the socket without blocking (at most kMaxDrain
+// datagrams; an empty datagram is one, counted corrupted, not the end of the queue), keeps the
+// newest valid packet per board and counts lost
 // (sequence gaps), corrupted (checksum, length, layout) and stale (old or duplicate) packets;
 // write() sends one command packet per motor board. read and write never allocate or block.
 #pragma once
@@ -50,7 +53,8 @@ struct UdpIoStats {
   BoardStats board[kMaxBoards];
   int nboards = 0;
   uint64_t corrupted = 0;   // all undecodable datagrams (also those naming no valid board)
-  uint64_t foreign = 0;     // datagrams from an unexpected address (ignored)
+  uint64_t foreign = 0;     // datagrams from an unexpected address (ignored; normally 0, as the
+                            // connected socket lets the kernel drop them)
   uint64_t send_failed = 0;
   uint64_t kernel_dropped = 0;  // datagrams this machine dropped (receive buffer full): they
                                 // count as lost too, but the network is not to blame
