@@ -55,7 +55,9 @@ int main(int argc, char** argv) {
   app.add_option("--stats", o.stats_path, "JSON stats file rewritten while running");
   app.add_option("--stats-interval", o.stats_interval, "[s] between rewrites of --stats")
       ->capture_default_str()->check(ohrp::cli::Positive());
-  app.add_flag("--quiet,-q", o.quiet, "errors and warnings only");
+  app.add_flag("--quiet,-q", o.quiet,
+               "errors and warnings only: no report after a normal end or SIGINT/SIGTERM, and "
+               "after a failure its outcome and events without the lateness table");
   app.footer(
       "Exit codes: 0 duration reached or replay ended, 2 bad option, model, plugin file or\n"
       "segment, 3 the boards failed (open, or no valid read), 5 controller lost (safe mode),\n"
