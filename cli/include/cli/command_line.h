@@ -48,7 +48,7 @@ inline CLI::Validator NumberIn(double lo, bool lo_open, double hi, bool hi_open,
       label);
 }
 
-// the shortest text of `v` that reads back as `v` ("0.0001", "1", "65535")
+// `v` in a short text for messages (%.15g: "0.0001", "1", "65535", not "0.000100")
 inline std::string Short(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.15g", v);
