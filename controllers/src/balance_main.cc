@@ -1,9 +1,9 @@
 // balance: attach to a robot segment, stand, and keep standing against pushes. See
 // controllers/balance.h.
-#include <CLI/CLI.hpp>
 
 #include <iostream>
 
+#include "cli/command_line.h"
 #include "controllers/balance.h"
 #include "controllers/cli.h"
 #include "controllers/posture.h"
@@ -51,13 +51,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"left", "right"}));
   app.add_option("--lift", o.one_leg.lift, "[m] swing foot height when on one leg")
       ->default_val(o.one_leg.lift)
-      ->check(CLI::Range(0.0, 0.3));
+      ->check(ohrp::cli::InRange(0.0, 0.3));
   app.add_option("--hold", o.one_leg.hold, "[s] on one leg")->default_val(o.one_leg.hold)
-      ->check(CLI::Range(0.0, 3600.0));
+      ->check(ohrp::cli::InRange(0.0, 3600.0));
   app.add_option("--shift-time", o.one_leg.shift_time,
                  "[s] to move the CoM over the stance foot (and back)")
       ->default_val(o.one_leg.shift_time)
-      ->check(CLI::Range(0.1, 60.0));
+      ->check(ohrp::cli::InRange(0.1, 60.0));
   app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(g.k_dcm);
   app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")

@@ -1,7 +1,5 @@
 // playback: attach to a robot segment and play an OpenHRP joint trajectory. See
 // controllers/playback.h.
-#include <CLI/CLI.hpp>
-
 #include <iostream>
 
 #include "controllers/playback.h"

@@ -1,6 +1,4 @@
 // posture: attach to a robot segment, ramp to a pose, hold it. See controllers/posture.h.
-#include <CLI/CLI.hpp>
-
 #include <iostream>
 
 #include "controllers/posture.h"

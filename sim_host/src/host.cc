@@ -328,8 +328,10 @@ int RunHost(const HostOptions& o) {
           break;
         }
       }
+      const double slept_from = Now();
       timespec pause{0, 2000000};
       nanosleep(&pause, nullptr);
+      st.wall_waiting += Now() - slept_from;
       continue;
     }
     if (attached) {
@@ -347,7 +349,10 @@ int RunHost(const HostOptions& o) {
                                     : o.controller_timeout;
       if (first_answer) deadline = Now();  // real time starts when the controller is there
       if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
-      switch (producer->WaitCommands(timeout, &cmd)) {
+      const double wait_from = first_answer ? Now() : 0.0;
+      const shm::WaitResult answer = producer->WaitCommands(timeout, &cmd);
+      if (first_answer) st.wall_waiting += Now() - wait_from;  // a new controller setting up
+      switch (answer) {
         case shm::WaitResult::kCommands:
           if (st.commands++ == 0) {
             st.wall_first_command = Now();
@@ -422,9 +427,12 @@ int RunHost(const HostOptions& o) {
       const double now = Now();
       if (now >= next_progress) {
         next_progress = now + o.progress;
-        std::fprintf(stderr, "sim_host: t=%.2f of %.2f s, %.2fx real time, %lu cycles, late %lu, rejected %lu\n",
-                     d->time, o.duration, d->time / (now - st.wall_start), static_cast<unsigned long>(st.cycles),
-                     static_cast<unsigned long>(st.late),
+        char end[32] = "until stopped";  // --duration 0
+        if (o.duration > 0) std::snprintf(end, sizeof(end), "of %.2f s", o.duration);
+        std::fprintf(stderr, "sim_host: t=%.2f s simulated (%s), %.2fx real time while simulating, "
+                     "%lu cycles, late %lu, rejected %lu\n",
+                     d->time, end, RealTimeFactor(d->time, st, now),
+                     static_cast<unsigned long>(st.cycles), static_cast<unsigned long>(st.late),
                      static_cast<unsigned long>(servo.rejected_total()));
       }
     }

@@ -1,7 +1,7 @@
 // sim_host: simulate a robot and serve its segment (see sim_host/host.h and README.md).
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "cli/command_line.h"
 #include "sim_host/host.h"
 
 int main(int argc, char** argv) {
@@ -18,9 +18,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--keyframe", o.keyframe, "initial state: a keyframe of the scene (default: the model's pose)");
   app.add_option("--physics-dt", o.physics_dt, "physics step [s] (default: the scene's timestep)")
-      ->check(CLI::PositiveNumber);
+      ->check(ohrp::cli::Positive());
   app.add_option("--control-period", o.control_period, "sensor/command cycle [s], a multiple of the physics step")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--integrator", o.integrator, "euler | rk4 | implicit (default: the scene's)")
       ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
   std::string contact = "auto";
@@ -53,23 +53,23 @@ int main(int argc, char** argv) {
                  "overlapping pushes add")
       ->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");
   app.add_option("--wait-controller", o.wait_controller,
                  "wall time to wait for the first controller [s]; 0 runs without one (joints hold)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--controller-timeout", o.controller_timeout,
                  "wall time a lock-step controller may take to answer a cycle [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--on-controller-loss", loss,
                  "when the controller dies, hangs or detaches: end the run, wait for a new one, or continue holding")
       ->capture_default_str()->check(CLI::IsMember({"end", "wait", "continue"}));
   app.add_option("--log", o.log_path, "CSV data log (base pose, joints, F/T, IMU per cycle)");
   app.add_option("--log-every", o.log_every, "record one row every N control cycles")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--summary", o.summary_path, "JSON summary written at the end");
   app.add_option("--progress", o.progress, "wall seconds between progress lines; 0: none")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_flag("--quiet,-q", o.quiet, "print errors only");
   std::vector<std::string> effects;
   app.add_option("--effects", effects,
@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
       "4 the simulation diverged, 5 the controller was lost (or never attached), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::ParseContactModel(contact, &o.feet.model);
   for (const auto& spec : effects) {
     std::string error;

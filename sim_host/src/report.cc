@@ -67,12 +67,19 @@ std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robo
   return out;
 }
 
+double RealTimeFactor(double sim_time, const RunStats& st, double now) {
+  const double running = now - st.wall_start - st.wall_waiting;
+  return running > 0 ? sim_time / running : 0.0;
+}
+
 void PrintReport(const RunStats& st) {
   const double wall = st.wall_end - st.wall_start;
   std::fprintf(stderr,
-               "sim_host: %s: %.3f s simulated in %.3f s wall (%.2fx real time), %lu steps, "
+               "sim_host: %s: %.3f s simulated in %.3f s wall (%.3f s of it waiting for a "
+               "controller): %.2fx real time while simulating, %lu steps, "
                "%lu cycles, %lu commands, %lu late, %lu rejected, %ld MuJoCo warnings\n",
-               st.outcome.c_str(), st.sim_time, wall, wall > 0 ? st.sim_time / wall : 0.0,
+               st.outcome.c_str(), st.sim_time, wall, st.wall_waiting,
+               RealTimeFactor(st.sim_time, st, st.wall_end),
                static_cast<unsigned long>(st.steps), static_cast<unsigned long>(st.cycles),
                static_cast<unsigned long>(st.commands), static_cast<unsigned long>(st.late),
                static_cast<unsigned long>(st.rejected), st.warnings);
@@ -100,7 +107,8 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["contact_pairs_bounded"] = st.contact_pairs_bounded;
   j["sim_time"] = st.sim_time;
   j["wall_time"] = wall;
-  j["real_time_factor"] = wall > 0 ? st.sim_time / wall : 0.0;
+  j["wall_waiting"] = st.wall_waiting;  // of wall_time, waiting for a controller (time frozen)
+  j["real_time_factor"] = RealTimeFactor(st.sim_time, st, st.wall_end);
   j["steps"] = st.steps;
   // wall time per control cycle once a controller answers (attach and set-up excluded)
   const uint64_t loop_cycles = st.cycles - st.cycles_at_first_command;

@@ -608,6 +608,26 @@ TEST_F(HwDriverProcess, SigintServosOffAndRemovesTheSegment) {
   EXPECT_EQ(Summary()["outcome"], "interrupted");
 }
 
+TEST_F(HwDriverProcess, QuietReportsOnlyAFailureAndWithoutTheLatenessTable) {
+  // stopped by SIGINT, the normal end of a run without --duration: no report
+  Start({"--duration", "60", "--servo-off-time", "0.05", "--quiet"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
+  std::string e = Stderr();
+  EXPECT_EQ(e.find("interrupted after"), std::string::npos) << e;
+  EXPECT_EQ(e.find("wake-up lateness"), std::string::npos) << e;
+  EXPECT_EQ(e.find("events:"), std::string::npos) << e;
+  // a board failure: the outcome and its cause, still without the lateness table
+  Start({"--io-arg", "silent_at=300", "--board-timeout-cycles", "5", "--safe-time", "0.05",
+         "--duration", "60", "--quiet"});
+  EXPECT_EQ(Wait(), 6) << Stderr();
+  e = Stderr();
+  EXPECT_NE(e.find("hw_driver: board_fault after"), std::string::npos) << e;
+  EXPECT_NE(e.find("board silent"), std::string::npos) << e;
+  EXPECT_EQ(e.find("wake-up lateness"), std::string::npos) << e;
+}
+
 TEST_F(HwDriverProcess, PluginOpenErrorExitsWithItsMessageAndNoSegment) {
   Start({"--io-arg", "fail_open=1"});
   EXPECT_EQ(Wait(), 3) << Stderr();

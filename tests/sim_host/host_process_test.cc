@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "shm_bridge/bridge.h"
 #include "test_models.h"
 
@@ -51,7 +53,7 @@ class SimHostProcess : public ::testing::Test {
   void Start(std::vector<std::string> extra) {
     std::vector<std::string> args = {std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", scene_,
                                      "--segment", segment_, "--physics-dt", "0.001",
-                                     "--control-period", "0.002", "--progress", "0"};
+                                     "--control-period", "0.002", "--progress", progress_};
     args.insert(args.end(), extra.begin(), extra.end());
     pid_ = fork();
     if (pid_ == 0) {
@@ -132,6 +134,7 @@ class SimHostProcess : public ::testing::Test {
   }
 
   std::string segment_, scene_, err_;
+  std::string progress_ = "0";  // --progress [s]
   pid_t pid_ = -1;
 };
 
@@ -452,6 +455,38 @@ TEST_F(SimHostProcess, NoControllerWithinTheWaitIsAClearError) {
   Start({"--duration", "1", "--wait-controller", "0.2"});
   EXPECT_EQ(Wait(), 5);
   EXPECT_NE(Stderr().find("no controller attached"), std::string::npos) << Stderr();
+}
+
+TEST_F(SimHostProcess, RealTimeFactorLeavesOutTheWaitForANewController) {
+  const std::string summary = testing::WriteTemp("", ".json");
+  Start({"--duration", "0", "--realtime", "--on-controller-loss", "wait", "--summary", summary});
+  ASSERT_TRUE(WaitSegment());
+  ASSERT_EQ(RunDyingController(), 0);
+  // a second of waiting for a new controller, simulated time frozen
+  const auto t0 = Clock::now();
+  while (Stderr().find("waiting for a new controller") == std::string::npos && Since(t0) < 2)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130);
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(summary));
+  const double wall = j["wall_time"], waiting = j["wall_waiting"], sim = j["sim_time"];
+  EXPECT_GT(waiting, 0.9);
+  EXPECT_LT(waiting, wall);
+  EXPECT_NEAR(j["real_time_factor"].get<double>(), sim / (wall - waiting), 1e-9);
+  EXPECT_NE(Stderr().find("of it waiting for a controller"), std::string::npos) << Stderr();
+}
+
+TEST_F(SimHostProcess, ProgressOfARunWithoutAnEndSaysSo) {
+  progress_ = "0.05";
+  Start({"--duration", "0", "--wait-controller", "0", "--realtime"});
+  ASSERT_TRUE(WaitSegment());
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130);
+  const std::string e = Stderr();
+  EXPECT_NE(e.find("s simulated (until stopped)"), std::string::npos) << e;
+  EXPECT_EQ(e.find(" of 0.00 s"), std::string::npos) << e;
 }
 
 }  // namespace

@@ -5,7 +5,6 @@
 #include <sys/utsname.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "accuracy.h"
 #include "report.h"
 
@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
   app.add_option("--restarts", o.restarts, "restart points per setting (default 10, quick 2)");
   app.add_option("--piece-windows", o.piece_windows,
                  "16 ms windows per piece (default 8, quick 4)");
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::InstallMujocoHandlers(OnFatal);
   if (o.quick) {
     if (app.count("--restarts") == 0) o.restarts = 2;

@@ -9,8 +9,6 @@
 // a system call, whose cost, measured on empty pairs of reads, is subtracted). Median, p90 and
 // p99 of both are printed. A fingerprint of all the commands balance sent (joint references,
 // bit for bit) tells whether a change to the libraries changed its results.
-#include <CLI/CLI.hpp>
-
 #include <time.h>
 
 #include <algorithm>
@@ -21,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "controllers/balance.h"
 #include "controllers/posture.h"
 #include "sim_host/in_process.h"
@@ -116,12 +115,12 @@ int main(int argc, char** argv) {
       "the ratio balance / posture."};
   app.add_option("--scene", scene, "MJCF scene with the halfsit keyframe")->capture_default_str();
   app.add_option("--rounds", rounds, "alternating measurement rounds")->capture_default_str()
-      ->check(CLI::Range(1, 1000));
+      ->check(ohrp::cli::InRange(1, 1000));
   app.add_option("--cycles", cycles, "control cycles per round and controller")
-      ->capture_default_str()->check(CLI::Range(10, 100000));
+      ->capture_default_str()->check(ohrp::cli::InRange(10, 100000));
   app.add_option("--impulse", impulse, "push impulse [N s] (0: no push)")->capture_default_str()
-      ->check(CLI::Range(0.0, 60.0));
-  CLI11_PARSE(app, argc, argv);
+      ->check(ohrp::cli::InRange(0.0, 60.0));
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::model::InstallMujocoHandlers(nullptr);
 
   // the measured window starts after the stance (0.5 s ramp + 0.5 s settle + 1 s)

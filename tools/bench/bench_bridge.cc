@@ -14,7 +14,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "shm_bridge/bridge.h"
 
 namespace {
@@ -247,14 +247,14 @@ int main(int argc, char** argv) {
   int cycles = 20000;
   int warmup = 1000;
   std::string pin_name = "split";
-  app.add_option("--cycles", cycles, "measured cycles per pair")->check(CLI::PositiveNumber);
+  app.add_option("--cycles", cycles, "measured cycles per pair")->check(ohrp::cli::Positive());
   app.add_option("--warmup", warmup, "unmeasured cycles before each measurement")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ohrp::cli::NonNegative());
   app.add_option("--pin", pin_name,
                  "CPU pinning, the same for both pairs: split (pinger and ponger on two CPUs), "
                  "same (both on one CPU), none")
       ->check(CLI::IsMember({"split", "same", "none"}));
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   const Pin pin = pin_name == "same" ? Pin::kSame : pin_name == "none" ? Pin::kNone : Pin::kSplit;
   const Pinning pinning = ChoosePinning(pin);

@@ -1,13 +1,13 @@
 // bench_contact: the cost of one physics step of the standing robot with the soft-foot contact
 // beside the same step with MuJoCo's native contact, measured alternately in the same run.
 // A step is what sim_host does per physics step: servo, (soft contact), mj_step, (commit).
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 
@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
   app.add_option("--dt", dt, "physics step [s]")->capture_default_str();
   app.add_option("--steps", steps, "steps per measurement")->capture_default_str();
   app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::InstallMujocoHandlers(nullptr);
 
   Setup soft = Make(scene, key, dt, ohrp::sim::ContactModel::kSoft);

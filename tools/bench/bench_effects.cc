@@ -19,8 +19,6 @@
 // default / bare (measured next to each other) lies within 3 % of 1.
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -30,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
@@ -177,10 +176,10 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
   app.add_option("--keyframe", key, "initial state")->capture_default_str();
   app.add_option("--cycles", cycles, "control cycles (5 physics steps each) per measurement")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--repeats", repeats, "rounds over all configurations")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+      ->capture_default_str()->check(ohrp::cli::Positive());
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   InstallMujocoHandlers(nullptr);
   const std::string log_path =
       (std::filesystem::temp_directory_path() / ("bench_effects_" + std::to_string(getpid()) + ".csv")).string();

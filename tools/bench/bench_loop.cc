@@ -6,7 +6,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -15,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "sim_host/model.h"
 
 namespace fs = std::filesystem;
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
   app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
   app.add_option("--duration", duration, "simulated seconds per measurement")->capture_default_str();
   app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::InstallMujocoHandlers(nullptr);
   const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
   const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";

@@ -11,11 +11,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <memory>
 #include <string>
 
+#include "cli/command_line.h"
 #include "hw_driver/driver.h"
 #include "hw_driver/lateness.h"
 #include "hw_driver/program.h"
@@ -105,17 +105,17 @@ int main(int argc, char** argv) {
   std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
   CLI::App app{"bench_rt: hw_driver loop wake-up lateness vs a plain clock_nanosleep loop"};
   app.add_option("--duration", duration, "[s] measured per loop (split over the rounds)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--rounds", rounds, "alternating rounds (plain, driver)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--period", period, "[s]")->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
+  app.add_option("--period", period, "[s]")->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--priority", priority, "SCHED_FIFO priority of both loops; 0: SCHED_OTHER")
-      ->capture_default_str()->check(CLI::Range(0, 99));
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 99));
   app.add_option("--model", model, "robot model (joints and sensors of the segment)")
       ->capture_default_str()->check(CLI::ExistingFile);
   bool no_controller = false;
   app.add_flag("--no-controller-row", no_controller, "skip the informative row with a controller");
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   controller_row = !no_controller;
 
   std::string error;

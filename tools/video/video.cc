@@ -10,7 +10,6 @@
 #include <png.h>
 #include <sys/stat.h>
 
-#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -19,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command_line.h"
 #include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
 
 namespace {
@@ -84,19 +84,21 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames_dir, "write PNG frames frame_00000.png... into this folder instead of an MP4");
   app.add_option("--still", stills, "write one PNG per listed time [s] (RUN/still_<t>.png) and no video")
       ->delimiter(',');
-  app.add_option("--fps", fps, "frames per second of the video")->capture_default_str()->check(CLI::Range(1.0, 240.0));
-  app.add_option("--speed", speed, "simulated seconds per video second")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--fps", fps, "frames per second of the video")->capture_default_str()->check(ohrp::cli::InRange(1.0, 240.0));
+  app.add_option("--speed", speed, "simulated seconds per video second")->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--from", from, "start time [s]")->capture_default_str();
   app.add_option("--until", until, "end time [s] (default: the end of the log)");
-  app.add_option("--width", width, "frame width [px]")->capture_default_str()->check(CLI::Range(16, 4096));
-  app.add_option("--height", height, "frame height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
+  app.add_option("--width", width, "frame width [px]")->capture_default_str()->check(ohrp::cli::InRange(16, 4096));
+  app.add_option("--height", height, "frame height [px]")->capture_default_str()->check(ohrp::cli::InRange(16, 4096));
   app.add_flag("--shadows", shadows, "render shadows and reflections (slower in software)");
   app.add_option("--distance", distance, "camera distance from the robot's base [m]")->capture_default_str();
   app.add_option("--azimuth", azimuth, "camera azimuth [deg]")->capture_default_str();
   app.add_option("--elevation", elevation, "camera elevation [deg]")->capture_default_str();
   app.footer("Example: ohrp_video runs/demo/stand            (runs/demo/stand/video.mp4)\n"
-             "         ohrp_video runs/demo/stand --still 1,5 (two PNG stills)");
-  CLI11_PARSE(app, argc, argv);
+             "         ohrp_video runs/demo/stand --still 1,5 (two PNG stills)\n"
+             "Exit codes: 0 written, 2 bad option, run folder, log, scene or time window, or no\n"
+             "ffmpeg, 3 MuJoCo, OSMesa or ffmpeg failed.");
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   // ---- inputs: the log and the scene
   std::string run_dir, log_path = input;

@@ -3,8 +3,7 @@
 // CLI11 is a header library and the controllers library itself does not depend on it.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
+#include "cli/command_line.h"
 #include "controllers/runner.h"
 
 namespace ohrp::controllers {
@@ -22,15 +21,7 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
   app->footer(ExitCodeHelp());
 }
 
-// Parses the command line. Returns -1 to go on, or the exit code to return (help printed: 0,
-// a usage error: kExitUsage).
-inline int ParseCommandLine(CLI::App* app, int argc, char** argv) {
-  try {
-    app->parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app->exit(e) == 0 ? kExitOk : kExitUsage;
-  }
-  return -1;
-}
+// The command line is parsed as every program's is (cli/command_line.h): help 0, usage error 2.
+using cli::ParseCommandLine;
 
 }  // namespace ohrp::controllers

@@ -1,7 +1,7 @@
 // hw_driver: the real-time robot driver (see hw_driver/driver/include/hw_driver/driver.h and
 // hw_driver/README.md).
-#include <CLI/CLI.hpp>
 
+#include "cli/command_line.h"
 #include "hw_driver/program.h"
 
 int main(int argc, char** argv) {
@@ -24,44 +24,46 @@ int main(int argc, char** argv) {
   app.add_option("--segment", o.segment, "segment name the controller attaches to")
       ->capture_default_str();
   app.add_option("--period", d.period, "servo cycle = control cycle [s]")
-      ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
+      ->capture_default_str()->check(ohrp::cli::InRange(1e-4, 1.0));
   app.add_option("--command-margin", d.command_margin,
                  "part of the period left after the command wait for checks and the write")
-      ->capture_default_str()->check(CLI::Range(0.0, 0.9));
+      ->capture_default_str()->check(ohrp::cli::InRange(0.0, 0.9));
   app.add_option("--watchdog-cycles", d.watchdog_cycles,
                  "controller silent this many cycles after its first answer -> safe mode")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--board-timeout-cycles", d.board_timeout_cycles,
                  "a board silent this many cycles -> safe mode")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--safe-time", d.safe_time, "[s] damped hold in safe mode, then servo-off")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--servo-off-time", d.servo_off_time,
                  "[s] damped hold before servo-off at a normal stop")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--safe-kp-scale", d.safe_kp_scale, "damped hold: kp = default kp * this")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--safe-kd-scale", d.safe_kd_scale, "damped hold: kd = default kd * this")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--servo-on-timeout", d.servo_on_timeout,
                  "[s] wait this long for the boards' first valid read")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--duration", d.duration, "[s] run this long, then stop; 0 runs until stopped")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--rt-priority", d.rt.priority, "SCHED_FIFO priority of the loop; 0: SCHED_OTHER")
-      ->capture_default_str()->check(CLI::Range(0, 99));
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 99));
   app.add_flag("--no-mlock", no_mlock, "do not lock the process's memory");
   app.add_option("--summary", o.summary_path, "JSON summary written at the end");
   app.add_option("--stats", o.stats_path, "JSON stats file rewritten while running");
   app.add_option("--stats-interval", o.stats_interval, "[s] between rewrites of --stats")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_flag("--quiet,-q", o.quiet, "errors and warnings only");
+      ->capture_default_str()->check(ohrp::cli::Positive());
+  app.add_flag("--quiet,-q", o.quiet,
+               "errors and warnings only: no report after a normal end or SIGINT/SIGTERM, and "
+               "after a failure its outcome and events without the lateness table");
   app.footer(
       "Exit codes: 0 duration reached or replay ended, 2 bad option, model, plugin file or\n"
       "segment, 3 the boards failed (open, or no valid read), 5 controller lost (safe mode),\n"
       "6 board silent or reset (safe mode), 7 emergency stop, 130 interrupted (SIGINT/SIGTERM).\n"
       "Details: hw_driver/README.md.");
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   d.rt.lock_memory = !no_mlock;
   return ohrp::hw::RunProgram(o);
 }

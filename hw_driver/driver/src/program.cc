@@ -70,7 +70,9 @@ void PrintEvent(const Event& e) {
                static_cast<unsigned long>(e.cycle), e.time, EventName(e.kind), what);
 }
 
-void PrintReport(const DriverResult& r, const LiveStats& live) {
+// The end-of-run report: the outcome with the counts, its detail, the lateness table (when
+// `lateness`) and the events.
+void PrintReport(const DriverResult& r, const LiveStats& live, bool lateness) {
   std::fprintf(stderr,
                "hw_driver: %s after %.3f s: %lu cycles, %lu deadline misses, %lu slots skipped, "
                "%lu commands, %lu late, %lu rejected, %lu clamped, %lu silent reads, %lu packets "
@@ -85,7 +87,8 @@ void PrintReport(const DriverResult& r, const LiveStats& live) {
                static_cast<unsigned long>(live.silent_reads.load()),
                static_cast<unsigned long>(live.packets_lost.load()), r.rt.Describe().c_str());
   if (!r.detail.empty()) std::fprintf(stderr, "hw_driver: %s\n", r.detail.c_str());
-  std::fprintf(stderr, "hw_driver: wake-up lateness:\n%s", LatenessTable(live.lateness).c_str());
+  if (lateness)
+    std::fprintf(stderr, "hw_driver: wake-up lateness:\n%s", LatenessTable(live.lateness).c_str());
   std::fprintf(stderr, "hw_driver: events:\n");
   for (const Event& e : r.events) PrintEvent(e);
   if (r.events_dropped > 0) {
@@ -199,7 +202,12 @@ int RunProgram(const ProgramOptions& o) {
 
   //---------------- report, then close: the segment is removed ----------------
   const DriverResult& r = driver.result();
-  if (!o.quiet || exit_code != kExitOk) PrintReport(r, driver.live());
+  // --quiet: a failure only (a stop by SIGINT/SIGTERM is none), without the lateness table
+  if (!o.quiet) {
+    PrintReport(r, driver.live(), true);
+  } else if (exit_code != kExitOk && exit_code != kExitInterrupted) {
+    PrintReport(r, driver.live(), false);
+  }
   if (!o.summary_path.empty() && !WriteStats(o.summary_path, o, robot, driver.live(), &r)) {
     std::fprintf(stderr, "hw_driver: cannot write the summary '%s'\n", o.summary_path.c_str());
   }

@@ -1,6 +1,5 @@
 // hw_emulator: the robot's boards on loopback UDP, a MuJoCo robot behind them (see emulator.h).
-#include <CLI/CLI.hpp>
-
+#include "cli/command_line.h"
 #include "emulator.h"
 
 int main(int argc, char** argv) {
@@ -16,24 +15,24 @@ int main(int argc, char** argv) {
   app.add_option("--keyframe", o.keyframe, "initial state: a keyframe of the scene");
   app.add_option("--host", o.host, "IPv4 address to bind")->capture_default_str();
   app.add_option("--port", o.port, "UDP port of the boards (0: any free port, see --port-file)")
-      ->capture_default_str()->check(CLI::Range(0, 65535));
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 65535));
   app.add_option("--port-file", o.port_file, "write the bound port to this file once bound");
   app.add_option("--boards", o.boards,
                  "motor boards' joint ranges, e.g. 0-5,6-12,13-18,19-25,26-28 (default: limb "
                  "groups from the joint names); the sensor board comes after them");
   app.add_option("--period", o.period, "board cycle [s], a multiple of the model's timestep")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--duration", o.duration, "robot time to run [s]; 0 runs until Ctrl-C")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--wait-driver", o.wait_driver,
                  "wall time to wait for the first command [s]; 0 waits for ever")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--loss", o.loss, "probability that a packet is lost, either direction")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+      ->capture_default_str()->check(ohrp::cli::InRange(0.0, 1.0));
   app.add_option("--late", o.late_rate, "fraction of state packets sent late")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+      ->capture_default_str()->check(ohrp::cli::InRange(0.0, 1.0));
   app.add_option("--late-ms", o.late_ms, "how late [ms]")->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(ohrp::cli::NonNegative());
   app.add_option("--seed", o.seed, "seed of the loss and late draws")->capture_default_str();
   app.add_option("--silent", o.silent, "BOARD@T[+D]: the board stops answering at robot time T [s]");
   app.add_option("--reset", o.reset, "BOARD@T: the board restarts at T (its servos go off)");
@@ -46,17 +45,12 @@ int main(int argc, char** argv) {
                  "estop on|off | clear");
   app.add_option("--log", o.log_path, "CSV log: robot time, base height and tilt, servos, faults");
   app.add_option("--log-every", o.log_every, "cycles between log rows")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(ohrp::cli::Positive());
   app.add_flag("--quiet,-q", o.quiet, "print errors and the result line only");
   app.footer(
       "Exit codes: 0 completed, 2 bad option, model or port, 3 MuJoCo error, 4 the simulation\n"
       "diverged, 5 no driver within --wait-driver, 130 interrupted (SIGINT/SIGTERM).\n"
       "The last line on stderr is 'hw_emulator: result key=value ...' (base height, losses).");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints the help or the error
-    return code == 0 ? 0 : ohrp::hw::udp::kEmuExitUsage;
-  }
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   return ohrp::hw::udp::RunEmulator(o);
 }

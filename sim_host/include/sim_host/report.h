@@ -24,6 +24,8 @@ struct RunStats {
   double wall_start = 0;
   double wall_end = 0;
   double wall_first_command = 0;  // wall time of the first accepted command
+  double wall_waiting = 0;  // [s] wall time spent waiting for a controller (none attached, or a
+                            // new one's first answer) while simulated time stood still
   uint64_t cycles_at_first_command = 0;
   double sim_time = 0;
   std::string outcome = "completed";
@@ -40,6 +42,10 @@ struct RunStats {
 };
 
 const char* IntegratorName(int integrator);
+
+// Simulated time over the wall time spent simulating: the run's wall time less its waits for a
+// controller (`wall_waiting`); 0 when nothing ran. `now` is the wall time the figure is for.
+double RealTimeFactor(double sim_time, const RunStats& st, double now);
 
 // A sole seen from the F/T sensor above it: the rectangle of the sole box's bottom face in the
 // sensor's frame, at the model's reference configuration (the sole is fixed to the foot, so

@@ -1,6 +1,6 @@
 // ohrp_push: the largest push survived per direction, or the settling after a push, for one or
 // more controllers side by side (see push/push.h and docs/scenarios.md).
-#include <CLI/CLI.hpp>
+#include "cli/command_line.h"
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -52,12 +52,10 @@ int main(int argc, char** argv) {
                  "NAME - exit 1 unless controller NAME stands and settles within --settle-within in "
                  "every direction (settle mode)");
   app.add_flag("--no-plot", no_plot, "do not draw push.png");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    // --help exits 0; every malformed option exits 2
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  app.footer(
+      "Exit codes: 0 done (and every --require-* holds), 1 a --require-* does not hold, a trial\n"
+      "could not run or the report could not be written, 2 bad option, 130 interrupted.");
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   if (!controllers.empty()) o.controllers = controllers;
   if (!directions.empty()) o.directions = directions;

@@ -1,9 +1,9 @@
 // ohrp_run: run one scenario headless (see runner/runner.h and docs/scenarios.md).
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <filesystem>
 
+#include "cli/command_line.h"
 #include "runner/runner.h"
 #include "runner/scenario.h"
 
@@ -14,8 +14,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "ohrp_run: one headless scripted run. Starts sim_host and the scenario's controllers side\n"
       "by side, runs for the scenario's duration, evaluates its checks and writes summary.json,\n"
-      "log.csv and plot.png into the output folder. Exit 0 when every check passes, 1 when one\n"
-      "fails, 2 on a bad scenario. Scenario format: docs/scenarios.md."};
+      "log.csv and plot.png into the output folder. Scenario format: docs/scenarios.md."};
   app.add_option("scenario", file, "scenario file (YAML)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", o.out_dir, "output folder (default: runs/<name>-<date>-<time>)");
   std::string contact;
@@ -25,7 +24,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"soft", "native", "rigid"}));
   app.add_flag("--no-plot", no_plot, "do not draw plot.png");
   app.add_flag("--quiet,-q", quiet, "do not echo the processes' output while they run");
-  CLI11_PARSE(app, argc, argv);
+  app.footer(
+      "Exit codes: 0 every check passed, 1 a check failed or a process ended badly, 2 bad option\n"
+      "or scenario, 130 interrupted (SIGINT/SIGTERM).");
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.plot = !no_plot;
   o.echo = !quiet;
   o.source_dir = OHRP_SOURCE_DIR;

@@ -365,10 +365,13 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     std::fprintf(stderr, "%-34s %-6s %14.6g  %s%s%s\n", r.name.c_str(), r.passed ? "pass" : "FAIL",
                  r.value, r.limit.c_str(), r.limit.empty() ? "" : "; ", r.detail.c_str());
   }
+  // sim_host's own figure (simulated over its wall time while simulating) and the wall time the
+  // processes took (start-up and waits for controllers included) are different things: both named
   std::fprintf(stderr,
-               "\nscenario %s: %s (%.2f s simulated, %.2f s wall, %.2fx real time, %s)\n",
+               "\nscenario %s: %s (%.2f s simulated, sim_host at %.2fx real time while simulating; "
+               "the processes ran %.2f s wall; %s)\n",
                s.name.c_str(), verdict == "pass" ? "PASS" : verdict == "fail" ? "FAIL" : "INTERRUPTED",
-               j["sim_time"].get<double>(), wall, j["real_time_factor"].get<double>(), out.c_str());
+               j["sim_time"].get<double>(), j["real_time_factor"].get<double>(), wall, out.c_str());
   if (interrupted) return kRunInterrupted;
   return passed ? kRunPassed : kRunFailed;
 }

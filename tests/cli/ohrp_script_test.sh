@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Tests the `ohrp` script (the command surface): wrong names are refused before anything is
+# built, the build is skipped when nothing changed since the last complete one and run when
+# something did, and `demo --out DIR` puts its runs into DIR. Usage: ohrp_script_test.sh SOURCE_DIR
+set -u
+ROOT="$1"
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# wrong names: exit 2 with the reason, and no build started (the build folder stays empty)
+export OHRP_BUILD_DIR="$TMP/empty-build"
+for args in "run nosuch" "compare nosuch" "bench nosuch" "video $TMP/nosuch"; do
+  # shellcheck disable=SC2086
+  out="$(timeout 60 "$ROOT/ohrp" $args 2>&1)"; rc=$?
+  [ "$rc" -eq 2 ] || fail "'ohrp $args' gave exit $rc, not 2: $out"
+  echo "$out" | grep -q "nosuch" || fail "'ohrp $args' did not name what is missing: $out"
+  [ -z "$(ls -A "$OHRP_BUILD_DIR" 2>/dev/null)" ] || fail "'ohrp $args' started a build: $out"
+done
+
+# a build folder whose programs print their arguments, built after every source was saved
+B="$TMP/build"
+mkdir -p "$B/bin"
+for p in sim_host ohrp_run; do
+  printf '#!/bin/sh\necho "%s $*"\n' "$p" >"$B/bin/$p"
+  chmod +x "$B/bin/$p"
+done
+touch "$B/CMakeCache.txt"
+touch "$B/.ohrp-built"
+export OHRP_BUILD_DIR="$B"
+
+# nothing changed: no build, the program runs at once
+out="$("$ROOT/ohrp" run stand --no-plot 2>&1)" || fail "'ohrp run stand' failed: $out"
+echo "$out" | grep -q "building" && fail "built although nothing changed: $out"
+echo "$out" | grep -q "^ohrp_run $ROOT/scenarios/stand.yaml --no-plot$" \
+  || fail "'ohrp run stand' did not run ohrp_run on the scenario: $out"
+
+# demo --out DIR: one folder per scenario in DIR, other options handed on
+out="$("$ROOT/ohrp" demo --out "$TMP/demo" --quiet 2>&1)" || fail "'ohrp demo --out' failed: $out"
+for s in stand walk_samplepd; do
+  echo "$out" | grep -q "^ohrp_run $ROOT/scenarios/$s.yaml --out $TMP/demo/$s --quiet$" \
+    || fail "'ohrp demo --out' did not put $s into $TMP/demo/$s: $out"
+done
+
+# a source saved after the last build (here: a build older than every source): it builds (and
+# fails, since this build folder is not a real one)
+touch -d '2000-01-01' "$B/.ohrp-built"
+out="$("$ROOT/ohrp" run stand 2>&1)"; rc=$?
+echo "$out" | grep -q "building" || fail "did not build although sources changed: $out"
+[ "$rc" -eq 2 ] || fail "a failed build gave exit $rc, not 2: $out"
+echo "PASS"
