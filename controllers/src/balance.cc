@@ -14,6 +14,7 @@ namespace {
 
 constexpr double kMaxWaitForContact = 1.0;  // [s] before the ramp starts without both soles down
 constexpr double kEstimatorSettle = 0.3;    // [s] of estimation before the soles' tilt is trusted
+constexpr int kStaleBlocks = 1;             // blocks in a row with the same time: stale sensors
 
 Eigen::Matrix3d Rx(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()).toRotationMatrix(); }
 Eigen::Matrix3d Ry(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix(); }
@@ -251,9 +252,12 @@ void BalanceController::Write(shm::CommandBlock* commands, double dt) noexcept {
 
 void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* commands) noexcept {
   double dt = s.time - last_time_;
-  // a block whose time does not advance is stale (the producer republished old data); the
-  // activation block comes twice (activate, then the first update)
-  const bool stale = !(dt > 0) && s.time != activate_time_;
+  // blocks whose time does not advance are stale (the producer republishes old data); the
+  // activation block comes twice (activate, then the first update), and a producer's last
+  // block (shutting down) may repeat its time once
+  stale_blocks_ = (dt > 0 || s.time == activate_time_) ? 0 : stale_blocks_ + 1;
+  const bool stale =
+      stale_blocks_ >= kStaleBlocks && !(s.status & shm::status::kShuttingDown);
   HoldReason why = stale ? HoldReason::kStaleSensors : HoldReason::kNone;
   if (!(dt > 0) || !std::isfinite(dt)) dt = header().control_period;
   last_time_ = s.time;

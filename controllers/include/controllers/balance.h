@@ -161,6 +161,7 @@ class BalanceController : public Controller {
   std::array<double, shm::kMaxJoints> q_ik_{};
   double start_time_ = 0, last_time_ = 0, activate_time_ = 0;
   bool ramp_started_ = false;
+  int stale_blocks_ = 0;     // sensor blocks in a row whose time did not advance
   BalanceStats stats_;
 };
 

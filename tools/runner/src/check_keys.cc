@@ -105,7 +105,7 @@ const std::vector<CheckType>& CheckTypes() {
        "joint commands rejected by the servos (NaN, out of range) are at most `max`"},
       {"real_time_factor",
        {Num("min", "required", 0, kBig, true, true)},
-       "simulated over wall time of sim_host is at least `min`"},
+       "sim_host's simulated time over its wall time while simulating (waits for a controller left out) is at least `min`"},
   };
   return types;
 }
