@@ -56,13 +56,6 @@ int Table::Column(const std::string& name) const {
 //---------------- checks ----------------
 namespace {
 
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
 
 std::string Fmt(double v) {
   char b[64];
@@ -131,7 +124,7 @@ CheckResult NotFallen(const CheckSpec& s, const Table& t) {
 
 CheckResult FeetCarryWeight(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
   CheckResult r{"feet_carry_weight", false, 0, "", "", ""};
-  const auto sensors = Split(s.params.count("sensors") ? s.params.at("sensors") : "");
+  const auto sensors = SplitList(s.params.count("sensors") ? s.params.at("sensors") : "");
   if (sensors.empty()) return Fail(r, "the check needs 'sensors' (e.g. [rfsensor, lfsensor])");
   const auto rows = Window(t, s.Number("after", 0), s.Number("until", 1e30));
   if (rows.empty()) return Fail(r, "no logged data in the window");
@@ -179,7 +172,7 @@ CheckResult BaseDisplacement(const CheckSpec& s, const Table& t) {
 // `window`, the largest over the sensors (the ringing of a stiff contact at each impact)
 CheckResult ForceRinging(const CheckSpec& s, const Table& t) {
   CheckResult r{"force_ringing", false, 0, "N", "", ""};
-  const auto sensors = Split(s.params.count("sensors") ? s.params.at("sensors") : "");
+  const auto sensors = SplitList(s.params.count("sensors") ? s.params.at("sensors") : "");
   if (sensors.empty()) return Fail(r, "the check needs 'sensors' (e.g. [rfsensor, lfsensor])");
   const auto rows = Window(t, s.Number("after", 0), s.Number("until", 1e30));
   if (rows.size() < 3) return Fail(r, "no logged data in the window");
@@ -242,7 +235,7 @@ CheckResult Standing(const CheckSpec& s, const Table& t, const nlohmann::json& s
   spec.after = s.Number("after", 0);
   spec.min_height_fraction = s.Number("min_height_fraction");
   spec.max_tilt_deg = s.Number("max_tilt_deg");
-  if (s.Has("sensors")) spec.sensors = Split(s.params.at("sensors"));
+  if (s.Has("sensors")) spec.sensors = SplitList(s.params.at("sensors"));
   spec.load_tolerance = s.Number("load_tolerance");
   StandingResult m;
   std::string error;
@@ -265,7 +258,7 @@ CheckResult Settles(const CheckSpec& s, const Table& t) {
   spec.tolerance = s.Number("tolerance");
   spec.fraction = s.Number("fraction");
   spec.within = s.Number("within");
-  if (s.Has("sensors")) spec.sensors = Split(s.params.at("sensors"));
+  if (s.Has("sensors")) spec.sensors = SplitList(s.params.at("sensors"));
   SettleResult m;
   std::string error;
   if (!MeasureSettling(t, spec, &m, &error)) return Fail(r, error);
@@ -280,6 +273,14 @@ CheckResult Settles(const CheckSpec& s, const Table& t) {
 }
 
 }  // namespace
+
+std::vector<std::string> SplitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
 
 CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::json& sim) {
   try {

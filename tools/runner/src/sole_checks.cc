@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include "runner/checks.h"
+
 namespace ohrp::runner {
 namespace {
 
@@ -16,13 +18,6 @@ std::string Fmt(double v) {
   return b;
 }
 
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
 
 bool Truthy(const std::string& v) { return v == "true" || v == "1" || v == "yes" || v == "on"; }
 
@@ -104,7 +99,7 @@ CheckResult CopInside(const CheckSpec& s, const Table& t, const nlohmann::json& 
   // the sensors: the list given, or every sensor with a sole
   std::vector<std::string> sensors;
   if (s.Has("sensors")) {
-    sensors = Split(s.params.at("sensors"));
+    sensors = SplitList(s.params.at("sensors"));
   } else if (sim.contains("soles")) {
     for (const auto& item : sim["soles"].items()) sensors.push_back(item.key());
   }

@@ -37,6 +37,9 @@ struct CheckResult {
   std::string detail;   // why it failed, or what was measured
 };
 
+// The items of a check's list parameter (stored joined with ',', see check_parse.h).
+std::vector<std::string> SplitList(const std::string& s);
+
 // Evaluates one check. `sim` is sim_host's summary (robot_mass, gravity, mass_below, ...).
 CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::json& sim);
 
