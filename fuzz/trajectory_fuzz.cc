@@ -1,7 +1,9 @@
 // Fuzzes the trajectory reader (controllers: ParseTrajectory) and the sampling of what it
-// accepts: strictly increasing finite times, rows of the same width, and interpolation that
-// stays within each joint's range of values.
+// accepts: strictly increasing finite times, rows of the same width, interpolation that stays
+// finite and within each joint's range of values (found: it overflowed between huge values,
+// corpus/trajectory/huge_values.dat), slopes that are never NaN.
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -45,7 +47,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     ctl::SampleTrajectory(t, at, q.data());
     ctl::SampleSlope(t, at, dq.data());
     for (int j = 0; j < t.njoint; ++j) {
-      if (std::isnan(q[j]) || q[j] < lo[j] || q[j] > hi[j]) std::abort();
+      // within the joint's values but for rounding (a few units in the last place)
+      const double tol = 8 * DBL_EPSILON * std::max(std::fabs(lo[j]), std::fabs(hi[j]));
+      if (!std::isfinite(q[j]) || q[j] < lo[j] - tol || q[j] > hi[j] + tol) std::abort();
+      if (std::isnan(dq[j])) std::abort();
     }
   }
   return 0;
