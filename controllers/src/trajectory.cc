@@ -180,7 +180,9 @@ void SampleTrajectory(const Trajectory& tr, double t, double* q) noexcept {
   const double a = (t - tr.time[i]) / (tr.time[i + 1] - tr.time[i]);
   const double* r0 = tr.row(i);
   const double* r1 = tr.row(i + 1);
-  for (int j = 0; j < n; ++j) q[j] = r0[j] + a * (r1[j] - r0[j]);
+  // weighted sum, not r0 + a (r1 - r0): the difference of two finite values may overflow, and
+  // the weights give r0 and r1 exactly at the rows
+  for (int j = 0; j < n; ++j) q[j] = (1.0 - a) * r0[j] + a * r1[j];
 }
 
 void SampleSlope(const Trajectory& tr, double t, double* dq) noexcept {

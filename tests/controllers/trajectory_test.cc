@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "fake_robot.h"
@@ -124,6 +125,20 @@ TEST(TrajectoryTest, InterpolatesLinearlyAndHoldsTheEnds) {
   EXPECT_DOUBLE_EQ(dq[0], -1.0);
   SampleSlope(tr, 5.0, dq);
   EXPECT_DOUBLE_EQ(dq[0], 0.0);
+}
+
+// found by fuzz/trajectory_fuzz.cc: finite rows far apart (their difference overflows) still
+// interpolate to finite values between them, and the last row is reached exactly
+TEST(TrajectoryTest, InterpolatesBetweenHugeValuesWithoutOverflow) {
+  Trajectory tr;
+  ASSERT_TRUE(Parse("0 -1.5e308 1.5e308\n1 1.5e308 -1.5e308\n", &tr).ok());
+  double q[2];
+  SampleTrajectory(tr, 0.5, q);
+  EXPECT_TRUE(std::isfinite(q[0]) && std::isfinite(q[1])) << q[0] << " " << q[1];
+  EXPECT_NEAR(q[0], 0.0, 1e293);
+  ASSERT_TRUE(Parse("-0.4 3\n1 0.3\n", &tr).ok());
+  SampleTrajectory(tr, std::nextafter(1.0, 0.0), q);  // just before the last row
+  EXPECT_GE(q[0], 0.3);
 }
 
 TEST(GainsTest, LoadsSamplePDGainsSkippingBlankLines) {

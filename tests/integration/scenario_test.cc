@@ -76,6 +76,21 @@ TEST(ScenarioStrict, TheValidBaseLoads) {
   EXPECT_EQ(s.checks[0].Number("min_height", 0), 0.5);
 }
 
+// the text entry point (the fuzzer's) reads what the file entry point reads, and refuses alike
+TEST(ScenarioStrict, ParseScenarioFromTextMatchesTheFile) {
+  Scenario from_text;
+  std::string error;
+  ASSERT_TRUE(ParseScenario(Variant(0, ""), "dir/base.yaml", &from_text, &error)) << error;
+  EXPECT_EQ(from_text.name, "base");
+  EXPECT_EQ(from_text.file, "dir/base.yaml");
+  EXPECT_EQ(from_text.controllers.size(), 1u);
+  EXPECT_EQ(from_text.checks.size(), 1u);
+  EXPECT_FALSE(ParseScenario(Variant(3, "physics_dt: -1"), "text.yaml", &from_text, &error));
+  EXPECT_NE(error.find("scenario 'text.yaml': line 3: physics_dt"), std::string::npos) << error;
+  EXPECT_FALSE(ParseScenario("{unclosed", "text.yaml", &from_text, &error));
+  EXPECT_NE(error.find("cannot read scenario 'text.yaml'"), std::string::npos) << error;
+}
+
 // issue 12: a typo or a wrong type inside a check no longer lets the default apply
 TEST(ScenarioStrict, BadChecksAreRefusedWithLineAndKey) {
   ExpectRefused({

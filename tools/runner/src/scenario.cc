@@ -285,14 +285,11 @@ double CheckSpec::Number(const std::string& key) const {
   return Has(key) ? Number(key, 0) : CheckDefault(type, key);
 }
 
-bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    *error = "cannot read scenario '" + path + "': " + e.what();
-    return false;
-  }
+namespace {
+
+// the scenario in `root`, read from `path` (named in messages)
+bool ReadScenario(const YAML::Node& root, const std::string& path, Scenario* out,
+                  std::string* error) {
   if (!root.IsMap()) {
     *error = "scenario '" + path + "' is " + (root.IsNull() ? "empty" : "not a YAML mapping") +
              " (see docs/scenarios.md)";
@@ -323,6 +320,31 @@ bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
   if (!ReadControllers(root, path, &s, error) || !ReadChecks(root, path, &s, error)) return false;
   *out = s;
   return true;
+}
+
+}  // namespace
+
+bool LoadScenario(const std::string& path, Scenario* out, std::string* error) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    *error = "cannot read scenario '" + path + "': " + e.what();
+    return false;
+  }
+  return ReadScenario(root, path, out, error);
+}
+
+bool ParseScenario(const std::string& text, const std::string& path, Scenario* out,
+                   std::string* error) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    *error = "cannot read scenario '" + path + "': " + e.what();
+    return false;
+  }
+  return ReadScenario(root, path, out, error);
 }
 
 }  // namespace ohrp::runner

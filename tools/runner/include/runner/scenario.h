@@ -82,4 +82,9 @@ struct Scenario {
 // which knows the repository and the programs' folder.
 bool LoadScenario(const std::string& path, Scenario* out, std::string* error);
 
+// The same checks on scenario text already in memory; `path` names it in messages and gives
+// the default name (the fuzzer and tests use it; no file is read).
+bool ParseScenario(const std::string& text, const std::string& path, Scenario* out,
+                   std::string* error);
+
 }  // namespace ohrp::runner

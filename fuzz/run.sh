@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# fuzz/run.sh [SECONDS] [BUILD_DIR]: builds the libFuzzer targets with clang (fuzz/CMakeLists.txt,
+# in BUILD_DIR, default build/fuzz/ of the repository) and runs each for SECONDS (default 15)
+# on a copy of its seed corpus (fuzz/corpus/NAME/). Exit 0 when none crashed; otherwise the
+# crashing input is left in BUILD_DIR/crashes/ and the exit is 1. ctest's `fuzz` label calls it.
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+SECONDS_EACH="${1:-15}"
+BUILD="$(realpath -m "${2:-$HERE/../build/fuzz}")"
+TARGETS=(scenario segment_header udp_packet pose trajectory)
+
+# clang and libFuzzer (Debian: clang, libfuzzer-14-dev; ./ohrp setup installs them)
+command -v clang++ >/dev/null || { echo "fuzz: clang++ not found: run ./ohrp setup" >&2; exit 2; }
+
+# configure once, build what changed
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+  cmake -S "$HERE" -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++ >"$BUILD.configure.log" 2>&1 \
+    || { cat "$BUILD.configure.log" >&2; exit 2; }
+  rm -f "$BUILD.configure.log"
+fi
+cmake --build "$BUILD" -j "${OHRP_FUZZ_JOBS:-2}" >"$BUILD/build.log" 2>&1 \
+  || { grep -E -A5 "error" "$BUILD/build.log" | head -40 >&2; exit 2; }
+
+# each fuzzer: new inputs go to a scratch corpus, the repository's seeds are only read
+mkdir -p "$BUILD/crashes"
+status=0
+for name in "${TARGETS[@]}"; do
+  work="$BUILD/corpus/$name"
+  mkdir -p "$work"
+  log="$BUILD/$name.log"
+  if "$BUILD/${name}_fuzz" "$work" "$HERE/corpus/$name" -max_total_time="$SECONDS_EACH" \
+       -timeout=10 -rss_limit_mb=2048 -artifact_prefix="$BUILD/crashes/${name}-" \
+       -print_final_stats=1 >"$log" 2>&1; then
+    runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")"
+    echo "fuzz: $name: ok, $runs inputs in ${SECONDS_EACH} s (log: $log)"
+  else
+    echo "fuzz: $name: FAILED (log: $log, input in $BUILD/crashes/)" >&2
+    grep -E -m20 "ERROR|runtime error|SUMMARY|Test unit written|#0 |#1 |#2 " "$log" >&2 || true
+    status=1
+  fi
+done
+exit $status
