@@ -1,10 +1,15 @@
 # ohrp_add_test(NAME name SOURCES a.cc b.cc LIBS lib... [LABELS l...] [TIMEOUT s] [SERIAL])
 # Declares one GoogleTest executable and registers its tests with ctest. SERIAL: its tests run
-# alone (real-time tests whose deadlines a parallel test would make them miss).
+# alone (real-time tests whose deadlines a parallel test would make them miss). Its timeout is
+# tripled in the sanitizer build (OHRP_SANITIZE).
 function(ohrp_add_test)
   cmake_parse_arguments(T "SERIAL" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 120)
+  endif()
+  # the sanitizer build runs two to three times slower
+  if(OHRP_SANITIZE)
+    math(EXPR T_TIMEOUT "${T_TIMEOUT} * 3")
   endif()
   if(NOT T_LABELS)
     set(T_LABELS unit)

@@ -48,4 +48,21 @@ touch -d '2000-01-01' "$B/.ohrp-built"
 out="$("$ROOT/ohrp" run stand 2>&1)"; rc=$?
 echo "$out" | grep -q "building" || fail "did not build although sources changed: $out"
 [ "$rc" -eq 2 ] || fail "a failed build gave exit $rc, not 2: $out"
+
+# test --sanitize: its own build folder, configured with the sanitizers, and ctest run there with
+# the sanitizers' options (cmake and ctest faked: they print their arguments and options)
+mkdir -p "$TMP/fakebin"
+printf '#!/bin/sh\necho "cmake $*"\n' >"$TMP/fakebin/cmake"
+printf '#!/bin/sh\necho "ctest in $PWD: $* ASAN_OPTIONS=$ASAN_OPTIONS UBSAN_OPTIONS=$UBSAN_OPTIONS"\n' \
+  >"$TMP/fakebin/ctest"
+chmod +x "$TMP/fakebin/cmake" "$TMP/fakebin/ctest"
+export OHRP_SANITIZE_BUILD_DIR="$TMP/asan"
+out="$(PATH="$TMP/fakebin:$PATH" "$ROOT/ohrp" test --sanitize -R some 2>&1)" \
+  || fail "'ohrp test --sanitize' failed: $out"
+grep -q "^cmake -S $ROOT -B $TMP/asan .*-DOHRP_SANITIZE=ON" "$TMP/asan/configure.log" \
+  || fail "'ohrp test --sanitize' did not configure $TMP/asan with OHRP_SANITIZE=ON: $out"
+grep -q "^cmake --build $TMP/asan" "$TMP/asan/build.log" \
+  || fail "'ohrp test --sanitize' did not build in $TMP/asan: $out"
+echo "$out" | grep -q "^ctest in $TMP/asan: .*-R some ASAN_OPTIONS=.*detect_leaks=1.* UBSAN_OPTIONS=.*halt_on_error=1" \
+  || fail "'ohrp test --sanitize' did not run ctest in $TMP/asan with the sanitizers' options: $out"
 echo "PASS"

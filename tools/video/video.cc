@@ -16,6 +16,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "cli/command_line.h"
@@ -141,6 +142,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   mjData* d = mj_makeData(m);
+  // the model and its data are freed on every return (the sanitizer build fails on leaks)
+  const std::unique_ptr<mjModel, decltype(&mj_deleteModel)> model_owner(m, mj_deleteModel);
+  const std::unique_ptr<mjData, decltype(&mj_deleteData)> data_owner(d, mj_deleteData);
 
   // ---- which log column drives which qpos
   struct Drive {
@@ -192,8 +196,10 @@ int main(int argc, char** argv) {
   }
 
   // ---- OSMesa context first, then MuJoCo's
-  OSMesaContext gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
   std::vector<unsigned char> gl_buffer(static_cast<size_t>(width) * height * 4);
+  OSMesaContext gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  const std::unique_ptr<std::remove_pointer_t<OSMesaContext>, decltype(&OSMesaDestroyContext)>
+      gl_owner(gl, OSMesaDestroyContext);
   if (!gl || !OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
     std::fprintf(stderr, "ohrp_video: cannot create the OSMesa context (libosmesa6)\n");
     return 3;
@@ -210,6 +216,15 @@ int main(int argc, char** argv) {
   mjr_defaultContext(&con);
   mjv_makeScene(m, &scn, 4000);
   mjr_makeContext(m, &con, mjFONTSCALE_100);
+  // MuJoCo's scene and rendering context are freed on every return, before the OSMesa context
+  struct RenderOwner {
+    mjvScene* scn;
+    mjrContext* con;
+    ~RenderOwner() {
+      mjr_freeContext(con);
+      mjv_freeScene(scn);
+    }
+  } render_owner{&scn, &con};
   mjr_setBuffer(mjFB_OFFSCREEN, &con);
   if (con.currentBuffer != mjFB_OFFSCREEN) {
     std::fprintf(stderr, "ohrp_video: no offscreen buffer\n");
@@ -329,10 +344,5 @@ int main(int argc, char** argv) {
     if (status == 0) std::printf("%s\n", pipe ? out.c_str() : frames_dir.c_str());
   }
 
-  mjr_freeContext(&con);
-  mjv_freeScene(&scn);
-  OSMesaDestroyContext(gl);
-  mj_deleteData(d);
-  mj_deleteModel(m);
   return status;
 }
