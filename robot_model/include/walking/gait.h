@@ -1,0 +1,107 @@
+// The timeline of a walk: footsteps in, and as functions of time the ZMP reference, the ground
+// height under it, and the feet (which soles support, where the swing foot is). No dynamics
+// here: the CoM comes from preview control of this ZMP reference (pattern_generator.h).
+//
+// Each step k has a double-support phase (the ZMP moves from the last support point to the
+// stance foot, the one that stays) followed by a single-support phase (the other foot swings
+// from where it is to the step's landing pose):
+//   [t0, t0 + ds)          double support, ZMP: previous point -> stance sole centre (linear)
+//   [t0 + ds, t0 + T)      single support on the stance foot, ZMP at its centre
+//   T = step duration (the step's own, else the default), ds = double_support_ratio T; the
+//   first step after standing uses ds = start_time (the ZMP leaves the middle of the feet).
+// After the last step a final double support of end_time brings the ZMP back to the middle of
+// the two soles, where it stays.
+// The swing foot: its height rises from the lift-off pose to `height` above the higher of the
+// lift-off and landing heights in the first half of the single support and comes down in the
+// second (minimum jerk in each half); it moves horizontally (and turns) with a minimum-jerk
+// profile between `vertical_fraction` of the single support after lift-off and the same before
+// landing, so it leaves and lands vertically (it clears a stair's edge and does not scuff).
+// The ground height under the ZMP moves like a minimum-jerk step over each double support (the
+// CoM rises or falls with it on stairs and slopes).
+// Queries never allocate; Build and Replace do.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "walking/footsteps.h"
+
+namespace ohrp::walking {
+
+struct GaitOptions {
+  double step_time = 0.8;             // [s] single + double support of one step
+  double double_support_ratio = 0.2;  // [-] share of the step on both feet
+  double step_height = 0.04;          // [m] swing apex above the higher end
+  double vertical_fraction = 0.15;    // [-] of the single support: lift-off and landing vertical
+  double start_delay = 0.8;           // [s] from a command to the first step's start when
+                                      // standing: the CoM starts moving before the ZMP does
+                                      // (the preview), so it needs time to start smoothly
+  double start_time = 0.8;            // [s] first double support (from standing)
+  double end_time = 0.8;              // [s] final double support (to standing)
+  double zmp_forward = 0.0;           // [m] ZMP ahead of the stance sole's centre, along the sole
+};
+// "" when usable, else which option and why
+std::string CheckGaitOptions(const GaitOptions& o);
+
+// where everything is at one time
+struct GaitState {
+  Eigen::Vector3d zmp = Eigen::Vector3d::Zero();  // ZMP reference (x, y) and the ground z [m]
+  double dz_ground = 0, ddz_ground = 0;           // ground height rate and acceleration
+  FeetPose feet;                                  // both soles (centre of the bottom face, yaw)
+  bool support[2] = {true, true};                 // left, right carries the robot
+  int swing = -1;                                 // the swinging foot, -1 on both feet
+  double swing_phase = 0;                         // [0, 1] through the single support
+  int step = -1;                                  // index of the step under way (-1: none)
+};
+
+class Gait {
+ public:
+  // standing on `feet` from time `t` (no step)
+  void Start(double t, const FeetPose& feet, const GaitOptions& options);
+  // replaces the steps that have not started at `now` (a step has started once its double
+  // support has begun) by `steps`; they follow the last started one (or start at `now` when
+  // standing). Returns the index of the first new step.
+  int Replace(double now, const std::vector<Footstep>& steps);
+
+  // the state at `t` (any t, also in the past or after the end)
+  void At(double t, GaitState* s) const;
+  // ZMP reference only (for the preview samples): x, y and the ground z [m]
+  Eigen::Vector3d Zmp(double t) const;
+
+  int step_count() const { return static_cast<int>(steps_.size()); }
+  const Footstep& step(int k) const { return steps_[k].step; }
+  double step_begin(int k) const { return steps_[k].t0; }   // double support starts [s]
+  double step_lift(int k) const { return steps_[k].t_lift; }
+  double step_land(int k) const { return steps_[k].t_land; }
+  // when the ZMP reaches the middle of the final stance [s]
+  double end_time() const;
+  const GaitOptions& options() const { return options_; }
+
+ private:
+  struct Phase {
+    Footstep step;
+    double t0, t_lift, t_land;
+    FeetPose before;           // both soles when the step begins
+    Eigen::Vector3d zmp_from;  // where the double support starts (and its ground height)
+    Eigen::Vector3d zmp_to;    // the stance point
+    double height;             // swing apex above the higher end [m]
+  };
+  // index of the last phase with t0 <= t, -1 if none
+  int PhaseAt(double t) const;
+  FeetPose FeetAfter(int k) const;  // both soles after step k lands (k = -1: the start)
+  Eigen::Vector3d StancePoint(const FeetPose& feet, int foot) const;
+  Eigen::Vector3d MidPoint(const FeetPose& feet) const;
+  void Rebuild(int from);
+
+  GaitOptions options_;
+  double t_start_ = 0;
+  FeetPose start_;
+  std::vector<Phase> steps_;
+};
+
+// minimum-jerk blend 0 -> 1 over s in [0, 1] (clamped), with its first and second derivatives
+// with respect to s
+void MinJerk(double s, double* f, double* df, double* ddf);
+
+}  // namespace ohrp::walking

@@ -1,0 +1,64 @@
+// The walking pattern generator (the paper's section 4.2): footsteps in; the CoM, the ZMP,
+// the feet and, through walk_ik.h, the joint angles out, one control period at a time.
+//
+// The CoM's horizontal motion is the preview control of the cart-table model
+// (preview_control.h) on the gait's ZMP reference (gait.h); its height is the CoM height of the
+// stance (from the robot model, given at Start) above the ground under the ZMP reference, which
+// moves over the double supports on stairs and slopes. Steps that have not started can be
+// replaced at any time (Replace): the preview servo's state carries on, so the CoM does not
+// jump; only the reference ahead changes.
+// Per-cycle (Advance) work allocates nothing and throws nothing.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "walking/gait.h"
+#include "walking/preview_control.h"
+
+namespace ohrp::walking {
+
+struct WalkSample {
+  double t = 0;                                      // [s]
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();     // planned CoM [m]
+  Eigen::Vector3d dcom = Eigen::Vector3d::Zero();    // [m/s]
+  Eigen::Vector3d ddcom = Eigen::Vector3d::Zero();   // [m/s^2]
+  Eigen::Vector2d zmp = Eigen::Vector2d::Zero();     // the cart-table ZMP of the planned CoM [m]
+  GaitState gait;                                    // ZMP reference, ground, feet, support
+};
+
+class PatternGenerator {
+ public:
+  // the preview gains for this period and CoM height; false with `*error` on bad options
+  bool Configure(const GaitOptions& gait, const PreviewOptions& preview, std::string* error);
+  // standing at `t` on `feet` with the CoM at `com` (at rest); the CoM height above the
+  // feet's mean height is the preview's zc (the gains are recomputed if it differs from the
+  // configured one by more than 1 mm)
+  bool Start(double t, const FeetPose& feet, const Eigen::Vector3d& com, std::string* error);
+  // replaces the steps not yet started by `steps` (gait.h); returns the first new index
+  int Replace(const std::vector<Footstep>& steps);
+  // one control period ahead; no allocation
+  const WalkSample& Advance();
+
+  const WalkSample& sample() const { return sample_; }
+  const Gait& gait() const { return gait_; }
+  const PreviewGains& gains() const { return gains_; }
+  double zc() const { return gains_.options().zc; }
+  // true while steps remain or the ZMP reference still moves
+  bool walking() const { return sample_.t < gait_.end_time(); }
+
+ private:
+  void Sample();
+
+  GaitOptions gait_options_;
+  PreviewGains gains_;
+  Gait gait_;
+  PreviewAxis axis_[2];
+  std::vector<double> ref_[2];  // the ZMP reference over the horizon, x and y
+  double t_ = 0;
+  double ground0_ = 0;          // the ground height the CoM height zc is measured from at Start
+  WalkSample sample_;
+};
+
+}  // namespace ohrp::walking

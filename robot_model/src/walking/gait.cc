@@ -1,0 +1,174 @@
+// The walk's timeline: ZMP reference, ground height and feet as functions of time (gait.h).
+#include "walking/gait.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ohrp::walking {
+namespace {
+
+double WrapAngle(double a) { return std::remainder(a, 2 * M_PI); }
+
+}  // namespace
+
+void MinJerk(double s, double* f, double* df, double* ddf) {
+  if (s <= 0 || s >= 1) {
+    *f = s <= 0 ? 0 : 1;
+    *df = *ddf = 0;
+    return;
+  }
+  const double s2 = s * s, s3 = s2 * s;
+  *f = s3 * (10 - 15 * s + 6 * s2);
+  *df = 30 * s2 * (1 - 2 * s + s2);
+  *ddf = 60 * s * (1 - 3 * s + 2 * s2);
+}
+
+std::string CheckGaitOptions(const GaitOptions& o) {
+  const auto finite = [](double v) { return std::isfinite(v); };
+  if (!finite(o.step_time) || o.step_time < 0.2 || o.step_time > 10)
+    return "step_time must be in [0.2, 10] s (got " + std::to_string(o.step_time) + ")";
+  if (!finite(o.double_support_ratio) || o.double_support_ratio < 0.05 || o.double_support_ratio > 0.9)
+    return "double_support_ratio must be in [0.05, 0.9] (got " +
+           std::to_string(o.double_support_ratio) + ")";
+  if (!finite(o.step_height) || o.step_height < 0 || o.step_height > 0.3)
+    return "step_height must be in [0, 0.3] m (got " + std::to_string(o.step_height) + ")";
+  if (!finite(o.vertical_fraction) || o.vertical_fraction < 0 || o.vertical_fraction > 0.4)
+    return "vertical_fraction must be in [0, 0.4] (got " + std::to_string(o.vertical_fraction) + ")";
+  if (!finite(o.start_delay) || o.start_delay < 0 || o.start_delay > 10)
+    return "start_delay must be in [0, 10] s (got " + std::to_string(o.start_delay) + ")";
+  if (!finite(o.start_time) || o.start_time < 0.1 || o.start_time > 10)
+    return "start_time must be in [0.1, 10] s (got " + std::to_string(o.start_time) + ")";
+  if (!finite(o.end_time) || o.end_time < 0.1 || o.end_time > 10)
+    return "end_time must be in [0.1, 10] s (got " + std::to_string(o.end_time) + ")";
+  if (!finite(o.zmp_forward) || std::abs(o.zmp_forward) > 0.1)
+    return "zmp_forward must be within +-0.1 m (got " + std::to_string(o.zmp_forward) + ")";
+  return "";
+}
+
+void Gait::Start(double t, const FeetPose& feet, const GaitOptions& options) {
+  options_ = options;
+  t_start_ = t;
+  start_ = feet;
+  steps_.clear();
+}
+
+Eigen::Vector3d Gait::StancePoint(const FeetPose& feet, int foot) const {
+  const double c = std::cos(feet.yaw[foot]), s = std::sin(feet.yaw[foot]);
+  return feet.p[foot] + Eigen::Vector3d(c * options_.zmp_forward, s * options_.zmp_forward, 0);
+}
+
+Eigen::Vector3d Gait::MidPoint(const FeetPose& feet) const { return 0.5 * (feet.p[0] + feet.p[1]); }
+
+FeetPose Gait::FeetAfter(int k) const {
+  if (k < 0) return start_;
+  FeetPose f = steps_[k].before;
+  const Footstep& st = steps_[k].step;
+  f.p[st.foot] = st.p;
+  f.yaw[st.foot] = st.yaw;
+  return f;
+}
+
+int Gait::PhaseAt(double t) const {
+  // the last phase with t0 <= t
+  const auto it = std::upper_bound(steps_.begin(), steps_.end(), t,
+                                   [](double v, const Phase& p) { return v < p.t0; });
+  return static_cast<int>(it - steps_.begin()) - 1;
+}
+
+double Gait::end_time() const {
+  return steps_.empty() ? t_start_ : steps_.back().t_land + options_.end_time;
+}
+
+int Gait::Replace(double now, const std::vector<Footstep>& steps) {
+  // keep the steps whose double support has begun
+  int kept = 0;
+  while (kept < static_cast<int>(steps_.size()) && steps_[kept].t0 <= now) ++kept;
+  steps_.resize(kept);
+  for (const Footstep& s : steps) {
+    Phase p;
+    p.step = s;
+    const int k = static_cast<int>(steps_.size());
+    const double T = s.duration > 0 ? s.duration : options_.step_time;
+    // a step that follows the previous one directly, or one that starts from standing
+    const bool follows = k > 0 && steps_[k - 1].t_land >= now;
+    p.t0 = follows ? steps_[k - 1].t_land
+                   : std::max(now, k > 0 ? steps_[k - 1].t_land : t_start_) + options_.start_delay;
+    p.zmp_from = Zmp(p.t0);  // the timeline so far: continuous
+    const double ds = follows ? options_.double_support_ratio * T : options_.start_time;
+    p.t_lift = p.t0 + ds;
+    p.t_land = p.t_lift + (1 - options_.double_support_ratio) * T;
+    p.before = FeetAfter(k - 1);
+    p.zmp_to = StancePoint(p.before, 1 - s.foot);
+    p.height = s.height >= 0 ? s.height : options_.step_height;
+    steps_.push_back(p);
+  }
+  return kept;
+}
+
+Eigen::Vector3d Gait::Zmp(double t) const {
+  GaitState s;
+  At(t, &s);
+  return s.zmp;
+}
+
+void Gait::At(double t, GaitState* s) const {
+  const int k = PhaseAt(t);
+  s->dz_ground = s->ddz_ground = 0;
+  s->support[0] = s->support[1] = true;
+  s->swing = -1;
+  s->swing_phase = 0;
+  s->step = -1;
+  // a blend of the ZMP (and ground height) from a to b over [t0, t1]
+  const auto blend = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t0, double t1) {
+    const double T = std::max(t1 - t0, 1e-9);
+    const double r = std::clamp((t - t0) / T, 0.0, 1.0);
+    double f, df, ddf;
+    MinJerk(r, &f, &df, &ddf);
+    s->zmp.head<2>() = a.head<2>() + r * (b - a).head<2>();
+    s->zmp.z() = a.z() + f * (b.z() - a.z());
+    s->dz_ground = df * (b.z() - a.z()) / T;
+    s->ddz_ground = ddf * (b.z() - a.z()) / (T * T);
+  };
+  if (k < 0) {
+    s->feet = start_;
+    s->zmp = MidPoint(start_);
+    return;
+  }
+  const Phase& p = steps_[k];
+  if (t >= p.t_land) {
+    // after the last step: back to the middle of the final stance, then standing
+    s->feet = FeetAfter(k);
+    blend(p.zmp_to, MidPoint(s->feet), p.t_land, p.t_land + options_.end_time);
+    return;
+  }
+  s->step = k;
+  s->feet = p.before;
+  if (t < p.t_lift) {
+    blend(p.zmp_from, p.zmp_to, p.t0, p.t_lift);
+    return;
+  }
+  // single support: the swing foot from its lift-off pose to the landing
+  s->zmp = p.zmp_to;
+  const int sw = p.step.foot;
+  s->swing = sw;
+  s->support[sw] = false;
+  const double phase = (t - p.t_lift) / std::max(p.t_land - p.t_lift, 1e-9);
+  s->swing_phase = phase;
+  const Eigen::Vector3d& a = p.before.p[sw];
+  const Eigen::Vector3d& b = p.step.p;
+  double f, df, ddf;
+  const double vf = options_.vertical_fraction;
+  MinJerk((phase - vf) / (1 - 2 * vf), &f, &df, &ddf);
+  s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>();
+  s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
+  const double top = std::max(a.z(), b.z()) + p.height;
+  if (phase < 0.5) {
+    MinJerk(phase / 0.5, &f, &df, &ddf);
+    s->feet.p[sw].z() = a.z() + f * (top - a.z());
+  } else {
+    MinJerk((phase - 0.5) / 0.5, &f, &df, &ddf);
+    s->feet.p[sw].z() = top + f * (b.z() - top);
+  }
+}
+
+}  // namespace ohrp::walking
