@@ -122,6 +122,7 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   const StabilizerOutput& out = stabilizer_.Update(input_, dt);
   CountStand(out);
   SolveJoints(out, R_yaw.inverse() * out.com_offset, lift);
+  for (int j = 0; j < njoint(); ++j) dq_ref_[j] = 0;
 }
 
 void BalanceController::FillStabilizerInput(const shm::SensorBlock& s, double t,
@@ -290,7 +291,6 @@ void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* 
     }
     case Phase::kStand:
       Stand(s, dt);
-      for (int j = 0; j < njoint(); ++j) dq_ref_[j] = 0;
       break;
     case Phase::kHold:
       ++stats_.hold_cycles;

@@ -58,25 +58,22 @@ std::string DefaultModelFile() { return std::string(OHRP_SOURCE_DIR) + "/mjcf/hr
 
 //---------------- set-up ----------------
 
-std::unique_ptr<BalanceController> BalanceController::Create(const BalanceOptions& options,
-                                                             ConfigStatus* status) {
-  *status = CheckOptions(options);
-  if (!status->ok()) return nullptr;
-  BalanceOptions o = options;
+ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const char* program,
+                                          BalanceOptions* filled, Pose* pose,
+                                          std::unique_ptr<model::Kinematics>* kin_est,
+                                          std::unique_ptr<model::Kinematics>* kin_ik) {
+  if (ConfigStatus s = CheckOptions(options); !s.ok()) return s;
+  BalanceOptions& o = *filled;
+  o = options;
   if (o.model.empty()) o.model = DefaultModelFile();
   if (o.pose_file.empty()) o.pose_file = DefaultPoseFile();
-  Pose pose;
-  *status = LoadPoseFile(o.pose_file, &pose);
-  if (!status->ok()) return nullptr;
+  if (ConfigStatus s = LoadPoseFile(o.pose_file, pose); !s.ok()) return s;
   std::string error;
-  auto kin_est = model::Kinematics::Load(o.model, &error);
-  auto kin_ik = kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
-  if (!kin_est || !kin_ik) {
-    *status = ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
-    return nullptr;
-  }
+  *kin_est = model::Kinematics::Load(o.model, &error);
+  *kin_ik = *kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
+  if (!*kin_est || !*kin_ik) return ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
   // what balance needs of the robot
-  const model::Kinematics& k = *kin_est;
+  const model::Kinematics& k = **kin_est;
   std::string missing;
   if (!k.floating()) missing += " a floating base (a free joint);";
   if (k.left_sole() < 0 || k.right_sole() < 0) {
@@ -90,10 +87,20 @@ std::unique_ptr<BalanceController> BalanceController::Create(const BalanceOption
   if (k.robot().imus.empty()) missing += " an IMU (gyro + accelerometer on one site);";
   if (!missing.empty()) {
     missing.pop_back();
-    *status = ConfigStatus::Fail(ConfigError::kMismatch, "balance needs" + missing + ", and the robot of " +
-                                                             o.model + " has not");
-    return nullptr;
+    return ConfigStatus::Fail(ConfigError::kMismatch, std::string(program) + " needs" + missing +
+                                                          ", and the robot of " + o.model +
+                                                          " has not");
   }
+  return ConfigStatus::Ok();
+}
+
+std::unique_ptr<BalanceController> BalanceController::Create(const BalanceOptions& options,
+                                                             ConfigStatus* status) {
+  BalanceOptions o;
+  Pose pose;
+  std::unique_ptr<model::Kinematics> kin_est, kin_ik;
+  *status = LoadParts(options, "balance", &o, &pose, &kin_est, &kin_ik);
+  if (!status->ok()) return nullptr;
   return std::unique_ptr<BalanceController>(
       new BalanceController(o, std::move(pose), std::move(kin_est), std::move(kin_ik)));
 }

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 namespace ohrp::controllers {
 namespace {
 
@@ -64,34 +66,51 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   const Eigen::Vector2d zmp_ref = in.c_ref - in.ddc_ref / (omega * omega);
   out_.zmp_desired_raw = zmp_ref + (1.0 + g.k_dcm / omega) * (out_.dcm - dcm_ref);
 
-  // the support rectangle of the supporting soles, less the margin
-  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
-  for (int i = 0; i < 2; ++i) {
-    if (!s.supporting[i]) continue;
-    lo = lo.cwiseMin(s.centre[i] - s.half_size[i]);
-    hi = hi.cwiseMax(s.centre[i] + s.half_size[i]);
+  // the support: the supporting sole, or the bounding box of both soles' corners, less the
+  // margin (in the sole's frame for one sole, in W for two)
+  const int n_support = int(s.supporting[0]) + int(s.supporting[1]);
+  if (n_support == 1) {
+    const int i = s.supporting[0] ? 0 : 1;
+    const Eigen::Rotation2Dd R(s.yaw[i]);
+    const Eigen::Vector2d inner = (s.half_size[i].array() - g.support_margin).max(0.0);
+    const Eigen::Vector2d local = R.inverse() * (out_.zmp_desired_raw - s.centre[i]);
+    out_.zmp_desired = s.centre[i] + R * local.cwiseMax(-inner).cwiseMin(inner);
+  } else if (n_support == 2) {
+    Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Rotation2Dd R(s.yaw[i]);
+      for (int cx : {-1, 1}) {
+        for (int cy : {-1, 1}) {
+          const Eigen::Vector2d corner =
+              s.centre[i] + R * Eigen::Vector2d(cx * s.half_size[i].x(), cy * s.half_size[i].y());
+          lo = lo.cwiseMin(corner);
+          hi = hi.cwiseMax(corner);
+        }
+      }
+    }
+    lo.array() += g.support_margin;
+    hi.array() -= g.support_margin;
+    lo = lo.cwiseMin(0.5 * (lo + hi));
+    hi = hi.cwiseMax(lo);
+    out_.zmp_desired = out_.zmp_desired_raw.cwiseMax(lo).cwiseMin(hi);
+  } else {
+    out_.zmp_desired = c;  // no support: nothing to clamp to
   }
-  if (lo.x() > hi.x()) lo = hi = c;  // no support: nothing to clamp to
-  lo.array() += g.support_margin;
-  hi.array() -= g.support_margin;
-  lo = lo.cwiseMin(0.5 * (lo + hi));
-  hi = hi.cwiseMax(lo);
-  out_.zmp_desired = out_.zmp_desired_raw.cwiseMax(lo).cwiseMin(hi);
   const Eigen::Vector2d excess = out_.zmp_desired_raw - out_.zmp_desired;
 
   //---------------- distribution to the feet ----------------
+  // the shares from p_d's position along the line between the soles' centres; what they leave
+  // of p_d (across that line) is carried inside the soles
   const Eigen::Vector2d& pd = out_.zmp_desired;
-  const double yl = s.centre[0].y(), yr = s.centre[1].y();
-  const double span = yl - yr;
-  double alpha = std::abs(span) > 1e-6 ? std::clamp((pd.y() - yr) / span, 0.0, 1.0) : 0.5;
+  const Eigen::Vector2d line = s.centre[0] - s.centre[1];
+  const double span2 = line.squaredNorm();
+  double alpha = span2 > 1e-12 ? std::clamp((pd - s.centre[1]).dot(line) / span2, 0.0, 1.0) : 0.5;
   if (!s.supporting[0]) alpha = 0.0;
   if (!s.supporting[1]) alpha = 1.0;
   out_.fz_share[0] = alpha;
   out_.fz_share[1] = 1.0 - alpha;
   const double fz_total = in.feet[0].f_W.z() + in.feet[1].f_W.z();
-  // what the shares leave of p_d's lateral position is carried inside the soles
-  const double y_shift = pd.y() - (alpha * yl + (1.0 - alpha) * yr);
-  const double x_shift[2] = {pd.x() - s.centre[0].x(), pd.x() - s.centre[1].x()};
+  const Eigen::Vector2d residual = pd - (alpha * s.centre[0] + (1.0 - alpha) * s.centre[1]);
 
   //---------------- ankle strategy: foot damping control ----------------
   double* roll = out_.foot_roll;
@@ -105,9 +124,11 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
       pitch[i] -= back * (pitch[i] - out_.rest_pitch[i]);
       continue;
     }
+    const Eigen::Rotation2Dd R(s.yaw[i]);
     const Eigen::Vector2d inner = (s.half_size[i].array() - g.support_margin).max(0.0);
-    const double cop_x = s.centre[i].x() + Clamp(x_shift[i], inner.x());
-    const double cop_y = s.centre[i].y() + Clamp(y_shift, inner.y());
+    const Eigen::Vector2d cop =
+        s.centre[i] + R * (R.inverse() * residual).cwiseMax(-inner).cwiseMin(inner);
+    const double cop_x = cop.x(), cop_y = cop.y();
     const double dzs = s.ground_z - w.p_WS.z();  // the CoP lies below the sensor
     // moment about the sensor of the desired force at the desired CoP
     const double nx_d = (cop_y - w.p_WS.y()) * fz_d - dzs * w.f_W.y();
@@ -123,7 +144,7 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
       const double fz = w.f_W.z();
       const double px = w.p_WS.x() + (-w.n_W.y() - (w.p_WS.z() - s.ground_z) * w.f_W.x()) / fz;
       const double py = w.p_WS.y() + (w.n_W.x() - (w.p_WS.z() - s.ground_z) * w.f_W.y()) / fz;
-      const Eigen::Vector2d d = (Eigen::Vector2d(px, py) - s.centre[i]).cwiseAbs();
+      const Eigen::Vector2d d = (R.inverse() * (Eigen::Vector2d(px, py) - s.centre[i])).cwiseAbs();
       if ((s.half_size[i] - d).minCoeff() > g.flat_margin) {
         const double k = dt / g.ground_adaptation;
         out_.rest_roll[i] += k * (in.sole_tilt[i].x() - out_.rest_roll[i]);

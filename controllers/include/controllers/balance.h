@@ -102,11 +102,19 @@ class BalanceController : public Controller {
   void on_activate(const shm::SensorBlock& sensors) noexcept override;
   void on_update(const shm::SensorBlock& sensors, shm::CommandBlock* commands) noexcept override;
 
- private:
+ protected:
+  // what a balance-based controller (e.g. walk.h) needs of it; its per-cycle stages are
+  // protected so that a subclass can run them in its own Stand
   enum class Phase { kRamp, kStand, kHold };
   BalanceController(const BalanceOptions& options, Pose pose,
                     std::unique_ptr<model::Kinematics> kin_est,
                     std::unique_ptr<model::Kinematics> kin_ik);
+  // Create's checks and loads: the options with the defaults filled in, the stance pose and
+  // two copies of the model (estimator, IK); `program` names the caller in messages
+  static ConfigStatus LoadParts(const BalanceOptions& options, const char* program,
+                                BalanceOptions* filled, Pose* pose,
+                                std::unique_ptr<model::Kinematics>* kin_est,
+                                std::unique_ptr<model::Kinematics>* kin_ik);
   bool SensorsUsable(const shm::SensorBlock& s, HoldReason* why) const noexcept;
   void EnterStand(const shm::SensorBlock& s) noexcept;
   // the ramp to the stance pose, the legs fitted to the ground under the loaded soles
@@ -117,7 +125,7 @@ class BalanceController : public Controller {
   // held, and how far the CoM moves; false when the legs cannot reach
   bool SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift);
   // one stance cycle, in stages:
-  void Stand(const shm::SensorBlock& s, double dt) noexcept;
+  virtual void Stand(const shm::SensorBlock& s, double dt) noexcept;
   void FillStabilizerInput(const shm::SensorBlock& s, double t,
                            const Eigen::Rotation2Dd& R_yaw) noexcept;
   void SwingLift(double dt, double lift[2]) noexcept;

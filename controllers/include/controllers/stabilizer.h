@@ -76,11 +76,15 @@ struct StabilizerGains {
   bool hip_strategy = true;      // torso rotation on
 };
 
-// The support: the two soles as rectangles in W (centres, yaw-free: the soles are taken as
-// aligned with W's axes, as they are in stance), and where the CoM should stand.
+// The support: the two soles as rectangles in W (centres, half sizes along the sole's own x
+// and y, yaw about W's z), and where the CoM should stand. The desired ZMP is clamped into the
+// supporting sole (one foot) or into the bounding box of both soles' corners (two feet); the
+// normal force is shared along the line between the soles' centres and each sole's CoP is
+// placed, in the sole's own frame, as near the desired ZMP as the sole allows.
 struct Support {
   Eigen::Vector2d centre[2];      // left, right sole centres [m]
-  Eigen::Vector2d half_size[2];   // their half lengths along x and y [m]
+  Eigen::Vector2d half_size[2];   // their half lengths along the sole's x and y [m]
+  double yaw[2] = {0, 0};         // the soles' yaw in W [rad] (0: aligned with W's axes)
   double ground_z = 0;            // height of the soles' bottoms [m]
   bool supporting[2] = {true, true};  // which soles carry the robot (false: a swing foot,
                                       // given no load, no damping control, no height control)

@@ -57,6 +57,8 @@ struct GaitState {
 
 class Gait {
  public:
+  // room for `n` steps, so that Replace does not allocate for up to that many
+  void Reserve(int n) { steps_.reserve(n); }
   // standing on `feet` from time `t` (no step)
   void Start(double t, const FeetPose& feet, const GaitOptions& options);
   // replaces the steps that have not started at `now` (a step has started once its double
@@ -74,6 +76,10 @@ class Gait {
   double step_begin(int k) const { return steps_[k].t0; }   // double support starts [s]
   double step_lift(int k) const { return steps_[k].t_lift; }
   double step_land(int k) const { return steps_[k].t_land; }
+  // both soles after step k lands (k = -1: the start)
+  FeetPose FeetAfter(int k) const;
+  // index of the last step whose double support has begun at `t` (-1: none)
+  int StartedBy(double t) const { return PhaseAt(t); }
   // when the ZMP reaches the middle of the final stance [s]
   double end_time() const;
   const GaitOptions& options() const { return options_; }
@@ -89,7 +95,6 @@ class Gait {
   };
   // index of the last phase with t0 <= t, -1 if none
   int PhaseAt(double t) const;
-  FeetPose FeetAfter(int k) const;  // both soles after step k lands (k = -1: the start)
   Eigen::Vector3d StancePoint(const FeetPose& feet, int foot) const;
   Eigen::Vector3d MidPoint(const FeetPose& feet) const;
   void Rebuild(int from);

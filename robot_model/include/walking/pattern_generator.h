@@ -36,6 +36,8 @@ class PatternGenerator {
   // feet's mean height is the preview's zc (the gains are recomputed if it differs from the
   // configured one by more than 1 mm)
   bool Start(double t, const FeetPose& feet, const Eigen::Vector3d& com, std::string* error);
+  // room for `n` steps (Replace allocates nothing up to that many)
+  void Reserve(int n) { gait_.Reserve(n); }
   // replaces the steps not yet started by `steps` (gait.h); returns the first new index
   int Replace(const std::vector<Footstep>& steps);
   // one control period ahead; no allocation

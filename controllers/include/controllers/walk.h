@@ -1,0 +1,151 @@
+// Walk: the balance controller's stance (balance.h) plus the walking pattern generator
+// (robot_model/include/walking/): the robot stands up, then walks the commands it is given and
+// stops on both feet. Its own sensors only (never sim_truth), so the same binary runs against
+// sim_host and against hw_driver.
+//
+//   stand up   balance's ramp to the stance pose, settle and CoM centring (balance.h).
+//   start      the plan frame is put where the estimator sees the feet (the commanded stance,
+//              placed on the estimated soles' middle and heading); the generator starts at
+//              rest there, the CoM lowered by `com_lower` over `lower_time` (the legs' reach
+//              when a foot goes up a step), and the commands are taken in turn.
+//   commands   planned at set-up (footsteps.h), each from the stance the previous one ends in:
+//              `goal X Y YAW_DEG` (relative to the stance, the fewest steps within the step
+//              limits), `velocity VX VY WZ_DEG SECONDS`, `steps FILE` (footstep_file.h),
+//              `wait SECONDS`. SIGUSR1 stops the walk under way: the step in the air lands,
+//              the next foot closes beside it, and the remaining commands are dropped.
+//   each cycle the generator gives the CoM (with its velocity and acceleration), the ZMP
+//              reference and the feet; the estimate is mapped into the plan frame through the
+//              supporting feet (the planned and the estimated soles, low-passed over 0.1 s, so
+//              the plan does not drift with the estimate's slow errors); the stabilizer
+//              (stabilizer.h) turns the DCM error into a desired ZMP, foot rotations, the soles'
+//              height difference and a slow CoM correction; the legs and the base follow by
+//              WalkIk (CoM and soles), the torso by the hip strategy. Joint velocity references
+//              are the references' own rate.
+//   hold       as balance: non-finite or stale sensors, a board fault or a failed estimate
+//              latch a hold of the last commanded posture.
+// Per-cycle code allocates nothing, throws nothing and logs nothing; the optional CSV log
+// (`log_file`) is kept in memory (`log_seconds` at most) and written when the controller closes.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "controllers/balance.h"
+#include "walking/footsteps.h"
+#include "walking/pattern_generator.h"
+#include "walking/walk_ik.h"
+
+namespace ohrp::controllers {
+
+struct WalkCommand {
+  enum class Kind { kGoal, kVelocity, kSteps, kWait };
+  Kind kind = Kind::kGoal;
+  double x = 0, y = 0, yaw = 0;  // goal [m, m, rad] or velocity [m/s, m/s, rad/s]
+  double time = 0;               // velocity's duration or wait [s]
+  std::string file;              // steps
+  std::string text;              // as given
+};
+// "goal 1 0 0", "velocity 0.2 0 0 10", "steps FILE", "wait 2" (angles in degrees); false with
+// `*error` saying what would work
+bool ParseWalkCommand(const std::string& text, WalkCommand* command, std::string* error);
+// the command lines' help
+const char* WalkCommandHelp();
+
+struct WalkOptions {
+  BalanceOptions balance;        // stand-up, stabilizer gains, estimator
+  walking::GaitOptions gait;
+  walking::PreviewOptions preview;  // dt and zc come from the robot (period, stance CoM)
+  walking::StepLimits limits;    // `width` from the stance
+  double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
+  double lower_time = 1.0;       // [s] to lower it
+  std::vector<WalkCommand> commands;
+  std::string params_file;       // YAML: gait, preview and limit parameters (walk_params.cc)
+  std::string log_file;          // CSV log of the walk (plan frame), empty: none
+  double log_seconds = 900;      // [s] of log kept in memory at most
+};
+
+// the YAML parameter file into `o` (strict keys; errors name the file, line and key)
+ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o);
+
+struct WalkStats {
+  uint64_t walk_cycles = 0;     // cycles under the generator
+  int steps_planned = 0;
+  int steps_done = 0;           // landed
+  int commands_done = 0;
+  uint64_t ik_failures = 0;     // cycles whose leg/CoM IK did not converge (last joints kept)
+  double max_com_error = 0;     // max |CoM estimated - planned| (plan frame, horizontal) [m]
+  double max_zmp_error = 0;     // max |ZMP measured - desired| while walking [m]
+  double max_frame_drift = 0;   // largest correction of the plan frame [m]
+  bool stopped = false;         // SIGUSR1 stopped a walk
+  double walk_start = -1;       // producer time the generator started [s]
+};
+
+class WalkController : public BalanceController {
+ public:
+  static std::unique_ptr<WalkController> Create(const WalkOptions& options, ConfigStatus* status);
+  // SIGUSR1's handler calls this (async-signal-safe): stop the walk under way
+  static void RequestWalkStop() noexcept;
+
+  const WalkStats& walk_stats() const { return walk_stats_; }
+  const walking::PatternGenerator& generator() const { return gen_; }
+  bool walking() const { return started_ && gen_.walking(); }
+  // all commands walked and the ZMP back between the feet
+  bool done() const;
+  // the plan's total steps (all commands) and the commands' final stance in the plan frame
+  const std::vector<std::vector<walking::Footstep>>& chunks() const { return chunks_; }
+  void report(std::ostream& out) const override;
+
+ protected:
+  ConfigStatus on_configure(const shm::SegmentHeader& header) override;
+  void Stand(const shm::SensorBlock& s, double dt) noexcept override;
+  void on_close() override;
+
+ private:
+  WalkController(const WalkOptions& options, const BalanceOptions& filled, Pose pose,
+                 std::unique_ptr<model::Kinematics> kin_est,
+                 std::unique_ptr<model::Kinematics> kin_ik);
+  // set-up: the commands planned into chunks of footsteps from the nominal stance (its mid
+  // frame at the origin), checked against the limits (walk_setup.cc)
+  ConfigStatus PlanCommands();
+  // the switch from standing to walking: the plan frame, the generator's start
+  void StartWalking(const shm::SensorBlock& s) noexcept;
+  void WalkCycle(const shm::SensorBlock& s, double dt) noexcept;
+  void NextCommand(double now) noexcept;
+  void Stop() noexcept;
+  // the estimate's frame onto the plan's, from the supporting feet
+  void UpdateFrame(double dt, bool first) noexcept;
+  Eigen::Vector3d ToPlan(const Eigen::Vector3d& p_est) const;
+  void FillWalkInput(const shm::SensorBlock& s, const walking::WalkSample& w) noexcept;
+  void SolveWalkJoints(const StabilizerOutput& out, const walking::WalkSample& w,
+                       double z_offset) noexcept;
+  void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
+
+  WalkOptions walk_options_;
+  walking::PatternGenerator gen_;
+  std::unique_ptr<walking::WalkIk> walk_ik_;
+  // commands: steps per command in the nominal stance's mid frame, and in the plan frame
+  std::vector<std::vector<walking::Footstep>> chunks_;
+  std::vector<std::vector<walking::Footstep>> chunks_plan_;
+  std::vector<walking::Footstep> stop_steps_;  // one closing step (preallocated)
+  walking::FeetPose nominal_;                  // the stance's soles, mid frame at the origin
+  Eigen::Matrix3d R0_[2];                      // the soles' orientation at yaw 0 (W)
+  double sole_yaw_B_[2] = {0, 0};              // the soles' yaw against the base's
+  double z_lower_ = 0;                         // [m] lowering still to do at the start
+  double lower_f_ = 0, lower_df_ = 0, lower_ddf_ = 0;  // its blend now
+  bool started_ = false;
+  int next_command_ = 0;
+  double ready_time_ = 0;                      // a wait ends [s]
+  double walk_t0_ = 0;
+  Eigen::Vector3d p_WB_ = Eigen::Vector3d::Zero();  // IK base position (plan frame)
+  // estimate -> plan: p_plan = R(frame_yaw_) p_est + frame_p_
+  double frame_yaw_ = 0;
+  Eigen::Vector3d frame_p_ = Eigen::Vector3d::Zero();
+  std::vector<std::array<double, 25>> log_;
+  std::vector<std::string> notes_;             // what planning changed (reported)
+  WalkStats walk_stats_;
+};
+
+}  // namespace ohrp::controllers

@@ -1,0 +1,314 @@
+// The walk controller's cycle: the switch from standing, commands, the plan frame, the
+// stabilizer and the legs (see walk.h; set-up in walk_setup.cc).
+#include "controllers/walk.h"
+
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <ostream>
+
+namespace ohrp::controllers {
+namespace {
+
+constexpr double kFrameFilter = 0.1;  // [s] time constant of the plan frame's corrections
+
+volatile std::sig_atomic_t g_walk_stop = 0;
+
+double Wrap(double a) { return std::remainder(a, 2 * M_PI); }
+double YawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+Eigen::Matrix3d Rz(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
+Eigen::Matrix3d Rx(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()).toRotationMatrix(); }
+Eigen::Matrix3d Ry(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix(); }
+
+}  // namespace
+
+void WalkController::RequestWalkStop() noexcept { g_walk_stop = 1; }
+
+bool WalkController::done() const {
+  return started_ && !gen_.walking() && next_command_ >= static_cast<int>(chunks_plan_.size());
+}
+
+void WalkController::Stand(const shm::SensorBlock& s, double dt) noexcept {
+  if (!started_) {
+    BalanceController::Stand(s, dt);
+    if (s.time - stand_time_ >= plan_.duration()) StartWalking(s);
+    return;
+  }
+  WalkCycle(s, dt);
+}
+
+//---------------- the start ----------------
+
+void WalkController::StartWalking(const shm::SensorBlock& s) noexcept {
+  // the commanded stance in the base frame (upright, at the origin)
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(q_ik_.data());
+  kin_ik_->Update();
+  Eigen::Vector3d S_B[2];
+  for (int i = 0; i < 2; ++i) S_B[i] = kin_ik_->p_WSole(sole_[i]);
+  const Eigen::Vector3d c_B = kin_ik_->p_WCoM();
+  const Eigen::Vector3d mid_B = 0.5 * (S_B[0] + S_B[1]);
+  // placed on the estimated soles' middle and heading, the ground at z = 0
+  const model::Kinematics& k = *kin_est_;
+  Eigen::Vector3d mid_est = Eigen::Vector3d::Zero();
+  double yaw_est[2];
+  for (int i = 0; i < 2; ++i) {
+    mid_est += 0.5 * k.p_WSole(sole_[i]);
+    yaw_est[i] = YawOf(k.R_WSole(sole_[i])) - sole_yaw_B_[i];
+  }
+  const double yaw = yaw_est[0] + 0.5 * Wrap(yaw_est[1] - yaw_est[0]);
+  const Eigen::Matrix3d R = Rz(yaw);
+  walking::FeetPose feet;
+  for (int i = 0; i < 2; ++i) {
+    feet.p[i] = R * (S_B[i] - mid_B);
+    feet.p[i] += Eigen::Vector3d(mid_est.x(), mid_est.y(), 0);
+    feet.p[i].z() = 0;
+    feet.yaw[i] = Wrap(yaw + sole_yaw_B_[i]);
+  }
+  Eigen::Vector3d com = R * (c_B - mid_B) + Eigen::Vector3d(mid_est.x(), mid_est.y(), 0);
+  com.z() = c_B.z() - mid_B.z();
+  p_WB_ = R * (-mid_B) + Eigen::Vector3d(mid_est.x(), mid_est.y(), 0);
+  p_WB_.z() = -mid_B.z();
+  // the generator walks at its configured height; the lowering is made by the controller
+  z_lower_ = com.z() - gen_.zc();
+  com.z() = gen_.zc();
+  std::string error;  // no allocation: zc is the configured one, the gains stay
+  gen_.Start(s.time, feet, com, &error);
+  // the commands' steps into the plan frame: the nominal stance's mid frame onto this one
+  const Eigen::Vector3d mid_plan = 0.5 * (feet.p[0] + feet.p[1]);
+  for (size_t c = 0; c < chunks_.size(); ++c) {
+    for (size_t n = 0; n < chunks_[c].size(); ++n) {
+      walking::Footstep& f = chunks_plan_[c][n];
+      f = chunks_[c][n];
+      f.p = R * f.p + mid_plan;
+      f.yaw = Wrap(f.yaw + yaw);
+    }
+  }
+  started_ = true;
+  walk_t0_ = ready_time_ = s.time;
+  next_command_ = 0;
+  walk_stats_.walk_start = s.time;
+  UpdateFrame(0, true);
+}
+
+//---------------- commands ----------------
+
+void WalkController::NextCommand(double now) noexcept {
+  if (gen_.walking() || now < ready_time_) return;
+  while (next_command_ < static_cast<int>(chunks_plan_.size())) {
+    const WalkCommand& c = walk_options_.commands[next_command_];
+    const std::vector<walking::Footstep>& steps = chunks_plan_[next_command_];
+    ++next_command_;
+    ++walk_stats_.commands_done;
+    if (c.kind == WalkCommand::Kind::kWait) {
+      ready_time_ = now + c.time;
+      return;
+    }
+    if (steps.empty()) continue;  // e.g. a goal where the robot stands
+    gen_.Replace(steps);
+    return;
+  }
+}
+
+void WalkController::Stop() noexcept {
+  // the last step that has begun lands; the other foot closes beside it; no further command
+  walk_stats_.stopped = true;
+  next_command_ = static_cast<int>(chunks_plan_.size());
+  const walking::Gait& gait = gen_.gait();
+  const int k = gait.StartedBy(gen_.sample().t);
+  if (k < 0 || !gen_.walking()) {
+    gen_.Replace({});  // nothing begun: drop what is planned
+    return;
+  }
+  const walking::FeetPose feet = gait.FeetAfter(k);
+  const int landed = gait.step(k).foot;
+  const double side = landed == walking::kLeft ? -1.0 : 1.0;  // where the other foot goes
+  walking::Footstep& close = stop_steps_[0];
+  close = walking::Footstep{};
+  close.foot = 1 - landed;
+  close.yaw = feet.yaw[landed];
+  close.p = feet.p[landed] + Rz(close.yaw) * Eigen::Vector3d(0, side * walk_options_.limits.width, 0);
+  gen_.Replace(stop_steps_);
+}
+
+//---------------- the plan frame ----------------
+
+void WalkController::UpdateFrame(double dt, bool first) noexcept {
+  // from each foot that supports in the plan and is in contact for the estimator
+  const walking::GaitState& g = gen_.sample().gait;
+  const model::BaseEstimate& e = estimator_->estimate();
+  const model::Kinematics& k = *kin_est_;
+  double dyaw = 0;
+  int n = 0;
+  double yaw_meas[2] = {0, 0};
+  for (int i = 0; i < 2; ++i) {
+    if (!g.support[i] || !e.contact[i]) continue;
+    yaw_meas[i] = Wrap(g.feet.yaw[i] - (YawOf(k.R_WSole(sole_[i])) - sole_yaw_B_[i]));
+    dyaw += yaw_meas[i];
+    ++n;
+  }
+  if (n == 0) return;  // in the air (or a foot not yet loaded): the frame stays
+  dyaw /= n;
+  const Eigen::Matrix3d R = Rz(dyaw);
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 2; ++i) {
+    if (!g.support[i] || !e.contact[i]) continue;
+    p += (g.feet.p[i] - R * k.p_WSole(sole_[i])) / n;
+  }
+  const double a = first ? 1.0 : std::min(1.0, dt / kFrameFilter);
+  const Eigen::Vector3d before = frame_p_;
+  frame_yaw_ = Wrap(frame_yaw_ + a * Wrap(dyaw - frame_yaw_));
+  frame_p_ += a * (p - frame_p_);
+  if (!first) walk_stats_.max_frame_drift = std::max(walk_stats_.max_frame_drift, (p - before).norm());
+}
+
+Eigen::Vector3d WalkController::ToPlan(const Eigen::Vector3d& p_est) const {
+  return Rz(frame_yaw_) * p_est + frame_p_;
+}
+
+//---------------- the cycle ----------------
+
+void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
+  if (g_walk_stop) {
+    g_walk_stop = 0;
+    Stop();
+  }
+  NextCommand(s.time);
+  const walking::WalkSample& w = gen_.Advance();
+  ++walk_stats_.walk_cycles;
+  UpdateFrame(dt, false);
+  FillWalkInput(s, w);
+  const StabilizerOutput& out = stabilizer_.Update(input_, dt);
+  CountStand(out);
+  walk_stats_.max_com_error =
+      std::max(walk_stats_.max_com_error, (input_.c.head<2>() - w.com.head<2>()).norm());
+  if (out.zmp_valid)
+    walk_stats_.max_zmp_error =
+        std::max(walk_stats_.max_zmp_error, (out.zmp_measured - out.zmp_desired).norm());
+  walking::MinJerk((s.time - walk_t0_) / walk_options_.lower_time, &lower_f_, &lower_df_, &lower_ddf_);
+  SolveWalkJoints(out, w, z_lower_ * (1.0 - lower_f_));
+  for (int j = 0; j < njoint(); ++j) dq_ref_[j] = (q_ref_[j] - q_prev_[j]) / dt;
+  // steps landed: those whose landing time has passed
+  const walking::Gait& gait = gen_.gait();
+  int landed = 0;
+  for (int k = 0; k < gait.step_count() && gait.step_land(k) <= w.t; ++k) ++landed;
+  walk_stats_.steps_done = std::max(walk_stats_.steps_done, landed);
+  LogRow(w, out);
+}
+
+void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::WalkSample& w) noexcept {
+  const model::Kinematics& k = *kin_est_;
+  const model::BaseEstimate& e = estimator_->estimate();
+  const Eigen::Matrix3d R = Rz(frame_yaw_);
+  input_.c = ToPlan(e.p_WCoM);
+  input_.dc = R * e.v_WCoM;
+  input_.c_ref = w.com.head<2>();
+  input_.dc_ref = w.dcom.head<2>();
+  input_.ddc_ref = w.ddcom.head<2>();
+  c_ref_ = input_.c_ref;
+  input_.mass = k.mass();
+  double ground = 0;
+  int n = 0;
+  for (int i = 0; i < 2; ++i) {
+    const shm::ForceTorque& ft = s.force[force_[i]];
+    const Eigen::Matrix3d R_WS = R * k.R_WSite(sensor_site_[i]);
+    FootWrench& fw = input_.feet[i];
+    fw.p_WS = ToPlan(k.p_WSite(sensor_site_[i]));
+    fw.f_W = R_WS * Eigen::Vector3d(ft.force[0], ft.force[1], ft.force[2]);
+    fw.n_W = R_WS * Eigen::Vector3d(ft.torque[0], ft.torque[1], ft.torque[2]);
+    // the sole's tilt in the plan frame
+    const Eigen::Vector3d nrm = R * (k.R_WSole(sole_[i]) * Eigen::Vector3d::UnitZ());
+    input_.sole_tilt[i] = Eigen::Vector2d(std::atan2(-nrm.y(), nrm.z()),
+                                          std::asin(std::clamp(nrm.x(), -1.0, 1.0)));
+    const model::SoleMap& sole = k.soles()[sole_[i]];
+    Support& sup = input_.support;
+    sup.centre[i] = w.gait.feet.p[i].head<2>();
+    sup.half_size[i] = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
+    sup.yaw[i] = w.gait.feet.yaw[i];
+    sup.supporting[i] = w.gait.support[i];
+    if (w.gait.support[i]) {
+      ground += w.gait.feet.p[i].z();
+      ++n;
+    }
+  }
+  input_.support.ground_z = n > 0 ? ground / n : w.gait.zmp.z();
+}
+
+void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking::WalkSample& w,
+                                     double z_offset) noexcept {
+  for (int j = 0; j < njoint(); ++j) q_ik_[j] = std::isfinite(q_ik_[j]) ? q_ik_[j] : ramp_target_[j];
+  if (torso_pitch_joint_ >= 0) q_ik_[torso_pitch_joint_] = target_[torso_pitch_joint_] + out.torso_pitch;
+  if (torso_roll_joint_ >= 0) q_ik_[torso_roll_joint_] = target_[torso_roll_joint_] + out.torso_roll;
+  const walking::FeetPose& f = w.gait.feet;
+  Eigen::Vector3d p[2];
+  Eigen::Matrix3d Rs[2];
+  for (int i = 0; i < 2; ++i) {
+    const double side = i == 0 ? 0.5 : -0.5;
+    p[i] = f.p[i] + Eigen::Vector3d(0, 0, side * out.dz);
+    Rs[i] = Rx(out.foot_roll[i]) * Ry(out.foot_pitch[i]) * Rz(f.yaw[i]) * R0_[i];
+  }
+  const double yaw_a = f.yaw[0] - sole_yaw_B_[0], yaw_b = f.yaw[1] - sole_yaw_B_[1];
+  const Eigen::Quaterniond quat(Eigen::AngleAxisd(yaw_a + 0.5 * Wrap(yaw_b - yaw_a), Eigen::Vector3d::UnitZ()));
+  Eigen::Vector3d com = w.com;
+  com.head<2>() += out.com_offset;
+  com.z() += z_offset;
+  std::array<double, shm::kMaxJoints> trial = q_ik_;
+  Eigen::Vector3d p_WB = p_WB_;
+  const walking::WalkIkResult r = walk_ik_->Solve(com, quat, p, Rs, trial.data(), &p_WB);
+  if (r.ok) {
+    q_ik_ = trial;
+    p_WB_ = p_WB;
+  } else {
+    ++walk_stats_.ik_failures;
+  }
+  for (int j = 0; j < njoint(); ++j) q_ref_[j] = q_ik_[j];
+}
+
+void WalkController::LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept {
+  if (walk_options_.log_file.empty() || log_.size() >= log_.capacity()) return;
+  const walking::FeetPose& f = w.gait.feet;
+  log_.push_back({w.t, w.com.x(), w.com.y(), w.com.z(), input_.c.x(), input_.c.y(), input_.c.z(),
+                  w.gait.zmp.x(), w.gait.zmp.y(), out.zmp_desired.x(), out.zmp_desired.y(),
+                  out.zmp_measured.x(), out.zmp_measured.y(), out.dcm.x(), out.dcm.y(),
+                  f.p[0].x(), f.p[0].y(), f.p[0].z(), f.yaw[0], f.p[1].x(), f.p[1].y(), f.p[1].z(),
+                  f.yaw[1], w.gait.support[0] ? 1.0 : 0.0, w.gait.support[1] ? 1.0 : 0.0});
+}
+
+//---------------- log and report ----------------
+
+void WalkController::on_close() {
+  if (walk_options_.log_file.empty()) return;
+  FILE* f = std::fopen(walk_options_.log_file.c_str(), "w");
+  if (!f) {
+    std::fprintf(stderr, "walk: cannot write the log %s\n", walk_options_.log_file.c_str());
+    return;
+  }
+  std::fprintf(f, "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
+                  "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
+                  "right_z,right_yaw,support_left,support_right\n");
+  for (const auto& row : log_) {
+    for (size_t c = 0; c < row.size(); ++c) std::fprintf(f, c ? ",%.6g" : "%.6f", row[c]);
+    std::fputc('\n', f);
+  }
+  std::fclose(f);
+}
+
+void WalkController::report(std::ostream& out) const {
+  BalanceController::report(out);
+  char buf[640];
+  const WalkStats& w = walk_stats_;
+  std::snprintf(buf, sizeof buf,
+                "walk: %s; %d of %d commands, %d of %d steps landed%s; walked %.2f s; max |CoM "
+                "estimated - planned| %.1f mm, max |ZMP measured - desired| %.1f mm, plan frame "
+                "corrections up to %.1f mm; %llu cycles whose leg IK did not converge\n",
+                !started_ ? "never started walking (still standing up)"
+                          : done() ? "done, standing on both feet" : "still walking at the end",
+                w.commands_done, static_cast<int>(chunks_.size()), w.steps_done, w.steps_planned,
+                w.stopped ? " (stopped by SIGUSR1)" : "", w.walk_cycles * header().control_period,
+                w.max_com_error * 1e3, w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
+                static_cast<unsigned long long>(w.ik_failures));
+  out << buf;
+}
+
+}  // namespace ohrp::controllers

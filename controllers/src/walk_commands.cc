@@ -1,0 +1,144 @@
+// The walk controller's inputs: command lines and the YAML parameter file (see walk.h).
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "controllers/walk.h"
+
+namespace ohrp::controllers {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+std::string At(const std::string& path, const YAML::Node& node) {
+  return path + ":" + std::to_string(node.Mark().line + 1) + ": ";
+}
+
+}  // namespace
+
+const char* WalkCommandHelp() {
+  return "Commands (--command, repeatable, walked in turn; each from the stance the last ends in):\n"
+         "  goal X Y YAW_DEG          go to (X, Y) [m] turned by YAW_DEG [deg], in the frame of\n"
+         "                            the feet's middle (x forward, y left), fewest steps\n"
+         "  velocity VX VY WZ_DEG T   walk at (VX, VY) [m/s] turning WZ_DEG [deg/s] for T [s],\n"
+         "                            then close the feet\n"
+         "  steps FILE                follow a footstep file (docs/footsteps.md: YAML or CSV)\n"
+         "  wait T                    stand for T [s]\n"
+         "SIGUSR1 stops the walk under way (the feet close; later commands are dropped).\n";
+}
+
+bool ParseWalkCommand(const std::string& text, WalkCommand* c, std::string* error) {
+  std::istringstream in(text);
+  std::string verb;
+  in >> verb;
+  *c = WalkCommand{};
+  c->text = text;
+  const auto numbers = [&](int n, double* out) {
+    for (int i = 0; i < n; ++i) {
+      if (!(in >> out[i]) || !std::isfinite(out[i])) return false;
+    }
+    std::string extra;
+    return !(in >> extra);
+  };
+  double v[4] = {0, 0, 0, 0};
+  if (verb == "goal") {
+    c->kind = WalkCommand::Kind::kGoal;
+    if (!numbers(3, v)) {
+      *error = "\"" + text + "\": goal takes X Y YAW_DEG (three numbers, e.g. goal 1.0 0 90)";
+      return false;
+    }
+    c->x = v[0], c->y = v[1], c->yaw = v[2] * kDeg;
+    return true;
+  }
+  if (verb == "velocity") {
+    c->kind = WalkCommand::Kind::kVelocity;
+    if (!numbers(4, v) || !(v[3] > 0) || v[3] > 36000) {
+      *error = "\"" + text + "\": velocity takes VX VY WZ_DEG SECONDS (SECONDS in (0, 36000], "
+               "e.g. velocity 0.2 0 0 10)";
+      return false;
+    }
+    c->x = v[0], c->y = v[1], c->yaw = v[2] * kDeg, c->time = v[3];
+    return true;
+  }
+  if (verb == "wait") {
+    c->kind = WalkCommand::Kind::kWait;
+    if (!numbers(1, v) || !(v[0] >= 0) || v[0] > 36000) {
+      *error = "\"" + text + "\": wait takes SECONDS in [0, 36000] (e.g. wait 2)";
+      return false;
+    }
+    c->time = v[0];
+    return true;
+  }
+  if (verb == "steps") {
+    c->kind = WalkCommand::Kind::kSteps;
+    if (!(in >> c->file)) {
+      *error = "\"" + text + "\": steps takes a footstep file (e.g. steps scenarios/steps/mixed.yaml)";
+      return false;
+    }
+    std::string extra;
+    if (in >> extra) {
+      *error = "\"" + text + "\": steps takes one file name (no spaces)";
+      return false;
+    }
+    return true;
+  }
+  *error = "unknown walk command \"" + text + "\": use goal, velocity, steps or wait";
+  return false;
+}
+
+ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
+  std::ifstream f(path);
+  if (!f) return ConfigStatus::Fail(ConfigError::kFile, path + ": cannot be read");
+  std::stringstream text;
+  text << f.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(text.str());
+  } catch (const YAML::Exception& e) {
+    return ConfigStatus::Fail(ConfigError::kFile,
+                              path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  if (!root.IsMap())
+    return ConfigStatus::Fail(ConfigError::kFile, path + ": expected a map of parameters (docs/walking.md)");
+  // every key and where its value goes
+  walking::GaitOptions& g = o->gait;
+  walking::StepLimits& l = o->limits;
+  const std::map<std::string, double*> keys = {
+      {"step_time", &g.step_time}, {"double_support_ratio", &g.double_support_ratio},
+      {"step_height", &g.step_height}, {"vertical_fraction", &g.vertical_fraction},
+      {"start_delay", &g.start_delay}, {"start_time", &g.start_time}, {"end_time", &g.end_time},
+      {"zmp_forward", &g.zmp_forward}, {"preview_time", &o->preview.preview_time},
+      {"preview_q", &o->preview.q}, {"preview_r", &o->preview.r}, {"com_lower", &o->com_lower},
+      {"lower_time", &o->lower_time}, {"max_forward", &l.max_forward},
+      {"max_backward", &l.max_backward}, {"max_side", &l.max_side}, {"min_width", &l.min_width},
+      {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance}};
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    const auto it = keys.find(key);
+    if (it == keys.end()) {
+      std::string known;
+      for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k.first;
+      return ConfigStatus::Fail(ConfigError::kFile,
+                                At(path, kv.first) + "unknown key '" + key + "' (known: " + known + ")");
+    }
+    double v = 0;
+    try {
+      v = kv.second.as<double>();
+    } catch (const YAML::Exception&) {
+      return ConfigStatus::Fail(ConfigError::kFile, At(path, kv.second) + "'" + key +
+                                                        "' must be a number");
+    }
+    if (!std::isfinite(v))
+      return ConfigStatus::Fail(ConfigError::kFile, At(path, kv.second) + "'" + key + "' must be finite");
+    if (key == "max_turn_deg") l.max_turn = v * kDeg;
+    else if (key == "max_turn_in_deg") l.max_turn_in = v * kDeg;
+    else *it->second = v;
+  }
+  return ConfigStatus::Ok();
+}
+
+}  // namespace ohrp::controllers

@@ -1,0 +1,82 @@
+// walk: attach to a robot segment, stand up, walk the commands given, stop on both feet. See
+// controllers/walk.h.
+
+#include <csignal>
+#include <iostream>
+
+#include "cli/command_line.h"
+#include "controllers/cli.h"
+#include "controllers/posture.h"
+#include "controllers/runner.h"
+#include "controllers/walk.h"
+#include "robot_model/model.h"
+
+namespace {
+[[noreturn]] void OnMujocoFatal(const char*) { std::_Exit(ohrp::controllers::kExitConfig); }
+void OnUsr1(int) { ohrp::controllers::WalkController::RequestWalkStop(); }
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ohrp::controllers;
+  WalkOptions o;
+  RunOptions run;
+  run.program = "walk";
+  BalanceOptions& b = o.balance;
+
+  CLI::App app{
+      "walk: attach to a robot segment (sim_host or hw_driver), stand up as balance does, then\n"
+      "walk the commands given and stop on both feet. The walking pattern generator (preview\n"
+      "control of the cart-table model, Kajita 2003) turns footsteps into the CoM, ZMP and feet;\n"
+      "the stabilizer keeps the measured ZMP on the desired one (ankle force/torque sensors,\n"
+      "IMU, leg kinematics; never the simulator's truth); legs and base by inverse kinematics on\n"
+      "the robot's own model (--model, checked against the producer's robot).",
+      "walk"};
+  std::vector<std::string> commands;
+  app.add_option("--command,-c", commands, "a walk command (repeatable; see below)")->take_all();
+  app.add_option("--params", o.params_file,
+                 "YAML file of gait, preview and step-limit parameters (docs/walking.md)");
+  app.add_option("--log", o.log_file, "CSV log of the walk (plan frame), written at the end");
+  app.add_option("--log-seconds", o.log_seconds, "[s] of walk log kept at most")
+      ->default_val(o.log_seconds);
+  app.add_option("--model", b.model, "MJCF of the robot (must match the producer's robot)")
+      ->default_val(DefaultModelFile());
+  app.add_option("--pose", b.pose_file, "stance pose, YAML by joint name [rad]")
+      ->default_val(DefaultPoseFile());
+  app.add_option("--ramp", b.ramp, "[s] ramp from the measured pose to the stance pose")
+      ->default_val(b.ramp);
+  app.add_option("--step-time", o.gait.step_time, "[s] one step (double + single support)")
+      ->default_val(o.gait.step_time);
+  app.add_option("--step-height", o.gait.step_height, "[m] swing foot apex")
+      ->default_val(o.gait.step_height);
+  app.add_option("--double-support", o.gait.double_support_ratio, "share of a step on both feet")
+      ->default_val(o.gait.double_support_ratio);
+  app.add_option("--max-stride", o.limits.max_forward, "[m] longest step forward")
+      ->default_val(o.limits.max_forward);
+  app.add_option("--com-lower", o.com_lower, "[m] walk with the CoM this much below the stance's")
+      ->default_val(o.com_lower);
+  app.add_option("--k-dcm", b.gains.k_dcm, "[1/s] convergence rate of the capture point")
+      ->default_val(b.gains.k_dcm);
+  AddRunOptions(&app, &run);
+  app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
+  if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  for (const std::string& text : commands) {
+    WalkCommand c;
+    std::string error;
+    if (!ParseWalkCommand(text, &c, &error)) {
+      std::cerr << "walk: --command " << error << "\n";
+      return kExitUsage;
+    }
+    o.commands.push_back(c);
+  }
+
+  ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
+  ConfigStatus status;
+  auto controller = WalkController::Create(o, &status);
+  if (!controller) {
+    std::cerr << "walk: " << status.message << "\n";
+    return status.code == ConfigError::kOption ? kExitUsage : kExitConfig;
+  }
+  InstallStopSignalHandlers();
+  std::signal(SIGUSR1, OnUsr1);
+  return RunController(*controller, run, std::cout, std::cerr);
+}

@@ -1,0 +1,138 @@
+// The walk controller's set-up: options, the generator, the legs' IK, the commands planned into
+// footsteps (see walk.h).
+#include <cmath>
+
+#include "controllers/walk.h"
+#include "walking/footstep_file.h"
+
+namespace ohrp::controllers {
+namespace {
+
+double YawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+
+ConfigStatus CheckWalkOptions(const WalkOptions& o) {
+  auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
+  if (const std::string e = walking::CheckGaitOptions(o.gait); !e.empty()) return bad(e);
+  if (!(std::isfinite(o.com_lower) && o.com_lower >= 0 && o.com_lower <= 0.2))
+    return bad("com_lower must be in [0, 0.2] m (got " + std::to_string(o.com_lower) + ")");
+  if (!(std::isfinite(o.lower_time) && o.lower_time >= 0.1 && o.lower_time <= 10))
+    return bad("lower_time must be in [0.1, 10] s");
+  if (!(std::isfinite(o.preview.preview_time) && o.preview.preview_time >= 0.5 &&
+        o.preview.preview_time <= 5))
+    return bad("preview_time must be in [0.5, 5] s (Kajita 2003: about 1.6 s)");
+  if (!(std::isfinite(o.log_seconds) && o.log_seconds > 0 && o.log_seconds <= 36000))
+    return bad("--log-seconds must be in (0, 36000] s");
+  return ConfigStatus::Ok();
+}
+
+}  // namespace
+
+std::unique_ptr<WalkController> WalkController::Create(const WalkOptions& options,
+                                                       ConfigStatus* status) {
+  WalkOptions o = options;
+  if (!o.params_file.empty()) {
+    *status = LoadWalkParams(o.params_file, &o);
+    if (!status->ok()) return nullptr;
+  }
+  *status = CheckWalkOptions(o);
+  if (!status->ok()) return nullptr;
+  BalanceOptions filled;
+  Pose pose;
+  std::unique_ptr<model::Kinematics> kin_est, kin_ik;
+  o.balance.one_leg.sides.clear();  // walking, not standing on one leg
+  o.balance.centre_com = true;
+  *status = LoadParts(o.balance, "walk", &filled, &pose, &kin_est, &kin_ik);
+  if (!status->ok()) return nullptr;
+  return std::unique_ptr<WalkController>(
+      new WalkController(o, filled, std::move(pose), std::move(kin_est), std::move(kin_ik)));
+}
+
+WalkController::WalkController(const WalkOptions& options, const BalanceOptions& filled, Pose pose,
+                               std::unique_ptr<model::Kinematics> kin_est,
+                               std::unique_ptr<model::Kinematics> kin_ik)
+    : BalanceController(filled, std::move(pose), std::move(kin_est), std::move(kin_ik)),
+      walk_options_(options) {
+  walk_options_.balance = filled;
+}
+
+ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
+  if (ConfigStatus s = BalanceController::on_configure(header); !s.ok()) return s;
+  std::string error;
+  walk_ik_ = walking::WalkIk::Create(kin_ik_.get(), &error);
+  if (!walk_ik_) return ConfigStatus::Fail(ConfigError::kMismatch, error);
+  // the stance (base upright at the origin): the soles' nominal poses, the CoM height
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(target_.data());
+  kin_ik_->Update();
+  const Eigen::Vector3d mid = 0.5 * (p_BS_nominal_[0] + p_BS_nominal_[1]);
+  for (int i = 0; i < 2; ++i) {
+    sole_yaw_B_[i] = YawOf(R_BS_nominal_[i]);
+    R0_[i] = Eigen::AngleAxisd(-sole_yaw_B_[i], Eigen::Vector3d::UnitZ()) * R_BS_nominal_[i];
+    nominal_.p[i] = p_BS_nominal_[i] - mid;
+    nominal_.p[i].z() = 0;
+    nominal_.yaw[i] = sole_yaw_B_[i];
+  }
+  const double zc = kin_ik_->p_WCoM().z() - mid.z() - walk_options_.com_lower;
+  walking::StepLimits& lim = walk_options_.limits;
+  lim.width = (p_BS_nominal_[0] - p_BS_nominal_[1]).head<2>().norm();
+  const model::SoleMap& sole = kin_ik_->soles()[sole_[0]];
+  lim.sole_half_size = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
+  lim.min_width = std::min(lim.min_width, lim.width);
+  if (const std::string e = walking::CheckLimits(lim); !e.empty())
+    return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);
+  // the generator at the control period and the walking CoM height
+  walking::PreviewOptions po = walk_options_.preview;
+  po.dt = header.control_period;
+  po.zc = zc;
+  if (!gen_.Configure(walk_options_.gait, po, &error))
+    return ConfigStatus::Fail(ConfigError::kOption, error);
+  if (ConfigStatus s = PlanCommands(); !s.ok()) return s;
+  // what the cycle needs, allocated now
+  int total = 0;
+  for (const auto& c : chunks_) total += static_cast<int>(c.size());
+  walk_stats_.steps_planned = total;
+  gen_.Reserve(total + 8);
+  chunks_plan_ = chunks_;
+  stop_steps_.assign(1, walking::Footstep{});
+  if (!walk_options_.log_file.empty())
+    log_.reserve(static_cast<size_t>(walk_options_.log_seconds / header.control_period) + 1);
+  return ConfigStatus::Ok();
+}
+
+ConfigStatus WalkController::PlanCommands() {
+  chunks_.clear();
+  walking::FeetPose feet = nominal_;
+  const walking::StepLimits& lim = walk_options_.limits;
+  for (const WalkCommand& c : walk_options_.commands) {
+    std::vector<walking::Footstep> steps;
+    std::string error, note;
+    switch (c.kind) {
+      case WalkCommand::Kind::kGoal:
+        steps = walking::PlanToGoal(feet, c.x, c.y, c.yaw, lim, &error);
+        break;
+      case WalkCommand::Kind::kVelocity: {
+        // the velocity is in the stance's mid frame; the generator's step time
+        steps = walking::PlanVelocity(feet, c.x, c.y, c.yaw, c.time, walk_options_.gait.step_time,
+                                      lim, &note);
+        if (!note.empty()) notes_.push_back("\"" + c.text + "\": " + note);
+        break;
+      }
+      case WalkCommand::Kind::kSteps: {
+        if (!walking::ReadFootstepFile(c.file, feet, lim, &steps, &error))
+          return ConfigStatus::Fail(ConfigError::kFile, error);
+        break;
+      }
+      case WalkCommand::Kind::kWait:
+        break;
+    }
+    if (!error.empty())
+      return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\": " + error);
+    if (const std::string e = walking::CheckSteps(feet, steps, lim); !e.empty())
+      return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" cannot be walked: " + e);
+    for (const walking::Footstep& s : steps) feet = walking::After(feet, s);
+    chunks_.push_back(std::move(steps));
+  }
+  return ConfigStatus::Ok();
+}
+
+}  // namespace ohrp::controllers
