@@ -1,16 +1,120 @@
-// TEMPORARY: the footstep types only (the planner comes from branch i10-steps)
+// Footsteps: where the soles land, the limits a step must keep, and the plans that turn a
+// command (a relative goal, a velocity, a stop) into a list of steps.
+//
+// Units are SI (m, rad, s). Poses are in the world frame W (z up); a sole's pose is the centre of
+// its bottom face and its yaw about z. Planning code: called at start or on a new command, never
+// per control cycle (it allocates).
+//
+// Conventions shared by every function here:
+//  - a step is made by the foot `Footstep::foot`; the other foot is the stance foot, and every
+//    limit is measured in the stance foot's frame (x forward along its yaw, y to its left);
+//  - "outward" is away from the stance foot (+y for the left foot, -y for the right foot);
+//  - a turn is "out" when the landing foot's toes point away from the stance foot (the left foot
+//    turning left, the right foot turning right) and "in" (toes in) otherwise.
 #pragma once
+
 #include <Eigen/Core>
+
 #include <string>
 #include <vector>
+
 namespace ohrp::walking {
+
 enum Side { kLeft = 0, kRight = 1 };
+
+// "left" or "right"
+const char* SideName(int foot);
+
+// Where one sole lands: the centre of the sole's bottom face, and its yaw, in W.
 struct Footstep {
-  int foot = kLeft;
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  double yaw = 0;
-  double height = -1;
-  double duration = -1;
+  int foot = kLeft;                             // the foot that swings and lands here
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();  // [m] (z: the surface height under the sole)
+  double yaw = 0;                               // [rad]
+  double height = -1;    // swing apex above the higher of lift-off and landing [m]; <0: default
+  double duration = -1;  // the step's time, single + double support [s]; <0: default
 };
-struct FeetPose { Eigen::Vector3d p[2]; double yaw[2]; };
+
+// Both soles now (index kLeft, kRight).
+struct FeetPose {
+  Eigen::Vector3d p[2];  // sole centres in W [m]
+  double yaw[2];         // [rad]
+};
+
+// The mid frame of a stance: midpoint of the soles (x, y, z mean), yaw the mean of the yaws.
+struct Frame2 {
+  Eigen::Vector3d p;  // [m]
+  double yaw;         // [rad]
+};
+
+// The mid frame of `feet` (the yaw mean is taken on the circle: soles at +-179 deg give 180 deg).
+Frame2 MidFrame(const FeetPose& feet);
+
+// The feet after `step`: the swinging foot's sole at the step's pose, the other unchanged.
+FeetPose After(const FeetPose& feet, const Footstep& step);
+
+// The limits one step must keep. Defaults: a small adult-sized humanoid; the caller sets `width`
+// (and the sole size) from its robot.
+struct StepLimits {
+  double max_forward = 0.25;   // [m] landing foot ahead of the stance foot, in the stance foot's frame
+  double max_backward = 0.10;  // [m] behind it
+  double width = 0.16;         // nominal distance between the sole centres, side by side [m]
+                               // (the planner is given the robot's, from its stance)
+  double max_side = 0.10;      // [m] outward beyond `width`
+  double min_width = 0.12;     // [m] inward limit: no closer (lateral, stance frame) than this
+  double max_turn = 0.35;      // [rad] yaw change of the landing foot against the stance foot
+  double max_turn_in = 0.15;   // [rad] when the landing foot turns towards the stance foot
+                               // (toes in), where the soles would collide
+  Eigen::Vector2d sole_half_size{0.11, 0.065};  // [m] for the no-overlap check (x along the sole)
+  double clearance = 0.01;     // [m] least gap between the two soles' rectangles
+};
+
+// "" when the limits are usable, else which one is not (negative, NaN, min_width > width, ...).
+std::string CheckLimits(const StepLimits& limits);
+
+// The least distance between the two soles' rectangles seen from above when `foot` stands at
+// (p, yaw) and the other foot at (q, yaw_q) [m]; negative (minus the depth along the separating
+// axis of least overlap) when they overlap.
+double SoleGap(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& q, double yaw_q,
+               const StepLimits& limits);
+
+// "" when `step` may follow the stance given (`feet` = where both soles are before the step),
+// else why not, naming the limit, the value and the allowed range. Checked, in this order: the
+// step's numbers (foot 0 or 1, finite pose), crossing (landing on the stance foot's other side),
+// min_width, width + max_side, max_forward, max_backward, max_turn, max_turn_in, the clearance
+// between the soles. A tolerance of 1e-9 (m or rad) is allowed on every limit.
+std::string CheckStep(const FeetPose& feet, const Footstep& step, const StepLimits& limits);
+
+// Checks a whole sequence from `start`: "" or "step K (left): why" for the first failing step
+// (K counted from 1).
+std::string CheckSteps(const FeetPose& start, const std::vector<Footstep>& steps,
+                       const StepLimits& limits);
+
+// Go to a goal (x, y, yaw) given in the start's mid frame [m, m, rad] (a yaw beyond +-pi is
+// taken the short way round): the fewest steps within the limits for a walk along a path that
+// does not reorient the robot first (the mid frame moves by per-step increments in its own frame,
+// each foot taking its share: the outward foot the side step, the inward foot what min_width and
+// the soles leave), the first foot chosen by the direction (moving/turning left: left foot first),
+// ending with both feet side by side at `limits.width` around the goal (a closing step). A goal of
+// 0 (below 1e-9): no steps. Every step passes CheckStep; a foot that would touch the other while
+// turning is set out sideways by the least amount that keeps the clearance. Steps are on the
+// start's mid-frame height, with default height and duration. Empty with `*error` (when non-null)
+// when no plan within 10000 steps keeps the limits (bad limits, a start stance that breaks them).
+std::vector<Footstep> PlanToGoal(const FeetPose& start, double x, double y, double yaw,
+                                 const StepLimits& limits, std::string* error = nullptr);
+
+// Walk at a velocity (vx, vy in the mid frame [m/s], yaw rate [rad/s]) for `time` seconds with
+// steps of `step_time` (round(time / step_time) steps, at least one when time > 0), then a closing
+// step; a velocity beyond the limits is reduced to them (said through `*note` when non-null). The
+// first foot is chosen as in PlanToGoal; each step's duration is `step_time`. The mid frame moves
+// by (vx, vy, wz) * step_time per step, in its own frame: after the walk it has covered the
+// commanded displacement within one step.
+std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, double wz,
+                                   double time, double step_time, const StepLimits& limits,
+                                   std::string* note = nullptr);
+
+// The step(s) that bring the feet side by side from `feet` when the last step was by `last_foot`
+// (stopping a velocity walk: the other foot closes, at `limits.width` beside the last foot and
+// parallel to it). Empty when the feet are already side by side (within 1e-9).
+std::vector<Footstep> PlanStop(const FeetPose& feet, int last_foot, const StepLimits& limits);
+
 }  // namespace ohrp::walking
