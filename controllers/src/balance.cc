@@ -239,14 +239,16 @@ void BalanceController::SolveJoints(const StabilizerOutput& out, const Eigen::Ve
 
 void BalanceController::Write(shm::CommandBlock* commands, double dt) noexcept {
   const shm::SegmentHeader& h = header();
+  // the suggested gains close at 6 Hz (robot_model/model.cc)
+  const double scale = options_.servo_frequency > 0 ? options_.servo_frequency / 6.0 : 1.0;
   for (int j = 0; j < njoint(); ++j) {
     shm::JointCommand& c = commands->joint[j];
     c.mode = shm::JointMode::kPosition;
     c.q_ref = q_ref_[j];
     c.dq_ref = dq_ref_[j];
-    c.tau_ff = 0;
-    c.kp = h.default_kp[j];
-    c.kd = h.default_kd[j];
+    c.tau_ff = tau_ff_[j];
+    c.kp = h.default_kp[j] * scale * scale;
+    c.kd = h.default_kd[j] * scale;
   }
   (void)dt;
 }

@@ -12,6 +12,9 @@ namespace ohrp::controllers {
 namespace {
 
 constexpr double kFrameFilter = 0.1;  // [s] time constant of the plan frame's corrections
+// the producer's suggested gains close at this frequency on each joint's own inertia
+// (robot_model/model.cc): that inertia is default_kp / (2 pi f)^2
+constexpr double kSuggestedServoHz = 6.0;
 
 volatile std::sig_atomic_t g_walk_stop = 0;
 
@@ -188,7 +191,17 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
         std::max(walk_stats_.max_zmp_error, (out.zmp_measured - out.zmp_desired).norm());
   walking::MinJerk((s.time - walk_t0_) / walk_options_.lower_time, &lower_f_, &lower_df_, &lower_ddf_);
   SolveWalkJoints(out, w, z_lower_ * (1.0 - lower_f_));
-  for (int j = 0; j < njoint(); ++j) dq_ref_[j] = (q_ref_[j] - q_prev_[j]) / dt;
+  // the references' own rate, and the torque that accelerates each joint's own inertia (the
+  // rotors' reflected inertia dominates it on geared robots) along them
+  const shm::SegmentHeader& h = header();
+  const double w2 = std::pow(2 * M_PI * kSuggestedServoHz, 2);
+  for (int j = 0; j < njoint(); ++j) {
+    const double dq = (q_ref_[j] - q_prev_[j]) / dt;
+    const double ddq = (dq - dq_ref_[j]) / dt;
+    dq_ref_[j] = dq;
+    tau_ff_[j] = walk_options_.inertia_feedforward * h.default_kp[j] / w2 * ddq;
+    tau_ff_[j] = std::clamp(tau_ff_[j], -h.tau_max[j], h.tau_max[j]);
+  }
   // steps landed: those whose landing time has passed
   const walking::Gait& gait = gen_.gait();
   int landed = 0;

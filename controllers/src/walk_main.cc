@@ -54,6 +54,10 @@ int main(int argc, char** argv) {
       ->default_val(o.limits.max_forward);
   app.add_option("--com-lower", o.com_lower, "[m] walk with the CoM this much below the stance's")
       ->default_val(o.com_lower);
+  app.add_option("--servo-hz", b.servo_frequency,
+                 "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz)")
+      ->default_val(b.servo_frequency)
+      ->check(ohrp::cli::InRange(0.0, 50.0));
   app.add_option("--k-dcm", b.gains.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(b.gains.k_dcm);
   AddRunOptions(&app, &run);

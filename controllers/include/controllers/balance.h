@@ -60,6 +60,10 @@ struct BalanceOptions {
   OneLegOptions one_leg;    // standing on one foot in turn after that (stance_plan.h)
   StabilizerGains gains;
   model::EstimatorOptions estimator;
+  // the joints' servo: the producer's suggested gains (a critically damped servo at 6 Hz on
+  // each joint's own inertia) scaled to this closing frequency [Hz]: kp * (f / 6)^2,
+  // kd * (f / 6); 0: the suggested gains as they are
+  double servo_frequency = 0;
 };
 
 // why the controller went to its hold (BalanceController::hold_reason)
@@ -167,6 +171,7 @@ class BalanceController : public Controller {
   std::array<double, shm::kMaxJoints> q_prev_{};
   std::array<double, shm::kMaxJoints> dq_ref_{};
   std::array<double, shm::kMaxJoints> q_ik_{};
+  std::array<double, shm::kMaxJoints> tau_ff_{};  // feed-forward torques sent (0 in balance)
   double start_time_ = 0, last_time_ = 0, activate_time_ = 0;
   bool ramp_started_ = false;
   int stale_blocks_ = 0;     // sensor blocks in a row whose time did not advance

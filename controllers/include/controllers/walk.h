@@ -61,6 +61,8 @@ struct WalkOptions {
   walking::StepLimits limits;    // `width` from the stance
   double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
   double lower_time = 1.0;       // [s] to lower it
+  double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
+                                     // acceleration sent as feed-forward torque [-]
   std::vector<WalkCommand> commands;
   std::string params_file;       // YAML: gait, preview and limit parameters (walk_params.cc)
   std::string log_file;          // CSV log of the walk (plan frame), empty: none

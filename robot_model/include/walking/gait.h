@@ -31,9 +31,9 @@ namespace ohrp::walking {
 
 struct GaitOptions {
   double step_time = 0.8;             // [s] single + double support of one step
-  double double_support_ratio = 0.2;  // [-] share of the step on both feet
+  double double_support_ratio = 0.1;  // [-] share of the step on both feet
   double step_height = 0.04;          // [m] swing apex above the higher end
-  double vertical_fraction = 0.15;    // [-] of the single support: lift-off and landing vertical
+  double vertical_fraction = 0.05;    // [-] of the single support: lift-off and landing vertical
   double start_delay = 0.8;           // [s] from a command to the first step's start when
                                       // standing: the CoM starts moving before the ZMP does
                                       // (the preview), so it needs time to start smoothly
