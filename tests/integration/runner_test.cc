@@ -104,6 +104,42 @@ TEST(Checks, NotFallenSeesTheTilt) {
   EXPECT_NE(r.detail.find("11.4"), std::string::npos) << r.detail;
 }
 
+// issue 10: the tilt is the base's roll and pitch, whatever its heading: a walk turned by 180 deg
+// (heading 170 -> 350 deg, through the quaternion's +-180 deg seam) pitched 3 deg forward and
+// rolled 2 deg stays within 5 deg (tilt = acos(cos 3 deg cos 2 deg) = 3.6 deg); pitched 6 deg it
+// does not; turned 180 deg upright it has no tilt at all
+Table TurningLog(double pitch_deg, double roll_deg) {
+  std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz\n";
+  const double p = pitch_deg * M_PI / 360, r = roll_deg * M_PI / 360;  // half angles
+  for (int i = 0; i <= 100; ++i) {
+    const double h = (170 + 1.8 * i) * M_PI / 360;
+    // q = q_z(yaw) q_y(pitch) q_x(roll)
+    const double w = std::cos(h) * std::cos(p) * std::cos(r) + std::sin(h) * std::sin(p) * std::sin(r);
+    const double x = std::cos(h) * std::cos(p) * std::sin(r) - std::sin(h) * std::sin(p) * std::cos(r);
+    const double y = std::cos(h) * std::sin(p) * std::cos(r) + std::sin(h) * std::cos(p) * std::sin(r);
+    const double z = std::sin(h) * std::cos(p) * std::cos(r) - std::cos(h) * std::sin(p) * std::sin(r);
+    char row[200];
+    std::snprintf(row, sizeof(row), "%g,0,0,0.7,%.17g,%.17g,%.17g,%.17g\n", 0.1 * i, w, x, y, z);
+    csv += row;
+  }
+  Table t;
+  std::string error;
+  EXPECT_TRUE(t.Load(Temp(csv, ".csv"), &error)) << error;
+  return t;
+}
+
+TEST(Checks, NotFallenTiltIsRollAndPitchNotTheHeading) {
+  auto r = Evaluate(Spec("not_fallen", {{"max_tilt_deg", "5"}}), TurningLog(0, 0), kSim);
+  EXPECT_TRUE(r.passed) << r.detail;
+  EXPECT_NE(r.detail.find("largest tilt 0 deg"), std::string::npos) << r.detail;
+  r = Evaluate(Spec("not_fallen", {{"max_tilt_deg", "5"}}), TurningLog(3, 2), kSim);
+  EXPECT_TRUE(r.passed) << r.detail;
+  EXPECT_NE(r.detail.find("largest tilt 3.60"), std::string::npos) << r.detail;
+  r = Evaluate(Spec("not_fallen", {{"max_tilt_deg", "5"}}), TurningLog(6, 0), kSim);
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.detail.find("largest tilt 6 deg"), std::string::npos) << r.detail;
+}
+
 // a 100 Hz ripple of amplitude 10 N on 600 N: a 20 ms moving average removes two whole
 // periods, so the ringing is the ripple's RMS, 10 / sqrt(2) N
 TEST(Checks, ForceRingingIsTheRmsOfTheHighFrequencyPart) {

@@ -166,6 +166,47 @@ TEST(ScenarioStrict, BadRunValuesAreRefusedWithLineAndKey) {
   });
 }
 
+// issue 10: `{out}` in a controller's args or in sim_args is the run's output folder; any
+// other placeholder is refused with its line, the key and what would work
+TEST(ScenarioStrict, UnknownPlaceholdersAreRefused) {
+  ExpectRefused({
+      {Variant(6, "  - {program: posture, args: [--log, \"{output}/walk.csv\"]}"),
+       "line 6: controllers[0]: args[1]: unknown placeholder '{output}' in '{output}/walk.csv' "
+       "(the only one is {out}, the run's output folder, e.g. \"{out}/walk.csv\")"},
+      {Variant(6, "  - program: posture\n    args:\n      - --log\n      - \"{out}/{name}.csv\""),
+       "line 9: controllers[0]: args[1]: unknown placeholder '{name}'"},
+      {Variant(0, "sim_args: [--extra, \"{dir}/x\"]"), "line 9: sim_args[1]: unknown placeholder '{dir}'"},
+  });
+  Scenario s;
+  std::string error;
+  ASSERT_TRUE(LoadScenario(Temp(Variant(6, "  - {program: posture, args: [--log, \"{out}/walk.csv\"]}") +
+                                "sim_args: [--extra, \"{out}/x\"]\n"),
+                           &s, &error)) << error;
+  EXPECT_EQ(s.controllers[0].args[1], "{out}/walk.csv");  // expanded when the run starts
+}
+
+// issue 10: the walk checks' keys
+TEST(ScenarioStrict, BadWalkChecksAreRefused) {
+  ExpectRefused({
+      {Variant(8, "  - {type: average_speed}"), "line 8: checks[0] (average_speed): 'min' is required"},
+      {Variant(8, "  - {type: average_speed, min: 0}"), "average_speed): min: must be > 0, not 0"},
+      {Variant(8, "  - {type: average_speed, min: 0.2, threshold: -1}"), "threshold: must be > 0"},
+      {Variant(8, "  - {type: goal_reached, yaw: 90}"),
+       "checks[0] (goal_reached): unknown key 'yaw' (known: tolerance, tolerance_deg, type, x, y, yaw_deg)"},
+      {Variant(8, "  - {type: goal_reached, x: far}"), "goal_reached): x: must be a number, not 'far'"},
+      {Variant(8, "  - {type: goal_reached, x: 1, tolerance: 0}"), "tolerance: must be > 0, not 0"},
+  });
+  Scenario s;
+  std::string error;
+  ASSERT_TRUE(LoadScenario(Temp(Variant(8, "  - {type: goal_reached, x: 10, yaw_deg: 180}\n"
+                                           "  - {type: average_speed, min: 0.25}")),
+                           &s, &error)) << error;
+  EXPECT_EQ(s.checks[0].Number("tolerance"), 0.2);
+  EXPECT_EQ(s.checks[0].Number("tolerance_deg"), 5);
+  EXPECT_EQ(s.checks[0].Number("y"), 0);
+  EXPECT_EQ(s.checks[1].Number("threshold"), 0.02);
+}
+
 // issue 12: a scenario cut short is not a passing run; controllers: [] runs without one
 TEST(ScenarioStrict, NoChecksOrNoControllersIsAnError) {
   // the first `n` lines of the valid scenario, without lines `skip`

@@ -61,7 +61,7 @@ const std::vector<CheckType>& CheckTypes() {
        {Num("min_height", "m, 0.4", -kBig, kBig, false, false, 0.4),
         Num("max_tilt_deg", "deg, 45", 0, 180, true, false, 45)},
        "over the whole run, the base stays above `min_height` and its z axis within "
-       "`max_tilt_deg` of vertical"},
+       "`max_tilt_deg` of vertical (its roll and pitch together; the heading does not count)"},
       {"feet_carry_weight",
        {Time("after"), Time("until"), List("sensors", "list, required", true),
         Positive("tolerance", "relative, 0.03", 0.03)},
@@ -72,6 +72,19 @@ const std::vector<CheckType>& CheckTypes() {
         Num("max", "m", -kBig, kBig, false), Time("from", false, "s, 0")},
        "the base's displacement from `from` to the end lies in [min, max] (at least one of "
        "the two)"},
+      {"goal_reached",
+       {Num("x", "m, 0", -kBig, kBig, false, false, 0), Num("y", "m, 0", -kBig, kBig, false, false, 0),
+        Num("yaw_deg", "deg, 0", -kBig, kBig, false, false, 0), Positive("tolerance", "m, 0.2", 0.2),
+        Positive("tolerance_deg", "deg, 5", 5)},
+       "the base's final pose relative to its initial one, in the initial heading frame (x "
+       "forward, y left, yaw unwrapped over the run: 360 is a full turn), lies within "
+       "`tolerance` of (x, y) and `tolerance_deg` of `yaw_deg` (below); the value is the "
+       "distance to (x, y)"},
+      {"average_speed",
+       {Num("min", "m/s, required", 0, kBig, true, true), Positive("threshold", "m, 0.02", 0.02)},
+       "the base's horizontal distance from its start to its end over the time it moved, from "
+       "the first time it is `threshold` from its start to the first time after that it is "
+       "within `threshold` of its final position, is at least `min` (below)"},
       {"force_ringing",
        {Time("after"), Time("until"), List("sensors", "list, required", true),
         Positive("window", "s, 0.02", 0.02), Num("max", "N, required", 0, kBig, false, true)},

@@ -6,8 +6,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "runner/check_keys.h"
 #include "runner/recovery.h"
 #include "runner/sole_checks.h"
+#include "runner/walk_checks.h"
 
 namespace ohrp::runner {
 
@@ -297,13 +299,12 @@ CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::js
     if (spec.type == "settles") return Settles(spec, log);
     if (spec.type == "cop_inside") return CopInside(spec, log, sim);
     if (spec.type == "foot_lifted") return FootLifted(spec, log);
+    if (spec.type == "goal_reached") return GoalReached(spec, log);
+    if (spec.type == "average_speed") return AverageSpeed(spec, log);
   } catch (const std::exception& e) {
     return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
   }
-  return Fail({spec.type, false, 0, "", "", ""},
-              "unknown check type (known: base_height, not_fallen, feet_carry_weight, "
-              "base_displacement, force_ringing, standing, settles, cop_inside, foot_lifted, "
-              "max_rejected, real_time_factor)");
+  return Fail({spec.type, false, 0, "", "", ""}, "unknown check type (known: " + CheckTypeNames() + ")");
 }
 
 }  // namespace ohrp::runner

@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "ohrp_run: one headless scripted run. Starts sim_host and the scenario's controllers side\n"
       "by side, runs for the scenario's duration, evaluates its checks and writes summary.json,\n"
-      "log.csv and plot.png into the output folder. Scenario format: docs/scenarios.md."};
+      "log.csv and plot.png into the output folder; \"{out}\" in a controller's args names that\n"
+      "folder (e.g. --log \"{out}/walk.csv\"). Scenario format: docs/scenarios.md."};
   app.add_option("scenario", file, "scenario file (YAML)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", o.out_dir, "output folder (default: runs/<name>-<date>-<time>)");
   std::string contact;

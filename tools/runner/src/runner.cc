@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "runner/checks.h"
+#include "runner/commands.h"
 
 namespace fs = std::filesystem;
 
@@ -139,6 +140,14 @@ std::string Num(double v) {
 
 }  // namespace
 
+std::map<std::string, std::string> OutputFiles(const std::string& out_dir) {
+  std::map<std::string, std::string> files = {
+      {"log", "log.csv"}, {"plot", "plot.png"}, {"sim_summary", "sim_summary.json"}};
+  // the walk controller's own log, when it wrote one (its `--log "{out}/walk.csv"`)
+  if (fs::exists(fs::path(out_dir) / "walk.csv")) files["walk"] = "walk.csv";
+  return files;
+}
+
 int RunScenario(const Scenario& s, const RunOptions& o) {
   struct sigaction sa {};
   sa.sa_handler = OnSignal;
@@ -184,33 +193,14 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   Child sim;
   sim.label = "sim_host";
   sim.output = out_abs + "/sim_host.stderr";
-  sim.argv = {o.bin_dir + "/sim_host", "--scene", scene, "--segment", segment,
-              "--duration", Num(s.duration), "--control-period", Num(s.control_period),
-              "--on-controller-loss", s.on_controller_loss,
-              "--controller-timeout", Num(s.controller_timeout),
-              "--wait-controller", s.controllers.empty() ? "0" : "20",
-              "--log", out_abs + "/log.csv", "--log-every", std::to_string(s.log_every),
-              "--summary", out_abs + "/sim_summary.json"};
-  if (s.physics_dt > 0) sim.argv.insert(sim.argv.end(), {"--physics-dt", Num(s.physics_dt)});
-  if (!s.integrator.empty()) sim.argv.insert(sim.argv.end(), {"--integrator", s.integrator});
-  if (!s.keyframe.empty()) sim.argv.insert(sim.argv.end(), {"--keyframe", s.keyframe});
-  if (s.realtime) sim.argv.push_back("--realtime");
-  if (!s.contact.empty()) sim.argv.insert(sim.argv.end(), {"--contact", s.contact});
-  for (const auto& [key, value] : s.contact_params) {
-    std::string flag = "--contact-" + key;
-    std::replace(flag.begin(), flag.end(), '_', '-');
-    sim.argv.insert(sim.argv.end(), {flag, Num(value)});
-  }
-  for (const auto& p : s.pushes) sim.argv.insert(sim.argv.end(), {"--push", PushArgument(p)});
-  sim.argv.insert(sim.argv.end(), s.sim_args.begin(), s.sim_args.end());
+  sim.argv = SimHostCommand(s, o.bin_dir + "/sim_host", scene, segment, out_abs);
 
   std::vector<Child> ctl(s.controllers.size());
   for (size_t i = 0; i < ctl.size(); ++i) {
     const std::string& prog = programs[i];
     ctl[i].label = fs::path(prog).filename().string() + (ctl.size() > 1 ? "#" + std::to_string(i) : "");
     ctl[i].output = out_abs + "/" + ctl[i].label + ".stderr";
-    ctl[i].argv = {prog, "--segment", segment, "--attach-timeout", "10"};
-    ctl[i].argv.insert(ctl[i].argv.end(), s.controllers[i].args.begin(), s.controllers[i].args.end());
+    ctl[i].argv = ControllerCommand(s.controllers[i], prog, segment, out_abs);
   }
 
   //---------------- run ----------------
@@ -341,7 +331,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   j["processes"] = nlohmann::json::array();
   j["processes"].push_back({{"name", "sim_host"}, {"exit_code", sim.exit_code}});
   for (auto& c : ctl) j["processes"].push_back({{"name", c.label}, {"exit_code", c.exit_code}});
-  j["files"] = {{"log", "log.csv"}, {"plot", "plot.png"}, {"sim_summary", "sim_summary.json"}};
+  j["files"] = OutputFiles(out_abs);
   std::ofstream(out_abs + "/summary.json") << j.dump(2) << "\n";
 
   if (o.plot && have_log) {

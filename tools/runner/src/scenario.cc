@@ -8,6 +8,7 @@
 
 #include "check_parse.h"
 #include "runner/check_keys.h"
+#include "runner/commands.h"
 #include "pushes.h"
 #include "sim_host/effects.h"
 #include "yaml_read.h"
@@ -83,6 +84,20 @@ bool PlainName(const std::string& name) {
   return true;
 }
 
+// every item of the list `key` of `map` has known placeholders only ({out}, commands.h); false
+// with the item's line, `where` and the key otherwise
+bool KnownPlaceholders(const YAML::Node& map, const char* key, const std::string& path,
+                       const std::string& where, std::string* error) {
+  const YAML::Node list = map[key];
+  for (size_t k = 0; list && list.IsSequence() && k < list.size(); ++k) {
+    const std::string why = UnknownPlaceholder(list[k].Scalar());
+    if (why.empty()) continue;
+    *error = At(path, list[k]) + where + key + "[" + std::to_string(k) + "]: " + why;
+    return false;
+  }
+  return true;
+}
+
 //---------------- sections ----------------
 
 // the scalar keys of the run, each in its range
@@ -117,7 +132,8 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
       Optional(root, "contact", path, error, Choice(&s->contact, {"soft", "native", "rigid", "auto"})) &&
       Optional(root, "sim_args", path, error, TextList(&s->sim_args)) &&
       Optional(root, "plot_joints", path, error, TextList(&s->plot_joints)) &&
-      Optional(root, "plot_torques", path, error, TextList(&s->plot_torques));
+      Optional(root, "plot_torques", path, error, TextList(&s->plot_torques)) &&
+      KnownPlaceholders(root, "sim_args", path, "", error);
   if (!ok) return false;
   s->log_every = static_cast<int>(log_every);
 
@@ -244,6 +260,7 @@ bool ReadControllers(const YAML::Node& root, const std::string& path, Scenario* 
       *error = AtKey(path, c, "args") + where + "args: " + why;
       return false;
     }
+    if (!KnownPlaceholders(c, "args", path, where, error)) return false;
     s->controllers.push_back(spec);
   }
   return true;

@@ -5,10 +5,13 @@
 //                     factor, steps, each process's exit status
 //   log.csv           sim_host's data log (see sim_host/recorder.h)
 //   sim_summary.json  sim_host's own end-of-run summary
-//   plot.png          base height and position, foot forces, a few joints against time
+//   plot.png          base height and position, foot forces, a few joints against time, and
+//                     the walk's panels when a controller wrote walk.csv there
 //   *.stderr          what each process printed
+// and what the controllers write there themselves, e.g. walk.csv (`--log "{out}/walk.csv"`)
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "runner/scenario.h"
@@ -32,5 +35,10 @@ inline constexpr int kRunUsage = 2;        // bad scenario or options
 inline constexpr int kRunInterrupted = 130;
 
 int RunScenario(const Scenario& scenario, const RunOptions& options);
+
+// The files of a run folder that summary.json lists under "files" (name -> file in the folder):
+// log, plot and sim_summary always; walk (walk.csv, the walk controller's log, written through
+// the placeholder {out}, see commands.h) when `out_dir` holds it.
+std::map<std::string, std::string> OutputFiles(const std::string& out_dir);
 
 }  // namespace ohrp::runner

@@ -11,7 +11,8 @@ namespace ohrp::runner {
 
 struct ControllerSpec {
   std::string program;            // a program in build/bin (e.g. posture) or a path
-  std::vector<std::string> args;  // extra arguments; --segment and --attach-timeout are added
+  std::vector<std::string> args;  // extra arguments; --segment and --attach-timeout are added;
+                                  // `{out}` becomes the output folder (runner/commands.h)
   int line = 0;                   // where the scenario file gives it (0: not from a file)
 };
 
@@ -64,7 +65,7 @@ struct Scenario {
   std::map<std::string, double> contact_params;  // soft-foot parameters, e.g. stiffness
   std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
                                                // LoadScenario passes them as sim_args --effects
-  std::vector<std::string> sim_args;  // extra sim_host arguments
+  std::vector<std::string> sim_args;  // extra sim_host arguments (`{out}` as in controllers)
   std::vector<PushSpec> pushes;       // RunScenario passes each as sim_host --push
   std::vector<ControllerSpec> controllers;
   std::vector<CheckSpec> checks;
@@ -75,7 +76,8 @@ struct Scenario {
 // Reads and validates a scenario: unknown or repeated keys at every level, values of the wrong
 // type or out of range (physics_dt in (0, 0.1] s, control_period a whole multiple of it,
 // duration from one control period to 1e5 s, integrator, contact, effects as sim_host takes
-// them), unknown check types and check keys, check times outside the run, a missing `checks`
+// them), placeholders other than `{out}` in controller args and sim_args, unknown check types
+// and check keys, check times outside the run, a missing `checks`
 // (or an empty list) and a missing `controllers` (write `controllers: []` to run without one)
 // are refused. Returns false with `*error` naming the file, the line, the key and what would do.
 // Whether the scene and the controller programs exist is checked by RunScenario (runner.h),

@@ -1,0 +1,80 @@
+// The processes' command lines and their placeholders (see runner/commands.h).
+#include "runner/commands.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace ohrp::runner {
+namespace {
+
+std::string Num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.17g", v);
+  return b;
+}
+
+}  // namespace
+
+//---------------- placeholders ----------------
+
+std::string UnknownPlaceholder(const std::string& arg) {
+  // each `{...}` in turn: only `{out}` is known
+  for (size_t open = arg.find('{'); open != std::string::npos; open = arg.find('{', open + 1)) {
+    const size_t close = arg.find('}', open);
+    if (close == std::string::npos) return "";
+    const std::string found = arg.substr(open, close - open + 1);
+    if (found != kOutPlaceholder)
+      return "unknown placeholder '" + found + "' in '" + arg +
+             "' (the only one is {out}, the run's output folder, e.g. \"{out}/walk.csv\")";
+    open = close;
+  }
+  return "";
+}
+
+std::string ExpandPlaceholders(const std::string& arg, const std::string& out_dir) {
+  std::string s = arg;
+  const std::string key = kOutPlaceholder;
+  for (size_t at = s.find(key); at != std::string::npos; at = s.find(key, at + out_dir.size()))
+    s.replace(at, key.size(), out_dir);
+  return s;
+}
+
+//---------------- command lines ----------------
+
+std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& sim_host,
+                                        const std::string& scene, const std::string& segment,
+                                        const std::string& out_dir) {
+  // the run's settings
+  std::vector<std::string> argv = {
+      sim_host, "--scene", scene, "--segment", segment,
+      "--duration", Num(s.duration), "--control-period", Num(s.control_period),
+      "--on-controller-loss", s.on_controller_loss,
+      "--controller-timeout", Num(s.controller_timeout),
+      "--wait-controller", s.controllers.empty() ? "0" : "20",
+      "--log", out_dir + "/log.csv", "--log-every", std::to_string(s.log_every),
+      "--summary", out_dir + "/sim_summary.json"};
+  if (s.physics_dt > 0) argv.insert(argv.end(), {"--physics-dt", Num(s.physics_dt)});
+  if (!s.integrator.empty()) argv.insert(argv.end(), {"--integrator", s.integrator});
+  if (!s.keyframe.empty()) argv.insert(argv.end(), {"--keyframe", s.keyframe});
+  if (s.realtime) argv.push_back("--realtime");
+  // the contact under the soles
+  if (!s.contact.empty()) argv.insert(argv.end(), {"--contact", s.contact});
+  for (const auto& [key, value] : s.contact_params) {
+    std::string flag = "--contact-" + key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    argv.insert(argv.end(), {flag, Num(value)});
+  }
+  // pushes, then the scenario's own arguments
+  for (const auto& p : s.pushes) argv.insert(argv.end(), {"--push", PushArgument(p)});
+  for (const auto& a : s.sim_args) argv.push_back(ExpandPlaceholders(a, out_dir));
+  return argv;
+}
+
+std::vector<std::string> ControllerCommand(const ControllerSpec& spec, const std::string& program,
+                                           const std::string& segment, const std::string& out_dir) {
+  std::vector<std::string> argv = {program, "--segment", segment, "--attach-timeout", "10"};
+  for (const auto& a : spec.args) argv.push_back(ExpandPlaceholders(a, out_dir));
+  return argv;
+}
+
+}  // namespace ohrp::runner
