@@ -69,10 +69,16 @@ void WalkController::StartWalking(const shm::SensorBlock& s) noexcept {
     feet.p[i].z() = 0;
     feet.yaw[i] = Wrap(yaw + sole_yaw_B_[i]);
   }
-  Eigen::Vector3d com = R * (c_B - mid_B) + Eigen::Vector3d(mid_est.x(), mid_est.y(), 0);
+  // the commanded stance holds the stabilizer's CoM correction as a shift of the hips; the walk
+  // adds it to the planned CoM, so the plan starts without it
+  const Eigen::Vector2d offset = stabilizer_.output().com_offset;
+  Eigen::Vector3d com = R * (c_B - mid_B) + Eigen::Vector3d(mid_est.x() - offset.x(),
+                                                            mid_est.y() - offset.y(), 0);
   com.z() = c_B.z() - mid_B.z();
   p_WB_ = R * (-mid_B) + Eigen::Vector3d(mid_est.x(), mid_est.y(), 0);
   p_WB_.z() = -mid_B.z();
+  p_WB_plan_ = p_WB_;
+  plan_valid_ = false;
   // the generator walks at its configured height; the lowering is made by the controller
   z_lower_ = com.z() - gen_.zc();
   com.z() = gen_.zc();
@@ -92,7 +98,10 @@ void WalkController::StartWalking(const shm::SensorBlock& s) noexcept {
   walk_t0_ = ready_time_ = s.time;
   next_command_ = 0;
   walk_stats_.walk_start = s.time;
+  chunk_ = -1;
   UpdateFrame(0, true);
+  frame0_p_ = frame_p_;
+  frame0_yaw_ = frame_yaw_;
 }
 
 //---------------- commands ----------------
@@ -109,15 +118,46 @@ void WalkController::NextCommand(double now) noexcept {
       return;
     }
     if (steps.empty()) continue;  // e.g. a goal where the robot stands
-    gen_.Replace(steps);
+    chunk_ = next_command_ - 1;
+    chunk_first_ = gen_.Replace(steps);
+    last_started_ = -2;  // remap at once
+    Remap();
     return;
   }
+}
+
+void WalkController::Remap() noexcept {
+  // the steps of the command under way that have not begun, moved by how far the estimate has
+  // drifted from the plan since the walk started (the frame's change): they are where the
+  // command put them relative to the robot's start as the robot measures it (leg odometry and
+  // gyro), not only relative to where the plan thinks the feet are
+  if (chunk_ < 0) return;
+  const walking::Gait& gait = gen_.gait();
+  // Replace keeps the steps begun at the generator's time (one period behind the sensors')
+  const int k = gait.StartedBy(gen_.sample().t);
+  if (k == last_started_) return;
+  last_started_ = k;
+  const std::vector<walking::Footstep>& original = chunks_plan_[chunk_];
+  const int first = std::max(0, k + 1 - chunk_first_);  // index in the command's steps
+  if (first >= static_cast<int>(original.size())) return;
+  const double dyaw = Wrap(frame_yaw_ - frame0_yaw_);
+  const Eigen::Matrix3d R = Rz(dyaw);
+  remap_.resize(original.size() - first);
+  for (size_t n = 0; n < remap_.size(); ++n) {
+    walking::Footstep s = original[first + n];
+    const Eigen::Vector3d p = R * (s.p - frame0_p_) + frame_p_;
+    s.p.head<2>() = p.head<2>();
+    s.yaw = Wrap(s.yaw + dyaw);
+    remap_[n] = s;
+  }
+  gen_.Replace(remap_);
 }
 
 void WalkController::Stop() noexcept {
   // the last step that has begun lands; the other foot closes beside it; no further command
   walk_stats_.stopped = true;
   next_command_ = static_cast<int>(chunks_plan_.size());
+  chunk_ = -1;
   const walking::Gait& gait = gen_.gait();
   const int k = gait.StartedBy(gen_.sample().t);
   if (k < 0 || !gen_.walking()) {
@@ -178,9 +218,10 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
     Stop();
   }
   NextCommand(s.time);
+  UpdateFrame(dt, false);
+  Remap();
   const walking::WalkSample& w = gen_.Advance();
   ++walk_stats_.walk_cycles;
-  UpdateFrame(dt, false);
   FillWalkInput(s, w);
   const StabilizerOutput& out = stabilizer_.Update(input_, dt);
   CountStand(out);
@@ -191,16 +232,28 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
         std::max(walk_stats_.max_zmp_error, (out.zmp_measured - out.zmp_desired).norm());
   walking::MinJerk((s.time - walk_t0_) / walk_options_.lower_time, &lower_f_, &lower_df_, &lower_ddf_);
   SolveWalkJoints(out, w, z_lower_ * (1.0 - lower_f_));
-  // the references' own rate, and the torque that accelerates each joint's own inertia (the
-  // rotors' reflected inertia dominates it on geared robots) along them
+  // velocity references and feed-forward from the plan alone (the stabilizer's corrections
+  // carry force feedback: differentiated, they would close a derivative loop through the
+  // contact): the legs' rates of the plan's IK; for the swing leg (in the air, where the servo
+  // alone lags) also the torque that accelerates each joint's own inertia along the plan (the
+  // rotors' reflected inertia dominates it on geared robots)
   const shm::SegmentHeader& h = header();
   const double w2 = std::pow(2 * M_PI * kSuggestedServoHz, 2);
   for (int j = 0; j < njoint(); ++j) {
-    const double dq = (q_ref_[j] - q_prev_[j]) / dt;
-    const double ddq = (dq - dq_ref_[j]) / dt;
-    dq_ref_[j] = dq;
-    tau_ff_[j] = walk_options_.inertia_feedforward * h.default_kp[j] / w2 * ddq;
-    tau_ff_[j] = std::clamp(tau_ff_[j], -h.tau_max[j], h.tau_max[j]);
+    dq_ref_[j] = 0;
+    tau_ff_[j] = 0;
+  }
+  for (int i = 0; i < 2; ++i) {
+    for (int j : leg_ik_[i]->chain()) {
+      const double dq = plan_valid_ ? (q_plan_[j] - q_plan_prev_[j]) / dt : 0.0;
+      const double ddq = plan_valid_ ? (dq - rate_[j]) / dt : 0.0;
+      rate_[j] = dq;
+      dq_ref_[j] = dq;
+      if (i == w.gait.swing) {
+        tau_ff_[j] = walk_options_.inertia_feedforward * h.default_kp[j] / w2 * ddq;
+        tau_ff_[j] = std::clamp(tau_ff_[j], -h.tau_max[j], h.tau_max[j]);
+      }
+    }
   }
   // steps landed: those whose landing time has passed
   const walking::Gait& gait = gen_.gait();
@@ -276,6 +329,24 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
     ++walk_stats_.ik_failures;
   }
   for (int j = 0; j < njoint(); ++j) q_ref_[j] = q_ik_[j];
+
+  // the plan alone (no stabilizer correction): the velocity references come from it
+  for (int i = 0; i < 2; ++i) {
+    p[i] = f.p[i];
+    Rs[i] = Rz(f.yaw[i]) * R0_[i];
+  }
+  com = w.com;
+  com.z() += z_offset;
+  if (!plan_valid_) q_plan_ = q_ik_;
+  q_plan_prev_ = q_plan_;
+  trial = q_plan_;
+  p_WB = p_WB_plan_;
+  if (walk_ik_->Solve(com, quat, p, Rs, trial.data(), &p_WB).ok) {
+    q_plan_ = trial;
+    p_WB_plan_ = p_WB;
+    if (!plan_valid_) q_plan_prev_ = q_plan_;  // the first solution: no rate yet
+    plan_valid_ = true;
+  }
 }
 
 void WalkController::LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept {
@@ -285,7 +356,8 @@ void WalkController::LogRow(const walking::WalkSample& w, const StabilizerOutput
                   w.gait.zmp.x(), w.gait.zmp.y(), out.zmp_desired.x(), out.zmp_desired.y(),
                   out.zmp_measured.x(), out.zmp_measured.y(), out.dcm.x(), out.dcm.y(),
                   f.p[0].x(), f.p[0].y(), f.p[0].z(), f.yaw[0], f.p[1].x(), f.p[1].y(), f.p[1].z(),
-                  f.yaw[1], w.gait.support[0] ? 1.0 : 0.0, w.gait.support[1] ? 1.0 : 0.0});
+                  f.yaw[1], w.gait.support[0] ? 1.0 : 0.0, w.gait.support[1] ? 1.0 : 0.0,
+                  frame_p_.x(), frame_p_.y(), frame_yaw_});
 }
 
 //---------------- log and report ----------------
@@ -299,7 +371,7 @@ void WalkController::on_close() {
   }
   std::fprintf(f, "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
                   "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
-                  "right_z,right_yaw,support_left,support_right\n");
+                  "right_z,right_yaw,support_left,support_right,frame_x,frame_y,frame_yaw\n");
   for (const auto& row : log_) {
     for (size_t c = 0; c < row.size(); ++c) std::fprintf(f, c ? ",%.6g" : "%.6f", row[c]);
     std::fputc('\n', f);

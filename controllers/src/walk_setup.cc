@@ -1,5 +1,6 @@
 // The walk controller's set-up: options, the generator, the legs' IK, the commands planned into
 // footsteps (see walk.h).
+#include <algorithm>
 #include <cmath>
 
 #include "controllers/walk.h"
@@ -94,6 +95,9 @@ ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
   gen_.Reserve(total + 8);
   chunks_plan_ = chunks_;
   stop_steps_.assign(1, walking::Footstep{});
+  size_t longest = 0;
+  for (const auto& c : chunks_) longest = std::max(longest, c.size());
+  remap_.reserve(longest);
   if (!walk_options_.log_file.empty())
     log_.reserve(static_cast<size_t>(walk_options_.log_seconds / header.control_period) + 1);
   return ConfigStatus::Ok();

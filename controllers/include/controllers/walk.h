@@ -19,8 +19,10 @@
 //              the plan does not drift with the estimate's slow errors); the stabilizer
 //              (stabilizer.h) turns the DCM error into a desired ZMP, foot rotations, the soles'
 //              height difference and a slow CoM correction; the legs and the base follow by
-//              WalkIk (CoM and soles), the torso by the hip strategy. Joint velocity references
-//              are the references' own rate.
+//              WalkIk (CoM and soles), the torso by the hip strategy. The legs' velocity
+//              references are the rates of the plan's own IK (without the stabilizer's
+//              corrections); the swing leg also gets its joints' own inertia times the plan's
+//              acceleration as feed-forward torque.
 //   hold       as balance: non-finite or stale sensors, a board fault or a failed estimate
 //              latch a hold of the last commanded posture.
 // Per-cycle code allocates nothing, throws nothing and logs nothing; the optional CSV log
@@ -116,6 +118,8 @@ class WalkController : public BalanceController {
   void StartWalking(const shm::SensorBlock& s) noexcept;
   void WalkCycle(const shm::SensorBlock& s, double dt) noexcept;
   void NextCommand(double now) noexcept;
+  // the command's steps not yet begun, corrected by the plan frame's drift since the start
+  void Remap() noexcept;
   void Stop() noexcept;
   // the estimate's frame onto the plan's, from the supporting feet
   void UpdateFrame(double dt, bool first) noexcept;
@@ -132,6 +136,12 @@ class WalkController : public BalanceController {
   std::vector<std::vector<walking::Footstep>> chunks_;
   std::vector<std::vector<walking::Footstep>> chunks_plan_;
   std::vector<walking::Footstep> stop_steps_;  // one closing step (preallocated)
+  std::vector<walking::Footstep> remap_;       // the corrected steps (preallocated)
+  int chunk_ = -1;                             // the command whose steps are walked
+  int chunk_first_ = 0;                        // the gait's index of its first step
+  int last_started_ = -2;                      // the gait's step under way at the last remap
+  double frame0_yaw_ = 0;                      // the plan frame at the start
+  Eigen::Vector3d frame0_p_ = Eigen::Vector3d::Zero();
   walking::FeetPose nominal_;                  // the stance's soles, mid frame at the origin
   Eigen::Matrix3d R0_[2];                      // the soles' orientation at yaw 0 (W)
   double sole_yaw_B_[2] = {0, 0};              // the soles' yaw against the base's
@@ -145,7 +155,12 @@ class WalkController : public BalanceController {
   // estimate -> plan: p_plan = R(frame_yaw_) p_est + frame_p_
   double frame_yaw_ = 0;
   Eigen::Vector3d frame_p_ = Eigen::Vector3d::Zero();
-  std::vector<std::array<double, 25>> log_;
+  // the plan's own joints (no stabilizer correction), for the velocity references
+  std::array<double, shm::kMaxJoints> q_plan_{}, q_plan_prev_{};
+  std::array<double, shm::kMaxJoints> rate_{};     // their rate [rad/s]
+  Eigen::Vector3d p_WB_plan_ = Eigen::Vector3d::Zero();
+  bool plan_valid_ = false;                        // q_plan_prev_ holds a solution
+  std::vector<std::array<double, 28>> log_;
   std::vector<std::string> notes_;             // what planning changed (reported)
   WalkStats walk_stats_;
 };
