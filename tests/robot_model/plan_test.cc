@@ -1,14 +1,13 @@
 // Tests of the footstep plans (robot_model/src/walking/plan.cc): every
 // planned step keeps the limits, the step counts are the least the limits allow (closed forms
 // stated in each test) and the walks end side by side at the goal.
-#include "walking/footsteps.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "stances.h"
+#include "walking/footsteps.h"
 
 namespace ohrp::walking {
 namespace {

@@ -14,7 +14,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <string>
 #include <vector>
 
@@ -55,7 +54,8 @@ FeetPose After(const FeetPose& feet, const Footstep& step);
 // The limits one step must keep. Defaults: a small adult-sized humanoid; the caller sets `width`
 // (and the sole size) from its robot.
 struct StepLimits {
-  double max_forward = 0.25;   // [m] landing foot ahead of the stance foot, in the stance foot's frame
+  double max_forward =
+      0.25;  // [m] landing foot ahead of the stance foot, in the stance foot's frame
   double max_backward = 0.10;  // [m] behind it
   double width = 0.16;         // nominal distance between the sole centres, side by side [m]
                                // (the planner is given the robot's, from its stance)
@@ -65,7 +65,7 @@ struct StepLimits {
   double max_turn_in = 0.15;   // [rad] when the landing foot turns towards the stance foot
                                // (toes in), where the soles would collide
   Eigen::Vector2d sole_half_size{0.11, 0.065};  // [m] for the no-overlap check (x along the sole)
-  double clearance = 0.01;     // [m] least gap between the two soles' rectangles
+  double clearance = 0.01;                      // [m] least gap between the two soles' rectangles
 };
 
 // "" when the limits are usable, else which one is not (negative, NaN, min_width > width, ...).

@@ -5,7 +5,6 @@
 // width to its side, the mid frame's yaw), set out sideways when that would touch the stance sole.
 #include <Eigen/Geometry>
 #include <Eigen/LU>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,8 +15,8 @@
 namespace ohrp::walking {
 namespace {
 
-constexpr double kZero = 1e-9;     // [m or rad] a goal or a gap below this is none
-constexpr int kMaxSteps = 10000;   // a goal needing more is refused
+constexpr double kZero = 1e-9;        // [m or rad] a goal or a gap below this is none
+constexpr int kMaxSteps = 10000;      // a goal needing more is refused
 constexpr double kShiftStep = 0.002;  // [m] scan of the outward shift that clears the soles
 
 // a planar mid frame and a per-step increment in it: x, y [m], yaw [rad]
@@ -41,8 +40,8 @@ double SideSign(int foot) { return foot == kLeft ? 1 : -1; }
 Footstep Nominal(const Pose2& m, int foot, double z, double shift, const StepLimits& l) {
   Footstep s;
   s.foot = foot;
-  const Eigen::Vector2d xy =
-      m.p + Eigen::Rotation2Dd(m.yaw) * Eigen::Vector2d(0, SideSign(foot) * (0.5 * l.width + shift));
+  const Eigen::Vector2d xy = m.p + Eigen::Rotation2Dd(m.yaw) *
+                                       Eigen::Vector2d(0, SideSign(foot) * (0.5 * l.width + shift));
   s.p = Eigen::Vector3d(xy.x(), xy.y(), z);
   s.yaw = m.yaw;
   return s;
@@ -138,7 +137,8 @@ double InwardSide(const StepLimits& l) {
 // reach it in n steps: the yaw takes each foot's full turn until the goal's (front-loaded, so the
 // last steps turn least), the translation is shared among the steps by each foot's capacity in
 // the goal's direction, in the rotating mid frame
-bool GoalIncrements(const Pose2& g, int n, int first, const StepLimits& l, std::vector<Pose2>* inc) {
+bool GoalIncrements(const Pose2& g, int n, int first, const StepLimits& l,
+                    std::vector<Pose2>* inc) {
   inc->assign(n, Pose2());
   // yaw
   double left = std::abs(g.yaw);
@@ -159,8 +159,8 @@ bool GoalIncrements(const Pose2& g, int n, int first, const StepLimits& l, std::
   Eigen::Matrix2d a = Eigen::Matrix2d::Zero();
   for (int k = 0, foot = first; k < n; ++k, foot = 1 - foot) {
     const bool out = SideSign(foot) == side_sign;
-    cap[k] = Eigen::Vector2d(fwd ? l.max_forward : l.max_backward,
-                             out ? l.max_side : InwardSide(l));
+    cap[k] =
+        Eigen::Vector2d(fwd ? l.max_forward : l.max_backward, out ? l.max_side : InwardSide(l));
     a += Eigen::Rotation2Dd(heading[k]).toRotationMatrix() * cap[k].asDiagonal();
   }
   // a column of zeros (no capacity in a direction the goal does not need) solves as 0
@@ -185,8 +185,9 @@ std::string PlanFrom(const FeetPose& start, const Pose2& g, int first, const Ste
   // a lower bound on n (halved, only to skip hopeless counts)
   const double reach = std::hypot(std::max(l.max_forward, l.max_backward), l.width + l.max_side);
   const double turn = std::max(l.max_turn, l.max_turn_in);
-  const int lo = std::max(1, static_cast<int>(0.5 * std::max(g.p.norm() / std::max(reach, kZero),
-                                                              std::abs(g.yaw) / std::max(turn, kZero))));
+  const int lo =
+      std::max(1, static_cast<int>(0.5 * std::max(g.p.norm() / std::max(reach, kZero),
+                                                  std::abs(g.yaw) / std::max(turn, kZero))));
   if (lo > kMaxSteps) return "the goal needs more than " + std::to_string(kMaxSteps) + " steps";
   std::string why = "the limits cannot reach the goal";
   std::vector<Pose2> inc;
@@ -259,17 +260,18 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
   const double vx_max = l.max_forward / t, vx_min = -l.max_backward / t;
   const double vy_max = (l.max_side + InwardSide(l)) / (2 * t);
   const double wz_max = (l.max_turn + l.max_turn_in) / (2 * t);
-  auto clamp = [&](double* v, double lo, double hi, const char* name, const char* why) {
+  auto clamp = [&](double* v, double lo, double hi, const char* name, const char* why,
+                   const char* unit) {
     if (*v >= lo && *v <= hi) return;
     const double c = std::clamp(*v, lo, hi);
-    std::snprintf(b, sizeof(b), "%s %.3f is beyond %s at %.3f s steps: walking at %.3f", name, *v,
-                  why, t, c);
+    std::snprintf(b, sizeof(b), "%s %.3f %s is beyond %s at %.3f s steps: walking at %.3f %s", name,
+                  *v, unit, why, t, c, unit);
     say(b);
     *v = c;
   };
-  clamp(&vx, vx_min, vx_max, "vx", "max_forward and max_backward");
-  clamp(&vy, -vy_max, vy_max, "vy", "max_side and min_width");
-  clamp(&wz, -wz_max, wz_max, "wz", "max_turn and max_turn_in");
+  clamp(&vx, vx_min, vx_max, "vx", "max_forward and max_backward", "m/s");
+  clamp(&vy, -vy_max, vy_max, "vy", "max_side and min_width", "m/s");
+  clamp(&wz, -wz_max, wz_max, "wz", "max_turn and max_turn_in", "rad/s");
   // per step: the foot on the motion's side takes the larger share of each pair
   const int first = FirstFoot(vy, wz, l);
   std::vector<Pose2> inc(n);
@@ -290,7 +292,8 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
     for (auto& d : inc) d.p *= 0.9, d.yaw *= 0.9;
     const std::string again = Walk(start, inc, first, l, &steps);
     if (again.empty()) {
-      std::snprintf(b, sizeof(b), "reduced to %.0f%% of the velocity to keep the limits (", 100 * scale);
+      std::snprintf(b, sizeof(b), "reduced to %.0f%% of the velocity to keep the limits (",
+                    100 * scale);
       say(b + why + ")");
     }
     why = again;
@@ -304,9 +307,9 @@ std::vector<Footstep> PlanStop(const FeetPose& feet, int last_foot, const StepLi
   const int other = 1 - last_foot;
   Footstep s;
   s.foot = other;
-  const Eigen::Vector2d xy = feet.p[last_foot].head<2>() +
-                             Eigen::Rotation2Dd(feet.yaw[last_foot]) *
-                                 Eigen::Vector2d(0, SideSign(other) * limits.width);
+  const Eigen::Vector2d xy =
+      feet.p[last_foot].head<2>() +
+      Eigen::Rotation2Dd(feet.yaw[last_foot]) * Eigen::Vector2d(0, SideSign(other) * limits.width);
   s.p = Eigen::Vector3d(xy.x(), xy.y(), feet.p[last_foot].z());
   s.yaw = feet.yaw[last_foot];
   if ((s.p - feet.p[other]).norm() < kZero && std::abs(WrapAngle(s.yaw - feet.yaw[other])) < kZero)
