@@ -90,10 +90,13 @@ std::string CheckSteps(const FeetPose& start, const std::vector<Footstep>& steps
                        const StepLimits& limits);
 
 // Go to a goal (x, y, yaw) given in the start's mid frame [m, m, rad] (a yaw beyond +-pi is
-// taken the short way round): the fewest steps within the limits for a walk along a path that
-// does not reorient the robot first (the mid frame moves by per-step increments in its own frame,
-// each foot taking its share: the outward foot the side step, the inward foot what min_width and
-// the soles leave), the first foot chosen by the direction (moving/turning left: left foot first),
+// taken the short way round): the fewest steps within the limits that this walk finds (the mid
+// frame moves by per-step increments in its own frame, each foot taking its share: the outward
+// foot the side step, the inward foot what min_width and the soles leave; the foot turning out
+// max_turn, the other max_turn_in; step counts are tried upwards from a lower bound). For a goal
+// straight ahead, to the side or a turn on the spot that is the least the limits allow; a walk
+// that turned first could need fewer for a combined goal. The first foot is chosen by the
+// direction (moving/turning left: left foot first; the other only when it needs fewer steps),
 // ending with both feet side by side at `limits.width` around the goal (a closing step). A goal of
 // 0 (below 1e-9): no steps. Every step passes CheckStep; a foot that would touch the other while
 // turning is set out sideways by the least amount that keeps the clearance. Steps are on the
