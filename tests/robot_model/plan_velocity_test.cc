@@ -71,6 +71,18 @@ TEST(PlanVelocity, AnyVelocityGivesStepsWithinTheLimits) {
   }
 }
 
+TEST(PlanVelocity, BadNumbersAreRefusedWithANote) {
+  const StepLimits l;
+  const FeetPose start = Stance(l.width);
+  std::string note;
+  EXPECT_TRUE(PlanVelocity(start, NAN, 0, 0, 4, 0.8, l, &note).empty());
+  EXPECT_NE(note.find("finite"), std::string::npos) << note;
+  EXPECT_TRUE(PlanVelocity(start, 0.1, 0, 0, 4, 0, l, &note).empty());
+  EXPECT_NE(note.find("step_time > 0"), std::string::npos) << note;
+  EXPECT_TRUE(PlanVelocity(start, 0.1, 0, 0, 0, 0.8, l, &note).empty());
+  EXPECT_EQ(note, "");
+}
+
 TEST(PlanStop, TheOtherFootClosesBesideTheLastOne) {
   const StepLimits l;
   const FeetPose start = Stance(l.width);
@@ -86,6 +98,7 @@ TEST(PlanStop, TheOtherFootClosesBesideTheLastOne) {
   EXPECT_NEAR((end.p[kLeft] - end.p[kRight]).norm(), l.width, kTight);
   EXPECT_NEAR(end.yaw[kLeft], end.yaw[kRight], kTight);
   EXPECT_TRUE(PlanStop(end, 1 - last, l).empty());
+  EXPECT_TRUE(PlanStop(end, 2, l).empty());
 }
 
 }  // namespace

@@ -109,15 +109,20 @@ std::vector<Footstep> PlanToGoal(const FeetPose& start, double x, double y, doub
 // steps of `step_time` (round(time / step_time) steps, at least one when time > 0), then a closing
 // step; a velocity beyond the limits is reduced to them (said through `*note` when non-null). The
 // first foot is chosen as in PlanToGoal; each step's duration is `step_time`. The mid frame moves
-// by (vx, vy, wz) * step_time per step, in its own frame: after the walk it has covered the
-// commanded displacement within one step.
+// in its own frame by vx * step_time per step and by 2 (vy, wz) * step_time per pair of steps (the
+// foot on the side of the motion taking the larger share): after the walk it has covered the
+// commanded displacement within one step. Where turning and walking together would break a limit
+// (the soles' clearance), the whole walk is slowed by steps of 10 % until it keeps them (said
+// through `*note`). Empty, with `*note`, when the numbers are not finite, step_time <= 0, time <
+// 0, the limits are unusable or the start stance breaks them; empty without a note for time 0.
 std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, double wz,
                                    double time, double step_time, const StepLimits& limits,
                                    std::string* note = nullptr);
 
 // The step(s) that bring the feet side by side from `feet` when the last step was by `last_foot`
 // (stopping a velocity walk: the other foot closes, at `limits.width` beside the last foot and
-// parallel to it). Empty when the feet are already side by side (within 1e-9).
+// parallel to it). Empty when the feet are already side by side (within 1e-9) or `last_foot` is
+// neither kLeft nor kRight.
 std::vector<Footstep> PlanStop(const FeetPose& feet, int last_foot, const StepLimits& limits);
 
 }  // namespace ohrp::walking

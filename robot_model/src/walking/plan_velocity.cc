@@ -18,18 +18,22 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
     if (note) *note = said;
     return steps;
   };
-  // the command's numbers
-  const std::string bad = CheckLimits(l);
-  if (!bad.empty()) return say(bad), done({});
-  const std::string stance = StanceProblem(start, l);
-  if (!stance.empty()) return say(stance), done({});
+  auto refuse = [&](const std::string& why) {
+    say(why);
+    return done({});
+  };
+  // the command's numbers, the limits and the start
   if (!std::isfinite(vx) || !std::isfinite(vy) || !std::isfinite(wz) || !std::isfinite(time) ||
       !std::isfinite(step_time) || step_time <= 0 || time < 0)
-    return say("vx, vy, wz, time >= 0 and step_time > 0 must be finite numbers"), done({});
+    return refuse("vx, vy, wz, time >= 0 and step_time > 0 must be finite numbers");
+  const std::string bad = CheckLimits(l);
+  if (!bad.empty()) return refuse(bad);
+  const std::string stance = StanceProblem(start, l);
+  if (!stance.empty()) return refuse(stance);
   const double count = std::round(time / step_time);
   if (time <= 0) return done({});
   if (count > kMaxSteps)
-    return say("the walk needs more than " + std::to_string(kMaxSteps) + " steps"), done({});
+    return refuse("the walk needs more than " + std::to_string(kMaxSteps) + " steps");
   const int n = std::max(1, static_cast<int>(count));
   const double t = step_time;
   char b[160];
@@ -49,7 +53,8 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
   clamp(&vx, vx_min, vx_max, "vx", "max_forward and max_backward", "m/s");
   clamp(&vy, -vy_max, vy_max, "vy", "max_side and min_width", "m/s");
   clamp(&wz, -wz_max, wz_max, "wz", "max_turn and max_turn_in", "rad/s");
-  // per step: the foot on the motion's side takes the larger share of each pair
+  // per pair of steps 2 v t; the foot on the motion's side takes the larger share (up to its
+  // limit), the other the rest
   const int first = FirstFoot(vy, wz, l);
   std::vector<Pose2> inc(n);
   for (int k = 0, foot = first; k < n; ++k, foot = 1 - foot) {
@@ -66,7 +71,10 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
   double scale = 1;
   for (int i = 0; i < 40 && !why.empty(); ++i) {
     scale *= 0.9;
-    for (auto& d : inc) d.p *= 0.9, d.yaw *= 0.9;
+    for (auto& d : inc) {
+      d.p *= 0.9;
+      d.yaw *= 0.9;
+    }
     const std::string again = Walk(start, inc, first, l, &steps);
     if (again.empty()) {
       std::snprintf(b, sizeof(b), "reduced to %.0f%% of the velocity to keep the limits (",
@@ -75,12 +83,13 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
     }
     why = again;
   }
-  if (!why.empty()) return say("cannot walk from this stance: " + why), done({});
+  if (!why.empty()) return refuse("cannot walk from this stance: " + why);
   for (auto& s : steps) s.duration = t;
   return done(steps);
 }
 
 std::vector<Footstep> PlanStop(const FeetPose& feet, int last_foot, const StepLimits& limits) {
+  if (last_foot != kLeft && last_foot != kRight) return {};
   const int other = 1 - last_foot;
   Footstep s;
   s.foot = other;
