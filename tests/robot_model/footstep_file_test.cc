@@ -173,6 +173,37 @@ TEST(FootstepFile, ReadsAFileByItsExtension) {
   std::remove(txt.c_str());
 }
 
+// the YAML and CSV examples of docs/footsteps.md read, and give the same steps
+TEST(FootstepFile, TheDocsExamplesRead) {
+  std::ifstream in(std::string(OHRP_SOURCE_DIR) + "/docs/footsteps.md");
+  std::stringstream doc;
+  doc << in.rdbuf();
+  const std::string text = doc.str();
+  auto block = [&](const std::string& section, const std::string& fence) {
+    const size_t at = text.find(fence, text.find(section));
+    const size_t from = text.find('\n', at) + 1;
+    return text.substr(from, text.find("```", from) - from);
+  };
+  const std::string yaml = block("### YAML", "```yaml"), csv = block("### CSV", "```");
+  const StepLimits l;
+  const FeetPose start = Stance(0.18);
+  std::vector<Footstep> a, b;
+  std::string error;
+  ASSERT_TRUE(ParseFootstepText(yaml, FootstepFormat::kYaml, "doc.yaml", start, l, &a, &error))
+      << error << "\n"
+      << yaml;
+  ASSERT_TRUE(ParseFootstepText(csv, FootstepFormat::kCsv, "doc.csv", start, l, &b, &error))
+      << error << "\n"
+      << csv;
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].p, b[k].p);
+    EXPECT_EQ(a[k].height, b[k].height);
+    EXPECT_EQ(a[k].duration, b[k].duration);
+  }
+}
+
 //---------------- errors: file, line, key ----------------
 
 const char kHead[] = "steps:\n  - {foot: left, x: 0.2, y: 0.08, yaw_deg: 0}\n";  // lines 1-2
@@ -240,6 +271,15 @@ TEST(FootstepFileErrors, FeetThatCrossAndStepsBeyondTheLimits) {
               "steps.yaml:3: ", {"x: step 2 (right)", "max_forward", "0.400 m ahead"});
   ExpectError("foot,x,y,yaw_deg\nleft,0,0.08,30\n",
               "steps.csv:2: ", {"yaw_deg: step 1 (left)", "max_turn"}, FootstepFormat::kCsv);
+}
+
+TEST(FootstepFileErrors, KeysGivenTwice) {
+  ExpectError(std::string(kHead) + "  - {foot: right, x: 0.4, x: 0.3, y: -0.08, yaw_deg: 0}\n",
+              "steps.yaml:3: ", {"x: given twice"});
+  ExpectError("frame: start\n" + std::string(kHead) + "frame: world\n",
+              "steps.yaml:4: ", {"frame: given twice"});
+  ExpectError("foot,x,y,x,yaw_deg\n", "steps.csv:1: ", {"x: column given twice"},
+              FootstepFormat::kCsv);
 }
 
 TEST(FootstepFileErrors, YamlThatDoesNotParse) {
