@@ -30,53 +30,61 @@ void ExpectLimit(double on, double beyond, const char* limit,
     const FeetPose feet = Stance(l.width);
     EXPECT_EQ(CheckStep(feet, make(foot, on, l), l), "") << SideName(foot) << " at " << on;
     const std::string why = CheckStep(feet, make(foot, beyond, l), l);
-    EXPECT_NE(why.find(limit), std::string::npos) << SideName(foot) << " at " << beyond << ": " << why;
+    EXPECT_NE(why.find(limit), std::string::npos)
+        << SideName(foot) << " at " << beyond << ": " << why;
   }
 }
 
 TEST(CheckStep, RefusesBeyondMaxForward) {
   const StepLimits l;
-  ExpectLimit(l.max_forward, l.max_forward + 0.01, "max_forward",
-              [](int f, double v, const StepLimits& l) { return Landing(f, v, l.width, 0, l); }, l);
+  ExpectLimit(
+      l.max_forward, l.max_forward + 0.01, "max_forward",
+      [](int f, double v, const StepLimits& l) { return Landing(f, v, l.width, 0, l); }, l);
 }
 
 TEST(CheckStep, RefusesBeyondMaxBackward) {
   const StepLimits l;
-  ExpectLimit(-l.max_backward, -l.max_backward - 0.01, "max_backward",
-              [](int f, double v, const StepLimits& l) { return Landing(f, v, l.width, 0, l); }, l);
+  ExpectLimit(
+      -l.max_backward, -l.max_backward - 0.01, "max_backward",
+      [](int f, double v, const StepLimits& l) { return Landing(f, v, l.width, 0, l); }, l);
 }
 
 TEST(CheckStep, RefusesBeyondMaxSide) {
   const StepLimits l;
-  ExpectLimit(l.width + l.max_side, l.width + l.max_side + 0.01, "max_side",
-              [](int f, double v, const StepLimits& l) { return Landing(f, 0, v, 0, l); }, l);
+  ExpectLimit(
+      l.width + l.max_side, l.width + l.max_side + 0.01, "max_side",
+      [](int f, double v, const StepLimits& l) { return Landing(f, 0, v, 0, l); }, l);
 }
 
 TEST(CheckStep, RefusesInsideMinWidth) {
   StepLimits l;
   l.sole_half_size.y() = 0.05;  // narrow soles: min_width binds before the clearance
-  ExpectLimit(l.min_width, l.min_width - 0.01, "min_width",
-              [](int f, double v, const StepLimits& l) { return Landing(f, 0, v, 0, l); }, l);
+  ExpectLimit(
+      l.min_width, l.min_width - 0.01, "min_width",
+      [](int f, double v, const StepLimits& l) { return Landing(f, 0, v, 0, l); }, l);
 }
 
 TEST(CheckStep, RefusesBeyondMaxTurnOut) {
   const StepLimits l;
-  ExpectLimit(l.max_turn, l.max_turn + 0.01, "max_turn",
-              [](int f, double v, const StepLimits& l) { return Landing(f, 0, 0.24, v, l); }, l);
+  ExpectLimit(
+      l.max_turn, l.max_turn + 0.01, "max_turn",
+      [](int f, double v, const StepLimits& l) { return Landing(f, 0, 0.24, v, l); }, l);
 }
 
 TEST(CheckStep, RefusesBeyondMaxTurnIn) {
   const StepLimits l;
-  ExpectLimit(-l.max_turn_in, -l.max_turn_in - 0.01, "max_turn_in",
-              [](int f, double v, const StepLimits& l) { return Landing(f, 0, 0.24, v, l); }, l);
+  ExpectLimit(
+      -l.max_turn_in, -l.max_turn_in - 0.01, "max_turn_in",
+      [](int f, double v, const StepLimits& l) { return Landing(f, 0, 0.24, v, l); }, l);
 }
 
 TEST(CheckStep, RefusesSolesCloserThanTheClearance) {
   const StepLimits l;
   // parallel soles side by side: the gap is the lateral distance less a sole's width
   const double touching = 2 * l.sole_half_size.y() + l.clearance;
-  ExpectLimit(touching, touching - 0.002, "clearance",
-              [](int f, double v, const StepLimits& l) { return Landing(f, 0, v, 0, l); }, l);
+  ExpectLimit(
+      touching, touching - 0.002, "clearance",
+      [](int f, double v, const StepLimits& l) { return Landing(f, 0, v, 0, l); }, l);
 }
 
 TEST(CheckStep, RefusesCrossingFeet) {

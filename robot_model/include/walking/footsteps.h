@@ -14,7 +14,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <string>
 #include <vector>
 
@@ -55,7 +54,8 @@ FeetPose After(const FeetPose& feet, const Footstep& step);
 // The limits one step must keep. Defaults: a small adult-sized humanoid; the caller sets `width`
 // (and the sole size) from its robot.
 struct StepLimits {
-  double max_forward = 0.25;   // [m] landing foot ahead of the stance foot, in the stance foot's frame
+  double max_forward =
+      0.25;  // [m] landing foot ahead of the stance foot, in the stance foot's frame
   double max_backward = 0.10;  // [m] behind it
   double width = 0.16;         // nominal distance between the sole centres, side by side [m]
                                // (the planner is given the robot's, from its stance)
@@ -65,7 +65,7 @@ struct StepLimits {
   double max_turn_in = 0.15;   // [rad] when the landing foot turns towards the stance foot
                                // (toes in), where the soles would collide
   Eigen::Vector2d sole_half_size{0.11, 0.065};  // [m] for the no-overlap check (x along the sole)
-  double clearance = 0.01;     // [m] least gap between the two soles' rectangles
+  double clearance = 0.01;                      // [m] least gap between the two soles' rectangles
 };
 
 // "" when the limits are usable, else which one is not (negative, NaN, min_width > width, ...).
@@ -90,10 +90,13 @@ std::string CheckSteps(const FeetPose& start, const std::vector<Footstep>& steps
                        const StepLimits& limits);
 
 // Go to a goal (x, y, yaw) given in the start's mid frame [m, m, rad] (a yaw beyond +-pi is
-// taken the short way round): the fewest steps within the limits for a walk along a path that
-// does not reorient the robot first (the mid frame moves by per-step increments in its own frame,
-// each foot taking its share: the outward foot the side step, the inward foot what min_width and
-// the soles leave), the first foot chosen by the direction (moving/turning left: left foot first),
+// taken the short way round): the fewest steps within the limits that this walk finds (the mid
+// frame moves by per-step increments in its own frame, each foot taking its share: the outward
+// foot the side step, the inward foot what min_width and the soles leave; the foot turning out
+// max_turn, the other max_turn_in; step counts are tried upwards from a lower bound). For a goal
+// straight ahead, to the side or a turn on the spot that is the least the limits allow; a walk
+// that turned first could need fewer for a combined goal. The first foot is chosen by the
+// direction (moving/turning left: left foot first; the other only when it needs fewer steps),
 // ending with both feet side by side at `limits.width` around the goal (a closing step). A goal of
 // 0 (below 1e-9): no steps. Every step passes CheckStep; a foot that would touch the other while
 // turning is set out sideways by the least amount that keeps the clearance. Steps are on the
@@ -106,15 +109,20 @@ std::vector<Footstep> PlanToGoal(const FeetPose& start, double x, double y, doub
 // steps of `step_time` (round(time / step_time) steps, at least one when time > 0), then a closing
 // step; a velocity beyond the limits is reduced to them (said through `*note` when non-null). The
 // first foot is chosen as in PlanToGoal; each step's duration is `step_time`. The mid frame moves
-// by (vx, vy, wz) * step_time per step, in its own frame: after the walk it has covered the
-// commanded displacement within one step.
+// in its own frame by vx * step_time per step and by 2 (vy, wz) * step_time per pair of steps (the
+// foot on the side of the motion taking the larger share): after the walk it has covered the
+// commanded displacement within one step. Where turning and walking together would break a limit
+// (the soles' clearance), the whole walk is slowed by steps of 10 % until it keeps them (said
+// through `*note`). Empty, with `*note`, when the numbers are not finite, step_time <= 0, time <
+// 0, the limits are unusable or the start stance breaks them; empty without a note for time 0.
 std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, double wz,
                                    double time, double step_time, const StepLimits& limits,
                                    std::string* note = nullptr);
 
 // The step(s) that bring the feet side by side from `feet` when the last step was by `last_foot`
 // (stopping a velocity walk: the other foot closes, at `limits.width` beside the last foot and
-// parallel to it). Empty when the feet are already side by side (within 1e-9).
+// parallel to it). Empty when the feet are already side by side (within 1e-9) or `last_foot` is
+// neither kLeft nor kRight.
 std::vector<Footstep> PlanStop(const FeetPose& feet, int last_foot, const StepLimits& limits);
 
 }  // namespace ohrp::walking

@@ -2,7 +2,6 @@
 #include "walking/footsteps.h"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -74,12 +73,20 @@ Eigen::Vector2d InFrame(const Eigen::Vector3d& p, const Eigen::Vector3d& origin,
 }
 
 std::string CheckLimits(const StepLimits& l) {
-  struct Named { const char* name; double v; };
-  for (const Named& n : {Named{"max_forward", l.max_forward}, {"max_backward", l.max_backward},
-                         {"width", l.width}, {"max_side", l.max_side}, {"min_width", l.min_width},
-                         {"max_turn", l.max_turn}, {"max_turn_in", l.max_turn_in},
+  struct Named {
+    const char* name;
+    double v;
+  };
+  for (const Named& n : {Named{"max_forward", l.max_forward},
+                         {"max_backward", l.max_backward},
+                         {"width", l.width},
+                         {"max_side", l.max_side},
+                         {"min_width", l.min_width},
+                         {"max_turn", l.max_turn},
+                         {"max_turn_in", l.max_turn_in},
                          {"sole_half_size x", l.sole_half_size.x()},
-                         {"sole_half_size y", l.sole_half_size.y()}, {"clearance", l.clearance}})
+                         {"sole_half_size y", l.sole_half_size.y()},
+                         {"clearance", l.clearance}})
     if (!std::isfinite(n.v) || n.v < 0)
       return std::string("step limit ") + n.name + " must be a finite number >= 0, not " + Fmt(n.v);
   if (l.sole_half_size.x() <= 0 || l.sole_half_size.y() <= 0)
@@ -88,7 +95,8 @@ std::string CheckLimits(const StepLimits& l) {
     return "step limit min_width (" + Fmt(l.min_width) + " m) must not exceed width (" +
            Fmt(l.width) + " m)";
   if (l.width < 2 * l.sole_half_size.y() + l.clearance - kTol)
-    return "step limit width (" + Fmt(l.width) + " m) leaves the soles side by side closer than "
+    return "step limit width (" + Fmt(l.width) +
+           " m) leaves the soles side by side closer than "
            "the clearance: at least 2 * sole_half_size y + clearance = " +
            Fmt(2 * l.sole_half_size.y() + l.clearance) + " m";
   return "";
@@ -128,12 +136,23 @@ double SoleGap(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& q, d
   return d;
 }
 
-std::string CheckStep(const FeetPose& feet, const Footstep& step, const StepLimits& l) {
+std::string CheckStep(const FeetPose& feet, const Footstep& step, const StepLimits& limits) {
+  Limit which;
+  return CheckStepLimit(feet, step, limits, &which);
+}
+
+std::string CheckStepLimit(const FeetPose& feet, const Footstep& step, const StepLimits& l,
+                           Limit* which) {
+  auto refuse = [which](Limit w, const std::string& why) {
+    *which = w;
+    return why;
+  };
   // the step's own numbers
   if (step.foot != kLeft && step.foot != kRight)
-    return "foot must be left (0) or right (1), not " + std::to_string(step.foot);
+    return refuse(Limit::kNumbers,
+                  "foot must be left (0) or right (1), not " + std::to_string(step.foot));
   if (!step.p.allFinite() || !std::isfinite(step.yaw))
-    return "the step's position and yaw must be finite numbers";
+    return refuse(Limit::kNumbers, "the step's position and yaw must be finite numbers");
   const int s = 1 - step.foot;
   const std::string me = std::string("the ") + SideName(step.foot) + " foot";
   const std::string other = std::string("the ") + SideName(s) + " foot";
@@ -143,43 +162,49 @@ std::string CheckStep(const FeetPose& feet, const Footstep& step, const StepLimi
   const double lateral = out * d.y();
   const double turn = out * WrapAngle(step.yaw - feet.yaw[s]);
   const double max_lat = l.width + l.max_side;
-  const std::string lat_range = " (allowed " + Fmt(l.min_width) + " .. " + Fmt(max_lat) +
-                                " m beside it, in its frame)";
+  const std::string lat_range =
+      " (allowed " + Fmt(l.min_width) + " .. " + Fmt(max_lat) + " m beside it, in its frame)";
   // sideways: crossing, too close, too far
   if (lateral < -kTol)
-    return me + " would land " + Fmt(-lateral) + " m to the " + SideName(s) + " of " + other +
-           ": the feet would cross" + lat_range;
+    return refuse(Limit::kCross, me + " would land " + Fmt(-lateral) + " m to the " + SideName(s) +
+                                     " of " + other + ": the feet would cross" + lat_range);
   if (lateral < l.min_width - kTol)
-    return me + " would land " + Fmt(lateral) + " m beside " + other + ": min_width is " +
-           Fmt(l.min_width) + " m" + lat_range;
+    return refuse(Limit::kMinWidth, me + " would land " + Fmt(lateral) + " m beside " + other +
+                                        ": min_width is " + Fmt(l.min_width) + " m" + lat_range);
   if (lateral > max_lat + kTol)
-    return me + " would land " + Fmt(lateral) + " m beside " + other + ": width + max_side is " +
-           Fmt(max_lat) + " m" + lat_range;
+    return refuse(Limit::kMaxSide, me + " would land " + Fmt(lateral) + " m beside " + other +
+                                       ": width + max_side is " + Fmt(max_lat) + " m" + lat_range);
   // forward and backward
   const std::string fwd_range = " (allowed " + Fmt(-l.max_backward) + " .. " + Fmt(l.max_forward) +
                                 " m ahead of it, in its frame)";
   if (d.x() > l.max_forward + kTol)
-    return me + " would land " + Fmt(d.x()) + " m ahead of " + other + ": max_forward is " +
-           Fmt(l.max_forward) + " m" + fwd_range;
+    return refuse(Limit::kForward, me + " would land " + Fmt(d.x()) + " m ahead of " + other +
+                                       ": max_forward is " + Fmt(l.max_forward) + " m" + fwd_range);
   if (-d.x() > l.max_backward + kTol)
-    return me + " would land " + Fmt(-d.x()) + " m behind " + other + ": max_backward is " +
-           Fmt(l.max_backward) + " m" + fwd_range;
+    return refuse(Limit::kBackward, me + " would land " + Fmt(-d.x()) + " m behind " + other +
+                                        ": max_backward is " + Fmt(l.max_backward) + " m" +
+                                        fwd_range);
   // turn out and toes in
-  const std::string turn_range = " (allowed " + Deg(l.max_turn_in) + " in .. " + Deg(l.max_turn) +
-                                 " out)";
+  const std::string turn_range =
+      " (allowed " + Deg(l.max_turn_in) + " in .. " + Deg(l.max_turn) + " out)";
   if (turn > l.max_turn + kTol)
-    return me + " would turn " + Deg(turn) + " out against " + other + ": max_turn is " +
-           Deg(l.max_turn) + turn_range;
+    return refuse(Limit::kTurn, me + " would turn " + Deg(turn) + " out against " + other +
+                                    ": max_turn is " + Deg(l.max_turn) + turn_range);
   if (-turn > l.max_turn_in + kTol)
-    return me + " would turn " + Deg(-turn) + " in (toes in) against " + other +
-           ": max_turn_in is " + Deg(l.max_turn_in) + turn_range;
+    return refuse(Limit::kTurnIn, me + " would turn " + Deg(-turn) + " in (toes in) against " +
+                                      other + ": max_turn_in is " + Deg(l.max_turn_in) +
+                                      turn_range);
   // the soles apart by the clearance
   const double gap = SoleGap(step.p, step.yaw, feet.p[s], feet.yaw[s], l);
   if (gap < l.clearance - kTol)
-    return me + (gap < 0 ? " would overlap " + other + " by " + Fmt(-gap) + " m"
-                         : " would land " + Fmt(gap) + " m from " + other) +
-           ": clearance is " + Fmt(l.clearance) + " m between the soles (set it further out or "
-           "turn it less)";
+    return refuse(Limit::kClearance,
+                  me +
+                      (gap < 0 ? " would overlap " + other + " by " + Fmt(-gap) + " m"
+                               : " would land " + Fmt(gap) + " m from " + other) +
+                      ": clearance is " + Fmt(l.clearance) +
+                      " m between the soles (set it further out or "
+                      "turn it less)");
+  *which = Limit::kNone;
   return "";
 }
 

@@ -2,6 +2,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
+
+#include "walking/footsteps.h"
 
 namespace ohrp::walking {
 
@@ -10,5 +13,23 @@ double WrapAngle(double a);
 
 // the horizontal position of `p` in the frame at `origin` turned by `yaw` about z [m]
 Eigen::Vector2d InFrame(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, double yaw);
+
+// which check of CheckStep refused a step
+enum class Limit {
+  kNone,
+  kNumbers,
+  kCross,
+  kMinWidth,
+  kMaxSide,
+  kForward,
+  kBackward,
+  kTurn,
+  kTurnIn,
+  kClearance
+};
+
+// CheckStep, also saying which check refused the step (kNone when it passes)
+std::string CheckStepLimit(const FeetPose& feet, const Footstep& step, const StepLimits& limits,
+                           Limit* which);
 
 }  // namespace ohrp::walking

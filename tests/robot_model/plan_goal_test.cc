@@ -1,14 +1,13 @@
-// Tests of the footstep plans (robot_model/src/walking/plan.cc): every
+// Tests of the plans to a goal (robot_model/src/walking/plan_goal.cc, plan_walk.cc): every
 // planned step keeps the limits, the step counts are the least the limits allow (closed forms
 // stated in each test) and the walks end side by side at the goal.
-#include "walking/footsteps.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "stances.h"
+#include "walking/footsteps.h"
 
 namespace ohrp::walking {
 namespace {
@@ -140,100 +139,32 @@ TEST(PlanToGoal, ACrossedStartIsRefusedWithTheReason) {
 }
 
 TEST(PlanToGoal, AnyGoalIsReachedWithinTheLimits) {
-  // goals spread over +-3 m, +-2 m, +-pi (a fixed sequence), default and HRP-1S limits
+  // goals spread over +-6 m, +-2 m, +-pi (a fixed sequence): default limits from a stance at their
+  // width and from HRP-1S's wider one (0.18 m), and HRP-1S's own limits
   StepLimits hrp1s;
   hrp1s.width = 0.18;
   hrp1s.sole_half_size = Eigen::Vector2d(0.125, 0.07);
   std::mt19937 random(7);
   auto uniform = [&](double a) { return std::uniform_real_distribution<double>(-a, a)(random); };
-  for (const StepLimits& l : {StepLimits(), hrp1s})
-    for (int i = 0; i < 200; ++i) {
-      const double x = uniform(3), y = uniform(2), yaw = uniform(M_PI);
-      const FeetPose start = Stance(l.width);
+  for (const auto& [l, width] :
+       {std::pair(StepLimits(), 0.16), std::pair(StepLimits(), 0.18), std::pair(hrp1s, 0.18)})
+    for (int i = 0; i < 150; ++i) {
+      const double x = uniform(6), y = uniform(2), yaw = uniform(M_PI);
+      const FeetPose start = Stance(width);
       std::string error;
       const auto steps = PlanToGoal(start, x, y, yaw, l, &error);
       SCOPED_TRACE(testing::Message() << "goal " << x << ", " << y << ", " << yaw << ": " << error);
       ExpectWalkTo(start, steps, x, y, yaw, l);
-      // never fewer than the turn alone needs
+      // never fewer than the turn alone needs; never more than turning, side-stepping and walking
+      // one after the other would (each its least count, + 1 closing)
+      const double inward = l.width - std::max(l.min_width, 2 * l.sole_half_size.y() + l.clearance);
+      const int apart =
+          static_cast<int>(std::ceil(std::abs(x) / (x > 0 ? l.max_forward : l.max_backward))) +
+          LeastSteps(std::abs(y), l.max_side, inward) +
+          LeastSteps(std::abs(yaw), l.max_turn, l.max_turn_in) + 1;
       EXPECT_GE(steps.size(), LeastSteps(std::abs(yaw), l.max_turn, l.max_turn_in) + 1u);
+      EXPECT_LE(steps.size(), static_cast<size_t>(apart));
     }
-}
-
-//---------------- velocity and stop ----------------
-
-TEST(PlanVelocity, CoversTheCommandedDistanceWithinOneStep) {
-  const StepLimits l;
-  const FeetPose start = Stance(l.width);
-  const double vx = 0.2, time = 10, t = 0.8;  // [m/s, s, s]
-  std::string note = "x";
-  const auto steps = PlanVelocity(start, vx, 0, 0, time, t, l, &note);
-  EXPECT_EQ(note, "");
-  EXPECT_EQ(steps.size(), static_cast<size_t>(std::lround(time / t)) + 1);
-  EXPECT_EQ(CheckSteps(start, steps, l), "");
-  for (const auto& s : steps) EXPECT_EQ(s.duration, t);
-  const Frame2 m = MidFrame(Apply(start, steps));
-  EXPECT_NEAR(m.p.x(), vx * time, vx * t);
-  EXPECT_NEAR(m.p.y(), 0, kTight);
-}
-
-TEST(PlanVelocity, TurningWalkCoversTheTurnWithinOneStep) {
-  const StepLimits l;
-  const FeetPose start = Stance(l.width);
-  const double vx = 0.1, vy = 0.02, wz = 0.25, time = 8, t = 0.8;
-  std::string note;
-  const auto steps = PlanVelocity(start, vx, vy, wz, time, t, l, &note);
-  EXPECT_EQ(note, "");
-  EXPECT_EQ(CheckSteps(start, steps, l), "");
-  EXPECT_EQ(steps.front().foot, kLeft);
-  // a pair of steps turns 2 wz t: the yaw after n steps is within one step's turn of wz time
-  EXPECT_NEAR(MidFrame(Apply(start, steps)).yaw, wz * time, l.max_turn);
-}
-
-TEST(PlanVelocity, ATooFastCommandIsReducedToTheLimitsAndSaysSo) {
-  const StepLimits l;
-  const FeetPose start = Stance(l.width);
-  std::string note;
-  const auto steps = PlanVelocity(start, 1.0, 0, 0, 4, 0.5, l, &note);
-  EXPECT_NE(note.find("vx 1.000"), std::string::npos) << note;
-  EXPECT_NE(note.find("max_forward"), std::string::npos) << note;
-  EXPECT_EQ(CheckSteps(start, steps, l), "");
-  // 8 steps of max_forward, then the closing step
-  EXPECT_NEAR(MidFrame(Apply(start, steps)).p.x(), 8 * l.max_forward, kTight);
-}
-
-TEST(PlanVelocity, AnyVelocityGivesStepsWithinTheLimits) {
-  // velocities up to and beyond the limits (a fixed sequence): reduced where needed, never refused
-  const StepLimits l;
-  std::mt19937 random(11);
-  auto uniform = [&](double a) { return std::uniform_real_distribution<double>(-a, a)(random); };
-  for (int i = 0; i < 200; ++i) {
-    const double vx = uniform(0.5), vy = uniform(0.2), wz = uniform(0.6);
-    const FeetPose start = Stance(l.width);
-    std::string note;
-    const auto steps = PlanVelocity(start, vx, vy, wz, 4, 0.8, l, &note);
-    SCOPED_TRACE(testing::Message() << "v " << vx << ", " << vy << ", " << wz << ": " << note);
-    ASSERT_GE(steps.size(), 6u);
-    EXPECT_EQ(CheckSteps(start, steps, l), "");
-    const FeetPose end = Apply(start, steps);
-    EXPECT_NEAR((end.p[kLeft] - end.p[kRight]).norm(), l.width, kTight);
-  }
-}
-
-TEST(PlanStop, TheOtherFootClosesBesideTheLastOne) {
-  const StepLimits l;
-  const FeetPose start = Stance(l.width);
-  auto walk = PlanVelocity(start, 0.15, 0, 0.2, 4, 0.8, l);
-  walk.pop_back();  // stopped before its own closing step
-  const FeetPose feet = Apply(start, walk);
-  const int last = walk.back().foot;
-  const auto stop = PlanStop(feet, last, l);
-  ASSERT_EQ(stop.size(), 1u);
-  EXPECT_EQ(stop[0].foot, 1 - last);
-  EXPECT_EQ(CheckStep(feet, stop[0], l), "");
-  const FeetPose end = After(feet, stop[0]);
-  EXPECT_NEAR((end.p[kLeft] - end.p[kRight]).norm(), l.width, kTight);
-  EXPECT_NEAR(end.yaw[kLeft], end.yaw[kRight], kTight);
-  EXPECT_TRUE(PlanStop(end, 1 - last, l).empty());
 }
 
 }  // namespace
