@@ -194,16 +194,26 @@ void WalkController::UpdateFrame(double dt, bool first) noexcept {
   if (n == 0) return;  // in the air (or a foot not yet loaded): the frame stays
   dyaw /= n;
   const Eigen::Matrix3d R = Rz(dyaw);
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d c_est = Eigen::Vector3d::Zero(), c_plan = Eigen::Vector3d::Zero();
   for (int i = 0; i < 2; ++i) {
     if (!g.support[i] || !e.contact[i]) continue;
-    p += (g.feet.p[i] - R * k.p_WSole(sole_[i])) / n;
+    c_est += k.p_WSole(sole_[i]) / n;
+    c_plan += g.feet.p[i] / n;
   }
-  const double a = first ? 1.0 : std::min(1.0, dt / kFrameFilter);
-  const Eigen::Vector3d before = frame_p_;
+  // the measured frame maps c_est onto c_plan with the yaw dyaw; the filtered one moves
+  // towards it about the feet (not about the world's origin, where a small yaw error would be a
+  // large translation)
+  const Eigen::Vector3d p = c_plan - R * c_est;
+  if (first) {
+    frame_yaw_ = dyaw;
+    frame_p_ = p;
+    return;
+  }
+  const double a = std::min(1.0, dt / kFrameFilter);
+  const Eigen::Vector3d at_feet = ToPlan(c_est);
+  walk_stats_.max_frame_drift = std::max(walk_stats_.max_frame_drift, (c_plan - at_feet).norm());
   frame_yaw_ = Wrap(frame_yaw_ + a * Wrap(dyaw - frame_yaw_));
-  frame_p_ += a * (p - frame_p_);
-  if (!first) walk_stats_.max_frame_drift = std::max(walk_stats_.max_frame_drift, (p - before).norm());
+  frame_p_ = at_feet + a * (c_plan - at_feet) - Rz(frame_yaw_) * c_est;
 }
 
 Eigen::Vector3d WalkController::ToPlan(const Eigen::Vector3d& p_est) const {
@@ -313,6 +323,18 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
     const double side = i == 0 ? 0.5 : -0.5;
     p[i] = f.p[i] + Eigen::Vector3d(0, 0, side * out.dz);
     Rs[i] = Rx(out.foot_roll[i]) * Ry(out.foot_pitch[i]) * Rz(f.yaw[i]) * R0_[i];
+  }
+  // the swing foot is placed against the ground, not against an upright body: the base's
+  // measured tilt (roll and pitch: a stance ankle that yields) would put it lower ahead of a
+  // forward lean and land it early; its target is turned back about the stance sole by that tilt
+  if (w.gait.swing >= 0 && walk_options_.swing_tilt_compensation > 0) {
+    const int sw = w.gait.swing, st = 1 - sw;
+    const Eigen::Matrix3d R_WB = estimator_->estimate().quat_WB.toRotationMatrix();
+    const Eigen::Matrix3d R_tilt = Rz(-YawOf(R_WB)) * R_WB;
+    const Eigen::AngleAxisd aa(R_tilt.transpose());
+    const Eigen::Matrix3d R_back(Eigen::AngleAxisd(walk_options_.swing_tilt_compensation * aa.angle(), aa.axis()));
+    p[sw] = p[st] + R_back * (p[sw] - p[st]);
+    Rs[sw] = R_back * Rs[sw];
   }
   const double yaw_a = f.yaw[0] - sole_yaw_B_[0], yaw_b = f.yaw[1] - sole_yaw_B_[1];
   const Eigen::Quaterniond quat(Eigen::AngleAxisd(yaw_a + 0.5 * Wrap(yaw_b - yaw_a), Eigen::Vector3d::UnitZ()));
