@@ -48,6 +48,11 @@ void Stabilizer::Reset(const Eigen::Vector2d ground_tilt[2]) {
   }
 }
 
+void Stabilizer::SetFootTilt(int i, double roll, double pitch) {
+  out_.foot_roll[i] = out_.rest_roll[i] = Clamp(roll, gains_.max_foot_rotation);
+  out_.foot_pitch[i] = out_.rest_pitch[i] = Clamp(pitch, gains_.max_foot_rotation);
+}
+
 const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt) noexcept {
   const StabilizerGains& g = gains_;
   const Support& s = in.support;

@@ -233,6 +233,10 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   const walking::WalkSample& w = gen_.Advance();
   ++walk_stats_.walk_cycles;
   FillWalkInput(s, w);
+  // a swing foot turns to the tilt of the surface it will land on (the plan's); once down, the
+  // stabilizer carries on from there
+  if (w.gait.swing >= 0)
+    stabilizer_.SetFootTilt(w.gait.swing, w.gait.feet.roll[w.gait.swing], w.gait.feet.pitch[w.gait.swing]);
   const StabilizerOutput& out = stabilizer_.Update(input_, dt);
   CountStand(out);
   walk_stats_.max_com_error =
@@ -348,14 +352,18 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
     q_ik_ = trial;
     p_WB_ = p_WB;
   } else {
-    ++walk_stats_.ik_failures;
+    if (walk_stats_.ik_failures++ == 0) {
+      walk_stats_.first_ik_failure = w.t;
+      walk_stats_.first_ik_failure_what =
+          r.leg[0] != model::IkStatus::kConverged ? 0 : r.leg[1] != model::IkStatus::kConverged ? 1 : 2;
+    }
   }
   for (int j = 0; j < njoint(); ++j) q_ref_[j] = q_ik_[j];
 
   // the plan alone (no stabilizer correction): the velocity references come from it
   for (int i = 0; i < 2; ++i) {
     p[i] = f.p[i];
-    Rs[i] = Rz(f.yaw[i]) * R0_[i];
+    Rs[i] = Rx(f.roll[i]) * Ry(f.pitch[i]) * Rz(f.yaw[i]) * R0_[i];
   }
   com = w.com;
   com.z() += z_offset;
@@ -416,6 +424,14 @@ void WalkController::report(std::ostream& out) const {
                 w.max_com_error * 1e3, w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
                 static_cast<unsigned long long>(w.ik_failures));
   out << buf;
+  if (w.ik_failures > 0) {
+    static const char* what[] = {"the left leg cannot reach its sole's target",
+                                 "the right leg cannot reach its sole's target",
+                                 "the CoM cannot be put where planned"};
+    std::snprintf(buf, sizeof buf, "walk: the first IK failure at t = %.3f s: %s\n",
+                  w.first_ik_failure, what[w.first_ik_failure_what]);
+    out << buf;
+  }
 }
 
 }  // namespace ohrp::controllers

@@ -35,6 +35,12 @@ int main(int argc, char** argv) {
   app.add_option("--command,-c", commands, "a walk command (repeatable; see below)")->take_all();
   app.add_option("--params", o.params_file,
                  "YAML file of gait, preview and step-limit parameters (docs/walking.md)");
+  app.add_option("--terrain", o.terrain,
+                 "MJCF scene whose static geometry the steps are put on (height and tilt under "
+                 "each sole); default: flat ground")
+      ->check(CLI::ExistingFile);
+  app.add_option("--keyframe", o.keyframe,
+                 "the --terrain scene's keyframe the robot starts from (default: its initial state)");
   app.add_option("--log", o.log_file, "CSV log of the walk (plan frame), written at the end");
   app.add_option("--log-seconds", o.log_seconds, "[s] of walk log kept at most")
       ->default_val(o.log_seconds);

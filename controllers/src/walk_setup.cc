@@ -87,6 +87,10 @@ ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
   po.zc = zc;
   if (!gen_.Configure(walk_options_.gait, po, &error))
     return ConfigStatus::Fail(ConfigError::kOption, error);
+  if (!walk_options_.terrain.empty()) {
+    terrain_ = walking::TerrainMap::Load(walk_options_.terrain, walk_options_.keyframe, &error);
+    if (!terrain_) return ConfigStatus::Fail(ConfigError::kFile, "--terrain: " + error);
+  }
   if (ConfigStatus s = PlanCommands(); !s.ok()) return s;
   // what the cycle needs, allocated now
   int total = 0;
@@ -133,6 +137,9 @@ ConfigStatus WalkController::PlanCommands() {
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\": " + error);
     if (const std::string e = walking::CheckSteps(feet, steps, lim); !e.empty())
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" cannot be walked: " + e);
+    if (terrain_ && !terrain_->PlaceSteps(&steps, lim.sole_half_size, &error))
+      return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
+                                                          walk_options_.terrain + ": " + error);
     for (const walking::Footstep& s : steps) feet = walking::After(feet, s);
     chunks_.push_back(std::move(steps));
   }

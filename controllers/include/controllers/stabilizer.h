@@ -133,6 +133,9 @@ class Stabilizer {
   // the same, with the feet starting at (and resting on) the given tilts [rad]: the ground's
   // under each sole, when the robot starts on uneven ground
   void Reset(const Eigen::Vector2d ground_tilt[2]);
+  // sets foot i's rotation offsets and the orientation they return to (a swing foot that will
+  // land on a surface of this tilt) [rad]
+  void SetFootTilt(int i, double roll, double pitch);
   // one control cycle of `dt` [s]
   const StabilizerOutput& Update(const StabilizerInput& in, double dt) noexcept;
 

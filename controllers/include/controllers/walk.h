@@ -38,6 +38,7 @@
 #include "controllers/balance.h"
 #include "walking/footsteps.h"
 #include "walking/pattern_generator.h"
+#include "walking/terrain.h"
 #include "walking/walk_ik.h"
 
 namespace ohrp::controllers {
@@ -68,7 +69,10 @@ struct WalkOptions {
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
                                      // acceleration sent as feed-forward torque [-]
   std::vector<WalkCommand> commands;
-  std::string params_file;       // YAML: gait, preview and limit parameters (walk_params.cc)
+  std::string params_file;       // YAML: gait, preview and limit parameters (walk_commands.cc)
+  std::string terrain;           // MJCF scene whose static geometry the steps are put on
+                                 // (walking/terrain.h); empty: flat ground at the start's height
+  std::string keyframe;          // the scene's keyframe the robot starts from (terrain only)
   std::string log_file;          // CSV log of the walk (plan frame), empty: none
   double log_seconds = 900;      // [s] of log kept in memory at most
 };
@@ -82,6 +86,8 @@ struct WalkStats {
   int steps_done = 0;           // landed
   int commands_done = 0;
   uint64_t ik_failures = 0;     // cycles whose leg/CoM IK did not converge (last joints kept)
+  double first_ik_failure = -1; // producer time of the first [s]
+  int first_ik_failure_what = 0;  // 0 left leg, 1 right leg, 2 the CoM
   double max_com_error = 0;     // max |CoM estimated - planned| (plan frame, horizontal) [m]
   double max_zmp_error = 0;     // max |ZMP measured - desired| while walking [m]
   double max_frame_drift = 0;   // largest correction of the plan frame [m]
@@ -164,6 +170,7 @@ class WalkController : public BalanceController {
   bool plan_valid_ = false;                        // q_plan_prev_ holds a solution
   std::vector<std::array<double, 28>> log_;
   std::vector<std::string> notes_;             // what planning changed (reported)
+  std::unique_ptr<walking::TerrainMap> terrain_;
   WalkStats walk_stats_;
 };
 

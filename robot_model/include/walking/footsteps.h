@@ -31,12 +31,16 @@ struct Footstep {
   double yaw = 0;                               // [rad]
   double height = -1;    // swing apex above the higher of lift-off and landing [m]; <0: default
   double duration = -1;  // the step's time, single + double support [s]; <0: default
+  // the surface's tilt under the sole, in W: its normal is Rx(roll) Ry(pitch) e_z; the sole
+  // lands parallel to it (terrain.h fills it from a scene) [rad]
+  double roll = 0, pitch = 0;
 };
 
 // Both soles now (index kLeft, kRight).
 struct FeetPose {
   Eigen::Vector3d p[2];  // sole centres in W [m]
   double yaw[2];         // [rad]
+  double roll[2] = {0, 0}, pitch[2] = {0, 0};  // the soles' tilt (Footstep::roll, pitch) [rad]
 };
 
 // The mid frame of a stance: midpoint of the soles (x, y, z mean), yaw the mean of the yaws.

@@ -13,11 +13,13 @@
 // the two soles, where it stays.
 // The swing foot: its height rises from the lift-off pose to `height` above the higher of the
 // lift-off and landing heights in the first half of the single support and comes down in the
-// second (minimum jerk in each half); it moves horizontally (and turns) with a minimum-jerk
-// profile between `vertical_fraction` of the single support after lift-off and the same before
-// landing, so it leaves and lands vertically (it clears a stair's edge and does not scuff).
-// The ground height under the ZMP moves like a minimum-jerk step over each double support (the
-// CoM rises or falls with it on stairs and slopes).
+// second (minimum jerk in each half); it moves horizontally (and turns and tilts to the landing
+// surface's tilt) with a minimum-jerk profile between `vertical_fraction` of the single
+// support after lift-off and the same before landing, so it leaves and lands vertically (0.3 at
+// least onto or off a step of 1 cm or more: the toe clears the stair's edge first).
+// The ground height under the ZMP moves like a minimum-jerk step over each step (double and
+// single support: the CoM rises or falls with it on stairs and slopes, on the stance leg while
+// the other foot swings, not in the short double support alone).
 // Queries never allocate; Build and Replace do.
 #pragma once
 

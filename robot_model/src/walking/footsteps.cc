@@ -65,6 +65,8 @@ FeetPose After(const FeetPose& feet, const Footstep& step) {
   FeetPose f = feet;
   f.p[step.foot] = step.p;
   f.yaw[step.foot] = step.yaw;
+  f.roll[step.foot] = step.roll;
+  f.pitch[step.foot] = step.pitch;
   return f;
 }
 

@@ -9,6 +9,9 @@ namespace {
 
 double WrapAngle(double a) { return std::remainder(a, 2 * M_PI); }
 
+constexpr double kStepEdge = 0.01;              // [m] a height change this large is a step
+constexpr double kStepVerticalFraction = 0.3;   // [-] of the single support, up and down
+
 }  // namespace
 
 void MinJerk(double s, double* f, double* df, double* ddf) {
@@ -61,11 +64,7 @@ Eigen::Vector3d Gait::MidPoint(const FeetPose& feet) const { return 0.5 * (feet.
 
 FeetPose Gait::FeetAfter(int k) const {
   if (k < 0) return start_;
-  FeetPose f = steps_[k].before;
-  const Footstep& st = steps_[k].step;
-  f.p[st.foot] = st.p;
-  f.yaw[st.foot] = st.yaw;
-  return f;
+  return After(steps_[k].before, steps_[k].step);
 }
 
 int Gait::PhaseAt(double t) const {
@@ -118,16 +117,17 @@ void Gait::At(double t, GaitState* s) const {
   s->swing = -1;
   s->swing_phase = 0;
   s->step = -1;
-  // a blend of the ZMP (and ground height) from a to b over [t0, t1]
-  const auto blend = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t0, double t1) {
-    const double T = std::max(t1 - t0, 1e-9);
+  // the ZMP from a to b over [t0, t1] (linear), the ground height over [t0, t2] (minimum jerk)
+  const auto blend = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t0, double t1,
+                         double t2) {
+    const double T = std::max(t1 - t0, 1e-9), Tz = std::max(t2 - t0, 1e-9);
     const double r = std::clamp((t - t0) / T, 0.0, 1.0);
     double f, df, ddf;
-    MinJerk(r, &f, &df, &ddf);
+    MinJerk((t - t0) / Tz, &f, &df, &ddf);
     s->zmp.head<2>() = a.head<2>() + r * (b - a).head<2>();
     s->zmp.z() = a.z() + f * (b.z() - a.z());
-    s->dz_ground = df * (b.z() - a.z()) / T;
-    s->ddz_ground = ddf * (b.z() - a.z()) / (T * T);
+    s->dz_ground = df * (b.z() - a.z()) / Tz;
+    s->ddz_ground = ddf * (b.z() - a.z()) / (Tz * Tz);
   };
   if (k < 0) {
     s->feet = start_;
@@ -138,17 +138,17 @@ void Gait::At(double t, GaitState* s) const {
   if (t >= p.t_land) {
     // after the last step: back to the middle of the final stance, then standing
     s->feet = FeetAfter(k);
-    blend(p.zmp_to, MidPoint(s->feet), p.t_land, p.t_land + options_.end_time);
+    blend(p.zmp_to, MidPoint(s->feet), p.t_land, p.t_land + options_.end_time,
+          p.t_land + options_.end_time);
     return;
   }
   s->step = k;
   s->feet = p.before;
-  if (t < p.t_lift) {
-    blend(p.zmp_from, p.zmp_to, p.t0, p.t_lift);
-    return;
-  }
+  // the ground height moves over the whole step (the CoM rises or falls on the stance leg while
+  // the other swings), the ZMP over the double support
+  blend(p.zmp_from, p.zmp_to, p.t0, p.t_lift, p.t_land);
+  if (t < p.t_lift) return;
   // single support: the swing foot from its lift-off pose to the landing
-  s->zmp = p.zmp_to;
   const int sw = p.step.foot;
   s->swing = sw;
   s->support[sw] = false;
@@ -157,10 +157,16 @@ void Gait::At(double t, GaitState* s) const {
   const Eigen::Vector3d& a = p.before.p[sw];
   const Eigen::Vector3d& b = p.step.p;
   double f, df, ddf;
-  const double vf = options_.vertical_fraction;
+  // onto or off a step, the foot rises (and comes down) vertically for longer: its toe clears
+  // the edge before it moves over it
+  const double vf = std::abs(b.z() - a.z()) > kStepEdge ? std::max(options_.vertical_fraction,
+                                                                    kStepVerticalFraction)
+                                                        : options_.vertical_fraction;
   MinJerk((phase - vf) / (1 - 2 * vf), &f, &df, &ddf);
   s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>();
   s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
+  s->feet.roll[sw] = p.before.roll[sw] + f * (p.step.roll - p.before.roll[sw]);
+  s->feet.pitch[sw] = p.before.pitch[sw] + f * (p.step.pitch - p.before.pitch[sw]);
   const double top = std::max(a.z(), b.z()) + p.height;
   if (phase < 0.5) {
     MinJerk(phase / 0.5, &f, &df, &ddf);

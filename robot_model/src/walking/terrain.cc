@@ -1,0 +1,152 @@
+// Footsteps on a scene's surfaces (terrain.h).
+#include "walking/terrain.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "robot_model/kinematics.h"
+#include "robot_model/model.h"
+
+namespace ohrp::walking {
+namespace {
+
+constexpr double kInset = 0.005;      // [m] samples this far inside the sole's edges
+constexpr int kNx = 5, kNy = 3;       // samples along and across the sole
+constexpr double kPlanar = 0.002;     // [m] hits within this of one plane: a planar surface
+
+}  // namespace
+
+TerrainMap::~TerrainMap() {
+  if (d_) mj_deleteData(d_);
+  if (m_) mj_deleteModel(m_);
+}
+
+std::unique_ptr<TerrainMap> TerrainMap::Load(const std::string& path, const std::string& keyframe,
+                                             std::string* error) {
+  auto scene = model::Scene::Load(path, error);
+  if (!scene) return nullptr;
+  if (!scene->Reset(keyframe, error)) return nullptr;
+  mjModel* m = scene->m();
+  mjData* d = scene->d();
+  mj_forward(m, d);
+  // the robot's soles and base, through the same map the controllers use
+  std::string why;
+  auto kin = model::Kinematics::FromModel(m, &why);
+  if (!kin || !kin->floating() || kin->left_sole() < 0 || kin->right_sole() < 0) {
+    *error = path + ": no robot with a floating base and two soles (*_SOLE geoms) to start from" +
+             (why.empty() ? "" : ": " + why);
+    return nullptr;
+  }
+  std::unique_ptr<TerrainMap> t(new TerrainMap());
+  t->m_ = mj_copyModel(nullptr, m);
+  t->d_ = mj_makeData(t->m_);
+  mju_copy(t->d_->qpos, d->qpos, m->nq);
+  mj_forward(t->m_, t->d_);
+  // the start frame: between the soles' bottoms, the base's heading
+  const int base = kin->robot().base_body;
+  const mjtNum* R = d->xmat + 9 * base;
+  t->yaw_ = std::atan2(R[3], R[0]);
+  Eigen::Vector3d mid = Eigen::Vector3d::Zero();
+  for (int side : {kin->left_sole(), kin->right_sole()}) {
+    const int g = kin->soles()[side].geom_id;
+    const Eigen::Map<const Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>> Rg(d->geom_xmat + 9 * g);
+    const Eigen::Vector3d c(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
+    mid += 0.5 * (c - Rg.col(2) * m->geom_size[3 * g + 2]);
+  }
+  t->origin_ = mid;
+  // the terrain: geoms on bodies welded to the world
+  t->top_ = mid.z() + 1.0;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->body_weldid[m->geom_bodyid[g]] != 0) continue;
+    t->geoms_.push_back(g);
+    if (m->geom_type[g] != mjGEOM_PLANE)
+      t->top_ = std::max(t->top_, d->geom_xpos[3 * g + 2] + m->geom_rbound[g] + 0.1);
+  }
+  if (t->geoms_.empty()) {
+    *error = path + ": the scene has no static geometry (a floor) to walk on";
+    return nullptr;
+  }
+  return t;
+}
+
+bool TerrainMap::Height(double x, double y, double* z) const {
+  const mjtNum pnt[3] = {x, y, top_};
+  const mjtNum vec[3] = {0, 0, -1};
+  double best = -1;
+  for (int g : geoms_) {
+    double dist = -1;
+    switch (m_->geom_type[g]) {
+      case mjGEOM_HFIELD: dist = mj_rayHfield(m_, d_, g, pnt, vec); break;
+      case mjGEOM_MESH: dist = mj_rayMesh(m_, d_, g, pnt, vec); break;
+      default:
+        dist = mju_rayGeom(d_->geom_xpos + 3 * g, d_->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt,
+                           vec, m_->geom_type[g]);
+    }
+    if (dist >= 0 && (best < 0 || dist < best)) best = dist;
+  }
+  if (best < 0) return false;
+  *z = top_ - best;
+  return true;
+}
+
+bool TerrainMap::SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen::Vector2d& half,
+                              SurfaceSample* out, std::string* why) const {
+  // the sole's samples, in the world
+  const Eigen::Rotation2Dd R0(yaw_), Rs(yaw);
+  Eigen::Matrix<double, kNx * kNy, 3> A;
+  Eigen::Matrix<double, kNx * kNy, 1> z;
+  int n = 0;
+  for (int i = 0; i < kNx; ++i) {
+    for (int j = 0; j < kNy; ++j, ++n) {
+      const Eigen::Vector2d local((2.0 * i / (kNx - 1) - 1) * std::max(half.x() - kInset, 0.0),
+                                  (2.0 * j / (kNy - 1) - 1) * std::max(half.y() - kInset, 0.0));
+      const Eigen::Vector2d q_start = p + Rs * local;
+      const Eigen::Vector2d q = origin_.head<2>() + R0 * q_start;
+      double h;
+      if (!Height(q.x(), q.y(), &h)) {
+        *why = "no surface under the sole at (" + std::to_string(q_start.x()) + ", " +
+               std::to_string(q_start.y()) + ") of the start frame";
+        return false;
+      }
+      A.row(n) << 1.0, local.x(), local.y();
+      z(n) = h - origin_.z();
+    }
+  }
+  // a plane z = a + b x + c y in the sole's frame
+  const Eigen::Vector3d abc = A.colPivHouseholderQr().solve(z);
+  const double residual = (A * abc - z).cwiseAbs().maxCoeff();
+  out->planar = residual < kPlanar;
+  if (!out->planar) {
+    out->z = z.maxCoeff();
+    out->roll = out->pitch = 0;
+    return true;
+  }
+  out->z = abc(0);
+  // the normal in the sole's frame, then in the start frame (turned by the sole's yaw)
+  Eigen::Vector3d nrm(-abc(1), -abc(2), 1.0);
+  nrm = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * nrm.normalized();
+  out->roll = std::atan2(-nrm.y(), nrm.z());
+  out->pitch = std::asin(std::clamp(nrm.x(), -1.0, 1.0));
+  return true;
+}
+
+bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d& half,
+                            std::string* error) const {
+  for (size_t k = 0; k < steps->size(); ++k) {
+    Footstep& s = (*steps)[k];
+    SurfaceSample sample;
+    std::string why;
+    if (!SurfaceUnder(s.p.head<2>(), s.yaw, half, &sample, &why)) {
+      *error = "step " + std::to_string(k + 1) + " (" + SideName(s.foot) + "): " + why;
+      return false;
+    }
+    s.p.z() = sample.z;
+    s.roll = sample.roll;
+    s.pitch = sample.pitch;
+  }
+  return true;
+}
+
+}  // namespace ohrp::walking
