@@ -95,6 +95,9 @@ void WalkController::StartWalking(const shm::SensorBlock& s) noexcept {
     }
   }
   started_ = true;
+  // on a known terrain the soles land at the tilt the plan gives them: their rest orientation is
+  // that, not what the (drifting) tilt estimate says
+  if (terrain_) stabilizer_.gains().ground_adaptation = 0;
   walk_t0_ = ready_time_ = s.time;
   next_command_ = 0;
   walk_stats_.walk_start = s.time;
@@ -387,7 +390,8 @@ void WalkController::LogRow(const walking::WalkSample& w, const StabilizerOutput
                   out.zmp_measured.x(), out.zmp_measured.y(), out.dcm.x(), out.dcm.y(),
                   f.p[0].x(), f.p[0].y(), f.p[0].z(), f.yaw[0], f.p[1].x(), f.p[1].y(), f.p[1].z(),
                   f.yaw[1], w.gait.support[0] ? 1.0 : 0.0, w.gait.support[1] ? 1.0 : 0.0,
-                  frame_p_.x(), frame_p_.y(), frame_yaw_});
+                  frame_p_.x(), frame_p_.y(), frame_yaw_, out.foot_roll[0], out.foot_pitch[0],
+                  out.foot_roll[1], out.foot_pitch[1]});
 }
 
 //---------------- log and report ----------------
@@ -401,7 +405,8 @@ void WalkController::on_close() {
   }
   std::fprintf(f, "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
                   "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
-                  "right_z,right_yaw,support_left,support_right,frame_x,frame_y,frame_yaw\n");
+                  "right_z,right_yaw,support_left,support_right,frame_x,frame_y,frame_yaw,"
+                  "foot_roll_left,foot_pitch_left,foot_roll_right,foot_pitch_right\n");
   for (const auto& row : log_) {
     for (size_t c = 0; c < row.size(); ++c) std::fprintf(f, c ? ",%.6g" : "%.6f", row[c]);
     std::fputc('\n', f);

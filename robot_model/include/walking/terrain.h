@@ -10,10 +10,12 @@
 // estimator's world frame at start is the same (robot_model/estimator.h).
 //
 // Under a sole (a rectangle at a footstep's position and yaw) the surface is sampled by
-// vertical rays on a 5 x 3 grid (inset 5 mm from the edges). When the hits lie on one plane
-// (within 2 mm) the sole lands on that plane (its height at the sole's centre, its tilt);
-// otherwise (a stone's edge, a stair's nose) the sole lands flat at the highest hit. A sole
-// with a hit missing (over a hole or off the terrain) is refused.
+// vertical rays on a 5 x 3 grid (inset 5 mm from the edges). The sole lands as a rigid plate
+// resting on those points: on the lowest plane (at the sole's centre) that leaves every sample
+// on or below it, the upper hull's facet over the centre. On a slope that is the slope; across
+// a crease (the foot of a ramp) or over a stone's edge it rests on the highest points, tilted
+// between them (`planar` then says the surface is not one plane within 2 mm). A sole with a hit
+// missing (over a hole or off the terrain) is refused.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -30,7 +32,7 @@ namespace ohrp::walking {
 struct SurfaceSample {
   double z = 0;               // height of the sole's centre on the surface (start frame) [m]
   double roll = 0, pitch = 0; // the surface's tilt (Footstep::roll, pitch) [rad]
-  bool planar = true;         // the hits lie on one plane (else: flat at the highest hit)
+  bool planar = true;         // the hits lie on the sole's plane within 2 mm
 };
 
 class TerrainMap {

@@ -114,18 +114,30 @@ bool TerrainMap::SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen:
       z(n) = h - origin_.z();
     }
   }
-  // a plane z = a + b x + c y in the sole's frame
-  const Eigen::Vector3d abc = A.colPivHouseholderQr().solve(z);
-  const double residual = (A * abc - z).cwiseAbs().maxCoeff();
-  out->planar = residual < kPlanar;
-  if (!out->planar) {
-    out->z = z.maxCoeff();
-    out->roll = out->pitch = 0;
-    return true;
+  // the plane a rigid sole rests on: of the planes through three samples that leave every
+  // sample on or below them, the lowest at the sole's centre (the upper hull's facet over the
+  // centre); z = a + b x + c y in the sole's frame
+  Eigen::Vector3d best(0, 0, 0);
+  bool found = false;
+  const int m = kNx * kNy;
+  for (int i = 0; i < m; ++i) {
+    for (int j = i + 1; j < m; ++j) {
+      for (int k = j + 1; k < m; ++k) {
+        Eigen::Matrix3d M;
+        M << A.row(i), A.row(j), A.row(k);
+        if (std::abs(M.determinant()) < 1e-9) continue;  // collinear samples
+        const Eigen::Vector3d abc = M.partialPivLu().solve(Eigen::Vector3d(z(i), z(j), z(k)));
+        if ((A * abc - z).minCoeff() < -1e-9) continue;  // a sample above the plane
+        if (!found || abc(0) < best(0)) best = abc;
+        found = true;
+      }
+    }
   }
-  out->z = abc(0);
+  if (!found) best = Eigen::Vector3d(z.maxCoeff(), 0, 0);
+  out->planar = (A * best - z).maxCoeff() < kPlanar;
+  out->z = best(0);
   // the normal in the sole's frame, then in the start frame (turned by the sole's yaw)
-  Eigen::Vector3d nrm(-abc(1), -abc(2), 1.0);
+  Eigen::Vector3d nrm(-best(1), -best(2), 1.0);
   nrm = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * nrm.normalized();
   out->roll = std::atan2(-nrm.y(), nrm.z());
   out->pitch = std::asin(std::clamp(nrm.x(), -1.0, 1.0));
