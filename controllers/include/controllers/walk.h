@@ -73,6 +73,8 @@ struct WalkOptions {
   std::string terrain;           // MJCF scene whose static geometry the steps are put on
                                  // (walking/terrain.h); empty: flat ground at the start's height
   std::string keyframe;          // the scene's keyframe the robot starts from (terrain only)
+  double step_search = 0.05;     // [m] a step across an edge of the terrain moves this far at
+                                 // most to rest on one plane (walking/terrain.h)
   std::string log_file;          // CSV log of the walk (plan frame), empty: none
   double log_seconds = 900;      // [s] of log kept in memory at most
 };

@@ -15,6 +15,7 @@ namespace {
 constexpr double kInset = 0.005;      // [m] samples this far inside the sole's edges
 constexpr int kNx = 5, kNy = 3;       // samples along and across the sole
 constexpr double kPlanar = 0.002;     // [m] hits within this of one plane: a planar surface
+constexpr double kSearchStep = 0.01;  // [m] grid of the shifts tried off an edge
 
 }  // namespace
 
@@ -145,7 +146,15 @@ bool TerrainMap::SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen:
 }
 
 bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d& half,
-                            std::string* error) const {
+                            double search, std::string* error) const {
+  // candidate shifts within `search`, nearest first (the planned spot itself first)
+  std::vector<Eigen::Vector2d> shifts;
+  const int n = search > 0 ? static_cast<int>(std::floor(search / kSearchStep + 1e-9)) : 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      if (std::hypot(i, j) * kSearchStep <= search + 1e-9) shifts.emplace_back(i * kSearchStep, j * kSearchStep);
+  std::stable_sort(shifts.begin(), shifts.end(),
+                   [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.norm() < b.norm(); });
   for (size_t k = 0; k < steps->size(); ++k) {
     Footstep& s = (*steps)[k];
     SurfaceSample sample;
@@ -153,6 +162,20 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d&
     if (!SurfaceUnder(s.p.head<2>(), s.yaw, half, &sample, &why)) {
       *error = "step " + std::to_string(k + 1) + " (" + SideName(s.foot) + "): " + why;
       return false;
+    }
+    // a sole across an edge (a stone's, a stair's nose) rests on a line: move it, within
+    // `search`, to where the surface under it is one plane
+    if (!sample.planar) {
+      for (const Eigen::Vector2d& d : shifts) {
+        SurfaceSample other;
+        std::string ignored;
+        const Eigen::Vector2d q = s.p.head<2>() + d;
+        if (SurfaceUnder(q, s.yaw, half, &other, &ignored) && other.planar) {
+          s.p.head<2>() = q;
+          sample = other;
+          break;
+        }
+      }
     }
     s.p.z() = sample.z;
     s.roll = sample.roll;
