@@ -1,0 +1,102 @@
+// Tests the walk controller's inputs: the command lines (what each takes, what is refused and
+// the message) and the YAML parameter file (strict keys, types, file:line in every error).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "controllers/walk.h"
+
+namespace ohrp::controllers {
+namespace {
+
+std::string Temp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/walk_commands_test_" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(WalkCommand, ParsesEachCommand) {
+  WalkCommand c;
+  std::string error;
+  ASSERT_TRUE(ParseWalkCommand("goal 1.5 -0.2 90", &c, &error)) << error;
+  EXPECT_EQ(c.kind, WalkCommand::Kind::kGoal);
+  EXPECT_DOUBLE_EQ(c.x, 1.5);
+  EXPECT_DOUBLE_EQ(c.y, -0.2);
+  EXPECT_NEAR(c.yaw, M_PI / 2, 1e-12);
+  ASSERT_TRUE(ParseWalkCommand("velocity 0.2 0 10 5", &c, &error)) << error;
+  EXPECT_EQ(c.kind, WalkCommand::Kind::kVelocity);
+  EXPECT_NEAR(c.yaw, 10 * M_PI / 180, 1e-12);
+  EXPECT_DOUBLE_EQ(c.time, 5);
+  ASSERT_TRUE(ParseWalkCommand("steps scenarios/steps/mixed.yaml", &c, &error)) << error;
+  EXPECT_EQ(c.kind, WalkCommand::Kind::kSteps);
+  EXPECT_EQ(c.file, "scenarios/steps/mixed.yaml");
+  ASSERT_TRUE(ParseWalkCommand("wait 2", &c, &error)) << error;
+  EXPECT_EQ(c.kind, WalkCommand::Kind::kWait);
+  EXPECT_EQ(c.text, "wait 2");
+}
+
+TEST(WalkCommand, RefusesWhatCannotBeWalked) {
+  WalkCommand c;
+  for (const char* bad : {"goal 1 0", "goal 1 0 0 0", "goal a b c", "goal nan 0 0",
+                          "velocity 0.2 0 0", "velocity 0.2 0 0 0", "velocity 0.2 0 0 -1",
+                          "wait -1", "wait", "steps", "steps a b", "run 1 0 0", ""}) {
+    std::string error;
+    EXPECT_FALSE(ParseWalkCommand(bad, &c, &error)) << bad;
+    EXPECT_FALSE(error.empty()) << bad;
+  }
+  std::string error;
+  ParseWalkCommand("goal 1 0", &c, &error);
+  EXPECT_NE(error.find("X Y YAW_DEG"), std::string::npos) << error;  // what would work
+  ParseWalkCommand("run 1 0 0", &c, &error);
+  EXPECT_NE(error.find("goal, velocity, steps or wait"), std::string::npos) << error;
+}
+
+TEST(WalkParams, ReadsTheParameters) {
+  WalkOptions o;
+  const std::string path = Temp("good.yaml", "step_time: 1.0\nmax_turn_deg: 10\ncom_lower: 0.05\n");
+  const ConfigStatus s = LoadWalkParams(path, &o);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_DOUBLE_EQ(o.gait.step_time, 1.0);
+  EXPECT_NEAR(o.limits.max_turn, 10 * M_PI / 180, 1e-12);
+  EXPECT_DOUBLE_EQ(o.com_lower, 0.05);
+}
+
+TEST(WalkParams, RefusesUnknownKeysAndWrongTypesWithTheLine) {
+  WalkOptions o;
+  ConfigStatus s = LoadWalkParams(Temp("typo.yaml", "step_time: 1.0\nstep_hieght: 0.05\n"), &o);
+  EXPECT_EQ(s.code, ConfigError::kFile);
+  EXPECT_NE(s.message.find("typo.yaml:2:"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("step_hieght"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("step_height"), std::string::npos) << s.message;  // the known keys
+  s = LoadWalkParams(Temp("type.yaml", "step_time: slow\n"), &o);
+  EXPECT_NE(s.message.find("type.yaml:1:"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("must be a number"), std::string::npos) << s.message;
+  s = LoadWalkParams(Temp("list.yaml", "- 1\n- 2\n"), &o);
+  EXPECT_FALSE(s.ok());
+  s = LoadWalkParams(::testing::TempDir() + "/nosuch.yaml", &o);
+  EXPECT_EQ(s.code, ConfigError::kFile);
+  EXPECT_NE(s.message.find("nosuch.yaml"), std::string::npos) << s.message;
+}
+
+// values out of range are refused when the controller is created (before anything runs)
+TEST(WalkOptions, RefusesValuesOutOfRange) {
+  ConfigStatus status;
+  WalkOptions o;
+  o.gait.step_time = 0.05;
+  EXPECT_FALSE(WalkController::Create(o, &status));
+  EXPECT_EQ(status.code, ConfigError::kOption);
+  EXPECT_NE(status.message.find("step_time"), std::string::npos) << status.message;
+  o = WalkOptions{};
+  o.com_lower = -0.1;
+  EXPECT_FALSE(WalkController::Create(o, &status));
+  EXPECT_NE(status.message.find("com_lower"), std::string::npos) << status.message;
+  o = WalkOptions{};
+  o.preview.preview_time = 0.1;
+  EXPECT_FALSE(WalkController::Create(o, &status));
+  EXPECT_NE(status.message.find("preview_time"), std::string::npos) << status.message;
+}
+
+}  // namespace
+}  // namespace ohrp::controllers
