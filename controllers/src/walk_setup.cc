@@ -137,7 +137,7 @@ ConfigStatus WalkController::PlanCommands() {
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\": " + error);
     if (const std::string e = walking::CheckSteps(feet, steps, lim); !e.empty())
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" cannot be walked: " + e);
-    if (terrain_ && !terrain_->PlaceSteps(&steps, lim.sole_half_size, walk_options_.step_search, &error))
+    if (terrain_ && !terrain_->PlaceSteps(&steps, feet, lim, walk_options_.step_search, &error))
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
                                                           walk_options_.terrain + ": " + error);
     // the steps moved off edges must still keep the limits

@@ -109,7 +109,16 @@ TEST(Terrain, StepsOnStairs) {
   steps[1].foot = kLeft;
   steps[1].p = Eigen::Vector3d(0.59 - kOriginX, 0.09, 0);    // its heel 0.035 before the riser at 0.5
   std::string error;
-  ASSERT_TRUE(t->PlaceSteps(&steps, kHalf, 0.05, &error)) << error;
+  StepLimits limits;
+  limits.sole_half_size = kHalf;
+  limits.width = 0.18;
+  limits.max_forward = 1.0;  // the steps here are far apart: only the terrain is tested
+  limits.max_backward = 1.0;
+  FeetPose start;
+  start.p[kLeft] = Eigen::Vector3d(0.94 - kOriginX, 0.09, 0.2);
+  start.p[kRight] = Eigen::Vector3d(0.5 - kOriginX, -0.09, 0);
+  start.yaw[0] = start.yaw[1] = 0;
+  ASSERT_TRUE(t->PlaceSteps(&steps, start, limits, 0.05, &error)) << error;
   EXPECT_NEAR(steps[0].p.z(), 0.2, 1e-3);
   EXPECT_NEAR(steps[0].pitch, 0, 1e-6);
   // moved (by the least shift on a 1 cm grid) to rest on one plane: the floor or stair 1
@@ -137,7 +146,11 @@ TEST(Terrain, Errors) {
   ASSERT_TRUE(t);
   std::vector<Footstep> steps(1);
   steps[0].p = Eigen::Vector3d(30, 0, 0);
-  EXPECT_FALSE(t->PlaceSteps(&steps, kHalf, 0.05, &error));
+  StepLimits limits;
+  FeetPose start;
+  start.p[0] = start.p[1] = Eigen::Vector3d::Zero();
+  start.yaw[0] = start.yaw[1] = 0;
+  EXPECT_FALSE(t->PlaceSteps(&steps, start, limits, 0.05, &error));
   EXPECT_NE(error.find("step 1"), std::string::npos) << error;
 }
 

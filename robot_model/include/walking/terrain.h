@@ -50,12 +50,13 @@ class TerrainMap {
   // (start frame) with `yaw`; false (and why) when a ray finds no surface
   bool SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen::Vector2d& half,
                     SurfaceSample* out, std::string* why) const;
-  // each step's z, roll and pitch from the surface under it; a step whose sole would rest
-  // across an edge (not one plane under it) is moved to the nearest spot within `search` [m]
-  // (1 cm grid) where it rests on one plane, and stays (tilted on the edge) if there is none;
-  // false with `*error` naming the step (counted from 1) that has no surface under it
-  bool PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d& half, double search,
-                  std::string* error) const;
+  // each step (from the stance `start`) gets its z, roll and pitch from the surface under its
+  // sole (limits.sole_half_size); a step whose sole would rest across an edge (not one plane
+  // under it) is moved to the nearest spot within `search` [m] (1 cm grid) where it rests on one
+  // plane and where it and the next step keep `limits`, and stays (tilted on the edge) if there
+  // is none; false with `*error` naming the step (counted from 1) that has no surface under it
+  bool PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start, const StepLimits& limits,
+                  double search, std::string* error) const;
 
   // the start frame in the scene's world: origin and yaw
   const Eigen::Vector3d& origin() const { return origin_; }

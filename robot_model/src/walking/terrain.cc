@@ -145,8 +145,10 @@ bool TerrainMap::SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen:
   return true;
 }
 
-bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d& half,
-                            double search, std::string* error) const {
+bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
+                            const StepLimits& limits, double search, std::string* error) const {
+  const Eigen::Vector2d& half = limits.sole_half_size;
+  FeetPose feet = start;
   // candidate shifts within `search`, nearest first (the planned spot itself first)
   std::vector<Eigen::Vector2d> shifts;
   const int n = search > 0 ? static_cast<int>(std::floor(search / kSearchStep + 1e-9)) : 0;
@@ -165,13 +167,18 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d&
     }
     // a sole across an edge (a stone's, a stair's nose) rests on a line: move it, within
     // `search`, to where the surface under it is one plane
+    // (and where the step and the next one still keep the limits)
     if (!sample.planar) {
       for (const Eigen::Vector2d& d : shifts) {
         SurfaceSample other;
         std::string ignored;
-        const Eigen::Vector2d q = s.p.head<2>() + d;
-        if (SurfaceUnder(q, s.yaw, half, &other, &ignored) && other.planar) {
-          s.p.head<2>() = q;
+        Footstep moved = s;
+        moved.p.head<2>() += d;
+        if (!CheckStep(feet, moved, limits).empty()) continue;
+        if (k + 1 < steps->size() && !CheckStep(After(feet, moved), (*steps)[k + 1], limits).empty())
+          continue;
+        if (SurfaceUnder(moved.p.head<2>(), s.yaw, half, &other, &ignored) && other.planar) {
+          s.p.head<2>() = moved.p.head<2>();
           sample = other;
           break;
         }
@@ -180,6 +187,7 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const Eigen::Vector2d&
     s.p.z() = sample.z;
     s.roll = sample.roll;
     s.pitch = sample.pitch;
+    feet = After(feet, s);
   }
   return true;
 }
