@@ -65,7 +65,9 @@ const char* ExitCodeHelp() {
          "  4  could not attach to the segment (not there within --attach-timeout, built\n"
          "     against another layout, another controller attached, ...)\n"
          "  5  the producer's process is gone, or sent no sensors within --read-timeout\n"
-         "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n";
+         "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n"
+         "  7  the producer dropped this controller: it did not answer within the producer's\n"
+         "     timeout (e.g. it was stopped, then resumed)\n";
 }
 
 void InstallStopSignalHandlers() {
@@ -177,6 +179,10 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       why = producer + " ended its run";
       rep.exit_code = kExitOk;
     }
+  } else if (result == shm::ReadResult::kDropped) {
+    why = producer + " dropped this controller: it did not answer within the producer's "
+          "timeout (was it stopped or stalled?); the robot was held without it";
+    rep.exit_code = kExitDropped;
   } else if (result == shm::ReadResult::kProducerGone) {
     why = producer + " is gone (its process exited without ending the run)";
     rep.exit_code = kExitProducerLost;

@@ -43,15 +43,6 @@ void SleepUntil(double t) {
   }
 }
 
-const char* LossName(ControllerLoss l) {
-  switch (l) {
-    case ControllerLoss::kEnd: return "end";
-    case ControllerLoss::kWait: return "wait";
-    case ControllerLoss::kContinue: return "continue";
-  }
-  return "?";
-}
-
 bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
   if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
   if (!o.integrator.empty()) {
@@ -167,7 +158,7 @@ int RunHost(const HostOptions& o) {
                  robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
                  IntegratorName(m->opt.integrator), o.control_period,
                  o.realtime ? "real time" : "lock-step", ContactModelName(contact_model),
-                 LossName(o.on_loss));
+                 shm::ControllerLossName(o.on_loss));
     std::string lines = effects.Short();
     for (size_t at = 0, nl; at < lines.size(); at = nl + 1) {
       nl = lines.find('\n', at);
@@ -281,6 +272,7 @@ int RunHost(const HostOptions& o) {
       if (first_answer) deadline = Now();  // real time starts when the controller is there
       if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
       const double wait_from = first_answer ? Now() : 0.0;
+      const pid_t answering = producer->controller_pid();
       const shm::WaitResult answer = producer->WaitCommands(timeout, &cmd);
       if (first_answer) st.wall_waiting += Now() - wait_from;  // a new controller setting up
       switch (answer) {
@@ -296,8 +288,11 @@ int RunHost(const HostOptions& o) {
         case shm::WaitResult::kTimeout:
           ++st.late;
           extra_status |= shm::status::kCommandLate;
-          if (!o.realtime && lose_controller("did not answer within the timeout")) {
-            exit_code = kExitControllerLost;
+          if (!o.realtime) {
+            // a hung controller is let go: a new one may attach, and this one, should it run
+            // again, learns that it was dropped (shm_bridge/controller_loss.h)
+            producer->DropController(answering);
+            if (lose_controller("did not answer within the timeout")) exit_code = kExitControllerLost;
           }
           break;
         case shm::WaitResult::kControllerDied:

@@ -5,7 +5,6 @@
 #include "sim_host/host.h"
 
 int main(int argc, char** argv) {
-  using ohrp::sim::ControllerLoss;
   ohrp::sim::HostOptions o;
   std::string loss = "end";
   CLI::App app{
@@ -106,7 +105,6 @@ int main(int argc, char** argv) {
     }
     o.pushes.push_back(p);
   }
-  o.on_loss = loss == "wait" ? ControllerLoss::kWait
-              : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;
+  ohrp::shm::ParseControllerLoss(loss, &o.on_loss);  // one of the choices checked above
   return ohrp::sim::RunHost(o);
 }

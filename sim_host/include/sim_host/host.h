@@ -9,16 +9,18 @@
 #include <string>
 #include <vector>
 
+#include "shm_bridge/controller_loss.h"
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 
 namespace ohrp::sim {
 
-enum class ControllerLoss {
-  kEnd,       // stop the run (exit code kExitControllerLost)
-  kWait,      // hold the robot, freeze time and wait for a new controller
-  kContinue,  // keep simulating with the last references held
-};
+// What the run does when the controller dies, hangs past --controller-timeout or detaches
+// (the policy both producers share, shm_bridge/controller_loss.h): kEnd stops the run (exit code
+// kExitControllerLost), kWait holds the robot, freezes time and waits for a new controller,
+// kContinue keeps simulating with the last references held. A controller that hung is dropped
+// (its slot freed): it exits with the controllers' "dropped" code should it run again.
+using ControllerLoss = shm::ControllerLoss;
 
 // An external push on the base: a wrench (world frame, at the base's centre of mass) applied
 // from t0 to t1 of simulated time, e.g. to tilt the standing robot and release it. The wrench
