@@ -60,7 +60,7 @@ shm::Status Attach(shm::RobotAdaptor* adaptor, const RunOptions& options, bool* 
 const char* ExitCodeHelp() {
   return "Exit codes:\n"
          "  0  the producer (sim_host / hw_driver) ended its run normally, or SIGINT/SIGTERM\n"
-         "  2  bad command line\n"
+         "  2  bad command line (an unknown option, a bad value, a file that does not exist)\n"
          "  3  a file is malformed or does not fit the robot (joint names/count, limits)\n"
          "  4  could not attach to the segment (not there within --attach-timeout, built\n"
          "     against another layout, another controller attached, ...)\n"
