@@ -205,8 +205,9 @@ int RunHost(const HostOptions& o) {
   };
   publish(0);
 
-  auto lose_controller = [&](const char* why) {
+  auto lose_controller = [&](const char* why, const char* event, pid_t pid) {
     ++st.controller_losses;
+    st.Record(d->time, event, pid);
     extra_status |= shm::status::kHolding;
     std::fprintf(stderr, "sim_host: controller %s at t=%.3f s (cycle %lu); holding its last references\n",
                  why, d->time, static_cast<unsigned long>(st.cycles));
@@ -228,6 +229,9 @@ int RunHost(const HostOptions& o) {
   };
 
   double pushed[6] = {0, 0, 0, 0, 0, 0};  // the push wrench now in the base's xfrc_applied
+  std::vector<char> push_on(o.pushes.size(), 0);  // push i acted on the last step
+  pid_t last_controller = 0;  // the pid of the last controller that attached
+  bool rejecting = false;     // its last command block had rejected joints
   double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
@@ -262,6 +266,9 @@ int RunHost(const HostOptions& o) {
       const bool first_answer = !had_controller || waiting;
       if (first_answer) {
         ++st.controllers_seen;
+        last_controller = producer->controller_pid();
+        rejecting = false;
+        st.Record(d->time, "controller_attached", last_controller);
         if (!o.quiet)
           std::fprintf(stderr, "sim_host: controller pid %d attached\n", producer->controller_pid());
       }
@@ -283,7 +290,13 @@ int RunHost(const HostOptions& o) {
           }
           extra_status &= ~(shm::status::kHolding | shm::status::kCommandLate |
                             shm::status::kCommandRejected);
-          if (servo.Accept(cmd) > 0) extra_status |= shm::status::kCommandRejected;
+          if (const int rejected = servo.Accept(cmd); rejected > 0) {
+            extra_status |= shm::status::kCommandRejected;
+            if (!rejecting) st.Record(d->time, "commands_rejected", rejected);
+            rejecting = true;
+          } else {
+            rejecting = false;
+          }
           break;
         case shm::WaitResult::kTimeout:
           ++st.late;
@@ -292,11 +305,12 @@ int RunHost(const HostOptions& o) {
             // a hung controller is let go: a new one may attach, and this one, should it run
             // again, learns that it was dropped (shm_bridge/controller_loss.h)
             producer->DropController(answering);
-            if (lose_controller("did not answer within the timeout")) exit_code = kExitControllerLost;
+            if (lose_controller("did not answer within the timeout", "controller_silent", answering))
+              exit_code = kExitControllerLost;
           }
           break;
         case shm::WaitResult::kControllerDied:
-          if (lose_controller("died")) exit_code = kExitControllerLost;
+          if (lose_controller("died", "controller_died", answering)) exit_code = kExitControllerLost;
           break;
         case shm::WaitResult::kNoController:
           break;
@@ -305,7 +319,7 @@ int RunHost(const HostOptions& o) {
       if (waiting) continue;
     } else if (had_controller && !(extra_status & shm::status::kHolding)) {
       // the controller detached cleanly (closed its adaptor)
-      if (lose_controller("detached")) {
+      if (lose_controller("detached", "controller_detached", last_controller)) {
         exit_code = kExitControllerLost;
         break;
       }
@@ -314,7 +328,15 @@ int RunHost(const HostOptions& o) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
-      if (!o.pushes.empty()) ApplyPushes(o.pushes, m, d, robot.base_body, pushed);
+      if (!o.pushes.empty()) {
+        ApplyPushes(o.pushes, m, d, robot.base_body, pushed);
+        // each push's start and end, as events
+        for (size_t i = 0; i < o.pushes.size(); ++i) {
+          const bool on = PushActiveAt(o.pushes[i], d->time, dt);
+          if (on != (push_on[i] != 0)) st.Record(d->time, on ? "push_start" : "push_end", i);
+          push_on[i] = on;
+        }
+      }
       servo.Apply(m, d);
       if (soft) soft->ApplyBeforeStep(m, d);
       mj_step(m, d);

@@ -43,6 +43,10 @@ bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* 
 // (force then torque); no allocation.
 void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]);
 
+// True when push `p` acts on the physics step starting at `time` (step `dt`): the step starts
+// in [t0, t1), to half a step (the rule of PushWrenchAt).
+bool PushActiveAt(const Perturbation& p, double time, double dt);
+
 // Puts the pushes' wrench for the step about to run on body `body`'s row of d->xfrc_applied.
 // MuJoCo never clears xfrc_applied, so the row changes by the difference between the wrench
 // wanted now and `pushed` (what the pushes put there before, updated here): other wrenches on
