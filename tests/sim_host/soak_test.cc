@@ -170,10 +170,13 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
               seconds, runs.size(), push_t0.size(), s["cycles"].get<unsigned long>(), rss_warm,
               rss.empty() ? -1 : *std::max_element(rss.begin(), rss.end()));
 
-  // memory: no growth beyond the bound after the warm-up
+  // memory: no growth beyond the bound after the warm-up (under AddressSanitizer, whose
+  // quarantine holds freed memory, LeakSanitizer checks sim_host's exit instead)
   ASSERT_FALSE(rss.empty());
+#ifndef OHRP_SANITIZE
   EXPECT_LE(*std::max_element(rss.begin(), rss.end()) - rss_warm, kRssBound)
       << "sim_host's RSS grew from " << rss_warm << " kB";
+#endif
 
   // the data log: one row per control cycle (and the first block), none lost
   EXPECT_EQ(s["log_dropped"].get<long>(), 0);
