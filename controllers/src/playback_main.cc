@@ -23,10 +23,12 @@ int main(int argc, char** argv) {
       "the producer's default gains are used.",
       "playback"};
   app.add_option("--angles", options.angles_file, "joint positions: time q0 q1 ... [s, rad]")
-      ->required();
+      ->required()->check(CLI::ExistingFile);
   app.add_option("--velocities", options.velocities_file,
-                 "joint velocities, same rows as --angles [rad/s]");
-  app.add_option("--gains", options.gains_file, "PD gains, one 'P D' row per joint");
+                 "joint velocities, same rows as --angles [rad/s]")
+      ->check(CLI::ExistingFile);
+  app.add_option("--gains", options.gains_file, "PD gains, one 'P D' row per joint")
+      ->check(CLI::ExistingFile);
   app.add_option("--ramp", options.ramp,
                  "[s of producer time] ramp from the current pose to the first row")
       ->default_val(2.0);

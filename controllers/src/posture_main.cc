@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       "posture"};
   app.add_option("--pose", options.pose_file,
                  "YAML pose by joint name [rad] (joints not named: 0)")
-      ->default_val(DefaultPoseFile());
+      ->default_val(DefaultPoseFile())->check(CLI::ExistingFile);
   app.add_option("--ramp", options.ramp, "ramp duration [s of producer time], 0 = jump")
       ->default_val(2.0);
   app.add_option("--kp-scale", options.kp_scale, "factor on the producer's default kp")

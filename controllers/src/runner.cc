@@ -60,12 +60,14 @@ shm::Status Attach(shm::RobotAdaptor* adaptor, const RunOptions& options, bool* 
 const char* ExitCodeHelp() {
   return "Exit codes:\n"
          "  0  the producer (sim_host / hw_driver) ended its run normally, or SIGINT/SIGTERM\n"
-         "  2  bad command line\n"
+         "  2  bad command line (an unknown option, a bad value, a file that does not exist)\n"
          "  3  a file is malformed or does not fit the robot (joint names/count, limits)\n"
          "  4  could not attach to the segment (not there within --attach-timeout, built\n"
          "     against another layout, another controller attached, ...)\n"
          "  5  the producer's process is gone, or sent no sensors within --read-timeout\n"
-         "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n";
+         "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n"
+         "  7  the producer dropped this controller: it did not answer within the producer's\n"
+         "     timeout (e.g. it was stopped, then resumed)\n";
 }
 
 void InstallStopSignalHandlers() {
@@ -177,6 +179,10 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       why = producer + " ended its run";
       rep.exit_code = kExitOk;
     }
+  } else if (result == shm::ReadResult::kDropped) {
+    why = producer + " dropped this controller: it did not answer within the producer's "
+          "timeout (was it stopped or stalled?); the robot was held without it";
+    rep.exit_code = kExitDropped;
   } else if (result == shm::ReadResult::kProducerGone) {
     why = producer + " is gone (its process exited without ending the run)";
     rep.exit_code = kExitProducerLost;

@@ -150,6 +150,7 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
 ReadResult RobotAdaptor::read(SensorBlock* out) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
   SegmentHeader& h = segment_->header;
+  if (dropped()) return ReadResult::kDropped;
   if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
 
   const int64_t deadline = internal::NowNs() + internal::SecondsToNs(options_.read_timeout);
@@ -158,6 +159,7 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
     const int64_t until = std::min(deadline, internal::NowNs() + slice_ns);
     const int r = internal::WaitUntil(&segment_->sync.sensors_ready, until);
     if (r == 0) {
+      if (dropped()) return ReadResult::kDropped;
       if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
       const auto copy = [this](const SensorBlock* src, SensorBlock* dst) {
         internal::CopySensors(src, dst, header_);
@@ -176,6 +178,7 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
     }
     // the slice ended (or the wait failed): check the producer, then the deadline
     if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
+    if (dropped()) return ReadResult::kDropped;
     if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
     if (internal::NowNs() >= deadline || r != ETIMEDOUT) return ReadResult::kTimeout;
   }
@@ -183,6 +186,7 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
 
 ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
+  if (dropped()) return ReadResult::kDropped;
   if (internal::IsEnded(internal::LoadState(segment_->header))) {
     return ReadResult::kProducerStopped;
   }
@@ -197,6 +201,11 @@ ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   internal::SeqlockEnd(&block, odd);
   sem_post(&segment_->sync.commands_ready);
   return ReadResult::kOk;
+}
+
+bool RobotAdaptor::dropped() const {
+  if (segment_ == nullptr) return false;
+  return internal::LoadControllerPid(segment_->header) != header_.controller_pid;
 }
 
 ProducerState RobotAdaptor::producer_state() const {

@@ -1,5 +1,6 @@
 // Names and small process helpers shared by both ends of the bridge (bridge.h).
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/controller_loss.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -54,6 +55,8 @@ const char* ReadResultName(ReadResult r) {
       return "producer stopped";
     case ReadResult::kNotOpen:
       return "not open";
+    case ReadResult::kDropped:
+      return "dropped by the producer";
   }
   return "unknown";
 }
@@ -76,6 +79,30 @@ bool ProcessAlive(pid_t pid) {
   buf[n] = 0;
   const char* paren = std::strrchr(buf, ')');
   return !(paren && paren[1] == ' ' && (paren[2] == 'Z' || paren[2] == 'X'));
+}
+
+//---------------- the controller-loss policy ----------------
+
+const char* ControllerLossName(ControllerLoss loss) {
+  switch (loss) {
+    case ControllerLoss::kEnd:
+      return "end";
+    case ControllerLoss::kWait:
+      return "wait";
+    case ControllerLoss::kContinue:
+      return "continue";
+  }
+  return "?";
+}
+
+bool ParseControllerLoss(const std::string& text, ControllerLoss* out) {
+  for (ControllerLoss l : {ControllerLoss::kEnd, ControllerLoss::kWait, ControllerLoss::kContinue}) {
+    if (text == ControllerLossName(l)) {
+      *out = l;
+      return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace ohrp::shm

@@ -274,6 +274,11 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
 
 pid_t Producer::controller_pid() const { return internal::LoadControllerPid(segment_->header); }
 
+bool Producer::DropController(pid_t pid) {
+  if (pid <= 0) return false;
+  return internal::SwapControllerPid(segment_->header, &pid, 0);
+}
+
 void Producer::SetState(ProducerState state) {
   std::atomic_ref<uint32_t>(segment_->header.state)
       .store(static_cast<uint32_t>(state), std::memory_order_release);

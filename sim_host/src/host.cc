@@ -43,15 +43,6 @@ void SleepUntil(double t) {
   }
 }
 
-const char* LossName(ControllerLoss l) {
-  switch (l) {
-    case ControllerLoss::kEnd: return "end";
-    case ControllerLoss::kWait: return "wait";
-    case ControllerLoss::kContinue: return "continue";
-  }
-  return "?";
-}
-
 bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
   if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
   if (!o.integrator.empty()) {
@@ -167,7 +158,7 @@ int RunHost(const HostOptions& o) {
                  robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
                  IntegratorName(m->opt.integrator), o.control_period,
                  o.realtime ? "real time" : "lock-step", ContactModelName(contact_model),
-                 LossName(o.on_loss));
+                 shm::ControllerLossName(o.on_loss));
     std::string lines = effects.Short();
     for (size_t at = 0, nl; at < lines.size(); at = nl + 1) {
       nl = lines.find('\n', at);
@@ -214,8 +205,9 @@ int RunHost(const HostOptions& o) {
   };
   publish(0);
 
-  auto lose_controller = [&](const char* why) {
+  auto lose_controller = [&](const char* why, const char* event, pid_t pid) {
     ++st.controller_losses;
+    st.Record(d->time, event, pid);
     extra_status |= shm::status::kHolding;
     std::fprintf(stderr, "sim_host: controller %s at t=%.3f s (cycle %lu); holding its last references\n",
                  why, d->time, static_cast<unsigned long>(st.cycles));
@@ -237,6 +229,9 @@ int RunHost(const HostOptions& o) {
   };
 
   double pushed[6] = {0, 0, 0, 0, 0, 0};  // the push wrench now in the base's xfrc_applied
+  std::vector<char> push_on(o.pushes.size(), 0);  // push i acted on the last step
+  pid_t last_controller = 0;  // the pid of the last controller that attached
+  bool rejecting = false;     // its last command block had rejected joints
   double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
@@ -271,6 +266,9 @@ int RunHost(const HostOptions& o) {
       const bool first_answer = !had_controller || waiting;
       if (first_answer) {
         ++st.controllers_seen;
+        last_controller = producer->controller_pid();
+        rejecting = false;
+        st.Record(d->time, "controller_attached", last_controller);
         if (!o.quiet)
           std::fprintf(stderr, "sim_host: controller pid %d attached\n", producer->controller_pid());
       }
@@ -281,6 +279,7 @@ int RunHost(const HostOptions& o) {
       if (first_answer) deadline = Now();  // real time starts when the controller is there
       if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
       const double wait_from = first_answer ? Now() : 0.0;
+      const pid_t answering = producer->controller_pid();
       const shm::WaitResult answer = producer->WaitCommands(timeout, &cmd);
       if (first_answer) st.wall_waiting += Now() - wait_from;  // a new controller setting up
       switch (answer) {
@@ -291,17 +290,27 @@ int RunHost(const HostOptions& o) {
           }
           extra_status &= ~(shm::status::kHolding | shm::status::kCommandLate |
                             shm::status::kCommandRejected);
-          if (servo.Accept(cmd) > 0) extra_status |= shm::status::kCommandRejected;
+          if (const int rejected = servo.Accept(cmd); rejected > 0) {
+            extra_status |= shm::status::kCommandRejected;
+            if (!rejecting) st.Record(d->time, "commands_rejected", rejected);
+            rejecting = true;
+          } else {
+            rejecting = false;
+          }
           break;
         case shm::WaitResult::kTimeout:
           ++st.late;
           extra_status |= shm::status::kCommandLate;
-          if (!o.realtime && lose_controller("did not answer within the timeout")) {
-            exit_code = kExitControllerLost;
+          if (!o.realtime) {
+            // a hung controller is let go: a new one may attach, and this one, should it run
+            // again, learns that it was dropped (shm_bridge/controller_loss.h)
+            producer->DropController(answering);
+            if (lose_controller("did not answer within the timeout", "controller_silent", answering))
+              exit_code = kExitControllerLost;
           }
           break;
         case shm::WaitResult::kControllerDied:
-          if (lose_controller("died")) exit_code = kExitControllerLost;
+          if (lose_controller("died", "controller_died", answering)) exit_code = kExitControllerLost;
           break;
         case shm::WaitResult::kNoController:
           break;
@@ -310,7 +319,7 @@ int RunHost(const HostOptions& o) {
       if (waiting) continue;
     } else if (had_controller && !(extra_status & shm::status::kHolding)) {
       // the controller detached cleanly (closed its adaptor)
-      if (lose_controller("detached")) {
+      if (lose_controller("detached", "controller_detached", last_controller)) {
         exit_code = kExitControllerLost;
         break;
       }
@@ -319,7 +328,15 @@ int RunHost(const HostOptions& o) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
-      if (!o.pushes.empty()) ApplyPushes(o.pushes, m, d, robot.base_body, pushed);
+      if (!o.pushes.empty()) {
+        ApplyPushes(o.pushes, m, d, robot.base_body, pushed);
+        // each push's start and end, as events
+        for (size_t i = 0; i < o.pushes.size(); ++i) {
+          const bool on = PushActiveAt(o.pushes[i], d->time, dt);
+          if (on != (push_on[i] != 0)) st.Record(d->time, on ? "push_start" : "push_end", i);
+          push_on[i] = on;
+        }
+      }
       servo.Apply(m, d);
       if (soft) soft->ApplyBeforeStep(m, d);
       mj_step(m, d);

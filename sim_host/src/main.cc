@@ -5,7 +5,6 @@
 #include "sim_host/host.h"
 
 int main(int argc, char** argv) {
-  using ohrp::sim::ControllerLoss;
   ohrp::sim::HostOptions o;
   std::string loss = "end";
   CLI::App app{
@@ -62,7 +61,8 @@ int main(int argc, char** argv) {
                  "wall time a lock-step controller may take to answer a cycle [s]")
       ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--on-controller-loss", loss,
-                 "when the controller dies, hangs or detaches: end the run, wait for a new one, or continue holding")
+                 "when the controller dies, hangs or detaches: end the run, wait for a new one, or "
+                 "continue holding (a hung controller is dropped: resumed, it exits 7)")
       ->capture_default_str()->check(CLI::IsMember({"end", "wait", "continue"}));
   app.add_option("--log", o.log_path, "CSV data log (base pose, joints, F/T, IMU per cycle)");
   app.add_option("--log-every", o.log_every, "record one row every N control cycles")
@@ -106,7 +106,6 @@ int main(int argc, char** argv) {
     }
     o.pushes.push_back(p);
   }
-  o.on_loss = loss == "wait" ? ControllerLoss::kWait
-              : loss == "continue" ? ControllerLoss::kContinue : ControllerLoss::kEnd;
+  ohrp::shm::ParseControllerLoss(loss, &o.on_loss);  // one of the choices checked above
   return ohrp::sim::RunHost(o);
 }

@@ -64,13 +64,17 @@ void ApplyPushes(const std::vector<Perturbation>& pushes, const mjModel* m, mjDa
   }
 }
 
-void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]) {
-  for (int k = 0; k < 6; ++k) wrench[k] = 0;
+bool PushActiveAt(const Perturbation& p, double time, double dt) {
   // a step belongs to a window when it starts in [t0, t1), with half a step of slack against
   // the rounding of the accumulated time
   const double t = time + 0.5 * dt;
+  return t >= p.t0 && t < p.t1;
+}
+
+void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]) {
+  for (int k = 0; k < 6; ++k) wrench[k] = 0;
   for (const Perturbation& p : pushes) {
-    if (t < p.t0 || t >= p.t1) continue;
+    if (!PushActiveAt(p, time, dt)) continue;
     for (int k = 0; k < 3; ++k) {
       wrench[k] += p.force[k];
       wrench[3 + k] += p.torque[k];

@@ -122,6 +122,11 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["controller_losses"] = st.controller_losses;
   j["controllers_seen"] = st.controllers_seen;
   j["mujoco_warnings"] = st.warnings;
+  nlohmann::json events = nlohmann::json::array();
+  for (const HostEvent& e : st.events)
+    events.push_back({{"time", e.time}, {"cycle", e.cycle}, {"event", e.kind}, {"value", e.value}});
+  j["events"] = events;
+  j["events_dropped"] = st.events_dropped;
   if (st.divergence.kind != DivergenceKind::kNone) {
     const Diagnosis& x = st.divergence;
     nlohmann::json dofs = nlohmann::json::array();

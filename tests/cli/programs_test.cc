@@ -93,9 +93,32 @@ TEST_P(ProgramCommandLine, FileThatDoesNotExistExitsTwo) {
   EXPECT_NE(out.find("nosuch"), std::string::npos) << out;
 }
 
+// the options every controller shares (controllers/cli.h): a timeout that is not a time is a
+// bad command line (exit 2), not a failed attach (4) or a wait without end
+TEST(ControllerCommandLine, TimeoutsThatAreNotTimesExitTwo) {
+  const std::string angles = kSource + "/scenarios/stand.yaml";  // any file that exists
+  for (const std::vector<std::string>& valid :
+       {std::vector<std::string>{"posture", "--segment", "x"},
+        std::vector<std::string>{"playback", "--segment", "x", "--angles", angles},
+        std::vector<std::string>{"balance", "--segment", "x"}}) {
+    for (const std::vector<std::string>& bad :
+         {std::vector<std::string>{"--attach-timeout", "nan"},
+          std::vector<std::string>{"--attach-timeout", "-1"},
+          std::vector<std::string>{"--read-timeout", "-1"},
+          std::vector<std::string>{"--read-timeout", "0"}}) {
+      std::string out;
+      const std::vector<std::string> args(valid.begin() + 1, valid.end());
+      EXPECT_EQ(RunProgram(valid[0], With(args, bad), &out), 2) << valid[0] << " " << bad[0]
+                                                               << " " << bad[1] << ": " << out;
+      EXPECT_NE(out.find(bad[0]), std::string::npos) << out;
+    }
+  }
+}
+
 // every program of build/bin
 const std::string kIo = "--io=" + Program("../lib/libohrp_io_replay.so");
 const std::string kStand = kSource + "/scenarios/stand.yaml";
+const std::string kAngles = kStand;  // any file that exists
 INSTANTIATE_TEST_SUITE_P(
     Programs, ProgramCommandLine,
     ::testing::Values(
@@ -106,8 +129,10 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"ohrp_run", {kStand}, "--contact", {"nosuch.yaml"}},
         ProgramCase{"ohrp_video", {"runs/x"}, "--fps", {}},
         ProgramCase{"ohrp_push", {}, "--max-impulse", {}},
-        ProgramCase{"posture", {"--segment", "x"}, "--ramp", {}},
-        ProgramCase{"playback", {"--segment", "x", "--angles", "a.dat"}, "--time-scale", {}},
+        ProgramCase{"posture", {"--segment", "x"}, "--ramp",
+                    {"--segment", "x", "--pose", "nosuch.yaml"}},
+        ProgramCase{"playback", {"--segment", "x", "--angles", kAngles}, "--time-scale",
+                    {"--segment", "x", "--angles", "nosuch.dat"}},
         ProgramCase{"balance", {"--segment", "x"}, "--lift", {}},
         ProgramCase{"bench_bridge", {}, "--cycles", {}, false},
         ProgramCase{"bench_loop", {}, "--duration", {}, false},

@@ -49,6 +49,9 @@ class FakeRobot {
   int RunUntilExit(pid_t pid, double wall_timeout = 20.0);
   // Ends the run normally (state kStopped, segment removed).
   void Stop();
+  // Lets the attached controller go as a producer does with one that missed its timeout
+  // (shm::Producer::DropController); true when `pid` held the slot.
+  bool DropController(pid_t pid) { return producer_->DropController(pid); }
 
   const std::vector<CommandRecord>& records() const { return records_; }
   pid_t controller_pid() const { return producer_->controller_pid(); }

@@ -1,5 +1,6 @@
 // Tests how the runner (controllers/runner.h) ends a run, across real processes: producer
-// killed, producer ended normally, producer stalled, segment late or missing.
+// killed, producer ended normally, producer stalled, controller dropped by the producer,
+// segment late or missing.
 #include "controllers/runner.h"
 
 #include <gtest/gtest.h>
@@ -99,6 +100,24 @@ TEST_F(RunnerTest, ExitsNonZeroWhenTheProducerStallsPastTheReadTimeout) {
   EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitProducerLost);
   const std::string log = testing::ReadText(log_);
   EXPECT_NE(log.find("alive but not cycling"), std::string::npos) << log;
+}
+
+// stopped (SIGSTOP) past the producer's timeout, the controller is dropped; resumed, it must
+// not carry on nor report a normal end
+TEST_F(RunnerTest, ExitsSevenWhenTheProducerDroppedItWhileItWasStopped) {
+  std::string error;
+  auto robot = FakeRobot::Create(spec_, &error);
+  ASSERT_TRUE(robot) << error;
+  pid_t pid = SpawnPosture();
+  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadText(log_);
+  kill(pid, SIGSTOP);
+  ASSERT_TRUE(robot->DropController(pid));
+  kill(pid, SIGCONT);
+  EXPECT_EQ(robot->RunUntilExit(pid), kExitDropped) << testing::ReadText(log_);
+  const std::string log = testing::ReadText(log_);
+  EXPECT_NE(log.find("dropped this controller"), std::string::npos) << log;
+  EXPECT_EQ(robot->controller_pid(), 0);  // it released nothing that was not its own
+  robot->Stop();
 }
 
 TEST_F(RunnerTest, AttachTimeoutWaitsForALateProducer) {

@@ -6,7 +6,8 @@
 //   q0=X            initial joint positions [rad] (default 0.1)
 //   silent_at=N     from read N on (0-based) every board is silent
 //   estop_at=N      from read N on the emergency-stop input is pressed
-//   reset_at=N      read N reports a board reset
+//   reset_at=N      from read N on a board reports a reset and its servos are off, until a
+//                   write turns every servo off (the re-arm of udp/PROTOCOL.md)
 //   nan_at=N        from read N on joint 0's position is NaN (board 0, io_fault::kNonFinite)
 //   end_at=N        from read N on: end of data
 //   fail_open=1     open fails ("fake: told to fail")
@@ -72,7 +73,11 @@ class FakeIo final : public RobotIo {
       s->silent_boards = 1;
     }
     if (estop_at_ != kNever && r >= estop_at_) s->faults |= io_fault::kEmergencyStop;
-    if (reset_at_ != kNever && r == reset_at_) s->faults |= io_fault::kBoardReset;
+    if (reset_at_ != kNever && r == reset_at_) {
+      reset_ = true;
+      servo_ = false;
+    }
+    if (reset_) s->faults |= io_fault::kBoardReset;
     if (end_at_ != kNever && r >= end_at_) s->faults |= io_fault::kEndOfData;
     s->time_ns = reads_ * 1000000;
     for (int j = 0; j < njoint_; ++j) {
@@ -93,9 +98,10 @@ class FakeIo final : public RobotIo {
   IoResult write(const IoCommand& c) noexcept override {
     int on = 0;
     for (int j = 0; j < njoint_; ++j) on += c.servo_on[j] ? 1 : 0;
-    servo_ = on == njoint_;
+    if (reset_ && on == 0) reset_ = false;  // re-armed
+    servo_ = on == njoint_ && !reset_;
     for (int j = 0; j < njoint_; ++j) {
-      if (c.servo_on[j] && c.joint[j].mode == ohrp::shm::JointMode::kPosition) {
+      if (servo_ && c.joint[j].mode == ohrp::shm::JointMode::kPosition) {
         q_[j] = c.joint[j].q_ref;
       }
     }
@@ -127,6 +133,7 @@ class FakeIo final : public RobotIo {
   int njoint_ = 0;
   double q_[ohrp::shm::kMaxJoints] = {};
   bool servo_ = false;
+  bool reset_ = false;  // a board reset, not re-armed yet: its servos stay off
   uint64_t reads_ = 0;
   long silent_at_ = kNever, estop_at_ = kNever, reset_at_ = kNever, end_at_ = kNever,
        nan_at_ = kNever;

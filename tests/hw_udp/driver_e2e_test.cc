@@ -303,5 +303,23 @@ TEST_F(DriverEndToEnd, ASilentBoardTripsTheDriversSafeMode) {
               "driver's safe mode at %.3f s (driver time)\n", silent_at, safe_at);
 }
 
+TEST_F(DriverEndToEnd, ABoardResetIsReArmedAndTheServosComeOnAgain) {
+  // board 0 restarts at robot time 2 s: its servos are off until an all-off command re-arms it;
+  // the driver's safe mode ends in that servo-off, then the servos come on again
+  const int code = RunChain({"--reset", "0@2.0"}, {"--duration", "5", "--safe-time", "0.2"});
+  ASSERT_EQ(code, 0) << Read(Path("driver.out"));
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["outcome"], "completed");
+  EXPECT_EQ(summary_["recoveries"], 1) << summary_["events"].dump();
+  std::vector<std::string> order;
+  for (const auto& e : summary_["events"]) {
+    const std::string name = e["event"];
+    if (name == "board_reset" || name == "board_rearm" || name == "servo_on") order.push_back(name);
+  }
+  EXPECT_EQ(order, (std::vector<std::string>{"servo_on", "board_reset", "board_rearm", "servo_on"}))
+      << summary_["events"].dump();
+  EXPECT_GT(ServosOnUntil(), 4.0);  // all 29 servos on again on the emulated robot
+}
+
 }  // namespace
 }  // namespace ohrp::hw::udp

@@ -278,6 +278,46 @@ TEST_F(AdaptorTest, CloseReleasesTheSlotAndIsIdempotent) {
   EXPECT_EQ(adaptor.write(CommandBlock{}), ReadResult::kNotOpen);
 }
 
+// a controller the producer let go (it missed the producer's timeout) learns it on its next
+// write and read, writes nothing more, and the slot is free for a new controller
+TEST_F(AdaptorTest, ADroppedControllerLearnsItOnItsNextWriteAndRead) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  RobotAdaptor adaptor;
+  ASSERT_TRUE(adaptor.open(name_).ok());
+  producer->BeginSensors().cycle = 1;
+  producer->PublishSensors();
+  SensorBlock s{};
+  ASSERT_EQ(adaptor.read(&s), ReadResult::kOk);
+
+  EXPECT_FALSE(producer->DropController(getpid() + 1));  // not the holder: nothing changes
+  EXPECT_FALSE(adaptor.dropped());
+  EXPECT_TRUE(producer->DropController(getpid()));
+  EXPECT_EQ(producer->controller_pid(), 0);
+  EXPECT_TRUE(adaptor.dropped());
+  CommandBlock c{};
+  c.njoint = 3;
+  EXPECT_EQ(adaptor.write(c), ReadResult::kDropped);
+  CommandBlock out{};
+  EXPECT_EQ(producer->WaitCommands(0.05, &out), WaitResult::kNoController);  // nothing posted
+  producer->BeginSensors().cycle = 2;
+  producer->PublishSensors();
+  EXPECT_EQ(adaptor.read(&s), ReadResult::kDropped);
+  EXPECT_STREQ(ReadResultName(ReadResult::kDropped), "dropped by the producer");
+
+  // a new controller attaches; closing the dropped adaptor leaves its claim alone
+  const pid_t child = Spawn([&] {
+    RobotAdaptor b;
+    if (!b.open(name_).ok()) return 1;
+    raise(SIGKILL);  // never closes: its claim stays
+    return 2;
+  });
+  EXPECT_EQ(WaitExit(child), 128 + SIGKILL);
+  EXPECT_EQ(producer->controller_pid(), child);
+  adaptor.close();
+  EXPECT_EQ(producer->controller_pid(), child);
+}
+
 //---------------- the cycle ----------------
 
 TEST_F(AdaptorTest, PingPongKeepsEveryCycleIntact) {

@@ -255,6 +255,34 @@ TEST_F(SimHostProcess, AfterControllerLossANewControllerCanAttach) {
   EXPECT_EQ(Wait(), 130);
 }
 
+// a controller stopped (SIGSTOP) past --controller-timeout is dropped: resumed after sim_host
+// ended its run, its next read says so instead of a normal end (which made it exit 0)
+TEST_F(SimHostProcess, AControllerStoppedPastTheTimeoutLearnsItWasDroppedWhenResumed) {
+  Start({"--duration", "100", "--on-controller-loss", "end", "--controller-timeout", "0.2"});
+  ASSERT_TRUE(WaitSegment());
+  const pid_t child = fork();
+  if (child == 0) {
+    shm::RobotAdaptor a;
+    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
+    shm::SensorBlock s{};
+    for (int k = 0; k < 10; ++k) {
+      if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
+      a.write(Hold(s, 2));
+    }
+    raise(SIGSTOP);  // past the timeout; the test resumes it after sim_host has ended
+    const shm::ReadResult r = a.read(&s);
+    _exit(r == shm::ReadResult::kDropped ? 0 : 10 + static_cast<int>(r));
+  }
+  int st = 0;
+  ASSERT_EQ(waitpid(child, &st, WUNTRACED), child);
+  ASSERT_TRUE(WIFSTOPPED(st));
+  EXPECT_EQ(Wait(), 5) << Stderr();
+  EXPECT_NE(Stderr().find("did not answer within the timeout"), std::string::npos) << Stderr();
+  kill(child, SIGCONT);
+  ASSERT_EQ(waitpid(child, &st, 0), child);
+  EXPECT_EQ(WIFEXITED(st) ? WEXITSTATUS(st) : -1, 0) << "10 + the ReadResult it got instead";
+}
+
 TEST_F(SimHostProcess, DeadSimHostMakesReadFailAndItsStaleSegmentIsReplaced) {
   Start({"--duration", "100"});
   shm::RobotAdaptor a;

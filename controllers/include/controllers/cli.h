@@ -14,10 +14,10 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
       ->required();
   app->add_option("--attach-timeout", run->attach_timeout,
                   "[s] wait this long for the segment to appear (0 = fail at once)")
-      ->default_val(0.0);
+      ->default_val(0.0)->check(cli::NonNegative());
   app->add_option("--read-timeout", run->read_timeout,
                   "[s] longest wait for one sensor block before giving up")
-      ->default_val(2.0);
+      ->default_val(2.0)->check(cli::Positive());
   app->footer(ExitCodeHelp());
 }
 

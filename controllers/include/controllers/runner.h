@@ -7,7 +7,9 @@
 //              failure ends the run at once with the adaptor's message.
 //   configure  the controller checks its files against the header (joint names and count).
 //   loop       read -> (activate on the first block) -> update -> write, until read/write
-//              report an end or SIGINT/SIGTERM arrives. No allocation, throwing or logging
+//              report an end (the producer stopped, failed or is gone, no sensors within the
+//              read timeout, or the producer dropped this controller for missing its own
+//              timeout: shm_bridge/controller_loss.h) or SIGINT/SIGTERM arrives. No allocation, throwing or logging
 //              in the loop; problems are counted and printed after it.
 //   end        deactivate, close the adaptor (the controller slot is freed), close.
 //
@@ -28,6 +30,8 @@ enum ExitCode : int {
   kExitAttach = 4,          // could not attach (no segment, layout mismatch, slot taken...)
   kExitProducerLost = 5,    // the producer's process is gone, or no sensors within the timeout
   kExitProducerFailed = 6,  // the producer ended reporting a failure (e.g. diverged)
+  kExitDropped = 7,         // the producer dropped this controller: it did not answer within
+                            // the producer's timeout (e.g. stopped by SIGSTOP, then resumed)
 };
 
 // One paragraph for --help footers.

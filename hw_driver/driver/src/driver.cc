@@ -16,6 +16,13 @@ namespace {
 constexpr size_t kMaxEvents = 1024;  // events kept per run; more are counted as dropped
 constexpr int64_t kNsPerS = 1000000000;
 
+// what the servos-off state after a recovered safe mode waits for before a new servo-on
+enum class Rearm {
+  kNone,        // nothing: the safe mode ends the run (or no safe mode happened)
+  kController,  // a new controller attached (--on-controller-loss wait) and a valid read
+  kBoards,      // board_timeout_cycles valid reads in a row without a reset (after a reset)
+};
+
 std::atomic<int> g_stop_requests{0};
 std::atomic<bool> g_emergency_stop{false};
 
@@ -84,6 +91,8 @@ const char* EventName(EventKind k) {
     case EventKind::kIoError: return "io_error";
     case EventKind::kNoValidRead: return "no_valid_read";
     case EventKind::kBoardNonFinite: return "board_non_finite";
+    case EventKind::kWaitingForController: return "waiting_for_controller";
+    case EventKind::kBoardRearm: return "board_rearm";
   }
   return "?";
 }
@@ -206,6 +215,8 @@ int Driver::Run() {
   const int64_t window =
       std::llround(static_cast<double>(period) * (1.0 - std::clamp(o.command_margin, 0.0, 0.9)));
   const int64_t servo_on_timeout = std::llround(o.servo_on_timeout * 1e9);
+  const Rearm on_loss =
+      o.on_controller_loss == shm::ControllerLoss::kWait ? Rearm::kController : Rearm::kNone;
   const int64_t t0 = NowNs();
   int64_t slot = t0;          // T_k
   int64_t phase_end = 0;      // end of the safe mode or of the servo-off damping [ns]
@@ -214,6 +225,9 @@ int Driver::Run() {
   bool board_was_silent = false;
   int64_t silent_reason = kSafeBoardSilent;  // why the boards gave no valid read (safe mode value)
   bool sensor_fault_seen = false;
+  Rearm after_safe_mode = Rearm::kNone;  // what the current safe mode recovers to
+  Rearm rearm = Rearm::kNone;            // what the servos-off state waits for before servo-on
+  int clean_reads = 0;                   // consecutive valid reads without a reset, re-arming
   pid_t controller = 0;
   bool answered = false;      // the current controller has answered at least once
   int stops_seen = 0;
@@ -221,8 +235,9 @@ int Driver::Run() {
   const char* outcome = "completed";  // copied into result_ after the loop (no allocation in it)
   const char* detail = "";
 
-  auto enter_safe_mode = [&](int exit_code, const char* why, int64_t reason) {
+  auto enter_safe_mode = [&](int exit_code, const char* why, int64_t reason, Rearm then) {
     d.state = DriverState::kSafeMode;
+    after_safe_mode = then;
     d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
     phase_end = NowNs() + std::llround(o.safe_time * 1e9);
     result_.safe_mode = true;
@@ -250,6 +265,7 @@ int Driver::Run() {
       live_.lateness.Add(NowNs() - slot);
     }
     uint32_t flags = 0;
+    bool servoed_on = false;  // servo-on in this cycle: its write holds the measured positions
 
     //---- read the boards
     const IoResult r = d.io->read(&d.in);
@@ -307,13 +323,29 @@ int Driver::Run() {
       } else if (running && (faults & io_fault::kBoardReset)) {
         flags |= shm::status::kBoardFault;
         d.Record(EventKind::kBoardReset, d.in.silent_boards);
-        enter_safe_mode(kExitBoardFault, "board_fault", kSafeBoardReset);
+        enter_safe_mode(kExitBoardFault, "board_fault", kSafeBoardReset, Rearm::kBoards);
       } else if (running && silent_board >= o.board_timeout_cycles) {
-        enter_safe_mode(kExitBoardFault, "board_fault", silent_reason);
+        enter_safe_mode(kExitBoardFault, "board_fault", silent_reason, Rearm::kNone);
+      } else if (d.state == DriverState::kInactive && rearm != Rearm::kNone) {
+        // after a recovered safe mode: servo-on again once it is safe (see driver.h)
+        const bool clean = !silent && !(faults & io_fault::kBoardReset);
+        clean_reads = clean ? clean_reads + 1 : 0;
+        const bool ready = rearm == Rearm::kBoards ? clean_reads >= o.board_timeout_cycles
+                                                   : clean && d.producer->controller_pid() != 0;
+        if (ready) {
+          d.guard.HoldMeasured(d.in.q);
+          d.servo_on = true;
+          d.state = DriverState::kActive;
+          servoed_on = true;
+          rearm = Rearm::kNone;
+          ++result_.recoveries;
+          d.Record(EventKind::kServoOn, result_.recoveries);
+        }
       } else if (d.state == DriverState::kInactive && !silent) {
         d.guard.HoldMeasured(d.in.q);
         d.servo_on = true;
         d.state = DriverState::kActive;
+        servoed_on = true;
         d.Record(EventKind::kServoOn);
       } else if (d.state == DriverState::kInactive && NowNs() - t0 > servo_on_timeout) {
         d.Record(EventKind::kNoValidRead);
@@ -324,9 +356,10 @@ int Driver::Run() {
       }
     }
 
-    //---- publish, then the controller's commands until the command deadline
+    //---- publish, then the controller's commands until the command deadline (from the cycle
+    //---- after a servo-on: the servo-on cycle's write holds the measured positions)
     d.Publish(flags, live_);
-    if (!done && d.state == DriverState::kActive) {
+    if (!done && d.state == DriverState::kActive && !servoed_on) {
       const pid_t pid = d.producer->controller_pid();
       if (pid != 0 && pid != controller) {
         controller = pid;
@@ -355,29 +388,55 @@ int Driver::Run() {
             d.late_flag = shm::status::kCommandLate;
             if (++silent_controller >= o.watchdog_cycles) {
               d.Record(EventKind::kControllerSilent, silent_controller);
-              enter_safe_mode(kExitControllerLost, "controller_lost", 3);
+              enter_safe_mode(kExitControllerLost, "controller_lost", kSafeControllerSilent,
+                              on_loss);
+              // alive but silent: let it go, so that a new controller can attach and this one
+              // learns it was dropped should it run again (shm_bridge/controller_loss.h)
+              d.producer->DropController(controller);
+              controller = 0;
             }
             break;
           case shm::WaitResult::kControllerDied:
             d.Record(EventKind::kControllerDied, controller);
-            if (answered) enter_safe_mode(kExitControllerLost, "controller_lost", 4);
+            if (answered) {
+              enter_safe_mode(kExitControllerLost, "controller_lost", kSafeControllerDied, on_loss);
+            }
             controller = 0;
             break;
           case shm::WaitResult::kNoController:
             d.Record(EventKind::kControllerDetached, controller);
-            if (answered) enter_safe_mode(kExitControllerLost, "controller_lost", 5);
+            if (answered) {
+              enter_safe_mode(kExitControllerLost, "controller_lost", kSafeControllerDetached,
+                              on_loss);
+            }
             controller = 0;
             break;
         }
       }
     }
 
-    //---- the end of a damped hold: servos off
+    //---- the end of a damped hold: servos off; the run ends, or waits to servo on again
     if (!done && (d.state == DriverState::kSafeMode || d.state == DriverState::kStopping) &&
         NowNs() >= phase_end) {
       d.servo_on = false;
       d.Record(EventKind::kServoOff);
-      done = true;
+      if (d.state == DriverState::kSafeMode && after_safe_mode != Rearm::kNone && stops_seen > 0) {
+        // a stop asked for during a safe mode that would have recovered: the run ends here
+        result_.exit_code = kExitInterrupted;
+        outcome = "interrupted";
+        done = true;
+      } else if (d.state == DriverState::kSafeMode && after_safe_mode != Rearm::kNone) {
+        // this servo-off is also the boards' re-arm after a reset (udp/PROTOCOL.md)
+        d.state = DriverState::kInactive;
+        rearm = after_safe_mode;
+        clean_reads = 0;
+        result_.exit_code = kExitOk;
+        outcome = "completed";
+        d.Record(rearm == Rearm::kBoards ? EventKind::kBoardRearm
+                                         : EventKind::kWaitingForController);
+      } else {
+        done = true;
+      }
     }
 
     //---- write the boards

@@ -48,6 +48,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--duration", d.duration, "[s] run this long, then stop; 0 runs until stopped")
       ->capture_default_str()->check(ohrp::cli::NonNegative());
+  std::string loss = "end";
+  app.add_option("--on-controller-loss", loss,
+                 "when the controller dies, goes silent or detaches: safe mode, then end the run, "
+                 "or turn the servos off and wait for a new controller (servo-on again when it "
+                 "attaches)")
+      ->capture_default_str()->check(CLI::IsMember({"end", "wait"}));
   app.add_option("--rt-priority", d.rt.priority, "SCHED_FIFO priority of the loop; 0: SCHED_OTHER")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 99));
   app.add_flag("--no-mlock", no_mlock, "do not lock the process's memory");
@@ -61,9 +67,12 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 duration reached or replay ended, 2 bad option, model, plugin file or\n"
       "segment, 3 the boards failed (open, or no valid read), 5 controller lost (safe mode),\n"
-      "6 board silent or reset (safe mode), 7 emergency stop, 130 interrupted (SIGINT/SIGTERM).\n"
+      "6 board silent (safe mode), 7 emergency stop, 130 interrupted (SIGINT/SIGTERM). A board\n"
+      "reset, and a lost controller with --on-controller-loss wait, are recovered from: servo-off,\n"
+      "then servo-on again when safe; the run's end then decides the exit code.\n"
       "Details: hw_driver/README.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   d.rt.lock_memory = !no_mlock;
+  ohrp::shm::ParseControllerLoss(loss, &d.on_controller_loss);  // one of the choices above
   return ohrp::hw::RunProgram(o);
 }

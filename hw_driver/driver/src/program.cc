@@ -60,6 +60,15 @@ void PrintEvent(const Event& e) {
                     v >= 1 && v <= kSafeBoardNonFinite ? kWhy[v] : "?");
       break;
     }
+    case EventKind::kServoOn:
+      if (e.value > 0) std::snprintf(what, sizeof(what), " (recovery %ld)", static_cast<long>(e.value));
+      break;
+    case EventKind::kWaitingForController:
+      std::snprintf(what, sizeof(what), ": servos off until a new controller attaches");
+      break;
+    case EventKind::kBoardRearm:
+      std::snprintf(what, sizeof(what), ": boards re-armed, servo-on after clean reads");
+      break;
     case EventKind::kEmergencyStop:
       std::snprintf(what, sizeof(what), " (%s): servos off", e.value == 1 ? "board input" : "SIGUSR2");
       break;
@@ -162,11 +171,11 @@ int RunProgram(const ProgramOptions& o) {
     std::fprintf(stderr,
                  "hw_driver: robot '%s' (%zu joints, %zu F/T, %zu IMU) from %s; boards: %s\n"
                  "hw_driver: segment '%s', servo cycle %g s, watchdog %d cycles, board timeout "
-                 "%d cycles, safe mode %g s\n",
+                 "%d cycles, safe mode %g s, controller loss: %s\n",
                  robot.robot_name.c_str(), robot.joint_names.size(), robot.force_names.size(),
                  robot.imu_names.size(), o.model.c_str(), o.io_plugin.c_str(), o.segment.c_str(),
                  o.driver.period, o.driver.watchdog_cycles, o.driver.board_timeout_cycles,
-                 o.driver.safe_time);
+                 o.driver.safe_time, shm::ControllerLossName(o.driver.on_controller_loss));
   }
 
   //---------------- the reporter: SIGUSR1 and the stats file, off the loop's thread ----------

@@ -37,6 +37,7 @@ bool WriteStats(const std::string& path, const ProgramOptions& o, const shm::Pro
     j["duration"] = result->duration;
     j["safe_mode"] = result->safe_mode;
     j["safe_mode_cycle"] = result->safe_mode_cycle;
+    j["recoveries"] = result->recoveries;
     j["rt"] = result->rt.Describe();
     j["rt_warnings"] = result->rt.warnings;
     json events = json::array();

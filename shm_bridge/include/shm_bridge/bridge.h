@@ -116,6 +116,12 @@ class Producer {
   // The attached controller's pid, 0 if none.
   pid_t controller_pid() const;
 
+  // Lets go of controller `pid` (one that missed its timeout, see controller_loss.h): frees
+  // the controller slot if `pid` still holds it, so that a new controller can attach; the
+  // dropped controller's next read or write returns ReadResult::kDropped. True when `pid` held
+  // the slot. Real-time safe.
+  bool DropController(pid_t pid);
+
   // Sets the producer state seen by controllers (kStopped / kFailed end their reads).
   void SetState(ProducerState state);
 
@@ -137,6 +143,8 @@ enum class ReadResult {
   kProducerGone,     // the producer's process is gone
   kProducerStopped,  // the producer ended its run (state kStopped or kFailed)
   kNotOpen,
+  kDropped,          // the producer gave up on this controller (it missed the producer's
+                     // timeout) and freed its slot (controller_loss.h); nothing more is written
 };
 
 const char* ReadResultName(ReadResult r);
@@ -163,13 +171,18 @@ class RobotAdaptor {
   // Blocks until the sensors of the next cycle are published, then copies them into `*out`.
   // Only the entries in use (njoint, nforce, nimu of header()) are copied; the rest of `*out`
   // is left as it was. A cycle published before open (and not yet answered) is returned first.
+  // Returns kDropped, before anything else, once the producer has let this controller go
+  // (Producer::DropController): the slot is no longer this process's.
   ReadResult read(SensorBlock* out);
 
   // Writes the commands answering the last cycle read (answers_cycle is set here) and posts
   // commands_ready. Copies commands.njoint (clamped to kMaxJoints) joints; `seq` and
-  // `answers_cycle` of `commands` are ignored. Returns kProducerStopped (writing nothing) once
-  // the producer has ended its run.
+  // `answers_cycle` of `commands` are ignored. Returns kDropped once the producer has let this
+  // controller go, and kProducerStopped once the producer has ended its run, writing nothing.
   ReadResult write(const CommandBlock& commands);
+
+  // True once the producer has let this controller go (its slot holds another pid or none).
+  bool dropped() const;
 
   // Releases the controller slot and unmaps the segment. Safe to call twice.
   void close();

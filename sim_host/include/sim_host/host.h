@@ -9,16 +9,18 @@
 #include <string>
 #include <vector>
 
+#include "shm_bridge/controller_loss.h"
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 
 namespace ohrp::sim {
 
-enum class ControllerLoss {
-  kEnd,       // stop the run (exit code kExitControllerLost)
-  kWait,      // hold the robot, freeze time and wait for a new controller
-  kContinue,  // keep simulating with the last references held
-};
+// What the run does when the controller dies, hangs past --controller-timeout or detaches
+// (the policy both producers share, shm_bridge/controller_loss.h): kEnd stops the run (exit code
+// kExitControllerLost), kWait holds the robot, freezes time and waits for a new controller,
+// kContinue keeps simulating with the last references held. A controller that hung is dropped
+// (its slot freed): it exits with the controllers' "dropped" code should it run again.
+using ControllerLoss = shm::ControllerLoss;
 
 // An external push on the base: a wrench (world frame, at the base's centre of mass) applied
 // from t0 to t1 of simulated time, e.g. to tilt the standing robot and release it. The wrench
@@ -40,6 +42,10 @@ bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* 
 // pushes whose window holds the step starting at `time` (see Perturbation). Writes 6 numbers
 // (force then torque); no allocation.
 void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]);
+
+// True when push `p` acts on the physics step starting at `time` (step `dt`): the step starts
+// in [t0, t1), to half a step (the rule of PushWrenchAt).
+bool PushActiveAt(const Perturbation& p, double time, double dt);
 
 // Puts the pushes' wrench for the step about to run on body `body`'s row of d->xfrc_applied.
 // MuJoCo never clears xfrc_applied, so the row changes by the difference between the wrench

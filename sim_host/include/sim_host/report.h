@@ -13,8 +13,34 @@
 
 namespace ohrp::sim {
 
+// One thing that happened in the run, for the summary's "events": a controller attached, lost
+// (died, detached, silent past the timeout) or whose commands began to be rejected; a push
+// began or ended. Recorded without allocation (RunStats::Record).
+struct HostEvent {
+  double time = 0;         // simulated time [s]
+  uint64_t cycle = 0;
+  const char* kind = "";   // controller_attached | controller_died | controller_detached |
+                           // controller_silent | commands_rejected | push_start | push_end
+  int64_t value = 0;       // controller_*: its pid; commands_rejected: joints rejected in that
+                           // block; push_*: the push's index in the order given
+};
+
+inline constexpr size_t kMaxHostEvents = 4096;  // events kept per run; more are counted
+
 // what happened during the run, for the report and the summary
 struct RunStats {
+  RunStats() { events.reserve(kMaxHostEvents); }
+  // appends an event (capacity reserved: no allocation), or counts it as dropped when full
+  void Record(double time, const char* kind, int64_t value) {
+    if (events.size() < kMaxHostEvents) {
+      events.push_back(HostEvent{time, cycles, kind, value});
+    } else {
+      ++events_dropped;
+    }
+  }
+  std::vector<HostEvent> events;
+  uint64_t events_dropped = 0;
+
   uint64_t steps = 0;
   uint64_t cycles = 0;
   uint64_t commands = 0;
@@ -67,7 +93,8 @@ std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robo
 // One line: outcome, simulated and wall time, real-time factor, counts.
 void PrintReport(const RunStats& st);
 
-// The JSON summary (outcome, timing, counts, the robot's mass and the mass below each force
+// The JSON summary (outcome, timing, counts, the events with their simulated times and cycles,
+// "events": [{"time", "cycle", "event", "value"}], the robot's mass and the mass below each force
 // sensor, which the sensor does not carry, and the soles' rectangles in their sensors' frames,
 // "soles": {sensor: {"sole", "x": [min, max], "y": [min, max], "z", "foot_mass",
 // "foot_com": [x, y, z]}}).

@@ -22,13 +22,16 @@
 //              configure                 activate (first valid read)
 //   kUnconfigured -----> kInactive ---------------------------------> kActive <- commands
 //                        servos off       hold measured q, default gains,   |    accepted
-//                            ^            servos on                         |
-//                            |                 watchdog / board fault       v
-//                            |     servo-off  <------------------------- kSafeMode: damped hold
-//                            +--- (end of run) <- kStopping: damped hold    of the last valid
-//                            |       ^              (stop, duration, end     references for
-//                            |       |               of data)                safe_time
-//                            +-- emergency stop: servos off at once, from any state
+//                         ^    ^          servos on                         |
+//                         |    |               watchdog / board fault       v
+//                         |    |   servo-off  <------------------------- kSafeMode: damped hold
+//                         |    +--- (end of run) <- kStopping: damped hold  of the last valid
+//                         |    |       ^              (stop, duration, end   references for
+//                         |    |       |               of data)              safe_time
+//                         |    +-- emergency stop: servos off at once, from any state
+//                         +------ servo-off, then servo-on again when safe (recovery): after a
+//                                 board reset, and after a lost controller with
+//                                 --on-controller-loss wait
 //   close: boards closed, segment removed -> kClosed.
 //
 //   configure   Create: the boards are opened (IoConfig) and the segment exists; sensors are
@@ -41,7 +44,20 @@
 //               first answer, dies (pid check in every command wait), or detaches; or when a
 //               board is silent or sends a NaN or inf (event board_non_finite, not
 //               board_silent) for board_timeout_cycles cycles, or reports a reset. Commands
-//               are ignored; after safe_time the servos go off and the run ends.
+//               are ignored; after safe_time the servos go off and the run ends, except:
+//   recovery    a board reset: the servo-off that ends the safe mode re-arms the reset board
+//               (udp/PROTOCOL.md: a reset motor board stays off until it gets an all-off
+//               command); the driver then waits, servos off (kInactive, event board_rearm),
+//               for board_timeout_cycles valid reads in a row without a reset flag, and turns
+//               the servos on again holding the measured positions (event servo_on, value =
+//               the recovery's number); an attached controller's commands count again from
+//               the next cycle. A lost controller with on_controller_loss kWait: after the
+//               servo-off the driver waits (event waiting_for_controller) for a new controller
+//               to attach, then servo-on as above, with a valid read. A silent controller is
+//               dropped from the segment when it is declared lost (Producer::DropController):
+//               resumed, its next read returns kDropped and it exits non-zero. A recovery sets
+//               the run's outcome back to completed: how the run ends decides its exit code;
+//               the summary keeps safe_mode, the events and the number of recoveries.
 //   stopping    SIGINT/SIGTERM, the duration reached or the replay's end of data: a damped
 //               hold for servo_off_time, then servos off, run ends.
 //   e-stop      IoState fault kEmergencyStop or SIGUSR2 (RequestEmergencyStop): the write of
@@ -63,6 +79,7 @@
 #include "hw_driver/robot_io.h"
 #include "hw_driver/rt.h"
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/controller_loss.h"
 
 namespace ohrp::hw {
 
@@ -71,7 +88,7 @@ inline constexpr int kExitOk = 0;              // duration reached, or the repla
 inline constexpr int kExitUsage = 2;           // bad option, model, plugin file or segment
 inline constexpr int kExitIo = 3;              // the boards failed: open, or no valid read
 inline constexpr int kExitControllerLost = 5;  // controller silent, dead or detached: safe mode
-inline constexpr int kExitBoardFault = 6;      // a board silent or reset: safe mode
+inline constexpr int kExitBoardFault = 6;      // a board silent or sending NaN: safe mode
 inline constexpr int kExitEmergencyStop = 7;   // emergency stop: servos off at once
 inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: servo-off, clean shutdown
 
@@ -91,6 +108,9 @@ struct DriverOptions {
   double safe_kd_scale = 2.0;      //              kd = default_kd * this
   double servo_on_timeout = 1.0;   // [s] for the boards' first valid read
   double duration = 0;             // [s] of driver time, then stop; 0: until stopped
+  // a lost controller: kEnd ends the run after the safe mode; kWait turns the servos off and
+  // waits for a new controller (kContinue is not offered: the robot is not left without one)
+  shm::ControllerLoss on_controller_loss = shm::ControllerLoss::kEnd;
   RtSettings rt;
 };
 
@@ -100,6 +120,8 @@ enum class EventKind {
   kBoardSilent, kBoardBack, kBoardReset, kSensorFault, kSafeMode, kServoOff, kEmergencyStop,
   kEndOfData, kStopRequested, kDurationReached, kIoError, kNoValidRead,
   kBoardNonFinite,  // a board sent a NaN or inf: no valid read (value: IoState::nonfinite_boards)
+  kWaitingForController,  // servos off after a lost controller; waiting for a new one
+  kBoardRearm,            // servos off after a board reset (its re-arm); waiting for clean reads
 };
 const char* EventName(EventKind k);
 
@@ -142,6 +164,7 @@ struct DriverResult {
   double duration = 0;                // driver time run [s]
   uint64_t safe_mode_cycle = 0;       // cycle at which safe mode began (0 and !safe_mode: never)
   bool safe_mode = false;
+  int recoveries = 0;                 // servo-ons after a recovered safe mode
   std::vector<Event> events;
   uint64_t events_dropped = 0;
   std::vector<uint32_t> rejected_per_joint;
