@@ -32,9 +32,11 @@ int main(int argc, char** argv) {
       "must be the producer's robot (checked by the model hash in the segment header).",
       "balance"};
   app.add_option("--model", o.model, "MJCF of the robot (must match the producer's robot)")
-      ->default_val(DefaultModelFile());
+      ->default_val(DefaultModelFile())
+      ->check(CLI::ExistingFile);
   app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")
-      ->default_val(DefaultPoseFile());
+      ->default_val(DefaultPoseFile())
+      ->check(CLI::ExistingFile);
   app.add_option("--ramp", o.ramp, "[s] ramp from the measured pose to the stance pose")
       ->default_val(o.ramp);
   app.add_option("--settle", o.settle, "[s] of quiet standing before the CoM reference is taken")

@@ -2,6 +2,7 @@
 // controllers/walk.h.
 
 #include <csignal>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/command_line.h"
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> commands;
   app.add_option("--command,-c", commands, "a walk command (repeatable; see below)")->take_all();
   app.add_option("--params", o.params_file,
-                 "YAML file of gait, preview and step-limit parameters (docs/walking.md)");
+                 "YAML file of gait, preview and step-limit parameters (docs/walking.md)")
+      ->check(CLI::ExistingFile);
   app.add_option("--terrain", o.terrain,
                  "MJCF scene whose static geometry the steps are put on (height and tilt under "
                  "each sole); default: flat ground")
@@ -45,9 +47,11 @@ int main(int argc, char** argv) {
   app.add_option("--log-seconds", o.log_seconds, "[s] of walk log kept at most")
       ->default_val(o.log_seconds);
   app.add_option("--model", b.model, "MJCF of the robot (must match the producer's robot)")
-      ->default_val(DefaultModelFile());
+      ->default_val(DefaultModelFile())
+      ->check(CLI::ExistingFile);
   app.add_option("--pose", b.pose_file, "stance pose, YAML by joint name [rad]")
-      ->default_val(DefaultPoseFile());
+      ->default_val(DefaultPoseFile())
+      ->check(CLI::ExistingFile);
   app.add_option("--ramp", b.ramp, "[s] ramp from the measured pose to the stance pose")
       ->default_val(b.ramp);
   app.add_option("--step-time", o.gait.step_time, "[s] one step (double + single support)")
@@ -74,6 +78,10 @@ int main(int argc, char** argv) {
     std::string error;
     if (!ParseWalkCommand(text, &c, &error)) {
       std::cerr << "walk: --command " << error << "\n";
+      return kExitUsage;
+    }
+    if (c.kind == WalkCommand::Kind::kSteps && !std::filesystem::exists(c.file)) {
+      std::cerr << "walk: --command \"" << text << "\": no footstep file " << c.file << "\n";
       return kExitUsage;
     }
     o.commands.push_back(c);

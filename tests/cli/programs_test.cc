@@ -133,7 +133,7 @@ INSTANTIATE_TEST_SUITE_P(
                     {"--segment", "x", "--pose", "nosuch.yaml"}},
         ProgramCase{"playback", {"--segment", "x", "--angles", kAngles}, "--time-scale",
                     {"--segment", "x", "--angles", "nosuch.dat"}},
-        ProgramCase{"balance", {"--segment", "x"}, "--lift", {}},
+        ProgramCase{"balance", {"--segment", "x"}, "--lift", {"--segment", "x", "--model", "nosuch.xml"}},
         ProgramCase{"bench_bridge", {}, "--cycles", {}, false},
         ProgramCase{"bench_loop", {}, "--duration", {}, false},
         ProgramCase{"bench_rt", {}, "--period", {}, false},
