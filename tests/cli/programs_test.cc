@@ -109,12 +109,14 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"posture", {"--segment", "x"}, "--ramp", {}},
         ProgramCase{"playback", {"--segment", "x", "--angles", "a.dat"}, "--time-scale", {}},
         ProgramCase{"balance", {"--segment", "x"}, "--lift", {}},
+        ProgramCase{"walk", {"--segment", "x"}, "--step-time", {}},
         ProgramCase{"bench_bridge", {}, "--cycles", {}, false},
         ProgramCase{"bench_loop", {}, "--duration", {}, false},
         ProgramCase{"bench_rt", {}, "--period", {}, false},
         ProgramCase{"bench_contact", {}, "--dt", {}, false},
         ProgramCase{"bench_effects", {}, "--cycles", {}, false},
         ProgramCase{"bench_balance", {}, "--impulse", {}, false},
+        ProgramCase{"bench_walk", {}, "--control-period", {}, false},
         ProgramCase{"bench_accuracy", {}, "--restarts", {}, false}),
     [](const ::testing::TestParamInfo<ProgramCase>& info) { return info.param.name; });
 
