@@ -133,13 +133,17 @@ INSTANTIATE_TEST_SUITE_P(
                     {"--segment", "x", "--pose", "nosuch.yaml"}},
         ProgramCase{"playback", {"--segment", "x", "--angles", kAngles}, "--time-scale",
                     {"--segment", "x", "--angles", "nosuch.dat"}},
-        ProgramCase{"balance", {"--segment", "x"}, "--lift", {"--segment", "x", "--model", "nosuch.xml"}},
+        ProgramCase{"balance", {"--segment", "x"}, "--lift",
+                    {"--segment", "x", "--model", "nosuch.xml"}},
+        ProgramCase{"walk", {"--segment", "x"}, "--step-time",
+                    {"--segment", "x", "--params", "nosuch.yaml"}},
         ProgramCase{"bench_bridge", {}, "--cycles", {}, false},
         ProgramCase{"bench_loop", {}, "--duration", {}, false},
         ProgramCase{"bench_rt", {}, "--period", {}, false},
         ProgramCase{"bench_contact", {}, "--dt", {}, false},
         ProgramCase{"bench_effects", {}, "--cycles", {}, false},
         ProgramCase{"bench_balance", {}, "--impulse", {}, false},
+        ProgramCase{"bench_walk", {}, "--control-period", {}, false},
         ProgramCase{"bench_accuracy", {}, "--restarts", {}, false}),
     [](const ::testing::TestParamInfo<ProgramCase>& info) { return info.param.name; });
 

@@ -1,82 +1,23 @@
 // Tests that the per-cycle calls of robot_model/kinematics, robot_model/ik and
 // robot_model/estimator allocate nothing:
-// this binary replaces malloc and its relatives (glibc), so every heap allocation (operator
-// new, Eigen, MuJoCo) made while counting is seen.
+// this binary replaces malloc and its relatives (count_allocations.h), so every heap allocation
+// (operator new, Eigen, MuJoCo) made while counting is seen.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstddef>
 #include <vector>
 
+#include "count_allocations.h"
 #include "robot_model/estimator.h"
 #include "robot_model/ik.h"
 #include "robot_model/kinematics.h"
 #include "test_models.h"
-
-// not under the sanitizers (OHRP_SANITIZE): AddressSanitizer owns malloc and would not see these
-#if defined(__GLIBC__) && !defined(OHRP_SANITIZE)
-extern "C" {
-void* __libc_malloc(size_t size);
-void* __libc_calloc(size_t n, size_t size);
-void* __libc_realloc(void* p, size_t size);
-void* __libc_memalign(size_t alignment, size_t size);
-void __libc_free(void* p);
-}
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-void Count() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-}  // namespace
-
-// the replacements: count, then hand over to glibc's own allocator
-extern "C" {
-void* malloc(size_t size) {
-  Count();
-  return __libc_malloc(size);
-}
-void* calloc(size_t n, size_t size) {
-  Count();
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, size_t size) {
-  Count();
-  return __libc_realloc(p, size);
-}
-void* memalign(size_t alignment, size_t size) {
-  Count();
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(size_t alignment, size_t size) {
-  Count();
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** p, size_t alignment, size_t size) {
-  Count();
-  *p = __libc_memalign(alignment, size);
-  return *p ? 0 : 12;  // ENOMEM
-}
-void free(void* p) { __libc_free(p); }
-}
-#define OHRP_CAN_COUNT 1
-#endif
 
 namespace ohrp::model {
 namespace {
 
 #if defined(OHRP_CAN_COUNT)
 
-// counts the heap allocations made by `f`
-template <typename F>
-long Allocations(F&& f) {
-  g_allocations = 0;
-  g_counting = true;
-  f();
-  g_counting = false;
-  return g_allocations.load();
-}
+using ohrp::testing::Allocations;
 
 TEST(Allocation, TheCounterSeesAnAllocation) {
   std::vector<double>* v = nullptr;

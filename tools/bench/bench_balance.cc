@@ -4,97 +4,44 @@
 // soft soles, 1 ms physics, 5 ms control) and only their update() calls are timed, alternately
 // in rounds. Pushes during the measured window keep the stabilizer busy.
 //
-// Each update() is timed twice: wall time (steady_clock; includes being preempted on a loaded
-// machine) and the thread's CPU time (CLOCK_THREAD_CPUTIME_ID; excludes it, but its clock is
-// a system call, whose cost, measured on empty pairs of reads, is subtracted). Median, p90 and
+// Each update() is timed twice, wall and thread CPU time (cycle_timing.h). Median, p90 and
 // p99 of both are printed. A fingerprint of all the commands balance sent (joint references,
 // bit for bit) tells whether a change to the libraries changed its results.
-#include <time.h>
-
-#include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
 #include "cli/command_line.h"
 #include "controllers/balance.h"
 #include "controllers/posture.h"
+#include "cycle_timing.h"
 #include "sim_host/in_process.h"
 
 namespace {
 
 using ohrp::controllers::Controller;
 
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-// the calling thread's CPU time [s]
-double ThreadCpu() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
-}
-
-// the cost of reading the thread CPU clock (the median of back-to-back reads) [s]
-double ThreadCpuOverhead() {
-  std::vector<double> d(2000);
-  for (double& x : d) {
-    const double t0 = ThreadCpu();
-    x = ThreadCpu() - t0;
-  }
-  return Quantile(d, 0.5);
-}
-
-// FNV-1a over the bytes of the commanded joint references
-void Fingerprint(const ohrp::shm::CommandBlock& c, int njoint, uint64_t* h) {
-  for (int j = 0; j < njoint; ++j) {
-    unsigned char b[sizeof(double)];
-    std::memcpy(b, &c.joint[j].q_ref, sizeof b);
-    for (unsigned char x : b) *h = (*h ^ x) * 1099511628211ull;
-  }
-}
-
 struct Loop {
   std::unique_ptr<ohrp::sim::InProcessRobot> robot;
   Controller* controller = nullptr;
   ohrp::shm::CommandBlock commands{};
-  std::vector<double> wall, cpu;  // update() wall and thread CPU times [s]
+  ohrp::bench::CycleTimes times;  // update() wall and thread CPU times [s]
   uint64_t fingerprint = 1469598103934665603ull;
 
   void Cycles(int n, bool timed) {
     const int nj = robot->header().njoint;
     for (int i = 0; i < n; ++i) {
-      // the wall clock inside the CPU clock: its reads are cheap, the CPU clock's are not
-      const double c0 = timed ? ThreadCpu() : 0, w0 = timed ? Now() : 0;
-      controller->update(robot->sensors(), &commands);
-      if (timed) {
-        const double w1 = Now(), c1 = ThreadCpu();
-        cpu.push_back(c1 - c0);
-        wall.push_back(w1 - w0);
-      }
-      Fingerprint(commands, nj, &fingerprint);
+      auto update = [&] { controller->update(robot->sensors(), &commands); };
+      if (timed)
+        times.Time(update);
+      else
+        update();
+      ohrp::bench::Fingerprint(commands, nj, &fingerprint);
       robot->Cycle(commands);
     }
   }
 };
-
-void PrintRow(const char* name, const std::vector<double>& wall, const std::vector<double>& cpu,
-              double cpu_overhead) {
-  std::printf("%-44s %8.2f %8.2f %8.2f   %8.2f %8.2f %8.2f\n", name, Quantile(wall, 0.5) * 1e6,
-              Quantile(wall, 0.9) * 1e6, Quantile(wall, 0.99) * 1e6,
-              (Quantile(cpu, 0.5) - cpu_overhead) * 1e6, (Quantile(cpu, 0.9) - cpu_overhead) * 1e6,
-              (Quantile(cpu, 0.99) - cpu_overhead) * 1e6);
-}
 
 [[noreturn]] void Fail(const std::string& what) {
   std::fprintf(stderr, "bench_balance: %s\n", what.c_str());
@@ -164,14 +111,15 @@ int main(int argc, char** argv) {
   for (int r = 0; r < rounds; ++r) {
     for (Loop& l : loops) l.Cycles(cycles, true);
   }
-  const double overhead = ThreadCpuOverhead();
-  const double b = Quantile(loops[0].wall, 0.5), p = Quantile(loops[1].wall, 0.5);
+  const double overhead = ohrp::bench::ThreadCpuOverhead();
+  const double b = ohrp::bench::Quantile(loops[0].times.wall, 0.5),
+               p = ohrp::bench::Quantile(loops[1].times.wall, 0.5);
   std::printf("%-44s %26s   %26s\n", "one control cycle (update only) [us]",
               "wall: median  p90  p99", "thread CPU: median  p90  p99");
-  PrintRow("posture (ramp, then hold)", loops[1].wall, loops[1].cpu, overhead);
-  PrintRow("balance (estimator + stabilizer + 2 leg IK)", loops[0].wall, loops[0].cpu, overhead);
+  ohrp::bench::PrintRow("posture (ramp, then hold)", loops[1].times, overhead);
+  ohrp::bench::PrintRow("balance (estimator + stabilizer + 2 leg IK)", loops[0].times, overhead);
   std::printf("(%zu cycles each; thread CPU clock read cost %.2f us subtracted)\n",
-              loops[0].wall.size(), overhead * 1e6);
+              loops[0].times.wall.size(), overhead * 1e6);
   const ohrp::controllers::BalanceStats& st = balance->stats();
   std::printf("balance: %llu stance cycles, %llu leg IK results not converged, base height %.3f m "
               "at the end (truth)\n",

@@ -124,7 +124,8 @@ bool Emulator::SetUp(int* exit_code) {
                    std::strerror(errno));
       return false;
     }
-    std::fprintf(log_, "time,base_z,tilt_deg,servos_on,silent,stuck,saturated,estop\n");
+    std::fprintf(log_, "time,base_z,tilt_deg,servos_on,silent,stuck,saturated,estop,base_x,base_y,"
+                 "yaw_deg\n");
   }
   if (!socket_.Open(o_.host, o_.port, &error)) {
     std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
@@ -169,8 +170,17 @@ void Emulator::PollControl() {
 void Emulator::Log() {
   int on = 0;
   for (int i = 0; i < block_.njoint; ++i) on += servo_on_[i] ? 1 : 0;
-  std::fprintf(log_, "%.4f,%.5f,%.3f,%d,%u,%u,%u,%d\n", d_->time, BaseZ(), BaseTiltDeg(), on,
-               faults_.silent, faults_.stuck, faults_.saturated, faults_.estop ? 1 : 0);
+  // the base's horizontal position and heading last (columns added after the first eight)
+  double x = 0, y = 0, yaw = 0;
+  if (robot_.base_qpos >= 0) {
+    const double* p = d_->qpos + robot_.base_qpos;  // x y z, then w x y z
+    x = p[0];
+    y = p[1];
+    yaw = std::atan2(2 * (p[3] * p[6] + p[4] * p[5]), 1 - 2 * (p[5] * p[5] + p[6] * p[6]));
+  }
+  std::fprintf(log_, "%.4f,%.5f,%.3f,%d,%u,%u,%u,%d,%.5f,%.5f,%.3f\n", d_->time, BaseZ(),
+               BaseTiltDeg(), on, faults_.silent, faults_.stuck, faults_.saturated,
+               faults_.estop ? 1 : 0, x, y, yaw * 180.0 / M_PI);
 }
 
 void Emulator::Report(double wall, int exit_code) {

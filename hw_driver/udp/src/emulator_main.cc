@@ -43,7 +43,8 @@ int main(int argc, char** argv) {
                  "file of fault commands read while running, one per appended line: loss P | "
                  "late P MS | silent B | talk B | reset B | stuck S | saturate S | sensor-ok S | "
                  "estop on|off | clear");
-  app.add_option("--log", o.log_path, "CSV log: robot time, base height and tilt, servos, faults");
+  app.add_option("--log", o.log_path,
+                 "CSV log: robot time, base height and tilt, servos, faults, base x, y and yaw");
   app.add_option("--log-every", o.log_every, "cycles between log rows")->capture_default_str()
       ->check(ohrp::cli::Positive());
   app.add_flag("--quiet,-q", o.quiet, "print errors and the result line only");

@@ -1,0 +1,43 @@
+// Test helpers for running a built controller program, unchanged, on the hardware path:
+// hw_emulator (the boards, a MuJoCo HRP-1S behind them, real time) <- UDP -> hw_driver with
+// libohrp_io_udp.so (2 ms servo cycle, real-time pacing) <- segment -> the controller. The
+// emulator's CSV log (every 10th cycle) tells what the robot did.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace ohrp::controllers::testing {
+
+constexpr double kHalfSitHeight = 0.6839;  // base height of the halfsit keyframe [m]
+
+// one row of the emulator's log
+struct EmulatorRow {
+  double t = 0, z = 0, tilt = 0;  // robot time [s], base height [m], tilt [deg]
+  int on = 0;                     // servos on
+  double x = 0, y = 0, yaw = 0;   // base position [m] and heading [deg] in the world
+};
+
+struct Chain {
+  int driver = -1, controller = -1, emulator = -1;  // exit codes
+  std::string controller_out, driver_out;
+  std::vector<EmulatorRow> rows;
+  nlohmann::json summary;  // the driver's --summary
+};
+
+// Runs the emulator (flat scene, halfsit keyframe, `emulator_args` added), the driver
+// (`duration` s of 2 ms servo cycles), then `controller` (program name and arguments; the
+// segment is added); the emulator is stopped with SIGINT once the driver ended.
+Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
+               const std::vector<std::string>& emulator_args, double duration);
+
+// base height and tilt over [t0, t1] of robot time, all 29 servos on: {z_lo, z_hi, tilt_max}
+std::array<double, 3> Span(const Chain& c, double t0, double t1);
+
+// the programs the chain needs that are not built ("" when all are)
+std::string MissingHwProgram(const std::string& controller);
+
+}  // namespace ohrp::controllers::testing

@@ -1,0 +1,104 @@
+// Tests that the walk controller's per-cycle path allocates nothing (issue 10, item 3): the
+// controller stepped in-process (sim_host::InProcessRobot: soft soles, 1 ms physics, 5 ms
+// control) through standing up and a 1 m walk with its CSV log on; every heap allocation made
+// inside update() is counted (this binary replaces malloc: count_allocations.h). A binary of its
+// own, like robot_model_alloc_test.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "../robot_model/count_allocations.h"
+#include "controllers/walk.h"
+#include "fake_robot.h"
+#include "sim_host/in_process.h"
+
+namespace ohrp::controllers::testing {
+namespace {
+
+#if defined(OHRP_CAN_COUNT)
+
+using ohrp::testing::Allocations;
+
+constexpr double kLimit = 30.0;  // [s] of robot time the walk must be done in
+
+// allocations inside update(), by phase, and the first cycle that allocated while walking
+struct Count {
+  long standing = 0, walking = 0, after = 0;
+  double first_at = -1;  // producer time [s]
+  int first_step = -1;   // steps landed then
+};
+
+TEST(WalkAllocation, UpdateAllocatesNothingOnceWalking) {
+  sim::InProcessOptions io;
+  io.scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+  io.keyframe = "halfsit";
+  std::string error;
+  auto robot = sim::InProcessRobot::Create(io, &error);
+  ASSERT_TRUE(robot) << error;
+  // a 1 m walk with the log kept in memory (written at close)
+  const std::string log = TempPath("walk_alloc_log");
+  WalkOptions o;
+  o.balance.ramp = 0.5;
+  WalkCommand goal;
+  ASSERT_TRUE(ParseWalkCommand("goal 1 0 0", &goal, &error)) << error;
+  o.commands.push_back(goal);
+  o.log_file = log;
+  ConfigStatus status;
+  auto walk = WalkController::Create(o, &status);
+  ASSERT_TRUE(walk) << status.message;
+  status = walk->configure(robot->header());
+  ASSERT_TRUE(status.ok()) << status.message;
+  walk->activate(robot->sensors());
+
+  // the counter works in this binary
+  std::unique_ptr<double[]> probe;
+  ASSERT_GT(Allocations([&] { probe = std::make_unique<double[]>(64); }), 0);
+
+  // the control loop: only update() is counted
+  shm::CommandBlock commands{};
+  Count n;
+  bool was_walking = false;
+  while (robot->sensors().time < kLimit && !(was_walking && walk->done())) {
+    const shm::SensorBlock& s = robot->sensors();
+    const long k = Allocations([&] { walk->update(s, &commands); });
+    was_walking = was_walking || walk->walking();
+    long& phase = !was_walking ? n.standing : walk->done() ? n.after : n.walking;
+    phase += k;
+    if (k > 0 && was_walking && n.first_at < 0) {
+      n.first_at = s.time;
+      n.first_step = walk->walk_stats().steps_done;
+    }
+    robot->Cycle(commands);
+  }
+  ASSERT_TRUE(walk->deactivate());
+  ASSERT_TRUE(walk->close());
+  std::ostringstream report;
+  walk->report(report);
+  const WalkStats& w = walk->walk_stats();
+  std::printf("[ figures  ] allocations in update(): %ld standing up, %ld walking (first at "
+              "t = %.3f s, %d steps landed), %ld after; %d steps, %llu walk cycles\n%s",
+              n.standing, n.walking, n.first_at, n.first_step, n.after, w.steps_done,
+              static_cast<unsigned long long>(w.walk_cycles), report.str().c_str());
+  // the walk was walked: several steps, all landed, done on both feet
+  EXPECT_TRUE(walk->done()) << report.str();
+  EXPECT_GE(w.steps_done, 4);
+  EXPECT_EQ(w.steps_done, w.steps_planned);
+  EXPECT_EQ(n.walking, 0) << "heap allocations in WalkController::update while walking (first "
+                             "at t = " << n.first_at << " s)";
+  EXPECT_EQ(n.after, 0) << "heap allocations after the walk";
+  EXPECT_TRUE(std::filesystem::file_size(log) > 0) << "the walk log written at close";
+  std::filesystem::remove(log);
+}
+
+#else
+TEST(WalkAllocation, NeedsTheCounter) {
+  GTEST_SKIP() << "heap allocations cannot be counted in this build (count_allocations.h)";
+}
+#endif
+
+}  // namespace
+}  // namespace ohrp::controllers::testing
