@@ -310,6 +310,12 @@ void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::Wal
     sup.centre[i] = w.gait.feet.p[i].head<2>();
     sup.half_size[i] = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
     sup.yaw[i] = w.gait.feet.yaw[i];
+    // a sole resting across an edge of the terrain bears only where it touches
+    const walking::Footstep* on = gen_.gait().Standing(i, w.t);
+    if (on && on->contact_half.x() >= 0 && w.gait.support[i]) {
+      sup.centre[i] += Eigen::Rotation2Dd(on->yaw) * on->contact_centre;
+      sup.half_size[i] = on->contact_half;
+    }
     sup.supporting[i] = w.gait.support[i];
     if (w.gait.support[i]) {
       ground += w.gait.feet.p[i].z();

@@ -133,6 +133,26 @@ TEST(Terrain, StepsOnStairs) {
   EXPECT_LE(x, 0.63 + 1e-9);
 }
 
+// a sole across the first riser bears only on the stair: the bearing region is the part of the
+// sole past the riser (to 1 cm, the samples' spacing), across the sole's whole width
+TEST(Terrain, ASoleAcrossARiserBearsOnTheStairOnly) {
+  auto t = Load("scene_stairs.xml");
+  ASSERT_TRUE(t);
+  const double x_world = 0.55;  // the sole spans 0.425 .. 0.675, the riser at 0.5
+  SurfaceSample s;
+  std::string why;
+  ASSERT_TRUE(t->SurfaceUnder({x_world - t->origin().x(), 0}, 0, kHalf, &s, &why)) << why;
+  EXPECT_FALSE(s.planar);
+  EXPECT_NEAR(s.z, 0.1, 1e-3);
+  EXPECT_NEAR(s.pitch, 0, 1e-6);
+  const double lo = x_world + s.contact_centre.x() - s.contact_half.x();
+  const double hi = x_world + s.contact_centre.x() + s.contact_half.x();
+  EXPECT_NEAR(hi, x_world + kHalf.x(), 1e-9);  // to the toe
+  EXPECT_GE(lo, 0.5 - 1e-9);                   // not behind the riser
+  EXPECT_LT(lo, 0.5 + 0.07);                   // the samples are 6 cm apart along the sole
+  EXPECT_NEAR(s.contact_half.y(), kHalf.y(), 1e-9);
+}
+
 TEST(Terrain, Errors) {
   std::string error;
   EXPECT_FALSE(TerrainMap::Load(kSource + "/mjcf/hrp1s/nosuch.xml", "", &error));

@@ -34,6 +34,11 @@ struct Footstep {
   // the surface's tilt under the sole, in W: its normal is Rx(roll) Ry(pitch) e_z; the sole
   // lands parallel to it (terrain.h fills it from a scene) [rad]
   double roll = 0, pitch = 0;
+  // where the sole touches the surface, in the sole's frame (x along it, y across): the centre
+  // of that region and its half sizes; negative half sizes: the whole sole (terrain.h fills it
+  // for a sole resting across an edge) [m]
+  Eigen::Vector2d contact_centre = Eigen::Vector2d::Zero();
+  Eigen::Vector2d contact_half = Eigen::Vector2d(-1, -1);
 };
 
 // Both soles now (index kLeft, kRight).

@@ -82,6 +82,8 @@ class Gait {
   FeetPose FeetAfter(int k) const;
   // index of the last step whose double support has begun at `t` (-1: none)
   int StartedBy(double t) const { return PhaseAt(t); }
+  // the step `foot` stands on at `t`: its last step landed by then (null: where it started)
+  const Footstep* Standing(int foot, double t) const;
   // when the ZMP reaches the middle of the final stance [s]
   double end_time() const;
   const GaitOptions& options() const { return options_; }
@@ -95,6 +97,8 @@ class Gait {
     Eigen::Vector3d zmp_to;    // the stance point
     double height;             // swing apex above the higher end [m]
   };
+  // the last of the first `before` steps made by `foot` (null: none, it stands where it started)
+  const Footstep* LastStepOf(int foot, int before) const;
   // index of the last phase with t0 <= t, -1 if none
   int PhaseAt(double t) const;
   Eigen::Vector3d StancePoint(const FeetPose& feet, int foot) const;

@@ -12,7 +12,8 @@
 // Under a sole (a rectangle at a footstep's position and yaw) the surface is sampled by
 // vertical rays on a 5 x 3 grid (inset 5 mm from the edges). The sole lands as a rigid plate
 // resting on those points: on the lowest plane (at the sole's centre) that leaves every sample
-// on or below it, the upper hull's facet over the centre. On a slope that is the slope; across
+// on or below it, the upper hull's facet over the centre (of equally low planes, the least
+// tilted). On a slope that is the slope; across
 // a crease (the foot of a ramp) or over a stone's edge it rests on the highest points, tilted
 // between them (`planar` then says the surface is not one plane within 2 mm). A sole with a hit
 // missing (over a hole or off the terrain) is refused.
@@ -33,6 +34,10 @@ struct SurfaceSample {
   double z = 0;               // height of the sole's centre on the surface (start frame) [m]
   double roll = 0, pitch = 0; // the surface's tilt (Footstep::roll, pitch) [rad]
   bool planar = true;         // the hits lie on the sole's plane within 2 mm
+  // the samples within 2 mm of the sole's plane, as a rectangle in the sole's frame (reaching
+  // the sole's edge where the outermost samples touch): where it bears [m]
+  Eigen::Vector2d contact_centre = Eigen::Vector2d::Zero();
+  Eigen::Vector2d contact_half = Eigen::Vector2d::Zero();
 };
 
 class TerrainMap {

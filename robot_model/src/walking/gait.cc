@@ -67,6 +67,17 @@ FeetPose Gait::FeetAfter(int k) const {
   return After(steps_[k].before, steps_[k].step);
 }
 
+const Footstep* Gait::LastStepOf(int foot, int before) const {
+  for (int k = std::min(before, static_cast<int>(steps_.size())) - 1; k >= 0; --k)
+    if (steps_[k].step.foot == foot) return &steps_[k].step;
+  return nullptr;
+}
+
+const Footstep* Gait::Standing(int foot, double t) const {
+  const int k = PhaseAt(t);
+  return LastStepOf(foot, k >= 0 && t >= steps_[k].t_land ? k + 1 : k);
+}
+
 int Gait::PhaseAt(double t) const {
   // the last phase with t0 <= t
   const auto it = std::upper_bound(steps_.begin(), steps_.end(), t,
@@ -98,6 +109,13 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     p.t_land = p.t_lift + (1 - options_.double_support_ratio) * T;
     p.before = FeetAfter(k - 1);
     p.zmp_to = StancePoint(p.before, 1 - s.foot);
+    // on a sole that bears only in part (across an edge), the ZMP goes to the middle of that part
+    const Footstep* last = LastStepOf(1 - s.foot, k);
+    if (last && last->contact_half.x() >= 0) {
+      const double c = std::cos(last->yaw), sn = std::sin(last->yaw);
+      const Eigen::Vector2d& d = last->contact_centre;
+      p.zmp_to.head<2>() = last->p.head<2>() + Eigen::Vector2d(c * d.x() - sn * d.y(), sn * d.x() + c * d.y());
+    }
     p.height = s.height >= 0 ? s.height : options_.step_height;
     steps_.push_back(p);
   }

@@ -16,6 +16,7 @@ constexpr double kInset = 0.005;      // [m] samples this far inside the sole's 
 constexpr int kNx = 5, kNy = 3;       // samples along and across the sole
 constexpr double kPlanar = 0.002;     // [m] hits within this of one plane: a planar surface
 constexpr double kSearchStep = 0.01;  // [m] grid of the shifts tried off an edge
+constexpr double kTie = 1e-6;         // [m] planes this close at the centre are equally low
 
 }  // namespace
 
@@ -129,7 +130,12 @@ bool TerrainMap::SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen:
         if (std::abs(M.determinant()) < 1e-9) continue;  // collinear samples
         const Eigen::Vector3d abc = M.partialPivLu().solve(Eigen::Vector3d(z(i), z(j), z(k)));
         if ((A * abc - z).minCoeff() < -1e-9) continue;  // a sample above the plane
-        if (!found || abc(0) < best(0)) best = abc;
+        // the lowest at the centre; of equally low ones (a sole over a riser rests as low on
+        // the stair's top as on any plane through the nose), the least tilted
+        const bool lower = abc(0) < best(0) - kTie;
+        const bool level = std::abs(abc(0) - best(0)) <= kTie &&
+                           abc.tail<2>().squaredNorm() < best.tail<2>().squaredNorm();
+        if (!found || lower || level) best = abc;
         found = true;
       }
     }
@@ -137,6 +143,21 @@ bool TerrainMap::SurfaceUnder(const Eigen::Vector2d& p, double yaw, const Eigen:
   if (!found) best = Eigen::Vector3d(z.maxCoeff(), 0, 0);
   out->planar = (A * best - z).maxCoeff() < kPlanar;
   out->z = best(0);
+  // the bearing region: the samples on the plane, out to the sole's edge beyond the outermost
+  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+  const Eigen::Vector2d inner(std::max(half.x() - kInset, 0.0), std::max(half.y() - kInset, 0.0));
+  for (int i = 0; i < kNx * kNy; ++i) {
+    if (A.row(i).dot(best) - z(i) > kPlanar) continue;
+    const Eigen::Vector2d q(A(i, 1), A(i, 2));
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  for (int a = 0; a < 2; ++a) {
+    if (lo[a] <= -inner[a] + 1e-9) lo[a] = -half[a];
+    if (hi[a] >= inner[a] - 1e-9) hi[a] = half[a];
+  }
+  out->contact_centre = 0.5 * (lo + hi);
+  out->contact_half = 0.5 * (hi - lo);
   // the normal in the sole's frame, then in the start frame (turned by the sole's yaw)
   Eigen::Vector3d nrm(-best(1), -best(2), 1.0);
   nrm = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * nrm.normalized();
@@ -187,6 +208,10 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
     s.p.z() = sample.z;
     s.roll = sample.roll;
     s.pitch = sample.pitch;
+    if (!sample.planar) {
+      s.contact_centre = sample.contact_centre;
+      s.contact_half = sample.contact_half;
+    }
     feet = After(feet, s);
   }
   return true;
