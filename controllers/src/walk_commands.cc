@@ -113,7 +113,9 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
       {"start_delay", &g.start_delay}, {"start_time", &g.start_time}, {"end_time", &g.end_time},
       {"zmp_forward", &g.zmp_forward}, {"preview_time", &o->preview.preview_time},
       {"preview_q", &o->preview.q}, {"preview_r", &o->preview.r}, {"com_lower", &o->com_lower},
-      {"lower_time", &o->lower_time}, {"step_search", &o->step_search}, {"max_forward", &l.max_forward},
+      {"lower_time", &o->lower_time}, {"step_search", &o->step_search},
+      {"swing_tilt_compensation", &o->swing_tilt_compensation},
+      {"inertia_feedforward", &o->inertia_feedforward}, {"max_forward", &l.max_forward},
       {"max_backward", &l.max_backward}, {"max_side", &l.max_side}, {"min_width", &l.min_width},
       {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance}};
   for (const auto& kv : root) {

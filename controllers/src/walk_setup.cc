@@ -21,6 +21,14 @@ ConfigStatus CheckWalkOptions(const WalkOptions& o) {
   if (!(std::isfinite(o.preview.preview_time) && o.preview.preview_time >= 0.5 &&
         o.preview.preview_time <= 5))
     return bad("preview_time must be in [0.5, 5] s (Kajita 2003: about 1.6 s)");
+  if (!(std::isfinite(o.swing_tilt_compensation) && o.swing_tilt_compensation >= 0 &&
+        o.swing_tilt_compensation <= 1))
+    return bad("swing_tilt_compensation must be in [0, 1]");
+  if (!(std::isfinite(o.inertia_feedforward) && o.inertia_feedforward >= 0 &&
+        o.inertia_feedforward <= 2))
+    return bad("inertia_feedforward must be in [0, 2]");
+  if (!(std::isfinite(o.step_search) && o.step_search >= 0 && o.step_search <= 0.2))
+    return bad("step_search must be in [0, 0.2] m");
   if (!(std::isfinite(o.log_seconds) && o.log_seconds > 0 && o.log_seconds <= 36000))
     return bad("--log-seconds must be in (0, 36000] s");
   return ConfigStatus::Ok();
