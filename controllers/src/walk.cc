@@ -248,8 +248,10 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   if (out.zmp_valid)
     walk_stats_.max_zmp_error =
         std::max(walk_stats_.max_zmp_error, (out.zmp_measured - out.zmp_desired).norm());
-  walking::MinJerk((s.time - walk_t0_) / walk_options_.lower_time, &lower_f_, &lower_df_, &lower_ddf_);
-  SolveWalkJoints(out, w, z_lower_ * (1.0 - lower_f_));
+  double lowered, unused_rate, unused_acceleration;
+  walking::MinJerk((s.time - walk_t0_) / walk_options_.lower_time, &lowered, &unused_rate,
+                   &unused_acceleration);
+  SolveWalkJoints(out, w, z_lower_ * (1.0 - lowered));
   // velocity references and feed-forward from the plan alone (the stabilizer's corrections
   // carry force feedback: differentiated, they would close a derivative loop through the
   // contact): the legs' rates of the plan's IK; for the swing leg (in the air, where the servo

@@ -141,11 +141,18 @@ TEST(PatternGenerator, SwingFeetLandWherePlanned) {
     ASSERT_EQ(s.swing, steps[k].foot);
     EXPECT_LT((s.feet.p[s.swing] - steps[k].p).norm(), 1e-3);
     EXPECT_NEAR(s.feet.yaw[s.swing], steps[k].yaw, 1e-3);
-    // vertical take-off: at 10 % of the swing the foot has not moved horizontally
-    gait.At(gait.step_lift(k) + 0.1 * (gait.step_land(k) - gait.step_lift(k)), &s);
-    EXPECT_LT((s.feet.p[s.swing] - gait.step(k - (k > 0 ? 0 : 0)).p).head<2>().norm() -
-                  (gait.step(k).p - s.feet.p[s.swing]).head<2>().norm(),
-              1.0);  // sanity: finite
+    // vertical take-off and landing: before `vertical_fraction` of the swing (0.3 onto or off a
+    // step of 1 cm or more) the foot has not moved horizontally from its lift-off spot, and
+    // after the same before landing it is over its landing spot
+    const double vf = std::abs(steps[k].p.z() - gait.FeetAfter(k - 1).p[steps[k].foot].z()) > 0.01
+                          ? 0.3
+                          : gait.options().vertical_fraction;
+    const double swing = gait.step_land(k) - gait.step_lift(k);
+    gait.At(gait.step_lift(k) + 0.5 * vf * swing, &s);
+    EXPECT_LT((s.feet.p[s.swing] - gait.FeetAfter(k - 1).p[s.swing]).head<2>().norm(), 1e-9);
+    EXPECT_GT(s.feet.p[s.swing].z(), gait.FeetAfter(k - 1).p[s.swing].z());  // it rose
+    gait.At(gait.step_land(k) - 0.5 * vf * swing, &s);
+    EXPECT_LT((s.feet.p[s.swing] - steps[k].p).head<2>().norm(), 1e-9);
     // and the apex is above the higher end by the step height
     gait.At(0.5 * (gait.step_lift(k) + gait.step_land(k)), &s);
     EXPECT_GT(s.feet.p[s.swing].z(), steps[k].p.z() + 0.99 * gait.options().step_height);

@@ -156,7 +156,6 @@ class WalkController : public BalanceController {
   Eigen::Matrix3d R0_[2];                      // the soles' orientation at yaw 0 (W)
   double sole_yaw_B_[2] = {0, 0};              // the soles' yaw against the base's
   double z_lower_ = 0;                         // [m] lowering still to do at the start
-  double lower_f_ = 0, lower_df_ = 0, lower_ddf_ = 0;  // its blend now
   bool started_ = false;
   int next_command_ = 0;
   double ready_time_ = 0;                      // a wait ends [s]
