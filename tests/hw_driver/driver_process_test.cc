@@ -318,6 +318,41 @@ TEST_F(HwDriverProcess, PublishesTheSameModelHashAsSimHostForTheSameModel) {
   EXPECT_EQ(Wait(), 130) << Stderr();
 }
 
+//---------------- the wake-up: cycle statistics within lenient bounds ----------------
+
+// no timing figure is asserted here (the machine is shared; bench_rt measures): only that the
+// cycles run, the spin-tail's margin stays within its bounds and its spin within its share
+TEST_F(HwDriverProcess, CycleStatisticsStayWithinLenientBoundsInBothWakeModes) {
+  Start({"--duration", "0.5", "--servo-off-time", "0.05"});
+  EXPECT_EQ(Wait(), 0) << Stderr();
+  auto s = Summary();
+  const long cycles = s["cycles"].get<long>();
+  EXPECT_GE(cycles + s["skipped_cycles"].get<long>(), 500);
+  EXPECT_LE(s["deadline_misses"].get<long>(), cycles / 4) << s.dump(2);
+  EXPECT_LT(s["lateness"]["p50_us"].get<double>(), 1000.0) << s.dump(2);
+  EXPECT_EQ(s["wake"]["mode"], "spin-tail");
+  EXPECT_GE(s["wake"]["margin_us"].get<double>(), 2.0);
+  EXPECT_LE(s["wake"]["margin_us"].get<double>(), 200.0);
+  EXPECT_GE(s["wake"]["spin_fraction"].get<double>(), 0.0);
+  EXPECT_LE(s["wake"]["spin_fraction"].get<double>(), 0.25 + 0.01);  // the margin's bound
+  EXPECT_NE(Stderr().find("(--wake spin-tail, margin "), std::string::npos) << Stderr();
+  // the plain sleep: never spins
+  Start({"--duration", "0.2", "--servo-off-time", "0.05", "--wake", "sleep"});
+  EXPECT_EQ(Wait(), 0) << Stderr();
+  s = Summary();
+  EXPECT_EQ(s["wake"]["mode"], "sleep");
+  EXPECT_EQ(s["wake"]["spin_fraction"].get<double>(), 0.0);
+  EXPECT_GE(s["lateness"]["count"].get<long>(), 150);
+}
+
+TEST_F(HwDriverProcess, UnknownWakeModeExitsTwoNamingTheChoices) {
+  Start({"--wake", "spin"});
+  EXPECT_EQ(Wait(), 2) << Stderr();
+  EXPECT_NE(Stderr().find("--wake: spin not in {spin-tail,sleep}"), std::string::npos)
+      << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
 //---------------- the segment is removed on every exit path ----------------
 
 TEST_F(HwDriverProcess, NormalEndRemovesTheSegment) {

@@ -1,16 +1,22 @@
 // bench_rt: wake-up lateness of hw_driver's real-time loop at 1 kHz (the Driver class with an
 // in-process stub for the boards and no controller attached: read, publish, check, write,
-// absolute-deadline sleep) beside a plain absolute-deadline clock_nanosleep loop, measured in
+// wait for the next cycle) beside a plain absolute-deadline clock_nanosleep loop, measured in
 // the same run, in alternating rounds, on the same thread with the same scheduling policy
-// (SCHED_FIFO when permitted, else SCHED_OTHER; printed). A third row, for information and not
-// in the ratio, runs the driver loop with a controller attached: a forked SCHED_OTHER process
-// answering every cycle with a position hold, as a real controller would.
+// (SCHED_FIFO when permitted, else SCHED_OTHER; printed). The driver runs twice per round: with
+// --wake sleep (its plain sleep) and with --wake spin-tail (the default: sleep short of the
+// deadline by a learned margin, then spin; the margin carries over from round to round as it
+// would in one long run). Each row gives the loop's CPU use (CLOCK_THREAD_CPUTIME_ID over the
+// wall time of its rounds) and the spin-tail's time spent spinning. A last row, for information
+// and not in the ratio, runs the spin-tail driver with a controller attached: a forked
+// SCHED_OTHER process answering every cycle with a position hold, as a real controller would.
 #include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -20,26 +26,21 @@
 #include "hw_driver/lateness.h"
 #include "hw_driver/program.h"
 #include "hw_driver/rt.h"
+#include "hw_driver/wake.h"
 
 namespace {
 
 using ohrp::hw::LatenessHistogram;
 
-int64_t NowNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
-}
-
 // the baseline: sleep to each absolute deadline, record how late the wake-up was
 void PlainLoop(int64_t period_ns, long cycles, LatenessHistogram* h) {
-  int64_t slot = NowNs();
+  int64_t slot = ohrp::hw::MonotonicNs();
   for (long i = 0; i < cycles; ++i) {
     slot += period_ns;
     timespec ts{static_cast<time_t>(slot / 1000000000), static_cast<long>(slot % 1000000000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
-    h->Add(NowNs() - slot);
+    h->Add(ohrp::hw::MonotonicNs() - slot);
   }
 }
 
@@ -89,11 +90,38 @@ pid_t SpawnController(const std::string& segment) {
   _exit(0);
 }
 
-void Row(const char* name, const LatenessHistogram& h, unsigned long misses) {
-  std::printf("%-28s %8lu %9.1f %9.1f %9.1f %9.1f %9.1f %8lu\n", name,
+// the calling thread's CPU time [ns]
+int64_t ThreadCpuNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
+
+// one loop's figures over all its rounds
+struct Loop {
+  LatenessHistogram lateness;
+  unsigned long misses = 0, skipped = 0, commands = 0, late = 0;
+  int64_t wall_ns = 0, cpu_ns = 0, spin_ns = 0;
+  int64_t margin_ns = 0;  // the spin-tail's margin at the end of the last round
+
+  // times one round of `run` (wall and this thread's CPU)
+  template <typename F>
+  void Time(F&& run) {
+    const int64_t c0 = ThreadCpuNs(), w0 = ohrp::hw::MonotonicNs();
+    run();
+    wall_ns += ohrp::hw::MonotonicNs() - w0;
+    cpu_ns += ThreadCpuNs() - c0;
+  }
+};
+
+void Row(const char* name, const Loop& l) {
+  const LatenessHistogram& h = l.lateness;
+  const double wall = l.wall_ns > 0 ? static_cast<double>(l.wall_ns) : 1.0;
+  std::printf("%-30s %7lu %8.1f %8.1f %8.1f %8.1f %8.1f %7lu %7.1f %7.1f\n", name,
               static_cast<unsigned long>(h.count()), h.Percentile(50) * 1e-3,
               h.Percentile(90) * 1e-3, h.Percentile(99) * 1e-3, h.Percentile(99.9) * 1e-3,
-              h.max_ns() * 1e-3, misses);
+              h.max_ns() * 1e-3, l.misses, 100.0 * static_cast<double>(l.cpu_ns) / wall,
+              100.0 * static_cast<double>(l.spin_ns) / wall);
 }
 
 }  // namespace
@@ -101,22 +129,23 @@ void Row(const char* name, const LatenessHistogram& h, unsigned long misses) {
 int main(int argc, char** argv) {
   double duration = 5.0, period = 0.001;
   int rounds = 100, priority = 80;
-  bool controller_row = true;
   std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
-  CLI::App app{"bench_rt: hw_driver loop wake-up lateness vs a plain clock_nanosleep loop"};
+  CLI::App app{"bench_rt: hw_driver loop wake-up lateness, --wake sleep and spin-tail, vs a plain\n"
+               "clock_nanosleep loop, in the same run; ends with 'ratio: X.XX (spin-tail p99 us /\n"
+               "plain p99 us)'"};
   app.add_option("--duration", duration, "[s] measured per loop (split over the rounds)")
       ->capture_default_str()->check(ohrp::cli::Positive());
-  app.add_option("--rounds", rounds, "alternating rounds (plain, driver)")
+  app.add_option("--rounds", rounds, "alternating rounds (plain, driver sleep, driver spin-tail)")
       ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--period", period, "[s]")->capture_default_str()->check(ohrp::cli::Positive());
-  app.add_option("--priority", priority, "SCHED_FIFO priority of both loops; 0: SCHED_OTHER")
+  app.add_option("--priority", priority, "SCHED_FIFO priority of every loop; 0: SCHED_OTHER")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 99));
   app.add_option("--model", model, "robot model (joints and sensors of the segment)")
       ->capture_default_str()->check(CLI::ExistingFile);
   bool no_controller = false;
   app.add_flag("--no-controller-row", no_controller, "skip the informative row with a controller");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  controller_row = !no_controller;
+  const bool controller_row = !no_controller;
 
   std::string error;
   ohrp::shm::ProducerConfig robot;
@@ -125,7 +154,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_rt: %s\n", error.c_str());
     return 2;
   }
-  // one policy for both loops: set here, on this thread, once
+  // one policy for every loop: set here, on this thread, once
   ohrp::hw::RtSettings rt;
   rt.priority = priority;
   const ohrp::hw::RtReport report = ohrp::hw::SetUpRealTime(rt);
@@ -139,11 +168,9 @@ int main(int argc, char** argv) {
   const double chunk = duration / rounds;
   const long chunk_cycles = std::lround(chunk / period);
 
-  LatenessHistogram plain, driver, with_controller;
-  unsigned long driver_misses = 0, driver_skipped = 0, ctl_misses = 0, ctl_commands = 0,
-                ctl_late = 0;
-  // one round of the driver loop; with a controller attached when `controller`
-  auto run_driver = [&](bool controller, LatenessHistogram* h, unsigned long* misses) {
+  Loop plain, sleep, spin, with_controller;
+  // one round of the driver loop in `mode`; with a controller attached when `controller`
+  auto run_driver = [&](ohrp::hw::WakeMode mode, bool controller, Loop* loop) {
     ohrp::shm::Status status;
     auto producer = ohrp::shm::Producer::Create(robot, &status);
     if (!producer) {
@@ -163,16 +190,18 @@ int main(int argc, char** argv) {
     o.rt.priority = report.fifo ? priority : 0;  // already applied: the same policy
     o.rt.lock_memory = false;
     o.rt.stack_prefault_kb = 0;
+    o.wake.mode = mode;
+    // the margin learned so far, as one long run would have it
+    if (loop->margin_ns > 0) o.wake.initial_margin = static_cast<double>(loop->margin_ns) * 1e-9;
     ohrp::hw::Driver d(o, robot, &io, producer.get());
-    d.Run();
-    h->Merge(d.live().lateness);
-    *misses += d.live().deadline_misses.load();
-    if (controller) {
-      ctl_commands += d.live().commands.load();
-      ctl_late += d.live().late_commands.load();
-    } else {
-      driver_skipped += d.live().skipped.load();
-    }
+    loop->Time([&] { d.Run(); });
+    loop->lateness.Merge(d.live().lateness);
+    loop->misses += d.live().deadline_misses.load();
+    loop->skipped += d.live().skipped.load();
+    loop->commands += d.live().commands.load();
+    loop->late += d.live().late_commands.load();
+    loop->spin_ns += d.live().spin_ns.load();
+    loop->margin_ns = d.live().wake_margin_ns.load();
     producer.reset();  // the controller's read ends
     if (child > 0) {
       kill(child, SIGTERM);
@@ -180,28 +209,46 @@ int main(int argc, char** argv) {
     }
   };
   for (int r = 0; r < rounds; ++r) {
-    PlainLoop(period_ns, chunk_cycles, &plain);
-    run_driver(false, &driver, &driver_misses);
-    if (controller_row) run_driver(true, &with_controller, &ctl_misses);
+    plain.Time([&] { PlainLoop(period_ns, chunk_cycles, &plain.lateness); });
+    run_driver(ohrp::hw::WakeMode::kSleep, false, &sleep);
+    run_driver(ohrp::hw::WakeMode::kSpinTail, false, &spin);
+    if (controller_row) run_driver(ohrp::hw::WakeMode::kSpinTail, true, &with_controller);
   }
 
   std::printf("bench_rt: %g Hz, %.1f s per loop in %d alternating rounds, %s for every loop, "
               "robot '%s' (%zu joints), stub boards in-process\n",
               1.0 / period, duration, rounds, report.Describe().c_str(),
               robot.robot_name.c_str(), robot.joint_names.size());
-  std::printf("%-28s %8s %9s %9s %9s %9s %9s %8s\n", "wake-up lateness [us]", "cycles", "p50",
-              "p90", "p99", "p99.9", "max", "misses");
-  Row("plain clock_nanosleep", plain, 0);
-  Row("hw_driver loop", driver, driver_misses);
+  std::printf("%-30s %7s %8s %8s %8s %8s %8s %7s %7s %7s\n", "wake-up lateness [us]", "cycles",
+              "p50", "p90", "p99", "p99.9", "max", "misses", "cpu %", "spin %");
+  Row("plain clock_nanosleep", plain);
+  Row("hw_driver --wake sleep", sleep);
+  Row("hw_driver --wake spin-tail", spin);
   if (controller_row) {
-    Row("hw_driver loop + controller", with_controller, ctl_misses);
-    std::printf("(with controller: %lu commands, %lu late; not in the ratio)\n", ctl_commands,
-                ctl_late);
+    Row("spin-tail + controller", with_controller);
+    std::printf("(with controller: %lu commands, %lu late; not in the ratio)\n",
+                with_controller.commands, with_controller.late);
   }
-  if (driver_skipped > 0) std::printf("hw_driver loop skipped %lu slots\n", driver_skipped);
-  const double p99_driver = driver.Percentile(99) * 1e-3;
-  const double p99_plain = plain.Percentile(99) * 1e-3;
-  std::printf("ratio: %.2f (%.1f / %.1f)\n", p99_plain > 0 ? p99_driver / p99_plain : 0.0,
-              p99_driver, p99_plain);
+  for (const Loop* l : {&sleep, &spin}) {
+    if (l->skipped > 0) {
+      std::printf("hw_driver --wake %s skipped %lu slots\n", l == &sleep ? "sleep" : "spin-tail",
+                  l->skipped);
+    }
+  }
+  // the cost of the spin-tail: its CPU use above the plain sleep's, and its margin
+  const double spin_cpu = spin.wall_ns > 0 ? static_cast<double>(spin.cpu_ns) / spin.wall_ns : 0;
+  const double sleep_cpu =
+      sleep.wall_ns > 0 ? static_cast<double>(sleep.cpu_ns) / sleep.wall_ns : 0;
+  std::printf("spin-tail cost: %.1f %% of the period spinning (%.1f us a cycle), CPU %.1f %% "
+              "against %.1f %% for --wake sleep (thread CPU time over wall time); margin at the "
+              "end %.1f us\n",
+              100.0 * static_cast<double>(spin.spin_ns) / std::max<int64_t>(1, spin.wall_ns),
+              static_cast<double>(spin.spin_ns) * 1e-3 /
+                  std::max<double>(1.0, static_cast<double>(spin.lateness.count())),
+              100.0 * spin_cpu, 100.0 * sleep_cpu, spin.margin_ns * 1e-3);
+  const double p99_spin = spin.lateness.Percentile(99) * 1e-3;
+  const double p99_plain = plain.lateness.Percentile(99) * 1e-3;
+  std::printf("ratio: %.2f (%.2f / %.2f)\n", p99_plain > 0 ? p99_spin / p99_plain : 0.0, p99_spin,
+              p99_plain);
   return 0;
 }

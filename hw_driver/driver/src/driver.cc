@@ -2,7 +2,6 @@
 #include "hw_driver/driver.h"
 
 #include <signal.h>
-#include <time.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +13,6 @@ namespace ohrp::hw {
 namespace {
 
 constexpr size_t kMaxEvents = 1024;  // events kept per run; more are counted as dropped
-constexpr int64_t kNsPerS = 1000000000;
 
 // what the servos-off state after a recovered safe mode waits for before a new servo-on
 enum class Rearm {
@@ -29,19 +27,9 @@ std::atomic<bool> g_emergency_stop{false};
 void OnStopSignal(int) { RequestStop(); }
 void OnEmergencySignal(int) { RequestEmergencyStop(); }
 
-int64_t NowNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
-}
-
-// sleeps until the CLOCK_MONOTONIC time `t` [ns]; a signal does not cut the sleep short
-void SleepUntil(int64_t t) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(t / kNsPerS);
-  ts.tv_nsec = static_cast<long>(t % kNsPerS);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
+// the servo period [ns] (at least 1 us)
+int64_t PeriodNs(const DriverOptions& o) {
+  return std::max<int64_t>(1000, std::llround(o.period * 1e9));
 }
 
 void Bump(std::atomic<uint64_t>& a, uint64_t n = 1) {
@@ -118,7 +106,7 @@ void InstallSignalHandlers() {
 
 struct Driver::Impl {
   Impl(const DriverOptions& o, const shm::ProducerConfig& r, RobotIo* i, shm::Producer* p)
-      : opt(o), robot(r), io(i), producer(p), guard(r) {
+      : opt(o), robot(r), io(i), producer(p), guard(r), waker(o.wake, PeriodNs(o)) {
     njoint = static_cast<int>(r.joint_names.size());
     nforce = static_cast<int>(r.force_names.size());
     nimu = static_cast<int>(r.imu_names.size());
@@ -130,6 +118,7 @@ struct Driver::Impl {
   RobotIo* io;
   shm::Producer* producer;
   CommandGuard guard;
+  Waker waker;  // sleeps (and spins) to each cycle's start
   int njoint = 0, nforce = 0, nimu = 0;
 
   IoState in{};
@@ -211,13 +200,13 @@ int Driver::Run() {
   result_ = DriverResult{};
   result_.rt = PrepareRealTime();
 
-  const int64_t period = std::max<int64_t>(1000, std::llround(o.period * 1e9));
+  const int64_t period = PeriodNs(o);
   const int64_t window =
       std::llround(static_cast<double>(period) * (1.0 - std::clamp(o.command_margin, 0.0, 0.9)));
   const int64_t servo_on_timeout = std::llround(o.servo_on_timeout * 1e9);
   const Rearm on_loss =
       o.on_controller_loss == shm::ControllerLoss::kWait ? Rearm::kController : Rearm::kNone;
-  const int64_t t0 = NowNs();
+  const int64_t t0 = MonotonicNs();
   int64_t slot = t0;          // T_k
   int64_t phase_end = 0;      // end of the safe mode or of the servo-off damping [ns]
   int silent_board = 0;       // consecutive cycles with a silent board
@@ -239,7 +228,7 @@ int Driver::Run() {
     d.state = DriverState::kSafeMode;
     after_safe_mode = then;
     d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
-    phase_end = NowNs() + std::llround(o.safe_time * 1e9);
+    phase_end = MonotonicNs() + std::llround(o.safe_time * 1e9);
     result_.safe_mode = true;
     result_.safe_mode_cycle = d.k;
     result_.exit_code = exit_code;
@@ -255,14 +244,15 @@ int Driver::Run() {
     }
     d.state = DriverState::kStopping;
     d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
-    phase_end = NowNs() + std::llround(o.servo_off_time * 1e9);
+    phase_end = MonotonicNs() + std::llround(o.servo_off_time * 1e9);
   };
 
   for (;;) {
     d.time = static_cast<double>(slot - t0) * 1e-9;
     if (d.k > 0) {
-      SleepUntil(slot);
-      live_.lateness.Add(NowNs() - slot);
+      live_.lateness.Add(d.waker.WaitUntil(slot) - slot);
+      live_.spin_ns.store(d.waker.spin_ns(), std::memory_order_relaxed);
+      live_.wake_margin_ns.store(d.waker.margin_ns(), std::memory_order_relaxed);
     }
     uint32_t flags = 0;
     bool servoed_on = false;  // servo-on in this cycle: its write holds the measured positions
@@ -347,7 +337,7 @@ int Driver::Run() {
         d.state = DriverState::kActive;
         servoed_on = true;
         d.Record(EventKind::kServoOn);
-      } else if (d.state == DriverState::kInactive && NowNs() - t0 > servo_on_timeout) {
+      } else if (d.state == DriverState::kInactive && MonotonicNs() - t0 > servo_on_timeout) {
         d.Record(EventKind::kNoValidRead);
         result_.exit_code = kExitIo;
         outcome = "io_error";
@@ -369,7 +359,7 @@ int Driver::Run() {
       }
       if (controller != 0) {
         const double remaining =
-            static_cast<double>(std::max<int64_t>(0, slot + window - NowNs())) * 1e-9;
+            static_cast<double>(std::max<int64_t>(0, slot + window - MonotonicNs())) * 1e-9;
         switch (d.producer->WaitCommands(remaining, &d.cmd)) {
           case shm::WaitResult::kCommands:
             Bump(live_.commands);
@@ -417,7 +407,7 @@ int Driver::Run() {
 
     //---- the end of a damped hold: servos off; the run ends, or waits to servo on again
     if (!done && (d.state == DriverState::kSafeMode || d.state == DriverState::kStopping) &&
-        NowNs() >= phase_end) {
+        MonotonicNs() >= phase_end) {
       d.servo_on = false;
       d.Record(EventKind::kServoOff);
       if (d.state == DriverState::kSafeMode && after_safe_mode != Rearm::kNone && stops_seen > 0) {
@@ -441,7 +431,7 @@ int Driver::Run() {
 
     //---- write the boards
     d.Write();
-    if (NowNs() > slot + period) Bump(live_.deadline_misses);
+    if (MonotonicNs() > slot + period) Bump(live_.deadline_misses);
     live_.cycles.store(d.k + 1, std::memory_order_relaxed);
     live_.state.store(static_cast<uint32_t>(d.state), std::memory_order_relaxed);
     if (done) break;
@@ -467,7 +457,7 @@ int Driver::Run() {
     //---- next slot; skip the slots already over instead of running them in a burst
     ++d.k;
     slot += period;
-    const int64_t behind = NowNs() - slot;
+    const int64_t behind = MonotonicNs() - slot;
     if (behind > period) {
       const int64_t skip = behind / period;
       slot += skip * period;

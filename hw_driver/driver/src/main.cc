@@ -57,6 +57,14 @@ int main(int argc, char** argv) {
   app.add_option("--rt-priority", d.rt.priority, "SCHED_FIFO priority of the loop; 0: SCHED_OTHER")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 99));
   app.add_flag("--no-mlock", no_mlock, "do not lock the process's memory");
+  std::string wake = ohrp::hw::WakeModeName(d.wake.mode);
+  app.add_option("--wake", wake,
+                 "how each cycle waits for its start: spin-tail sleeps (clock_nanosleep) until a "
+                 "margin before it, learned from the sleeps' lateness (bounded by 200 us and a "
+                 "quarter of the period), then spins on the monotonic clock: within a few us, "
+                 "at the CPU cost of the spin; sleep sleeps to the start itself: no spin, tens "
+                 "of us late")
+      ->capture_default_str()->check(CLI::IsMember({"spin-tail", "sleep"}));
   app.add_option("--summary", o.summary_path, "JSON summary written at the end");
   app.add_option("--stats", o.stats_path, "JSON stats file rewritten while running");
   app.add_option("--stats-interval", o.stats_interval, "[s] between rewrites of --stats")
@@ -73,6 +81,7 @@ int main(int argc, char** argv) {
       "Details: hw_driver/README.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   d.rt.lock_memory = !no_mlock;
+  ohrp::hw::ParseWakeMode(wake, &d.wake.mode);  // one of the choices above
   ohrp::shm::ParseControllerLoss(loss, &d.on_controller_loss);  // one of the choices above
   return ohrp::hw::RunProgram(o);
 }

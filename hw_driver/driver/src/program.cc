@@ -81,7 +81,8 @@ void PrintEvent(const Event& e) {
 
 // The end-of-run report: the outcome with the counts, its detail, the lateness table (when
 // `lateness`) and the events.
-void PrintReport(const DriverResult& r, const LiveStats& live, bool lateness) {
+void PrintReport(const DriverResult& r, const LiveStats& live, const DriverOptions& o,
+                 bool lateness) {
   std::fprintf(stderr,
                "hw_driver: %s after %.3f s: %lu cycles, %lu deadline misses, %lu slots skipped, "
                "%lu commands, %lu late, %lu rejected, %lu clamped, %lu silent reads, %lu packets "
@@ -96,8 +97,11 @@ void PrintReport(const DriverResult& r, const LiveStats& live, bool lateness) {
                static_cast<unsigned long>(live.silent_reads.load()),
                static_cast<unsigned long>(live.packets_lost.load()), r.rt.Describe().c_str());
   if (!r.detail.empty()) std::fprintf(stderr, "hw_driver: %s\n", r.detail.c_str());
-  if (lateness)
-    std::fprintf(stderr, "hw_driver: wake-up lateness:\n%s", LatenessTable(live.lateness).c_str());
+  if (lateness) {
+    std::fprintf(stderr, "hw_driver: wake-up lateness (--wake %s%s):\n%s",
+                 WakeModeName(o.wake.mode), WakeCost(live, o).c_str(),
+                 LatenessTable(live.lateness).c_str());
+  }
   std::fprintf(stderr, "hw_driver: events:\n");
   for (const Event& e : r.events) PrintEvent(e);
   if (r.events_dropped > 0) {
@@ -213,9 +217,9 @@ int RunProgram(const ProgramOptions& o) {
   const DriverResult& r = driver.result();
   // --quiet: a failure only (a stop by SIGINT/SIGTERM is none), without the lateness table
   if (!o.quiet) {
-    PrintReport(r, driver.live(), true);
+    PrintReport(r, driver.live(), o.driver, true);
   } else if (exit_code != kExitOk && exit_code != kExitInterrupted) {
-    PrintReport(r, driver.live(), false);
+    PrintReport(r, driver.live(), o.driver, false);
   }
   if (!o.summary_path.empty() && !WriteStats(o.summary_path, o, robot, driver.live(), &r)) {
     std::fprintf(stderr, "hw_driver: cannot write the summary '%s'\n", o.summary_path.c_str());

@@ -25,6 +25,24 @@ std::string LatenessTable(const LatenessHistogram& h) {
   return s;
 }
 
+namespace {
+
+// the part of the run's time spent spinning (0..1)
+double SpinFraction(const LiveStats& live, const DriverOptions& o) {
+  const double run = static_cast<double>(live.cycles.load() + live.skipped.load()) * o.period;
+  return run > 0 ? static_cast<double>(live.spin_ns.load()) * 1e-9 / run : 0.0;
+}
+
+}  // namespace
+
+std::string WakeCost(const LiveStats& live, const DriverOptions& o) {
+  if (o.wake.mode == WakeMode::kSleep) return "";
+  char line[120];
+  std::snprintf(line, sizeof(line), ", margin %.1f us, spinning %.1f %% of the time",
+                live.wake_margin_ns.load() * 1e-3, 100.0 * SpinFraction(live, o));
+  return line;
+}
+
 bool WriteStats(const std::string& path, const ProgramOptions& o, const shm::ProducerConfig& robot,
                 const LiveStats& live, const DriverResult* result) {
   using nlohmann::json;
@@ -71,6 +89,9 @@ bool WriteStats(const std::string& path, const ProgramOptions& o, const shm::Pro
   j["clamped_commands"] = live.clamped.load();
   j["silent_reads"] = live.silent_reads.load();
   j["packets_lost"] = live.packets_lost.load();
+  j["wake"] = {{"mode", WakeModeName(o.driver.wake.mode)},
+               {"margin_us", live.wake_margin_ns.load() * 1e-3},
+               {"spin_fraction", SpinFraction(live, o.driver)}};
   json bins = json::array();
   for (const auto& b : h.Octaves()) {
     bins.push_back({{"lo_us", b.lo_ns * 1e-3}, {"hi_us", b.hi_ns * 1e-3}, {"count", b.count}});

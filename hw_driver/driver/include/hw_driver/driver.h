@@ -7,15 +7,17 @@
 // ---------------------------------------------------------------------------------------------
 // Timing. The servo cycle is the segment's control cycle (`period`, 1 ms by default): there is
 // no separate physics step on the robot (header physics_period = 0). Cycle k starts at the
-// absolute time T_k = T_0 + k period (CLOCK_MONOTONIC, clock_nanosleep TIMER_ABSTIME); its
-// wake-up lateness (now - T_k) goes into a histogram. Within the cycle:
+// absolute time T_k = T_0 + k period (CLOCK_MONOTONIC); the loop waits for it as
+// DriverOptions::wake says (wake.h: by default clock_nanosleep TIMER_ABSTIME to T_k minus a
+// margin learned from the sleeps' lateness, then a spin on the clock to T_k); its wake-up
+// lateness (now - T_k) goes into a histogram. Within the cycle:
 //   read boards -> publish sensors (cycle k, time k period) -> wait for the commands answering
 //   k until T_k + (1 - command_margin) period -> check -> write boards -> sleep until T_{k+1}.
 // Commands that miss the deadline are counted as late (status kCommandLate) and the joints keep
 // their last references. A cycle whose write ends after T_{k+1} is a deadline miss; when the
 // loop falls more than one period behind, the missed slots are skipped (counted), not run in a
 // burst. The loop never allocates, throws or logs: events go into a preallocated log printed
-// after the loop.
+// after the loop. It busy-waits only in the spin-tail of the wake-up, bounded by the margin.
 //
 // Lifecycle (the controllers' state machine, controllers/controller.h, seen from the driver):
 //
@@ -78,6 +80,7 @@
 #include "hw_driver/lateness.h"
 #include "hw_driver/robot_io.h"
 #include "hw_driver/rt.h"
+#include "hw_driver/wake.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/controller_loss.h"
 
@@ -112,6 +115,7 @@ struct DriverOptions {
   // waits for a new controller (kContinue is not offered: the robot is not left without one)
   shm::ControllerLoss on_controller_loss = shm::ControllerLoss::kEnd;
   RtSettings rt;
+  WakeOptions wake;                // how each cycle waits for its start (wake.h)
 };
 
 // One thing that happened in the loop, recorded without allocation and printed after it.
@@ -153,6 +157,8 @@ struct LiveStats {
   std::atomic<uint64_t> packets_lost{0};     // as the plugin counts them
   std::atomic<uint32_t> state{0};            // DriverState
   LatenessHistogram lateness;                // wake-up lateness [ns]
+  std::atomic<int64_t> spin_ns{0};           // time spent spinning to the cycle starts [ns]
+  std::atomic<int64_t> wake_margin_ns{0};    // the spin-tail's current learned margin [ns]
 };
 
 // What the run came to, for the report and the summary.

@@ -36,6 +36,10 @@ int RunProgram(const ProgramOptions& options);
 // The lateness histogram as a small table (octaves, counts, percentiles) for humans.
 std::string LatenessTable(const LatenessHistogram& h);
 
+// The spin-tail's cost so far, for the lateness line: ", margin 41.0 us, spinning 2.3 % of the
+// time" (empty with --wake sleep).
+std::string WakeCost(const LiveStats& live, const DriverOptions& options);
+
 // Writes the run's statistics as JSON to `path` (through a temporary file and a rename, so a
 // reader never sees half a file). `result` may be null while the loop runs. False on I/O error.
 bool WriteStats(const std::string& path, const ProgramOptions& options,
