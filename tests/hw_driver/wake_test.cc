@@ -82,6 +82,8 @@ TEST(Waker, MarginStaysWithinItsBounds) {
   int64_t deadline = 0;
   RunCycles(&w, 2000, &deadline);
   EXPECT_EQ(w.margin_ns(), 200 * kUs);
+  EXPECT_GT(slow.sleeps(), 0);
+  EXPECT_EQ(w.overslept(), static_cast<uint64_t>(slow.sleeps()));  // every sleep woke too late
   // the bound is at most a quarter of a short period
   FakeClock slow2(Constant(5000 * kUs));
   Waker short_period(WakeOptions{}, 100 * kUs, &slow2);

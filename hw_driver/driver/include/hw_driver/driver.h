@@ -187,7 +187,8 @@ void InstallSignalHandlers();
 class Driver {
  public:
   // `robot` describes the joints (limits, default gains) exactly as the segment's header;
-  // `io` is open; `producer` owns the segment. None is owned; all outlive the driver.
+  // `io` is open; `producer` owns the segment. None is owned; all outlive the driver. Throws
+  // std::invalid_argument when options.wake is out of range (wake.h's MarginLearner says how).
   Driver(const DriverOptions& options, const shm::ProducerConfig& robot, RobotIo* io,
          shm::Producer* producer);
   ~Driver();
