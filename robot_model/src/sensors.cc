@@ -61,7 +61,7 @@ void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
     const JointMap& j = robot.joints[i];
     out->q[i] = sel.q ? d->qpos[j.qpos_adr] : kOff;
     out->dq[i] = sel.dq ? d->qvel[j.dof_adr] : kOff;
-    out->tau[i] = sel.tau ? d->actuator_force[j.actuator_id] : kOff;
+    out->tau[i] = sel.tau ? j.law.gear * d->actuator_force[j.actuator_id] : kOff;  // joint torque
   }
   // MuJoCo's force/torque sensors read what the parent exerts on the child; the segment
   // carries OpenHRP's convention (child on parent), hence the sign
