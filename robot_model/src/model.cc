@@ -205,6 +205,26 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
   return true;
 }
 
+//---------------- keyframes ----------------
+
+bool KeyframeJointPositions(const mjModel* m, const std::string& key,
+                            std::vector<std::pair<std::string, double>>* out, std::string* error) {
+  out->clear();
+  const int k = mj_name2id(m, mjOBJ_KEY, key.c_str());
+  if (k < 0) {
+    std::string names;
+    for (int i = 0; i < m->nkey; ++i) names += (i ? ", " : "") + Name(m, mjOBJ_KEY, i);
+    *error = "the scene has no keyframe '" + key + "' (" +
+             (m->nkey ? "its keyframes: " + names : std::string("it has none")) + ")";
+    return false;
+  }
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) continue;
+    out->emplace_back(Name(m, mjOBJ_JOINT, j), m->key_qpos[k * m->nq + m->jnt_qposadr[j]]);
+  }
+  return true;
+}
+
 //---------------- explanation ----------------
 
 std::string DescribeActuation(const RobotMap& robot) {

@@ -22,6 +22,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ohrp::model {
@@ -113,6 +114,12 @@ class Scene {
 // robot the segment can carry (no actuators, an actuator whose law cannot be inverted (see
 // ReadActuatorLaw), two actuators on one joint, too many joints or sensors).
 bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error);
+
+// The hinge and slide joints' positions in keyframe `key` of `m`, by joint name, in joint order
+// (e.g. for `posture --keyframe`). Returns false with `*error` naming the keyframe and the ones
+// the model has when it has no keyframe of that name.
+bool KeyframeJointPositions(const mjModel* m, const std::string& key,
+                            std::vector<std::pair<std::string, double>>* out, std::string* error);
 
 // The lines of `sim_host --explain` about the robot's joints: for each joint, its actuator, the
 // actuator's type and how a joint torque becomes its control (ActuatorLaw::Describe), the
