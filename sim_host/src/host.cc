@@ -401,6 +401,10 @@ int RunHost(const HostOptions& options) {
   if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
   if (recorder) recorder->Flush();
   st.rejected = servo.rejected_total();
+  st.clamped = servo.clamped_total();
+  for (size_t i = 0; i < robot.joints.size(); ++i) {
+    if (servo.clamped(static_cast<int>(i)) > 0) st.clamped_joints.emplace_back(robot.joints[i].name, servo.clamped(static_cast<int>(i)));
+  }
   st.warnings = WarningCount() - warnings_at_start;
   if (recorder) {
     st.log_rows = recorder->written();
