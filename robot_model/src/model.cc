@@ -161,7 +161,15 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     const int type = m->jnt_type[j];
     if ((type != mjJNT_HINGE && type != mjJNT_SLIDE) || driven_by[j] >= 0) continue;
     if (robot->base_body >= 0 && !InSubtree(m, m->jnt_bodyid[j], robot->base_body)) continue;
-    robot->passive.push_back({Name(m, mjOBJ_JOINT, j), j, m->jnt_qposadr[j], m->jnt_dofadr[j]});
+    std::string name = Name(m, mjOBJ_JOINT, j);
+    if (name.empty()) name = "joint#" + std::to_string(j);  // the segment needs a name
+    robot->passive.push_back({name, j, m->jnt_qposadr[j], m->jnt_dofadr[j]});
+  }
+  if (robot->passive.size() > static_cast<size_t>(shm::kMaxPassiveJoints)) {
+    *error = "the robot has " + std::to_string(robot->passive.size()) +
+             " passive joints (hinges and slides no actuator drives); the segment carries at "
+             "most " + std::to_string(shm::kMaxPassiveJoints);
+    return false;
   }
   if (robot->joints.size() > static_cast<size_t>(shm::kMaxJoints)) {
     *error = "the robot has " + std::to_string(robot->joints.size()) +

@@ -5,10 +5,15 @@
 // when the external models are not beside the repository.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
+#include <chrono>
+#include <thread>
+
 #include "../controllers/fake_robot.h"  // ExternalDir, Program, Spawn, WaitExit, TempPath, ReadText
+#include "shm_bridge/bridge.h"
 
 namespace ohrp::sim {
 namespace {
@@ -67,6 +72,47 @@ TEST_F(RobotsExplained, MujocosHumanoidsWithTheirGears) {
     // humanoid100's hundred free objects are not the robot's joints
     EXPECT_TRUE(Says("passive joints (0, read-only): none")) << ct::ReadText(log_);
   }
+}
+
+//---------------- passive joints in the segment ----------------
+
+TEST_F(RobotsExplained, ACassieControllerSeesItsShinAndTarsus) {
+  const std::string segment = ct::UniqueSegment("cassie_passive");
+  ct::RemoveSegment(segment);
+  const pid_t sim = ct::Spawn({ct::Program("sim_host"), "--scene",
+                               external_ + "/menagerie/agility_cassie/scene.xml", "--keyframe",
+                               "home", "--segment", segment, "--duration", "0.05",
+                               "--on-controller-loss", "continue", "--quiet"},
+                              log_);
+  shm::RobotAdaptor a;
+  shm::Status st;
+  for (int i = 0; i < 1000 && !(st = a.open(segment)).ok(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(st.ok()) << st.message << "\n" << ct::ReadText(log_);
+  const shm::SegmentHeader& h = a.header();
+  EXPECT_EQ(h.njoint, 10);
+  ASSERT_EQ(h.npassive, 10);
+  EXPECT_STREQ(h.passive_names[0], "left-shin");
+  EXPECT_STREQ(h.passive_names[1], "left-tarsus");
+  shm::SensorBlock s{};
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  // the home keyframe's tarsus angle, one control period later (the joint is held by its
+  // linkage, not commanded)
+  EXPECT_NEAR(s.passive_q[1], 1.42671, 0.05);
+  for (int i = 0; i < h.npassive; ++i) {
+    EXPECT_TRUE(std::isfinite(s.passive_q[i]) && std::isfinite(s.passive_dq[i])) << i;
+  }
+  // answer one cycle (hold), so that the run goes on without us once we leave
+  shm::CommandBlock c{};
+  c.njoint = h.njoint;
+  for (int j = 0; j < h.njoint; ++j) {
+    c.joint[j] = {shm::JointMode::kPosition, 0, s.q[j], 0.0, 0.0, h.default_kp[j], h.default_kd[j]};
+  }
+  ASSERT_EQ(a.write(c), shm::ReadResult::kOk);
+  ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
+  a.close();
+  EXPECT_EQ(ct::WaitExit(sim, 30.0), 0) << ct::ReadText(log_);
 }
 
 }  // namespace
