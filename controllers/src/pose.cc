@@ -96,17 +96,39 @@ ConfigStatus LoadPoseFile(const std::string& path, Pose* out) {
   return ParsePose(text.str(), path, out);
 }
 
+Pose FromKeyframe(const std::string& source,
+                  const std::vector<std::pair<std::string, double>>& joints) {
+  Pose pose;
+  pose.source = source;
+  pose.from_scene = true;
+  for (const auto& [name, value] : joints) pose.joints.push_back({name, value, 0});
+  return pose;
+}
+
 ConfigStatus ResolvePose(const Pose& pose, const std::vector<std::string>& robot_joints,
-                         std::vector<double>* q) {
+                         std::vector<double>* q, std::vector<bool>* named) {
   q->assign(robot_joints.size(), 0.0);
+  if (named) named->assign(robot_joints.size(), false);
   std::vector<std::string> unknown;
+  std::size_t found = 0;
   for (const PoseEntry& entry : pose.joints) {
     auto it = std::find(robot_joints.begin(), robot_joints.end(), entry.joint);
     if (it == robot_joints.end()) {
-      unknown.push_back(entry.joint + " (line " + std::to_string(entry.line) + ")");
+      // a scene's keyframe also holds the joints no actuator drives
+      if (!pose.from_scene) unknown.push_back(entry.joint + " (line " + std::to_string(entry.line) + ")");
     } else {
       (*q)[it - robot_joints.begin()] = entry.value;
+      if (named) (*named)[it - robot_joints.begin()] = true;
+      ++found;
     }
+  }
+  if (pose.from_scene && found == 0 && !robot_joints.empty()) {
+    std::string message = pose.source + ": names none of the robot's " +
+                          std::to_string(robot_joints.size()) + " joints (";
+    for (std::size_t i = 0; i < robot_joints.size() && i < 4; ++i) message += (i ? " " : "") + robot_joints[i];
+    message += robot_joints.size() > 4 ? " ...)" : ")";
+    message += ". Is this the scene the producer runs?";
+    return ConfigStatus::Fail(ConfigError::kUnknownJoint, message);
   }
   if (!unknown.empty()) {
     std::string message = pose.source + ": the robot has no joint";

@@ -15,8 +15,9 @@ namespace ohrp::controllers {
 std::string DefaultPoseFile() { return std::string(OHRP_CONTROLLERS_POSE_DIR) + "/hrp1s_halfsit.yaml"; }
 
 ConfigStatus CheckWithinLimits(const shm::SegmentHeader& header, const double* q,
-                               const std::string& what) {
+                               const std::string& what, const std::vector<bool>* only) {
   for (int j = 0; j < header.njoint; ++j) {
+    if (only && (j >= static_cast<int>(only->size()) || !(*only)[j])) continue;
     if (HasLimits(header, j) && (q[j] < header.q_min[j] || q[j] > header.q_max[j])) {
       char buf[256];
       std::snprintf(buf, sizeof buf, ": joint %d (%.*s) = %.6g is outside its limits [%.6g, %.6g]",
@@ -55,17 +56,28 @@ std::unique_ptr<PostureController> PostureController::Create(const PostureOption
   return std::make_unique<PostureController>(o, std::move(pose));
 }
 
+std::unique_ptr<PostureController> PostureController::Create(const PostureOptions& options,
+                                                             Pose pose, ConfigStatus* status) {
+  *status = CheckOptions(options);
+  if (!status->ok()) return nullptr;
+  return std::make_unique<PostureController>(options, std::move(pose));
+}
+
 PostureController::PostureController(const PostureOptions& options, Pose pose)
     : options_(options), pose_(std::move(pose)) {}
 
 ConfigStatus PostureController::on_configure(const shm::SegmentHeader& header) {
   if (ConfigStatus s = CheckOptions(options_); !s.ok()) return s;
-  if (ConfigStatus s = ResolvePose(pose_, joint_names(), &target_); !s.ok()) return s;
-  return CheckWithinLimits(header, target_.data(), pose_.source);
+  if (ConfigStatus s = ResolvePose(pose_, joint_names(), &target_, &named_); !s.ok()) return s;
+  return CheckWithinLimits(header, target_.data(), pose_.source, &named_);
 }
 
 void PostureController::on_activate(const shm::SensorBlock& sensors) noexcept {
   for (int j = 0; j < njoint(); ++j) start_[j] = std::isfinite(sensors.q[j]) ? sensors.q[j] : target_[j];
+  // the joints the pose leaves out hold where they are
+  for (int j = 0; j < njoint(); ++j) {
+    if (!named_[j]) target_[j] = start_[j];
+  }
   start_time_ = sensors.time;
 }
 

@@ -35,6 +35,14 @@ std::string Name(const mjModel* m, int type, int id) {
   return n ? std::string(n) : std::string();
 }
 
+// true when `body` is `root` or one of its descendants
+bool InSubtree(const mjModel* m, int body, int root) {
+  for (int b = body; b > 0; b = m->body_parentid[b]) {
+    if (b == root) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void InstallMujocoHandlers(void (*on_fatal)(const char* message)) {
@@ -101,38 +109,33 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
       break;
     }
   }
-  for (int b = 1; b < m->nbody; ++b) robot->total_mass += m->body_mass[b];
+  // mass: the base's subtree (not the free objects of the scene), or every body when fixed
+  for (int b = 1; b < m->nbody; ++b) {
+    if (robot->base_body < 0 || InSubtree(m, b, robot->base_body)) robot->total_mass += m->body_mass[b];
+  }
 
-  // joints: the targets of the motors, in actuator order
+  // joints: the targets of the actuators, in actuator order
   std::vector<mjtNum> M(static_cast<size_t>(m->nv) * m->nv);
   mjData* d = mj_makeData(m);
   mj_forward(m, d);
   mj_fullM(m, M.data(), d->qM);
   mj_deleteData(d);
+  std::vector<int> driven_by(m->njnt, -1);  // actuator driving each joint
   for (int a = 0; a < m->nu; ++a) {
-    if (m->actuator_trntype[a] != mjTRN_JOINT) {
-      *error = "actuator '" + Name(m, mjOBJ_ACTUATOR, a) +
-               "' does not act on a joint: the segment carries joint motors only";
-      return false;
-    }
-    if (m->actuator_gear[6 * a] != 1.0 || m->actuator_gainprm[a * mjNGAIN] != 1.0 ||
-        m->actuator_biastype[a] != mjBIAS_NONE) {
-      *error = "actuator '" + Name(m, mjOBJ_ACTUATOR, a) +
-               "' is not a plain <motor> with gear 1: the segment speaks joint torques";
-      return false;
-    }
     JointMap jm;
+    if (!ReadActuatorLaw(m, a, &jm.law, error)) return false;
     jm.actuator_id = a;
     jm.joint_id = m->actuator_trnid[2 * a];
     jm.name = Name(m, mjOBJ_JOINT, jm.joint_id);
-    jm.qpos_adr = m->jnt_qposadr[jm.joint_id];
-    jm.dof_adr = m->jnt_dofadr[jm.joint_id];
-    const int type = m->jnt_type[jm.joint_id];
-    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) {
-      *error = "motor '" + Name(m, mjOBJ_ACTUATOR, a) + "' drives joint '" + jm.name +
-               "' which is not a hinge or slide";
+    if (driven_by[jm.joint_id] >= 0) {
+      *error = "joint '" + jm.name + "' is driven by actuators '" +
+               Name(m, mjOBJ_ACTUATOR, driven_by[jm.joint_id]) + "' and '" +
+               Name(m, mjOBJ_ACTUATOR, a) + "': the segment needs one actuator per joint";
       return false;
     }
+    driven_by[jm.joint_id] = a;
+    jm.qpos_adr = m->jnt_qposadr[jm.joint_id];
+    jm.dof_adr = m->jnt_dofadr[jm.joint_id];
     if (m->jnt_limited[jm.joint_id]) {
       jm.q_min = m->jnt_range[2 * jm.joint_id];
       jm.q_max = m->jnt_range[2 * jm.joint_id + 1];
@@ -140,11 +143,7 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
       jm.q_min = -kNoLimit;
       jm.q_max = kNoLimit;
     }
-    jm.tau_max = kNoLimit;
-    if (m->actuator_ctrllimited[a]) {
-      jm.tau_max = std::fmax(std::fabs(m->actuator_ctrlrange[2 * a]),
-                             std::fabs(m->actuator_ctrlrange[2 * a + 1]));
-    }
+    jm.tau_max = jm.law.TorqueLimit(kNoLimit);
     const double inertia = M[static_cast<size_t>(jm.dof_adr) * m->nv + jm.dof_adr];
     const double w = 2.0 * M_PI * kServoFrequency;
     jm.default_kp = inertia * w * w;
@@ -152,7 +151,24 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     robot->joints.push_back(jm);
   }
   if (robot->joints.empty()) {
-    *error = "the model has no <motor> actuators: nothing for a controller to command";
+    *error = "the model has no <motor> (or <position>, <velocity>, <general>) actuators: "
+             "nothing for a controller to command";
+    return false;
+  }
+
+  // passive joints: hinges and slides no actuator drives, within the robot (the base's subtree)
+  for (int j = 0; j < m->njnt; ++j) {
+    const int type = m->jnt_type[j];
+    if ((type != mjJNT_HINGE && type != mjJNT_SLIDE) || driven_by[j] >= 0) continue;
+    if (robot->base_body >= 0 && !InSubtree(m, m->jnt_bodyid[j], robot->base_body)) continue;
+    std::string name = Name(m, mjOBJ_JOINT, j);
+    if (name.empty()) name = "joint#" + std::to_string(j);  // the segment needs a name
+    robot->passive.push_back({name, j, m->jnt_qposadr[j], m->jnt_dofadr[j]});
+  }
+  if (robot->passive.size() > static_cast<size_t>(shm::kMaxPassiveJoints)) {
+    *error = "the robot has " + std::to_string(robot->passive.size()) +
+             " passive joints (hinges and slides no actuator drives); the segment carries at "
+             "most " + std::to_string(shm::kMaxPassiveJoints);
     return false;
   }
   if (robot->joints.size() > static_cast<size_t>(shm::kMaxJoints)) {
@@ -195,6 +211,46 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     robot->cameras.push_back({Name(m, mjOBJ_CAMERA, c), c, m->cam_bodyid[c]});
   }
   return true;
+}
+
+//---------------- keyframes ----------------
+
+bool KeyframeJointPositions(const mjModel* m, const std::string& key,
+                            std::vector<std::pair<std::string, double>>* out, std::string* error) {
+  out->clear();
+  const int k = mj_name2id(m, mjOBJ_KEY, key.c_str());
+  if (k < 0) {
+    std::string names;
+    for (int i = 0; i < m->nkey; ++i) names += (i ? ", " : "") + Name(m, mjOBJ_KEY, i);
+    *error = "the scene has no keyframe '" + key + "' (" +
+             (m->nkey ? "its keyframes: " + names : std::string("it has none")) + ")";
+    return false;
+  }
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) continue;
+    out->emplace_back(Name(m, mjOBJ_JOINT, j), m->key_qpos[k * m->nq + m->jnt_qposadr[j]]);
+  }
+  return true;
+}
+
+//---------------- explanation ----------------
+
+std::string DescribeActuation(const RobotMap& robot) {
+  std::string s = "actuation (" + std::to_string(robot.joints.size()) +
+                  " commanded joints: the servo's joint torque becomes each actuator's ctrl):\n";
+  char limit[64];
+  for (const JointMap& j : robot.joints) {
+    if (j.tau_max >= kNoLimit) {
+      std::snprintf(limit, sizeof limit, "no torque limit");
+    } else {
+      std::snprintf(limit, sizeof limit, "torque limit %g", j.tau_max);
+    }
+    s += "  " + j.name + ": " + j.law.Describe() + "; " + limit + "\n";
+  }
+  s += "passive joints (" + std::to_string(robot.passive.size()) + ", read-only):";
+  if (robot.passive.empty()) s += " none";
+  for (const PassiveJointMap& p : robot.passive) s += " " + p.name;
+  return s + "\n";
 }
 
 }  // namespace ohrp::model

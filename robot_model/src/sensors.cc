@@ -33,6 +33,7 @@ shm::ProducerConfig MakeProducerConfig(const RobotMap& robot, const mjModel* m,
   }
   for (const ForceSensorMap& f : robot.forces) c.force_names.push_back(f.name);
   for (const ImuMap& i : robot.imus) c.imu_names.push_back(i.name);
+  for (const PassiveJointMap& p : robot.passive) c.passive_names.push_back(p.name);
   for (const CameraMap& cam : robot.cameras) {
     shm::CameraInfo info{};
     CopyName(info.name, cam.name);
@@ -61,7 +62,13 @@ void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
     const JointMap& j = robot.joints[i];
     out->q[i] = sel.q ? d->qpos[j.qpos_adr] : kOff;
     out->dq[i] = sel.dq ? d->qvel[j.dof_adr] : kOff;
-    out->tau[i] = sel.tau ? d->actuator_force[j.actuator_id] : kOff;
+    out->tau[i] = sel.tau ? j.law.gear * d->actuator_force[j.actuator_id] : kOff;  // joint torque
+  }
+  // passive joints: read like the encoders of the driven ones
+  for (size_t i = 0; i < robot.passive.size(); ++i) {
+    const PassiveJointMap& p = robot.passive[i];
+    out->passive_q[i] = sel.q ? d->qpos[p.qpos_adr] : kOff;
+    out->passive_dq[i] = sel.dq ? d->qvel[p.dof_adr] : kOff;
   }
   // MuJoCo's force/torque sensors read what the parent exerts on the child; the segment
   // carries OpenHRP's convention (child on parent), hence the sign

@@ -7,7 +7,10 @@
 namespace ohrp::model {
 
 Servo::Servo(const RobotMap& robot)
-    : robot_(robot), ref_(robot.joints.size()), rejected_(robot.joints.size(), 0) {}
+    : robot_(robot),
+      ref_(robot.joints.size()),
+      rejected_(robot.joints.size(), 0),
+      clamped_(robot.joints.size(), 0) {}
 
 void Servo::HoldCurrent(const mjData* d) {
   for (size_t i = 0; i < robot_.joints.size(); ++i) {
@@ -68,7 +71,7 @@ int Servo::Accept(const shm::CommandBlock& commands) {
   return rejected;
 }
 
-void Servo::Apply(const mjModel* m, mjData* d) const {
+void Servo::Apply(const mjModel*, mjData* d) {
   for (size_t i = 0; i < ref_.size(); ++i) {
     const JointMap& j = robot_.joints[i];
     const shm::JointCommand& c = ref_[i];
@@ -81,7 +84,14 @@ void Servo::Apply(const mjModel* m, mjData* d) const {
       case shm::JointMode::kVelocity: tau = c.kd * (c.dq_ref - dq) + c.tau_ff; break;
       case shm::JointMode::kTorque: tau = c.tau_ff; break;
     }
-    d->ctrl[j.actuator_id] = std::clamp(tau, -j.tau_max, j.tau_max);
+    // the torque within the joint's limit, then the actuator's control for it
+    tau = std::clamp(tau, -j.tau_max, j.tau_max);
+    bool clamped = false;
+    d->ctrl[j.actuator_id] = j.law.ControlFor(tau, q, dq, &clamped);
+    if (clamped) {
+      ++clamped_[i];
+      ++clamped_total_;
+    }
   }
 }
 

@@ -95,6 +95,8 @@ Status ValidateConfig(const ProducerConfig& config) {
   if (!s.ok()) return s;
   s = CheckNames("imu_names", config.imu_names, kMaxImus);
   if (!s.ok()) return s;
+  s = CheckNames("passive_names", config.passive_names, kMaxPassiveJoints);
+  if (!s.ok()) return s;
   if (config.cameras.size() > static_cast<std::size_t>(kMaxCameras)) {
     return Invalid("cameras has " + std::to_string(config.cameras.size()) +
                    " entries, the layout holds at most " + std::to_string(kMaxCameras));

@@ -112,6 +112,7 @@ Status CheckHeaderValues(const SegmentHeader& header, const std::string& segment
   if (problem.empty()) problem = CountProblem("nforce", header.nforce, kMaxForceSensors);
   if (problem.empty()) problem = CountProblem("nimu", header.nimu, kMaxImus);
   if (problem.empty()) problem = CountProblem("ncamera", header.ncamera, kMaxCameras);
+  if (problem.empty()) problem = CountProblem("npassive", header.npassive, kMaxPassiveJoints);
   if (problem.empty()) problem = JointProblem(header);
   if (problem.empty()) problem = CameraProblem(header);
   if (problem.empty()) problem = PeriodProblem(header);

@@ -35,6 +35,7 @@ constexpr uint64_t ComputeLayoutHash() {
       kMaxForceSensors,
       kMaxImus,
       kMaxCameras,
+      kMaxPassiveJoints,
       kNameLen,
       // camera
       sizeof(CameraInfo),
@@ -76,6 +77,8 @@ constexpr uint64_t ComputeLayoutHash() {
       offsetof(SegmentHeader, total_mass),
       offsetof(SegmentHeader, joint_axis),
       offsetof(SegmentHeader, link_mass),
+      offsetof(SegmentHeader, npassive),
+      offsetof(SegmentHeader, passive_names),
       // sensors
       sizeof(ForceTorque),
       offsetof(ForceTorque, force),
@@ -104,6 +107,8 @@ constexpr uint64_t ComputeLayoutHash() {
       offsetof(SensorBlock, force),
       offsetof(SensorBlock, imu),
       offsetof(SensorBlock, sim_truth),
+      offsetof(SensorBlock, passive_q),
+      offsetof(SensorBlock, passive_dq),
       // commands
       sizeof(JointCommand),
       offsetof(JointCommand, mode),
@@ -193,10 +198,12 @@ SegmentHeader SanitizedHeader(const SegmentHeader& header) {
   h.nforce = std::clamp(h.nforce, 0, kMaxForceSensors);
   h.nimu = std::clamp(h.nimu, 0, kMaxImus);
   h.ncamera = std::clamp(h.ncamera, 0, kMaxCameras);
+  h.npassive = std::clamp(h.npassive, 0, kMaxPassiveJoints);
   Terminate(h.robot_name);
   for (auto& name : h.joint_names) Terminate(name);
   for (auto& name : h.force_names) Terminate(name);
   for (auto& name : h.imu_names) Terminate(name);
+  for (auto& name : h.passive_names) Terminate(name);
   for (auto& camera : h.cameras) Terminate(camera.name);
   return h;
 }

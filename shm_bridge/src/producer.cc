@@ -110,6 +110,10 @@ void FillHeader(const ProducerConfig& config, SegmentHeader* h) {
   for (std::size_t i = 0; i < config.force_names.size(); ++i) {
     CopyName(h->force_names[i], config.force_names[i]);
   }
+  h->npassive = static_cast<int32_t>(config.passive_names.size());
+  for (std::size_t i = 0; i < config.passive_names.size(); ++i) {
+    CopyName(h->passive_names[i], config.passive_names[i]);
+  }
   for (std::size_t i = 0; i < config.imu_names.size(); ++i) {
     CopyName(h->imu_names[i], config.imu_names[i]);
   }

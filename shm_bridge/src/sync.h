@@ -169,6 +169,8 @@ inline void CopySensors(const SensorBlock* src, SensorBlock* dst, const SegmentH
   CopyElements<ForceTorque>(src, dst, offsetof(SensorBlock, force), counts.nforce);
   CopyElements<Imu>(src, dst, offsetof(SensorBlock, imu), counts.nimu);
   dst->sim_truth = src->sim_truth;
+  CopyElements<double>(src, dst, offsetof(SensorBlock, passive_q), counts.npassive);
+  CopyElements<double>(src, dst, offsetof(SensorBlock, passive_dq), counts.npassive);
 }
 
 }  // namespace ohrp::shm::internal

@@ -13,6 +13,7 @@
 #include "shm_bridge/bridge.h"
 #include "sim_host/divergence.h"
 #include "sim_host/model.h"
+#include "sim_host/period.h"
 #include "sim_host/recorder.h"
 #include "sim_host/report.h"
 
@@ -60,7 +61,8 @@ bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
 
 }  // namespace
 
-int RunHost(const HostOptions& o) {
+int RunHost(const HostOptions& options) {
+  HostOptions o = options;  // the control period is resolved below
   InstallMujocoHandlers(OnFatal);
   struct sigaction sa {};
   sa.sa_handler = OnSignal;
@@ -104,22 +106,23 @@ int RunHost(const HostOptions& o) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
+  // the control period: the scene's step times n (period.h)
+  const double dt = m->opt.timestep;
+  int steps_per_cycle = 1;
+  if (!ChooseControlPeriod(dt, options.control_period, &o.control_period, &steps_per_cycle, &error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
   if (o.explain) {
     std::printf("effects of %s (sim_host --explain):\n%s", o.scene.c_str(), effects.Table().c_str());
+    std::printf("%s", DescribeControlPeriod(dt, o.control_period, steps_per_cycle,
+                                            options.control_period <= 0).c_str());
+    std::printf("%s", DescribeActuation(robot).c_str());
     return kExitOk;
   }
   const SensorSelection selection = SelectSensors(effects);
   std::unique_ptr<SensorNoise> noise;
   if (effects.on(Effect::kNoise)) noise = std::make_unique<SensorNoise>(effects.noise, selection);
-  const double dt = m->opt.timestep;
-  const double ratio = o.control_period / dt;
-  const int steps_per_cycle = static_cast<int>(std::lround(ratio));
-  if (steps_per_cycle < 1 || std::fabs(ratio - steps_per_cycle) > 1e-6) {
-    std::fprintf(stderr,
-                 "sim_host: the control period (%g s) must be a whole multiple of the physics "
-                 "step (%g s)\n", o.control_period, dt);
-    return kExitUsage;
-  }
 
   shm::Status status;
   shm::ProducerConfig pc = MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
@@ -398,6 +401,10 @@ int RunHost(const HostOptions& o) {
   if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
   if (recorder) recorder->Flush();
   st.rejected = servo.rejected_total();
+  st.clamped = servo.clamped_total();
+  for (size_t i = 0; i < robot.joints.size(); ++i) {
+    if (servo.clamped(static_cast<int>(i)) > 0) st.clamped_joints.emplace_back(robot.joints[i].name, servo.clamped(static_cast<int>(i)));
+  }
   st.warnings = WarningCount() - warnings_at_start;
   if (recorder) {
     st.log_rows = recorder->written();

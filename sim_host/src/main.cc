@@ -18,8 +18,10 @@ int main(int argc, char** argv) {
   app.add_option("--keyframe", o.keyframe, "initial state: a keyframe of the scene (default: the model's pose)");
   app.add_option("--physics-dt", o.physics_dt, "physics step [s] (default: the scene's timestep)")
       ->check(ohrp::cli::Positive());
-  app.add_option("--control-period", o.control_period, "sensor/command cycle [s], a multiple of the physics step")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+  app.add_option("--control-period", o.control_period,
+                 "sensor/command cycle [s], a whole multiple of the physics step (default: the "
+                 "multiple nearest 5 ms, e.g. 4 ms on a 2 ms step)")
+      ->check(ohrp::cli::Positive());
   app.add_option("--integrator", o.integrator, "euler | rk4 | implicit (default: the scene's)")
       ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
   std::string contact = "auto";
@@ -81,8 +83,9 @@ int main(int argc, char** argv) {
                  "accelerometer orientation rne_post other_sensors noise cameras log log_base "
                  "log_joints log_force_torque log_imu (docs/effects.md)");
   app.add_flag("--explain", o.explain,
-               "print each effect (on or off, and why) for this scene and these options, then "
-               "exit 0 without creating a segment");
+               "print each effect (on or off, and why), the control period, and each joint's "
+               "actuator and how its torque is mapped onto it, for this scene and these "
+               "options, then exit 0 without creating a segment");
   app.footer(
       "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
       "4 the simulation diverged, 5 the controller was lost (or never attached), 130 interrupted.\n"

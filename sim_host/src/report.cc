@@ -83,6 +83,17 @@ void PrintReport(const RunStats& st) {
                static_cast<unsigned long>(st.steps), static_cast<unsigned long>(st.cycles),
                static_cast<unsigned long>(st.commands), static_cast<unsigned long>(st.late),
                static_cast<unsigned long>(st.rejected), st.warnings);
+  // the actuators that could not give the servo's torque
+  if (st.clamped > 0) {
+    std::string joints;
+    for (const auto& [name, steps] : st.clamped_joints) {
+      joints += " " + name + " (" + std::to_string(steps) + ")";
+    }
+    std::fprintf(stderr,
+                 "sim_host: actuators clamped the servo's torque in %lu joint-steps "
+                 "(ctrlrange or forcerange):%s\n",
+                 static_cast<unsigned long>(st.clamped), joints.c_str());
+  }
 }
 
 void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
@@ -119,6 +130,10 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["commands"] = st.commands;
   j["late_commands"] = st.late;
   j["rejected_commands"] = st.rejected;
+  j["actuator_clamped_steps"] = st.clamped;
+  nlohmann::json clamped = nlohmann::json::object();
+  for (const auto& [name, steps] : st.clamped_joints) clamped[name] = steps;
+  j["actuator_clamped_per_joint"] = clamped;
   j["controller_losses"] = st.controller_losses;
   j["controllers_seen"] = st.controllers_seen;
   j["mujoco_warnings"] = st.warnings;

@@ -19,6 +19,33 @@ TEST(PoseTest, ParsesJointsByNameAndZeroesTheRest) {
   EXPECT_EQ(q, (std::vector<double>{0.0, 0.5, -0.1}));
 }
 
+TEST(PoseTest, SaysWhichJointsThePoseNames) {
+  Pose pose;
+  ASSERT_TRUE(ParsePose("joints:\n  B: 0.5\n", "p.yaml", &pose).ok());
+  std::vector<double> q;
+  std::vector<bool> named;
+  ASSERT_TRUE(ResolvePose(pose, {"A", "B", "C"}, &q, &named).ok());
+  EXPECT_EQ(named, (std::vector<bool>{false, true, false}));
+}
+
+TEST(PoseTest, KeyframePoseSkipsJointsTheRobotDoesNotCommand) {
+  const Pose pose = FromKeyframe("scene.xml keyframe 'home'", {{"shin", 0.1}, {"knee", -0.7}});
+  std::vector<double> q;
+  std::vector<bool> named;
+  ASSERT_TRUE(ResolvePose(pose, {"hip", "knee"}, &q, &named).ok());
+  EXPECT_EQ(q, (std::vector<double>{0.0, -0.7}));
+  EXPECT_EQ(named, (std::vector<bool>{false, true}));
+}
+
+TEST(PoseTest, KeyframeOfAnotherRobotIsRefused) {
+  const Pose pose = FromKeyframe("other.xml keyframe 'home'", {{"shin", 0.1}});
+  std::vector<double> q;
+  ConfigStatus s = ResolvePose(pose, {"hip", "knee"}, &q);
+  EXPECT_EQ(s.code, ConfigError::kUnknownJoint);
+  EXPECT_NE(s.message.find("names none of the robot's 2 joints (hip knee)"), std::string::npos)
+      << s.message;
+}
+
 TEST(PoseTest, UnknownJointListsTheRobotsJoints) {
   Pose pose;
   ASSERT_TRUE(ParsePose("joints:\n  A: 1\n  ELBOW: 0.5\n", "p.yaml", &pose).ok());

@@ -46,7 +46,11 @@ TEST_F(PostureTest, ConvergesToHalfSittingAlongARampInProducerTime) {
   Pose pose;
   ASSERT_TRUE(LoadPoseFile(DefaultPoseFile(), &pose).ok());
   std::vector<double> target;
-  ASSERT_TRUE(ResolvePose(pose, spec.joints, &target).ok());
+  std::vector<bool> named;
+  ASSERT_TRUE(ResolvePose(pose, spec.joints, &target, &named).ok());
+  for (int j = 0; j < 29; ++j) {
+    if (!named[j]) target[j] = 0.05;  // joints the pose leaves out hold where they were
+  }
   const auto& rec = robot->records();
   // knee reference error against the ramp started at t0 from the initial pose
   auto knee_error = [](double t0, const testing::CommandRecord& r, const void* ctx) {
@@ -79,6 +83,75 @@ TEST_F(PostureTest, ConvergesToHalfSittingAlongARampInProducerTime) {
   EXPECT_NE(log.find("robot SampleRobot, 29 joints, control period 5.000 ms"), std::string::npos)
       << log;
   EXPECT_NE(log.find("ended its run"), std::string::npos) << log;
+}
+
+// runs posture (extra arguments `args`) against a three-joint robot starting at `q_init` until
+// it holds; returns the last command block
+testing::CommandRecord HoldOnThreeJoints(const std::string& segment, const std::string& log,
+                                         const std::vector<std::string>& args) {
+  FakeRobotSpec spec;
+  spec.segment = segment;
+  spec.robot_name = "leg";
+  spec.joints = {"hip", "knee", "ankle"};
+  spec.q_init = {0.3, -0.2, 0.1};
+  std::string error;
+  auto robot = FakeRobot::Create(spec, &error);
+  EXPECT_TRUE(robot) << error;
+  if (!robot) return {};
+  std::vector<std::string> argv = {testing::Program("posture"), "--segment", segment, "--ramp",
+                                   "0.1", "--attach-timeout", "5"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const pid_t pid = testing::Spawn(argv, log);
+  EXPECT_TRUE(robot->RunUntilCommands(60)) << testing::ReadText(log);
+  robot->Stop();
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadText(log);
+  return robot->records().empty() ? testing::CommandRecord{} : robot->records().back();
+}
+
+TEST_F(PostureTest, JointsAPoseFileLeavesOutHoldWhereTheyAre) {
+  const std::string pose = testing::TempPath("pose");
+  testing::WriteText(pose, "joints:\n  knee: 0.8\n");
+  const testing::CommandRecord last = HoldOnThreeJoints(segment_, log_, {"--pose", pose});
+  ASSERT_EQ(last.q_ref.size(), 3u);
+  EXPECT_DOUBLE_EQ(last.q_ref[0], 0.3);  // held, not 0
+  EXPECT_DOUBLE_EQ(last.q_ref[1], 0.8);
+  EXPECT_DOUBLE_EQ(last.q_ref[2], 0.1);
+  std::remove(pose.c_str());
+}
+
+// a scene of the same three joints, a passive one, and a keyframe
+constexpr char kLegScene[] = R"(<mujoco model="leg"><compiler angle="radian"/><worldbody>
+  <body><joint name="hip" axis="0 1 0"/><geom size="0.1" mass="1"/>
+  <body><joint name="spring" axis="0 1 0"/><geom size="0.1" mass="1"/>
+  <body><joint name="knee" axis="0 1 0"/><geom size="0.1" mass="1"/>
+  <body><joint name="ankle" axis="0 1 0"/><geom size="0.1" mass="1"/></body></body></body></body>
+  </worldbody><actuator><motor joint="hip"/><motor joint="knee"/><motor joint="ankle"/></actuator>
+  <keyframe><key name="crouch" qpos="-0.4 0.05 0.9 -0.5"/></keyframe></mujoco>)";
+
+TEST_F(PostureTest, TakesItsTargetFromAKeyframeOfTheScene) {
+  const std::string scene = testing::TempPath("scene");
+  testing::WriteText(scene, kLegScene);
+  const testing::CommandRecord last =
+      HoldOnThreeJoints(segment_, log_, {"--scene", scene, "--keyframe", "crouch"});
+  ASSERT_EQ(last.q_ref.size(), 3u);
+  EXPECT_DOUBLE_EQ(last.q_ref[0], -0.4);
+  EXPECT_DOUBLE_EQ(last.q_ref[1], 0.9);  // the passive spring's 0.05 is skipped
+  EXPECT_DOUBLE_EQ(last.q_ref[2], -0.5);
+  std::remove(scene.c_str());
+}
+
+TEST_F(PostureTest, UnknownKeyframeIsAUsageErrorNamingTheScenesKeyframes) {
+  const std::string scene = testing::TempPath("scene");
+  testing::WriteText(scene, kLegScene);
+  pid_t pid = testing::Spawn({testing::Program("posture"), "--segment", segment_, "--scene",
+                              scene, "--keyframe", "home"}, log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage);
+  const std::string log = testing::ReadText(log_);
+  EXPECT_NE(log.find("no keyframe 'home' (its keyframes: crouch)"), std::string::npos) << log;
+  pid = testing::Spawn({testing::Program("posture"), "--segment", segment_, "--keyframe", "crouch"},
+                       log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadText(log_);  // no --scene
+  std::remove(scene.c_str());
 }
 
 TEST_F(PostureTest, RefusesARobotWhoseJointsAreNotInThePose) {

@@ -57,13 +57,24 @@ TEST_F(ModelTest, RefusesAModelWithoutMotors) {
   EXPECT_NE(error.find("no <motor>"), std::string::npos) << error;
 }
 
-TEST_F(ModelTest, RefusesAGearedMotor) {
+TEST_F(ModelTest, MapsAGearedMotor) {
   std::string error;
   auto scene = Scene::Load(testing::WriteTemp(testing::kGearedMotor), &error);
   ASSERT_TRUE(scene) << error;
   RobotMap robot;
+  ASSERT_TRUE(MapRobot(scene->m(), &robot, &error)) << error;
+  ASSERT_EQ(robot.joints.size(), 1u);
+  EXPECT_DOUBLE_EQ(robot.joints[0].law.gear, 2.0);
+  EXPECT_EQ(robot.joints[0].law.kind, model::ActuatorKind::kMotor);
+}
+
+TEST_F(ModelTest, RefusesAnActuatorWithActivationDynamics) {
+  std::string error;
+  auto scene = Scene::Load(testing::WriteTemp(testing::kFilteredActuator), &error);
+  ASSERT_TRUE(scene) << error;
+  RobotMap robot;
   EXPECT_FALSE(MapRobot(scene->m(), &robot, &error));
-  EXPECT_NE(error.find("gear 1"), std::string::npos) << error;
+  EXPECT_NE(error.find("activation dynamics"), std::string::npos) << error;
 }
 
 TEST_F(ModelTest, UnknownKeyframeIsAnError) {

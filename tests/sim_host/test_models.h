@@ -57,6 +57,15 @@ inline constexpr const char* kGearedMotor = R"(
 </mujoco>
 )";
 
+inline constexpr const char* kFilteredActuator = R"(
+<mujoco model="filtered">
+  <worldbody>
+    <body><joint name="j" type="hinge"/><geom type="sphere" size="0.1"/></body>
+  </worldbody>
+  <actuator><general joint="j" dyntype="filter" dynprm="0.05"/></actuator>
+</mujoco>
+)";
+
 // Writes `text` to a fresh temporary file and returns its path.
 inline std::string WriteTemp(const std::string& text, const std::string& suffix = ".xml") {
   char path[] = "/tmp/ohrp_test_XXXXXX";

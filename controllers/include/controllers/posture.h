@@ -2,7 +2,9 @@
 //
 // On activation it takes the joint positions of the first sensor block, then ramps
 // (minimum jerk, ramp.h) to the pose over `ramp` seconds of the producer's `time`, and holds.
-// Every joint is in position mode with the producer's default gains times the scales.
+// Joints the pose does not name hold where they were at activation (never 0). The pose comes
+// from a pose file or from a keyframe of a scene (pose.h: FromKeyframe). Every joint is in
+// position mode with the producer's default gains times the scales.
 #pragma once
 
 #include <array>
@@ -30,6 +32,10 @@ class PostureController : public Controller {
   // Checks the options and loads the pose file; null with `*status` set on failure.
   static std::unique_ptr<PostureController> Create(const PostureOptions& options,
                                                    ConfigStatus* status);
+  // Checks the options and takes an already made pose (a scene's keyframe); null with
+  // `*status` set when the options are wrong.
+  static std::unique_ptr<PostureController> Create(const PostureOptions& options, Pose pose,
+                                                   ConfigStatus* status);
   // The same from an already parsed pose (tests).
   PostureController(const PostureOptions& options, Pose pose);
 
@@ -45,6 +51,7 @@ class PostureController : public Controller {
   PostureOptions options_;
   Pose pose_;
   std::vector<double> target_;                     // (njoint)
+  std::vector<bool> named_;                        // (njoint) the pose names the joint
   std::array<double, shm::kMaxJoints> start_{};    // pose at activation
   std::array<double, shm::kMaxJoints> q_ref_{};
   std::array<double, shm::kMaxJoints> dq_ref_{};
@@ -52,8 +59,8 @@ class PostureController : public Controller {
 };
 
 // Checks that every value of `q` (joint-id order) lies within the header's joint limits;
-// `what(j)` names the value in the message.
+// `what(j)` names the value in the message. `only`, when given, selects the joints to check.
 ConfigStatus CheckWithinLimits(const shm::SegmentHeader& header, const double* q,
-                               const std::string& what);
+                               const std::string& what, const std::vector<bool>* only = nullptr);
 
 }  // namespace ohrp::controllers

@@ -2,9 +2,13 @@
 // up the joints, force/torque sensors, IMUs and cameras of the robot's segment.
 //
 // Conventions read from the MJCF (see mjcf/hrp1s/README.md):
-//   - the robot's joints are the targets of its `<motor>` actuators, in actuator order (this is
-//     the joint-id order of the segment); each motor has gear 1 and its ctrlrange is the torque
-//     limit;
+//   - the robot's joints are the targets of its actuators, in actuator order (this is the
+//     joint-id order of the segment), one actuator per hinge or slide joint: <motor> with any
+//     gear, <position>, <velocity>, or <general> with a fixed gain and an affine bias
+//     (actuator.h says how a joint torque becomes the actuator's control); the torque limit is
+//     what ctrlrange and forcerange allow;
+//   - the robot's other hinge and slide joints (in the base's subtree, or anywhere when the
+//     robot is fixed) are passive: published read-only (e.g. Cassie's shin and tarsus);
 //   - a force/torque sensor is a `<force>` and a `<torque>` sensor on the same site; its name
 //     is the site's name;
 //   - an IMU is a `<gyro>` and an `<accelerometer>` on the same site (plus an optional
@@ -14,8 +18,11 @@
 
 #include <mujoco/mujoco.h>
 
+#include "robot_model/actuator.h"
+
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ohrp::model {
@@ -27,9 +34,18 @@ struct JointMap {
   int qpos_adr = -1;
   int dof_adr = -1;
   double q_min = 0, q_max = 0;  // limits [rad or m]; +-kNoLimit when unlimited
-  double tau_max = 0;           // torque limit [N m or N]
+  double tau_max = 0;           // joint torque limit [N m or N]; kNoLimit when unbounded
+  ActuatorLaw law;              // how a joint torque becomes the actuator's ctrl
   double default_kp = 0;        // suggested PD gains (see SuggestGains in model.cc)
   double default_kd = 0;
+};
+
+// A hinge or slide joint of the robot that no actuator drives: read, never commanded.
+struct PassiveJointMap {
+  std::string name;
+  int joint_id = -1;
+  int qpos_adr = -1;
+  int dof_adr = -1;
 };
 
 struct ForceSensorMap {
@@ -60,6 +76,7 @@ struct RobotMap {
   int base_qpos = -1;
   int base_dof = -1;
   std::vector<JointMap> joints;
+  std::vector<PassiveJointMap> passive;  // joint order of the model
   std::vector<ForceSensorMap> forces;
   std::vector<ImuMap> imus;
   std::vector<CameraMap> cameras;
@@ -94,8 +111,20 @@ class Scene {
 };
 
 // Builds the segment's view of the robot. Returns false with `*error` set when the model has no
-// robot the segment can carry (no motors, a motor not on a joint, too many joints or sensors).
+// robot the segment can carry (no actuators, an actuator whose law cannot be inverted (see
+// ReadActuatorLaw), two actuators on one joint, too many joints or sensors).
 bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error);
+
+// The hinge and slide joints' positions in keyframe `key` of `m`, by joint name, in joint order
+// (e.g. for `posture --keyframe`). Returns false with `*error` naming the keyframe and the ones
+// the model has when it has no keyframe of that name.
+bool KeyframeJointPositions(const mjModel* m, const std::string& key,
+                            std::vector<std::pair<std::string, double>>* out, std::string* error);
+
+// The lines of `sim_host --explain` about the robot's joints: for each joint, its actuator, the
+// actuator's type and how a joint torque becomes its control (ActuatorLaw::Describe), the
+// joint's torque limit; then the passive joints, published read-only.
+std::string DescribeActuation(const RobotMap& robot);
 
 // Installs MuJoCo error and warning handlers that never wait on stdin: errors print the message
 // and run `on_fatal` (which must not return), warnings are counted (see WarningCount).

@@ -7,6 +7,11 @@
 // torque above the limit is rejected and keeps its previous reference (it holds); the rejection
 // is counted per joint. Nothing here allocates.
 //
+// The PD law gives a joint torque; Apply turns it into the control of the joint's actuator
+// (JointMap::law, actuator.h: ctrl = tau/gear for a motor, the affine law inverted for
+// <position>, <velocity> and <general>). A step in which ctrlrange or forcerange kept the joint
+// short of its torque is counted per joint (clamped_per_joint).
+//
 // Velocity references: neither the MJCF nor the segment carries a per-joint velocity limit, so
 // the bound is one speed for every joint, kMaxJointSpeed. Humanoid joints run below about
 // 20 rad/s (HRP-1S's below 10 rad/s), so a reference above 100 rad/s (or 100 m/s on a slider)
@@ -43,12 +48,16 @@ class Servo {
   // Takes a command block joint by joint. Returns the number of joints rejected this time.
   int Accept(const shm::CommandBlock& commands);
 
-  // Writes the servo torques into d->ctrl from the state in `d`. Call before each mj_step.
-  void Apply(const mjModel* m, mjData* d) const;
+  // Writes the servo torques, as the actuators' controls, into d->ctrl from the state in `d`.
+  // Call before each mj_step. Counts the joints whose actuator could not give the torque.
+  void Apply(const mjModel* m, mjData* d);
 
   const shm::JointCommand& reference(int i) const { return ref_[i]; }
   uint64_t rejected_total() const { return rejected_total_; }
   const uint32_t* rejected_per_joint() const { return rejected_.data(); }
+  // physics steps in which joint i's actuator clamped (ctrlrange or forcerange)
+  uint64_t clamped(int i) const { return clamped_[i]; }
+  uint64_t clamped_total() const { return clamped_total_; }
 
  private:
   bool Valid(int i, const shm::JointCommand& c) const;
@@ -56,6 +65,8 @@ class Servo {
   std::vector<shm::JointCommand> ref_;
   std::vector<uint32_t> rejected_;
   uint64_t rejected_total_ = 0;
+  std::vector<uint64_t> clamped_;
+  uint64_t clamped_total_ = 0;
 };
 
 }  // namespace ohrp::model

@@ -63,6 +63,7 @@ struct ProducerConfig {
   std::vector<std::string> joint_names;  // joint-id order; <= kMaxJoints, each < kNameLen
   std::vector<std::string> force_names;
   std::vector<std::string> imu_names;
+  std::vector<std::string> passive_names;  // passive joints (read-only); <= kMaxPassiveJoints
   std::vector<CameraInfo> cameras;
   std::vector<double> q_min, q_max, tau_max, default_kp, default_kd;  // njoint each
   double physics_period = 0.0;      // [s]

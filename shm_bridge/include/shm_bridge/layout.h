@@ -43,8 +43,10 @@ namespace ohrp::shm {
 //---------------- capacities and identification ----------------
 
 inline constexpr char kMagic[8] = {'O', 'H', 'R', 'P', 'S', 'E', 'G', '1'};
-inline constexpr uint32_t kLayoutVersion = 2;  // 2: the robot model's identity (model_hash...)
+inline constexpr uint32_t kLayoutVersion = 3;  // 2: the robot model's identity (model_hash...);
+                                               // 3: passive joints (npassive, passive_q...)
 inline constexpr int kMaxJoints = 64;   // actuated joints
+inline constexpr int kMaxPassiveJoints = 32;  // joints no actuator drives, published read-only
 inline constexpr int kMaxForceSensors = 4;  // 6-axis force/torque sensors
 inline constexpr int kMaxImus = 2;
 inline constexpr int kMaxCameras = 4;
@@ -137,6 +139,12 @@ struct SegmentHeader {
   double total_mass;                // mass of those bodies [kg]
   double joint_axis[kMaxJoints][3]; // joint axis in its body's frame (njoint x 3) [unit vector]
   double link_mass[kMaxJoints];     // mass of the body each joint moves (njoint) [kg]
+
+  // passive joints: the robot's hinge and slide joints no actuator drives (e.g. Cassie's shin
+  // and tarsus), published read-only in SensorBlock::passive_q/passive_dq, never commanded
+  int32_t npassive;                 // passive joints, <= kMaxPassiveJoints
+  int32_t pad1;
+  char passive_names[kMaxPassiveJoints][kNameLen];  // in the model's joint order
 };
 
 //---------------- sensor block (producer -> controller) ----------------
@@ -181,6 +189,8 @@ struct SensorBlock {
   ForceTorque force[kMaxForceSensors];  // (nforce)
   Imu imu[kMaxImus];                // (nimu)
   SimTruth sim_truth;
+  double passive_q[kMaxPassiveJoints];   // passive joint position (npassive) [rad or m]
+  double passive_dq[kMaxPassiveJoints];  // passive joint velocity (npassive) [rad/s or m/s]
 };
 
 //---------------- command block (controller -> producer) ----------------

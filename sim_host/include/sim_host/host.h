@@ -59,7 +59,8 @@ struct HostOptions {
   std::string segment = "hrp1s";   // segment name
   std::string keyframe;            // initial state; empty: the model's qpos0
   double physics_dt = 0;           // [s]; 0: the scene's timestep
-  double control_period = 0.005;   // [s]; a multiple of the physics step
+  double control_period = 0;       // [s]; a multiple of the physics step; 0: the multiple
+                                   // nearest 5 ms (sim_host/period.h)
   std::string integrator;          // euler | rk4 | implicit; empty: the scene's
   FeetOptions feet;                // the contact under the soles (default: soft-foot)
   std::vector<Perturbation> pushes; // external pushes on the base (none by default)

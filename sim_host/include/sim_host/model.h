@@ -10,6 +10,7 @@
 namespace ohrp::sim {
 
 using model::CameraMap;
+using model::DescribeActuation;
 using model::FillSensors;
 using model::ForceSensorMap;
 using model::ImuMap;

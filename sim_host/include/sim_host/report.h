@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim_host/divergence.h"
@@ -57,6 +58,9 @@ struct RunStats {
   std::string outcome = "completed";
   std::string detail;
   uint64_t rejected = 0;     // joint commands rejected by the servos
+  uint64_t clamped = 0;      // physics steps x joints whose actuator clamped the servo's torque
+                             // (ctrlrange or forcerange, robot_model/actuator.h)
+  std::vector<std::pair<std::string, uint64_t>> clamped_joints;  // (joint, steps) with steps > 0
   long warnings = 0;         // MuJoCo warnings during the run
   uint64_t log_rows = 0;     // rows written to the data log
   uint64_t log_dropped = 0;  // rows the log ring could not take

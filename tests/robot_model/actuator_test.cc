@@ -1,0 +1,210 @@
+// Tests the actuator laws (actuator.h): for every MuJoCo actuator type that drives one joint,
+// the control ControlFor computes makes MuJoCo apply exactly the commanded joint torque; ranges
+// clamp and say so; actuators that cannot be inverted are refused with a reason; the robot map
+// takes geared motors and lists passive joints; the servo's torque reaches a geared joint.
+#include "robot_model/actuator.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "robot_model/model.h"
+#include "robot_model/servo.h"
+
+namespace ohrp::model {
+namespace {
+
+// one hinge (no gravity, no damping) driven by the actuator element `actuator`
+std::string OneJoint(const std::string& actuator) {
+  return R"(<mujoco model="one"><compiler autolimits="true" angle="radian"/><option gravity="0 0 0"/><worldbody><body name="link">
+    <joint name="j" type="hinge" axis="0 1 0" range="-2 2" limited="true"/>
+    <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body></worldbody>
+    <actuator>)" + actuator + "</actuator></mujoco>";
+}
+
+struct Loaded {
+  mjModel* m = nullptr;
+  mjData* d = nullptr;
+  ~Loaded() {
+    if (d) mj_deleteData(d);
+    if (m) mj_deleteModel(m);
+  }
+};
+
+std::unique_ptr<Loaded> Load(const std::string& xml) {
+  char error[1000] = "";
+  auto vfs = std::make_unique<mjVFS>();  // large: not on the stack
+  mj_defaultVFS(vfs.get());
+  mj_makeEmptyFileVFS(vfs.get(), "model.xml", static_cast<int>(xml.size()));
+  std::memcpy(vfs->filedata[vfs->nfile - 1], xml.data(), xml.size());
+  auto l = std::make_unique<Loaded>();
+  l->m = mj_loadXML("model.xml", vfs.get(), error, sizeof error);
+  mj_deleteVFS(vfs.get());
+  EXPECT_NE(l->m, nullptr) << error;
+  if (l->m) l->d = mj_makeData(l->m);
+  return l;
+}
+
+// the joint torque MuJoCo applies for `ctrl` at (q, dq)
+double MujocoTorque(Loaded* l, double ctrl, double q, double dq) {
+  l->d->qpos[0] = q;
+  l->d->qvel[0] = dq;
+  l->d->ctrl[0] = ctrl;
+  mj_forward(l->m, l->d);
+  return l->d->qfrc_actuator[0];
+}
+
+struct Case {
+  const char* name;
+  const char* actuator;
+  ActuatorKind kind;
+};
+
+class ActuatorTypes : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ActuatorTypes, ControlGivesTheCommandedJointTorque) {
+  auto l = Load(OneJoint(GetParam().actuator));
+  ASSERT_TRUE(l->m);
+  ActuatorLaw law;
+  std::string error;
+  ASSERT_TRUE(ReadActuatorLaw(l->m, 0, &law, &error)) << error;
+  EXPECT_EQ(law.kind, GetParam().kind);
+  for (double tau : {-7.0, 0.0, 3.5}) {
+    for (double q : {-0.4, 0.0, 0.9}) {
+      for (double dq : {-1.5, 0.0, 2.0}) {
+        bool clamped = true;
+        const double ctrl = law.ControlFor(tau, q, dq, &clamped);
+        EXPECT_FALSE(clamped);
+        EXPECT_NEAR(MujocoTorque(l.get(), ctrl, q, dq), tau, 1e-9)
+            << law.Describe() << " at q=" << q << " dq=" << dq;
+        EXPECT_NEAR(law.TorqueFor(ctrl, q, dq), tau, 1e-9);
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Mujoco222, ActuatorTypes,
+    ::testing::Values(
+        Case{"motor", R"(<motor joint="j"/>)", ActuatorKind::kMotor},
+        Case{"geared_motor", R"(<motor joint="j" gear="25"/>)", ActuatorKind::kMotor},
+        Case{"negative_gear", R"(<motor joint="j" gear="-3"/>)", ActuatorKind::kMotor},
+        Case{"position", R"(<position joint="j" kp="80"/>)", ActuatorKind::kPosition},
+        Case{"geared_position", R"(<position joint="j" kp="80" gear="4"/>)", ActuatorKind::kPosition},
+        Case{"velocity", R"(<velocity joint="j" kv="6" gear="2"/>)", ActuatorKind::kVelocity},
+        Case{"general", R"(<general joint="j" gainprm="3" biastype="affine" biasprm="0.5 -2 -0.7" gear="1.5"/>)",
+             ActuatorKind::kGeneral}),
+    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
+
+TEST(ActuatorLaw, CtrlRangeClampsAndSaysSo) {
+  auto l = Load(OneJoint(R"(<motor joint="j" gear="25" ctrlrange="-4.5 4.5"/>)"));
+  ActuatorLaw law;
+  std::string error;
+  ASSERT_TRUE(ReadActuatorLaw(l->m, 0, &law, &error)) << error;
+  EXPECT_DOUBLE_EQ(law.TorqueLimit(1e9), 112.5);
+  bool clamped = false;
+  EXPECT_DOUBLE_EQ(law.ControlFor(112.5, 0, 0, &clamped), 4.5);
+  EXPECT_FALSE(clamped);  // at the limit, not beyond
+  EXPECT_DOUBLE_EQ(law.ControlFor(200.0, 0, 0, &clamped), 4.5);
+  EXPECT_TRUE(clamped);
+}
+
+TEST(ActuatorLaw, ForceRangeOfAPositionServoClamps) {
+  auto l = Load(OneJoint(R"(<position joint="j" kp="100" forcerange="-10 10"/>)"));
+  ActuatorLaw law;
+  std::string error;
+  ASSERT_TRUE(ReadActuatorLaw(l->m, 0, &law, &error)) << error;
+  EXPECT_DOUBLE_EQ(law.TorqueLimit(1e9), 10.0);
+  bool clamped = false;
+  const double ctrl = law.ControlFor(25.0, 0.2, 0.0, &clamped);
+  EXPECT_TRUE(clamped);
+  EXPECT_NEAR(MujocoTorque(l.get(), ctrl, 0.2, 0.0), 10.0, 1e-9);
+}
+
+TEST(ActuatorLaw, StateDependentLawWithoutForceRangeHasNoTorqueLimit) {
+  auto l = Load(OneJoint(R"(<position joint="j" kp="100" ctrlrange="-1 1"/>)"));
+  ActuatorLaw law;
+  std::string error;
+  ASSERT_TRUE(ReadActuatorLaw(l->m, 0, &law, &error)) << error;
+  EXPECT_DOUBLE_EQ(law.TorqueLimit(1e9), 1e9);
+  EXPECT_NE(law.Describe().find("position kp=100"), std::string::npos) << law.Describe();
+  EXPECT_NE(law.Describe().find("ctrl in [-1, 1]"), std::string::npos) << law.Describe();
+}
+
+TEST(ActuatorLaw, RefusesActivationDynamicsWithAReason) {
+  auto l = Load(OneJoint(R"(<general name="filtered" joint="j" dyntype="filter" dynprm="0.05"/>)"));
+  ActuatorLaw law;
+  std::string error;
+  EXPECT_FALSE(ReadActuatorLaw(l->m, 0, &law, &error));
+  EXPECT_NE(error.find("actuator 'filtered'"), std::string::npos) << error;
+  EXPECT_NE(error.find("activation dynamics"), std::string::npos) << error;
+}
+
+TEST(ActuatorLaw, RefusesAZeroGain) {
+  auto l = Load(OneJoint(R"(<general name="dead" joint="j" gainprm="0"/>)"));
+  ActuatorLaw law;
+  std::string error;
+  EXPECT_FALSE(ReadActuatorLaw(l->m, 0, &law, &error));
+  EXPECT_NE(error.find("non-zero"), std::string::npos) << error;
+}
+
+//---------------- the robot map and the servo on these actuators ----------------
+
+// a floating two-link leg: a geared knee motor, a passive spring "shin" joint, and a free box
+constexpr char kLeg[] = R"(<mujoco model="leg"><compiler autolimits="true"/><worldbody>
+  <body name="pelvis" pos="0 0 1"><freejoint/><geom type="sphere" size="0.1" mass="5"/>
+    <body name="thigh"><joint name="knee" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.03" mass="1"/>
+      <body name="shin" pos="0 0 -0.4"><joint name="shin" axis="0 1 0" stiffness="100"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.03" mass="1"/></body></body></body>
+  <body name="box" pos="2 0 0.2"><freejoint/><geom type="sphere" size="0.05" mass="1"/><body><joint name="lid" axis="1 0 0"/>
+    <geom type="box" size="0.1 0.1 0.1" mass="3"/></body></body>
+  </worldbody><actuator><motor joint="knee" gear="16" ctrlrange="-12.2 12.2"/></actuator></mujoco>)";
+
+TEST(RobotMap, TakesAGearedMotorAndListsPassiveJointsOfTheRobotOnly) {
+  auto l = Load(kLeg);
+  RobotMap robot;
+  std::string error;
+  ASSERT_TRUE(MapRobot(l->m, &robot, &error)) << error;
+  ASSERT_EQ(robot.joints.size(), 1u);
+  EXPECT_EQ(robot.joints[0].name, "knee");
+  EXPECT_NEAR(robot.joints[0].tau_max, 16 * 12.2, 1e-9);
+  ASSERT_EQ(robot.passive.size(), 1u);  // the box's lid is not the robot's
+  EXPECT_EQ(robot.passive[0].name, "shin");
+  EXPECT_NEAR(robot.total_mass, 7.0, 1e-9);  // the box is not the robot's either
+}
+
+TEST(RobotMap, RefusesTwoActuatorsOnOneJoint) {
+  auto l = Load(OneJoint(R"(<motor name="a" joint="j"/><position name="b" joint="j" kp="5"/>)"));
+  RobotMap robot;
+  std::string error;
+  EXPECT_FALSE(MapRobot(l->m, &robot, &error));
+  EXPECT_NE(error.find("one actuator per joint"), std::string::npos) << error;
+}
+
+TEST(Servo, PdTorqueReachesAGearedJointAndAPositionActuatorAlike) {
+  for (const char* actuator : {R"(<motor joint="j" gear="25"/>)", R"(<position joint="j" kp="300"/>)"}) {
+    auto l = Load(OneJoint(actuator));
+    RobotMap robot;
+    std::string error;
+    ASSERT_TRUE(MapRobot(l->m, &robot, &error)) << error;
+    Servo servo(robot);
+    l->d->qpos[0] = 0.1;
+    l->d->qvel[0] = -0.5;
+    servo.HoldCurrent(l->d);
+    shm::CommandBlock c{};
+    c.njoint = 1;
+    c.joint[0] = {shm::JointMode::kPosition, 0, 0.6, 0.0, 1.5, 40.0, 3.0};
+    ASSERT_EQ(servo.Accept(c), 0) << actuator;
+    servo.Apply(l->m, l->d);
+    mj_forward(l->m, l->d);
+    const double expected = 40.0 * (0.6 - 0.1) + 3.0 * (0.0 + 0.5) + 1.5;
+    EXPECT_NEAR(l->d->qfrc_actuator[0], expected, 1e-9) << actuator;
+    EXPECT_EQ(servo.clamped_total(), 0u);
+  }
+}
+
+}  // namespace
+}  // namespace ohrp::model
