@@ -282,6 +282,15 @@ int RunHost(const HostOptions& o) {
       const pid_t answering = producer->controller_pid();
       const shm::WaitResult answer = producer->WaitCommands(timeout, &cmd);
       if (first_answer) st.wall_waiting += Now() - wait_from;  // a new controller setting up
+      if (producer->sync_corrupted()) {
+        // another process wrote into the segment: the handshake cannot be trusted any more
+        st.outcome = "segment_corrupted";
+        st.detail = "the segment's wake-up words were overwritten by another process";
+        std::fprintf(stderr, "sim_host: segment '%s': %s at t=%.3f s; ending the run\n",
+                     o.segment.c_str(), st.detail.c_str(), d->time);
+        exit_code = kExitControllerLost;
+        break;
+      }
       switch (answer) {
         case shm::WaitResult::kCommands:
           if (st.commands++ == 0) {
