@@ -62,7 +62,10 @@ bool Post(SignalWord* s) {
   std::atomic_ref<int32_t>(s->poster_cpu).store(sched_getcpu(), std::memory_order_relaxed);
   std::atomic_ref<uint32_t> word(s->word);
   const uint32_t old = word.fetch_or(kSignalPosted, std::memory_order_acq_rel);
-  if (!ValidSignalWord(old)) return false;
+  if (!ValidSignalWord(old)) {
+    FutexWake(&s->word, INT_MAX);  // a sleeper looks at the word again and sees it
+    return false;
+  }
   if ((old & kSignalSleeping) != 0) FutexWake(&s->word, 1);
   return true;
 }

@@ -31,8 +31,8 @@ constexpr bool ValidSignalWord(uint32_t value) {
 int64_t SpinBudget(int64_t typical_ns);
 
 // Posts `s`: sets kSignalPosted (at most one post pends) and wakes a sleeping waiter. Records
-// the caller's CPU for the waiter's spin. False when the word held a corrupted value (no wake
-// is made then).
+// the caller's CPU for the waiter's spin. False when the word held a corrupted value (every
+// sleeper is then woken, to see it).
 bool Post(SignalWord* s);
 
 // Takes the post of `s`, waiting until the CLOCK_MONOTONIC time `until_ns` at the latest.
