@@ -324,9 +324,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"both", "split", "same", "none"}))
       ->capture_default_str();
   app.footer(
-      "cpu [us/cycle] is the CPU time of both processes per round trip: above the median, the\n"
-      "waiters spun instead of sleeping (the bridge spins for a bounded, adaptive time when its\n"
-      "peer runs on another CPU, and yields its CPU when both share one; docs/architecture.md).");
+      "cpu [us/cycle] is the CPU time both processes used per round trip (warm-up included): a\n"
+      "waiter that spins uses its CPU while it spins (the bridge spins for a bounded, adaptive\n"
+      "time when its peer runs on another CPU, and yields its CPU when both share one;\n"
+      "docs/architecture.md).");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   std::printf("bench_bridge: lock-step round trip per cycle, timed on the producer side\n");
