@@ -35,7 +35,7 @@ uint64_t Take(const uint8_t*& data, size_t& size, size_t n) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  shm::SignalWord s{0, -1};
+  shm::SignalWord s{0, -1, 0};
   std::atomic_ref<uint32_t> word(s.word);
   while (size > 0) {
     const uint32_t before = word.load();

@@ -121,6 +121,7 @@ constexpr uint64_t ComputeLayoutHash() {
       sizeof(SignalWord),
       offsetof(SignalWord, word),
       offsetof(SignalWord, poster_cpu),
+      offsetof(SignalWord, post_ns),
       sizeof(Sync),
       offsetof(Sync, sensors_ready),
       offsetof(Sync, commands_ready),

@@ -45,13 +45,17 @@ inline bool TryTake(std::atomic_ref<uint32_t>& word, uint32_t seen) {
                                       std::memory_order_relaxed);
 }
 
-// the moving average of wait durations, weight 1/8 for the newest
-void Learn(int64_t* typical_ns, int64_t took_ns) {
-  took_ns = std::clamp<int64_t>(took_ns, 1, 100 * kMaxSpinNs);
-  *typical_ns = *typical_ns <= 0 ? took_ns : *typical_ns + (took_ns - *typical_ns) / 8;
+}  // namespace
+
+int64_t AnswerNs(int64_t start_ns, int64_t post_ns, int64_t now_ns) {
+  if (now_ns <= start_ns || post_ns <= start_ns) return 0;  // compared first: no overflow
+  return std::min(post_ns, now_ns) - start_ns;
 }
 
-}  // namespace
+int64_t NextTypical(int64_t typical_ns, int64_t answer_ns) {
+  answer_ns = std::clamp<int64_t>(answer_ns, 1, 2 * kMaxSpinNs);
+  return typical_ns <= 0 ? answer_ns : typical_ns + (answer_ns - typical_ns) / 8;
+}
 
 int64_t SpinBudget(int64_t typical_ns) {
   if (typical_ns > kMaxSpinNs) return 0;
@@ -60,6 +64,7 @@ int64_t SpinBudget(int64_t typical_ns) {
 
 bool Post(SignalWord* s) {
   std::atomic_ref<int32_t>(s->poster_cpu).store(sched_getcpu(), std::memory_order_relaxed);
+  std::atomic_ref<int64_t>(s->post_ns).store(NowNs(), std::memory_order_relaxed);
   std::atomic_ref<uint32_t> word(s->word);
   const uint32_t old = word.fetch_or(kSignalPosted, std::memory_order_acq_rel);
   if (!ValidSignalWord(old)) {
@@ -75,8 +80,10 @@ void WakeAll(SignalWord* s) { FutexWake(&s->word, INT_MAX); }
 SignalResult Wait(SignalWord* s, int64_t until_ns, int64_t* typical_ns) {
   std::atomic_ref<uint32_t> word(s->word);
   const int64_t start = NowNs();
+  // what the peer took to answer: until its post, not until this process ran again
   const auto taken = [&] {
-    Learn(typical_ns, NowNs() - start);
+    const int64_t posted = std::atomic_ref<int64_t>(s->post_ns).load(std::memory_order_relaxed);
+    *typical_ns = NextTypical(*typical_ns, AnswerNs(start, posted, NowNs()));
     return SignalResult::kSignalled;
   };
 
@@ -117,7 +124,7 @@ SignalResult Wait(SignalWord* s, int64_t until_ns, int64_t* typical_ns) {
     if (FutexWaitUntil(&s->word, v, &until) == 0) continue;
     if (errno == ETIMEDOUT) {
       word.fetch_and(~kSignalSleeping, std::memory_order_relaxed);
-      Learn(typical_ns, NowNs() - start);  // a slow peer turns the spin off
+      *typical_ns = NextTypical(*typical_ns, NowNs() - start);  // a slow peer stops the spin
       return SignalResult::kTimeout;
     }
     if (errno != EAGAIN && errno != EINTR) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "signal_word.h"
@@ -28,8 +29,8 @@ class SignalWordTest : public ::testing::Test {
                      -1, 0);
     ASSERT_NE(mem, MAP_FAILED);
     sync_ = static_cast<Sync*>(mem);
-    sync_->sensors_ready = {0, -1};
-    sync_->commands_ready = {0, -1};
+    sync_->sensors_ready = {0, -1, 0};
+    sync_->commands_ready = {0, -1, 0};
   }
   void TearDown() override { munmap(sync_, sizeof(Sync)); }
 
@@ -58,12 +59,43 @@ std::vector<int> AllowedCpus() {
 
 //---------------- the spin budget ----------------
 
-TEST(SpinBudget, FollowsTheTypicalWaitWithinItsBounds) {
-  EXPECT_EQ(SpinBudget(0), kMinSpinNs);           // nothing learnt yet: a short spin
+TEST(SpinBudget, FollowsTheTypicalAnswerWithinItsBounds) {
+  EXPECT_EQ(SpinBudget(0), kMinSpinNs);           // nothing learnt yet: the shortest spin
   EXPECT_EQ(SpinBudget(500), kMinSpinNs);
-  EXPECT_EQ(SpinBudget(20000), 40000);            // twice the typical wait
+  EXPECT_EQ(SpinBudget(30000), 60000);            // twice the typical answer
   EXPECT_EQ(SpinBudget(kMaxSpinNs), kMaxSpinNs);  // never more than the maximum
   EXPECT_EQ(SpinBudget(kMaxSpinNs + 1), 0);       // slow peers: sleep at once
+}
+
+// The spin follows how long the peer took to post, not how long this process took to run
+// again. (Learning the whole wait made two processes on two CPUs sleep for ever once a few slow
+// wake-ups had turned the spin off: each wait then included a wake-up.)
+TEST(AnswerNs, IsTheTimeOfThePostNotOfTheWakeUp) {
+  EXPECT_EQ(AnswerNs(1000, 4000, 900000), 3000);  // posted after 3 us, ran again after 899 us
+  EXPECT_EQ(AnswerNs(1000, 500, 2000), 0);        // posted before the wait began
+  EXPECT_EQ(AnswerNs(1000, INT64_MAX, 2000), 1000);  // a scribbled stamp: the wait at most
+  EXPECT_EQ(AnswerNs(1000, INT64_MIN, 2000), 0);
+}
+
+TEST(NextTypical, AveragesAndBoundsEachAnswer) {
+  EXPECT_EQ(NextTypical(0, 3000), 3000);  // the first answer sets it
+  EXPECT_EQ(NextTypical(3000, 11000), 4000);
+  EXPECT_EQ(NextTypical(30000, 1000000000), 30000 + (2 * kMaxSpinNs - 30000) / 8);
+  // answers that stay slow turn the spin off, fast ones turn it on again
+  int64_t typical = 30000;
+  for (int i = 0; i < 30; ++i) typical = NextTypical(typical, 1000000);
+  EXPECT_EQ(SpinBudget(typical), 0);
+  for (int i = 0; i < 30; ++i) typical = NextTypical(typical, 5000);
+  EXPECT_GT(SpinBudget(typical), 0);
+}
+
+// A single slow answer (a peer preempted for a time slice) does not turn the spin off: one
+// answer counts at most 2 * kMaxSpinNs in the average.
+TEST_F(SignalWordTest, OneSlowAnswerDoesNotTurnTheSpinOff) {
+  int64_t typical = 30000;
+  EXPECT_EQ(Wait(&sync_->commands_ready, NowNs() + 20000000, &typical), SignalResult::kTimeout);
+  EXPECT_LE(typical, kMaxSpinNs);
+  EXPECT_GT(SpinBudget(typical), 0);
 }
 
 //---------------- post and wait in one process ----------------
@@ -89,7 +121,7 @@ TEST_F(SignalWordTest, AWaitTimesOutAtItsDeadlineAndLeavesTheWordClear) {
   EXPECT_GE(took, 30000000);
   EXPECT_LT(took, 500000000);
   EXPECT_EQ(sync_->commands_ready.word, 0u);  // the sleeping bit is cleared again
-  EXPECT_GT(typical, kMaxSpinNs);             // a wait that long turns the spin off
+  EXPECT_GT(typical, kMaxSpinNs);             // the first wait, that long, turns the spin off
   // a deadline already past: no wait at all
   EXPECT_EQ(Wait(&sync_->commands_ready, NowNs() - 1000, &typical), SignalResult::kTimeout);
 }
@@ -174,9 +206,8 @@ TEST_F(SignalWordTest, TwoProcessesOnOneCpuDoNotSpinAgainstEachOther) {
   sched_setaffinity(0, sizeof(original), &original);
   EXPECT_EQ(WaitExit(child, 5.0), 0);
   std::sort(us.begin(), us.end());
-  // a hand-over costs a few microseconds; a spin against the peer at least kMinSpinNs and
-  // soon up to kMaxSpinNs
-  EXPECT_LT(us[us.size() / 2], 0.5e-3 * kMaxSpinNs) << "median round trip [us]";
+  // a hand-over costs a few microseconds; a spin against the peer at least kMinSpinNs
+  EXPECT_LT(us[us.size() / 2], 0.5e-3 * kMinSpinNs) << "median round trip [us]";
 }
 
 // On two CPUs the waiters spin instead of sleeping: a round trip takes microseconds, not the

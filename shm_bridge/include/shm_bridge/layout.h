@@ -21,11 +21,12 @@
 // A wake-up word holds only two bits: kSignalPosted (a post is pending) and kSignalSleeping (its
 // waiter sleeps in FUTEX_WAIT). A post sets kSignalPosted and makes the wake system call only
 // when kSignalSleeping was set; the waiter takes the post by clearing the word. A waiter first
-// stays awake for a bounded time (adaptive: about twice what its recent waits took, never more
-// than 100 us, not at all when its waits take longer), spinning when the poster last ran on
-// another CPU (`poster_cpu`) and handing its CPU to the poster (sched_yield) when they share
-// one, then sleeps in FUTEX_WAIT. Any other value of a word is a corrupted segment: both ends
-// report it (never abort, never spin on it).
+// stays awake for a bounded time: about twice what its peer took to answer lately (from the
+// start of the wait to the post time the poster stamps in `post_ns`, so that the waiter's own
+// wake-up latency does not count), at most 100 us, not at all when its peer takes longer. It
+// spins when the poster last ran on another CPU (`poster_cpu`) and hands its CPU to the poster
+// (sched_yield) when they share one; then it sleeps in FUTEX_WAIT. Any other value of a word is
+// a corrupted segment: both ends report it (never abort, never spin on it).
 // Waits are cut into short slices; between slices each side checks that its peer's pid is
 // still alive, so a dead peer is noticed within one slice, not at the end of the timeout.
 // Timeouts are on CLOCK_MONOTONIC, which does not jump with the system clock.
@@ -217,8 +218,9 @@ inline constexpr uint32_t kSignalSleeping = 1u << 1;  // the waiter sleeps in FU
 // one direction of the handshake, alone on its cache line
 struct SignalWord {
   uint32_t word;        // futex word: kSignalPosted | kSignalSleeping (atomic access)
-  int32_t poster_cpu;   // CPU the poster ran on at its last post, -1 unknown: a hint for the
-                        // waiter's spin (never trusted for anything else)
+  int32_t poster_cpu;   // CPU the poster ran on at its last post, -1 unknown (atomic access)
+  int64_t post_ns;      // CLOCK_MONOTONIC time of the last post [ns] (atomic access)
+  // poster_cpu and post_ns are hints for the waiter's spin, never trusted for anything else
 };
 
 struct Sync {
