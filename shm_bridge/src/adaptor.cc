@@ -15,6 +15,7 @@
 
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/checks.h"
+#include "signal_word.h"
 #include "sync.h"
 
 namespace bip = boost::interprocess;
@@ -112,6 +113,16 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
   const SegmentHeader copy = h;
   check = CheckHeaderValues(copy, segment_name);
   if (!check.ok()) return check;
+  const uint32_t sensors_word = std::atomic_ref<uint32_t>(segment->sync.sensors_ready.word).load();
+  const uint32_t commands_word =
+      std::atomic_ref<uint32_t>(segment->sync.commands_ready.word).load();
+  if (!internal::ValidSignalWord(sensors_word) || !internal::ValidSignalWord(commands_word)) {
+    return {Error::kInvalidHeader,
+            where + " has corrupted wake-up words (sensors_ready " + std::to_string(sensors_word) +
+                ", commands_ready " + std::to_string(commands_word) +
+                "; only 0..3 are written by the bridge): another process wrote into the "
+                "segment; restart the producer"};
+  }
 
   // claim the controller slot; a slot held by a dead controller is taken over
   const pid_t self = getpid();
@@ -140,6 +151,8 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
   options_ = options;
   last_cycle_ = 0;
   have_cycle_ = false;
+  sync_corrupted_ = false;
+  wait_typical_ns_ = 0;
   segment_ = segment;
   region_ = region.release();
   return Status::Ok();
@@ -151,14 +164,21 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
   SegmentHeader& h = segment_->header;
   if (dropped()) return ReadResult::kDropped;
+  if (sync_corrupted_) return ReadResult::kSyncCorrupted;
   if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
 
-  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(options_.read_timeout);
+  const int64_t start = internal::NowNs();
+  const int64_t deadline = start + internal::SecondsToNs(options_.read_timeout);
   const int64_t slice_ns = std::max<int64_t>(internal::SecondsToNs(options_.slice), 1000000);
-  for (;;) {
-    const int64_t until = std::min(deadline, internal::NowNs() + slice_ns);
-    const int r = internal::WaitUntil(&segment_->sync.sensors_ready, until);
-    if (r == 0) {
+  for (int64_t now = start;; now = internal::NowNs()) {
+    const int64_t until = std::min(deadline, now + slice_ns);
+    const internal::SignalResult r =
+        internal::Wait(&segment_->sync.sensors_ready, until, &wait_typical_ns_);
+    if (r == internal::SignalResult::kCorrupt) {
+      sync_corrupted_ = true;
+      return ReadResult::kSyncCorrupted;
+    }
+    if (r == internal::SignalResult::kSignalled) {
       if (dropped()) return ReadResult::kDropped;
       if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
       const auto copy = [this](const SensorBlock* src, SensorBlock* dst) {
@@ -176,17 +196,18 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
           return ReadResult::kTimeout;
       }
     }
-    // the slice ended (or the wait failed): check the producer, then the deadline
+    // the slice ended: check the producer, then the deadline
     if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
     if (dropped()) return ReadResult::kDropped;
     if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
-    if (internal::NowNs() >= deadline || r != ETIMEDOUT) return ReadResult::kTimeout;
+    if (internal::NowNs() >= deadline) return ReadResult::kTimeout;
   }
 }
 
 ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
   if (dropped()) return ReadResult::kDropped;
+  if (sync_corrupted_) return ReadResult::kSyncCorrupted;
   if (internal::IsEnded(internal::LoadState(segment_->header))) {
     return ReadResult::kProducerStopped;
   }
@@ -199,7 +220,10 @@ ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   internal::CopyElements<JointCommand>(&commands, &block, offsetof(CommandBlock, joint), njoint);
   std::atomic_ref<uint64_t>(block.answers_cycle).store(last_cycle_, std::memory_order_relaxed);
   internal::SeqlockEnd(&block, odd);
-  sem_post(&segment_->sync.commands_ready);
+  if (!internal::Post(&segment_->sync.commands_ready)) {
+    sync_corrupted_ = true;
+    return ReadResult::kSyncCorrupted;
+  }
   return ReadResult::kOk;
 }
 

@@ -57,6 +57,9 @@ const char* ReadResultName(ReadResult r) {
       return "not open";
     case ReadResult::kDropped:
       return "dropped by the producer";
+    case ReadResult::kSyncCorrupted:
+      return "the segment's wake-up words are corrupted (another process wrote into the "
+             "segment)";
   }
   return "unknown";
 }

@@ -123,7 +123,10 @@ constexpr uint64_t ComputeLayoutHash() {
       offsetof(CommandBlock, njoint),
       offsetof(CommandBlock, joint),
       // synchronisation and the whole segment
-      sizeof(sem_t),
+      sizeof(SignalWord),
+      offsetof(SignalWord, word),
+      offsetof(SignalWord, poster_cpu),
+      offsetof(SignalWord, post_ns),
       sizeof(Sync),
       offsetof(Sync, sensors_ready),
       offsetof(Sync, commands_ready),

@@ -14,6 +14,7 @@
 
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/checks.h"
+#include "signal_word.h"
 #include "sync.h"
 
 namespace bip = boost::interprocess;
@@ -169,21 +170,15 @@ std::unique_ptr<Producer> Producer::Create(const ProducerConfig& config, Status*
     auto region = std::make_unique<bip::mapped_region>(shm, bip::read_write, 0, sizeof(Segment));
     auto* segment = static_cast<Segment*>(region->get_address());
 
-    // header first (state kCreating), then the semaphores, then kRunning
+    // header first (state kCreating), then kRunning; the zeroed wake-up words are ready
     std::memset(static_cast<void*>(segment), 0, sizeof(Segment));
+    segment->sync.sensors_ready.poster_cpu = -1;
+    segment->sync.commands_ready.poster_cpu = -1;
     FillHeader(config, &segment->header);
     Status check = CheckHeader(segment->header, sizeof(Segment), config.segment_name);
     if (!check.ok()) {
       bip::shared_memory_object::remove(object_name.c_str());
       st = {Error::kSystem, "producer wrote an inconsistent header: " + check.message};
-      return nullptr;
-    }
-    if (sem_init(&segment->sync.sensors_ready, 1, 0) != 0 ||
-        sem_init(&segment->sync.commands_ready, 1, 0) != 0) {
-      const int err = errno;
-      bip::shared_memory_object::remove(object_name.c_str());
-      st = {Error::kSystem,
-            "segment '" + config.segment_name + "': sem_init failed: " + std::strerror(err)};
       return nullptr;
     }
     std::atomic_ref<uint32_t>(segment->header.state)
@@ -212,9 +207,8 @@ Producer::~Producer() {
     if (state.load(std::memory_order_acquire) != static_cast<uint32_t>(ProducerState::kFailed)) {
       state.store(static_cast<uint32_t>(ProducerState::kStopped), std::memory_order_release);
     }
-    internal::PostIfIdle(&segment_->sync.sensors_ready);  // a blocked read wakes, sees the state
-    sem_destroy(&segment_->sync.sensors_ready);
-    sem_destroy(&segment_->sync.commands_ready);
+    internal::Post(&segment_->sync.sensors_ready);  // a blocked read wakes, sees the state
+    internal::WakeAll(&segment_->sync.sensors_ready);
     bip::shared_memory_object::remove(object_name_.c_str());
   }
   delete static_cast<bip::mapped_region*>(region_);
@@ -235,26 +229,34 @@ void Producer::PublishSensors() {
   sensors_odd_seq_ = 0;
   published_cycle_ = segment_->sensors.cycle;
   published_ = true;
-  internal::PostIfIdle(&segment_->sync.sensors_ready);
+  if (!internal::Post(&segment_->sync.sensors_ready)) sync_corrupted_ = true;
 }
 
 WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slice) {
   SegmentHeader& h = segment_->header;
+  if (sync_corrupted_) return WaitResult::kTimeout;  // never wait on an untrusted word
   if (internal::LoadControllerPid(h) == 0) return WaitResult::kNoController;
 
   const int64_t start = internal::NowNs();
   const int64_t deadline = start + internal::SecondsToNs(timeout);
   const int64_t slice_ns = std::max<int64_t>(internal::SecondsToNs(slice), 1000000);  // >= 1 ms
-  for (;;) {
-    const int64_t now = internal::NowNs();
+  for (int64_t now = start;; now = internal::NowNs()) {
     const int64_t until = std::min(deadline, now + slice_ns);
-    const int r = internal::WaitUntil(&segment_->sync.commands_ready, until);
-    if (r == 0) {
+    const internal::SignalResult r =
+        internal::Wait(&segment_->sync.commands_ready, until, &wait_typical_ns_);
+    if (r == internal::SignalResult::kCorrupt) {
+      sync_corrupted_ = true;
+      return WaitResult::kTimeout;
+    }
+    if (r == internal::SignalResult::kSignalled) {
       // a post: fresh unless it answers a cycle older than the last one published
       CommandBlock& block = segment_->commands;
       const uint64_t answers =
           std::atomic_ref<uint64_t>(block.answers_cycle).load(std::memory_order_relaxed);
-      if (published_ && answers < published_cycle_) continue;  // stale: consumed, ignored
+      if (published_ && answers < published_cycle_) {
+        if (internal::NowNs() >= deadline) return WaitResult::kTimeout;
+        continue;  // stale: consumed, ignored
+      }
       const pid_t writer = internal::LoadControllerPid(h);
       const auto copied =
           internal::SeqlockCopy(&block, out, internal::CopyCommands, writer, deadline);
@@ -264,7 +266,7 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
       internal::SwapControllerPid(h, &dead, 0);
       return WaitResult::kControllerDied;
     }
-    // the slice ended (or the wait failed): check the controller, then the deadline
+    // the slice ended: check the controller, then the deadline
     pid_t controller = internal::LoadControllerPid(h);
     if (controller == 0) return WaitResult::kNoController;  // it closed cleanly
     if (!ProcessAlive(controller)) {
@@ -272,7 +274,6 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
       return WaitResult::kControllerDied;
     }
     if (internal::NowNs() >= deadline) return WaitResult::kTimeout;
-    if (r != ETIMEDOUT) return WaitResult::kTimeout;  // the semaphore is unusable: do not spin
   }
 }
 

@@ -1,10 +1,10 @@
-// Internals shared by the producer and the robot adaptor: the monotonic clock, sliced
-// semaphore waits and the seqlock of the data blocks (protocol: layout.h). Everything here is
-// real-time safe: no allocation, no exceptions, no logging.
+// Internals shared by the producer and the robot adaptor: the monotonic clock, the shared
+// state and pids, and the seqlock of the data blocks (protocol: layout.h; the wake-up words
+// are in signal_word.h). Everything here is real-time safe: no allocation, no exceptions, no
+// logging.
 #pragma once
 
 #include <sched.h>
-#include <semaphore.h>
 #include <sys/types.h>
 #include <time.h>
 
@@ -44,27 +44,6 @@ inline timespec ToTimespec(int64_t ns) {
   ts.tv_sec = static_cast<time_t>(ns / kNsPerS);
   ts.tv_nsec = static_cast<long>(ns % kNsPerS);
   return ts;
-}
-
-//---------------- semaphores ----------------
-
-// Takes one post of `sem`, waiting until the CLOCK_MONOTONIC time `until_ns` at the latest.
-// Returns 0 when a post was taken, ETIMEDOUT when the time passed, another errno on failure.
-inline int WaitUntil(sem_t* sem, int64_t until_ns) {
-  const timespec until = ToTimespec(until_ns);
-  for (;;) {
-    if (sem_clockwait(sem, CLOCK_MONOTONIC, &until) == 0) return 0;
-    if (errno != EINTR) return errno;
-  }
-}
-
-// Posts `sem` only when nothing is pending, so at most one post is ever pending. Correct
-// because the caller is the only process that posts `sem` (others only take posts, which can
-// only lower the count between the read and the post).
-inline void PostIfIdle(sem_t* sem) {
-  int value = 0;
-  if (sem_getvalue(sem, &value) == 0 && value > 0) return;
-  sem_post(sem);
 }
 
 //---------------- state and pids ----------------

@@ -236,8 +236,19 @@ int RunHost(const HostOptions& options) {
   pid_t last_controller = 0;  // the pid of the last controller that attached
   bool rejecting = false;     // its last command block had rejected joints
   double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
+  // another process wrote into the segment's wake-up words: the handshake cannot be trusted
+  auto segment_corrupted = [&] {
+    if (!producer->sync_corrupted()) return false;
+    st.outcome = "segment_corrupted";
+    st.detail = "the segment's wake-up words were overwritten by another process";
+    std::fprintf(stderr, "sim_host: segment '%s': %s at t=%.3f s; ending the run\n",
+                 o.segment.c_str(), st.detail.c_str(), d->time);
+    exit_code = kExitControllerLost;
+    return true;
+  };
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
+    if (segment_corrupted()) break;
 
     // commands for the cycle just published
     const bool attached = producer->controller_pid() != 0;
@@ -285,6 +296,7 @@ int RunHost(const HostOptions& options) {
       const pid_t answering = producer->controller_pid();
       const shm::WaitResult answer = producer->WaitCommands(timeout, &cmd);
       if (first_answer) st.wall_waiting += Now() - wait_from;  // a new controller setting up
+      if (segment_corrupted()) break;
       switch (answer) {
         case shm::WaitResult::kCommands:
           if (st.commands++ == 0) {

@@ -88,7 +88,8 @@ int main(int argc, char** argv) {
                "options, then exit 0 without creating a segment");
   app.footer(
       "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
-      "4 the simulation diverged, 5 the controller was lost (or never attached), 130 interrupted.\n"
+      "4 the simulation diverged, 5 the controller was lost (or never attached, or another process\n"
+      "overwrote the segment's wake-up words), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::ParseContactModel(contact, &o.feet.model);

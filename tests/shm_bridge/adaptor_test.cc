@@ -1,11 +1,14 @@
 // Tests the robot adaptor (controller end) across real processes: every refusal of open (a
 // header with corrupt counts, gains or periods among them), the
 // controller slot, the lock-step ping-pong with data checks, a late controller answering the
-// pending cycle, and read's results when nothing comes or the producer dies.
+// pending cycle, read's results when nothing comes or the producer dies, and both ends facing
+// wake-up words that another process scribbles on.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <atomic>
 #include <cstring>
+#include <random>
 #include <string>
 #include <thread>
 
@@ -466,6 +469,81 @@ TEST_F(AdaptorTest, ReadReturnsProducerGoneSoonAfterTheProducerIsKilled) {
   EXPECT_EQ(r, ReadResult::kProducerGone) << ReadResultName(r);
   EXPECT_LT(returned_at - killed_at, 0.2);
   EXPECT_GT(returned_at - killed_at, 0.0);
+}
+
+//---------------- corrupted wake-up words ----------------
+
+TEST_F(AdaptorTest, OpenRefusesCorruptedWakeUpWords) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  RawSegment raw(name_);
+  raw.get()->sync.sensors_ready.word = 0xdeadbeef;
+  RobotAdaptor adaptor;
+  const Status s = adaptor.open(name_);
+  EXPECT_EQ(s.code, Error::kInvalidHeader);
+  EXPECT_TRUE(Contains(s.message, "corrupted wake-up words")) << s.message;
+  EXPECT_TRUE(Contains(s.message, "restart the producer")) << s.message;
+  EXPECT_FALSE(adaptor.is_open());
+}
+
+// Another process scribbles random bytes on the wake-up words while a producer and a
+// controller cycle: both ends stop with a clear result within a short time; none aborts
+// (glibc's "The futex facility returned an unexpected error code" with the old semaphores),
+// none hangs or spins for ever.
+TEST_F(AdaptorTest, ScribbledWakeUpWordsEndBothEndsWithAClearResult) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  const pid_t child = Spawn([&] {
+    RobotAdaptor adaptor;
+    if (!OpenWhenReady(&adaptor, name_).ok()) return 1;
+    SensorBlock s{};
+    CommandBlock c{};
+    c.njoint = 3;
+    for (;;) {
+      ReadResult r = adaptor.read(&s);
+      if (r == ReadResult::kOk) r = adaptor.write(c);
+      if (r != ReadResult::kOk) return 10 + static_cast<int>(r);
+    }
+  });
+  ASSERT_TRUE(WaitFor([&] { return producer->controller_pid() == child; }));
+
+  // a few clean cycles, then the scribbler starts
+  CommandBlock out{};
+  uint64_t k = 0;
+  for (; k < 100; ++k) {
+    producer->BeginSensors().cycle = k;
+    producer->PublishSensors();
+    ASSERT_EQ(producer->WaitCommands(2.0, &out), WaitResult::kCommands);
+  }
+  std::atomic<bool> stop{false};
+  std::thread scribbler([&] {
+    RawSegment raw(name_);
+    std::mt19937 random(11);
+    auto* bytes = reinterpret_cast<unsigned char*>(&raw.get()->sync);
+    while (!stop.load()) {
+      for (std::size_t i = 0; i < sizeof(Sync); ++i) bytes[i] = static_cast<unsigned char>(random());
+      usleep(500);
+    }
+  });
+  const double t0 = Now();
+  while (!producer->sync_corrupted() && Now() - t0 < 5.0) {
+    producer->BeginSensors().cycle = ++k;
+    producer->PublishSensors();
+    producer->WaitCommands(0.5, &out);
+  }
+  const double producer_noticed = Now() - t0;
+  const int code = WaitExit(child, 5.0);
+  const double controller_noticed = Now() - t0;
+  stop = true;
+  scribbler.join();
+
+  EXPECT_TRUE(producer->sync_corrupted());
+  EXPECT_LT(producer_noticed, 1.0);
+  EXPECT_EQ(code, 10 + static_cast<int>(ReadResult::kSyncCorrupted))
+      << "10 + the ReadResult; 128 + a signal when killed (134: aborted); -1: hung";
+  EXPECT_LT(controller_noticed, 1.0);
+  EXPECT_NE(std::string(ReadResultName(ReadResult::kSyncCorrupted)).find("corrupted"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Tests the producer end across real processes: segment creation (permissions, header,
 // replacement of stale objects, refusal of a live owner), removal, and WaitCommands' results
-// (no controller, timeout, dead controller, stale answers).
+// (no controller, timeout, dead controller, stale answers, corrupted wake-up words).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -17,6 +17,7 @@ namespace {
 using testing::Now;
 using testing::OpenWhenReady;
 using testing::Pipe;
+using testing::RawSegment;
 using testing::Spawn;
 using testing::WaitExit;
 using testing::WaitFor;
@@ -313,6 +314,48 @@ TEST_F(ProducerTest, DestructorWakesABlockedReader) {
   producer.reset();
   EXPECT_EQ(WaitExit(child), 0);
   EXPECT_LT(Now() - t0, 0.5);
+}
+
+//---------------- corrupted wake-up words ----------------
+
+// a scribbled commands word: WaitCommands returns at once (no wait on an untrusted word, no
+// abort), every time, and sync_corrupted() says why
+TEST_F(ProducerTest, WaitCommandsReportsACorruptedWakeUpWordAtOnce) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  Pipe done;
+  const pid_t child = Spawn([&] {
+    RobotAdaptor adaptor;
+    if (!OpenWhenReady(&adaptor, name_).ok()) return 1;
+    return done.Receive() ? 0 : 2;  // attached, never answers
+  });
+  ASSERT_TRUE(WaitFor([&] { return producer->controller_pid() == child; }));
+  RawSegment raw(name_);
+  raw.get()->sync.commands_ready.word = 0xdeadbeef;
+  Publish(producer.get(), 0);
+  CommandBlock out{};
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const double t0 = Now();
+    EXPECT_EQ(producer->WaitCommands(5.0, &out, 0.02), WaitResult::kTimeout);
+    EXPECT_LT(Now() - t0, 0.2);
+    EXPECT_TRUE(producer->sync_corrupted());
+  }
+  done.Send();
+  EXPECT_EQ(WaitExit(child), 0);
+}
+
+TEST_F(ProducerTest, PublishingOnACorruptedWakeUpWordIsReported) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  EXPECT_FALSE(producer->sync_corrupted());
+  RawSegment raw(name_);
+  raw.get()->sync.sensors_ready.word = 0x00010000;
+  Publish(producer.get(), 0);
+  EXPECT_TRUE(producer->sync_corrupted());
+  CommandBlock out{};
+  const double t0 = Now();
+  EXPECT_EQ(producer->WaitCommands(5.0, &out), WaitResult::kTimeout);
+  EXPECT_LT(Now() - t0, 0.2);
 }
 
 }  // namespace

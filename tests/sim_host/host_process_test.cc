@@ -1,6 +1,8 @@
 // Tests sim_host as a process: lock-step timing, command checks, and the faults (malformed
-// model, dead controller, dead or interrupted sim_host, stale segment), with the real binary.
+// model, dead controller, dead or interrupted sim_host, stale segment, a segment scribbled on),
+// with the real binary.
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -304,6 +307,53 @@ TEST_F(SimHostProcess, DeadSimHostMakesReadFailAndItsStaleSegmentIsReplaced) {
   EXPECT_EQ(Wait(), 0);
   EXPECT_NE(Stderr().find("stale"), std::string::npos) << Stderr();
   EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+}
+
+// Another process scribbles random bytes on the segment's wake-up words while sim_host and a
+// controller cycle: sim_host ends with exit code 5 and says why (it aborted with the old
+// semaphores, or spun ignoring SIGTERM), even when its policy is to wait for a new controller;
+// the controller's read or write reports it.
+TEST_F(SimHostProcess, ScribbledWakeUpWordsEndTheRunWithAClearError) {
+  Start({"--duration", "0", "--on-controller-loss", "wait"});
+  ASSERT_TRUE(WaitSegment());
+  const pid_t child = fork();
+  if (child == 0) {
+    shm::RobotAdaptor a;
+    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
+    shm::SensorBlock s{};
+    for (;;) {
+      shm::ReadResult r = a.read(&s);
+      if (r == shm::ReadResult::kOk) r = a.write(Hold(s, 2));
+      if (r != shm::ReadResult::kOk) _exit(10 + static_cast<int>(r));
+    }
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // cycling by now
+  const int fd = open(("/dev/shm/" + shm::SegmentObjectName(segment_)).c_str(), O_RDWR);
+  ASSERT_GE(fd, 0) << Stderr();
+  void* map = mmap(nullptr, sizeof(shm::Segment), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  close(fd);
+  ASSERT_NE(map, MAP_FAILED);
+  auto* sync = reinterpret_cast<unsigned char*>(&static_cast<shm::Segment*>(map)->sync);
+  std::mt19937 random(7);
+  const auto t0 = Clock::now();
+  int code = -1;
+  while (code == -1 && Since(t0) < 5) {
+    for (std::size_t i = 0; i < sizeof(shm::Sync); ++i) sync[i] = static_cast<unsigned char>(random());
+    code = Wait(0.002);
+  }
+  const double noticed = Since(t0);
+  munmap(map, sizeof(shm::Segment));
+  if (code == -1) kill(pid_, SIGTERM);  // a hung sim_host must still end on SIGTERM
+  if (code == -1) code = Wait(2);
+  EXPECT_EQ(code, 5) << "128 + a signal when killed (134: aborted), -1: hung\n" << Stderr();
+  EXPECT_LT(noticed, 2.0);
+  EXPECT_NE(Stderr().find("wake-up words were overwritten"), std::string::npos) << Stderr();
+  int st = 0;
+  ASSERT_EQ(waitpid(child, &st, 0), child);
+  const int controller = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  EXPECT_TRUE(controller == 10 + static_cast<int>(shm::ReadResult::kSyncCorrupted) ||
+              controller == 10 + static_cast<int>(shm::ReadResult::kProducerStopped))
+      << "10 + the ReadResult, 128 + a signal: " << controller;
 }
 
 TEST_F(SimHostProcess, InterruptShutsDownCleanlyWithTheLogFlushed) {

@@ -1,16 +1,19 @@
 // bench_bridge: the lock-step round trip through shm_bridge (PublishSensors -> read -> write ->
 // WaitCommands) between two processes, against its baseline, a raw ping-pong of two
 // process-shared POSIX semaphores, measured in the same run with the same cycle count and
-// the same CPU pinning. Times are taken on the producer (pinging) side.
+// the same CPU pinning. Times are taken on the producer (pinging) side; the CPU time is that
+// of both processes (what a waiter that spins instead of sleeping costs).
 //
-//   bench_bridge [--cycles N] [--warmup W] [--pin split|same|none]
+//   bench_bridge [--cycles N] [--warmup W] [--pin both|split|same|none]
 //
-// Prints a table (name, median [us], p99 [us], cycles) and ends with the line
+// Prints one table per pinning (both: split, then same), each with the rows name, median [us],
+// p99 [us], cpu [us/cycle], cycles, and the line
 //   ratio: X.XX (<bridge median us> / <raw median us>)
 #include <sched.h>
 #include <semaphore.h>
 #include <signal.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -94,14 +97,31 @@ double NowUs() {
       .count();
 }
 
+// the CPU time of the calling thread [us]
+double ThreadCpuUs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e6 * static_cast<double>(ts.tv_sec) + 1e-3 * static_cast<double>(ts.tv_nsec);
+}
+
+// one measurement: the round trips [us] and the CPU time both processes used [us]
+struct Sample {
+  std::vector<double> us;
+  double cpu_us = 0.0;
+  int total_cycles = 0;  // warm-up included, the cycles cpu_us was spent on
+};
+
 struct Stats {
   double median = 0.0;  // [us]
   double p99 = 0.0;     // [us]
+  double cpu = 0.0;     // CPU time of both processes per cycle [us]
   std::size_t cycles = 0;
 };
 
-Stats Summarize(std::vector<double> us) {
+Stats Summarize(const Sample& sample) {
+  std::vector<double> us = sample.us;
   Stats s;
+  if (sample.total_cycles > 0) s.cpu = sample.cpu_us / sample.total_cycles;
   s.cycles = us.size();
   if (us.empty()) return s;
   std::sort(us.begin(), us.end());
@@ -111,10 +131,16 @@ Stats Summarize(std::vector<double> us) {
   return s;
 }
 
-// waits for a child; true when it exited with code 0
-bool Reap(pid_t pid) {
+// waits for a child; true when it exited with code 0. Adds its CPU time [us] to `*cpu_us`.
+bool Reap(pid_t pid, double* cpu_us = nullptr) {
   int status = 0;
-  if (waitpid(pid, &status, 0) != pid) return false;
+  rusage usage{};
+  if (wait4(pid, &status, 0, &usage) != pid) return false;
+  if (cpu_us != nullptr) {
+    for (const timeval& t : {usage.ru_utime, usage.ru_stime}) {
+      *cpu_us += 1e6 * static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec);
+    }
+  }
   return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
@@ -152,7 +178,8 @@ int RunController(const std::string& segment, int cpu) {
   }
 }
 
-bool MeasureBridge(int cycles, int warmup, const Pinning& pin, std::vector<double>* us) {
+bool MeasureBridge(int cycles, int warmup, const Pinning& pin, Sample* out) {
+  std::vector<double>* us = &out->us;
   ohrp::shm::ProducerConfig config;
   config.segment_name = "bench_bridge_" + std::to_string(getpid());
   config.robot_name = "bench";
@@ -178,6 +205,7 @@ bool MeasureBridge(int cycles, int warmup, const Pinning& pin, std::vector<doubl
   bool ok = true;
   CommandBlock commands{};
   us->reserve(static_cast<std::size_t>(cycles));
+  const double cpu0 = ThreadCpuUs();
   for (int k = 0; k < warmup + cycles && ok; ++k) {
     const double t0 = NowUs();
     SensorBlock& s = producer->BeginSensors();
@@ -193,9 +221,11 @@ bool MeasureBridge(int cycles, int warmup, const Pinning& pin, std::vector<doubl
     ok = r == WaitResult::kCommands && commands.answers_cycle == static_cast<uint64_t>(k);
     if (k >= warmup) us->push_back(t1 - t0);
   }
+  out->cpu_us = ThreadCpuUs() - cpu0;
+  out->total_cycles = warmup + cycles;
   if (!ok) std::fprintf(stderr, "bench_bridge: the bridge round trip failed\n");
   producer.reset();  // the controller's next read returns kProducerStopped
-  return Reap(child) && ok;
+  return Reap(child, &out->cpu_us) && ok;
 }
 
 //---------------- the raw semaphore baseline ----------------
@@ -205,7 +235,8 @@ struct RawPair {
   sem_t pong;
 };
 
-bool MeasureRaw(int cycles, int warmup, const Pinning& pin, std::vector<double>* us) {
+bool MeasureRaw(int cycles, int warmup, const Pinning& pin, Sample* out) {
+  std::vector<double>* us = &out->us;
   void* mem =
       mmap(nullptr, sizeof(RawPair), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
   if (mem == MAP_FAILED) return false;
@@ -225,6 +256,7 @@ bool MeasureRaw(int cycles, int warmup, const Pinning& pin, std::vector<double>*
   }
   PinTo(pin.producer_cpu);
   us->reserve(static_cast<std::size_t>(cycles));
+  const double cpu0 = ThreadCpuUs();
   for (int k = 0; k < total; ++k) {
     const double t0 = NowUs();
     sem_post(&pair->ping);
@@ -233,11 +265,47 @@ bool MeasureRaw(int cycles, int warmup, const Pinning& pin, std::vector<double>*
     const double t1 = NowUs();
     if (k >= warmup) us->push_back(t1 - t0);
   }
-  const bool ok = Reap(child);
+  out->cpu_us = ThreadCpuUs() - cpu0;
+  out->total_cycles = total;
+  const bool ok = Reap(child, &out->cpu_us);
   sem_destroy(&pair->ping);
   sem_destroy(&pair->pong);
   munmap(mem, sizeof(RawPair));
   return ok;
+}
+
+// measures both pairs with one pinning and prints their table; false when one failed
+bool RunTable(Pin pin, int cycles, int warmup) {
+  const Pinning pinning = ChoosePinning(pin);
+  std::printf("pinning: %s, same for both pairs\n", Describe(pinning).c_str());
+  std::fflush(stdout);  // the children inherit stdio buffers
+
+  // each measurement runs in its own forked pair; the parent stays unpinned in between
+  Sample raw_sample, bridge_sample;
+  cpu_set_t original;
+  sched_getaffinity(0, sizeof(original), &original);
+  const bool raw_ok = MeasureRaw(cycles, warmup, pinning, &raw_sample);
+  sched_setaffinity(0, sizeof(original), &original);
+  const bool bridge_ok = MeasureBridge(cycles, warmup, pinning, &bridge_sample);
+  sched_setaffinity(0, sizeof(original), &original);
+  if (!raw_ok || !bridge_ok) {
+    std::fprintf(stderr, "bench_bridge: a measurement failed (raw %s, bridge %s)\n",
+                 raw_ok ? "ok" : "failed", bridge_ok ? "ok" : "failed");
+    return false;
+  }
+
+  const Stats bridge = Summarize(bridge_sample);
+  const Stats raw = Summarize(raw_sample);
+  std::printf("%-28s %12s %12s %17s %10s\n", "name", "median [us]", "p99 [us]",
+              "cpu [us/cycle]", "cycles");
+  std::printf("%-28s %12.2f %12.2f %17.2f %10zu\n", "bridge (shm_bridge)", bridge.median,
+              bridge.p99, bridge.cpu, bridge.cycles);
+  std::printf("%-28s %12.2f %12.2f %17.2f %10zu\n", "raw (POSIX sem ping-pong)", raw.median,
+              raw.p99, raw.cpu, raw.cycles);
+  std::printf("ratio: %.2f (%.2f / %.2f)\n\n", bridge.median / raw.median, bridge.median,
+              raw.median);
+  std::fflush(stdout);
+  return true;
 }
 
 }  // namespace
@@ -246,44 +314,31 @@ int main(int argc, char** argv) {
   CLI::App app{"bench_bridge: shm_bridge lock-step round trip vs a raw POSIX semaphore ping-pong"};
   int cycles = 20000;
   int warmup = 1000;
-  std::string pin_name = "split";
+  std::string pin_name = "both";
   app.add_option("--cycles", cycles, "measured cycles per pair")->check(ohrp::cli::Positive());
   app.add_option("--warmup", warmup, "unmeasured cycles before each measurement")
       ->check(ohrp::cli::NonNegative());
   app.add_option("--pin", pin_name,
                  "CPU pinning, the same for both pairs: split (pinger and ponger on two CPUs), "
-                 "same (both on one CPU), none")
-      ->check(CLI::IsMember({"split", "same", "none"}));
+                 "same (both on one CPU), none, or both (a split table, then a same table)")
+      ->check(CLI::IsMember({"both", "split", "same", "none"}))
+      ->capture_default_str();
+  app.footer(
+      "cpu [us/cycle] is the CPU time both processes used per round trip (warm-up included): a\n"
+      "waiter that spins uses its CPU while it spins (the bridge spins for a bounded, adaptive\n"
+      "time when its peer runs on another CPU, and yields its CPU when both share one;\n"
+      "docs/architecture.md).");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
-  const Pin pin = pin_name == "same" ? Pin::kSame : pin_name == "none" ? Pin::kNone : Pin::kSplit;
-  const Pinning pinning = ChoosePinning(pin);
   std::printf("bench_bridge: lock-step round trip per cycle, timed on the producer side\n");
-  std::printf("pinning: %s, same for both pairs\n", Describe(pinning).c_str());
   std::printf("cycles: %d measured after %d warm-up, %d joints\n\n", cycles, warmup, kJoints);
-  std::fflush(stdout);  // the children inherit stdio buffers
-
-  // each measurement runs in its own forked pair; the parent stays unpinned in between
-  std::vector<double> raw_us, bridge_us;
-  cpu_set_t original;
-  sched_getaffinity(0, sizeof(original), &original);
-  const bool raw_ok = MeasureRaw(cycles, warmup, pinning, &raw_us);
-  sched_setaffinity(0, sizeof(original), &original);
-  const bool bridge_ok = MeasureBridge(cycles, warmup, pinning, &bridge_us);
-  sched_setaffinity(0, sizeof(original), &original);
-  if (!raw_ok || !bridge_ok) {
-    std::fprintf(stderr, "bench_bridge: a measurement failed (raw %s, bridge %s)\n",
-                 raw_ok ? "ok" : "failed", bridge_ok ? "ok" : "failed");
-    return 1;
+  std::vector<Pin> pins;
+  if (pin_name == "both") pins = {Pin::kSplit, Pin::kSame};
+  if (pin_name == "split") pins = {Pin::kSplit};
+  if (pin_name == "same") pins = {Pin::kSame};
+  if (pin_name == "none") pins = {Pin::kNone};
+  for (Pin pin : pins) {
+    if (!RunTable(pin, cycles, warmup)) return 1;
   }
-
-  const Stats bridge = Summarize(bridge_us);
-  const Stats raw = Summarize(raw_us);
-  std::printf("%-28s %12s %12s %10s\n", "name", "median [us]", "p99 [us]", "cycles");
-  std::printf("%-28s %12.2f %12.2f %10zu\n", "bridge (shm_bridge)", bridge.median, bridge.p99,
-              bridge.cycles);
-  std::printf("%-28s %12.2f %12.2f %10zu\n", "raw (POSIX sem ping-pong)", raw.median, raw.p99,
-              raw.cycles);
-  std::printf("ratio: %.2f (%.2f / %.2f)\n", bridge.median / raw.median, bridge.median, raw.median);
   return 0;
 }

@@ -1,8 +1,11 @@
 // bench_loop: wall time per control cycle of sim_host + posture in lock-step (two processes,
 // 1 ms physics, 1 ms control), beside a bare in-process loop (the same servo law + mj_step on
-// the same model) measured in the same run, and the real-time factor of both.
+// the same model) measured in the same run, and the real-time factor of both; with the CPU time
+// each process of the pair used per cycle (a waiter of the handshake spins for a bounded time
+// before it sleeps: that CPU time shows what the spinning costs).
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -72,9 +75,26 @@ pid_t Spawn(const std::vector<std::string>& argv, bool silent) {
   return pid;
 }
 
+// waits for `pid`; its exit status in `*status`, its CPU time (user + system) [s] returned
+double ReapWithCpu(pid_t pid, int* status) {
+  rusage usage{};
+  wait4(pid, status, 0, &usage);
+  double cpu = 0.0;
+  for (const timeval& t : {usage.ru_utime, usage.ru_stime}) {
+    cpu += static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  }
+  return cpu;
+}
+
+// CPU time [s] of each process of the pair over its whole run (set-up included)
+struct PairCpu {
+  double sim_host = 0.0;
+  double controller = 0.0;
+};
+
 // sim_host + posture in lock-step; returns sim_host's wall seconds per control cycle
 double TwoProcessLoop(const std::string& bin, const std::string& scene, double dt, double duration,
-                      const std::string& summary) {
+                      const std::string& summary, PairCpu* cpu) {
   const std::string seg = "bench_loop_" + std::to_string(getpid());
   const pid_t sim = Spawn({bin + "/sim_host", "--scene", scene, "--segment", seg, "--physics-dt",
                            std::to_string(dt), "--control-period", std::to_string(dt),
@@ -82,9 +102,9 @@ double TwoProcessLoop(const std::string& bin, const std::string& scene, double d
                            "--quiet", "--progress", "0"}, false);
   const pid_t ctl = Spawn({bin + "/posture", "--segment", seg, "--attach-timeout", "20"}, true);
   int st = 0;
-  waitpid(sim, &st, 0);
+  cpu->sim_host = ReapWithCpu(sim, &st);
   const bool sim_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
-  waitpid(ctl, &st, 0);
+  cpu->controller = ReapWithCpu(ctl, &st);
   if (!sim_ok) {
     std::fprintf(stderr, "bench_loop: sim_host failed; run it by hand to see why\n");
     std::exit(1);
@@ -114,19 +134,27 @@ int main(int argc, char** argv) {
   const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
   const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";
 
-  std::vector<double> bare, loop;
+  std::vector<double> bare, loop, sim_cpu, ctl_cpu;
   const int steps = static_cast<int>(duration / dt);
   for (int r = 0; r < repeats; ++r) {
     bare.push_back(BareLoop(scene, dt, steps));
-    loop.push_back(TwoProcessLoop(bin, scene, dt, duration, summary));
-    std::fprintf(stderr, "  run %d/%d: bare %.1f us/step, sim_host+posture %.1f us/cycle\n", r + 1,
-                 repeats, bare.back() * 1e6, loop.back() * 1e6);
+    PairCpu cpu;
+    loop.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &cpu));
+    sim_cpu.push_back(cpu.sim_host / steps);
+    ctl_cpu.push_back(cpu.controller / steps);
+    std::fprintf(stderr,
+                 "  run %d/%d: bare %.1f us/step, sim_host+posture %.1f us/cycle (cpu: sim_host "
+                 "%.1f, posture %.1f us/cycle)\n",
+                 r + 1, repeats, bare.back() * 1e6, loop.back() * 1e6, sim_cpu.back() * 1e6,
+                 ctl_cpu.back() * 1e6);
   }
   fs::remove(summary);
   const double b = Median(bare), l = Median(loop);
   std::printf("%-34s %14s %12s\n", "loop", "median [us]", "real time");
   std::printf("%-34s %14.1f %11.1fx\n", "bare servo + mj_step (1 process)", b * 1e6, dt / b);
   std::printf("%-34s %14.1f %11.1fx\n", "sim_host + posture (lock-step)", l * 1e6, dt / l);
+  std::printf("cpu per cycle (whole runs, set-up included): sim_host %.1f us, posture %.1f us\n",
+              Median(sim_cpu) * 1e6, Median(ctl_cpu) * 1e6);
   std::printf("ratio: %.2f (%.1f us / %.1f us)\n", l / b, l * 1e6, b * 1e6);
   return 0;
 }

@@ -79,7 +79,8 @@ struct ProducerConfig {
 
 enum class WaitResult {
   kCommands,        // a fresh command block was copied out
-  kTimeout,         // the controller did not answer in time (it is still alive)
+  kTimeout,         // the controller did not answer in time (it is still alive), or the
+                    // segment's wake-up words are corrupted (Producer::sync_corrupted)
   kNoController,    // nobody is attached
   kControllerDied,  // the attached controller's process is gone (its claim was released)
 };
@@ -112,7 +113,14 @@ class Producer {
   // Only the block's first njoint joints are copied; the rest of `*out` is left as it was, and
   // `*out` is not touched unless the result is kCommands. A post answering a cycle older than
   // the last one published (a late answer) is consumed and ignored.
+  // The wait spins for a bounded time before it sleeps (layout.h: handshake). Once the
+  // segment's wake-up words are found corrupted, it returns kTimeout at once, every time, and
+  // sync_corrupted() is true: the caller ends its run with an error.
   WaitResult WaitCommands(double timeout, CommandBlock* out, double slice = 0.02);
+
+  // True once a wake-up word of the segment held a value the bridge never writes (another
+  // process scribbled on the segment): the handshake can no longer be trusted.
+  bool sync_corrupted() const { return sync_corrupted_; }
 
   // The attached controller's pid, 0 if none.
   pid_t controller_pid() const;
@@ -134,6 +142,8 @@ class Producer {
   uint64_t sensors_odd_seq_ = 0;    // sensors.seq while BeginSensors' write is open (else 0)
   uint64_t published_cycle_ = 0;    // SensorBlock::cycle of the last PublishSensors
   bool published_ = false;          // PublishSensors was called at least once
+  bool sync_corrupted_ = false;     // a wake-up word was found corrupted
+  int64_t wait_typical_ns_ = 0;     // what WaitCommands' waits took, smoothed (its spin budget)
 };
 
 //---------------- controller side: the robot adaptor ----------------
@@ -146,6 +156,8 @@ enum class ReadResult {
   kNotOpen,
   kDropped,          // the producer gave up on this controller (it missed the producer's
                      // timeout) and freed its slot (controller_loss.h); nothing more is written
+  kSyncCorrupted,    // the segment's wake-up words hold values the bridge never writes
+                     // (another process scribbled on the segment): the handshake is unusable
 };
 
 const char* ReadResultName(ReadResult r);
@@ -173,13 +185,17 @@ class RobotAdaptor {
   // Only the entries in use (njoint, nforce, nimu of header()) are copied; the rest of `*out`
   // is left as it was. A cycle published before open (and not yet answered) is returned first.
   // Returns kDropped, before anything else, once the producer has let this controller go
-  // (Producer::DropController): the slot is no longer this process's.
+  // (Producer::DropController): the slot is no longer this process's. The wait spins for a
+  // bounded time before it sleeps (layout.h: handshake). Returns kSyncCorrupted, now and on
+  // every later call, once the wake-up words are found corrupted.
   ReadResult read(SensorBlock* out);
 
   // Writes the commands answering the last cycle read (answers_cycle is set here) and posts
   // commands_ready. Copies commands.njoint (clamped to kMaxJoints) joints; `seq` and
   // `answers_cycle` of `commands` are ignored. Returns kDropped once the producer has let this
-  // controller go, and kProducerStopped once the producer has ended its run, writing nothing.
+  // controller go, and kProducerStopped once the producer has ended its run, writing nothing;
+  // kSyncCorrupted when the wake-up word was found corrupted (the commands are written, but
+  // the producer will not take them).
   ReadResult write(const CommandBlock& commands);
 
   // True once the producer has let this controller go (its slot holds another pid or none).
@@ -202,6 +218,8 @@ class RobotAdaptor {
   AdaptorOptions options_;
   uint64_t last_cycle_ = 0;
   bool have_cycle_ = false;
+  bool sync_corrupted_ = false;  // a wake-up word was found corrupted
+  int64_t wait_typical_ns_ = 0;  // what read's waits took, smoothed (its spin budget)
 };
 
 }  // namespace ohrp::shm

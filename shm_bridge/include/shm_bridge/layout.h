@@ -11,18 +11,25 @@
 //   sensors       producer, every control cycle, under the `sensors.seq` seqlock.
 //   commands      controller, every control cycle, under the `commands.seq` seqlock.
 //
-// Lock-step handshake (two process-shared POSIX semaphores in `Sync`, both start at 0):
+// Lock-step handshake (two wake-up words in `Sync`, futexes the bridge owns, both start at 0):
 //   1. producer  : finishes the physics steps of cycle k, writes sensors (cycle = k),
-//                  posts `sensors_ready` (only if its count is 0: never more than one pending).
+//                  posts `sensors_ready` (a post sets a bit: never more than one pending).
 //   2. controller: `read` waits on `sensors_ready` (CLOCK_MONOTONIC deadline), copies the block.
 //   3. controller: `write` fills commands (answers_cycle = k), posts `commands_ready`.
 //   4. producer  : waits on `commands_ready` until its timeout (lock-step) or until the cycle's
 //                  deadline (real time), copies the commands; they act from step k+1 on.
+// A wake-up word holds only two bits: kSignalPosted (a post is pending) and kSignalSleeping (its
+// waiter sleeps in FUTEX_WAIT). A post sets kSignalPosted and makes the wake system call only
+// when kSignalSleeping was set; the waiter takes the post by clearing the word. A waiter first
+// stays awake for a bounded time: about twice what its peer took to answer lately (from the
+// start of the wait to the post time the poster stamps in `post_ns`, so that the waiter's own
+// wake-up latency does not count), at most 100 us, not at all when its peer takes longer. It
+// spins when the poster last ran on another CPU (`poster_cpu`) and hands its CPU to the poster
+// (sched_yield) when they share one; then it sleeps in FUTEX_WAIT. Any other value of a word is
+// a corrupted segment: both ends report it (never abort, never spin on it).
 // Waits are cut into short slices; between slices each side checks that its peer's pid is
 // still alive, so a dead peer is noticed within one slice, not at the end of the timeout.
-// The timed waits use sem_clockwait(CLOCK_MONOTONIC): Boost 1.74's interprocess_semaphore only
-// offers a wall-clock deadline, which jumps with the system clock.
-//
+// Timeouts are on CLOCK_MONOTONIC, which does not jump with the system clock.
 // Seqlock rule for both data blocks: the writer increments `seq` to an odd value, writes, then
 // increments it to an even value (release). A reader copies the block and retries when `seq`
 // was odd or changed during the copy. Readers never trust counts read from the segment: a
@@ -33,8 +40,6 @@
 // ---------------------------------------------------------------------------------------------
 #pragma once
 
-#include <semaphore.h>
-
 #include <cstddef>
 #include <cstdint>
 
@@ -43,8 +48,9 @@ namespace ohrp::shm {
 //---------------- capacities and identification ----------------
 
 inline constexpr char kMagic[8] = {'O', 'H', 'R', 'P', 'S', 'E', 'G', '1'};
-inline constexpr uint32_t kLayoutVersion = 3;  // 2: the robot model's identity (model_hash...);
-                                               // 3: passive joints (npassive, passive_q...)
+inline constexpr uint32_t kLayoutVersion = 4;  // 2: the robot model's identity (model_hash...);
+                                               // 3: futex wake-up words instead of sem_t;
+                                               // 4: passive joints (npassive, passive_q...)
 inline constexpr int kMaxJoints = 64;   // actuated joints
 inline constexpr int kMaxPassiveJoints = 32;  // joints no actuator drives, published read-only
 inline constexpr int kMaxForceSensors = 4;  // 6-axis force/torque sensors
@@ -215,9 +221,21 @@ struct CommandBlock {
 
 //---------------- synchronisation ----------------
 
+// bits of SignalWord::word (handshake above); any other bit set means a corrupted segment
+inline constexpr uint32_t kSignalPosted = 1u << 0;    // a post is pending
+inline constexpr uint32_t kSignalSleeping = 1u << 1;  // the waiter sleeps in FUTEX_WAIT
+
+// one direction of the handshake, alone on its cache line
+struct SignalWord {
+  uint32_t word;        // futex word: kSignalPosted | kSignalSleeping (atomic access)
+  int32_t poster_cpu;   // CPU the poster ran on at its last post, -1 unknown (atomic access)
+  int64_t post_ns;      // CLOCK_MONOTONIC time of the last post [ns] (atomic access)
+  // poster_cpu and post_ns are hints for the waiter's spin, never trusted for anything else
+};
+
 struct Sync {
-  sem_t sensors_ready;   // posted by the producer when a sensor block is published
-  sem_t commands_ready;  // posted by the controller when a command block is written
+  alignas(64) SignalWord sensors_ready;   // posted by the producer when sensors are published
+  alignas(64) SignalWord commands_ready;  // posted by the controller when commands are written
 };
 
 struct Segment {
