@@ -317,7 +317,9 @@ TEST(Samples, FloorTopIsAtZeroAndTheLongFloorMeshSpansIt) {
 TEST(Scenes, AnInlineSceneHoldsTheRobotAndTheFloor) {
   ModelPtr m = LoadVrml(kRobotDir + "scene_bush.wrl");
   ASSERT_TRUE(m);
-  EXPECT_GE(mj_name2id(m.get(), mjOBJ_BODY, "floor_WAIST"), 0);
+  const int floor = mj_name2id(m.get(), mjOBJ_GEOM, "floor");  // in the world body
+  ASSERT_GE(floor, 0);
+  EXPECT_EQ(m->geom_bodyid[floor], 0);
   EXPECT_GE(mj_name2id(m.get(), mjOBJ_JOINT, "RLEG_BUSH_Z"), 0);
   EXPECT_EQ(m->nu, 29);
   EXPECT_EQ(m->nkey, 2);

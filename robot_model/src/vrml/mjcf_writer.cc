@@ -237,8 +237,32 @@ class Writer {
     out_ += "/>\n";
   }
 
+  // static scenery (no joint anywhere) goes into the world body itself, where contact models
+  // look for the environment; its geoms are named after the object
+  static bool Moves(const Body& b) {
+    if (b.joint.type != Joint::kNone) return true;
+    for (const auto& c : b.children)
+      if (Moves(*c)) return true;
+    return false;
+  }
+
+  void WorldGeoms(const Body& b, const Pose& pose, const std::string& name, int* count) {
+    for (Geom g : b.geoms) {
+      g.pose = Compose(pose, g.pose);
+      g.name = *count == 0 ? name : name + "_" + std::to_string(*count);
+      ++*count;
+      GeomLine(g, "vrml_scenery", "    ");
+    }
+    for (const auto& c : b.children) WorldGeoms(*c, Compose(pose, c->pose), name, count);
+  }
+
   void ObjectBodies(const Object& o) {
     const bool is_robot = &o == robot_;
+    if (!is_robot && !Moves(*o.root)) {
+      int count = 0;
+      WorldGeoms(*o.root, o.root->pose, o.name, &count);
+      return;
+    }
     const bool single = o.root->children.empty();
     std::string cls = "vrml_scenery";
     if (o.root->joint.type != Joint::kNone && is_robot)
