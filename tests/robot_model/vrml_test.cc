@@ -400,6 +400,20 @@ TEST(Malformed, ModelErrorsNameTheNode) {
             "bad.wrl:1:24: USE X: no node was defined as DEF X before this point");
 }
 
+TEST(Malformed, NamesCannotInjectMjcf) {
+  // a name with XML in it stays a name: no <include> of a file from the disk
+  const std::string text = R"(
+PROTO Humanoid [ exposedField SFString name "" exposedField MFNode humanoidBody [] ] { Group {} }
+PROTO Joint [ exposedField SFString jointType "" ] { Group {} }
+Humanoid { name "x\"><include file=\"/etc/passwd\"/><b " humanoidBody [ DEF W Joint { jointType "free" } ] }
+)";
+  std::string mjcf, error;
+  ASSERT_TRUE(ConvertText(text, "names.wrl", &mjcf, &error)) << error;
+  EXPECT_EQ(mjcf.find("<include"), std::string::npos) << mjcf;
+  EXPECT_NE(mjcf.find("<mujoco model=\"x___include file=_/etc/passwd_/__b \">"), std::string::npos)
+      << mjcf;
+}
+
 TEST(Malformed, SceneLoadReportsTheVrmlPositionAndNoSceneIsMade) {
   std::string error;
   auto scene = model::Scene::Load(kRobotDir + "no_such_scene.wrl", &error);

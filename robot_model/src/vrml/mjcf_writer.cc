@@ -9,6 +9,7 @@
 #include <map>
 
 #include "vrml/robot_profile.h"
+#include "vrml/stance.h"
 
 namespace ohrp::vrml {
 namespace {
@@ -41,67 +42,6 @@ std::string PoseAttrs(const Pose& pose) {
     s += " quat=\"" + Vec(wxyz, 4) + "\"";
   }
   return s;
-}
-
-//---------------- forward kinematics at set-up (keyframe heights) ----------------
-
-double LowestPoint(const Geom& g, const Pose& world) {
-  const Pose p = Compose(world, g.pose);
-  const Eigen::Matrix3d R = p.q.toRotationMatrix();
-  double reach = 0;
-  for (int k = 0; k < 3; ++k) reach += std::fabs(R(2, k)) * g.size[k];
-  return p.p.z() - reach;
-}
-
-// the lowest point of the named (sole) geoms with the root at the origin, for joint angles q
-void SoleBottoms(const Body& b, const Pose& world_in, const std::map<std::string, double>& q,
-                 double* lowest) {
-  Pose world = world_in;
-  auto it = q.find(b.joint.name);
-  const double angle = it == q.end() ? 0.0 : it->second;
-  if (b.joint.type == Joint::kHinge) {
-    Pose r;
-    r.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, b.joint.axis));
-    world = Compose(world, r);
-  } else if (b.joint.type == Joint::kSlide) {
-    Pose t;
-    t.p = b.joint.axis * angle;
-    world = Compose(world, t);
-  }
-  for (const Geom& g : b.geoms)
-    if (!g.name.empty()) *lowest = std::min(*lowest, LowestPoint(g, world));
-  for (const auto& c : b.children) SoleBottoms(*c, Compose(world, c->pose), q, lowest);
-}
-
-// the lowest Box of a foot link and the links below it (at q = 0, foot frame)
-Geom* LowestBox(Body* b, const Pose& pose, double* lowest) {
-  Geom* best = nullptr;
-  for (Geom& g : b->geoms) {
-    if (g.type != Geom::kBox) continue;
-    const double z = LowestPoint(g, pose);
-    if (z < *lowest) {
-      *lowest = z;
-      best = &g;
-    }
-  }
-  for (auto& c : b->children) {
-    Geom* g = LowestBox(c.get(), Compose(pose, c->pose), lowest);
-    if (g) best = g;
-  }
-  return best;
-}
-
-Body* FindBody(Body* b, const std::string& name) {
-  if (b->name == name) return b;
-  for (auto& c : b->children)
-    if (Body* f = FindBody(c.get(), name)) return f;
-  return nullptr;
-}
-
-template <typename F>
-void EachBody(const Body& b, F f) {
-  f(b);
-  for (const auto& c : b.children) EachBody(*c, f);
 }
 
 //---------------- the writer ----------------
@@ -419,11 +359,7 @@ class Writer {
 
   // root height that puts the lowest sole point on z = 0 for joint angles q
   double RootHeight(const std::map<std::string, double>& q) const {
-    double lowest = 1e300;
-    Pose start;
-    start.q = robot_->root->pose.q;
-    SoleBottoms(*robot_->root, start, q, &lowest);
-    return -lowest;
+    return -LowestNamedPoint(*robot_->root, q);
   }
 
   // init (all zero) and halfsit, soles on z = 0; qpos of every object in body order

@@ -20,6 +20,16 @@ namespace {
 constexpr int kMaxVisitDepth = 1000;  // nesting through DEF/USE a scene may reach
 constexpr long kMaxVisits = 1000000;  // nodes visited, repeats by USE included
 
+// a name as MJCF may carry it in an attribute: XML's special characters become '_'
+std::string CleanName(std::string name) {
+  for (char& c : name) {
+    if (c == '&' || c == '<' || c == '>' || c == '"' || c == '\'' ||
+        static_cast<unsigned char>(c) < 0x20)
+      c = '_';
+  }
+  return name;
+}
+
 class Builder {
  public:
   Builder(Model* model, std::string* error) : model_(model), error_(error) {}
@@ -126,7 +136,7 @@ class Builder {
 
   bool Object(const Node& joint, const Pose& pose, const std::string& name) {
     vrml::Object o;
-    o.name = name.empty() ? "object" + std::to_string(model_->objects.size()) : name;
+    o.name = CleanName(name.empty() ? "object" + std::to_string(model_->objects.size()) : name);
     o.file = file_;
     o.root = std::make_unique<Body>();
     if (!JointBody(joint, pose, o.root.get(), 0)) return false;
@@ -142,6 +152,7 @@ class Builder {
     body->pose = Compose(pose_in_parent, own);
     body->name = !n.def_name.empty() ? n.def_name : n.String("name", "");
     if (body->name.empty()) body->name = "link" + std::to_string(elements_);
+    body->name = CleanName(body->name);
     Joint& j = body->joint;
     j.name = body->name;
     j.at = n.at;
@@ -227,7 +238,7 @@ class Builder {
       if (!Count(n)) return false;
       Site s;
       s.kind = t == "ForceSensor" ? Site::kForce : t == "Gyro" ? Site::kGyro : Site::kAccel;
-      s.name = n.def_name.empty() ? n.String("name", t) : n.def_name;
+      s.name = CleanName(n.def_name.empty() ? n.String("name", t) : n.def_name);
       s.sensor_id = static_cast<int>(std::fmax(-1, std::fmin(1e6, n.Number("sensorId", -1))));
       Pose own;
       if (!TransformPose(n, &own)) return false;
@@ -240,6 +251,7 @@ class Builder {
       Camera c;
       c.name = n.String("name", "");
       if (c.name.empty()) c.name = n.def_name.empty() ? "camera" : n.def_name;
+      c.name = CleanName(c.name);
       c.fov = n.Number("fieldOfView", 0.785398);
       c.sensor_id = static_cast<int>(std::fmax(-1, std::fmin(1e6, n.Number("sensorId", -1))));
       Pose own;
