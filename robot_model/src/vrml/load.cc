@@ -17,9 +17,17 @@ namespace {
 
 constexpr int kMaxFiles = 32;  // files one scene may Inline, all levels together
 
+// the file's canonical name where the file system gives one (never throws)
+std::string Canonical(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path : p.string();
+}
+
 bool ReadText(const std::string& path, std::string* text, std::string* error) {
+  std::error_code ec;
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  if (!std::filesystem::is_regular_file(path, ec) || !in) {
     *error = "cannot read VRML file '" + path + "'";
     return false;
   }
@@ -52,7 +60,7 @@ bool ParseTree(const std::string& text, const std::string& file, bool read_inlin
     if (url.rfind("file://", 0) == 0) url = url.substr(7);
     const std::filesystem::path base = std::filesystem::path(file).parent_path();
     const std::string path = std::filesystem::path(url).is_absolute() ? url : (base / url).string();
-    const std::string key = std::filesystem::weakly_canonical(path).string();
+    const std::string key = Canonical(path);
     if (std::find(seen->begin(), seen->end(), key) != seen->end()) {
       *error = where + "Inline \"" + ref.url + "\" is already part of the scene (a loop?)";
       return false;
@@ -77,7 +85,7 @@ bool Convert(const std::string& text, const std::string& file, bool read_inlines
              std::string* mjcf, std::string* error) {
   std::vector<SourceDocument> docs;
   std::vector<std::string> seen;
-  if (read_inlines) seen.push_back(std::filesystem::weakly_canonical(file).string());
+  if (read_inlines) seen.push_back(Canonical(file));
   if (!ParseTree(text, file, read_inlines, &docs, &seen, error)) return false;
   Model model;
   if (!BuildModel(docs, &model, error)) return false;
