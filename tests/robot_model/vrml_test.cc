@@ -396,6 +396,14 @@ TEST(Malformed, ModelErrorsNameTheNode) {
   EXPECT_EQ(ErrorOf(proto + "DEF A Joint { jointType \"free\" children [ DEF B Joint {\n"
                             "  jointType \"rotate\" jointId 1 } ] }\n"),
             "bad.wrl:3:49: jointIds must be 0..n-1: jointId 0 is missing (Joint B has 1)");
+  EXPECT_EQ(ErrorOf(proto + "DEF A Joint { jointType \"free\" children [ Shape { geometry Box {\n"
+                            "  size 1 0 1 } } ] }\n"),
+            "bad.wrl:3:60: Box has a size that is not positive");
+  EXPECT_EQ(ErrorOf("PROTO Segment [ exposedField SFFloat mass 0 exposedField MFFloat "
+                    "momentsOfInertia [ 0 0 0 0 0 0 0 0 0 ] ] { Group {} }\n"
+                    "Group { children Segment { mass 1 momentsOfInertia [ 1 0 0 0 -1 0 0 0 1 ] } }"),
+            "bad.wrl:2:52: momentsOfInertia of Segment is not an inertia tensor (symmetric, no "
+            "negative eigenvalue)");
   EXPECT_EQ(ErrorOf("Group { children [ USE X ] }"),
             "bad.wrl:1:24: USE X: no node was defined as DEF X before this point");
 }

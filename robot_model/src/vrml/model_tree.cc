@@ -2,6 +2,7 @@
 // (and Joint, and a sensor) is T(translation) T(center) R(rotation) T(-center); the frames of
 // Transforms between two Joints are composed into the child body's pose; shapes and segments
 // below them get the composed pose in their body.
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "vrml/model_tree.h"
@@ -268,6 +269,7 @@ class Builder {
 
   // a Segment: mass, CoM and the inertia about the CoM in the segment's frame
   bool SegmentOf(const Node& n, const Pose& pose, Body* body, int depth) {
+    const std::string label = n.def_name.empty() ? "Segment" : "Segment " + n.def_name;
     Segment s;
     s.name = n.def_name;
     s.mass = n.Number("mass", 0.0);
@@ -277,12 +279,20 @@ class Builder {
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
     if (iv) {
       if (iv->kind != Value::kNumbers || iv->numbers.size() != 9)
-        return Fail(iv->at, "momentsOfInertia of Segment " + n.def_name +
+        return Fail(iv->at, "momentsOfInertia of " + label +
                                 " needs 9 numbers (the 3x3 tensor about the centre of mass)");
       for (int k = 0; k < 9; ++k) inertia(k / 3, k % 3) = iv->numbers[k];
     }
     if (!(s.mass >= 0) || !std::isfinite(s.mass))
-      return Fail(n.at, "Segment " + n.def_name + " has a negative mass");
+      return Fail(n.at, label + " has a negative mass");
+    // a tensor given must be one: symmetric, eigenvalues not negative
+    if (!inertia.isZero(0.0)) {
+      const double scale = inertia.cwiseAbs().maxCoeff();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia);
+      if (!inertia.isApprox(inertia.transpose(), 1e-9) || eig.eigenvalues().minCoeff() < -1e-12 * scale)
+        return Fail(iv->at, "momentsOfInertia of " + label +
+                                " is not an inertia tensor (symmetric, no negative eigenvalue)");
+    }
     const Eigen::Matrix3d R = pose.q.toRotationMatrix();
     s.com = pose.p + pose.q * Eigen::Vector3d(c[0], c[1], c[2]);
     s.inertia = R * inertia * R.transpose();
@@ -321,8 +331,10 @@ class Builder {
     } else {
       return true;  // Cone, Text, lines: not simulated
     }
-    if (!geom.size.allFinite() || (geom.type != Geom::kMesh && !(geom.size.maxCoeff() > 0)) ||
-        geom.size.minCoeff() < 0)
+    // every size MuJoCo reads must be positive
+    const int sizes = geom.type == Geom::kBox ? 3 : geom.type == Geom::kCylinder ? 2
+                      : geom.type == Geom::kSphere ? 1 : 0;
+    if (!geom.size.allFinite() || (sizes > 0 && !(geom.size.head(sizes).minCoeff() > 0)))
       return Fail(g.at, g.type + " has a size that is not positive");
     for (const NodePtr& a : n.Nodes("appearance")) {
       for (const NodePtr& m : a->Nodes("material")) {
