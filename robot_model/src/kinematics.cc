@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "vrml/vrml.h"
+
 namespace ohrp::model {
 namespace {
 
@@ -78,8 +80,15 @@ std::vector<SoleMap> FindSoles(const mjModel* m, const RobotMap& robot) {
 //---------------- set-up ----------------
 
 std::unique_ptr<Kinematics> Kinematics::Load(const std::string& path, std::string* error) {
+  // an OpenHRP VRML file is converted in memory (vrml/vrml.h)
   char err[1024] = "";
-  mjModel* m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
+  mjModel* m = nullptr;
+  if (vrml::IsVrmlPath(path)) {
+    m = vrml::LoadModel(path, error);
+    if (!m) return nullptr;
+  } else {
+    m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
+  }
   if (!m) {
     *error = "cannot load model '" + path + "': " + (err[0] ? err : "unknown MuJoCo error");
     return nullptr;

@@ -119,6 +119,7 @@ TEST(ControllerCommandLine, TimeoutsThatAreNotTimesExitTwo) {
 const std::string kIo = "--io=" + Program("../lib/libohrp_io_replay.so");
 const std::string kStand = kSource + "/scenarios/stand.yaml";
 const std::string kAngles = kStand;  // any file that exists
+const std::string kSample1 = kSource + "/../shared/external/openhrp3-sample/sample1.wrl";
 INSTANTIATE_TEST_SUITE_P(
     Programs, ProgramCommandLine,
     ::testing::Values(
@@ -129,6 +130,7 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"ohrp_run", {kStand}, "--contact", {"nosuch.yaml"}},
         ProgramCase{"ohrp_video", {"runs/x"}, "--fps", {}},
         ProgramCase{"ohrp_push", {}, "--max-impulse", {}},
+        ProgramCase{"ohrp_vrml2mjcf", {kSample1}, "--print", {"nosuch.wrl"}},
         ProgramCase{"posture", {"--segment", "x"}, "--ramp",
                     {"--segment", "x", "--pose", "nosuch.yaml"}},
         ProgramCase{"playback", {"--segment", "x", "--angles", kAngles}, "--time-scale",

@@ -426,6 +426,34 @@ TEST_F(HwDriverProcess, MalformedModelExitsWithMujocosText) {
   EXPECT_FALSE(fs::exists(ShmPath()));
 }
 
+TEST_F(HwDriverProcess, MalformedVrmlModelExitsWithFileLineAndColumn) {
+  model_ = Write("bad.wrl", "#VRML V2.0 utf8\nTransform { translation 0 1.2.3 0 }\n");
+  Start({});
+  EXPECT_EQ(Wait(), 2) << Stderr();
+  EXPECT_NE(Stderr().find("bad.wrl:2:27: '1.2.3' is not a number"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists(ShmPath()));
+}
+
+//---------------- an OpenHRP VRML model read directly ----------------
+
+TEST_F(HwDriverProcess, VrmlModelPublishesTheRobotOfItsMjcf) {
+  model_ = std::string(OHRP_SOURCE_DIR) + "/../shared/external/openhrp3-sample/sample1.wrl";
+  Start({"--duration", "120", "--watchdog-cycles", "1000000"});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek hw(segment_);
+  const shm::SegmentHeader& h = hw.get().header;
+  EXPECT_EQ(h.njoint, 29);
+  // the same robot as mjcf/hrp1s/hrp1s.xml: the same identity
+  std::string error;
+  auto scene = model::Scene::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml", &error);
+  ASSERT_NE(scene, nullptr) << error;
+  model::RobotMap robot;
+  ASSERT_TRUE(model::MapRobot(scene->m(), &robot, &error)) << error;
+  EXPECT_EQ(model::ModelHash(scene->m(), robot), h.model_hash);
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
+}
+
 //---------------- replay ----------------
 
 TEST_F(HwDriverProcess, ReplayPlaysTheLogsPositionsIntoTheSegment) {

@@ -1,6 +1,6 @@
 // Tests of the HRP-1S-class MJCF model (mjcf/hrp1s/), generated from OpenHRP's SampleRobot
-// (sample1.wrl) by tools/scripts/vrml2mjcf.py. Every expected number below is read off the
-// VRML file by hand, not from the generated XML.
+// (sample1.wrl; tests/robot_model/vrml_test.cc compares it with the VRML reader's robot). Every
+// expected number below is read off the VRML file by hand, not from the generated XML.
 #include <mujoco/mujoco.h>
 
 #include <gtest/gtest.h>

@@ -9,14 +9,14 @@ int main(int argc, char** argv) {
   ohrp::hw::DriverOptions& d = o.driver;
   bool no_mlock = false;
   CLI::App app{
-      "hw_driver: the robot's real-time driver. Reads the robot from its MJCF model, loads the\n"
+      "hw_driver: the robot's real-time driver. Reads the robot from its MJCF (or VRML) model, loads the\n"
       "boards' IO plugin, creates the segment NAME (producer kind hardware) and runs the servo\n"
       "cycle: read boards, publish sensors, wait for the controller's commands until the\n"
       "cycle's deadline, check and clamp them, write boards. Controllers attach exactly as to\n"
       "sim_host (e.g. 'posture --segment NAME'). SIGUSR1 prints the lateness histogram;\n"
       "SIGUSR2 is an emergency stop; SIGINT/SIGTERM stop cleanly (damped hold, servo-off).",
       "hw_driver"};
-  app.add_option("--model", o.model, "MJCF model of the robot (e.g. mjcf/hrp1s/hrp1s.xml)")
+  app.add_option("--model", o.model, "MJCF model of the robot, or OpenHRP VRML (.wrl) (e.g. mjcf/hrp1s/hrp1s.xml)")
       ->required()->check(CLI::ExistingFile);
   app.add_option("--io", o.io_plugin, "IO plugin shared object (e.g. build/lib/libohrp_io_replay.so)")
       ->required();
