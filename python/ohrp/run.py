@@ -12,16 +12,21 @@ import os
 import numpy as np
 
 
-def read_log(path):
-    """A CSV log with a header row (sim_host's and hw_driver's data logs) as a dict of column
-    name -> float64 array, in the file's column order. Raises ValueError naming the file and
-    line of a row that is not numbers or has the wrong number of fields."""
+def read_log(path, required=()):
+    """A CSV log with a header row (sim_host's and hw_driver's data logs, walk.csv...) as a
+    dict of column name -> float64 array, in the file's column order. Raises ValueError naming
+    the file and line of a row that is not numbers or has the wrong number of fields, or the
+    `required` columns that are missing."""
     with open(path, newline="") as f:
         rows = csv.reader(f)
         try:
             names = next(rows)
         except StopIteration:
             raise ValueError("%s: empty file (a log starts with a header row)" % path)
+        missing = [c for c in required if c not in names]
+        if missing:
+            raise ValueError("%s: missing column(s) %s (the header has %s)"
+                             % (path, ", ".join(missing), ",".join(names)))
         data = []
         for line, row in enumerate(rows, start=2):
             if len(row) != len(names):
