@@ -3,16 +3,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <boost/interprocess/exceptions.hpp>
 #include <boost/interprocess/mapped_region.hpp>
-#include <boost/interprocess/shared_memory_object.hpp>
-#include <chrono>
 #include <cmath>
-#include <cstring>
 #include <memory>
 #include <string>
-#include <thread>
 
+#include "attach.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/checks.h"
 #include "signal_word.h"
@@ -23,21 +19,9 @@ namespace bip = boost::interprocess;
 namespace ohrp::shm {
 namespace {
 
-constexpr double kNotReadyWait = 1.0;   // [s] how long open waits for a producer in kCreating
-constexpr double kNotReadyPoll = 0.01;  // [s] poll period of that wait
-constexpr int kTakeOverAttempts = 8;    // CAS rounds when the controller slot changes under us
+constexpr int kTakeOverAttempts = 8;  // CAS rounds when the controller slot changes under us
 
 std::string Quoted(const std::string& segment_name) { return "segment '" + segment_name + "'"; }
-
-// true while the producer has not finished its header: state kCreating and the magic is either
-// still zero (fresh object) or complete, and the producer (when known) is alive
-bool StillCreating(SegmentHeader& h) {
-  if (internal::LoadState(h) != static_cast<uint32_t>(ProducerState::kCreating)) return false;
-  static constexpr char kZero[sizeof(kMagic)] = {};
-  const bool magic_ok = std::memcmp(h.magic, kMagic, sizeof(kMagic)) == 0 ||
-                        std::memcmp(h.magic, kZero, sizeof(kMagic)) == 0;
-  return magic_ok && (h.producer_pid == 0 || ProcessAlive(h.producer_pid));
-}
 
 }  // namespace
 
@@ -51,68 +35,15 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
       !std::isfinite(options.read_timeout)) {
     return {Error::kInvalidConfig, "AdaptorOptions: slice must be > 0 and read_timeout >= 0 [s]"};
   }
-  const std::string object_name = SegmentObjectName(segment_name);
   const std::string where = Quoted(segment_name);
   std::unique_ptr<bip::mapped_region> region;
-  try {
-    // the object and its size (mapping a short object would fault on access)
-    bip::shared_memory_object shm;
-    try {
-      shm = bip::shared_memory_object(bip::open_only, object_name.c_str(), bip::read_write);
-    } catch (const bip::interprocess_exception& e) {
-      if (e.get_error_code() != bip::not_found_error) throw;
-      return {Error::kNoSegment, "no segment '" + segment_name + "' (/dev/shm/" + object_name +
-                                     "): is sim_host or hw_driver running with --segment " +
-                                     segment_name + "?"};
-    }
-    bip::offset_t size = 0;
-    shm.get_size(size);
-    if (size < static_cast<bip::offset_t>(sizeof(Segment))) {
-      SegmentHeader empty{};
-      return CheckHeader(empty, static_cast<uint64_t>(std::max<bip::offset_t>(size, 0)),
-                         segment_name);
-    }
-    region = std::make_unique<bip::mapped_region>(shm, bip::read_write, 0, sizeof(Segment));
-  } catch (const bip::interprocess_exception& e) {
-    return {Error::kSystem, where + " (/dev/shm/" + object_name + "): " + e.what()};
-  }
+  SegmentHeader copy{};
+  const Status check = internal::AttachSegment(segment_name, /*writable=*/true, &region, &copy);
+  if (!check.ok()) return check;
   auto* segment = static_cast<Segment*>(region->get_address());
   SegmentHeader& h = segment->header;
 
-  // a producer still writing its header gets a moment
-  const int64_t ready_deadline = internal::NowNs() + internal::SecondsToNs(kNotReadyWait);
-  while (StillCreating(h) && internal::NowNs() < ready_deadline) {
-    std::this_thread::sleep_for(std::chrono::duration<double>(kNotReadyPoll));
-  }
-
-  // identity and layout, then the producer's life
-  Status check = CheckHeader(h, sizeof(Segment), segment_name);
-  if (!check.ok()) return check;
-  const uint32_t state = internal::LoadState(h);
-  if (state == static_cast<uint32_t>(ProducerState::kCreating)) {
-    return {Error::kProducerNotReady,
-            where + " is still being created by producer pid " + std::to_string(h.producer_pid) +
-                " after " + std::to_string(kNotReadyWait) + " s; retry, or restart the producer"};
-  }
-  if (!ProcessAlive(h.producer_pid)) {
-    return {Error::kProducerDead, "stale " + where + ": its producer pid " +
-                                      std::to_string(h.producer_pid) +
-                                      " is gone; restart the producer"};
-  }
-  if (internal::IsEnded(state)) {
-    return {Error::kProducerStopped,
-            where + " belongs to producer pid " + std::to_string(h.producer_pid) + " that has " +
-                (state == static_cast<uint32_t>(ProducerState::kFailed) ? "failed" : "stopped") +
-                "; restart the producer"};
-  }
-  if (state != static_cast<uint32_t>(ProducerState::kRunning)) {
-    return {Error::kNotASegment, where + " has unknown producer state " + std::to_string(state)};
-  }
-
-  // the values, checked on a copy so that what was checked is what is kept
-  const SegmentHeader copy = h;
-  check = CheckHeaderValues(copy, segment_name);
-  if (!check.ok()) return check;
+  // the wake-up words: only the bridge's values are ever waited on
   const uint32_t sensors_word = std::atomic_ref<uint32_t>(segment->sync.sensors_ready.word).load();
   const uint32_t commands_word =
       std::atomic_ref<uint32_t>(segment->sync.commands_ready.word).load();

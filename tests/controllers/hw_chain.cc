@@ -74,7 +74,7 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
   for (double t = 0; !fs::exists(shm_path) && t < kWall; t += 0.01)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::vector<std::string> args = controller;
-  args[0] = Program(args[0]);
+  if (args[0].find('/') == std::string::npos) args[0] = Program(args[0]);  // else a path
   args.insert(args.end(), {"--segment", segment});
   const pid_t program = Spawn(args, path("controller.out"));
   // the driver's end ends the controller; the emulator runs until told
@@ -107,8 +107,10 @@ std::array<double, 3> Span(const Chain& c, double t0, double t1) {
 
 std::string MissingHwProgram(const std::string& controller) {
   for (const std::string& p : {std::string("hw_driver"), std::string("hw_emulator"), controller,
-                               std::string("../lib/libohrp_io_udp.so")})
-    if (!fs::exists(Program(p))) return Program(p);
+                               std::string("../lib/libohrp_io_udp.so")}) {
+    const std::string path = p.find('/') == std::string::npos || p[0] == '.' ? Program(p) : p;
+    if (!fs::exists(path)) return path;
+  }
   return "";
 }
 

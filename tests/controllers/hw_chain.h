@@ -29,8 +29,8 @@ struct Chain {
 };
 
 // Runs the emulator (flat scene, halfsit keyframe, `emulator_args` added), the driver
-// (`duration` s of 2 ms servo cycles), then `controller` (program name and arguments; the
-// segment is added); the emulator is stopped with SIGINT once the driver ended.
+// (`duration` s of 2 ms servo cycles), then `controller` (a program of build/bin or a path, and
+// its arguments; the segment is added); the emulator is stopped with SIGINT once the driver ended.
 Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
                const std::vector<std::string>& emulator_args, double duration);
 

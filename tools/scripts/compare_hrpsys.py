@@ -23,7 +23,8 @@ import sys
 import numpy as np
 
 import hrpsys_recording
-import plot_walk
+import plot_walk  # noqa: E402  (it puts python/ on the path)
+from ohrp.run import read_log  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -40,8 +41,8 @@ MATCHED = {"step period [s]": 0.011, "single support [s]": 0.011,
 
 def ours(run_dir):
     """Our walk from walk.csv (plan frame) and log.csv (the base, world): dict of arrays."""
-    w = {k: np.array(v) for k, v in plot_walk.read_walk(os.path.join(run_dir, "walk.csv")).items()}
-    log = read_columns(os.path.join(run_dir, "log.csv"), ("time", "base_x", "base_y", "base_z"))
+    w = plot_walk.read_walk(os.path.join(run_dir, "walk.csv"))
+    log = read_log(os.path.join(run_dir, "log.csv"), required=("time", "base_x", "base_y", "base_z"))
     t = w["t"]
     # the base at the walk log's times (sim_host logs on its own clock, from t = 0)
     waist = np.stack([np.interp(t, log["time"], log[k]) for k in ("base_x", "base_y", "base_z")], 1)
@@ -52,18 +53,6 @@ def ours(run_dir):
             "left": np.stack([w["left_x"], w["left_y"], w["left_z"]], 1),
             "right": np.stack([w["right_x"], w["right_y"], w["right_z"]], 1),
             "support": np.stack([w["support_left"], w["support_right"]], 1) >= 0.5}
-
-
-def read_columns(path, names):
-    """The named columns of a CSV with a header line (ValueError naming what is missing)."""
-    with open(path) as f:
-        header = f.readline().strip().split(",")
-    missing = [n for n in names if n not in header]
-    if missing:
-        raise ValueError("%s: missing column(s) %s" % (path, ", ".join(missing)))
-    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=[header.index(n) for n in names],
-                      ndmin=2)
-    return {n: data[:, i] for i, n in enumerate(names)}
 
 
 def theirs(prefix, model):

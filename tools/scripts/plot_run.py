@@ -8,7 +8,6 @@ walk's panels of plot_walk.py follow: seen from above and x, y against time.
 Uses Debian's python3-matplotlib (installed by ./ohrp setup); no other dependency.
 """
 import argparse
-import csv
 import json
 import os
 import sys
@@ -19,18 +18,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import plot_walk  # noqa: E402
-
-
-def read_log(path):
-    with open(path, newline="") as f:
-        rows = csv.reader(f)
-        names = next(rows)
-        cols = {n: [] for n in names}
-        for row in rows:
-            for n, v in zip(names, row):
-                cols[n].append(float(v))
-    return cols
+import plot_walk  # noqa: E402  (it puts python/ on the path)
+from ohrp.run import read_log  # noqa: E402
 
 
 def main():
@@ -48,7 +37,7 @@ def main():
     log = read_log(a.log)
     summary = json.load(open(a.summary))
     t = log["time"]
-    if not t:
+    if len(t) == 0:
         sys.exit("plot_run: the log has no rows")
     forces = sorted({n[:-3] for n in log if n.endswith("_fz")})
     joints = [j for j in a.joints.split(",") if j] or \

@@ -14,8 +14,8 @@ plot_run.py imports it (add_walk_panels) to add the same panels to a run's plot.
 folder holds a walk.csv. Uses Debian's python3-matplotlib; no other dependency.
 """
 import argparse
-import csv
 import math
+import os
 import sys
 
 import matplotlib
@@ -23,6 +23,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Polygon  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from ohrp.run import read_log  # noqa: E402  (the one CSV reader of the project's Python)
 
 COLUMNS = ("t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
            "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
@@ -33,21 +36,9 @@ SIDES = (("left", "tab:blue"), ("right", "tab:red"))
 
 
 def read_walk(path):
-    """The columns of walk.csv by name (lists of floats); ValueError naming what is missing."""
-    with open(path, newline="") as f:
-        rows = csv.reader(f)
-        names = next(rows, [])
-        missing = [c for c in COLUMNS if c not in names]
-        if missing:
-            raise ValueError("%s: missing column(s) %s (expected the header %s)"
-                             % (path, ", ".join(missing), ",".join(COLUMNS)))
-        cols = {n: [] for n in names}
-        for line, row in enumerate(rows, start=2):
-            if len(row) != len(names):
-                raise ValueError("%s:%d: %d values, expected %d" % (path, line, len(row), len(names)))
-            for n, v in zip(names, row):
-                cols[n].append(float(v))
-    if not cols["t"]:
+    """The columns of walk.csv by name (arrays); ValueError naming what is missing."""
+    cols = read_log(path, required=COLUMNS)
+    if len(cols["t"]) == 0:
         raise ValueError("%s: no rows" % path)
     return cols
 

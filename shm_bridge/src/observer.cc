@@ -1,0 +1,110 @@
+// Observer: a read-only view of a robot segment (observer.h).
+#include "shm_bridge/observer.h"
+
+#include <time.h>
+
+#include <boost/interprocess/mapped_region.hpp>
+#include <cmath>
+#include <memory>
+
+#include "attach.h"
+#include "shm_bridge/checks.h"
+#include "sync.h"
+
+namespace bip = boost::interprocess;
+
+namespace ohrp::shm {
+namespace {
+
+template <class Block>
+Block* Mutable(const Block* b) {  // the seqlock reader only loads (the mapping is read-only)
+  return const_cast<Block*>(b);
+}
+
+}  // namespace
+
+Observer::~Observer() { close(); }
+
+Status Observer::open(const std::string& segment_name, const ObserverOptions& options) {
+  close();
+  if (!(options.poll > 0.0) || !std::isfinite(options.poll)) {
+    return {Error::kInvalidConfig, "ObserverOptions: poll must be > 0 [s]"};
+  }
+  std::unique_ptr<bip::mapped_region> region;
+  SegmentHeader copy{};
+  const Status check = internal::AttachSegment(segment_name, /*writable=*/false, &region, &copy);
+  if (!check.ok()) return check;
+  header_ = SanitizedHeader(copy);
+  options_ = options;
+  last_seq_ = 0;
+  segment_ = static_cast<const Segment*>(region->get_address());
+  region_ = region.release();
+  return Status::Ok();
+}
+
+ReadResult Observer::read(SensorBlock* out, double timeout) {
+  if (segment_ == nullptr) return ReadResult::kNotOpen;
+  SegmentHeader& h = Mutable(&segment_->header)[0];
+  std::atomic_ref<uint64_t> seq(Mutable(&segment_->sensors)->seq);
+  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(timeout);
+  const timespec pause = internal::ToTimespec(std::max<int64_t>(internal::SecondsToNs(options_.poll), 1000));
+  for (;;) {
+    const bool ended = internal::IsEnded(internal::LoadState(h));
+    const uint64_t now_seq = seq.load(std::memory_order_acquire);
+    if (now_seq != 0 && now_seq != last_seq_) {
+      // a block newer than the last one returned (or being written: the copy waits it out)
+      const auto copy = [this](const SensorBlock* src, SensorBlock* dst) {
+        internal::CopySensors(src, dst, header_);
+      };
+      switch (internal::SeqlockCopy(Mutable(&segment_->sensors), out, copy,
+                                    header_.producer_pid, deadline)) {
+        case internal::CopyResult::kOk:
+          if (out->seq != last_seq_) {
+            last_seq_ = out->seq;
+            return ReadResult::kOk;
+          }
+          break;
+        case internal::CopyResult::kWriterGone:
+          return ReadResult::kProducerGone;
+        case internal::CopyResult::kTimeout:
+          return ReadResult::kTimeout;
+      }
+    }
+    if (ended) return ReadResult::kProducerStopped;
+    if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
+    if (internal::NowNs() >= deadline) return ReadResult::kTimeout;
+    nanosleep(&pause, nullptr);
+  }
+}
+
+bool Observer::commands(CommandBlock* out) const {
+  if (segment_ == nullptr) return false;
+  const auto copy = [](const CommandBlock* src, CommandBlock* dst) {
+    internal::CopyCommands(src, dst);
+  };
+  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(0.01);
+  if (internal::SeqlockCopy(Mutable(&segment_->commands), out, copy, 0, deadline) !=
+      internal::CopyResult::kOk) {
+    return false;
+  }
+  return out->njoint > 0 || out->answers_cycle > 0;
+}
+
+pid_t Observer::controller_pid() const {
+  if (segment_ == nullptr) return 0;
+  return internal::LoadControllerPid(Mutable(&segment_->header)[0]);
+}
+
+ProducerState Observer::producer_state() const {
+  if (segment_ == nullptr) return ProducerState::kStopped;
+  return static_cast<ProducerState>(internal::LoadState(Mutable(&segment_->header)[0]));
+}
+
+void Observer::close() {
+  if (segment_ == nullptr) return;
+  delete static_cast<bip::mapped_region*>(region_);
+  segment_ = nullptr;
+  region_ = nullptr;
+}
+
+}  // namespace ohrp::shm
