@@ -33,19 +33,35 @@ def attach_when_ready(make, timeout=20.0):
             time.sleep(0.01)
 
 
+def start_sim_host(scene, segment, *args):
+    """sim_host on `scene` serving `segment`; its stderr goes to a file (a pipe nobody reads
+    could fill up and stall it), printed when the test fails."""
+    log = tempfile.TemporaryFile(mode="w+")
+    sim = subprocess.Popen([os.path.join(BIN, "sim_host"), scene, "--segment", segment,
+                            "--quiet", *args], stderr=log)
+    sim.log = log
+    return sim
+
+
+def stop_sim_host(sim):
+    if sim.poll() is None:
+        sim.terminate()
+    sim.wait(timeout=30)
+    sim.log.seek(0)
+    text = sim.log.read()
+    if text.strip():
+        print("sim_host (exit %s) said:\n%s" % (sim.returncode, text), file=sys.stderr)
+
+
 class LiveSegment(unittest.TestCase):
     """sim_host runs 1 s of HRP-1S; the test is its controller, an observer watches."""
 
     def setUp(self):
         self.segment = "pytest_%d" % os.getpid()
-        self.sim = subprocess.Popen(
-            [os.path.join(BIN, "sim_host"), SCENE, "--segment", self.segment,
-             "--duration", "1.0", "--quiet"], stderr=subprocess.PIPE, text=True)
+        self.sim = start_sim_host(SCENE, self.segment, "--duration", "1.0")
 
     def tearDown(self):
-        if self.sim.poll() is None:
-            self.sim.terminate()
-        self.sim.communicate(timeout=30)
+        stop_sim_host(self.sim)
 
     def test_controller_and_observer(self):
         robot = attach_when_ready(lambda: ohrp.Robot.controller(self.segment))
@@ -94,8 +110,7 @@ class LiveSegment(unittest.TestCase):
             self.assertGreater(cycles, 150)  # 1 s at 5 ms
             self.assertLess(abs(robot.q[knee] - 0.5), 0.02)
             self.assertFalse(robot.producer_failed())
-        self.sim.wait(timeout=30)
-        self.assertEqual(self.sim.returncode, 0)
+        self.assertEqual(self.sim.wait(timeout=30), 0)
 
 
 class PassiveJoints(unittest.TestCase):
@@ -106,9 +121,7 @@ class PassiveJoints(unittest.TestCase):
         if not os.path.exists(os.path.join(REPO, "..", "shared", "external", "menagerie")):
             self.skipTest("../shared/external/menagerie is not there")
         segment = "pytest_cassie_%d" % os.getpid()
-        sim = subprocess.Popen([os.path.join(BIN, "sim_host"), scene, "--segment", segment,
-                                "--duration", "0", "--wait-controller", "0", "--quiet"],
-                               stderr=subprocess.PIPE, text=True)
+        sim = start_sim_host(scene, segment, "--duration", "0", "--wait-controller", "0")
         try:
             watcher = attach_when_ready(lambda: ohrp.Robot.observer(segment))
             with watcher:
@@ -121,8 +134,7 @@ class PassiveJoints(unittest.TestCase):
                 self.assertTrue(np.all(np.isfinite(watcher.passive_q)))
                 self.assertGreater(np.abs(watcher.passive_q).max(), 0.1)  # the tarsus is bent
         finally:
-            sim.terminate()
-            sim.communicate(timeout=30)
+            stop_sim_host(sim)
 
 
 class Errors(unittest.TestCase):
