@@ -112,7 +112,8 @@ def main():
                 if start is None:
                     start, t0 = robot.q.copy(), robot.time
                 s = 1.0 if args.ramp == 0 else min_jerk((robot.time - t0) / args.ramp)
-                robot.write(q_ref=start + s * (target - start), kp=kp, kd=kd)
+                if not robot.write(q_ref=start + s * (target - start), kp=kp, kd=kd):
+                    break  # the producer ended its run between the read and the write
                 cycles += 1
         except ohrp.SegmentError as e:
             print("posture.py: %s" % e, file=sys.stderr)

@@ -4,7 +4,7 @@
     with ohrp.Robot.controller("hrp1s") as robot:
         kp, kd = robot.default_kp, robot.default_kd
         while robot.read():                  # False once the producer has ended its run
-            robot.write(q_ref=target, kp=kp, kd=kd)
+            robot.write(q_ref=target, kp=kp, kd=kd)   # likewise
 
 After each read() the sensors of that cycle are in numpy arrays that read() refills in place:
 q, dq, tau (njoint), passive_q, passive_dq (npassive: joints no actuator drives), force (nforce x 6: fx fy fz tx ty tz), imu (nimu x 10: gyro, accel,
@@ -167,7 +167,9 @@ class Robot:
         Each argument: njoint values or None. None means: mode position, q_ref the q just
         read, dq_ref 0, tau_ff 0, kp / kd the producer's default gains. mode: one of
         MODE_OFF, MODE_POSITION, MODE_VELOCITY, MODE_TORQUE, or njoint of them.
-        Raises SegmentError when the producer ended its run or let this controller go.
+        Returns True when written, False once the producer has ended its run (a normal end,
+        as read() returning False). Raises SegmentError when the producer let this controller
+        go (it missed the producer's deadline) or the segment is corrupted.
         """
         h = self._handle()
         if not self.is_controller:
@@ -182,8 +184,11 @@ class Robot:
                 self._mode[i] = int(m)
             mode_ptr = self._mode
         r = _lib.ohrp_write(h, mode_ptr, *[None if a is None else _ptr(a) for a in arrays])
+        if r == _capi.PRODUCER_STOPPED:
+            return False
         if r != _capi.OK:
             raise SegmentError("segment '%s': write: %s" % (self.segment, _capi.result_name(r)), r)
+        return True
 
     def last_commands(self):
         """The controller's last commands as a dict of arrays (mode, q_ref, dq_ref, tau_ff,

@@ -86,8 +86,7 @@ class LiveSegment(unittest.TestCase):
             target[knee] = 0.5
             cycles, first = 0, robot.cycle
             while True:
-                robot.write(q_ref=target)
-                if not robot.read():
+                if not robot.write(q_ref=target) or not robot.read():
                     break
                 cycles += 1
                 self.assertEqual(robot.cycle, first + cycles)  # lock-step: no cycle skipped
