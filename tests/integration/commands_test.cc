@@ -55,6 +55,20 @@ TEST(Commands, SimArgumentsGetTheOutputFolder) {
   EXPECT_EQ(argv.back(), "/runs/w/x.json");
 }
 
+// a scenario without control_period leaves the period to sim_host (the multiple of the scene's
+// step nearest 5 ms: 4 ms for H1's 2 ms step), one with it passes it on
+TEST(Commands, TheControlPeriodIsPassedOnlyWhenTheScenarioSetsIt) {
+  Scenario s;
+  EXPECT_EQ(s.control_period, 0.0);
+  auto argv = SimHostCommand(s, "/bin/sim_host", "scene.xml", "seg", "/runs/w");
+  EXPECT_FALSE(Contains(argv, "--control-period"));
+  s.control_period = 0.004;
+  argv = SimHostCommand(s, "/bin/sim_host", "scene.xml", "seg", "/runs/w");
+  const auto at = std::find(argv.begin(), argv.end(), "--control-period");
+  ASSERT_NE(at, argv.end());
+  EXPECT_EQ(std::stod(*(at + 1)), 0.004);
+}
+
 TEST(OutputFiles, ListsTheWalkLogWhenAControllerWroteIt) {
   const std::string dir = TempDir();
   auto files = OutputFiles(dir);

@@ -47,12 +47,13 @@ std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& si
   // the run's settings
   std::vector<std::string> argv = {
       sim_host, "--scene", scene, "--segment", segment,
-      "--duration", Num(s.duration), "--control-period", Num(s.control_period),
+      "--duration", Num(s.duration),
       "--on-controller-loss", s.on_controller_loss,
       "--controller-timeout", Num(s.controller_timeout),
       "--wait-controller", s.controllers.empty() ? "0" : "20",
       "--log", out_dir + "/log.csv", "--log-every", std::to_string(s.log_every),
       "--summary", out_dir + "/sim_summary.json"};
+  if (s.control_period > 0) argv.insert(argv.end(), {"--control-period", Num(s.control_period)});
   if (s.physics_dt > 0) argv.insert(argv.end(), {"--physics-dt", Num(s.physics_dt)});
   if (!s.integrator.empty()) argv.insert(argv.end(), {"--integrator", s.integrator});
   if (!s.keyframe.empty()) argv.insert(argv.end(), {"--keyframe", s.keyframe});

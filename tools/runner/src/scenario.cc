@@ -144,7 +144,7 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
     return false;
   }
   s->scene_line = root["scene"].Mark().line + 1;
-  if (s->physics_dt > 0) {
+  if (s->physics_dt > 0 && s->control_period > 0) {
     const double ratio = s->control_period / s->physics_dt;
     if (ratio < 1 - 1e-9 || std::fabs(ratio - std::round(ratio)) > 1e-6) {
       *error = AtKey(path, root, root["control_period"] ? "control_period" : "physics_dt") +
@@ -153,7 +153,7 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
       return false;
     }
   }
-  if (s->duration < s->control_period) {
+  if (s->control_period > 0 && s->duration < s->control_period) {
     *error = AtKey(path, root, "duration") + "duration: " +
              std::to_string(s->duration) + " s is shorter than one control period (" +
              std::to_string(s->control_period) + " s)";

@@ -54,7 +54,7 @@ struct Scenario {
   std::string keyframe;
   double duration = 10;          // [s] simulated
   double physics_dt = 0;         // [s], 0: the scene's
-  double control_period = 0.005; // [s]
+  double control_period = 0;     // [s], 0: sim_host's default (the multiple of the step nearest 5 ms)
   std::string integrator;        // empty: the scene's
   bool realtime = false;
   std::string on_controller_loss = "end";
