@@ -4,6 +4,8 @@
 // not exist is refused with a clear message and exit code 2.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "browser.h"
 #include "view_process.h"
 
@@ -102,6 +104,18 @@ TEST_F(Live, AStoppedOrKilledViewerDoesNotSlowTheLockStep) {
   const double watched = run(true);
   std::printf("lock-step 30 s run: %.2f s alone, %.2f s with a stopped and a killed viewer\n", alone, watched);
   EXPECT_LT(watched, 1.5 * alone + 1.0);
+}
+
+// ohrp_run --view: a viewer on the run's segment, which prints its URL and ends with the run
+TEST_F(Live, RunWithViewStartsAViewerThatEndsWithTheRun) {
+  std::ofstream(dir_ / "short.yaml") << "name: short\nscene: " << kScene
+                                     << "\nduration: 1.0\ncontrollers:\n  - program: posture\n"
+                                     << "checks:\n  - {type: not_fallen}\n";
+  const std::string out = (dir_ / "run.txt").string();
+  const pid_t run = Start("ohrp_run", {(dir_ / "short.yaml").string(), "--view", "--realtime", "--no-plot",
+                                       "-q", "--out", (dir_ / "out").string()}, out);
+  EXPECT_EQ(shm::testing::WaitExit(run, 60.0), 0) << ReadAll(out);
+  EXPECT_NE(ReadAll(out).find("ohrp_view: serving http://127.0.0.1:"), std::string::npos) << ReadAll(out);
 }
 
 TEST_F(Live, ANonexistentSegmentIsRefused) {
