@@ -61,7 +61,13 @@ TEST_F(Live, ShowsTheRobotAndThePlotsAdvanceWithSimulatedTime) {
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.points > 20"));
   const double t1 = browser.Eval("Number(document.getElementById('state').dataset.t)").get<double>();
   const double p1 = browser.Eval("Number(document.getElementById('state').dataset.points)").get<double>();
+  const double f1 = browser.Eval("Number(document.getElementById('state').dataset.frames)").get<double>();
+  const double w1 = shm::testing::Now();
   usleep(2000000);
+  const double rate = (browser.Eval("Number(document.getElementById('state').dataset.frames)").get<double>() - f1) /
+                      (shm::testing::Now() - w1);
+  std::printf("frames drawn by the page: %.1f per second (the viewer sends at most 30)\n", rate);
+  EXPECT_GT(rate, 5.0);
   const double t2 = browser.Eval("Number(document.getElementById('state').dataset.t)").get<double>();
   const double p2 = browser.Eval("Number(document.getElementById('state').dataset.points)").get<double>();
   // real time: about 2 s of simulated time in 2 s, and more points in the plots
