@@ -128,6 +128,7 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"hw_emulator", {"--model", kScene}, "--period", {"--model", "nosuch.xml"}},
         ProgramCase{"ohrp_run", {kStand}, "--contact", {"nosuch.yaml"}},
         ProgramCase{"ohrp_video", {"runs/x"}, "--fps", {}},
+        ProgramCase{"ohrp_view", {"runs/x"}, "--rate", {"runs/nosuch"}},
         ProgramCase{"ohrp_push", {}, "--max-impulse", {}},
         ProgramCase{"posture", {"--segment", "x"}, "--ramp",
                     {"--segment", "x", "--pose", "nosuch.yaml"}},

@@ -124,6 +124,24 @@ TEST_F(Live, RunWithViewStartsAViewerThatEndsWithTheRun) {
   EXPECT_NE(ReadAll(out).find("ohrp_view: serving http://127.0.0.1:"), std::string::npos) << ReadAll(out);
 }
 
+// a one-joint robot on the segment, HRP-1S in the viewer's (default) scene: refused by the hash
+TEST_F(Live, AnotherRobotsSceneIsRefused) {
+  std::ofstream(dir_ / "pendulum.xml") << R"(<mujoco model="pendulum"><option timestep="0.001"/><worldbody>
+    <geom type="plane" size="5 5 0.1"/>
+    <body name="base" pos="0 0 1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/>
+      <body name="link"><joint name="j1" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="0.5"/></body></body>
+    </worldbody><actuator><motor joint="j1" ctrllimited="true" ctrlrange="-10 10"/></actuator></mujoco>)";
+  const pid_t sim = Start("sim_host", {(dir_ / "pendulum.xml").string(), "--segment", segment_, "--realtime",
+                                       "--duration", "30", "--wait-controller", "0", "--progress", "0"},
+                          (dir_ / "sim_host.txt").string());
+  children_.push_back(sim);
+  const std::string out = (dir_ / "viewer.txt").string();
+  const pid_t pid = Start("ohrp_view", {segment_, "--attach-timeout", "20"}, out);
+  EXPECT_EQ(shm::testing::WaitExit(pid, 30.0), 2) << ReadAll(out) << ReadAll(dir_ / "sim_host.txt");
+  EXPECT_NE(ReadAll(out).find("does not hold the robot of segment"), std::string::npos) << ReadAll(out);
+}
+
 TEST_F(Live, ANonexistentSegmentIsRefused) {
   const std::string out = (dir_ / "viewer.txt").string();
   const pid_t pid = Start("ohrp_view", {segment_}, out);

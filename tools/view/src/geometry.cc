@@ -42,6 +42,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std:
     (m->geom_bodyid[i] == 0 ? g->static_geoms_ : g->moving_geoms_).push_back(i);
   }
   mj_kinematics(m, g->scene_->d());
+  g->description_ = g->MakeDescription();
   return g;
 }
 
@@ -57,8 +58,7 @@ nlohmann::json SceneGeometry::Geom(int g) const {
   return j;
 }
 
-nlohmann::json SceneGeometry::Describe() const {
-  const mjModel* m = scene_->m();
+nlohmann::json SceneGeometry::MakeDescription() const {
   const mjData* d = scene_->d();
   nlohmann::json out;
   out["robot"] = robot_.name;
@@ -78,7 +78,6 @@ nlohmann::json SceneGeometry::Describe() const {
   for (const auto& jm : robot_.joints) out["joints"].push_back(jm.name);
   out["forces"] = nlohmann::json::array();
   for (const auto& f : robot_.forces) out["forces"].push_back(f.name);
-  (void)m;
   return out;
 }
 

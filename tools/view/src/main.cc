@@ -1,5 +1,6 @@
 // ohrp_view: the robot in a browser, live from a running segment or replayed from a run folder
 // (docs/view.md). The work is in the view library; this file reads the command line.
+#include <signal.h>
 #include <sys/stat.h>
 
 #include <cstdio>
@@ -54,6 +55,8 @@ int main(int argc, char** argv) {
              "3 MuJoCo error.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::model::InstallMujocoHandlers(OnMujocoError);
+  // a page that goes away mid-write is an error on its socket, not a signal that ends us
+  signal(SIGPIPE, SIG_IGN);
 
   // a folder is a run to replay; a name without '/' is a segment; anything else is a mistake
   std::unique_ptr<ohrp::view::Source> source;

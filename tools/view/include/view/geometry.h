@@ -35,8 +35,9 @@ class SceneGeometry {
 
   // The scene's description for the page: {"static": [geom...], "moving": [geom...],
   // "joints": [names], "forces": [names], "robot": name}; each geom is {"type", "size",
-  // "rgba"} and, for static ones, "pose". Only visible geoms (group 0-2, alpha > 0).
-  nlohmann::json Describe() const;
+  // "rgba"} and, for static ones, "pose". Only visible geoms (group 0-2, alpha > 0). Made once
+  // at Load: safe to call from any thread while another calls Poses().
+  const nlohmann::json& Describe() const { return description_; }
 
   // World poses of the moving geoms for `state` (one 7-array per geom, order of Describe()).
   // Joints missing from `state.q` keep the model's initial position.
@@ -52,10 +53,12 @@ class SceneGeometry {
  private:
   SceneGeometry() = default;
   nlohmann::json Geom(int g) const;
+  nlohmann::json MakeDescription() const;
 
   std::unique_ptr<model::Scene> scene_;
   model::RobotMap robot_;
   std::vector<int> static_geoms_, moving_geoms_;
+  nlohmann::json description_;
 };
 
 }  // namespace ohrp::view
