@@ -4,9 +4,15 @@
 // not exist is refused with a clear message and exit code 2.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cmath>
 #include <fstream>
+#include <thread>
 
 #include "browser.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "shm_bridge/bridge.h"
 #include "view_process.h"
 
 namespace ohrp::view::testing {
@@ -110,6 +116,50 @@ TEST_F(Live, AStoppedOrKilledViewerDoesNotSlowTheLockStep) {
   const double watched = run(true);
   std::printf("lock-step 30 s run: %.2f s alone, %.2f s with a stopped and a killed viewer\n", alone, watched);
   EXPECT_LT(watched, 1.5 * alone + 1.0);
+}
+
+// a hardware producer (no ground truth): the base pose comes from the IMU and the page says so
+TEST_F(Live, AHardwareProducersBaseIsLabelledAsEstimatedFromTheImu) {
+  std::string error;
+  auto scene = model::Scene::Load(kScene, &error);
+  ASSERT_TRUE(scene) << error;
+  model::RobotMap robot;
+  ASSERT_TRUE(model::MapRobot(scene->m(), &robot, &error)) << error;
+  shm::ProducerConfig config = model::MakeProducerConfig(robot, scene->m(), segment_, 0.0, 0.005);
+  config.kind = shm::ProducerKind::kHardware;
+  shm::Status status;
+  auto producer = shm::Producer::Create(config, &status);
+  ASSERT_TRUE(producer) << status.message;
+  // sensor blocks at 200 Hz: straight joints, the IMU tilted 20 deg about x, no kSimulated
+  std::atomic<bool> stop{false};
+  std::thread publisher([&] {
+    for (uint64_t k = 0; !stop; ++k) {
+      shm::SensorBlock& s = producer->BeginSensors();
+      s.cycle = k;
+      s.time = 0.005 * k;
+      s.status = shm::status::kRunning | shm::status::kNoController;
+      const double half = 10.0 * M_PI / 180;
+      s.imu[0].quat_WI[0] = std::cos(half);
+      s.imu[0].quat_WI[1] = std::sin(half);
+      producer->PublishSensors();
+      usleep(5000);
+    }
+  });
+  Viewer viewer;
+  StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
+  EXPECT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  if (!viewer.url.empty()) {
+    Browser browser(viewer.url);
+    EXPECT_TRUE(browser.ok()) << browser.error();
+    EXPECT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 2"));
+    EXPECT_EQ(browser.Eval("document.getElementById('base').textContent").get<std::string>(),
+              "base pose: estimated from IMU");
+    EXPECT_EQ(browser.Eval("document.getElementById('title').textContent").get<std::string>(),
+              "segment " + segment_ + " (hardware)");
+    browser.Screenshot(OutputDir("live") + "/hardware_imu.png");
+  }
+  stop = true;
+  publisher.join();
 }
 
 // ohrp_run --view: a viewer on the run's segment, which prints its URL and ends with the run
