@@ -1,7 +1,9 @@
 // The scene's geoms for the page, and their world poses by forward kinematics (geometry.h).
 #include "view/geometry.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace ohrp::view {
 
@@ -41,6 +43,20 @@ std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std:
     if (rgba[3] <= 0) continue;
     (m->geom_bodyid[i] == 0 ? g->static_geoms_ : g->moving_geoms_).push_back(i);
   }
+  // the sole sensors: a sensor's body is a *_SOLE geom's body or one of its ancestors
+  for (const auto& f : g->robot_.forces) {
+    const int body = m->site_bodyid[f.site_id];
+    bool sole = false;
+    for (int i = 0; i < m->ngeom && !sole; ++i) {
+      const char* name = mj_id2name(m, mjOBJ_GEOM, i);
+      const std::string n = name ? name : "";
+      if (n.size() < 5 || n.compare(n.size() - 5, 5, "_SOLE") != 0) continue;
+      for (int b = m->geom_bodyid[i]; b > 0 && !sole; b = m->body_parentid[b]) sole = b == body;
+    }
+    g->sole_sensor_.push_back(sole);
+  }
+  if (std::find(g->sole_sensor_.begin(), g->sole_sensor_.end(), true) == g->sole_sensor_.end())
+    g->sole_sensor_.assign(g->sole_sensor_.size(), true);
   mj_kinematics(m, g->scene_->d());
   g->description_ = g->MakeDescription();
   return g;
@@ -112,6 +128,7 @@ bool SceneGeometry::Zmp(const RobotState& state, double zmp[2], double min_fz) c
   double fz = 0, mx = 0, my = 0;
   const size_t n = std::min(state.ft.size(), robot_.forces.size());
   for (size_t i = 0; i < n; ++i) {
+    if (!sole_sensor_[i]) continue;
     const int s = robot_.forces[i].site_id;
     const double* R = d->site_xmat + 9 * s;  // sensor frame in world (row-major)
     const double* p = d->site_xpos + 3 * s;

@@ -43,8 +43,9 @@ class SceneGeometry {
   // Joints missing from `state.q` keep the model's initial position.
   nlohmann::json Poses(const RobotState& state);
 
-  // The zero-moment point on the plane z = 0 from the force/torque sensors of the last
-  // Poses() call: false when the sensors carry less than `min_fz` [N] in total (in the air).
+  // The zero-moment point on the plane z = 0 from the sole sensors (the force/torque sensors
+  // above a geom named *_SOLE, sim_host's convention; every sensor when none is) at the poses of
+  // the last Poses() call: false when they carry less than `min_fz` [N] in total (in the air).
   bool Zmp(const RobotState& state, double zmp[2], double min_fz = 20.0) const;
 
   const mjModel* model() const { return scene_->m(); }
@@ -58,6 +59,7 @@ class SceneGeometry {
   std::unique_ptr<model::Scene> scene_;
   model::RobotMap robot_;
   std::vector<int> static_geoms_, moving_geoms_;
+  std::vector<bool> sole_sensor_;  // per force sensor: used for the ZMP
   nlohmann::json description_;
 };
 
