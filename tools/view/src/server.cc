@@ -9,7 +9,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -37,12 +39,24 @@ struct Asset {
   const char* type;
 };
 
-// live: push the newest frame whenever there is one
+// pages' WebSockets open now (their threads use the source: it must outlive them)
+std::atomic<int> open_connections{0};
+struct Counted {
+  Counted() { ++open_connections; }
+  ~Counted() { --open_connections; }
+};
+
+// live: push the newest frame whenever there is one; close once the last one is sent
 void PushFrames(websocket::stream<tcp::socket>& ws, Source* source) {
   uint64_t version = 0;
   for (;;) {
+    const bool ended = source->ended();
     uint64_t v = 0;
-    std::shared_ptr<const std::string> frame = source->Newest(version, 1.0, &v);
+    std::shared_ptr<const std::string> frame = source->Newest(version, ended ? 0.0 : 1.0, &v);
+    if (ended && v == version) {
+      ws.close(websocket::close_code::normal);
+      return;
+    }
     if (!frame || v == version) {
       // nothing new: a ping keeps a dead page from holding its thread forever
       ws.ping({});
@@ -77,6 +91,7 @@ void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets
       http::request<http::string_body> req;
       http::read(socket, buffer, req);
       if (websocket::is_upgrade(req) && req.target() == "/ws") {
+        const Counted counted;
         websocket::stream<tcp::socket> ws(std::move(socket));
         ws.accept(req);
         ws.text(true);
@@ -159,6 +174,13 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
     std::thread(Serve1, std::move(socket), source, &assets).detach();
   }
   if (watcher.joinable()) watcher.join();
+  // the pages' threads end after the last frame; one stuck on a stalled page cannot be joined:
+  // then the process ends without tearing the source down under it
+  for (int i = 0; i < 40 && open_connections > 0; ++i) usleep(50000);
+  if (open_connections > 0) {
+    std::fflush(stdout);
+    std::_Exit(0);
+  }
   return 0;
 }
 
