@@ -10,7 +10,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 
 # wrong names: exit 2 with the reason, and no build started (the build folder stays empty)
 export OHRP_BUILD_DIR="$TMP/empty-build"
-for args in "run nosuch" "compare nosuch" "bench nosuch" "video $TMP/nosuch"; do
+for args in "run nosuch" "compare nosuch" "bench nosuch" "video $TMP/nosuch" "view $TMP/nosuch"; do
   # shellcheck disable=SC2086
   out="$(timeout 60 "$ROOT/ohrp" $args 2>&1)"; rc=$?
   [ "$rc" -eq 2 ] || fail "'ohrp $args' gave exit $rc, not 2: $out"
@@ -41,6 +41,9 @@ for s in stand walk_samplepd; do
   echo "$out" | grep -q "^ohrp_run $ROOT/scenarios/$s.yaml --out $TMP/demo/$s --quiet$" \
     || fail "'ohrp demo --out' did not put $s into $TMP/demo/$s: $out"
 done
+# its last line says how to replay the runs in the viewer
+echo "$out" | tail -1 | grep -q "./ohrp view $TMP/demo/stand" \
+  || fail "'ohrp demo' did not end with how to replay its runs in the viewer: $out"
 
 # a source saved after the last build (here: a build older than every source): it builds (and
 # fails, since this build folder is not a real one)

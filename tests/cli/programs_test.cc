@@ -129,6 +129,7 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"hw_emulator", {"--model", kScene}, "--period", {"--model", "nosuch.xml"}},
         ProgramCase{"ohrp_run", {kStand}, "--contact", {"nosuch.yaml"}},
         ProgramCase{"ohrp_video", {"runs/x"}, "--fps", {}},
+        ProgramCase{"ohrp_view", {"runs/x"}, "--rate", {"runs/nosuch"}},
         ProgramCase{"ohrp_push", {}, "--max-impulse", {}},
         ProgramCase{"ohrp_vrml2mjcf", {kSample1}, "--print", {"nosuch.wrl"}},
         ProgramCase{"posture", {"--segment", "x"}, "--ramp",

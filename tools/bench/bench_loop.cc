@@ -92,19 +92,27 @@ struct PairCpu {
   double controller = 0.0;
 };
 
-// sim_host + posture in lock-step; returns sim_host's wall seconds per control cycle
+// sim_host + posture in lock-step (and an ohrp_view observing the segment when `viewer`);
+// returns sim_host's wall seconds per control cycle
 double TwoProcessLoop(const std::string& bin, const std::string& scene, double dt, double duration,
-                      const std::string& summary, PairCpu* cpu) {
+                      const std::string& summary, PairCpu* cpu, bool viewer = false) {
   const std::string seg = "bench_loop_" + std::to_string(getpid());
   const pid_t sim = Spawn({bin + "/sim_host", "--scene", scene, "--segment", seg, "--physics-dt",
                            std::to_string(dt), "--control-period", std::to_string(dt),
                            "--duration", std::to_string(duration), "--summary", summary,
                            "--quiet", "--progress", "0"}, false);
+  const pid_t view = viewer ? Spawn({bin + "/ohrp_view", seg, "--scene", scene, "--attach-timeout", "20",
+                                     "--port", "0"}, true)
+                            : -1;
   const pid_t ctl = Spawn({bin + "/posture", "--segment", seg, "--attach-timeout", "20"}, true);
   int st = 0;
   cpu->sim_host = ReapWithCpu(sim, &st);
   const bool sim_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
   cpu->controller = ReapWithCpu(ctl, &st);
+  if (view > 0) {
+    kill(view, SIGTERM);
+    waitpid(view, &st, 0);
+  }
   if (!sim_ok) {
     std::fprintf(stderr, "bench_loop: sim_host failed; run it by hand to see why\n");
     std::exit(1);
@@ -121,6 +129,7 @@ int main(int argc, char** argv) {
   std::string scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
   double dt = 0.001, duration = 3.0;
   int repeats = 5;
+  bool viewer = false;
   CLI::App app{
       "bench_loop: wall time per control cycle of sim_host + posture in lock-step (separate\n"
       "processes, physics step = control period) beside a bare servo + mj_step loop on the same\n"
@@ -129,12 +138,13 @@ int main(int argc, char** argv) {
   app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
   app.add_option("--duration", duration, "simulated seconds per measurement")->capture_default_str();
   app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str();
+  app.add_flag("--viewer", viewer, "also measure the lock-step with an ohrp_view attached (docs/view.md)");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::InstallMujocoHandlers(nullptr);
   const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
   const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";
 
-  std::vector<double> bare, loop, sim_cpu, ctl_cpu;
+  std::vector<double> bare, loop, sim_cpu, ctl_cpu, watched;
   const int steps = static_cast<int>(duration / dt);
   for (int r = 0; r < repeats; ++r) {
     bare.push_back(BareLoop(scene, dt, steps));
@@ -147,6 +157,12 @@ int main(int argc, char** argv) {
                  "%.1f, posture %.1f us/cycle)\n",
                  r + 1, repeats, bare.back() * 1e6, loop.back() * 1e6, sim_cpu.back() * 1e6,
                  ctl_cpu.back() * 1e6);
+    if (viewer) {
+      PairCpu watched_cpu;
+      watched.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &watched_cpu, true));
+      std::fprintf(stderr, "  run %d/%d: sim_host+posture with ohrp_view attached %.1f us/cycle\n",
+                   r + 1, repeats, watched.back() * 1e6);
+    }
   }
   fs::remove(summary);
   const double b = Median(bare), l = Median(loop);
@@ -155,6 +171,10 @@ int main(int argc, char** argv) {
   std::printf("%-34s %14.1f %11.1fx\n", "sim_host + posture (lock-step)", l * 1e6, dt / l);
   std::printf("cpu per cycle (whole runs, set-up included): sim_host %.1f us, posture %.1f us\n",
               Median(sim_cpu) * 1e6, Median(ctl_cpu) * 1e6);
+  if (viewer) {
+    const double w = Median(watched);
+    std::printf("%-34s %14.1f %11.1fx\n", "the same with ohrp_view attached", w * 1e6, dt / w);
+  }
   std::printf("ratio: %.2f (%.1f us / %.1f us)\n", l / b, l * 1e6, b * 1e6);
   return 0;
 }

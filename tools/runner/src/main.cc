@@ -1,4 +1,6 @@
 // ohrp_run: run one scenario headless (see runner/runner.h and docs/scenarios.md).
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -25,6 +27,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"soft", "native", "rigid"}));
   app.add_flag("--no-plot", no_plot, "do not draw plot.png");
   app.add_flag("--quiet,-q", quiet, "do not echo the processes' output while they run");
+  bool realtime = false, view = false;
+  int view_port = 0;
+  app.add_flag("--realtime", realtime, "pace sim_host to the wall clock (sim_host --realtime)");
+  app.add_flag("--view", view, "watch the run in a browser: starts ohrp_view on its segment and "
+                               "prints the URL (docs/view.md); best with --realtime");
+  app.add_option("--view-port", view_port, "--view: TCP port of the viewer (0 picks a free one)")
+      ->check(ohrp::cli::InRange(0, 65535));
   app.footer(
       "Exit codes: 0 every check passed, 1 a check failed or a process ended badly, 2 bad option\n"
       "or scenario, 130 interrupted (SIGINT/SIGTERM).");
@@ -44,5 +53,27 @@ int main(int argc, char** argv) {
     s.contact = contact;
     s.name += "_" + contact;
   }
-  return ohrp::runner::RunScenario(s, o);
+  if (realtime) s.sim_args.push_back("--realtime");
+  // the viewer: its own process on the run's segment, ended with the run
+  pid_t viewer = -1;
+  if (view) {
+    o.segment = "run_" + s.name + "_" + std::to_string(getpid());
+    const std::string scene = s.scene.empty() || s.scene[0] == '/' ? s.scene : o.source_dir + "/" + s.scene;
+    const std::string program = o.bin_dir + "/ohrp_view", port = std::to_string(view_port);
+    viewer = fork();
+    if (viewer == 0) {
+      execl(program.c_str(), program.c_str(), o.segment.c_str(), "--scene", scene.c_str(),
+            "--attach-timeout", "60", "--exit-when-ended", "--port", port.c_str(),
+            static_cast<char*>(nullptr));
+      std::fprintf(stderr, "ohrp_run: cannot start '%s' (build it: cmake --build build --target ohrp_view)\n",
+                   program.c_str());
+      _exit(2);
+    }
+  }
+  const int code = ohrp::runner::RunScenario(s, o);
+  if (viewer > 0) {
+    kill(viewer, SIGTERM);
+    waitpid(viewer, nullptr, 0);
+  }
+  return code;
 }

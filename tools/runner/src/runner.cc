@@ -184,7 +184,8 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     return kRunUsage;
   }
   const std::string out_abs = fs::absolute(out).string();
-  const std::string segment = "run_" + s.name + "_" + std::to_string(getpid());
+  const std::string segment =
+      o.segment.empty() ? "run_" + s.name + "_" + std::to_string(getpid()) : o.segment;
   if (o.report)
     std::fprintf(stderr, "ohrp_run: scenario '%s' (%g s simulated) -> %s\n", s.name.c_str(),
                  s.duration, out.c_str());

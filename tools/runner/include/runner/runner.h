@@ -22,6 +22,7 @@ struct RunOptions {
   std::string out_dir;      // empty: runs/<name>-<date>-<time> under the current directory
   std::string source_dir;   // repository root: relative paths of the scenario start here
   std::string bin_dir;      // where sim_host and the controllers are
+  std::string segment;      // empty: run_<name>_<pid>
   bool plot = true;
   bool echo = true;         // echo the processes' output, prefixed, while they run
   bool report = true;       // print the start line and the table of checks (off for tools

@@ -1,0 +1,66 @@
+// The viewer's picture of a scene: the geoms of the MJCF (shape, size, colour), split into the
+// static ones (the world body's: floor, steps) sent once, and the moving ones (the robot's),
+// whose world poses are computed here by forward kinematics (mj_kinematics) from the base pose
+// and the joint angles of a sensor block or a log row. The page only places boxes and cylinders
+// where it is told: the geometry is exact and the page needs no kinematic tree.
+//
+// Units: SI (m, rad); poses are (x, y, z, qw, qx, qy, qz) in the world frame.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "robot_model/model.h"
+#include "shm_bridge/layout.h"
+
+namespace ohrp::view {
+
+// One robot state: what the forward kinematics needs, plus the ankle wrenches for the ZMP.
+struct RobotState {
+  double p_WB[3] = {0, 0, 0};         // base position [m]
+  double quat_WB[4] = {1, 0, 0, 0};   // base orientation (w, x, y, z)
+  std::vector<double> q;              // joint positions, segment joint-id order [rad or m]
+  std::vector<shm::ForceTorque> ft;   // force/torque sensors, segment order (may be empty)
+};
+
+class SceneGeometry {
+ public:
+  // Loads the MJCF scene at `path` and maps its robot. Returns null with `*error` naming the
+  // file and MuJoCo's message, or what the robot map refused.
+  static std::unique_ptr<SceneGeometry> Load(const std::string& path, std::string* error);
+
+  // The scene's description for the page: {"static": [geom...], "moving": [geom...],
+  // "joints": [names], "forces": [names], "robot": name}; each geom is {"type", "size",
+  // "rgba"} and, for static ones, "pose". Only visible geoms (group 0-2, alpha > 0). Made once
+  // at Load: safe to call from any thread while another calls Poses().
+  const nlohmann::json& Describe() const { return description_; }
+
+  // World poses of the moving geoms for `state` (one 7-array per geom, order of Describe()).
+  // Joints missing from `state.q` keep the model's initial position.
+  nlohmann::json Poses(const RobotState& state);
+
+  // The zero-moment point on the plane z = 0 from the sole sensors (the force/torque sensors
+  // above a geom named *_SOLE, sim_host's convention; every sensor when none is) at the poses of
+  // the last Poses() call: false when they carry less than `min_fz` [N] in total (in the air).
+  bool Zmp(const RobotState& state, double zmp[2], double min_fz = 20.0) const;
+
+  const mjModel* model() const { return scene_->m(); }
+  const model::RobotMap& robot() const { return robot_; }
+
+ private:
+  SceneGeometry() = default;
+  nlohmann::json Geom(int g) const;
+  nlohmann::json MakeDescription() const;
+
+  std::unique_ptr<model::Scene> scene_;
+  model::RobotMap robot_;
+  std::vector<int> static_geoms_, moving_geoms_;
+  std::vector<bool> sole_sensor_;  // per force sensor: used for the ZMP
+  nlohmann::json description_;
+};
+
+}  // namespace ohrp::view

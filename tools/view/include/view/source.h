@@ -1,0 +1,106 @@
+// Where the viewer's frames come from: a running segment (LiveSource, an observer) or a finished
+// run's log (ReplaySource). The server (server.h) asks a source for the scene once per page,
+// then for frames: the live source publishes the newest frame at a bounded rate, the replay
+// source answers a request for a time.
+//
+// A frame is a JSON object: t [s], poses (world pose of each moving geom, see geometry.h),
+// q and qref (all joints, segment order) [rad or m], fz (each force sensor's vertical force in
+// its own frame) [N], zmp ([x, y] on z = 0 [m], or null), and for live frames cycle, status
+// (bit names), counters and base ("ground truth" or "estimated from IMU").
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
+#include "shm_bridge/observer.h"
+#include "view/geometry.h"
+
+namespace ohrp::view {
+
+class Source {
+ public:
+  virtual ~Source() = default;
+  virtual bool live() const = 0;
+  // What the page needs first: {"mode": "live"|"replay", "scene": SceneGeometry::Describe(),
+  // "title", ...}; the replay adds "t0", "t1" and "series" (the plots' whole curves).
+  virtual nlohmann::json Hello() = 0;
+  // live: the newest frame and its version (0: none yet); blocks up to `timeout` [s] for one
+  // newer than `after`. replay: not used.
+  virtual std::shared_ptr<const std::string> Newest(uint64_t after, double timeout, uint64_t* version) {
+    return nullptr;
+  }
+  // replay: the frame at time `t` [s] (clamped to the log). live: not used.
+  virtual nlohmann::json FrameAt(double t) { return {}; }
+  // live: the producer has stopped (its last frame is out)
+  virtual bool ended() const { return false; }
+};
+
+//---------------- live: a running segment ----------------
+
+class LiveSource : public Source {
+ public:
+  // Attaches to `segment` as an observer (waiting up to `attach_timeout` [s] for it to appear),
+  // loads `scene` and checks its robot against the segment's model hash. Returns null with
+  // `*error` set (no segment, not a segment, another robot); `rate` is the frame rate [Hz].
+  static std::unique_ptr<LiveSource> Open(const std::string& segment, const std::string& scene,
+                                          double rate, double attach_timeout, std::string* error);
+  ~LiveSource() override;
+  bool live() const override { return true; }
+  nlohmann::json Hello() override;
+  std::shared_ptr<const std::string> Newest(uint64_t after, double timeout, uint64_t* version) override;
+  // frames made so far, and blocks read from the segment
+  uint64_t frames() const { return version_.load(); }
+  bool ended() const override { return ended_.load(); }
+
+ private:
+  LiveSource() = default;
+  void Loop();
+  std::string MakeFrame(const shm::SensorBlock& s, bool ended);
+
+  shm::Observer observer_;
+  std::unique_ptr<SceneGeometry> geometry_;
+  std::string segment_;
+  double period_ = 1.0 / 30;  // [s] between frames (wall clock)
+  std::atomic<bool> stop_{false}, ended_{false};
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::shared_ptr<const std::string> frame_;
+  std::atomic<uint64_t> version_{0};
+};
+
+//---------------- replay: a run folder ----------------
+
+class ReplaySource : public Source {
+ public:
+  // Reads RUN_DIR/log.csv (and sim_summary.json for the scene when `scene` is empty). Returns
+  // null with `*error` set (no folder, no log, no scene, a log that does not fit the scene).
+  static std::unique_ptr<ReplaySource> Open(const std::string& run_dir, const std::string& scene,
+                                            std::string* error);
+  bool live() const override { return false; }
+  nlohmann::json Hello() override;
+  nlohmann::json FrameAt(double t) override;
+
+ private:
+  ReplaySource() = default;
+  RobotState StateAt(double t);
+
+  std::unique_ptr<SceneGeometry> geometry_;
+  runner::Table log_;
+  std::string title_;
+  int time_col_ = -1;
+  int base_col_[7] = {-1, -1, -1, -1, -1, -1, -1};
+  std::vector<int> q_col_, qref_col_;            // per joint, -1 when absent
+  std::vector<std::array<int, 6>> ft_col_;       // per force sensor: fx fy fz tx ty tz
+  std::mutex mutex_;                             // the geometry's mjData
+};
+
+}  // namespace ohrp::view

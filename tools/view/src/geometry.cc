@@ -1,0 +1,149 @@
+// The scene's geoms for the page, and their world poses by forward kinematics (geometry.h).
+#include "view/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace ohrp::view {
+
+namespace {
+
+// geoms of these groups are drawn (MuJoCo's viewer shows 0-2 by default)
+constexpr int kVisibleGroups = 3;
+
+const char* TypeName(int type) {
+  switch (type) {
+    case mjGEOM_PLANE: return "plane";
+    case mjGEOM_SPHERE: return "sphere";
+    case mjGEOM_CAPSULE: return "capsule";
+    case mjGEOM_ELLIPSOID: return "ellipsoid";
+    case mjGEOM_CYLINDER: return "cylinder";
+    case mjGEOM_BOX: return "box";
+    default: return nullptr;  // hfield, mesh: not drawn yet
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std::string* error) {
+  std::unique_ptr<SceneGeometry> g(new SceneGeometry());
+  g->scene_ = model::Scene::Load(path, error);
+  if (!g->scene_) return nullptr;
+  if (!model::MapRobot(g->scene_->m(), &g->robot_, error)) {
+    *error = path + ": " + *error;
+    return nullptr;
+  }
+  // static geoms belong to the world body; every other visible geom moves with the robot
+  const mjModel* m = g->scene_->m();
+  for (int i = 0; i < m->ngeom; ++i) {
+    if (!TypeName(m->geom_type[i]) || m->geom_group[i] < 0 || m->geom_group[i] >= kVisibleGroups)
+      continue;
+    const float* rgba = m->geom_matid[i] >= 0 ? m->mat_rgba + 4 * m->geom_matid[i] : m->geom_rgba + 4 * i;
+    if (rgba[3] <= 0) continue;
+    (m->geom_bodyid[i] == 0 ? g->static_geoms_ : g->moving_geoms_).push_back(i);
+  }
+  // the sole sensors: a sensor's body is a *_SOLE geom's body or one of its ancestors
+  for (const auto& f : g->robot_.forces) {
+    const int body = m->site_bodyid[f.site_id];
+    bool sole = false;
+    for (int i = 0; i < m->ngeom && !sole; ++i) {
+      const char* name = mj_id2name(m, mjOBJ_GEOM, i);
+      const std::string n = name ? name : "";
+      if (n.size() < 5 || n.compare(n.size() - 5, 5, "_SOLE") != 0) continue;
+      for (int b = m->geom_bodyid[i]; b > 0 && !sole; b = m->body_parentid[b]) sole = b == body;
+    }
+    g->sole_sensor_.push_back(sole);
+  }
+  if (std::find(g->sole_sensor_.begin(), g->sole_sensor_.end(), true) == g->sole_sensor_.end())
+    g->sole_sensor_.assign(g->sole_sensor_.size(), true);
+  mj_kinematics(m, g->scene_->d());
+  g->description_ = g->MakeDescription();
+  return g;
+}
+
+nlohmann::json SceneGeometry::Geom(int g) const {
+  const mjModel* m = scene_->m();
+  const float* rgba = m->geom_matid[g] >= 0 ? m->mat_rgba + 4 * m->geom_matid[g] : m->geom_rgba + 4 * g;
+  nlohmann::json j;
+  j["type"] = TypeName(m->geom_type[g]);
+  j["size"] = {m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]};
+  j["rgba"] = {rgba[0], rgba[1], rgba[2], rgba[3]};
+  const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+  j["name"] = name ? name : "";
+  return j;
+}
+
+nlohmann::json SceneGeometry::MakeDescription() const {
+  const mjData* d = scene_->d();
+  nlohmann::json out;
+  out["robot"] = robot_.name;
+  // static geoms with their (fixed) world pose
+  out["static"] = nlohmann::json::array();
+  for (int g : static_geoms_) {
+    nlohmann::json j = Geom(g);
+    double quat[4];
+    mju_mat2Quat(quat, d->geom_xmat + 9 * g);
+    j["pose"] = {d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2],
+                 quat[0], quat[1], quat[2], quat[3]};
+    out["static"].push_back(j);
+  }
+  out["moving"] = nlohmann::json::array();
+  for (int g : moving_geoms_) out["moving"].push_back(Geom(g));
+  out["joints"] = nlohmann::json::array();
+  for (const auto& jm : robot_.joints) out["joints"].push_back(jm.name);
+  out["forces"] = nlohmann::json::array();
+  for (const auto& f : robot_.forces) out["forces"].push_back(f.name);
+  return out;
+}
+
+nlohmann::json SceneGeometry::Poses(const RobotState& state) {
+  const mjModel* m = scene_->m();
+  mjData* d = scene_->d();
+  // base pose and joints into qpos, then the kinematics
+  if (robot_.base_qpos >= 0) {
+    for (int k = 0; k < 3; ++k) d->qpos[robot_.base_qpos + k] = state.p_WB[k];
+    for (int k = 0; k < 4; ++k) d->qpos[robot_.base_qpos + 3 + k] = state.quat_WB[k];
+    mju_normalize4(d->qpos + robot_.base_qpos + 3);
+  }
+  const size_t n = std::min(state.q.size(), robot_.joints.size());
+  for (size_t i = 0; i < n; ++i)
+    if (std::isfinite(state.q[i])) d->qpos[robot_.joints[i].qpos_adr] = state.q[i];
+  mj_kinematics(m, d);
+  // one pose per moving geom
+  nlohmann::json poses = nlohmann::json::array();
+  for (int g : moving_geoms_) {
+    double quat[4];
+    mju_mat2Quat(quat, d->geom_xmat + 9 * g);
+    poses.push_back({d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2],
+                     quat[0], quat[1], quat[2], quat[3]});
+  }
+  return poses;
+}
+
+bool SceneGeometry::Zmp(const RobotState& state, double zmp[2], double min_fz) const {
+  const mjData* d = scene_->d();
+  // each sensor's wrench in the world, its moment taken about the world origin at z = 0:
+  // the ZMP (x, y) is where the total moment's horizontal part vanishes
+  double fz = 0, mx = 0, my = 0;
+  const size_t n = std::min(state.ft.size(), robot_.forces.size());
+  for (size_t i = 0; i < n; ++i) {
+    if (!sole_sensor_[i]) continue;
+    const int s = robot_.forces[i].site_id;
+    const double* R = d->site_xmat + 9 * s;  // sensor frame in world (row-major)
+    const double* p = d->site_xpos + 3 * s;
+    double f[3], t[3];
+    mju_mulMatVec(f, R, state.ft[i].force, 3, 3);
+    mju_mulMatVec(t, R, state.ft[i].torque, 3, 3);
+    // moment about the origin: t + p x f
+    mx += t[0] + p[1] * f[2] - p[2] * f[1];
+    my += t[1] + p[2] * f[0] - p[0] * f[2];
+    fz += f[2];
+  }
+  if (fz < min_fz) return false;
+  zmp[0] = -my / fz;
+  zmp[1] = mx / fz;
+  return true;
+}
+
+}  // namespace ohrp::view

@@ -1,0 +1,78 @@
+// ohrp_view: the robot in a browser, live from a running segment or replayed from a run folder
+// (docs/view.md). The work is in the view library; this file reads the command line.
+#include <signal.h>
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <string>
+
+#include "cli/command_line.h"
+#include "robot_model/model.h"
+#include "view/server.h"
+
+namespace {
+
+bool IsDir(const std::string& p) {
+  struct stat st {};
+  return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+[[noreturn]] void OnMujocoError(const char* msg) {
+  std::fprintf(stderr, "ohrp_view: MuJoCo error: %s\n", msg);
+  std::exit(3);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string target, scene;
+  ohrp::view::ServerOptions server;
+  server.web_dir = OHRP_VIEW_WEB_DIR;
+  server.three_js = "/usr/share/javascript/three/three.min.js";
+  server.chart_js = "/usr/share/javascript/chart.js/chart.min.js";
+  double rate = 30, attach_timeout = 0;
+  bool exit_when_ended = false;
+  CLI::App app{
+      "ohrp_view: the robot in 3D in a browser, with time plots of joints, ankle forces and ZMP.\n"
+      "TARGET is a segment name (a running sim_host or hw_driver: attach as a read-only observer,\n"
+      "never slowing it) or a run folder (./ohrp run ... --out DIR: replay its log.csv with a\n"
+      "timeline). Serves on 127.0.0.1 only and prints the URL to open."};
+  app.add_option("target", target, "segment name (e.g. hrp1s) or run folder (e.g. runs/demo/stand)")->required();
+  app.add_option("--scene", scene,
+                 "MJCF scene (live default: mjcf/hrp1s/scene_flat.xml; replay default: the scene "
+                 "recorded in the run's sim_summary.json)");
+  app.add_option("--port", server.port, "TCP port on 127.0.0.1; 0 picks a free one")
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 65535));
+  app.add_option("--rate", rate, "live frames per second sent to the page [Hz]")
+      ->capture_default_str()->check(ohrp::cli::InRange(1, 200));
+  app.add_option("--attach-timeout", attach_timeout, "[s] wait this long for the segment to appear")
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
+  app.add_flag("--exit-when-ended", exit_when_ended, "live: end when the producer ends its run");
+  app.footer("Examples: ohrp_view hrp1s                 (sim_host --segment hrp1s running)\n"
+             "          ohrp_view runs/demo/stand --port 8080\n"
+             "Exit codes: 0 ended, 2 bad option, no such segment or run folder, a run folder\n"
+             "without log.csv, a scene that does not hold the segment's robot, port in use;\n"
+             "3 MuJoCo error.");
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  ohrp::model::InstallMujocoHandlers(OnMujocoError);
+  // a page that goes away mid-write is an error on its socket, not a signal that ends us
+  signal(SIGPIPE, SIG_IGN);
+
+  // a folder is a run to replay; a name without '/' is a segment; anything else is a mistake
+  std::unique_ptr<ohrp::view::Source> source;
+  std::string error;
+  if (IsDir(target)) {
+    source = ohrp::view::ReplaySource::Open(target, scene, &error);
+  } else if (target.find('/') != std::string::npos) {
+    error = "no run folder '" + target + "' (a folder written by './ohrp run SCENARIO --out DIR'; a "
+            "segment name has no '/')";
+  } else {
+    if (scene.empty()) scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+    source = ohrp::view::LiveSource::Open(target, scene, rate, attach_timeout, &error);
+  }
+  if (!source) {
+    std::fprintf(stderr, "ohrp_view: %s\n", error.c_str());
+    return 2;
+  }
+  return ohrp::view::Serve(source.get(), server, exit_when_ended);
+}

@@ -1,0 +1,170 @@
+// ReplaySource: a finished run's data log (sim_host/recorder.h columns) as frames by time, and
+// the plots' whole curves (source.h).
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include "view/source.h"
+
+namespace ohrp::view {
+
+namespace {
+
+// the plots' curves are decimated to at most this many points
+constexpr size_t kSeriesPoints = 800;
+
+bool IsDir(const std::string& p) {
+  struct stat st {};
+  return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+}  // namespace
+
+std::unique_ptr<ReplaySource> ReplaySource::Open(const std::string& run_dir, const std::string& scene_arg,
+                                                 std::string* error) {
+  std::unique_ptr<ReplaySource> src(new ReplaySource());
+  // the folder, its log and its scene
+  if (!IsDir(run_dir)) {
+    *error = "no run folder '" + run_dir + "' (a folder written by './ohrp run SCENARIO --out DIR')";
+    return nullptr;
+  }
+  const std::string log_path = run_dir + "/log.csv";
+  if (!std::ifstream(log_path)) {
+    *error = "'" + run_dir + "' has no log.csv (not a run folder, or the run was made without its "
+             "log: a folder written by './ohrp run SCENARIO --out DIR' has one)";
+    return nullptr;
+  }
+  std::string scene = scene_arg;
+  if (scene.empty()) {
+    std::ifstream s(run_dir + "/sim_summary.json");
+    try {
+      if (s) scene = nlohmann::json::parse(s).value("scene", "");
+    } catch (const std::exception& e) {
+      *error = run_dir + "/sim_summary.json: " + e.what() + " (or pass --scene FILE)";
+      return nullptr;
+    }
+    if (scene.empty()) {
+      *error = "no scene recorded in '" + run_dir + "/sim_summary.json': pass --scene FILE.xml";
+      return nullptr;
+    }
+  }
+  if (!src->log_.Load(log_path, error)) return nullptr;
+  if (src->log_.rows() < 1) {
+    *error = "'" + log_path + "' has no rows: nothing to replay";
+    return nullptr;
+  }
+  src->geometry_ = SceneGeometry::Load(scene, error);
+  if (!src->geometry_) return nullptr;
+  // which column holds what
+  const runner::Table& log = src->log_;
+  src->time_col_ = log.Column("time");
+  const char* base[7] = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+  for (int k = 0; k < 7; ++k) src->base_col_[k] = log.Column(base[k]);
+  int joints = 0;
+  for (const auto& jm : src->geometry_->robot().joints) {
+    src->q_col_.push_back(log.Column("q_" + jm.name));
+    src->qref_col_.push_back(log.Column("qref_" + jm.name));
+    joints += src->q_col_.back() >= 0;
+  }
+  for (const auto& f : src->geometry_->robot().forces) {
+    std::array<int, 6> c;
+    const char* axes[6] = {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"};
+    for (int k = 0; k < 6; ++k) c[k] = log.Column(f.name + axes[k]);
+    src->ft_col_.push_back(c);
+  }
+  if (src->time_col_ < 0 || joints == 0) {
+    *error = "'" + log_path + "' does not fit the scene '" + scene + "': " +
+             (src->time_col_ < 0 ? "no 'time' column" : "no q_<joint> column names a joint of the scene") +
+             " (the log's columns are time, base_*, q_<joint>...)";
+    return nullptr;
+  }
+  const size_t slash = run_dir.find_last_not_of('/');
+  const std::string trimmed = run_dir.substr(0, slash + 1);
+  src->title_ = "run " + trimmed.substr(trimmed.rfind('/') == std::string::npos ? 0 : trimmed.rfind('/') + 1);
+  return src;
+}
+
+// the state at time t: linear interpolation between the rows around it
+RobotState ReplaySource::StateAt(double t) {
+  const std::vector<double>& times = log_.col(time_col_);
+  const size_t next = std::lower_bound(times.begin(), times.end(), t) - times.begin();
+  const size_t hi = std::min(next, times.size() - 1), lo = hi > 0 ? hi - 1 : 0;
+  const double span = times[hi] - times[lo];
+  const double s = span > 0 ? std::clamp((t - times[lo]) / span, 0.0, 1.0) : 1.0;
+  auto at = [&](int c, double fallback) {
+    if (c < 0) return fallback;
+    return log_.col(c)[lo] + s * (log_.col(c)[hi] - log_.col(c)[lo]);
+  };
+  RobotState state;
+  const mjModel* m = geometry_->model();
+  const int adr = geometry_->robot().base_qpos;
+  for (int k = 0; k < 3; ++k) state.p_WB[k] = at(base_col_[k], adr >= 0 ? m->qpos0[adr + k] : 0);
+  for (int k = 0; k < 4; ++k) state.quat_WB[k] = at(base_col_[3 + k], adr >= 0 ? m->qpos0[adr + 3 + k] : k == 0);
+  for (int c : q_col_) state.q.push_back(at(c, NAN));
+  for (const auto& c : ft_col_) {
+    shm::ForceTorque ft{};
+    for (int k = 0; k < 3; ++k) {
+      ft.force[k] = at(c[k], 0);
+      ft.torque[k] = at(c[3 + k], 0);
+    }
+    state.ft.push_back(ft);
+  }
+  return state;
+}
+
+nlohmann::json ReplaySource::FrameAt(double t) {
+  const std::vector<double>& times = log_.col(time_col_);
+  t = std::clamp(t, times.front(), times.back());
+  std::lock_guard lock(mutex_);
+  RobotState state = StateAt(t);
+  nlohmann::json j;
+  j["t"] = t;
+  j["poses"] = geometry_->Poses(state);
+  double zmp[2];
+  j["zmp"] = geometry_->Zmp(state, zmp) ? nlohmann::json{zmp[0], zmp[1]} : nlohmann::json(nullptr);
+  j["base"] = base_col_[0] >= 0 ? "ground truth" : "not logged";
+  return j;
+}
+
+nlohmann::json ReplaySource::Hello() {
+  const std::vector<double>& times = log_.col(time_col_);
+  nlohmann::json j;
+  j["mode"] = "replay";
+  j["title"] = title_;
+  j["scene"] = geometry_->Describe();
+  j["t0"] = times.front();
+  j["t1"] = times.back();
+  // the plots' curves, decimated: time, q and qref per joint, fz per sensor, the ZMP
+  const size_t step = std::max<size_t>(1, times.size() / kSeriesPoints);
+  nlohmann::json t = nlohmann::json::array(), q, qref, fz, zmp_x = nlohmann::json::array(),
+                 zmp_y = nlohmann::json::array();
+  const auto& robot = geometry_->robot();
+  for (size_t i = 0; i < robot.joints.size(); ++i) {
+    q[robot.joints[i].name] = nlohmann::json::array();
+    qref[robot.joints[i].name] = nlohmann::json::array();
+  }
+  for (const auto& f : robot.forces) fz[f.name] = nlohmann::json::array();
+  std::lock_guard lock(mutex_);
+  for (size_t r = 0; r < times.size(); r += step) {
+    t.push_back(times[r]);
+    for (size_t i = 0; i < robot.joints.size(); ++i) {
+      q[robot.joints[i].name].push_back(q_col_[i] >= 0 ? log_.col(q_col_[i])[r] : NAN);
+      qref[robot.joints[i].name].push_back(qref_col_[i] >= 0 ? log_.col(qref_col_[i])[r] : NAN);
+    }
+    for (size_t i = 0; i < robot.forces.size(); ++i)
+      fz[robot.forces[i].name].push_back(ft_col_[i][2] >= 0 ? log_.col(ft_col_[i][2])[r] : NAN);
+    // the ZMP needs the sensors' poses: forward kinematics of the row
+    RobotState state = StateAt(times[r]);
+    geometry_->Poses(state);
+    double z[2];
+    const bool ok = geometry_->Zmp(state, z);
+    zmp_x.push_back(ok ? z[0] : NAN);
+    zmp_y.push_back(ok ? z[1] : NAN);
+  }
+  j["series"] = {{"t", t}, {"q", q}, {"qref", qref}, {"fz", fz}, {"zmp_x", zmp_x}, {"zmp_y", zmp_y}};
+  return j;
+}
+
+}  // namespace ohrp::view

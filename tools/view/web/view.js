@@ -1,0 +1,283 @@
+// ohrp view's page: builds the scene from the server's description (geoms with world poses
+// computed by the server), places the robot's geoms on every frame, and plots the chosen joints
+// (q and qref), the ankle forces (Fz) and the ZMP against simulated time (docs/view.md).
+// URL options: ?joints=A,B,C  the joints plotted; ?t=T (replay) start paused at time T [s];
+// ?window=S (live) seconds of history in the plots.
+'use strict';
+
+const params = new URLSearchParams(location.search);
+const stateEl = document.getElementById('state');
+const $ = (id) => document.getElementById(id);
+
+// ---------------- the 3D view (z up, SI units) ----------------
+const canvas = $('view3d');
+const renderer = new THREE.WebGLRenderer({canvas, antialias: true, preserveDrawingBuffer: true});
+renderer.setClearColor(0xc8d4e0);
+const scene3 = new THREE.Scene();
+const camera = new THREE.PerspectiveCamera(40, 1, 0.01, 200);
+camera.up.set(0, 0, 1);
+scene3.add(new THREE.AmbientLight(0xffffff, 0.55));
+const sun = new THREE.DirectionalLight(0xffffff, 0.6);
+sun.position.set(2, -3, 5);
+scene3.add(sun);
+const orbit = {azimuth: -0.6, elevation: 0.18, distance: 3.0, target: new THREE.Vector3(0, 0, 0.5)};
+let moving = [];  // meshes of the robot's geoms, in the server's order
+
+function placeCamera() {
+  const o = orbit, c = Math.cos(o.elevation);
+  camera.position.set(o.target.x + o.distance * c * Math.cos(o.azimuth),
+                      o.target.y + o.distance * c * Math.sin(o.azimuth),
+                      o.target.z + o.distance * Math.sin(o.elevation));
+  camera.lookAt(o.target);
+}
+
+function resize() {
+  const w = canvas.clientWidth, h = canvas.clientHeight;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / Math.max(1, h);
+  camera.updateProjectionMatrix();
+}
+
+// one geom as a three.js object (MuJoCo sizes are half-lengths and radii)
+function makeGeom(g) {
+  const s = g.size, color = new THREE.Color(g.rgba[0], g.rgba[1], g.rgba[2]);
+  const mat = new THREE.MeshLambertMaterial({color, transparent: g.rgba[3] < 1, opacity: g.rgba[3]});
+  let obj;
+  if (g.type === 'box') {
+    obj = new THREE.Mesh(new THREE.BoxBufferGeometry(2 * s[0], 2 * s[1], 2 * s[2]), mat);
+  } else if (g.type === 'sphere' || g.type === 'ellipsoid') {
+    obj = new THREE.Mesh(new THREE.SphereBufferGeometry(1, 20, 14), mat);
+    obj.scale.set(s[0], g.type === 'sphere' ? s[0] : s[1], g.type === 'sphere' ? s[0] : s[2]);
+  } else if (g.type === 'cylinder' || g.type === 'capsule') {
+    const cyl = new THREE.CylinderBufferGeometry(s[0], s[0], 2 * s[1], 20);
+    cyl.rotateX(Math.PI / 2);  // three's cylinders run along y, MuJoCo's along z
+    obj = new THREE.Group();
+    obj.add(new THREE.Mesh(cyl, mat));
+    if (g.type === 'capsule') {
+      for (const z of [-s[1], s[1]]) {
+        const cap = new THREE.Mesh(new THREE.SphereBufferGeometry(s[0], 16, 10), mat);
+        cap.position.z = z;
+        obj.add(cap);
+      }
+    }
+  } else if (g.type === 'plane') {
+    const w = s[0] > 0 ? 2 * s[0] : 40, h = s[1] > 0 ? 2 * s[1] : 40;
+    const floor = new THREE.MeshLambertMaterial({color: 0x46525e});
+    obj = new THREE.Group();
+    obj.add(new THREE.Mesh(new THREE.PlaneBufferGeometry(w, h), floor));
+    const grid = new THREE.GridHelper(Math.min(w, 20), Math.min(w, 20) * 2, 0x303840, 0x303840);
+    grid.rotateX(Math.PI / 2);
+    grid.position.z = 0.001;
+    obj.add(grid);
+  }
+  return obj;
+}
+
+function setPose(obj, p) {
+  obj.position.set(p[0], p[1], p[2]);
+  obj.quaternion.set(p[4], p[5], p[6], p[3]);  // three: (x, y, z, w)
+}
+
+function buildScene(desc) {
+  for (const g of desc.static) {
+    const o = makeGeom(g);
+    if (o) { setPose(o, g.pose); scene3.add(o); }
+  }
+  moving = desc.moving.map((g) => { const o = makeGeom(g); if (o) scene3.add(o); return o; });
+}
+
+function showPoses(poses) {
+  poses.forEach((p, i) => { if (moving[i]) setPose(moving[i], p); });
+  // the camera follows the robot horizontally
+  if (poses.length) { orbit.target.x = poses[0][0]; orbit.target.y = poses[0][1]; }
+  placeCamera();
+  renderer.render(scene3, camera);
+}
+
+// mouse: drag turns the camera, the wheel brings it closer
+let drag = null;
+canvas.addEventListener('mousedown', (e) => { drag = [e.clientX, e.clientY]; });
+window.addEventListener('mouseup', () => { drag = null; });
+window.addEventListener('mousemove', (e) => {
+  if (!drag) return;
+  orbit.azimuth -= 0.01 * (e.clientX - drag[0]);
+  orbit.elevation = Math.max(-0.2, Math.min(1.4, orbit.elevation + 0.01 * (e.clientY - drag[1])));
+  drag = [e.clientX, e.clientY];
+  placeCamera(); renderer.render(scene3, camera);
+});
+canvas.addEventListener('wheel', (e) => {
+  orbit.distance = Math.max(0.5, orbit.distance * (e.deltaY > 0 ? 1.1 : 0.9));
+  placeCamera(); renderer.render(scene3, camera);
+  e.preventDefault();
+});
+
+// ---------------- the plots (Chart.js), with a cursor at the time shown ----------------
+let cursorT = null;
+const cursorPlugin = {
+  id: 'cursor',
+  afterDatasetsDraw(chart) {
+    if (cursorT === null) return;
+    const x = chart.scales.x.getPixelForValue(cursorT), a = chart.chartArea;
+    if (x < a.left || x > a.right) return;
+    const ctx = chart.ctx;
+    ctx.save(); ctx.strokeStyle = '#f44'; ctx.lineWidth = 1.5;
+    ctx.beginPath(); ctx.moveTo(x, a.top); ctx.lineTo(x, a.bottom); ctx.stroke(); ctx.restore();
+  },
+};
+Chart.defaults.color = '#ccd';
+Chart.defaults.animation = false;
+const palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#b07aa1', '#76b7b2'];
+
+function makeChart(id, title, unit, labels) {
+  return new Chart($(id), {
+    type: 'line',
+    data: {datasets: labels.map((l, i) => ({label: l, data: [], borderColor: palette[i % palette.length],
+      borderDash: l.startsWith('ref ') ? [5, 3] : [], borderWidth: 1.5, pointRadius: 0}))},
+    options: {responsive: true, maintainAspectRatio: false, parsing: false, normalized: true,
+      plugins: {title: {display: true, text: title}, legend: {labels: {boxWidth: 12}}},
+      scales: {x: {type: 'linear', title: {display: true, text: 't [s]'}},
+               y: {title: {display: true, text: unit}}}},
+    plugins: [cursorPlugin],
+  });
+}
+
+let charts = null, plotJoints = [], jointIndex = [];
+function buildCharts(desc) {
+  const all = desc.joints;
+  const wanted = params.get('joints') ? params.get('joints').split(',')
+    : ['RLEG_HIP_P', 'RLEG_KNEE', 'RLEG_ANKLE_P'].filter((j) => all.includes(j));
+  plotJoints = wanted.filter((j) => all.includes(j));
+  if (!plotJoints.length) plotJoints = all.slice(0, 3);
+  jointIndex = plotJoints.map((j) => all.indexOf(j));
+  charts = {
+    q: makeChart('plot_q', 'joints: q (solid), qref (dashed)', '[rad]',
+                 plotJoints.concat(plotJoints.map((j) => 'ref ' + j))),
+    fz: makeChart('plot_fz', 'force sensors: Fz (ankles, wrists)', '[N]', desc.forces),
+    zmp: makeChart('plot_zmp', 'ZMP', '[m]', ['zmp x', 'zmp y']),
+  };
+}
+
+function redrawCharts() {
+  for (const c of Object.values(charts)) c.update('none');
+  let points = 0;
+  for (const c of Object.values(charts)) for (const d of c.data.datasets) points += d.data.length;
+  stateEl.dataset.points = points;
+}
+
+// ---------------- status line ----------------
+function showFrame(f) {
+  $('time').textContent = 't = ' + f.t.toFixed(3) + ' s' + (f.cycle !== undefined ? ' (cycle ' + f.cycle + ')' : '');
+  if (f.status) $('status').innerHTML = f.status.map((s) => '<span>' + s + '</span>').join('');
+  if (f.counters) $('counters').textContent = 'late ' + f.counters.late_commands + ', rejected ' +
+      f.counters.rejected_commands + (f.ended ? ' - the producer has ended' : '');
+  if (f.base) {
+    $('base').textContent = 'base pose: ' + f.base;
+    $('base').className = f.base === 'ground truth' ? '' : 'warn';
+  }
+  showPoses(f.poses);
+  cursorT = f.t;
+  stateEl.dataset.t = f.t;
+  stateEl.dataset.frames = Number(stateEl.dataset.frames) + 1;
+}
+
+// ---------------- live: append each frame to the plots ----------------
+const windowS = Number(params.get('window') || 10);
+let lastDraw = 0;
+function liveFrame(f) {
+  showFrame(f);
+  const add = (ds, y) => { if (y !== null && y !== undefined) ds.data.push({x: f.t, y}); };
+  const q = charts.q.data.datasets, n = plotJoints.length;
+  jointIndex.forEach((j, i) => { add(q[i], f.q[j]); if (f.qref) add(q[n + i], f.qref[j]); });
+  charts.fz.data.datasets.forEach((ds, i) => add(ds, f.fz[i]));
+  if (f.zmp) { add(charts.zmp.data.datasets[0], f.zmp[0]); add(charts.zmp.data.datasets[1], f.zmp[1]); }
+  for (const c of Object.values(charts)) {
+    for (const ds of c.data.datasets) while (ds.data.length && ds.data[0].x < f.t - windowS) ds.data.shift();
+    c.options.scales.x.min = Math.max(0, f.t - windowS);
+    c.options.scales.x.max = Math.max(windowS, f.t);
+  }
+  // the plots are redrawn at most 10 times a second
+  const now = performance.now();
+  if (now - lastDraw > 100 || f.ended) { redrawCharts(); lastDraw = now; }
+}
+
+// ---------------- replay: whole curves, a slider and play/pause ----------------
+let replay = null;
+function startReplay(h, ws) {
+  const s = h.series, t = s.t;
+  const pts = (ys) => t.map((x, i) => ({x, y: ys[i]})).filter((p) => p.y !== null);
+  const q = charts.q.data.datasets, n = plotJoints.length;
+  plotJoints.forEach((j, i) => { q[i].data = pts(s.q[j]); q[n + i].data = pts(s.qref[j]); });
+  charts.fz.data.datasets.forEach((ds) => { ds.data = pts(s.fz[ds.label]); });
+  charts.zmp.data.datasets[0].data = pts(s.zmp_x);
+  charts.zmp.data.datasets[1].data = pts(s.zmp_y);
+  const slider = $('slider');
+  slider.min = h.t0; slider.max = h.t1; slider.step = (h.t1 - h.t0) / 2000 || 0.001;
+  $('range').textContent = h.t0.toFixed(2) + ' - ' + h.t1.toFixed(2) + ' s';
+  replay = {ws, t: h.t0, t0: h.t0, t1: h.t1, playing: !params.has('t'), waiting: false, wanted: null};
+  if (params.has('t')) replay.t = Number(params.get('t'));
+  $('play').textContent = replay.playing ? 'pause' : 'play';
+  $('play').onclick = () => {
+    replay.playing = !replay.playing;
+    if (replay.playing && replay.t >= replay.t1) replay.t = replay.t0;
+    $('play').textContent = replay.playing ? 'pause' : 'play';
+  };
+  slider.oninput = () => { replay.playing = false; $('play').textContent = 'play'; seek(Number(slider.value)); };
+  seek(replay.t);
+  let last = performance.now();
+  const tick = (now) => {
+    if (replay.playing) {
+      replay.t = Math.min(replay.t1, replay.t + (now - last) / 1000);
+      if (replay.t >= replay.t1) { replay.playing = false; $('play').textContent = 'play'; }
+      slider.value = replay.t;
+      seek(replay.t);
+    }
+    last = now;
+    requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+}
+
+// one request in flight: the newest wanted time is asked when the answer comes
+function seek(t) {
+  replay.t = t;
+  if (replay.waiting) { replay.wanted = t; return; }
+  replay.waiting = true;
+  replay.ws.send(JSON.stringify({t}));
+}
+
+function replayFrame(f) {
+  replay.waiting = false;
+  showFrame(f);
+  $('slider').value = f.t;
+  redrawCharts();
+  if (replay.wanted !== null) { const t = replay.wanted; replay.wanted = null; seek(t); }
+}
+
+// ---------------- the connection ----------------
+function connect() {
+  const ws = new WebSocket('ws://' + location.host + '/ws');
+  let hello = null;
+  ws.onmessage = (e) => {
+    const m = JSON.parse(e.data);
+    if (!hello) {
+      hello = m;
+      document.title = 'ohrp view: ' + m.title;
+      $('title').textContent = m.title + (m.producer ? ' (' + m.producer + ')' : '');
+      if (m.mode === 'live') { $('timeline').style.display = 'none'; }
+      if (m.cameras > 0) $('cameras').textContent = m.cameras + ' camera(s) declared, no images yet';
+      resize();
+      buildScene(m.scene);
+      buildCharts(m.scene);
+      if (m.mode === 'replay') startReplay(m, ws);
+      stateEl.dataset.ready = 1;
+      return;
+    }
+    if (hello.mode === 'live') liveFrame(m); else replayFrame(m);
+  };
+  ws.onclose = () => { $('counters').textContent += ' (viewer disconnected)'; };
+}
+
+window.addEventListener('resize', () => { resize(); placeCamera(); renderer.render(scene3, camera); });
+resize();
+placeCamera();
+connect();
