@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
   app.add_option("--fine", o.fine, "sub-cells of a boundary cell in the fine scan")
       ->check(CLI::Range(1, 1000));
   app.add_option("--cell-samples", o.cell_samples, "postures per cell")->check(CLI::Range(2, 1000000));
+  app.add_option("--verify", o.verify, "postures of the final verification (0: none)")
+      ->check(CLI::Range(0, 100000000));
   app.add_option("--min-range-share", o.min_range_share,
                  "smallest share of a joint's range a safe range may keep")
       ->check(ohrp::cli::InRange(0, 1));

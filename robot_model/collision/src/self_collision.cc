@@ -70,9 +70,21 @@ double SelfCollision::ShapeDistance(int la, int sa, int lb, int sb, double cutof
   const double bound = (X_WA.translation() - X_WB.translation()).norm() - a.radius - b.radius;
   if (bound > cutoff) return bound;
   ++queries_;
-  const double gap = GjkDistance(a, X_WA, b, X_WB);
-  if (gap > 0) return gap;
-  return -PenetrationDepth(a, X_WA, b, X_WB);
+  Eigen::Vector3d p_a, p_b;
+  return Measure(a, X_WA, b, X_WB, &p_a, &p_b, &uncertified_);
+}
+
+double SelfCollision::SupportDistance(int la, int sa, int lb, int sb) const {
+  const PreparedShape& a = shapes_->of(la)[sa];
+  const PreparedShape& b = shapes_->of(lb)[sb];
+  const Eigen::Isometry3d X_WA = X_WL_[la] * a.X_LS, X_WB = X_WL_[lb] * b.X_LS;
+  // the checker's closest points give one more axis; the gap along any axis bounds the
+  // distance below
+  Eigen::Vector3d p_a = Eigen::Vector3d::Zero(), p_b = Eigen::Vector3d::Zero();
+  int ignored = 0;
+  const double d = Measure(a, X_WA, b, X_WB, &p_a, &p_b, &ignored);
+  const Eigen::Vector3d hint = d > 0 ? Eigen::Vector3d(p_b - p_a) : Eigen::Vector3d::Zero();
+  return -MinOverlap(a, X_WA, b, X_WB, hint);
 }
 
 double SelfCollision::Distance(int a, int b, double cutoff) const {
@@ -91,7 +103,7 @@ CheckResult SelfCollision::Check(std::span<const LinkPair> pairs, double cutoff,
                                  std::span<double> distances) const {
   CheckResult r;
   r.min_distance = INFINITY;
-  queries_ = 0;
+  queries_ = uncertified_ = 0;
   for (size_t k = 0; k < pairs.size(); ++k) {
     const double d = Distance(pairs[k].a, pairs[k].b, cutoff);
     if (k < distances.size()) distances[k] = d;
@@ -101,6 +113,7 @@ CheckResult SelfCollision::Check(std::span<const LinkPair> pairs, double cutoff,
     }
   }
   r.narrow_queries = queries_;
+  r.uncertified = uncertified_;
   return r;
 }
 

@@ -2,6 +2,8 @@
 // and the penetration depth of overlapping shapes.
 #include "shapes.h"
 
+#include "box_distance.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -108,12 +110,17 @@ double Support(const PreparedShape& s, const Eigen::Isometry3d& X_WS, const Eige
 
 double GjkDistance(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
                    const Eigen::Isometry3d& X_WB) {
+  Eigen::Vector3d p_a, p_b;  // FCL's capsule pair asserts that it gets the closest points
+  return GjkDistance(a, X_WA, b, X_WB, &p_a, &p_b);
+}
+
+double GjkDistance(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
+                   const Eigen::Isometry3d& X_WB, Eigen::Vector3d* p_a, Eigen::Vector3d* p_b) {
   const fcl::Transform3d tf_a(X_WA.matrix()), tf_b(X_WB.matrix());
   double d = -1;
-  Eigen::Vector3d p_a, p_b;  // FCL's capsule pair asserts that it gets the closest points
   const bool apart = Visit(a, [&](const auto& sa) {
     return Visit(b, [&](const auto& sb) {
-      return Solver().shapeDistance(sa, tf_a, sb, tf_b, &d, &p_a, &p_b);
+      return Solver().shapeDistance(sa, tf_a, sb, tf_b, &d, p_a, p_b);
     });
   });
   return apart ? d : 0.0;
@@ -121,14 +128,20 @@ double GjkDistance(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const 
 
 double PenetrationDepth(const PreparedShape& a, const Eigen::Isometry3d& X_WA,
                         const PreparedShape& b, const Eigen::Isometry3d& X_WB) {
+  return std::max(MinOverlap(a, X_WA, b, X_WB), 0.0);
+}
+
+double MinOverlap(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
+                  const Eigen::Isometry3d& X_WB, const Eigen::Vector3d& hint) {
   // candidate axes: each shape's frame axes, their cross products, the line of centres
-  Eigen::Vector3d axes[16];
+  Eigen::Vector3d axes[17];
   int n = 0;
   for (int i = 0; i < 3; ++i) axes[n++] = X_WA.linear().col(i);
   for (int i = 0; i < 3; ++i) axes[n++] = X_WB.linear().col(i);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) axes[n++] = X_WA.linear().col(i).cross(X_WB.linear().col(j));
   axes[n++] = X_WB.translation() - X_WA.translation();
+  axes[n++] = hint;
   double best = INFINITY;
   Eigen::Vector3d best_n = Eigen::Vector3d::UnitZ();
   for (int k = 0; k < n; ++k) {
@@ -153,7 +166,28 @@ double PenetrationDepth(const PreparedShape& a, const Eigen::Isometry3d& X_WA,
       }
     }
   }
-  return std::max(best, 0.0);
+  return best;
+}
+
+double Measure(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
+               const Eigen::Isometry3d& X_WB, Eigen::Vector3d* p_a, Eigen::Vector3d* p_b,
+               int* uncertified) {
+  constexpr double kCertified = 1e-6;  // [m] GJK's answer against its lower bound
+  const double gap = GjkDistance(a, X_WA, b, X_WB, p_a, p_b);
+  if (gap > 0) {
+    // the certificate: the gap of the projections on the line of the closest points
+    const Eigen::Vector3d n = (*p_b - *p_a).normalized();
+    const double lower = -Overlap(a, X_WA, b, X_WB, n);
+    if (gap - lower <= kCertified) return gap;
+    ++*uncertified;
+  }
+  // GJK uncertain, or overlapping: the separating-axis search (exact overlap test for boxes)
+  const Eigen::Vector3d hint = gap > 0 ? Eigen::Vector3d(*p_b - *p_a) : Eigen::Vector3d::Zero();
+  const double o = MinOverlap(a, X_WA, b, X_WB, hint);
+  if (o >= 0) return -o;
+  if (a.spec->type == ShapeType::kBox && b.spec->type == ShapeType::kBox)
+    return BoxBoxDistance(X_WA, a.spec->size, X_WB, b.spec->size, p_a, p_b);
+  return -o;  // apart by at least this much
 }
 
 }  // namespace ohrp::collision

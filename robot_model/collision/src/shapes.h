@@ -41,6 +41,28 @@ double GjkDistance(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const 
 // projections over candidate axes (face normals, shape axes, their cross products, the line of
 // centres) refined by a local search on the sphere of directions. Exact for two boxes; for
 // curved shapes an upper bound within the search's resolution.
+// The smallest overlap of the shapes' projections over unit axes, by the same search: > 0 is
+// the penetration depth (as PenetrationDepth), < 0 is minus a lower bound of their distance,
+// exact at the search's optimum (the distance of convex sets is the largest gap of their
+// projections). Independent of FCL: the tests use it as a second opinion.
+// `hint`, when not zero, is one more candidate axis (as the line between GJK's closest points,
+// along which the gap is the distance).
+double MinOverlap(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
+                  const Eigen::Isometry3d& X_WB, const Eigen::Vector3d& hint = Eigen::Vector3d::Zero());
+
+// GjkDistance that also gives the closest points (in the base frame) [m]
+double GjkDistance(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
+                   const Eigen::Isometry3d& X_WB, Eigen::Vector3d* p_a, Eigen::Vector3d* p_b);
+
+// The signed distance of two shapes [m] and, when apart, their closest points: FCL's GJK, its
+// answer certified by the gap of the projections on the line of the closest points (a lower
+// bound of the distance); when that gap differs by more than 1 um, two boxes are measured in
+// closed form (BoxBoxDistance) and other pairs return the best lower bound found (safe side),
+// and `*uncertified` counts it. Overlapping shapes: minus PenetrationDepth.
+double Measure(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const PreparedShape& b,
+               const Eigen::Isometry3d& X_WB, Eigen::Vector3d* p_a, Eigen::Vector3d* p_b,
+               int* uncertified);
+
 double PenetrationDepth(const PreparedShape& a, const Eigen::Isometry3d& X_WA,
                         const PreparedShape& b, const Eigen::Isometry3d& X_WB);
 

@@ -5,14 +5,19 @@
 //     other, as WAIST and WAIST_R of HRP-1S): skipped, MuJoCo's own pairs of a body and its
 //     grandparent would report them at every step;
 //  3. never: pairs that stay farther than margin + clearance in every sampled posture within
-//     the joint limits (uniform samples, a share of joints at their limits);
+//     the joint limits (uniform samples, a share of joints at their limits) and in local
+//     descents of their distance from the closest samples;
 //  4. safe ranges: for each remaining pair, each joint between its two links is scanned at a
-//     coarse resolution (cells of its range, sampled postures in each cell); the run of safe
+//     coarse resolution (cells of its range, sampled postures in each cell and descents from
+//     the closest); the run of safe
 //     cells around the reference posture, widened at a fine resolution into the neighbouring cells,
 //     is the joint's safe range for that pair; the widest (at least `min_range_share` of the
 //     joint's range) wins and the pair is pruned while the joint keeps to it. A joint's ranges
 //     only shrink, so earlier pairs stay safe;
-//  5. online: the pairs left.
+//  5. verification: postures sampled with each safe range kept or left at random; a pruned
+//     pair that no left range covers and that comes within margin + clearance (in a sample or
+//     a descent from a near one) goes back online;
+//  6. online: the pairs left.
 // It is sampling: the brute-force test checks it against MuJoCo on postures it did not see.
 #pragma once
 
@@ -32,6 +37,8 @@ struct PruneOptions {
   int coarse = 12;           // cells of a joint's range in the coarse scan
   int fine = 8;              // sub-cells of a boundary cell in the fine scan
   int cell_samples = 64;     // postures per cell
+  int verify = 100000;       // postures of the final verification (step 5)
+  double descent_band = 0.05;  // [m] samples closer than keep + this start local descents
   double limit_share = 0.3;  // chance that a sampled joint sits at one of its limits
   double min_range_share = 0.25;  // a safe range must keep this share of the joint's range
   std::vector<double> reference;  // the posture safe ranges contain (by joint id); empty: zero
