@@ -1,14 +1,18 @@
 // The self-collision checker (robot_model/collision): distances and penetrations against closed
 // forms, a link inside another, the links' poses against MuJoCo's, the pair list of HRP-1S, the
-// broad phase, validation messages.
+// broad phase, validation messages, the shipped file (current, read back, its mistakes).
 #include "collision/self_collision.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <random>
 
 #include "collision/from_mjcf.h"
+#include "collision/pair_file.h"
 #include "robot_model/model.h"
 
 namespace ohrp::collision {
@@ -175,6 +179,74 @@ TEST(SelfCollisionModel, ValidateNamesWhatIsWrong) {
   bad.links[3].joint = 99;
   EXPECT_FALSE(SelfCollision::Create(bad, &error));
   EXPECT_NE(error.find("joint id 99 is outside"), std::string::npos) << error;
+}
+
+// the shipped file is current: the geometry, joints and model hash it carries are what the
+// MJCF gives now (regenerate: docs/selfcollision.md), and it reads back as written
+TEST(SelfCollisionFile, TheShippedHrp1sFileMatchesTheModel) {
+  const RobotGeometry g = Hrp1s();
+  SelfCollisionFile f;
+  std::string error;
+  const std::string path = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml";
+  ASSERT_TRUE(ReadSelfCollisionFile(path, &f, &error)) << error;
+  EXPECT_EQ(f.robot.model_hash, g.model_hash) << "regenerate " << path;
+  EXPECT_EQ(f.robot.joint_names, g.joint_names);
+  ASSERT_EQ(f.robot.links.size(), g.links.size());
+  for (size_t l = 0; l < g.links.size(); ++l) {
+    EXPECT_EQ(f.robot.links[l].name, g.links[l].name);
+    EXPECT_EQ(f.robot.links[l].parent, g.links[l].parent);
+    EXPECT_EQ(f.robot.links[l].joint, g.links[l].joint);
+    EXPECT_TRUE(f.robot.links[l].p_PL.isApprox(g.links[l].p_PL, 1e-12) ||
+                (f.robot.links[l].p_PL - g.links[l].p_PL).norm() < 1e-12);
+    ASSERT_EQ(f.robot.links[l].shapes.size(), g.links[l].shapes.size());
+    for (size_t s = 0; s < g.links[l].shapes.size(); ++s) {
+      EXPECT_EQ(f.robot.links[l].shapes[s].type, g.links[l].shapes[s].type);
+      EXPECT_LT((f.robot.links[l].shapes[s].size - g.links[l].shapes[s].size).norm(), 1e-12);
+      EXPECT_LT((f.robot.links[l].shapes[s].p_LS - g.links[l].shapes[s].p_LS).norm(), 1e-12);
+    }
+  }
+  // every non-adjacent pair is in exactly one of the lists (a range's pairs may repeat)
+  size_t listed = f.online.size() + f.structural.size() + f.never.size();
+  std::vector<LinkPair> ranged;
+  for (const auto& r : f.ranges)
+    for (const auto& p : r.pairs)
+      if (std::find(ranged.begin(), ranged.end(), p) == ranged.end()) ranged.push_back(p);
+  EXPECT_EQ(listed + ranged.size(), NonAdjacentPairs(g).size());
+  // written again, it is the same text
+  EXPECT_EQ(SelfCollisionYaml(f), [&] {
+    std::ifstream in(path);
+    std::stringstream t;
+    t << in.rdbuf();
+    return t.str();
+  }());
+}
+
+TEST(SelfCollisionFile, MistakesNameTheFileLineAndKey) {
+  const std::string dir = ::testing::TempDir();
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir + name) << text;
+    return dir + name;
+  };
+  SelfCollisionFile f;
+  std::string error;
+  EXPECT_FALSE(ReadSelfCollisionFile(write("sc_a.yaml", "robot: x\n"), &f, &error));
+  EXPECT_NE(error.find("sc_a.yaml:1: model_hash: missing"), std::string::npos) << error;
+  EXPECT_FALSE(ReadSelfCollisionFile(write("sc_b.yaml", "robot: [\n"), &f, &error));
+  EXPECT_NE(error.find("not valid YAML"), std::string::npos) << error;
+  EXPECT_FALSE(ReadSelfCollisionFile(dir + "none.yaml", &f, &error));
+  EXPECT_NE(error.find("cannot open"), std::string::npos) << error;
+  // an unknown link in a pair: its line
+  const std::string shipped = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml";
+  std::ifstream in(shipped);
+  std::stringstream t;
+  t << in.rdbuf();
+  std::string text = t.str();
+  const size_t at = text.find("online: [[") + 10;
+  text.replace(at, text.find(',', at) - at, "NOSUCH");
+  const int line = static_cast<int>(std::count(text.begin(), text.begin() + at, '\n')) + 1;
+  EXPECT_FALSE(ReadSelfCollisionFile(write("sc_c.yaml", text), &f, &error));
+  EXPECT_NE(error.find("sc_c.yaml:" + std::to_string(line) + ": online: no link 'NOSUCH'"),
+            std::string::npos) << error;
 }
 
 }  // namespace

@@ -164,6 +164,18 @@ PruneResult Prune(const RobotGeometry& robot, const PruneOptions& o) {
       r.reasons[i] = "structural: touching at the zero posture (" + Mm(d) + ")";
     }
   }
+  // and within the margin at the reference posture (the online check would hold the robot
+  // there: the thighs' tops enter the waist's box when the hips bend)
+  if (o.reference.size() == njoint) {
+    c.SetPose(o.reference);
+    for (size_t i = 0; i < r.all; ++i) {
+      if (!r.reasons[i].empty()) continue;
+      const double d = c.Distance(r.pairs[i].a, r.pairs[i].b, o.margin);
+      if (d > o.margin) continue;
+      r.file.structural.push_back(r.pairs[i]);
+      r.reasons[i] = "structural: within the margin at the reference posture (" + Mm(d) + ")";
+    }
+  }
 
   // 3. never: apart in every sample within the limits
   Sampler sampler(o, robot.q_min, robot.q_max);
@@ -255,6 +267,7 @@ PruneResult Prune(const RobotGeometry& robot, const PruneOptions& o) {
   for (size_t j = 0; j < njoint; ++j)
     for (const LinkPair& p : pruned_by[j]) relies[index[{p.a, p.b}]].push_back(static_cast<int>(j));
   std::vector<bool> pruned(r.all, false), back(r.all, false);
+  std::vector<int> descents(r.all, 0);
   for (size_t i = 0; i < r.all; ++i)
     pruned[i] = !r.reasons[i].empty() && r.reasons[i].rfind("structural", 0) != 0;
   const std::vector<double> range_lo = sampler.lo(), range_hi = sampler.hi();
@@ -280,7 +293,9 @@ PruneResult Prune(const RobotGeometry& robot, const PruneOptions& o) {
       std::vector<double> lo = robot.q_min, hi = robot.q_max;
       for (int j : relies[i]) lo[j] = range_lo[j], hi[j] = range_hi[j];
       const std::vector<int> joints = JointsBetween(robot, r.pairs[i].a, r.pairs[i].b);
-      if (d <= keep || Descend(c, r.pairs[i], joints, q, lo, hi, keep) <= keep) back[i] = true;
+      if (d <= keep) back[i] = true;
+      else if (descents[i]++ < o.max_descents && Descend(c, r.pairs[i], joints, q, lo, hi, keep) <= keep)
+        back[i] = true;
       c.SetPose(q);
     }
   }

@@ -24,6 +24,7 @@ SelfCollision::SelfCollision(const RobotGeometry& robot) : robot_(robot) {
   const size_t n = robot_.links.size();
   X_WL_.assign(n, Eigen::Isometry3d::Identity());
   sphere_c_L_.assign(n, Eigen::Vector3d::Zero());
+  sphere_c_W_.assign(n, Eigen::Vector3d::Zero());
   sphere_r_.assign(n, 0.0);
   // each link's bounding sphere: centred on the box around its shapes' spheres
   for (size_t l = 0; l < n; ++l) {
@@ -59,6 +60,7 @@ void SelfCollision::SetPose(std::span<const double> q) {
       X_PL.translate(-l.anchor_L);
     }
     X_WL_[i] = l.parent < 0 ? X_PL : X_WL_[l.parent] * X_PL;
+    sphere_c_W_[i] = X_WL_[i] * sphere_c_L_[i];
   }
 }
 
@@ -89,9 +91,9 @@ double SelfCollision::SupportDistance(int la, int sa, int lb, int sb) const {
 
 double SelfCollision::Distance(int a, int b, double cutoff) const {
   // broad phase: the links' bounding spheres
-  const Eigen::Vector3d c_a = X_WL_[a] * sphere_c_L_[a], c_b = X_WL_[b] * sphere_c_L_[b];
-  const double bound = (c_a - c_b).norm() - sphere_r_[a] - sphere_r_[b];
-  if (bound > cutoff) return bound;
+  const double reach = sphere_r_[a] + sphere_r_[b] + cutoff;
+  const double d2 = (sphere_c_W_[a] - sphere_c_W_[b]).squaredNorm();
+  if (d2 > reach * reach) return std::sqrt(d2) - sphere_r_[a] - sphere_r_[b];
   double d = INFINITY;
   const int na = static_cast<int>(shapes_->of(a).size()), nb = static_cast<int>(shapes_->of(b).size());
   for (int i = 0; i < na; ++i)

@@ -155,7 +155,7 @@ double MinOverlap(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const P
     }
   }
   // refine on the sphere of directions: a pattern search with a shrinking step
-  for (double step = 0.25; step > 1e-5; step *= 0.5) {
+  for (double step = 0.25; step > 1e-3; step *= 0.5) {
     for (bool improved = true; improved;) {
       improved = false;
       const Eigen::Vector3d t1 = best_n.unitOrthogonal(), t2 = best_n.cross(t1);

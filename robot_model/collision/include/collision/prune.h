@@ -2,8 +2,9 @@
 // online. Steps, each reported:
 //  1. all pairs of links that are not parent and child;
 //  2. structural pairs: touching or overlapping at the zero posture (parts built into each
-//     other, as WAIST and WAIST_R of HRP-1S): skipped, MuJoCo's own pairs of a body and its
-//     grandparent would report them at every step;
+//     other, as WAIST and WAIST_R of HRP-1S), or within the margin at the reference posture
+//     (HRP-1S's thighs enter the waist's box at half-sitting): skipped, the online check would
+//     hold the robot where it stands;
 //  3. never: pairs that stay farther than margin + clearance in every sampled posture within
 //     the joint limits (uniform samples, a share of joints at their limits) and in local
 //     descents of their distance from the closest samples;
@@ -38,6 +39,7 @@ struct PruneOptions {
   int fine = 8;              // sub-cells of a boundary cell in the fine scan
   int cell_samples = 64;     // postures per cell
   int verify = 100000;       // postures of the final verification (step 5)
+  int max_descents = 64;     // descents per pair in the verification
   double descent_band = 0.05;  // [m] samples closer than keep + this start local descents
   double limit_share = 0.3;  // chance that a sampled joint sits at one of its limits
   double min_range_share = 0.25;  // a safe range must keep this share of the joint's range

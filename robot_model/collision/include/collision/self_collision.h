@@ -78,6 +78,7 @@ class SelfCollision {
   std::vector<Eigen::Isometry3d> X_WL_;   // link poses [m]
   std::vector<Eigen::Vector3d> sphere_c_L_;  // each link's bounding sphere centre in the link
   std::vector<double> sphere_r_;             // and its radius [m]
+  std::vector<Eigen::Vector3d> sphere_c_W_;  // the centres after SetPose [m]
   mutable int queries_ = 0, uncertified_ = 0;
 };
 
