@@ -94,16 +94,23 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
   const collision::CheckResult now = Closest(q_);
   const collision::CheckResult ahead = Closest(q_ahead_);
   const collision::CheckResult& worst = ahead.min_distance < now.min_distance ? ahead : now;
-  // close, and closer than the last safe references: hold them
-  if (worst.closest >= 0 && worst.min_distance < file_.margin &&
-      worst.min_distance < safe_distance_) {
+  // while holding, only a command near the held references may resume: a far one could jump
+  // through a link (a hand through a thigh is deep, then apart again on the other side)
+  double jump = 0;
+  for (int j = 0; j < njoint_; ++j) jump = std::max(jump, std::abs(q_[j] - safe_[j]));
+  const bool far = holding_ && jump > kResumeStep;
+  // close, and penetrating or closer than the last safe references: hold them
+  const bool close = worst.closest >= 0 && worst.min_distance < file_.margin &&
+                     (worst.min_distance <= 0 || worst.min_distance < safe_distance_);
+  if (far || close) {
+    holding_ = true;
     ++held_cycles_;
-    if (first_time_ < 0) {
+    if (first_time_ < 0 && close) {
       first_time_ = sensors.time;
       first_pair_ = every_[worst.closest];
       first_distance_ = worst.min_distance;
     }
-    if (worst.min_distance < closest_distance_) {
+    if (close && worst.min_distance < closest_distance_) {
       closest_distance_ = worst.min_distance;
       closest_pair_ = every_[worst.closest];
     }
@@ -113,6 +120,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     }
     return true;
   }
+  holding_ = false;
   safe_ = q_;
   safe_distance_ = now.min_distance;
   return false;

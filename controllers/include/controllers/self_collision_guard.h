@@ -3,9 +3,10 @@
 // commanded velocities over one control period) are checked against the reduced pair list of a
 // self-collision file (ohrp_selfcollision; docs/selfcollision.md), plus the pairs of each safe
 // range the posture leaves. A pair closer than the file's margin that is closer than in the
-// last safe references stops the motion: every joint holds the last safe references (velocity
-// 0), the cycle is counted, and the report after the run names the pair. Moving away from a
-// close pair is allowed.
+// last safe references (or penetrating) stops the motion: every joint holds the last safe
+// references (velocity 0), the cycle is counted, and the report after the run names the pair.
+// Moving away from a close pair is allowed; once holding, only a command within kResumeStep of
+// the held references resumes (a far one could pass through a link).
 //
 // Configure reads the file and checks it against the segment's header (model hash, joint
 // names); Filter runs every cycle and allocates, throws and logs nothing. No MuJoCo: the file
@@ -60,6 +61,8 @@ class SelfCollisionGuard {
   std::vector<collision::LinkPair> every_;   // the online pairs then each range's pairs
   std::vector<double> q_, q_ahead_, safe_;   // [rad]
   double safe_distance_ = 0;                 // [m] of the last safe references
+  bool holding_ = false;                     // the last cycle held
+  static constexpr double kResumeStep = 0.05;  // [rad] a held command resumes within this
   long held_cycles_ = 0;
   double first_time_ = -1, closest_distance_ = 1e9, first_distance_ = 0;  // [s], [m]
   collision::LinkPair first_pair_, closest_pair_;
