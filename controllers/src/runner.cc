@@ -7,6 +7,7 @@
 #include <ostream>
 #include <thread>
 
+#include "controllers/self_collision_guard.h"
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::controllers {
@@ -70,6 +71,8 @@ const char* ExitCodeHelp() {
          "     timeout (e.g. it was stopped, then resumed)\n";
 }
 
+const char* DefaultSelfCollisionFile() { return OHRP_SELF_COLLISION_FILE; }
+
 void InstallStopSignalHandlers() {
   struct sigaction action {};
   action.sa_handler = OnStopSignal;
@@ -120,6 +123,24 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     controller.close();
     return rep.exit_code = kExitConfig;
   }
+  // the self-collision check: a default file for another robot turns it off
+  SelfCollisionGuard guard;
+  bool guarded = !options.self_collision.empty();
+  if (guarded && options.self_collision_is_default &&
+      !SelfCollisionGuard::FileMatches(options.self_collision, header)) {
+    out << prog << ": self-collision check off: the default file " << options.self_collision
+        << " is not for this robot (give --self-collision FILE from ohrp_selfcollision)\n";
+    guarded = false;
+  }
+  if (guarded) {
+    const std::string problem = guard.Configure(options.self_collision, header);
+    if (!problem.empty()) {
+      err << prog << ": --self-collision: " << problem << "\n";
+      adaptor.close();
+      controller.close();
+      return rep.exit_code = kExitConfig;
+    }
+  }
   out << prog << ": attached to segment " << seg << ": robot " << header.robot_name << ", "
       << header.njoint << " joints, control period " << Fixed(header.control_period * 1e3, 3)
       << " ms, producer " << producer << std::endl;
@@ -142,12 +163,14 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     if (!active) {
       active = controller.activate(sensors);
       rep.first_time = sensors.time;
+      if (guarded) guard.Activate(sensors);
     }
     rep.last_time = sensors.time;
     last_status = sensors.status;
     late = sensors.late_commands;
     rejected = sensors.rejected_commands;
     controller.update(sensors, &commands);
+    if (guarded) guard.Filter(sensors, &commands);
     result = adaptor.write(commands);
     if (result != shm::ReadResult::kOk) break;
     ++rep.cycles;
@@ -199,6 +222,7 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
        << Fixed(rep.first_time, 3) << " .. " << Fixed(rep.last_time, 3) << " s), segment "
        << seg << " released\n";
   controller.report(out);
+  if (guarded) guard.Report(prog, out);
   const CycleCounters& c = controller.counters();
   if (c.non_finite_fixed || c.clamped || c.diverged_sensors || late || rejected) {
     err << prog << ": problems counted: " << c.non_finite_fixed

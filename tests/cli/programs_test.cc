@@ -147,6 +147,9 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"bench_effects", {}, "--cycles", {}, false},
         ProgramCase{"bench_balance", {}, "--impulse", {}, false},
         ProgramCase{"bench_walk", {}, "--control-period", {}, false},
+        ProgramCase{"bench_selfcollision", {}, "--postures", {"--file", "nosuch.yaml"}, false},
+        ProgramCase{"ohrp_selfcollision", {"--out", "/dev/null"}, "--margin",
+                    {"--out", "/dev/null", "--model", "nosuch.xml"}, false},
         ProgramCase{"bench_accuracy", {}, "--restarts", {}, false}),
     [](const ::testing::TestParamInfo<ProgramCase>& info) { return info.param.name; });
 

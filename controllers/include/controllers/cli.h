@@ -18,6 +18,20 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
   app->add_option("--read-timeout", run->read_timeout,
                   "[s] longest wait for one sensor block before giving up")
       ->default_val(2.0)->check(cli::Positive());
+  run->self_collision = DefaultSelfCollisionFile();
+  run->self_collision_is_default = true;
+  app->add_option_function<std::string>(
+         "--self-collision",
+         [run](const std::string& path) {
+           run->self_collision = path;
+           run->self_collision_is_default = false;
+         },
+         "self-collision file (ohrp_selfcollision): commands that bring a pair of links closer "
+         "than its margin are held (default: HRP-1S's file, off for another robot)")
+      ->check(CLI::ExistingFile);
+  app->add_flag_callback(
+      "--no-self-collision", [run] { run->self_collision.clear(); },
+      "turn the online self-collision check off");
   app->footer(ExitCodeHelp());
 }
 

@@ -6,7 +6,8 @@
 //              50 ms until `attach_timeout` [s] has passed (0: fail at once); any other
 //              failure ends the run at once with the adaptor's message.
 //   configure  the controller checks its files against the header (joint names and count).
-//   loop       read -> (activate on the first block) -> update -> write, until read/write
+//   loop       read -> (activate on the first block) -> update -> self-collision check
+//              (self_collision_guard.h: may hold the last safe references) -> write, until read/write
 //              report an end (the producer stopped, failed or is gone, no sensors within the
 //              read timeout, or the producer dropped this controller for missing its own
 //              timeout: shm_bridge/controller_loss.h) or SIGINT/SIGTERM arrives. No allocation, throwing or logging
@@ -43,7 +44,15 @@ struct RunOptions {
   double attach_timeout = 0.0;         // [s] keep retrying a missing segment this long
   double read_timeout = 2.0;           // [s] longest wait for one sensor block
   double retry_interval = 0.05;        // [s] between attach attempts
+  // the online self-collision check (controllers/self_collision_guard.h): its file, empty for
+  // none. When `self_collision_is_default` and the file is for another robot (model hash), the
+  // check is off with a note; otherwise a file that does not fit is exit 3.
+  std::string self_collision;
+  bool self_collision_is_default = false;
 };
+
+// The self-collision file shipped for HRP-1S (mjcf/hrp1s/selfcollision.yaml of the source tree).
+const char* DefaultSelfCollisionFile();
 
 // What happened, for tests and callers that want more than the exit code.
 struct RunReport {

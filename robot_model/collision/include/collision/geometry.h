@@ -1,0 +1,74 @@
+// The collision geometry of a robot's links: a kinematic tree of rigid links, each with convex
+// shapes fixed in its frame, in the joint order of the segment. It is plain data, built from an
+// MJCF (collision/from_mjcf.h) or read from a self-collision file (collision/pair_file.h), so a
+// controller needs no MuJoCo to check its postures. SI units: metres, radians.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ohrp::collision {
+
+// the convex shapes the checker handles
+enum class ShapeType { kSphere, kCapsule, kCylinder, kBox, kConvex };
+
+// "sphere", "capsule", "cylinder", "box", "convex"
+const char* ShapeName(ShapeType type);
+// the type of a name of ShapeName; false when unknown
+bool ParseShape(const std::string& name, ShapeType* type);
+
+// one convex shape of a link
+struct Shape {
+  ShapeType type = ShapeType::kSphere;
+  // sphere: (radius, -, -); capsule and cylinder: (radius, half-length along z, -);
+  // box: half-sizes along x, y, z [m]
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p_LS = Eigen::Vector3d::Zero();                 // position in the link frame [m]
+  Eigen::Quaterniond q_LS = Eigen::Quaterniond::Identity();       // orientation in the link frame
+  std::vector<Eigen::Vector3d> vertices;  // convex: the hull's vertices in the shape frame [m]
+  std::vector<int> faces;  // convex: per face, its vertex count then its vertex indices (FCL's)
+};
+
+// one rigid link: its pose in its parent at zero joint angle, then a hinge about `axis_L`
+// through `anchor_L` (both in this link's frame), or no joint (welded to its parent)
+struct Link {
+  std::string name;
+  int parent = -1;   // index of the parent link, -1 for a root (the base: its frame is the world)
+  Eigen::Vector3d p_PL = Eigen::Vector3d::Zero();            // position in the parent [m]
+  Eigen::Quaterniond q_PL = Eigen::Quaterniond::Identity();  // orientation in the parent
+  int joint = -1;    // the segment's joint id of its hinge, -1 when welded or the base
+  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();         // hinge axis (unit) in the link
+  Eigen::Vector3d anchor_L = Eigen::Vector3d::Zero();        // a point on the axis [m]
+  std::vector<Shape> shapes;
+};
+
+// a robot's links in topological order (a parent before its children) and its joints
+struct RobotGeometry {
+  std::string name;
+  uint64_t model_hash = 0;               // robot_model/model_hash.h of the model it came from
+  std::vector<std::string> joint_names;  // by segment joint id
+  std::vector<double> q_min, q_max;      // joint limits by segment joint id [rad]
+  std::vector<Link> links;
+};
+
+// a pair of links by index, a < b
+struct LinkPair {
+  int a = -1, b = -1;
+  bool operator==(const LinkPair& o) const { return a == o.a && b == o.b; }
+};
+
+// Every pair of links that is not parent and child, in order (a, then b). Links without shapes
+// are left out.
+std::vector<LinkPair> NonAdjacentPairs(const RobotGeometry& robot);
+
+// The link index of `name`, -1 when there is none.
+int FindLink(const RobotGeometry& robot, const std::string& name);
+
+// Checks the geometry: parents before children, joint ids in range, unit axes and quaternions,
+// positive sizes, convex shapes with vertices. Returns an empty string or what is wrong.
+std::string Validate(const RobotGeometry& robot);
+
+}  // namespace ohrp::collision

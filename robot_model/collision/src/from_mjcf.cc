@@ -1,0 +1,133 @@
+// The robot's collision geometry from MuJoCo's compiled model.
+#include "collision/from_mjcf.h"
+
+#include <cmath>
+#include <map>
+
+#include "robot_model/model_hash.h"
+
+namespace ohrp::collision {
+namespace {
+
+Eigen::Vector3d Vec(const mjtNum* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+Eigen::Quaterniond Quat(const mjtNum* q) { return Eigen::Quaterniond(q[0], q[1], q[2], q[3]); }
+
+// a mesh geom as the convex hull of its vertices (MuJoCo's graph: numvert, numface,
+// vert_edgeadr, vert_globalid, edge_localid, face_globalid)
+bool MeshHull(const mjModel* m, int mesh, Shape* s, std::string* error) {
+  const int adr = m->mesh_graphadr[mesh];
+  if (adr < 0) {
+    *error = "has no convex hull (MuJoCo made no graph: give the mesh more than 3 vertices)";
+    return false;
+  }
+  const int* g = m->mesh_graph + adr;
+  const int numvert = g[0], numface = g[1];
+  const int* face = g + 2 + 2 * numvert + (numvert + 3 * numface);
+  const float* v = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
+  for (int i = 0; i < m->mesh_vertnum[mesh]; ++i)
+    s->vertices.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  for (int f = 0; f < numface; ++f) {
+    s->faces.push_back(3);
+    for (int k = 0; k < 3; ++k) s->faces.push_back(face[3 * f + k]);
+  }
+  return true;
+}
+
+// one geom as a shape; false with a reason when it cannot be one
+bool GeomShape(const mjModel* m, int g, Shape* s, std::string* error) {
+  const mjtNum* size = m->geom_size + 3 * g;
+  switch (m->geom_type[g]) {
+    case mjGEOM_SPHERE: s->type = ShapeType::kSphere; s->size = {size[0], 0, 0}; break;
+    case mjGEOM_CAPSULE: s->type = ShapeType::kCapsule; s->size = {size[0], size[1], 0}; break;
+    case mjGEOM_CYLINDER: s->type = ShapeType::kCylinder; s->size = {size[0], size[1], 0}; break;
+    case mjGEOM_BOX: s->type = ShapeType::kBox; s->size = Vec(size); break;
+    case mjGEOM_MESH:
+      s->type = ShapeType::kConvex;
+      if (!MeshHull(m, m->geom_dataid[g], s, error)) return false;
+      break;
+    default:
+      *error = "is a plane, height field or ellipsoid: use a box, sphere, capsule, cylinder or mesh";
+      return false;
+  }
+  s->p_LS = Vec(m->geom_pos + 3 * g);
+  s->q_LS = Quat(m->geom_quat + 4 * g).normalized();
+  return true;
+}
+
+const char* Name(const mjModel* m, mjtObj type, int id) {
+  const char* n = mj_id2name(m, type, id);
+  return n ? n : "(unnamed)";
+}
+
+}  // namespace
+
+bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeometry* out,
+                       std::string* error) {
+  *out = RobotGeometry();
+  out->name = robot.name;
+  out->model_hash = model::ModelHash(m, robot);
+  for (const auto& j : robot.joints) {
+    out->joint_names.push_back(j.name);
+    // an unlimited hinge turns all the way round
+    out->q_min.push_back(j.q_min <= -model::kNoLimit ? -M_PI : j.q_min);
+    out->q_max.push_back(j.q_max >= model::kNoLimit ? M_PI : j.q_max);
+  }
+  // the segment's joint id of each MuJoCo joint
+  std::map<int, int> segment_id;
+  for (size_t i = 0; i < robot.joints.size(); ++i) segment_id[robot.joints[i].joint_id] = static_cast<int>(i);
+  std::map<int, int> link_of;  // MuJoCo body id -> link index
+  for (int b : model::RobotBodies(m, robot)) {
+    Link l;
+    l.name = Name(m, mjOBJ_BODY, b);
+    const std::string where = "body '" + l.name + "'";
+    const auto parent = link_of.find(m->body_parentid[b]);
+    l.parent = parent == link_of.end() ? -1 : parent->second;
+    // the base (a root) is the frame of reference: it stays at the origin
+    if (l.parent >= 0 || b != robot.base_body) {
+      l.p_PL = Vec(m->body_pos + 3 * b);
+      l.q_PL = Quat(m->body_quat + 4 * b).normalized();
+    }
+    // its hinge, if any
+    const int nj = m->body_jntnum[b], j0 = m->body_jntadr[b];
+    if (b != robot.base_body && nj > 1) {
+      *error = where + " has " + std::to_string(nj) + " joints: the checker takes one hinge a body";
+      return false;
+    }
+    if (b != robot.base_body && nj == 1) {
+      const std::string jw = where + ": joint '" + Name(m, mjOBJ_JOINT, j0) + "'";
+      if (m->jnt_type[j0] != mjJNT_HINGE) {
+        *error = jw + " is not a hinge (slide, ball and free joints below the base are not supported)";
+        return false;
+      }
+      const auto id = segment_id.find(j0);
+      if (id == segment_id.end()) {
+        *error = jw + " has no motor, so it is not in the segment's joints";
+        return false;
+      }
+      if (m->qpos0[m->jnt_qposadr[j0]] != 0) {
+        *error = jw + " has a reference angle (ref) that is not zero";
+        return false;
+      }
+      l.joint = id->second;
+      l.axis_L = Vec(m->jnt_axis + 3 * j0).normalized();
+      l.anchor_L = Vec(m->jnt_pos + 3 * j0);
+    }
+    // its geoms
+    for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+      Shape s;
+      std::string why;
+      if (!GeomShape(m, g, &s, &why)) {
+        *error = where + ": geom " + std::to_string(g) + " '" + Name(m, mjOBJ_GEOM, g) + "' " + why;
+        return false;
+      }
+      l.shapes.push_back(std::move(s));
+    }
+    link_of[b] = static_cast<int>(out->links.size());
+    out->links.push_back(std::move(l));
+  }
+  const std::string problem = Validate(*out);
+  if (!problem.empty()) *error = problem;
+  return problem.empty();
+}
+
+}  // namespace ohrp::collision

@@ -1,0 +1,88 @@
+// The plain geometry: shape names, the non-adjacent pairs, lookup and validation.
+#include "collision/geometry.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace ohrp::collision {
+
+const char* ShapeName(ShapeType type) {
+  switch (type) {
+    case ShapeType::kSphere: return "sphere";
+    case ShapeType::kCapsule: return "capsule";
+    case ShapeType::kCylinder: return "cylinder";
+    case ShapeType::kBox: return "box";
+    case ShapeType::kConvex: return "convex";
+  }
+  return "?";
+}
+
+bool ParseShape(const std::string& name, ShapeType* type) {
+  for (ShapeType t : {ShapeType::kSphere, ShapeType::kCapsule, ShapeType::kCylinder,
+                      ShapeType::kBox, ShapeType::kConvex}) {
+    if (name == ShapeName(t)) {
+      *type = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<LinkPair> NonAdjacentPairs(const RobotGeometry& robot) {
+  std::vector<LinkPair> pairs;
+  const int n = static_cast<int>(robot.links.size());
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      // parent and child are never checked: their joint's range keeps them apart (the paper)
+      if (robot.links[b].parent == a || robot.links[a].parent == b) continue;
+      if (robot.links[a].shapes.empty() || robot.links[b].shapes.empty()) continue;
+      pairs.push_back({a, b});
+    }
+  }
+  return pairs;
+}
+
+int FindLink(const RobotGeometry& robot, const std::string& name) {
+  for (size_t i = 0; i < robot.links.size(); ++i)
+    if (robot.links[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::string Validate(const RobotGeometry& robot) {
+  std::ostringstream e;
+  const int njoint = static_cast<int>(robot.joint_names.size());
+  if (robot.q_min.size() != robot.joint_names.size() ||
+      robot.q_max.size() != robot.joint_names.size())
+    return "the joint limits do not match the joint names (one min and max per joint)";
+  for (size_t i = 0; i < robot.links.size(); ++i) {
+    const Link& l = robot.links[i];
+    const std::string where = "link " + std::to_string(i) + " '" + l.name + "': ";
+    // the tree: parents come first
+    if (l.parent >= static_cast<int>(i) || l.parent < -1)
+      return where + "its parent " + std::to_string(l.parent) + " is not an earlier link";
+    if (l.joint < -1 || l.joint >= njoint)
+      return where + "joint id " + std::to_string(l.joint) + " is outside 0.." +
+             std::to_string(njoint - 1);
+    if (l.joint >= 0 && std::abs(l.axis_L.norm() - 1) > 1e-6)
+      return where + "its hinge axis is not a unit vector";
+    if (std::abs(l.q_PL.norm() - 1) > 1e-6 || !l.p_PL.allFinite())
+      return where + "its pose in the parent is not finite with a unit quaternion";
+    // the shapes: positive sizes, vertices for a convex hull
+    for (size_t s = 0; s < l.shapes.size(); ++s) {
+      const Shape& sh = l.shapes[s];
+      const int nsize = sh.type == ShapeType::kBox ? 3 : sh.type == ShapeType::kSphere ? 1
+                        : sh.type == ShapeType::kConvex ? 0 : 2;
+      for (int k = 0; k < nsize; ++k)
+        if (!(sh.size[k] > 0) || !std::isfinite(sh.size[k]))
+          return where + "shape " + std::to_string(s) + " (" + ShapeName(sh.type) +
+                 ") has a size that is not positive";
+      if (sh.type == ShapeType::kConvex && (sh.vertices.size() < 4 || sh.faces.empty()))
+        return where + "shape " + std::to_string(s) + " is a convex hull without vertices or faces";
+      if (std::abs(sh.q_LS.norm() - 1) > 1e-6 || !sh.p_LS.allFinite())
+        return where + "shape " + std::to_string(s) + " has a non-unit quaternion or bad position";
+    }
+  }
+  return "";
+}
+
+}  // namespace ohrp::collision

@@ -1,0 +1,237 @@
+// The self-collision file: YAML out, YAML in with file:line:key messages.
+#include "collision/pair_file.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace ohrp::collision {
+namespace {
+
+//---------------- writing ----------------
+
+std::string V(const Eigen::Vector3d& v) {
+  std::ostringstream s;
+  s << std::setprecision(17) << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return s.str();
+}
+
+std::string Q(const Eigen::Quaterniond& q) {
+  std::ostringstream s;
+  s << std::setprecision(17) << "[" << q.w() << ", " << q.x() << ", " << q.y() << ", " << q.z()
+    << "]";
+  return s.str();
+}
+
+std::string PairList(const RobotGeometry& r, const std::vector<LinkPair>& pairs) {
+  std::string s = "[";
+  for (size_t i = 0; i < pairs.size(); ++i)
+    s += (i ? ", [" : "[") + r.links[pairs[i].a].name + ", " + r.links[pairs[i].b].name + "]";
+  return s + "]";
+}
+
+//---------------- reading ----------------
+
+// a mistake in the file: where and what
+struct Bad {
+  int line;
+  std::string what;
+};
+
+int LineOf(const YAML::Node& n) { return n.Mark().line + 1; }
+
+YAML::Node Need(const YAML::Node& map, const char* key) {
+  const YAML::Node n = map[key];
+  if (!n) throw Bad{LineOf(map), std::string(key) + ": missing"};
+  return n;
+}
+
+double Num(const YAML::Node& n, const std::string& key) {
+  double x = NAN;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, x) || !std::isfinite(x))
+    throw Bad{LineOf(n), key + ": must be a finite number"};
+  return x;
+}
+
+int Int(const YAML::Node& n, const std::string& key) {
+  int x = 0;
+  if (!n.IsScalar() || !YAML::convert<int>::decode(n, x)) throw Bad{LineOf(n), key + ": must be an integer"};
+  return x;
+}
+
+std::string Str(const YAML::Node& n, const std::string& key) {
+  if (!n.IsScalar()) throw Bad{LineOf(n), key + ": must be a single value"};
+  return n.Scalar();
+}
+
+Eigen::Vector3d Vec(const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() != 3) throw Bad{LineOf(n), key + ": must be a list of 3 numbers"};
+  return {Num(n[0], key), Num(n[1], key), Num(n[2], key)};
+}
+
+Eigen::Quaterniond Quat(const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() != 4)
+    throw Bad{LineOf(n), key + ": must be a list of 4 numbers (w, x, y, z)"};
+  return Eigen::Quaterniond(Num(n[0], key), Num(n[1], key), Num(n[2], key), Num(n[3], key));
+}
+
+int JointId(const RobotGeometry& r, const YAML::Node& n, const std::string& key) {
+  const std::string name = Str(n, key);
+  for (size_t i = 0; i < r.joint_names.size(); ++i)
+    if (r.joint_names[i] == name) return static_cast<int>(i);
+  throw Bad{LineOf(n), key + ": no joint '" + name + "' in joints:"};
+}
+
+std::vector<LinkPair> Pairs(const RobotGeometry& r, const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence()) throw Bad{LineOf(n), key + ": must be a list of [link, link] pairs"};
+  std::vector<LinkPair> out;
+  for (const auto& p : n) {
+    if (!p.IsSequence() || p.size() != 2) throw Bad{LineOf(p), key + ": each pair is [link, link]"};
+    int ab[2];
+    for (int k = 0; k < 2; ++k) {
+      ab[k] = FindLink(r, Str(p[k], key));
+      if (ab[k] < 0) throw Bad{LineOf(p[k]), key + ": no link '" + p[k].Scalar() + "' in links:"};
+    }
+    if (ab[0] == ab[1]) throw Bad{LineOf(p), key + ": a pair of one link with itself"};
+    out.push_back({std::min(ab[0], ab[1]), std::max(ab[0], ab[1])});
+  }
+  return out;
+}
+
+Shape ReadShape(const YAML::Node& n) {
+  Shape s;
+  const std::string type = Str(Need(n, "type"), "type");
+  if (!ParseShape(type, &s.type))
+    throw Bad{LineOf(n), "type: '" + type + "' is not box, sphere, capsule, cylinder or convex"};
+  if (s.type != ShapeType::kConvex) s.size = Vec(Need(n, "size"), "size");
+  s.p_LS = Vec(Need(n, "pos"), "pos");
+  s.q_LS = Quat(Need(n, "quat"), "quat");
+  if (s.type == ShapeType::kConvex) {
+    for (const auto& v : Need(n, "vertices")) s.vertices.push_back(Vec(v, "vertices"));
+    for (const auto& f : Need(n, "faces")) s.faces.push_back(Int(f, "faces"));
+  }
+  return s;
+}
+
+void ReadRobot(const YAML::Node& root, RobotGeometry* r) {
+  r->name = Str(Need(root, "robot"), "robot");
+  const std::string hash = Str(Need(root, "model_hash"), "model_hash");
+  try {
+    r->model_hash = std::stoull(hash, nullptr, 16);
+  } catch (const std::exception&) {
+    throw Bad{LineOf(root["model_hash"]), "model_hash: must be a hexadecimal number"};
+  }
+  for (const auto& j : Need(root, "joints")) {
+    r->joint_names.push_back(Str(Need(j, "name"), "name"));
+    r->q_min.push_back(Num(Need(j, "min"), "min"));
+    r->q_max.push_back(Num(Need(j, "max"), "max"));
+  }
+  for (const auto& l : Need(root, "links")) {
+    Link link;
+    link.name = Str(Need(l, "name"), "name");
+    link.parent = Int(Need(l, "parent"), "parent");
+    link.p_PL = Vec(Need(l, "pos"), "pos");
+    link.q_PL = Quat(Need(l, "quat"), "quat");
+    const YAML::Node j = Need(l, "joint");
+    link.joint = j.IsScalar() && j.Scalar() == "-1" ? -1 : JointId(*r, j, "joint");
+    link.axis_L = Vec(Need(l, "axis"), "axis");
+    link.anchor_L = Vec(Need(l, "anchor"), "anchor");
+    for (const auto& s : Need(l, "shapes")) link.shapes.push_back(ReadShape(s));
+    r->links.push_back(std::move(link));
+  }
+  const std::string problem = Validate(*r);
+  if (!problem.empty()) throw Bad{LineOf(root["links"]), "links: " + problem};
+}
+
+}  // namespace
+
+std::string SelfCollisionYaml(const SelfCollisionFile& f) {
+  const RobotGeometry& r = f.robot;
+  std::ostringstream o;
+  o << std::setprecision(17);
+  o << "# written by ohrp_selfcollision: do not edit, regenerate (docs/selfcollision.md)\n";
+  o << "robot: " << r.name << "\n";
+  o << "model_hash: \"0x" << std::hex << r.model_hash << std::dec << "\"\n";
+  o << "margin: " << f.margin << "  # [m]\n";
+  o << "joints:\n";
+  for (size_t i = 0; i < r.joint_names.size(); ++i)
+    o << "  - {name: " << r.joint_names[i] << ", min: " << r.q_min[i] << ", max: " << r.q_max[i]
+      << "}\n";
+  o << "links:\n";
+  for (const Link& l : r.links) {
+    o << "  - name: " << l.name << "\n    parent: " << l.parent << "\n    pos: " << V(l.p_PL)
+      << "\n    quat: " << Q(l.q_PL) << "\n    joint: "
+      << (l.joint < 0 ? std::string("-1") : r.joint_names[l.joint]) << "\n    axis: "
+      << V(l.axis_L) << "\n    anchor: " << V(l.anchor_L) << "\n    shapes:\n";
+    for (const Shape& s : l.shapes) {
+      o << "      - {type: " << ShapeName(s.type) << ", size: " << V(s.size)
+        << ", pos: " << V(s.p_LS) << ", quat: " << Q(s.q_LS);
+      if (s.type == ShapeType::kConvex) {
+        o << ",\n         vertices: [";
+        for (size_t k = 0; k < s.vertices.size(); ++k) o << (k ? ", " : "") << V(s.vertices[k]);
+        o << "],\n         faces: [";
+        for (size_t k = 0; k < s.faces.size(); ++k) o << (k ? ", " : "") << s.faces[k];
+        o << "]";
+      }
+      o << "}\n";
+    }
+  }
+  o << "online: " << PairList(r, f.online) << "\n";
+  o << "safe_ranges:\n";
+  for (const SafeRange& s : f.ranges)
+    o << "  - {joint: " << r.joint_names[s.joint] << ", min: " << s.lo << ", max: " << s.hi
+      << ", pairs: " << PairList(r, s.pairs) << "}\n";
+  if (f.ranges.empty()) o << "  []\n";
+  o << "structural: " << PairList(r, f.structural) << "\n";
+  o << "never: " << PairList(r, f.never) << "\n";
+  return o.str();
+}
+
+bool WriteSelfCollisionFile(const std::string& path, const SelfCollisionFile& file,
+                            std::string* error) {
+  std::ofstream out(path);
+  out << SelfCollisionYaml(file);
+  if (!out.good()) {
+    *error = path + ": cannot write (does its directory exist?)";
+    return false;
+  }
+  return true;
+}
+
+bool ReadSelfCollisionFile(const std::string& path, SelfCollisionFile* file, std::string* error) {
+  *file = SelfCollisionFile();
+  try {
+    const YAML::Node root = YAML::LoadFile(path);
+    if (!root.IsMap()) throw Bad{1, "the file must be a mapping (robot:, links:, online: ...)"};
+    ReadRobot(root, &file->robot);
+    file->margin = Num(Need(root, "margin"), "margin");
+    if (file->margin < 0) throw Bad{LineOf(root["margin"]), "margin: must be >= 0 [m]"};
+    file->online = Pairs(file->robot, Need(root, "online"), "online");
+    file->structural = Pairs(file->robot, Need(root, "structural"), "structural");
+    file->never = Pairs(file->robot, Need(root, "never"), "never");
+    for (const auto& s : Need(root, "safe_ranges")) {
+      SafeRange range;
+      range.joint = JointId(file->robot, Need(s, "joint"), "joint");
+      range.lo = Num(Need(s, "min"), "min");
+      range.hi = Num(Need(s, "max"), "max");
+      if (!(range.lo <= range.hi)) throw Bad{LineOf(s), "safe_ranges: min must not exceed max"};
+      range.pairs = Pairs(file->robot, Need(s, "pairs"), "pairs");
+      file->ranges.push_back(std::move(range));
+    }
+  } catch (const Bad& b) {
+    *error = path + ":" + std::to_string(b.line) + ": " + b.what;
+    return false;
+  } catch (const YAML::BadFile&) {
+    *error = path + ": cannot open (is the path right? the tool ohrp_selfcollision writes it)";
+    return false;
+  } catch (const YAML::Exception& e) {
+    *error = path + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace ohrp::collision

@@ -1,0 +1,140 @@
+// ohrp_selfcollision: from a robot's MJCF and its joint limits, the pairs of links a controller
+// must check online, the joints' safe ranges and why each pair was pruned (docs/selfcollision.md).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include "cli/command_line.h"
+#include "collision/from_mjcf.h"
+#include "collision/prune.h"
+
+namespace {
+
+using ohrp::collision::PruneResult;
+
+// the report: counts, then every pair with the reason it was kept or pruned
+std::string Report(const PruneResult& r, double seconds) {
+  const auto& f = r.file;
+  std::string s = "# self-collision pairs of " + f.robot.name + "\n\n";
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "links %zu; non-adjacent pairs %zu; structural %zu; never %zu; pruned by safe "
+                "ranges %zu; online %zu (%.1f s)\n\n",
+                f.robot.links.size(), r.all, f.structural.size(), f.never.size(),
+                r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
+                seconds);
+  s += line;
+  s += "## safe ranges [rad] (the full range in brackets)\n\n";
+  for (const auto& g : f.ranges) {
+    std::snprintf(line, sizeof(line), "- %s: %.4f .. %.4f  [%.4f .. %.4f], %zu pairs\n",
+                  f.robot.joint_names[g.joint].c_str(), g.lo, g.hi, f.robot.q_min[g.joint],
+                  f.robot.q_max[g.joint], g.pairs.size());
+    s += line;
+  }
+  s += "\n## pairs\n\n";
+  for (size_t i = 0; i < r.pairs.size(); ++i)
+    s += "- " + f.robot.links[r.pairs[i].a].name + " / " + f.robot.links[r.pairs[i].b].name + ": " +
+         r.reasons[i] + "\n";
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
+  std::string out, report;
+  std::vector<std::string> range_joints;
+  std::string reference;
+  bool quiet = false;
+  ohrp::collision::PruneOptions o;
+  CLI::App app{
+      "ohrp_selfcollision: the offline pre-processing of the self-collision checker (paper "
+      "section 4.1). From the model's links and joint limits it finds the pairs that touch at the "
+      "zero posture (structural), the pairs that never come within margin + clearance in sampled "
+      "postures, and, joint by joint at a coarse then a fine resolution, safe ranges that prune "
+      "more pairs; the pairs left are checked online. Writes the YAML file the controllers load "
+      "(--self-collision) and a report of every pair and why it was pruned.\n"
+      "Example: ohrp_selfcollision --out mjcf/hrp1s/selfcollision.yaml --report report.md"};
+  app.add_option("--model", model, "the robot's MJCF")->check(CLI::ExistingFile);
+  app.add_option("--out", out, "the self-collision file to write (YAML)")->required();
+  app.add_option("--report", report, "the report to write (Markdown); default: stdout");
+  app.add_option("--margin", o.margin, "[m] online stop distance, written to the file")
+      ->check(ohrp::cli::NonNegative());
+  app.add_option("--clearance", o.clearance, "[m] extra distance pruned pairs keep in the samples")
+      ->check(ohrp::cli::NonNegative());
+  app.add_option("--samples", o.samples, "postures sampled within the limits")
+      ->check(CLI::Range(1, 100000000));
+  app.add_option("--coarse", o.coarse, "cells of a joint's range in the coarse scan")
+      ->check(CLI::Range(2, 1000));
+  app.add_option("--fine", o.fine, "sub-cells of a boundary cell in the fine scan")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--cell-samples", o.cell_samples, "postures per cell")->check(CLI::Range(2, 1000000));
+  app.add_option("--verify", o.verify, "postures of the final verification (0: none)")
+      ->check(CLI::Range(0, 100000000));
+  app.add_option("--min-range-share", o.min_range_share,
+                 "smallest share of a joint's range a safe range may keep")
+      ->check(ohrp::cli::InRange(0, 1));
+  app.add_option("--range-joints", range_joints,
+                 "joints that may get a safe range (names, comma-separated); default: all")
+      ->delimiter(',');
+  app.add_option("--reference", reference,
+                 "a keyframe of the model: the posture the safe ranges must contain; default: zero");
+  app.add_option("--seed", o.seed, "random seed (the same seed gives the same file)");
+  app.add_flag("--quiet", quiet, "no progress on stderr");
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+
+  // the model and its geometry: any problem is the user's, exit 2 before anything runs
+  std::string error;
+  auto scene = ohrp::model::Scene::Load(model, &error);
+  ohrp::model::RobotMap robot;
+  ohrp::collision::RobotGeometry geometry;
+  if (!scene || !ohrp::model::MapRobot(scene->m(), &robot, &error) ||
+      !ohrp::collision::GeometryFromModel(scene->m(), robot, &geometry, &error)) {
+    std::fprintf(stderr, "ohrp_selfcollision: %s: %s\n", model.c_str(), error.c_str());
+    return 2;
+  }
+
+  // the joints named for safe ranges
+  for (const std::string& name : range_joints) {
+    const auto it = std::find(geometry.joint_names.begin(), geometry.joint_names.end(), name);
+    if (it == geometry.joint_names.end()) {
+      std::fprintf(stderr, "ohrp_selfcollision: --range-joints: no joint '%s' in %s\n",
+                   name.c_str(), model.c_str());
+      return 2;
+    }
+    o.range_joints.push_back(static_cast<int>(it - geometry.joint_names.begin()));
+  }
+
+  // the reference posture: a keyframe's joint angles
+  if (!reference.empty()) {
+    const int key = mj_name2id(scene->m(), mjOBJ_KEY, reference.c_str());
+    if (key < 0) {
+      std::fprintf(stderr, "ohrp_selfcollision: --reference: no keyframe '%s' in %s\n",
+                   reference.c_str(), model.c_str());
+      return 2;
+    }
+    for (const auto& j : robot.joints)
+      o.reference.push_back(scene->m()->key_qpos[key * scene->m()->nq + j.qpos_adr]);
+  }
+
+  // the pre-processing, with progress on stderr
+  if (!quiet) o.progress = [](const std::string& s) { std::fprintf(stderr, "\r%-78s%s", s.c_str(), s.empty() ? "\r" : ""); };
+  const auto t0 = std::chrono::steady_clock::now();
+  const PruneResult r = ohrp::collision::Prune(geometry, o);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // the file and the report
+  if (!ohrp::collision::WriteSelfCollisionFile(out, r.file, &error)) {
+    std::fprintf(stderr, "ohrp_selfcollision: %s\n", error.c_str());
+    return 2;
+  }
+  const std::string text = Report(r, seconds);
+  if (report.empty()) {
+    std::fputs(text.c_str(), stdout);
+  } else if (!(std::ofstream(report) << text)) {
+    std::fprintf(stderr, "ohrp_selfcollision: %s: cannot write the report\n", report.c_str());
+    return 2;
+  }
+  return 0;
+}
