@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "hw_chain.h"
@@ -21,6 +22,7 @@ TEST(PythonHw, PostureStandsThroughHwDriverAndUdp) {
   GTEST_SKIP() << "Python cannot load the ASan-built C library without LD_PRELOAD of the ASan "
                   "runtime; python_ohrp_test and scenario_stand_python run it that way";
 #endif
+  setenv("OHRP_LIB", OHRP_SHM_C_LIB, 1);  // this build's C library, whatever its folder
   const Chain c = RunChain("py_hw", {kPython, "--ramp", "2.0"}, {}, 6.0);
   ASSERT_EQ(c.driver, 0) << c.driver_out;
   ASSERT_EQ(c.controller, 0) << c.controller_out;
