@@ -175,6 +175,7 @@ std::unique_ptr<SoftFootContact> SoftFootContact::Create(
       c->bodies_.push_back(b);
   }
   c->applied_.assign(c->bodies_.size(), Vec6::Zero());
+  c->AllocateImplicit(m);
   return c;
 }
 
@@ -226,7 +227,11 @@ void SoftFootContact::ApplyBeforeStep(const mjModel* m, mjData* d) {
   if (at_every_stage_) return;  // mj_step's mj_forward evaluates it (see EvaluateAtEveryStage)
   UpdateKinematics(m, d);
   Evaluate(m, d);
-  Apply(m, d);
+  if (implicit_) {
+    ApplyImplicit(m, d);
+  } else {
+    Apply(m, d);
+  }
 }
 
 void SoftFootContact::Commit() {
