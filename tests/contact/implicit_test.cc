@@ -126,7 +126,9 @@ TEST(ContactImplicit, UndampedBouncesKeepTheirEnergy) {
     const double exp = EnergyDrift(mass, 20, false, &error);
     std::printf("%.0f kg, 20 undamped bounces at 1 ms: energy %+.2f %% implicit, %+.2f %% "
                 "explicit\n", mass, 100 * imp, 100 * exp);
-    if (mass >= 60) EXPECT_LT(std::abs(imp), 0.02) << mass << " kg";
+    if (mass >= 60) {
+      EXPECT_LT(std::abs(imp), 0.02) << mass << " kg";
+    }
   }
 }
 

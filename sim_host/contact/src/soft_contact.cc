@@ -101,7 +101,10 @@ std::unique_ptr<SoftFootContact> SoftFootContact::Create(
     const std::vector<std::string>& env_geoms, const SoftContactParams& params, double mass_scale,
     std::string* error) {
   std::string err;
-  if (!Validate(params, m->opt.timestep, mass_scale, &err)) {
+  // RK4 evaluates the law at its stages (explicit); the other integrators take the implicit step
+  const StepScheme scheme =
+      m->opt.integrator == mjINT_RK4 ? StepScheme::kExplicit : StepScheme::kImplicit;
+  if (!Validate(params, m->opt.timestep, mass_scale, &err, scheme)) {
     *error = "soft-foot contact parameters refused:\n" + err;
     return nullptr;
   }

@@ -80,6 +80,8 @@ class SoftFootContact {
   bool at_every_stage() const { return at_every_stage_; }
   // Linearly implicit force in ApplyBeforeStep (default on); off = the explicit law held over
   // the step (the former scheme, kept for comparison). Stage evaluation (RK4) stays explicit.
+  // Create validates for the implicit step unless the model's integrator is RK4: switching
+  // it off may leave parameters the explicit step cannot take (Validate with kExplicit says).
   void SetImplicit(bool on) { implicit_ = on; }
   bool implicit() const { return implicit_; }
   ~SoftFootContact();
