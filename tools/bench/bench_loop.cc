@@ -11,11 +11,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/command_line.h"
+#include "sim_host/feet.h"
 #include "sim_host/model.h"
+#include "sim_host/step.h"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +33,8 @@ double Median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
-// bare loop: servo + mj_step, in one process; returns wall seconds per step
+// bare loop: sim_host's physics step alone (servo, soft soles, mj_step), in one process;
+// returns wall seconds per step
 double BareLoop(const std::string& scene_path, double dt, int steps) {
   std::string error;
   auto scene = ohrp::sim::Scene::Load(scene_path, &error);
@@ -45,13 +49,18 @@ double BareLoop(const std::string& scene_path, double dt, int steps) {
     std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
     std::exit(2);
   }
+  // the feet as sim_host sets them up (soft soles by default), then sim_host's own step
+  std::unique_ptr<ohrp::contact::SoftFootContact> soft;
+  if (!ohrp::sim::SetUpFeet(scene->m(), ohrp::sim::FeetOptions{}, robot.total_mass, &soft,
+                            &error)) {
+    std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
+    std::exit(2);
+  }
   ohrp::sim::Servo servo(robot);
   servo.HoldCurrent(scene->d());
+  ohrp::sim::PhysicsStep step(scene->m(), scene->d(), {&servo, soft.get()});
   const double t0 = Now();
-  for (int i = 0; i < steps; ++i) {
-    servo.Apply(scene->m(), scene->d());
-    mj_step(scene->m(), scene->d());
-  }
+  for (int i = 0; i < steps; ++i) step.Step();
   return (Now() - t0) / steps;
 }
 
@@ -125,7 +134,7 @@ int main(int argc, char** argv) {
   fs::remove(summary);
   const double b = Median(bare), l = Median(loop);
   std::printf("%-34s %14s %12s\n", "loop", "median [us]", "real time");
-  std::printf("%-34s %14.1f %11.1fx\n", "bare servo + mj_step (1 process)", b * 1e6, dt / b);
+  std::printf("%-34s %14.1f %11.1fx\n", "sim_host step alone (1 process)", b * 1e6, dt / b);
   std::printf("%-34s %14.1f %11.1fx\n", "sim_host + posture (lock-step)", l * 1e6, dt / l);
   std::printf("ratio: %.2f (%.1f us / %.1f us)\n", l / b, l * 1e6, b * 1e6);
   return 0;
