@@ -1,5 +1,5 @@
 // bench_loop: wall time per control cycle of sim_host + posture in lock-step (two processes,
-// 1 ms physics, 1 ms control), beside a bare in-process loop (the same servo law + mj_step on
+// 1 ms physics, 1 ms control), beside sim_host's own physics step in one process (servo, soles, mj_step on
 // the same model) measured in the same run, and the real-time factor of both.
 #include <fcntl.h>
 #include <signal.h>
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   int repeats = 5;
   CLI::App app{
       "bench_loop: wall time per control cycle of sim_host + posture in lock-step (separate\n"
-      "processes, physics step = control period) beside a bare servo + mj_step loop on the same\n"
+      "processes, physics step = control period) beside sim_host's physics step alone (step.h) on the same\n"
       "model, measured alternately in the same run. Prints medians and the ratio."};
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
   app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
