@@ -1,6 +1,6 @@
 // bench_loop: wall time per control cycle of sim_host + posture in lock-step (two processes,
-// 1 ms physics, 1 ms control), beside sim_host's own physics step in one process (servo, soles, mj_step on
-// the same model) measured in the same run, and the real-time factor of both.
+// 1 ms physics, 1 ms control), beside sim_host's own physics step in one process (servo,
+// soles, mj_step on the same model) measured in the same run, and the real-time factor of both.
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
