@@ -243,8 +243,11 @@ double Sim::Step() {
   }
   step_->Step();  // sim_host's step: servo, soft soles, mj_step, commit
   if (soft_ && !stages) {
-    // the law at the step's start, evaluated by the step (the implicit correction is not in it)
-    for (const auto& w : soft_->wrenches()) f += w.normal_force;
+    // the force held over the step (the implicit step's), along the soles' mean normal
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();
+    for (const auto& w : soft_->wrenches()) normal += w.normal_force * w.normal;
+    for (const auto& a : soft_->applied()) force += a.head<3>();
+    if (normal.squaredNorm() > 0) f += force.dot(normal.normalized());
   }
   return f + NormalForce();
 }

@@ -103,6 +103,9 @@ class SoftFootContact {
   bool RestoreState(const State& state);
 
   const std::vector<SoleWrench>& wrenches() const { return wrenches_; }
+  // what Apply / the implicit step last put into xfrc_applied, per sole body (force, torque
+  // about its centre of mass): the force held over the step
+  const std::vector<Eigen::Matrix<double, 6, 1>>& applied() const { return applied_; }
   const std::vector<int>& sole_geoms() const { return sole_geom_; }
   const SoftContactParams& params() const { return params_; }
   ContactGeometry& geometry() { return geometry_; }
