@@ -16,6 +16,7 @@
 #include "sim_host/period.h"
 #include "sim_host/recorder.h"
 #include "sim_host/report.h"
+#include "sim_host/step.h"
 
 namespace ohrp::sim {
 namespace {
@@ -231,8 +232,8 @@ int RunHost(const HostOptions& options) {
     return false;
   };
 
-  double pushed[6] = {0, 0, 0, 0, 0, 0};  // the push wrench now in the base's xfrc_applied
-  std::vector<char> push_on(o.pushes.size(), 0);  // push i acted on the last step
+  // the physics step (sim_host/step.h): pushes, servo, soft soles, mj_step, commit, watch
+  PhysicsStep stepper(m, d, {&servo, soft.get(), &o.pushes, robot.base_body, &watch});
   pid_t last_controller = 0;  // the pid of the last controller that attached
   bool rejecting = false;     // its last command block had rejected joints
   double deadline = st.wall_start;  // real time: the wall time at which cycle k is due
@@ -343,21 +344,15 @@ int RunHost(const HostOptions& options) {
 
     // physics: the servo runs at every step
     for (int s = 0; s < steps_per_cycle; ++s) {
-      if (!o.pushes.empty()) {
-        ApplyPushes(o.pushes, m, d, robot.base_body, pushed);
-        // each push's start and end, as events
-        for (size_t i = 0; i < o.pushes.size(); ++i) {
-          const bool on = PushActiveAt(o.pushes[i], d->time, dt);
-          if (on != (push_on[i] != 0)) st.Record(d->time, on ? "push_start" : "push_end", i);
-          push_on[i] = on;
-        }
-      }
-      servo.Apply(m, d);
-      if (soft) soft->ApplyBeforeStep(m, d);
-      mj_step(m, d);
-      if (soft) soft->Commit();
+      const double t = d->time;
+      const bool held = stepper.Step();
       ++st.steps;
-      if (watch.Check(m, d, st.steps)) break;
+      // each push's start and end, as events at the step's start
+      for (size_t i = 0; i < o.pushes.size(); ++i) {
+        if (stepper.push_changed(i))
+          st.Record(t, stepper.push_on(i) ? "push_start" : "push_end", i);
+      }
+      if (!held) break;
     }
     if (watch.diverged()) {
       DiagnosisContext why{soft.get(), 0.5 * robot.total_mass, {}};

@@ -43,6 +43,10 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
   }
   r->servo_ = std::make_unique<Servo>(r->robot_);
   r->servo_->HoldCurrent(r->scene_->d());
+  r->step_ = std::make_unique<PhysicsStep>(
+      r->scene_->m(), r->scene_->d(),
+      PhysicsStep::Parts{r->servo_.get(), r->soft_.get(), &r->options_.pushes,
+                         r->robot_.base_body, nullptr});
   shm::Status status;
   r->producer_ = shm::Producer::Create(
       MakeProducerConfig(r->robot_, m, UniqueSegmentName(), m->opt.timestep, o.control_period),
@@ -66,17 +70,8 @@ void InProcessRobot::Publish() {
 }
 
 int InProcessRobot::Cycle(const shm::CommandBlock& commands) {
-  mjModel* m = scene_->m();
-  mjData* d = scene_->d();
   const int rejected = servo_->Accept(commands);
-  for (int s = 0; s < steps_per_cycle_; ++s) {
-    if (robot_.base_body >= 0 && !options_.pushes.empty())
-      ApplyPushes(options_.pushes, m, d, robot_.base_body, pushed_);
-    servo_->Apply(m, d);
-    if (soft_) soft_->ApplyBeforeStep(m, d);
-    mj_step(m, d);
-    if (soft_) soft_->Commit();
-  }
+  for (int s = 0; s < steps_per_cycle_; ++s) step_->Step();
   ++cycle_;
   Publish();
   return rejected;

@@ -111,3 +111,25 @@ TEST(ContactParams, UnstableTangentialDampingIsRefused) {
 
 }  // namespace
 }  // namespace ohrp::contact
+
+namespace ohrp::contact {
+namespace {
+
+// The implicit step (SoftFootContact's default) is stable at any step for the linearised law:
+// the defaults are accepted at 2, 4 and 8 ms and for a 5 kg foot; out-of-range values are
+// still refused whatever the scheme.
+TEST(ContactParams, ImplicitStepAcceptsLargerStepsButNotBadValues) {
+  std::string error;
+  for (double dt : {0.002, 0.004, 0.008}) {
+    EXPECT_FALSE(Validate(SoftContactParams{}, dt, kMass, &error, StepScheme::kExplicit)) << dt;
+    EXPECT_TRUE(Validate(SoftContactParams{}, dt, kMass, &error, StepScheme::kImplicit)) << error;
+  }
+  EXPECT_TRUE(Validate(SoftContactParams{}, kDt, 5.0, &error, StepScheme::kImplicit)) << error;
+  SoftContactParams p;
+  p.stiffness = -1;
+  EXPECT_FALSE(Validate(p, kDt, kMass, &error, StepScheme::kImplicit));
+  EXPECT_NE(error.find("stiffness"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace ohrp::contact

@@ -14,6 +14,7 @@
 
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
+#include "sim_host/step.h"
 
 namespace ohrp::sim::testing {
 
@@ -34,6 +35,8 @@ class LeaningRobot {
     ASSERT_TRUE(SetUpFeet(m(), feet, robot_.total_mass, &soft_, &error)) << error;
     ASSERT_TRUE(scene_->Reset(keyframe, &error)) << error;
     servo_ = std::make_unique<Servo>(robot_);
+    step_ = std::make_unique<PhysicsStep>(m(), d(),
+                                          PhysicsStep::Parts{servo_.get(), soft_.get()});
     cmd_.njoint = static_cast<int>(robot_.joints.size());
     start_.assign(cmd_.njoint, 0.0);
     lean_.assign(cmd_.njoint, 0.0);
@@ -47,17 +50,14 @@ class LeaningRobot {
     }
   }
 
-  // One physics step as sim_host makes it: commands (the lean ramped in over one second),
-  // servo, soft soles, mj_step, commit. Returns false if the servo refused the commands.
+  // One physics step, sim_host's own (sim_host/step.h), after the commands (the lean ramped in
+  // over one second). Returns false if the servo refused the commands.
   bool Step() {
     const double s = std::clamp((d()->time - lean_start_) / 1.0, 0.0, 1.0);
     for (int i = 0; i < cmd_.njoint; ++i)
       cmd_.joint[i].q_ref = start_[i] + lean_[i] * 0.5 * (1 - std::cos(M_PI * s));
     if (servo_->Accept(cmd_) != 0) return false;
-    servo_->Apply(m(), d());
-    soft_->ApplyBeforeStep(m(), d());
-    mj_step(m(), d());
-    soft_->Commit();
+    step_->Step();
     return true;
   }
 
@@ -73,6 +73,7 @@ class LeaningRobot {
   std::unique_ptr<Scene> scene_;
   RobotMap robot_;
   std::unique_ptr<contact::SoftFootContact> soft_;
+  std::unique_ptr<PhysicsStep> step_;
   std::unique_ptr<Servo> servo_;
   shm::CommandBlock cmd_{};
   std::vector<double> start_, lean_;

@@ -188,6 +188,8 @@ std::unique_ptr<Sim> Sim::Create(const SceneSpec& scene, const Setting& setting,
     s->dq_ref_.assign(n, 0.0);
     s->commands_.njoint = n;
   }
+  s->step_ = std::make_unique<sim::PhysicsStep>(s->m_, s->d_,
+                                                sim::PhysicsStep::Parts{s->servo_.get(), s->soft_.get()});
   return s;
 }
 
@@ -231,20 +233,22 @@ double Sim::NormalForce() const {
 
 double Sim::Step() {
   Controls();
-  if (servo_) servo_->Apply(m_, d_);
   double f = 0;
-  if (soft_) {
-    soft_->ApplyBeforeStep(m_, d_);
-    if (soft_->at_every_stage()) {
-      // RK4: mj_step evaluates the contact at each stage; its force at the step's start (the
-      // one recorded, as for the other integrators) needs its own evaluation here
-      contact::SoftFootContact::UpdateKinematics(m_, d_);
-      soft_->Evaluate(m_, d_);
-    }
-    for (const auto& w : soft_->wrenches()) f += w.normal_force;
+  const bool stages = soft_ && soft_->at_every_stage();
+  if (stages) {
+    // RK4: mj_step evaluates the contact at each stage; its force at the step's start (the
+    // one recorded, as for the other integrators) needs its own evaluation here
+    contact::SoftFootContact::UpdateKinematics(m_, d_);
+    for (const auto& w : soft_->Evaluate(m_, d_)) f += w.normal_force;
   }
-  mj_step(m_, d_);
-  if (soft_) soft_->Commit();
+  step_->Step();  // sim_host's step: servo, soft soles, mj_step, commit
+  if (soft_ && !stages) {
+    // the force held over the step (the implicit step's), along the soles' mean normal
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();
+    for (const auto& w : soft_->wrenches()) normal += w.normal_force * w.normal;
+    for (const auto& a : soft_->applied()) force += a.head<3>();
+    if (normal.squaredNorm() > 0) f += force.dot(normal.normalized());
+  }
   return f + NormalForce();
 }
 

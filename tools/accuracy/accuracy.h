@@ -22,6 +22,7 @@
 #include "controllers/trajectory.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
+#include "sim_host/step.h"
 
 namespace ohrp::accuracy {
 
@@ -124,6 +125,7 @@ class Sim {
   sim::RobotMap robot_;
   std::unique_ptr<sim::Servo> servo_;
   std::unique_ptr<contact::SoftFootContact> soft_;
+  std::unique_ptr<sim::PhysicsStep> step_;  // sim_host's physics step over the parts above
   std::vector<double> q_ref_, dq_ref_;
   shm::CommandBlock commands_{};
 };

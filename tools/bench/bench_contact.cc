@@ -1,6 +1,6 @@
 // bench_contact: the cost of one physics step of the standing robot with the soft-foot contact
 // beside the same step with MuJoCo's native contact, measured alternately in the same run.
-// A step is what sim_host does per physics step: servo, (soft contact), mj_step, (commit).
+// A step is sim_host's physics step (sim_host/step.h): servo, (soft contact), mj_step, (commit).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "cli/command_line.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
+#include "sim_host/step.h"
 
 namespace {
 
@@ -53,15 +54,9 @@ Setup Make(const std::string& path, const std::string& key, double dt,
 
 // wall seconds per step over `steps` steps
 double Run(Setup* s, int steps) {
-  mjModel* m = s->scene->m();
-  mjData* d = s->scene->d();
+  ohrp::sim::PhysicsStep step(s->scene->m(), s->scene->d(), {s->servo.get(), s->soft.get()});
   const double t0 = Now();
-  for (int i = 0; i < steps; ++i) {
-    s->servo->Apply(m, d);
-    if (s->soft) s->soft->ApplyBeforeStep(m, d);
-    mj_step(m, d);
-    if (s->soft) s->soft->Commit();
-  }
+  for (int i = 0; i < steps; ++i) step.Step();  // sim_host's own step (sim_host/step.h)
   return (Now() - t0) / steps;
 }
 

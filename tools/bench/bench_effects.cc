@@ -33,6 +33,7 @@
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
+#include "sim_host/step.h"
 
 namespace {
 
@@ -133,27 +134,19 @@ double Run(Setup* s, int cycles, int warmup) {
   mjModel* m = s->scene->m();
   mjData* d = s->scene->d();
   static ohrp::shm::SensorBlock block;
+  // sim_host's physics step (sim_host/step.h): servo, soft soles, mj_step, commit
+  ohrp::sim::PhysicsStep step(m, d, {s->servo.get(), s->soft.get()});
   double t0 = Now();
   if (s->bare) {
     for (int c = 0; c < warmup + cycles; ++c) {
       if (c == warmup) t0 = Now();
-      for (int k = 0; k < kStepsPerCycle; ++k) {
-        s->servo->Apply(m, d);
-        s->soft->ApplyBeforeStep(m, d);
-        mj_step(m, d);
-        s->soft->Commit();
-      }
+      for (int k = 0; k < kStepsPerCycle; ++k) step.Step();
       FillSensors(s->robot, m, d, &block);
     }
   } else {
     for (int c = 0; c < warmup + cycles; ++c) {
       if (c == warmup) t0 = Now();
-      for (int k = 0; k < kStepsPerCycle; ++k) {
-        s->servo->Apply(m, d);
-        if (s->soft) s->soft->ApplyBeforeStep(m, d);
-        mj_step(m, d);
-        if (s->soft) s->soft->Commit();
-      }
+      for (int k = 0; k < kStepsPerCycle; ++k) step.Step();
       FillSensors(s->robot, m, d, s->selection, &block);
       if (s->noise) s->noise->Apply(s->robot, &block);
       if (s->recorder) s->recorder->Push(block, &s->servo->reference(0));

@@ -1,8 +1,8 @@
 // bench_loop: wall time per control cycle of sim_host + posture in lock-step (two processes,
-// 1 ms physics, 1 ms control), beside a bare in-process loop (the same servo law + mj_step on
-// the same model) measured in the same run, and the real-time factor of both; with the CPU time
-// each process of the pair used per cycle (a waiter of the handshake spins for a bounded time
-// before it sleeps: that CPU time shows what the spinning costs).
+// 1 ms physics, 1 ms control), beside sim_host's own physics step in one process (servo,
+// soles, mj_step on the same model) measured in the same run, and the real-time factor of both;
+// with the CPU time each process of the pair used per cycle (a waiter of the handshake spins for
+// a bounded time before it sleeps: that CPU time shows what the spinning costs).
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -14,11 +14,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/command_line.h"
+#include "sim_host/feet.h"
 #include "sim_host/model.h"
+#include "sim_host/step.h"
 
 namespace fs = std::filesystem;
 
@@ -33,7 +36,8 @@ double Median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
-// bare loop: servo + mj_step, in one process; returns wall seconds per step
+// bare loop: sim_host's physics step alone (servo, soft soles, mj_step), in one process;
+// returns wall seconds per step
 double BareLoop(const std::string& scene_path, double dt, int steps) {
   std::string error;
   auto scene = ohrp::sim::Scene::Load(scene_path, &error);
@@ -48,13 +52,18 @@ double BareLoop(const std::string& scene_path, double dt, int steps) {
     std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
     std::exit(2);
   }
+  // the feet as sim_host sets them up (soft soles by default), then sim_host's own step
+  std::unique_ptr<ohrp::contact::SoftFootContact> soft;
+  if (!ohrp::sim::SetUpFeet(scene->m(), ohrp::sim::FeetOptions{}, robot.total_mass, &soft,
+                            &error)) {
+    std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
+    std::exit(2);
+  }
   ohrp::sim::Servo servo(robot);
   servo.HoldCurrent(scene->d());
+  ohrp::sim::PhysicsStep step(scene->m(), scene->d(), {&servo, soft.get()});
   const double t0 = Now();
-  for (int i = 0; i < steps; ++i) {
-    servo.Apply(scene->m(), scene->d());
-    mj_step(scene->m(), scene->d());
-  }
+  for (int i = 0; i < steps; ++i) step.Step();
   return (Now() - t0) / steps;
 }
 
@@ -132,7 +141,7 @@ int main(int argc, char** argv) {
   bool viewer = false;
   CLI::App app{
       "bench_loop: wall time per control cycle of sim_host + posture in lock-step (separate\n"
-      "processes, physics step = control period) beside a bare servo + mj_step loop on the same\n"
+      "processes, physics step = control period) beside sim_host's physics step alone (step.h) on the same\n"
       "model, measured alternately in the same run. Prints medians and the ratio."};
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
   app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
@@ -167,7 +176,7 @@ int main(int argc, char** argv) {
   fs::remove(summary);
   const double b = Median(bare), l = Median(loop);
   std::printf("%-34s %14s %12s\n", "loop", "median [us]", "real time");
-  std::printf("%-34s %14.1f %11.1fx\n", "bare servo + mj_step (1 process)", b * 1e6, dt / b);
+  std::printf("%-34s %14.1f %11.1fx\n", "sim_host step alone (1 process)", b * 1e6, dt / b);
   std::printf("%-34s %14.1f %11.1fx\n", "sim_host + posture (lock-step)", l * 1e6, dt / l);
   std::printf("cpu per cycle (whole runs, set-up included): sim_host %.1f us, posture %.1f us\n",
               Median(sim_cpu) * 1e6, Median(ctl_cpu) * 1e6);

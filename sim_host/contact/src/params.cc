@@ -13,7 +13,8 @@ bool Finite(double x) { return std::isfinite(x); }
 
 }  // namespace
 
-bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error) {
+bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error,
+              StepScheme scheme) {
   std::ostringstream out;
   auto problem = [&out](const std::string& s) { out << s << "\n"; };
 
@@ -83,7 +84,7 @@ bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::str
     problem(s.str());
   }
 
-  if (out.str().empty()) {
+  if (out.str().empty() && scheme == StepScheme::kExplicit) {
     // Normal law, linearised at the peak load.
     const double m = mass_scale;
     const double load = kPeakLoadFactor * m * kG;

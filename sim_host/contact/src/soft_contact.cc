@@ -101,7 +101,10 @@ std::unique_ptr<SoftFootContact> SoftFootContact::Create(
     const std::vector<std::string>& env_geoms, const SoftContactParams& params, double mass_scale,
     std::string* error) {
   std::string err;
-  if (!Validate(params, m->opt.timestep, mass_scale, &err)) {
+  // RK4 evaluates the law at its stages (explicit); the other integrators take the implicit step
+  const StepScheme scheme =
+      m->opt.integrator == mjINT_RK4 ? StepScheme::kExplicit : StepScheme::kImplicit;
+  if (!Validate(params, m->opt.timestep, mass_scale, &err, scheme)) {
     *error = "soft-foot contact parameters refused:\n" + err;
     return nullptr;
   }
@@ -175,6 +178,7 @@ std::unique_ptr<SoftFootContact> SoftFootContact::Create(
       c->bodies_.push_back(b);
   }
   c->applied_.assign(c->bodies_.size(), Vec6::Zero());
+  c->AllocateImplicit(m);
   return c;
 }
 
@@ -226,7 +230,11 @@ void SoftFootContact::ApplyBeforeStep(const mjModel* m, mjData* d) {
   if (at_every_stage_) return;  // mj_step's mj_forward evaluates it (see EvaluateAtEveryStage)
   UpdateKinematics(m, d);
   Evaluate(m, d);
-  Apply(m, d);
+  if (implicit_) {
+    ApplyImplicit(m, d);
+  } else {
+    Apply(m, d);
+  }
 }
 
 void SoftFootContact::Commit() {

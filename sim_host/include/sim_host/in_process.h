@@ -19,6 +19,7 @@
 #include "shm_bridge/bridge.h"
 #include "sim_host/feet.h"
 #include "sim_host/host.h"
+#include "sim_host/step.h"
 
 namespace ohrp::sim {
 
@@ -63,7 +64,7 @@ class InProcessRobot {
   std::unique_ptr<shm::Producer> producer_;
   shm::SensorBlock sensors_{};
   int steps_per_cycle_ = 1;
-  double pushed_[6] = {0, 0, 0, 0, 0, 0};  // the push wrench in xfrc_applied now
+  std::unique_ptr<PhysicsStep> step_;  // the physics step, sim_host's (step.h)
   uint64_t cycle_ = 0;
 };
 

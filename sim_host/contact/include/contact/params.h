@@ -68,12 +68,20 @@ inline constexpr double kPeakLoadFactor = 3.0;
 // Euler) step of a damped oscillator is stable for values < 4, half of that is kept as margin.
 inline constexpr double kStabilityBudget = 2.0;
 
+// How the step integrates the law: kImplicit is SoftFootContact's linearly implicit force (the
+// spring and damper through the sole bodies' apparent inertia, implicit.cc), stable at any step
+// for the linearised law, so only the ranges are checked; kExplicit is the law held over the
+// step (RK4's stage evaluation, SetImplicit(false)), checked against the budget below.
+enum class StepScheme { kExplicit, kImplicit };
+
 // Checks the parameters for a physics step dt [s] and the smallest mass that rides on one sole
 // mass_scale [kg] (the robot standing: its mass / 2; a single block: its mass). Returns false
 // with every problem in *error (one per line), each naming the parameter, why, and what would
 // work. The stability check linearises the normal law at kPeakLoadFactor * mass_scale * g:
-// K = n k delta^(n-1), beta = c k delta^n / m, and the tangential law: K = k_t, beta = b_t / m.
-bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error);
+// K = n k delta^(n-1), beta = c k delta^n / m, and the tangential law: K = k_t, beta = b_t / m
+// (kExplicit only).
+bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error,
+              StepScheme scheme = StepScheme::kExplicit);
 
 // The law's coefficient of restitution for a point mass m [kg] hitting at v0 [m/s] (> 0): the
 // 1-DOF oscillator m x'' = -k x^n (1 + c x')+ integrated with RK4 at step h [s] from contact to

@@ -23,6 +23,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <Eigen/LU>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,7 +56,10 @@ class SoftFootContact {
   // Writes the last evaluation into d->xfrc_applied (replacing its previous contribution).
   void Apply(const mjModel* m, mjData* d);
   // mj_kinematics + mj_comPos + mj_comVel at the current qpos/qvel (what mj_step recomputes
-  // anyway), then Evaluate and Apply: the call to make just before mj_step.
+  // anyway), then Evaluate and Apply: the call to make just before mj_step. When implicit()
+  // (the default), the applied wrench is the linearly implicit one (see implicit.cc): the
+  // spring and damper at the end of the step to first order, through the sole bodies'
+  // apparent inertia; wrenches() stay the law at the step's start.
   void ApplyBeforeStep(const mjModel* m, mjData* d);
   static void UpdateKinematics(const mjModel* m, mjData* d);
   // Advances the friction anchors (call after mj_step).
@@ -74,6 +78,12 @@ class SoftFootContact {
   // when this contact is switched off or destroyed.
   bool EvaluateAtEveryStage(bool on, std::string* error = nullptr);
   bool at_every_stage() const { return at_every_stage_; }
+  // Linearly implicit force in ApplyBeforeStep (default on); off = the explicit law held over
+  // the step (the former scheme, kept for comparison). Stage evaluation (RK4) stays explicit.
+  // Create validates for the implicit step unless the model's integrator is RK4: switching
+  // it off may leave parameters the explicit step cannot take (Validate with kExplicit says).
+  void SetImplicit(bool on) { implicit_ = on; }
+  bool implicit() const { return implicit_; }
   ~SoftFootContact();
   SoftFootContact(const SoftFootContact&) = delete;
   SoftFootContact& operator=(const SoftFootContact&) = delete;
@@ -93,6 +103,9 @@ class SoftFootContact {
   bool RestoreState(const State& state);
 
   const std::vector<SoleWrench>& wrenches() const { return wrenches_; }
+  // what Apply / the implicit step last put into xfrc_applied, per sole body (force, torque
+  // about its centre of mass): the force held over the step
+  const std::vector<Eigen::Matrix<double, 6, 1>>& applied() const { return applied_; }
   const std::vector<int>& sole_geoms() const { return sole_geom_; }
   const SoftContactParams& params() const { return params_; }
   ContactGeometry& geometry() { return geometry_; }
@@ -100,6 +113,9 @@ class SoftFootContact {
 
  private:
   SoftFootContact(ContactGeometry geometry, const SoftContactParams& params);
+  // the linearly implicit correction added to the evaluated wrenches (implicit.cc)
+  void AllocateImplicit(const mjModel* m);
+  void ApplyImplicit(const mjModel* m, mjData* d);
 
   ContactGeometry geometry_;
   SoftContactParams params_;
@@ -115,6 +131,15 @@ class SoftFootContact {
   std::vector<int> bodies_;                               // bodies carrying soles, each once
   std::vector<Eigen::Matrix<double, 6, 1>> applied_;      // per body: what Apply() added
   bool at_every_stage_ = false;
+  // implicit step scratch, sized at Create: per body 6x6 stiffness / damping about the centre
+  // of mass, the stacked body Jacobians (6 rows per body), M^-1 J^T, the apparent inverse
+  // inertia, twist changes, wrenches and the LU of the small system
+  bool implicit_ = true;
+  std::vector<Eigen::Matrix<double, 6, 6>> stiff_, damp_;
+  std::vector<mjtNum> jac_, minv_jt_;
+  Eigen::MatrixXd mobility_, system_;
+  Eigen::VectorXd dv_, rhs_, correction_, wrench_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 }  // namespace ohrp::contact

@@ -1,0 +1,51 @@
+// sim_host's physics step, the one every caller runs (sim_host's loop, the in-process robot,
+// the benchmarks, the accuracy tool, the tests), so that each times and tests the real step:
+//   pushes -> servo -> soft contact (implicit force, contact/soft_contact.h) -> mj_step
+//   -> commit of the contact's friction state -> divergence watch.
+// Every part but the model is optional (null / empty). Per step: no allocation, no throw, no
+// log (the watch's diagnosis, which allocates, is the caller's, after Step() returned false).
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "contact/soft_contact.h"
+#include "robot_model/servo.h"
+#include "sim_host/divergence.h"
+#include "sim_host/host.h"
+
+namespace ohrp::sim {
+
+class PhysicsStep {
+ public:
+  // The parts, owned by the caller and alive while this is used.
+  struct Parts {
+    model::Servo* servo = nullptr;                    // applies its law into d->ctrl / qfrc
+    contact::SoftFootContact* soft = nullptr;         // the soft soles
+    const std::vector<Perturbation>* pushes = nullptr;  // pushes on `push_body`
+    int push_body = -1;
+    DivergenceWatch* watch = nullptr;                 // checked after each step
+  };
+  PhysicsStep(mjModel* m, mjData* d, const Parts& parts);
+
+  // One physics step. False when the watch latched a divergence (the state is then not
+  // advanced any more by the caller's choice; the watch says why).
+  bool Step();
+
+  // push i acted on the last step / changed (started or ended) with the last step
+  bool push_on(size_t i) const { return push_on_[i] != 0; }
+  bool push_changed(size_t i) const { return push_changed_[i] != 0; }
+  uint64_t steps() const { return steps_; }
+
+ private:
+  mjModel* m_;
+  mjData* d_;
+  Parts parts_;
+  double pushed_[6] = {0, 0, 0, 0, 0, 0};  // the push wrench now in xfrc_applied
+  std::vector<char> push_on_, push_changed_;
+  uint64_t steps_ = 0;
+};
+
+}  // namespace ohrp::sim

@@ -1,0 +1,32 @@
+#include "sim_host/step.h"
+
+namespace ohrp::sim {
+
+PhysicsStep::PhysicsStep(mjModel* m, mjData* d, const Parts& parts) : m_(m), d_(d), parts_(parts) {
+  const size_t n = parts_.pushes ? parts_.pushes->size() : 0;
+  push_on_.assign(n, 0);
+  push_changed_.assign(n, 0);
+}
+
+bool PhysicsStep::Step() {
+  // the pushes on the step about to run, and which of them started or ended
+  if (parts_.pushes && !parts_.pushes->empty() && parts_.push_body >= 0) {
+    ApplyPushes(*parts_.pushes, m_, d_, parts_.push_body, pushed_);
+    const double dt = m_->opt.timestep;
+    for (size_t i = 0; i < push_on_.size(); ++i) {
+      const char on = PushActiveAt((*parts_.pushes)[i], d_->time, dt) ? 1 : 0;
+      push_changed_[i] = on != push_on_[i];
+      push_on_[i] = on;
+    }
+  }
+  // the servo's law, the soles' force, the step, the soles' friction state
+  if (parts_.servo) parts_.servo->Apply(m_, d_);
+  if (parts_.soft) parts_.soft->ApplyBeforeStep(m_, d_);
+  mj_step(m_, d_);
+  if (parts_.soft) parts_.soft->Commit();
+  ++steps_;
+  // the divergence watch
+  return !(parts_.watch && parts_.watch->Check(m_, d_, steps_));
+}
+
+}  // namespace ohrp::sim
