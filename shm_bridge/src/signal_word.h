@@ -11,7 +11,7 @@
 
 namespace ohrp::shm::internal {
 
-inline constexpr int64_t kMaxSpinNs = 100000;  // a waiter never spins longer than this
+inline constexpr int64_t kMaxSpinNs = 300000;   // a waiter never spins longer than this
 inline constexpr int64_t kMinSpinNs = 20000;   // nor, when it spins at all, shorter than this
                                                // (about what a wake-up from sleep costs)
 

@@ -83,7 +83,7 @@ TEST(NextTypical, AveragesAndBoundsEachAnswer) {
   EXPECT_EQ(NextTypical(30000, 1000000000), 30000 + (2 * kMaxSpinNs - 30000) / 8);
   // answers that stay slow turn the spin off, fast ones turn it on again
   int64_t typical = 30000;
-  for (int i = 0; i < 30; ++i) typical = NextTypical(typical, 1000000);
+  for (int i = 0; i < 30; ++i) typical = NextTypical(typical, 4 * kMaxSpinNs);
   EXPECT_EQ(SpinBudget(typical), 0);
   for (int i = 0; i < 30; ++i) typical = NextTypical(typical, 5000);
   EXPECT_GT(SpinBudget(typical), 0);

@@ -23,7 +23,7 @@
 // when kSignalSleeping was set; the waiter takes the post by clearing the word. A waiter first
 // stays awake for a bounded time: about twice what its peer took to answer lately (from the
 // start of the wait to the post time the poster stamps in `post_ns`, so that the waiter's own
-// wake-up latency does not count), at most 100 us, not at all when its peer takes longer. It
+// wake-up latency does not count), at most 300 us, not at all when its peer takes longer. It
 // spins when the poster last ran on another CPU (`poster_cpu`) and hands its CPU to the poster
 // (sched_yield) when they share one; then it sleeps in FUTEX_WAIT. Any other value of a word is
 // a corrupted segment: both ends report it (never abort, never spin on it).
