@@ -2,7 +2,10 @@
 // 1 ms physics, 1 ms control), beside sim_host's own physics step in one process (servo,
 // soles, mj_step on the same model) measured in the same run, and the real-time factor of both;
 // with the CPU time each process of the pair used per cycle (a waiter of the handshake spins for
-// a bounded time before it sleeps: that CPU time shows what the spinning costs).
+// a bounded time before it sleeps: that CPU time shows what the spinning costs). posture runs
+// without its self-collision check for the ratio (what the loop costs beyond the physics is the
+// handshake and posture's own few microseconds); a second row gives the loop with the check, as
+// posture runs by default (docs/selfcollision.md).
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -101,10 +104,11 @@ struct PairCpu {
   double controller = 0.0;
 };
 
-// sim_host + posture in lock-step (and an ohrp_view observing the segment when `viewer`);
-// returns sim_host's wall seconds per control cycle
+// sim_host + posture in lock-step (posture's self-collision check on when `self_collision`, an
+// ohrp_view observing the segment when `viewer`); returns sim_host's wall seconds per cycle
 double TwoProcessLoop(const std::string& bin, const std::string& scene, double dt, double duration,
-                      const std::string& summary, PairCpu* cpu, bool viewer = false) {
+                      const std::string& summary, PairCpu* cpu, bool self_collision,
+                      bool viewer = false) {
   const std::string seg = "bench_loop_" + std::to_string(getpid());
   const pid_t sim = Spawn({bin + "/sim_host", "--scene", scene, "--segment", seg, "--physics-dt",
                            std::to_string(dt), "--control-period", std::to_string(dt),
@@ -113,7 +117,9 @@ double TwoProcessLoop(const std::string& bin, const std::string& scene, double d
   const pid_t view = viewer ? Spawn({bin + "/ohrp_view", seg, "--scene", scene, "--attach-timeout", "20",
                                      "--port", "0"}, true)
                             : -1;
-  const pid_t ctl = Spawn({bin + "/posture", "--segment", seg, "--attach-timeout", "20"}, true);
+  std::vector<std::string> posture = {bin + "/posture", "--segment", seg, "--attach-timeout", "20"};
+  if (!self_collision) posture.push_back("--no-self-collision");
+  const pid_t ctl = Spawn(posture, true);
   int st = 0;
   cpu->sim_host = ReapWithCpu(sim, &st);
   const bool sim_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
@@ -142,7 +148,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "bench_loop: wall time per control cycle of sim_host + posture in lock-step (separate\n"
       "processes, physics step = control period) beside sim_host's physics step alone (step.h) on the same\n"
-      "model, measured alternately in the same run. Prints medians and the ratio."};
+      "model, measured alternately in the same run. Prints medians and the ratio. posture runs\n"
+      "without its self-collision check for the ratio; a second row has the check on."};
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
   app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
   app.add_option("--duration", duration, "simulated seconds per measurement")->capture_default_str();
@@ -153,12 +160,12 @@ int main(int argc, char** argv) {
   const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
   const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";
 
-  std::vector<double> bare, loop, sim_cpu, ctl_cpu, watched;
+  std::vector<double> bare, loop, sim_cpu, ctl_cpu, watched, checked;
   const int steps = static_cast<int>(duration / dt);
   for (int r = 0; r < repeats; ++r) {
     bare.push_back(BareLoop(scene, dt, steps));
     PairCpu cpu;
-    loop.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &cpu));
+    loop.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &cpu, false));
     sim_cpu.push_back(cpu.sim_host / steps);
     ctl_cpu.push_back(cpu.controller / steps);
     std::fprintf(stderr,
@@ -166,9 +173,13 @@ int main(int argc, char** argv) {
                  "%.1f, posture %.1f us/cycle)\n",
                  r + 1, repeats, bare.back() * 1e6, loop.back() * 1e6, sim_cpu.back() * 1e6,
                  ctl_cpu.back() * 1e6);
+    PairCpu checked_cpu;
+    checked.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &checked_cpu, true));
+    std::fprintf(stderr, "  run %d/%d: the same with posture's self-collision check %.1f us/cycle\n",
+                 r + 1, repeats, checked.back() * 1e6);
     if (viewer) {
       PairCpu watched_cpu;
-      watched.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &watched_cpu, true));
+      watched.push_back(TwoProcessLoop(bin, scene, dt, duration, summary, &watched_cpu, false, true));
       std::fprintf(stderr, "  run %d/%d: sim_host+posture with ohrp_view attached %.1f us/cycle\n",
                    r + 1, repeats, watched.back() * 1e6);
     }
@@ -180,6 +191,9 @@ int main(int argc, char** argv) {
   std::printf("%-34s %14.1f %11.1fx\n", "sim_host + posture (lock-step)", l * 1e6, dt / l);
   std::printf("cpu per cycle (whole runs, set-up included): sim_host %.1f us, posture %.1f us\n",
               Median(sim_cpu) * 1e6, Median(ctl_cpu) * 1e6);
+  const double c = Median(checked);
+  std::printf("%-34s %14.1f %11.1fx  (posture's default; not in the ratio)\n",
+              "the same, self-collision check on", c * 1e6, dt / c);
   if (viewer) {
     const double w = Median(watched);
     std::printf("%-34s %14.1f %11.1fx\n", "the same with ohrp_view attached", w * 1e6, dt / w);
