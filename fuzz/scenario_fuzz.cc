@@ -17,10 +17,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (error.empty()) std::abort();
     return 0;
   }
-  // an accepted run has a step (0: the scene's), a period and a duration within their bounds
-  // and checks to make
+  // an accepted run has a step (0: the scene's), a period (0: sim_host's, the multiple of the
+  // step nearest 5 ms) and a duration within their bounds and checks to make
   if (!(scenario.physics_dt >= 0 && scenario.physics_dt <= 0.1) ||
-      !(scenario.control_period > 0 && scenario.control_period <= 1) ||
+      !(scenario.control_period >= 0 && scenario.control_period <= 1) ||
       !(scenario.duration >= scenario.control_period && scenario.duration <= 1e5) ||
       scenario.checks.empty()) {
     std::abort();
