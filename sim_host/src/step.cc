@@ -21,8 +21,16 @@ bool PhysicsStep::Step() {
   }
   // the servo's law, the soles' force, the step, the soles' friction state
   if (parts_.servo) parts_.servo->Apply(m_, d_);
-  if (parts_.soft) parts_.soft->ApplyBeforeStep(m_, d_);
-  mj_step(m_, d_);
+  if (parts_.soft && !parts_.soft->at_every_stage() && m_->opt.integrator != mjINT_RK4) {
+    // split around the contact, so that the kinematics and the mass matrix MuJoCo computes for
+    // the step are those the contact uses (RK4 has no split: mj_step integrates it)
+    mj_step1(m_, d_);
+    parts_.soft->ApplyAfterStep1(m_, d_);
+    mj_step2(m_, d_);
+  } else {
+    if (parts_.soft) parts_.soft->ApplyBeforeStep(m_, d_);
+    mj_step(m_, d_);
+  }
   if (parts_.soft) parts_.soft->Commit();
   ++steps_;
   // the divergence watch

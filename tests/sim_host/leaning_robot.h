@@ -52,12 +52,21 @@ class LeaningRobot {
 
   // One physics step, sim_host's own (sim_host/step.h), after the commands (the lean ramped in
   // over one second). Returns false if the servo refused the commands.
-  bool Step() {
+  // unsplit: the same parts with mj_step in one piece after the contact's own kinematics (the
+  // reference the split step must reproduce)
+  bool Step(bool unsplit = false) {
     const double s = std::clamp((d()->time - lean_start_) / 1.0, 0.0, 1.0);
     for (int i = 0; i < cmd_.njoint; ++i)
       cmd_.joint[i].q_ref = start_[i] + lean_[i] * 0.5 * (1 - std::cos(M_PI * s));
     if (servo_->Accept(cmd_) != 0) return false;
-    step_->Step();
+    if (!unsplit) {
+      step_->Step();
+      return true;
+    }
+    servo_->Apply(m(), d());
+    soft_->ApplyBeforeStep(m(), d());
+    mj_step(m(), d());
+    soft_->Commit();
     return true;
   }
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "../robot_model/count_allocations.h"
@@ -29,6 +31,32 @@ TEST(PhysicsStep, StandingOnTheImplicitSoftSolesAllocatesNothing) {
   double fz = 0;
   for (const auto& w : r.soft().wrenches()) fz += w.force.z();
   EXPECT_NEAR(fz, r.robot().total_mass * 9.81, 0.05 * r.robot().total_mass * 9.81);
+}
+
+// The step splits mj_step around the contact (mj_step1, contact, mj_step2) so that the contact
+// uses MuJoCo's kinematics and mass matrix of the step: the robot must move exactly as with
+// mj_step in one piece after the contact computed them itself, for Euler and for the implicit
+// integrator (whose joint damping mj_step2 must integrate as mj_step does), while it leans and
+// its soles load and unload.
+TEST(PhysicsStep, SplitStepIsTheUnsplitOne) {
+  for (int integrator : {mjINT_EULER, mjINT_IMPLICIT}) {
+    testing::LeaningRobot split, whole;
+    split.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", 0.001, 0.3, 1.0);
+    whole.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", 0.001, 0.3, 1.0);
+    split.m()->opt.integrator = whole.m()->opt.integrator = integrator;
+    for (int i = 0; i < 1500; ++i) {
+      ASSERT_TRUE(split.Step());
+      ASSERT_TRUE(whole.Step(/*unsplit=*/true));
+    }
+    double worst = 0;
+    for (int i = 0; i < split.m()->nq; ++i)
+      worst = std::max(worst, std::abs(split.d()->qpos[i] - whole.d()->qpos[i]));
+    for (int i = 0; i < split.m()->nv; ++i)
+      worst = std::max(worst, 1e-3 * std::abs(split.d()->qvel[i] - whole.d()->qvel[i]));
+    EXPECT_LT(worst, 1e-12) << "integrator " << integrator;
+    // and the robot did move: the lean tilted it
+    EXPECT_GT(std::abs(split.d()->qpos[3] - 1), 1e-4);
+  }
 }
 
 TEST(PhysicsStep, ReportsEachPushStartAndEnd) {

@@ -15,7 +15,7 @@ Eigen::Vector3d FitPlane(const std::vector<SamplePoint>& grid, const std::vector
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   for (const PointContact& c : pts) {
-    if (c.object != object) continue;
+    if (c.object != object || c.depth <= 0) continue;
     const SamplePoint& s = grid[c.index];
     const Eigen::Vector3d row(1.0, s.u, s.v);
     A += s.weight * row * row.transpose();
@@ -45,20 +45,26 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
   // depths go straight into the per-point results).
   const double scale2 = sole.half.squaredNorm();
   int largest = 0;
+  // (points outside within reach keep their own depth and take no part in the fit)
   for (size_t i = 0; i < points.size(); ++i) {
+    if (points[i].depth <= 0) {
+      out->per_point[i].depth_fit = points[i].depth;
+      continue;
+    }
     const int object = points[i].object;
     bool seen = false;
-    for (size_t j = 0; j < i && !seen; ++j) seen = points[j].object == object;
+    for (size_t j = 0; j < i && !seen; ++j) seen = points[j].object == object && points[j].depth > 0;
     if (seen) continue;
     if (!p.least_squares) {
       for (size_t k = i; k < points.size(); ++k)
-        if (points[k].object == object) out->per_point[k].depth_fit = points[k].depth;
+        if (points[k].object == object && points[k].depth > 0)
+          out->per_point[k].depth_fit = points[k].depth;
       continue;
     }
     const Eigen::Vector3d abc = FitPlane(grid, points, object, scale2);
     int members = 0;
     for (size_t k = i; k < points.size(); ++k) {
-      if (points[k].object != object) continue;
+      if (points[k].object != object || points[k].depth <= 0) continue;
       const SamplePoint& s = grid[points[k].index];
       out->per_point[k].depth_fit = abc[0] + abc[1] * s.u + abc[2] * s.v;
       ++members;
@@ -86,22 +92,28 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
     f.pos = c.pos;
     f.normal = c.normal;
     f.depth = c.depth;
+    f.depth_signed = fitted;
     f.depth_fit = std::max(fitted, 0.0);
     const Eigen::Vector3d r = c.pos - sole.pose.translation();
     const Eigen::Vector3d v = twist.linear + twist.angular.cross(r);
     const double vn = v.dot(c.normal);
     f.pen_vel = -vn;
+    const Eigen::Vector3d vt = v - vn * c.normal;
+    if (c.depth <= 0) {  // outside, within reach: no force, no anchor
+      f.ft_trial = -p.tangential_damping * w * vt;
+      continue;
+    }
     // 2-4. spring and Hunt-Crossley damper, never pulling.
     const double spring = p.stiffness * w * std::pow(f.depth_fit, p.exponent);
     f.fn = std::max(0.0, spring * (1.0 + p.damping * f.pen_vel));
     // 5. friction: tangential spring-damper from the anchor, saturated by Coulomb.
-    const Eigen::Vector3d vt = v - vn * c.normal;
     const Anchor& a = anchors.size() > static_cast<size_t>(c.index) ? anchors[c.index] : Anchor{};
     Eigen::Vector3d anchor = (a.active && a.object == c.object) ? a.pos : c.pos;
     Eigen::Vector3d s = c.pos - anchor;
     s -= s.dot(c.normal) * c.normal;
     const double kt = p.tangential_stiffness * w;
     Eigen::Vector3d ft = -kt * s - p.tangential_damping * w * vt;
+    f.ft_trial = ft;
     const double limit = p.friction * f.fn;
     const double mag = ft.norm();
     if (mag > limit) {
@@ -123,14 +135,17 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
     out->normal_force += f.fn;
     out->slipping += f.slipping ? 1 : 0;
   }
+  int touching = 0;
+  for (const PointContact& c : points) touching += c.depth > 0 ? 1 : 0;
+  if (touching == 0) return;
   out->in_contact = true;
-  out->points = static_cast<int>(points.size());
+  out->points = touching;
   if (out->normal_force > 0) {
     out->point = cop_sum / out->normal_force;
     out->normal = normal_sum.normalized();
     out->penetration_velocity = vel_sum / out->normal_force;
   } else {
-    out->point = centroid / static_cast<double>(points.size());
+    out->point = centroid / static_cast<double>(touching);
     out->normal = points.front().normal;
   }
   for (const PointForce& f : out->per_point) out->torque += (f.pos - out->point).cross(f.force);

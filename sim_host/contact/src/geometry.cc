@@ -331,8 +331,9 @@ double ContactGeometry::SignedDistance(const EnvObject& o, const Eigen::Vector3d
 }
 
 void ContactGeometry::Find(const SoleBox& sole, const std::vector<SamplePoint>& grid,
-                           std::vector<PointContact>* out) {
+                           std::vector<PointContact>* out, double reach) {
   out->clear();
+  reach = std::clamp(reach, 0.0, margin_);
   candidates_.clear();
   for (int i = 0; i < static_cast<int>(env_.size()); ++i) {
     const EnvObject& o = env_[i];
@@ -350,7 +351,7 @@ void ContactGeometry::Find(const SoleBox& sole, const std::vector<SamplePoint>& 
       ++stats_.fcl_queries;
       const double dist = fcl::distance(&box, fcl::Transform3d(sole.pose.matrix()), o.shape.get(),
                                         fcl::Transform3d(o.pose.matrix()), req, res);
-      if (dist > 0) {
+      if (dist > reach) {
         ++stats_.pairs_fcl_far;
         continue;
       }
@@ -363,10 +364,11 @@ void ContactGeometry::Find(const SoleBox& sole, const std::vector<SamplePoint>& 
   for (int k = 0; k < static_cast<int>(grid.size()); ++k) {
     const Eigen::Vector3d p = sole.pose * Eigen::Vector3d(grid[k].u, grid[k].v, -sole.half.z());
     PointContact best;
+    best.depth = -reach;  // the deepest wins; outside ones only within reach
     for (int i : candidates_) {
       Eigen::Vector3d n;
       const double sd = SignedDistance(env_[i], p, &n);
-      if (sd < 0 && -sd > best.depth) {
+      if (sd < reach && -sd > best.depth) {
         best.index = k;
         best.object = i;
         best.pos = p;

@@ -1,13 +1,28 @@
-// The linearly implicit soft-foot force (issue 11, part 1), in the spirit of Drake's TAMSI:
-// the spring and damper of every touching point are linearised about the step's start, and
-// the force added over the step is the one at the step's end to first order,
-//     W = W0 + (beta h K + gamma D) dv,        dv = dv_free + h A (W - W0),
-// where W is the wrench on each sole body about its centre of mass, v its twist, K and D the
-// 6x6 stiffness and damping of the bed of springs about that point, A = J M^-1 J^T the sole
-// bodies' apparent inverse inertia (from MuJoCo's mass matrix, coupling the soles of one robot)
-// and dv_free the twist change the step would make with the explicit W0. dv_free is predicted
-// from the previous step's accelerations plus the change of the contact wrench since then
-// (one mj_forward is not spent on it). No allocation: everything is sized in Create.
+// The linearly implicit soft-foot force (issue 11, part 1), in the spirit of Drake's TAMSI,
+// with the normal law integrated over the step's motion rather than sampled at its start.
+//
+// MuJoCo's step is semi-implicit Euler, x1 = x0 + h v1, v1 = v0 + h a: a leapfrog whose
+// velocities belong to the intervals between the positions. The force held over the step at x0
+// stands for the interval [t0 - h/2, t0 + h/2]; here each point's normal force is the average
+// of the law along the straight path through x0 with the velocity of the interval before (v0)
+// and after (v1, unknown): per point, with delta its depth and r = -v . n its rate,
+//     fn = k w / h * [ int_0^h max(0, delta - r0 s)^n wt(s) ds + int_0^h max(0, delta + r1 s)^n wt(s) ds ]
+//          * (1 + c r1),
+// wt(s) = (1 - lam)(1 - s/h) + lam/2. With lam = 0 (the hat) this is the force of the
+// variational integrator whose potential is averaged along the path: a bounce keeps its energy
+// and a contact that starts or ends within a step is integrated exactly along that path (a
+// point that is outside at x0 but inside at x1 pushes already), whatever the phase. lam = 1
+// (the box) is as accurate at the transitions and unconditionally stable in the linear range
+// (the average acceleration of Newmark's beta = 1/4; the hat is beta = 1/6, stable for
+// (omega h)^2 < 12); per sole body lam rises from 0 where (omega h)^2 = h^2 tr(A K) passes 6.
+// The damper sees the rate at the step's end (backward Euler: stable at any damping).
+// v1 comes from one Newton step about v1 = v0 through the sole bodies' apparent inverse inertia
+// A = J M^-1 J^T (MuJoCo's mass matrix, coupling the soles of one robot):
+//     W = W0 + B dv,        dv = dv_free + h A (W - W0),
+// W0 the wrench at v1 = v0, B its derivative in the end twist (normal law, and the friction
+// spring and damper as before: beta h k_t + b_t), dv_free the twist change the step would make
+// with W0, predicted from the previous step's accelerations plus the change of the contact
+// wrench since then (no extra mj_forward). No allocation: everything is sized in Create.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -20,14 +35,12 @@ namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
-// the spring sees the displacement the step's velocity change adds, beta h dv: with MuJoCo's
-// semi-implicit Euler (q += h v_next) this keeps the map of an undamped spring area-preserving
-// (no numerical damping, no energy gain) and makes it stable at any step for beta >= 1/4
-// (beta h^2 k / m in place of the explicit scheme's 0: Newmark's average acceleration)
+// the friction spring sees the displacement the step's velocity change adds, beta h dv (stable
+// at any step for beta >= 1/4); its damper the velocity at the step's end
 constexpr double kSpringBeta = 0.25;
-// the damper sees gamma dv: 1 = the velocity at the step's end (backward Euler; measured: the
-// trapezoidal 1/2 leaves a 10 kg block bouncing at 1 m/s with 5 x the converged restitution)
 constexpr double kDamperGamma = 1.0;
+// the hat window while (omega h)^2 stays below this, half its stability limit of 12
+constexpr double kHatLimit = 6.0;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& r) {
   Eigen::Matrix3d s;
@@ -44,12 +57,61 @@ void AddPoint(const Eigen::Matrix3d& P, const Eigen::Vector3d& r, Mat6* out) {
   *out += G.transpose() * P * G;
 }
 
+// int_0^h max(0, d0 + a s)^n wt(s) ds, wt(s) = (1 - lam)(1 - s/h) + lam / 2, by Gauss-Legendre
+// over the part of the interval where the depth is positive (exact for n = 1)
+double Segment(double d0, double a, double h, double n, double lam) {
+  double lo = 0, hi = h;
+  if (a > 0) {
+    if (d0 + a * h <= 0) return 0;
+    if (d0 < 0) lo = -d0 / a;
+  } else if (a < 0) {
+    if (d0 <= 0) return 0;
+    if (d0 + a * h < 0) hi = -d0 / a;
+  } else if (d0 <= 0) {
+    return 0;
+  }
+  const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  auto f = [&](double s) {
+    const double depth = std::max(d0 + a * s, 0.0);
+    const double wt = (1 - lam) * (1 - s / h) + 0.5 * lam;
+    return (n == 1 ? depth : std::pow(depth, n)) * wt;
+  };
+  if (n == 1) {  // a polynomial of degree 2: two points are exact
+    const double x = half * 0.5773502691896258;
+    return half * (f(mid - x) + f(mid + x));
+  }
+  const double x1 = half * 0.3399810435848563, x2 = half * 0.8611363115940526;
+  return half * (0.6521451548625461 * (f(mid - x1) + f(mid + x1)) +
+                 0.3478548451374538 * (f(mid - x2) + f(mid + x2)));
+}
+
+// one point's normal force at the end rate r1 and its derivative in r1 (0 where it is 0)
+struct Normal {
+  double fn = 0, dfn = 0;
+};
+Normal WindowForce(const SoftContactParams& p, double area, double delta, double r0, double r1,
+                   double h, double lam) {
+  const double n = p.exponent;
+  const double scale = p.stiffness * area / h;
+  const double before = Segment(delta, -r0, h, n, lam);
+  auto after = [&](double r) { return Segment(delta, r, h, n, lam); };
+  const double spring = scale * (before + after(r1));
+  Normal out;
+  out.fn = spring * (1 + p.damping * r1);
+  if (out.fn <= 0) return Normal{};
+  const double eps = 1e-7 + 1e-6 * std::abs(r1);
+  const double dspring = scale * (after(r1 + eps) - after(r1 - eps)) / (2 * eps);
+  out.dfn = dspring * (1 + p.damping * r1) + spring * p.damping;
+  return out;
+}
+
 }  // namespace
 
 void SoftFootContact::AllocateImplicit(const mjModel* m) {
   const int n = 6 * static_cast<int>(bodies_.size());
   stiff_.assign(bodies_.size(), Mat6::Zero());
   damp_.assign(bodies_.size(), Mat6::Zero());
+  normal_.assign(bodies_.size(), Eigen::Vector3d::Zero());
   jac_.assign(static_cast<size_t>(n) * m->nv, 0);
   minv_jt_.assign(static_cast<size_t>(n) * m->nv, 0);
   mobility_ = Eigen::MatrixXd::Zero(n, n);
@@ -58,51 +120,41 @@ void SoftFootContact::AllocateImplicit(const mjModel* m) {
   lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
 }
 
-void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d) {
+void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_factored) {
   const SoftContactParams& p = params_;
   const double h = m->opt.timestep;
   const int nb = static_cast<int>(bodies_.size());
   const int nv = m->nv;
-  // per body: the explicit wrench W0 about the centre of mass and the bed's K and D there
+  // per body: the static stiffness K about the centre of mass (for the window's lam), and
+  // whether any point touches or may touch during the step
   bool any = false;
   for (int k = 0; k < nb; ++k) {
     const int b = bodies_[k];
     const Eigen::Vector3d com = Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
-    Vec6 w0 = Vec6::Zero();
     stiff_[k].setZero();
-    damp_[k].setZero();
     for (size_t s = 0; s < sole_geom_.size(); ++s) {
-      const SoleWrench& w = wrenches_[s];
-      if (!w.in_contact || m->geom_bodyid[sole_geom_[s]] != b) continue;
-      w0.head<3>() += w.force;
-      w0.tail<3>() += w.torque + (w.point - com).cross(w.force);
-      for (const PointForce& f : w.per_point) {
-        if (f.fn <= 0) continue;  // the law is clamped at zero: no slope
-        const double area = grid_[s][f.index].weight;
-        const double delta = f.depth_fit;
-        // d fn / d delta and d fn / d delta', delta growing as the point moves against n
-        const double kn = p.exponent * p.stiffness * area * std::pow(delta, p.exponent - 1) *
-                          (1 + p.damping * f.pen_vel);
-        const double dn = p.stiffness * area * std::pow(delta, p.exponent) * p.damping;
-        const Eigen::Matrix3d nn = f.normal * f.normal.transpose();
-        const Eigen::Matrix3d tt = Eigen::Matrix3d::Identity() - nn;
-        const double kt = f.slipping ? 0.0 : p.tangential_stiffness * area;
-        const double bt = f.slipping ? 0.0 : p.tangential_damping * area;
-        const Eigen::Vector3d r = f.pos - com;
-        AddPoint(-(kn * nn + kt * tt), r, &stiff_[k]);
-        AddPoint(-(dn * nn + bt * tt), r, &damp_[k]);
+      if (m->geom_bodyid[sole_geom_[s]] != b) continue;
+      for (const PointForce& f : wrenches_[s].per_point) {
         any = true;
+        if (f.depth_signed <= 0) continue;
+        const double area = grid_[s][f.index].weight;
+        const double kn = p.exponent * p.stiffness * area *
+                          (p.exponent == 1 ? 1.0 : std::pow(f.depth_signed, p.exponent - 1));
+        const Eigen::Matrix3d nn = f.normal * f.normal.transpose();
+        const double kt = f.slipping ? 0.0 : p.tangential_stiffness * area;
+        AddPoint(kn * nn + kt * (Eigen::Matrix3d::Identity() - nn), f.pos - com, &stiff_[k]);
       }
     }
-    wrench_.segment<6>(6 * k) = w0;
   }
   if (!any) {
     Apply(m, d);
     return;
   }
   // the mass matrix at this state, the stacked body Jacobians and A = J M^-1 J^T
-  mj_crb(m, d);
-  mj_factorM(m, d);
+  if (!mass_factored) {
+    mj_crb(m, d);
+    mj_factorM(m, d);
+  }
   const int n = 6 * nb;
   for (int k = 0; k < nb; ++k) {
     mjtNum* rows = jac_.data() + static_cast<size_t>(6 * k) * nv;
@@ -114,30 +166,62 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d) {
   const Eigen::Map<const RowMat> X(minv_jt_.data(), n, nv);
   const Eigen::Map<const Eigen::VectorXd> qacc(d->qacc, nv);
   mobility_.noalias() = J * X.transpose();
+  // per body: W0 (the window force at v1 = v0, and the friction of the law at the start) and
+  // B = dW / d(end twist)
+  for (int k = 0; k < nb; ++k) {
+    const int b = bodies_[k];
+    const Eigen::Vector3d com = Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
+    const double w2 = h * h * (mobility_.block<6, 6>(6 * k, 6 * k) * stiff_[k]).trace();
+    const double lam = w2 > kHatLimit ? 1 - kHatLimit / w2 : 0.0;
+    Vec6 w0 = Vec6::Zero();
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    damp_[k].setZero();
+    for (size_t s = 0; s < sole_geom_.size(); ++s) {
+      if (m->geom_bodyid[sole_geom_[s]] != b) continue;
+      for (const PointForce& f : wrenches_[s].per_point) {
+        const double area = grid_[s][f.index].weight;
+        const Normal nf = WindowForce(p, area, f.depth_signed, f.pen_vel, f.pen_vel, h, lam);
+        // friction: the law's spring and damper, limited by this normal force (a point that
+        // enters within the step grips as it pushes)
+        Eigen::Vector3d ft = f.ft_trial;
+        const double limit = p.friction * nf.fn, mag = ft.norm();
+        const bool slipping = mag > limit;
+        if (slipping) ft *= mag > 0 ? limit / mag : 0.0;
+        const Eigen::Vector3d force = nf.fn * f.normal + ft;
+        const Eigen::Vector3d r = f.pos - com;
+        w0.head<3>() += force;
+        w0.tail<3>() += r.cross(force);
+        if (nf.fn > 0) normal += nf.fn * f.normal;
+        // the end rate is -(v1 . n): the force on the body per end velocity of the point
+        const Eigen::Matrix3d nn = f.normal * f.normal.transpose();
+        const double kt = slipping || f.depth <= 0 ? 0.0 : p.tangential_stiffness * area;
+        const double bt = slipping ? 0.0 : p.tangential_damping * area;
+        const Eigen::Matrix3d tt = Eigen::Matrix3d::Identity() - nn;
+        AddPoint(-(nf.dfn * nn) - (kSpringBeta * h * kt + kDamperGamma * bt) * tt, r, &damp_[k]);
+      }
+    }
+    wrench_.segment<6>(6 * k) = w0;
+    normal_[k] = normal;
+  }
   // the free twist change: last step's accelerations, plus what the contact changed since
   for (int k = 0; k < nb; ++k) correction_.segment<6>(6 * k) = wrench_.segment<6>(6 * k) - applied_[k];
   dv_.noalias() = J * qacc;
   dv_.noalias() += mobility_ * correction_;
   dv_ *= h;
-  // (I - h B A) g = B dv_free, B = beta h K + gamma D, per body block
+  // (I - h B A) g = B dv_free, per body block
   system_.setIdentity();
   for (int k = 0; k < nb; ++k) {
-    const Mat6 B = kSpringBeta * h * stiff_[k] + kDamperGamma * damp_[k];
-    system_.middleRows<6>(6 * k).noalias() -= h * B * mobility_.middleRows<6>(6 * k);
-    rhs_.segment<6>(6 * k) = B * dv_.segment<6>(6 * k);
+    system_.middleRows<6>(6 * k).noalias() -= h * damp_[k] * mobility_.middleRows<6>(6 * k);
+    rhs_.segment<6>(6 * k) = damp_[k] * dv_.segment<6>(6 * k);
   }
   lu_.compute(system_);
   correction_.noalias() = lu_.solve(rhs_);
   // the sum never pulls: the correction is cut where it would turn the normal force over
   for (int k = 0; k < nb; ++k) {
-    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    for (size_t s = 0; s < sole_geom_.size(); ++s)
-      if (wrenches_[s].in_contact && m->geom_bodyid[sole_geom_[s]] == bodies_[k])
-        normal += wrenches_[s].normal_force * wrenches_[s].normal;
-    if (normal.squaredNorm() == 0) continue;
-    normal.normalize();
-    const double f0 = wrench_.segment<3>(6 * k).dot(normal);
-    const double df = correction_.segment<3>(6 * k).dot(normal);
+    if (normal_[k].squaredNorm() == 0) continue;
+    const Eigen::Vector3d nrm = normal_[k].normalized();
+    const double f0 = wrench_.segment<3>(6 * k).dot(nrm);
+    const double df = correction_.segment<3>(6 * k).dot(nrm);
     double scale = 1;
     if (f0 + df < 0 && df < 0) scale = std::max(0.0, f0 / -df);
     wrench_.segment<6>(6 * k) += scale * correction_.segment<6>(6 * k);

@@ -188,17 +188,26 @@ void SoftFootContact::UpdateKinematics(const mjModel* m, mjData* d) {
   mj_comVel(m, d);
 }
 
-const std::vector<SoleWrench>& SoftFootContact::Evaluate(const mjModel* m, const mjData* d) {
+const std::vector<SoleWrench>& SoftFootContact::Evaluate(const mjModel* m, const mjData* d,
+                                                         bool with_reach) {
   for (EnvObject& o : geometry_.env()) o.pose = GeomPose(d, o.geom_id);
+  const double h = m->opt.timestep;
+  const double g_norm = mju_norm3(m->opt.gravity);
   for (size_t s = 0; s < sole_geom_.size(); ++s) {
     const int g = sole_geom_[s];
     SoleBox sole{GeomPose(d, g), sole_half_[s]};
-    geometry_.Find(sole, grid_[s], &points_);
     mjtNum vel[6];
     mj_objectVelocity(m, d, mjOBJ_GEOM, g, vel, 0);
     SoleTwist twist;
     twist.angular = Eigen::Vector3d(vel[0], vel[1], vel[2]);
     twist.linear = Eigen::Vector3d(vel[3], vel[4], vel[5]);
+    // the implicit step also wants the points that may enter within a step either side: a
+    // bound of how far a point moves in two steps at this speed, plus what gravity adds
+    const double reach =
+        with_reach ? 2 * h * (twist.linear.norm() + twist.angular.norm() * sole_half_[s].norm()) +
+                         4 * h * h * g_norm
+                   : 0.0;
+    geometry_.Find(sole, grid_[s], &points_, reach);
     ComputeWrench(params_, sole, twist, grid_[s], points_, anchors_[s], &scratch_[s],
                   &wrenches_[s]);
   }
@@ -229,9 +238,19 @@ void SoftFootContact::Apply(const mjModel* m, mjData* d) {
 void SoftFootContact::ApplyBeforeStep(const mjModel* m, mjData* d) {
   if (at_every_stage_) return;  // mj_step's mj_forward evaluates it (see EvaluateAtEveryStage)
   UpdateKinematics(m, d);
-  Evaluate(m, d);
+  Evaluate(m, d, implicit_);
   if (implicit_) {
-    ApplyImplicit(m, d);
+    ApplyImplicit(m, d, /*mass_factored=*/false);
+  } else {
+    Apply(m, d);
+  }
+}
+
+void SoftFootContact::ApplyAfterStep1(const mjModel* m, mjData* d) {
+  if (at_every_stage_) return;
+  Evaluate(m, d, implicit_);
+  if (implicit_) {
+    ApplyImplicit(m, d, /*mass_factored=*/true);
   } else {
     Apply(m, d);
   }

@@ -2,6 +2,9 @@
 // the benchmarks, the accuracy tool, the tests), so that each times and tests the real step:
 //   pushes -> servo -> soft contact (implicit force, contact/soft_contact.h) -> mj_step
 //   -> commit of the contact's friction state -> divergence watch.
+// With the soft soles and the Euler or implicit integrator, the step is MuJoCo's mj_step1, the
+// contact, mj_step2: the contact reads the kinematics and the factorised mass matrix that
+// mj_step1 computed for the step instead of computing them once more (same forces, same state).
 // Every part but the model is optional (null / empty). Per step: no allocation, no throw, no
 // log (the watch's diagnosis, which allocates, is the caller's, after Step() returned false).
 #pragma once

@@ -38,9 +38,16 @@ struct PointForce {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // normal + tangential [N], on the sole
   double depth = 0;      // raw depth from the geometry [m]
-  double depth_fit = 0;  // least-squares depth used by the law [m]
+  double depth_fit = 0;  // least-squares depth used by the law [m], >= 0
+  // the signed depth the implicit step integrates [m]: the fitted one (may be < 0 where the
+  // fitted plane leaves the point outside), or the point's own depth < 0 for a point outside
+  // within the search's reach (fn 0, no friction: it may only enter during the step)
+  double depth_signed = 0;
   double pen_vel = 0;    // penetration velocity [m/s], > 0 going in
   double fn = 0;         // normal force [N]
+  // the friction spring and damper before Coulomb's limit [N] (for a point outside: the damper
+  // alone, as if it stuck where it is): the implicit step limits it by its own normal force
+  Eigen::Vector3d ft_trial = Eigen::Vector3d::Zero();
   bool slipping = false;
 };
 
@@ -71,7 +78,9 @@ struct SoleTwist {
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();
 };
 
-// Computes the wrench from the penetrating points. `anchors` (committed, one per sample point)
+// Computes the wrench from the penetrating points (depth > 0); points outside within the
+// search's reach (depth <= 0) are listed in per_point with fn 0 and no force, and count nowhere
+// else (not in_contact, not in points). `anchors` (committed, one per sample point)
 // is read; `proposed` (resized to the grid) receives the anchors this evaluation would leave.
 void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTwist& twist,
                    const std::vector<SamplePoint>& grid, const std::vector<PointContact>& points,

@@ -107,7 +107,8 @@ struct PointContact {
   int object = -1;                           // index of the environment object
   Eigen::Vector3d pos = Eigen::Vector3d::Zero();     // world position of the sample point
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // unit, out of the object (push direction)
-  double depth = 0;                          // [m] > 0
+  double depth = 0;                          // [m] > 0 inside; <= 0 for a point within the
+                                             // search's reach outside (Find's `reach`)
 };
 
 struct GeometryStats {
@@ -127,9 +128,13 @@ class ContactGeometry {
   const GeometryStats& stats() const { return stats_; }
   void ResetStats() { stats_ = {}; }
 
-  // The penetrating points of the sole's bottom face (grid from MakeGrid with the same half).
+  // The penetrating points of the sole's bottom face (grid from MakeGrid with the same half),
+  // and, with reach > 0, also the points outside but within `reach` [m] of an object (depth in
+  // (-reach, 0]: the implicit step's points that may enter during the step; reach is capped at
+  // the broad-phase margin). For a plane and a heightfield the outside distance is the exact
+  // one; for the other objects a lower bound (a point may be listed a little early).
   void Find(const SoleBox& sole, const std::vector<SamplePoint>& grid,
-            std::vector<PointContact>* out);
+            std::vector<PointContact>* out, double reach = 0);
 
   // Signed distance [m] of a world point to one object, closed form, no FCL: < 0 inside, exact
   // there (the depth of the nearest face) with that face's outward normal; > 0 outside (for a

@@ -51,8 +51,10 @@ class SoftFootContact {
 
   // Computes the wrench of every sole from d's kinematics (xpos/xmat, cvel, subtree_com must
   // be current: after mj_forward, inside mjcb_control, or after UpdateKinematics). Does not
-  // touch d and does not advance the friction state.
-  const std::vector<SoleWrench>& Evaluate(const mjModel* m, const mjData* d);
+  // touch d and does not advance the friction state. with_reach: also list the points outside
+  // that may enter within a step (what the implicit step integrates; they carry no force here).
+  const std::vector<SoleWrench>& Evaluate(const mjModel* m, const mjData* d,
+                                          bool with_reach = false);
   // Writes the last evaluation into d->xfrc_applied (replacing its previous contribution).
   void Apply(const mjModel* m, mjData* d);
   // mj_kinematics + mj_comPos + mj_comVel at the current qpos/qvel (what mj_step recomputes
@@ -61,6 +63,10 @@ class SoftFootContact {
   // spring and damper at the end of the step to first order, through the sole bodies'
   // apparent inertia; wrenches() stay the law at the step's start.
   void ApplyBeforeStep(const mjModel* m, mjData* d);
+  // The same between mj_step1 and mj_step2 (Euler and implicit integrators), which have just
+  // computed the kinematics, the com velocities and the factorised mass matrix at this state:
+  // nothing is computed twice (mj_step would redo them after ApplyBeforeStep). Identical forces.
+  void ApplyAfterStep1(const mjModel* m, mjData* d);
   static void UpdateKinematics(const mjModel* m, mjData* d);
   // Advances the friction anchors (call after mj_step).
   void Commit();
@@ -115,7 +121,8 @@ class SoftFootContact {
   SoftFootContact(ContactGeometry geometry, const SoftContactParams& params);
   // the linearly implicit correction added to the evaluated wrenches (implicit.cc)
   void AllocateImplicit(const mjModel* m);
-  void ApplyImplicit(const mjModel* m, mjData* d);
+  // mass_factored: d->qM and d->qLD are those of this state already (after mj_step1)
+  void ApplyImplicit(const mjModel* m, mjData* d, bool mass_factored);
 
   ContactGeometry geometry_;
   SoftContactParams params_;
@@ -135,7 +142,10 @@ class SoftFootContact {
   // of mass, the stacked body Jacobians (6 rows per body), M^-1 J^T, the apparent inverse
   // inertia, twist changes, wrenches and the LU of the small system
   bool implicit_ = true;
+  // stiff_: the law's static stiffness (for the window's lam); damp_: the wrench's derivative
+  // in the end twist; normal_: the direction the sum of the normal forces must not turn over
   std::vector<Eigen::Matrix<double, 6, 6>> stiff_, damp_;
+  std::vector<Eigen::Vector3d> normal_;
   std::vector<mjtNum> jac_, minv_jt_;
   Eigen::MatrixXd mobility_, system_;
   Eigen::VectorXd dv_, rhs_, correction_, wrench_;
