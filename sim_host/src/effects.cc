@@ -16,7 +16,7 @@ using namespace effects_internal;
 // what each effect needs to be computed
 std::vector<Effect> Needs(Effect e) {
   switch (e) {
-    case Effect::kSelfCollision: return {Effect::kNativeContact};
+    case Effect::kSelfContact: return {Effect::kNativeContact};
     case Effect::kForceTorque: return {Effect::kRnePost};
     case Effect::kAccelerometer: return {Effect::kRnePost};
     case Effect::kLogBase: return {Effect::kLog};
@@ -153,9 +153,9 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
     } else if (r >= 0) {
       cp.on = r == 1;
       cp.reason = std::string(r ? "switched on" : "switched off") + " by request (" + n + ")";
-    } else if (cp.self && !p.on(Effect::kSelfCollision)) {
+    } else if (cp.self && !p.on(Effect::kSelfContact)) {
       cp.on = false;
-      cp.reason = "self_collision is off";
+      cp.reason = "self_contact is off";
     } else {
       cp.on = true;
       cp.reason = "the scene lets them collide (" + n + ")";

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <map>
 
+#include "collision/from_mjcf.h"
 #include "effects_internal.h"
 
 namespace ohrp::sim::effects_internal {
@@ -87,11 +88,25 @@ bool DeclareDefaults(const mjModel* m, const RobotMap& robot, const FeetOptions&
                             : "the only colliding geoms are the soles, on the soft-foot contact");
   }
   if (self_pairs > 0 && !(flags & mjDSBL_CONTACT))
-    declare(Effect::kSelfCollision, true, true,
+    declare(Effect::kSelfContact, true, true,
             std::to_string(self_pairs) + " body pairs within one robot can collide");
   else
-    declare(Effect::kSelfCollision, false, false,
+    declare(Effect::kSelfContact, false, false,
             "the scene lets no two bodies of one robot collide (contype/conaffinity, <exclude>)");
+
+  // self-collision report: the controllers' checker on the robot's links (no physics)
+  collision::RobotGeometry geometry;
+  std::string why;
+  if (!collision::GeometryFromModel(m, robot, &geometry, &why)) {
+    declare(Effect::kSelfCollision, false, false, "the robot's geometry cannot be checked: " + why);
+  } else if (const size_t n = collision::NonAdjacentPairs(geometry).size(); n == 0) {
+    declare(Effect::kSelfCollision, false, false, "the robot has no two non-adjacent links with geoms");
+  } else {
+    declare(Effect::kSelfCollision, true, false,
+            "not asked for (--effects self_collision=on, --self-collision FILE, or a scenario's "
+            "self_collisions check): the robot's " + std::to_string(geometry.links.size()) +
+                " links have " + std::to_string(n) + " non-adjacent pairs to check");
+  }
 
   // sensors: what the segment carries
   const size_t nj = robot.joints.size();

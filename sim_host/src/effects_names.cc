@@ -9,7 +9,8 @@ namespace ohrp::sim {
 namespace effects_internal {
 
 const char* const kNames[kEffectCount] = {
-    "gravity",        "joint_limits", "passive",      "native_contact", "self_collision",
+    "gravity",        "joint_limits", "passive",      "native_contact", "self_contact",
+    "self_collision",
     "soft_contact",   "encoders",     "joint_velocities", "joint_torques", "force_torque",
     "gyro",           "accelerometer", "orientation", "rne_post",       "other_sensors",
     "noise",          "cameras",      "log",          "log_base",       "log_joints",
