@@ -12,9 +12,10 @@
 namespace ohrp::sim {
 namespace {
 
+// CPU time of this thread [s]: time spent descheduled on a shared machine does not count
 double Now() {
   timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 

@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
       {"self_collision (file's pairs)", "self_collision=on", ContactModel::kAuto, false,
        std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml"},
   };
-  // the watch's own clock: wall time per check, per configuration (the last round's)
+  // the watch's own clock: CPU time per check, per configuration (the last round's)
   std::vector<double> per_check(configs.size(), 0.0);
   std::vector<int> pairs_checked(configs.size(), 0);
   const size_t n = configs.size();

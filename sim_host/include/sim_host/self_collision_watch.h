@@ -52,8 +52,8 @@ struct SelfCollisionSummary {
   std::vector<std::string> excluded;  // pairs left out as built into each other (no file)
   uint64_t checks = 0;                // cycles checked
   uint64_t cycles_in_contact = 0;     // of those, cycles with at least one pair in contact
-  double check_seconds = 0;           // wall time in Check, in all [s]
-  double check_max = 0;               // the longest Check [s]
+  double check_seconds = 0;           // CPU time of the thread in Check, in all [s]
+  double check_max = 0;               // the longest Check (CPU time) [s]
   std::vector<SelfCollisionHit> pairs;  // in the order of their first contact
 };
 
