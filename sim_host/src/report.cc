@@ -204,7 +204,8 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
                        {"deepest", h.deepest}, {"deepest_time", h.deepest_time}, {"cycles", h.cycles}});
     j["self_collision"] = {{"source", sc.source}, {"links", sc.links},
                            {"pairs_checked", sc.pairs_checked}, {"excluded", sc.excluded},
-                           {"checks", sc.checks}, {"cycles_in_contact", sc.cycles_in_contact},
+                           {"checks", sc.checks}, {"measured", sc.measured},
+                           {"cycles_in_contact", sc.cycles_in_contact},
                            {"check_mean_s", sc.checks ? sc.check_seconds / sc.checks : 0.0},
                            {"check_max_s", sc.check_max}, {"pairs", pairs}};
   }

@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "collision/from_mjcf.h"
@@ -17,6 +18,42 @@ double Now() {
   timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// the largest distance of a point of `s` from its link's origin [m]
+double ShapeReach(const collision::Shape& s) {
+  double r = 0;
+  switch (s.type) {
+    case collision::ShapeType::kSphere: r = s.size[0]; break;
+    case collision::ShapeType::kCapsule: r = s.size[0] + s.size[1]; break;
+    case collision::ShapeType::kCylinder: r = std::hypot(s.size[0], s.size[1]); break;
+    case collision::ShapeType::kBox: r = s.size.norm(); break;
+    case collision::ShapeType::kConvex:
+      for (const auto& v : s.vertices) r = std::max(r, v.norm());
+      break;
+  }
+  return s.p_LS.norm() + r;
+}
+
+// per link, each hinge above it with a bound of the distance of any point of the link from the
+// hinge's axis in any posture: from the hinge's anchor to its link's origin, then down the
+// chain (a child's origin lies within |p_PL| + 2 |anchor_L| of its parent's, whatever its
+// angle), then the link's own shapes
+std::vector<std::vector<std::pair<int, double>>> Reach(const collision::RobotGeometry& g) {
+  const size_t n = g.links.size();
+  std::vector<double> own(n, 0.0);
+  for (size_t l = 0; l < n; ++l)
+    for (const auto& s : g.links[l].shapes) own[l] = std::max(own[l], ShapeReach(s));
+  std::vector<std::vector<std::pair<int, double>>> out(n);
+  for (size_t l = 0; l < n; ++l) {
+    double chain = 0;  // from the current link's origin down to link l's origin, bounded
+    for (int k = static_cast<int>(l); k >= 0; k = g.links[k].parent) {
+      const collision::Link& link = g.links[k];
+      if (link.joint >= 0) out[l].emplace_back(link.joint, link.anchor_L.norm() + chain + own[l]);
+      chain += link.p_PL.norm() + 2 * link.anchor_L.norm();
+    }
+  }
+  return out;
 }
 
 std::string Hex(uint64_t v) {
@@ -89,8 +126,13 @@ std::unique_ptr<SelfCollisionWatch> SelfCollisionWatch::Create(const mjModel* m,
       if (std::find(w->pairs_.begin(), w->pairs_.end(), q) == w->pairs_.end()) w->pairs_.push_back(q);
     }
   }
+  w->reach_ = Reach(g);
+  w->q_last_.assign(robot.joints.size(), std::nan(""));
+  w->moved_.assign(g.links.size(), 0.0);
   const size_t n = w->pairs_.size();
-  w->distance_.assign(n, 0.0);
+  w->moved_a_.assign(n, 0.0);
+  w->moved_b_.assign(n, 0.0);
+  w->distance_.assign(n, -INFINITY);  // no measurement yet
   w->in_contact_.reserve(n);
   w->first_time_.assign(n, -1.0);
   w->deepest_.assign(n, 0.0);
@@ -129,21 +171,48 @@ void SelfCollisionWatch::Start(const mjData* d) {
   ExcludeTouching("the initial state");
   if (pairs_.size() != before) {  // the per-pair arrays follow the list (set-up, not per cycle)
     const size_t n = pairs_.size();
-    distance_.assign(n, 0.0);
+    moved_a_.assign(n, 0.0);
+    moved_b_.assign(n, 0.0);
     first_time_.assign(n, -1.0);
     deepest_.assign(n, 0.0);
     deepest_time_.assign(n, 0.0);
     first_cycle_.assign(n, 0);
     cycles_.assign(n, 0);
   }
+  distance_.assign(pairs_.size(), -INFINITY);  // no measurement yet
 }
 
 void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
   const double t0 = Now();
-  ReadPose(d);
-  checker_->Check(pairs_, 0.0, distance_);
+  // how far each link can have moved since the last check
+  for (size_t j = 0; j < q_.size(); ++j) q_[j] = d->qpos[robot_->joints[j].qpos_adr];
+  bool fresh = false;  // the first check, or an angle that is not finite: measure every pair
+  for (size_t l = 0; l < reach_.size(); ++l) {
+    double m = 0;
+    for (const auto& [joint, r] : reach_[l]) {
+      const double dq = std::abs(q_[joint] - q_last_[joint]);
+      if (std::isfinite(dq)) m += dq * r;
+      else fresh = true;
+    }
+    moved_[l] += m;
+  }
+  q_last_ = q_;  // same size: no allocation
+  bool posed = false;
   in_contact_.clear();
   for (size_t i = 0; i < pairs_.size(); ++i) {
+    const collision::LinkPair& p = pairs_[i];
+    // still apart: the last lower bound exceeds the two links' motion since (1 um: GJK's
+    // certification tolerance)
+    const double moved = (moved_[p.a] - moved_a_[i]) + (moved_[p.b] - moved_b_[i]);
+    if (!fresh && distance_[i] - moved > 1e-6) continue;
+    if (!posed) {
+      checker_->SetPose(q_);
+      posed = true;
+    }
+    distance_[i] = checker_->Distance(p.a, p.b, 0.0);
+    moved_a_[i] = moved_[p.a];
+    moved_b_[i] = moved_[p.b];
+    ++measured_;
     const double x = distance_[i];
     if (!(x < 0)) continue;
     in_contact_.push_back(static_cast<int>(i));
@@ -188,6 +257,7 @@ SelfCollisionSummary SelfCollisionWatch::Summary() const {
   s.pairs_checked = static_cast<int>(pairs_.size());
   s.excluded = excluded_;
   s.checks = checks_;
+  s.measured = measured_;
   s.cycles_in_contact = cycles_in_contact_;
   s.check_seconds = check_seconds_;
   s.check_max = check_max_;

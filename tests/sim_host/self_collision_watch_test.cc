@@ -19,11 +19,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "collision/self_collision.h"
 #include "sim_host/model.h"
 #include "sim_host/self_collision_watch.h"
 
@@ -202,6 +204,51 @@ TEST(SelfCollisionWatch, AgreesWithMujocoOnTheArmIntoTheLeg) {
   }
   mj_deleteData(d);
   mj_deleteModel(m);
+}
+
+// Check measures again only the pairs whose links can have moved as far as their last distance:
+// on a random walk through the joint limits (steps from 0.1 mrad to 0.3 rad per joint, so some
+// checks move nothing noticeable and some jump), the pairs it reports in contact, and their
+// depths, are exactly those of a full check of every pair at every posture
+TEST(SelfCollisionWatch, SkippingPairsThatCannotHaveMovedMissesNothing) {
+  Hrp1s h;
+  std::string error;
+  auto w = SelfCollisionWatch::Create(h.scene->m(), h.robot, "", &error);
+  ASSERT_TRUE(w) << error;
+  ASSERT_TRUE(h.scene->Reset("halfsit", &error)) << error;
+  mjData* d = h.scene->d();
+  w->Start(d);
+  auto full = collision::SelfCollision::Create(w->geometry(), &error);
+  ASSERT_TRUE(full) << error;
+  const auto& g = w->geometry();
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const size_t nj = h.robot.joints.size();
+  std::vector<double> q(nj), all(w->pairs().size());
+  for (size_t j = 0; j < nj; ++j) q[j] = d->qpos[h.robot.joints[j].qpos_adr];
+  long contacts = 0;
+  const int kChecks = 3000;
+  for (int k = 0; k < kChecks; ++k) {
+    const double step = std::pow(10.0, -4 + 3.5 * (0.5 + 0.5 * u(rng)));  // 1e-4 .. 0.3 rad
+    for (size_t j = 0; j < nj; ++j) {
+      q[j] = std::clamp(q[j] + step * u(rng), g.q_min[j], g.q_max[j]);
+      d->qpos[h.robot.joints[j].qpos_adr] = q[j];
+    }
+    w->Check(d, k, k);
+    full->SetPose(q);
+    full->Check(w->pairs(), 0.0, all);
+    std::vector<int> expected;
+    for (size_t i = 0; i < all.size(); ++i)
+      if (all[i] < 0) expected.push_back(static_cast<int>(i));
+    ASSERT_EQ(w->in_contact(), expected) << "check " << k << ", step " << step;
+    for (int i : expected) EXPECT_EQ(w->distances()[i], all[i]);
+    contacts += static_cast<long>(expected.size());
+  }
+  const SelfCollisionSummary s = w->Summary();
+  std::printf("%d checks, %ld (check, pair) contacts; %llu of %zu pair measurements made\n", kChecks,
+              contacts, static_cast<unsigned long long>(s.measured), kChecks * w->pairs().size());
+  EXPECT_GT(contacts, 100);  // the walk does reach contacts
+  EXPECT_LT(s.measured, kChecks * w->pairs().size());  // and skips some
 }
 
 TEST(SelfCollisionWatch, CheckAllocatesNothing) {

@@ -15,9 +15,13 @@
 //     pairs of its safe ranges (all of them, every cycle: the simulation does not assume the
 //     ranges hold), by link name; the file must be for this robot (model hash).
 // A pair is in contact when its signed distance is negative (penetration). Per cycle, Check
-// reads the joint angles from mjData, places the links and measures every pair (the broad phase
-// skips pairs whose bounding spheres are apart); it allocates, throws and logs nothing, and runs
-// once per control cycle, outside the physics steps.
+// reads the joint angles from mjData and bounds how far each link can have moved since the last
+// cycle (a point of link l moves at most sum_j |dq_j| r_jl over the joints j above it, r_jl a
+// bound of its distance from j's axis in any posture, from the link lengths and shape sizes);
+// a pair whose last measured distance (a lower bound) exceeds what its two links moved since is
+// still apart and is not measured again; the others are measured with the checker (whose broad
+// phase skips pairs whose bounding spheres are apart). It allocates, throws and logs nothing,
+// and runs once per control cycle, outside the physics steps.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -51,6 +55,8 @@ struct SelfCollisionSummary {
   int pairs_checked = 0;
   std::vector<std::string> excluded;  // pairs left out as built into each other (no file)
   uint64_t checks = 0;                // cycles checked
+  uint64_t measured = 0;              // pair distances measured (checks x pairs at most: a pair
+                                      // that cannot have reached contact is not measured again)
   uint64_t cycles_in_contact = 0;     // of those, cycles with at least one pair in contact
   double check_seconds = 0;           // CPU time of the thread in Check, in all [s]
   double check_max = 0;               // the longest Check (CPU time) [s]
@@ -81,6 +87,8 @@ class SelfCollisionWatch {
   const collision::RobotGeometry& geometry() const { return checker_->robot(); }
   // the pairs in contact at the last Check (indices into pairs()); valid until the next Check
   const std::vector<int>& in_contact() const { return in_contact_; }
+  // per pair, its last measured signed distance [m] (a lower bound when apart; exact for the
+  // pairs in contact, which are measured every check)
   const std::vector<double>& distances() const { return distance_; }
 
  private:
@@ -97,6 +105,13 @@ class SelfCollisionWatch {
   bool from_file_ = false;
   std::vector<collision::LinkPair> pairs_;
   std::vector<std::string> excluded_;
+  // how far a link can move: per link, (segment joint id, bound of the distance of any of the
+  // link's points from that joint's axis [m]) for every hinge between the base and the link
+  std::vector<std::vector<std::pair<int, double>>> reach_;
+  std::vector<double> q_last_;   // the joint angles of the last Check [rad] (NaN: none yet)
+  std::vector<double> moved_;    // per link, the sum of its motion bounds since the start [m]
+  std::vector<double> moved_a_, moved_b_;  // per pair, moved_ of its links when last measured
+  uint64_t measured_ = 0;        // pair measurements made (the others were skipped)
   // per cycle, allocated once
   std::vector<double> q_, distance_;
   std::vector<int> in_contact_;
