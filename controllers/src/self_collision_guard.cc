@@ -54,6 +54,7 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   on_list_.assign(every_.size(), 0);
   q_.assign(njoint_, 0.0);
   q_ahead_.assign(njoint_, 0.0);
+  last_q_.assign(njoint_, std::nan(""));  // matches no posture
   safe_.assign(njoint_, 0.0);
   return "";
 }
@@ -91,8 +92,14 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     const double v = position && std::isfinite(jc.dq_ref) ? jc.dq_ref : sensors.dq[j];
     q_ahead_[j] = q_[j] + (std::isfinite(v) ? v : 0.0) * period_;
   }
-  const collision::CheckResult now = Closest(q_);
-  const collision::CheckResult ahead = Closest(q_ahead_);
+  // the same posture as the last cycle's (a held pose): the same answer, no check; a posture
+  // that does not move within the period (no velocity): one check, not two
+  if (q_ != last_q_) {
+    last_q_ = q_;  // same size: no allocation
+    last_now_ = Closest(q_);
+  }
+  const collision::CheckResult now = last_now_;
+  const collision::CheckResult ahead = q_ahead_ == q_ ? now : Closest(q_ahead_);
   const collision::CheckResult& worst = ahead.min_distance < now.min_distance ? ahead : now;
   // while holding, only a command near the held references may resume: a far one could jump
   // through a link (a hand through a thigh is deep, then apart again on the other side)

@@ -16,6 +16,7 @@
 #include "sim_host/period.h"
 #include "sim_host/recorder.h"
 #include "sim_host/report.h"
+#include "sim_host/self_collision_watch.h"
 #include "sim_host/step.h"
 
 namespace ohrp::sim {
@@ -114,8 +115,19 @@ int RunHost(const HostOptions& options) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
+  // the self_collision effect: the controllers' checker on the robot's links, once a cycle
+  std::unique_ptr<SelfCollisionWatch> self_collision;
+  if (effects.on(Effect::kSelfCollision)) {
+    self_collision = SelfCollisionWatch::Create(m, robot, o.self_collision_file, &error);
+    if (!self_collision) {
+      std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+      return kExitUsage;
+    }
+    self_collision->Start(d);
+  }
   if (o.explain) {
     std::printf("effects of %s (sim_host --explain):\n%s", o.scene.c_str(), effects.Table().c_str());
+    if (self_collision) std::printf("self_collision: %s\n", self_collision->Describe().c_str());
     std::printf("%s", DescribeControlPeriod(dt, o.control_period, steps_per_cycle,
                                             options.control_period <= 0).c_str());
     std::printf("%s", DescribeActuation(robot).c_str());
@@ -163,6 +175,8 @@ int RunHost(const HostOptions& options) {
                  IntegratorName(m->opt.integrator), o.control_period,
                  o.realtime ? "real time" : "lock-step", ContactModelName(contact_model),
                  shm::ControllerLossName(o.on_loss));
+    if (self_collision)
+      std::fprintf(stderr, "sim_host: self_collision: %s\n", self_collision->Describe().c_str());
     std::string lines = effects.Short();
     for (size_t at = 0, nl; at < lines.size(); at = nl + 1) {
       nl = lines.find('\n', at);
@@ -372,6 +386,8 @@ int RunHost(const HostOptions& options) {
       break;
     }
     ++st.cycles;
+    // once a cycle, after its physics steps (allocation-free)
+    if (self_collision) self_collision->Check(d, d->time, st.cycles);
 
     if (o.realtime) {
       deadline += o.control_period;
@@ -413,6 +429,7 @@ int RunHost(const HostOptions& options) {
     if (servo.clamped(static_cast<int>(i)) > 0) st.clamped_joints.emplace_back(robot.joints[i].name, servo.clamped(static_cast<int>(i)));
   }
   st.warnings = WarningCount() - warnings_at_start;
+  if (self_collision) st.self_collision = self_collision->Summary();
   if (recorder) {
     st.log_rows = recorder->written();
     st.log_dropped = recorder->dropped();

@@ -78,10 +78,16 @@ int main(int argc, char** argv) {
                  "switch effects on or off: NAME=on|off, contact:BODY1/BODY2=on|off, "
                  "noise.KIND=STD (q dq tau force torque gyro accel orientation, SI units), "
                  "noise.seed=N; comma-separated, repeatable (e.g. gravity=off,noise=on). "
-                 "Effects: gravity joint_limits passive native_contact self_collision "
+                 "Effects: gravity joint_limits passive native_contact self_contact self_collision "
                  "soft_contact encoders joint_velocities joint_torques force_torque gyro "
                  "accelerometer orientation rne_post other_sensors noise cameras log log_base "
                  "log_joints log_force_torque log_imu (docs/effects.md)");
+  app.add_option("--self-collision", o.self_collision_file,
+                 "check the robot's link pairs listed in this file of ohrp_selfcollision every "
+                 "control cycle and report those in contact after the run (switches the "
+                 "self_collision effect on; without it, self_collision=on checks every "
+                 "non-adjacent pair; docs/selfcollision.md)")
+      ->check(CLI::ExistingFile);
   app.add_flag("--explain", o.explain,
                "print each effect (on or off, and why), the control period, and each joint's "
                "actuator and how its torque is mapped onto it, for this scene and these "
@@ -99,6 +105,16 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "sim_host: %s\n", error.c_str());
       return ohrp::sim::kExitUsage;
     }
+  }
+  if (!o.self_collision_file.empty()) {
+    int8_t& r = o.effects.request[static_cast<int>(ohrp::sim::Effect::kSelfCollision)];
+    if (r == 0) {
+      std::fprintf(stderr, "sim_host: --self-collision %s asks for the self_collision effect, "
+                           "which --effects switches off: drop one of the two\n",
+                   o.self_collision_file.c_str());
+      return ohrp::sim::kExitUsage;
+    }
+    r = 1;
   }
   // pushes are checked here, before the segment exists
   for (const auto& spec : pushes) {

@@ -83,6 +83,25 @@ void PrintReport(const RunStats& st) {
                static_cast<unsigned long>(st.steps), static_cast<unsigned long>(st.cycles),
                static_cast<unsigned long>(st.commands), static_cast<unsigned long>(st.late),
                static_cast<unsigned long>(st.rejected), st.warnings);
+  // the self_collision effect: each pair with its first contact and deepest penetration
+  if (st.self_collision.on) {
+    const SelfCollisionSummary& sc = st.self_collision;
+    std::string pairs;
+    for (const SelfCollisionHit& h : sc.pairs) {
+      char b[256];
+      std::snprintf(b, sizeof(b), "%s%s from %.3f s, deepest %.1f mm at %.3f s, %lu cycles",
+                    pairs.empty() ? "" : "; ", h.pair.c_str(), h.first_time, 1e3 * h.deepest,
+                    h.deepest_time, static_cast<unsigned long>(h.cycles));
+      pairs += b;
+    }
+    std::fprintf(stderr,
+                 "sim_host: self-collision: %lu of %lu cycles with links in contact (%d pairs "
+                 "checked, %.1f us per check)%s%s\n",
+                 static_cast<unsigned long>(sc.cycles_in_contact),
+                 static_cast<unsigned long>(sc.checks), sc.pairs_checked,
+                 sc.checks ? 1e6 * sc.check_seconds / sc.checks : 0.0, pairs.empty() ? "" : ": ",
+                 pairs.c_str());
+  }
   // the actuators that could not give the servo's torque
   if (st.clamped > 0) {
     std::string joints;
@@ -176,6 +195,19 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
     for (const auto& cp : effects->pairs)
       pairs.push_back({{"pair", cp.name}, {"on", cp.on}, {"reason", cp.reason}});
     j["contact_pairs_native"] = pairs;
+  }
+  if (st.self_collision.on) {
+    const SelfCollisionSummary& sc = st.self_collision;
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const SelfCollisionHit& h : sc.pairs)
+      pairs.push_back({{"pair", h.pair}, {"first_time", h.first_time}, {"first_cycle", h.first_cycle},
+                       {"deepest", h.deepest}, {"deepest_time", h.deepest_time}, {"cycles", h.cycles}});
+    j["self_collision"] = {{"source", sc.source}, {"links", sc.links},
+                           {"pairs_checked", sc.pairs_checked}, {"excluded", sc.excluded},
+                           {"checks", sc.checks}, {"measured", sc.measured},
+                           {"cycles_in_contact", sc.cycles_in_contact},
+                           {"check_mean_s", sc.checks ? sc.check_seconds / sc.checks : 0.0},
+                           {"check_max_s", sc.check_max}, {"pairs", pairs}};
   }
   std::ofstream out(path);
   out << j.dump(2) << "\n";

@@ -167,5 +167,30 @@ TEST(Checks, DisplacementRejectedAndUnknownTypes) {
   EXPECT_NE(r.detail.find("unknown check type"), std::string::npos);
 }
 
+// sim_host's self_collision report (its summary's "self_collision"): at most `max` cycles in
+// contact, or the named pair (either order) in contact; off in sim_host is a failure that says so
+TEST(Checks, SelfCollisionsReadSimHostsReport) {
+  nlohmann::json sim = kSim;
+  sim["self_collision"] = {{"pairs_checked", 397}, {"checks", 900}, {"cycles_in_contact", 12},
+                           {"pairs", {{{"pair", "RARM_WRIST_R/RLEG_HIP_Y"}, {"first_time", 2.4},
+                                       {"deepest", 0.0278}, {"cycles", 12}}}}};
+  auto r = Evaluate(Spec("self_collisions", {{"max", "0"}}), StandingLog(), sim);
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.value, 12);
+  EXPECT_NE(r.detail.find("RARM_WRIST_R/RLEG_HIP_Y from 2.4 s, deepest 27.8 mm"), std::string::npos) << r.detail;
+  EXPECT_TRUE(Evaluate(Spec("self_collisions", {{"max", "12"}}), StandingLog(), sim).passed);
+  EXPECT_TRUE(Evaluate(Spec("self_collisions", {{"pair", "RLEG_HIP_Y/RARM_WRIST_R"}}), StandingLog(), sim).passed);
+  r = Evaluate(Spec("self_collisions", {{"pair", "RARM_WRIST_R/RLEG_KNEE"}}), StandingLog(), sim);
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.value, 0);
+  // the check's default (max 0) on a run without contact
+  sim["self_collision"]["cycles_in_contact"] = 0;
+  sim["self_collision"]["pairs"] = nlohmann::json::array();
+  EXPECT_TRUE(Evaluate(Spec("self_collisions", {}), StandingLog(), sim).passed);
+  r = Evaluate(Spec("self_collisions", {}), StandingLog(), kSim);  // the effect was off
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.detail.find("did not check self-collisions"), std::string::npos) << r.detail;
+}
+
 }  // namespace
 }  // namespace ohrp::runner

@@ -2,13 +2,16 @@
 // (scenarios/selfcollision_arm_{on,off}.yaml, run by ohrp_run in its own processes: sim_host and
 // playback). The data log's joint angles are measured with the checker and the shipped file:
 // with the online check on the arm stops short of the leg and playback reports the held
-// cycles naming the pair; with it off the hand goes into the thigh.
+// cycles naming the pair; with it off the hand goes into the thigh. sim_host's self_collision
+// effect (switched on by the scenarios' self_collisions checks) reports the same: the arm/leg
+// pair named with its first time and depth when off, no pair when on.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "collision/pair_file.h"
@@ -69,9 +72,35 @@ double ArmLegDistance(const std::string& log_path) {
   return closest;
 }
 
+// sim_host's report of its self_collision effect (sim_summary.json's "self_collision")
+nlohmann::json SimSelfCollision(const std::string& out) {
+  std::ifstream in(out + "/sim_summary.json");
+  nlohmann::json j;
+  in >> j;
+  EXPECT_TRUE(j.contains("self_collision")) << "sim_host's self_collision effect was off";
+  return j.value("self_collision", nlohmann::json::object());
+}
+
 TEST(SelfCollisionScenario, WithoutTheCheckTheArmGoesIntoTheLeg) {
   const std::string out = RunScenario("scenarios/selfcollision_arm_off.yaml");
-  EXPECT_LT(ArmLegDistance(out + "/log.csv"), -0.005);
+  const double closest = ArmLegDistance(out + "/log.csv");
+  EXPECT_LT(closest, -0.005);
+  // sim_host saw it too, with the same checker: an arm/leg pair named, as deep as the log says
+  const nlohmann::json sc = SimSelfCollision(out);
+  EXPECT_GT(sc.value("cycles_in_contact", 0), 0);
+  double deepest = 0;
+  bool arm_leg = false;
+  for (const auto& p : sc.value("pairs", nlohmann::json::array())) {
+    const std::string name = p.value("pair", "");
+    if (name.rfind("RARM_", 0) != 0 || name.find("/RLEG_") == std::string::npos) continue;
+    arm_leg = true;
+    deepest = std::max(deepest, p.value("deepest", 0.0));
+    EXPECT_GT(p.value("first_time", 0.0), 1.0) << name;  // the swing starts at 1 s
+  }
+  EXPECT_TRUE(arm_leg) << sc.dump();
+  // the log holds every cycle, sim_host's check runs every cycle: the same deepest point
+  // (the log's geometry is the shipped file's, sim_host's the MJCF's: the same shapes)
+  EXPECT_NEAR(deepest, -closest, 1e-4) << sc.dump();
 }
 
 TEST(SelfCollisionScenario, TheCheckStopsTheArmBeforeTheLeg) {
@@ -81,6 +110,11 @@ TEST(SelfCollisionScenario, TheCheckStopsTheArmBeforeTheLeg) {
   const std::string said = ReadAll(out + "/playback.stderr");
   EXPECT_NE(said.find("self-collision: held the last safe references"), std::string::npos) << said;
   EXPECT_NE(said.find("RARM_"), std::string::npos) << said;
+  // sim_host checked every cycle and found no two links in contact
+  const nlohmann::json sc = SimSelfCollision(out);
+  EXPECT_GT(sc.value("checks", 0), 800);  // 4.5 s of 5 ms cycles
+  EXPECT_EQ(sc.value("cycles_in_contact", -1), 0) << sc.dump();
+  EXPECT_TRUE(sc.value("pairs", nlohmann::json::array()).empty()) << sc.dump();
 }
 
 }  // namespace

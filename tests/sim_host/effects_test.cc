@@ -132,7 +132,11 @@ TEST_F(EffectsFlat, DefaultsOfTheStandingScene) {
   EXPECT_TRUE(p.on(Effect::kPassive));  // damping 0.1 on every joint
   EXPECT_TRUE(p.on(Effect::kSoftContact));
   EXPECT_FALSE(p.on(Effect::kNativeContact)) << p[Effect::kNativeContact].reason;
-  EXPECT_FALSE(p.on(Effect::kSelfCollision));
+  EXPECT_FALSE(p.on(Effect::kSelfContact));
+  EXPECT_FALSE(p.on(Effect::kSelfCollision));  // declared (the robot has geometry), not asked for
+  EXPECT_TRUE(p[Effect::kSelfCollision].declared);
+  EXPECT_NE(p[Effect::kSelfCollision].reason.find("30 links have 406 non-adjacent pairs"), std::string::npos)
+      << p[Effect::kSelfCollision].reason;
   EXPECT_TRUE(p.on(Effect::kForceTorque));
   EXPECT_TRUE(p.on(Effect::kAccelerometer));
   EXPECT_TRUE(p.on(Effect::kRnePost));
@@ -197,10 +201,20 @@ TEST_F(EffectsFlat, LogChannelsNeedTheirSensors) {
   EXPECT_FALSE(p.on(Effect::kLogJoints));
 }
 
+TEST_F(EffectsFlat, SelfCollisionIsOnWhenAsked) {
+  const EffectsPlan p = Resolve(*flat_, "self_collision=on");
+  EXPECT_TRUE(p.on(Effect::kSelfCollision));
+  EXPECT_EQ(p[Effect::kSelfCollision].reason, "switched on by request");
+  // no physics changes with it: MuJoCo's contact stays off, the pairs as without it
+  EXPECT_FALSE(p.on(Effect::kNativeContact));
+  EXPECT_FALSE(p.on(Effect::kSelfContact));
+  EXPECT_EQ(p.pairs.size(), Resolve(*flat_, "").pairs.size());
+}
+
 TEST_F(EffectsFlat, WhatCannotBeSwitchedOnIsRefused) {
   EXPECT_NE(Refused(*flat_, "cameras=on").find("renders no images"), std::string::npos);
   EXPECT_NE(Refused(*flat_, "soft_contact=off").find("--contact"), std::string::npos);
-  EXPECT_NE(Refused(*flat_, "self_collision=on").find("cannot be switched on"), std::string::npos);
+  EXPECT_NE(Refused(*flat_, "self_contact=on").find("cannot be switched on"), std::string::npos);
   EXPECT_NE(Refused(*flat_, "native_contact=on").find("cannot be switched on"), std::string::npos);
   EXPECT_NE(Refused(*flat_, "contact:WAIST/world=off").find("no such colliding body pair"),
             std::string::npos);
@@ -232,16 +246,18 @@ TEST(Effects, ModelWithoutSolesOrSensors) {
       << table;
   EXPECT_EQ(table.find("contact pairs"), std::string::npos);  // none
   EXPECT_NE(Refused(l, "force_torque=on").find("the scene declares no F/T sensor"), std::string::npos);
+  // one link: nothing for the self-collision check
+  EXPECT_NE(Refused(l, "self_collision=on").find("no two non-adjacent links"), std::string::npos);
 }
 
-TEST(Effects, SelfCollisionNeedsNativeContact) {
+TEST(Effects, SelfContactNeedsNativeContact) {
   InstallMujocoHandlers(nullptr);
   // the hand's sphere overlaps the arm's (its grandparent: not filtered as parent-child); the
   // forearm's overlaps both but is the child of one and the parent of the other (filtered)
   Loaded l = LoadText(kBoxes);
   EffectsPlan p = Resolve(l, "");
   EXPECT_TRUE(p.on(Effect::kNativeContact));
-  EXPECT_TRUE(p.on(Effect::kSelfCollision)) << p[Effect::kSelfCollision].reason;
+  EXPECT_TRUE(p.on(Effect::kSelfContact)) << p[Effect::kSelfContact].reason;
   std::vector<std::string> self;
   for (const auto& cp : p.pairs)
     if (cp.self) self.push_back(cp.name);
@@ -261,12 +277,12 @@ TEST(Effects, SelfCollisionNeedsNativeContact) {
   Apply(l, p);
   EXPECT_EQ(contacts(l, "arm", "hand"), 1);
   p = Resolve(l, "native_contact=off");
-  EXPECT_FALSE(p.on(Effect::kSelfCollision));
-  EXPECT_EQ(p[Effect::kSelfCollision].reason, "needs native_contact, which is off");
+  EXPECT_FALSE(p.on(Effect::kSelfContact));
+  EXPECT_EQ(p[Effect::kSelfContact].reason, "needs native_contact, which is off");
   for (const auto& cp : p.pairs) EXPECT_FALSE(cp.on);
   // switched off: the contact filter drops the pair
   Loaded l2 = LoadText(kBoxes);
-  p = Resolve(l2, "self_collision=off");
+  p = Resolve(l2, "self_contact=off");
   for (const auto& cp : p.pairs) EXPECT_EQ(cp.on, !cp.self) << cp.name << ": " << cp.reason;
   Apply(l2, p);
   EXPECT_EQ(contacts(l2, "arm", "hand"), 0);

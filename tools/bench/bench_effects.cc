@@ -33,6 +33,7 @@
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
+#include "sim_host/self_collision_watch.h"
 #include "sim_host/step.h"
 
 namespace {
@@ -60,6 +61,7 @@ struct Config {
   std::string effects;  // --effects spec ("" = defaults); "bare" for the baseline
   ContactModel contact = ContactModel::kAuto;
   bool log = false;
+  std::string self_collision_file = "";  // the self_collision effect's pair list ("": all pairs)
 };
 
 struct Setup {
@@ -71,6 +73,7 @@ struct Setup {
   SensorSelection selection;
   std::unique_ptr<SensorNoise> noise;
   std::unique_ptr<Recorder> recorder;
+  std::unique_ptr<SelfCollisionWatch> watch;
   bool bare = false;
 };
 
@@ -124,6 +127,11 @@ std::unique_ptr<Setup> Make(const std::string& path, const std::string& key, con
     }
   }
   if (!s->scene->Reset(key, &error)) Fail(error);
+  if (!s->bare && s->plan.on(Effect::kSelfCollision)) {
+    s->watch = SelfCollisionWatch::Create(m, s->robot, c.self_collision_file, &error);
+    if (!s->watch) Fail(c.label + ": " + error);
+    s->watch->Start(s->scene->d());
+  }
   s->servo = std::make_unique<Servo>(s->robot);
   s->servo->HoldCurrent(s->scene->d());
   return s;
@@ -150,6 +158,7 @@ double Run(Setup* s, int cycles, int warmup) {
       FillSensors(s->robot, m, d, s->selection, &block);
       if (s->noise) s->noise->Apply(s->robot, &block);
       if (s->recorder) s->recorder->Push(block, &s->servo->reference(0));
+      if (s->watch) s->watch->Check(d, d->time, c);
     }
   }
   return (Now() - t0) / (cycles * kStepsPerCycle);
@@ -195,7 +204,13 @@ int main(int argc, char** argv) {
       {"noise", "noise=on"},
       {"log (all channels)", "", ContactModel::kAuto, true},
       {"soft_contact -> native_contact", "", ContactModel::kNative},
+      {"self_collision (all pairs)", "self_collision=on"},
+      {"self_collision (file's pairs)", "self_collision=on", ContactModel::kAuto, false,
+       std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml"},
   };
+  // the watch's own clock: CPU time per check, per configuration (the last round's)
+  std::vector<double> per_check(configs.size(), 0.0);
+  std::vector<int> pairs_checked(configs.size(), 0);
   const size_t n = configs.size();
   std::vector<std::vector<double>> t(n);
   std::vector<double> paired;  // default / bare, per round
@@ -215,6 +230,11 @@ int main(int argc, char** argv) {
       const size_t i = (k + r) % n;
       auto s = Make(scene, key, configs[i], log_path);
       t[i].push_back(Run(s.get(), cycles, warmup));
+      if (s->watch) {
+        const SelfCollisionSummary sc = s->watch->Summary();
+        per_check[i] = sc.check_seconds / std::max<uint64_t>(1, sc.checks);
+        pairs_checked[i] = sc.pairs_checked;
+      }
       if (i == 0) t_default = t[i].back();
       if (i == 1) t_bare = t[i].back();
     }
@@ -244,11 +264,12 @@ int main(int argc, char** argv) {
   };
   for (size_t i = 3; i < n; ++i) {
     const Config& c = configs[i];
-    const bool default_on = !(c.effects == "other_sensors=on" || c.effects == "noise=on" || c.log);
+    const bool default_on = !(c.effects == "other_sensors=on" || c.effects == "noise=on" ||
+                              c.effects == "self_collision=on" || c.log);
     row(i, default_on);
   }
   std::printf("%-32s %-8s %9s   (cannot be on: the scene declares no self-colliding pair)\n",
-              "self_collision", "off", "-");
+              "self_contact", "off", "-");
   std::printf("%-32s %-8s %9s   (cannot be on: sim_host renders no images)\n", "cameras", "off", "-");
   std::printf("\n%-32s %9.2f us  (IQR %.2f-%.2f)\n", "default configuration", t_def * 1e6,
               Quantile(t[0], 0.25) * 1e6, Quantile(t[0], 0.75) * 1e6);
@@ -258,6 +279,16 @@ int main(int argc, char** argv) {
   std::printf("%-32s %9.2f us  (IQR %.2f-%.2f): collision detection and every MuJoCo sensor\n",
               "before the effects module", t_before * 1e6, Quantile(t[2], 0.25) * 1e6,
               Quantile(t[2], 0.75) * 1e6);
+  // the self_collision effect per check (once per control cycle of 5 steps): the paired delta
+  // per step times 5, and the watch's own wall clock around each check
+  for (size_t i = 0; i < n; ++i) {
+    if (configs[i].effects != "self_collision=on") continue;
+    std::vector<double> diff;
+    for (int r = 0; r < repeats; ++r) diff.push_back(t[i][r] - t[0][r]);
+    std::printf("%-32s %9.2f us per check (paired delta x %d steps), %.2f us by its own clock; "
+                "%d pairs\n", configs[i].label.c_str(), Quantile(diff, 0.5) * kStepsPerCycle * 1e6,
+                kStepsPerCycle, per_check[i] * 1e6, pairs_checked[i]);
+  }
   const double pr = Quantile(paired, 0.5);
   std::printf("paired default / bare: median %.3f, IQR %.3f-%.3f\n", pr, Quantile(paired, 0.25),
               Quantile(paired, 0.75));

@@ -60,6 +60,8 @@ class SelfCollisionGuard {
   std::vector<char> on_list_;                // per online-or-pruned pair index, this cycle
   std::vector<collision::LinkPair> every_;   // the online pairs then each range's pairs
   std::vector<double> q_, q_ahead_, safe_;   // [rad]
+  std::vector<double> last_q_;               // the posture checked last cycle [rad]
+  collision::CheckResult last_now_;          // and its answer
   double safe_distance_ = 0;                 // [m] of the last safe references
   bool holding_ = false;                     // the last cycle held
   static constexpr double kResumeStep = 0.05;  // [rad] a held command resumes within this

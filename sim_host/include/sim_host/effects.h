@@ -1,7 +1,8 @@
 // Only the effects a scene calls for: which of the things sim_host can compute are on, and why.
 //
 // Every effect (gravity, joint limits, passive springs and dampers, MuJoCo's native contact per
-// body pair, self-collision, the soft-foot contact, each sensor kind, sensor noise, cameras, the
+// body pair, MuJoCo's contact within the robot (self_contact), the self-collision report, the
+// soft-foot contact, each sensor kind, sensor noise, cameras, the
 // data log's channels) is on only when the scene (the MJCF), the contact choice (FeetOptions)
 // or a request (`sim_host --effects`, the scenario key `effects:`) calls for it, directly or
 // because something that is on needs it. ResolveEffects decides and records the reason of each
@@ -38,7 +39,9 @@ enum class Effect : int {
   kJointLimits,      // joint and tendon limit constraints (mjDSBL_LIMIT)
   kPassive,          // joint/tendon springs and dampers, fluid forces (mjDSBL_PASSIVE)
   kNativeContact,    // MuJoCo's contact, all pairs (mjDSBL_CONTACT); per pair: ContactPair
-  kSelfCollision,    // contact between two bodies of the same robot (contact filter)
+  kSelfContact,      // MuJoCo's contact between two bodies of the same robot (contact filter)
+  kSelfCollision,    // the robot's link pairs checked each control cycle with the controllers'
+                     // checker, contacts reported after the run (sim_host/self_collision_watch.h)
   kSoftContact,      // the soft-foot contact under the soles (--contact soft)
   kEncoders,         // joint positions q in the segment
   kJointVelocities,  // joint velocities dq
@@ -142,7 +145,8 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
 // sensors; each MuJoCo sensor that no effect reads is taken out of MuJoCo's sensor stages
 // (sensor_needstage = mjSTAGE_NONE: never computed, its sensordata stays as it was); a
 // contact filter (mjcb_contactfilter, process-wide, for this model only) when a contact pair
-// or self-collision is switched off while native contact is on. Call after SetUpFeet and
+// or self_contact is switched off while native contact is on. (self_collision is no physics:
+// the host runs its SelfCollisionWatch when it is on.) Call after SetUpFeet and
 // before the first mj_forward. `m` must outlive the filter (ClearContactFilter removes it).
 void ApplyEffects(const EffectsPlan& plan, const RobotMap& robot, mjModel* m);
 void ClearContactFilter();

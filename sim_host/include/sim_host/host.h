@@ -76,6 +76,9 @@ struct HostOptions {
   bool quiet = false;
   EffectRequests effects;          // effects switched on/off by request (sim_host/effects.h)
   bool explain = false;            // print the effects table and exit without running
+  std::string self_collision_file; // the self_collision effect's pairs: a file of
+                                   // ohrp_selfcollision (implies self_collision=on); empty: all
+                                   // non-adjacent pairs (sim_host/self_collision_watch.h)
 };
 
 // exit codes of sim_host

@@ -11,6 +11,7 @@
 #include "sim_host/effects.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
+#include "sim_host/self_collision_watch.h"
 
 namespace ohrp::sim {
 
@@ -69,6 +70,7 @@ struct RunStats {
   long long contact_pairs = 0;          // (sole, object) pairs looked at
   long long contact_pairs_bounded = 0;  // of those, rejected by the cheap bound (no FCL)
   Diagnosis divergence;                 // the divergence watch's diagnostic (kind none: none)
+  SelfCollisionSummary self_collision;  // the self_collision effect (on: false when off)
 };
 
 const char* IntegratorName(int integrator);
@@ -102,7 +104,10 @@ void PrintReport(const RunStats& st);
 // sensor, which the sensor does not carry, and the soles' rectangles in their sensors' frames,
 // "soles": {sensor: {"sole", "x": [min, max], "y": [min, max], "z", "foot_mass",
 // "foot_com": [x, y, z]}}).
-// `effects` (may be null) adds each effect, on or off, and why.
+// `effects` (may be null) adds each effect, on or off, and why. With the self_collision effect
+// on, "self_collision": {"source", "links", "pairs_checked", "excluded", "checks",
+// "cycles_in_contact", "check_mean_s", "check_max_s", "pairs": [{"pair", "first_time",
+// "first_cycle", "deepest" [m], "deepest_time", "cycles"}]}.
 void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,
                   const EffectsPlan* effects = nullptr);

@@ -119,6 +119,13 @@ const std::vector<CheckType>& CheckTypes() {
       {"real_time_factor",
        {Num("min", "required", 0, kBig, true, true)},
        "sim_host's simulated time over its wall time while simulating (waits for a controller left out) is at least `min`"},
+      {"self_collisions",
+       {Num("max", "cycles, 0", 0, kBig, false, false, 0),
+        {"pair", KeyKind::kText, false, "LINK_A/LINK_B, optional"}},
+       "sim_host's `self_collision` effect (switched on by this check; docs/selfcollision.md): "
+       "the control cycles in which two of the robot's links penetrate are at most `max`; with "
+       "`pair`, instead, that pair of links (either order) was in contact; the detail names each "
+       "pair with its first time and deepest penetration"},
   };
   return types;
 }

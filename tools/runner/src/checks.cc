@@ -227,6 +227,46 @@ CheckResult RealTimeFactor(const CheckSpec& s, const nlohmann::json& sim) {
   return r;
 }
 
+// sim_host's self_collision effect (sim_host/self_collision_watch.h): its summary's
+// "self_collision" {cycles_in_contact, pairs: [{pair, first_time, deepest, cycles}]}
+CheckResult SelfCollisions(const CheckSpec& s, const nlohmann::json& sim) {
+  CheckResult r{"self_collisions", false, 0, "cycles", "", ""};
+  const auto it = sim.find("self_collision");
+  if (it == sim.end() || !it->is_object())
+    return Fail(r, "sim_host did not check self-collisions (its self_collision effect was off: "
+                   "a scenario's 'effects: {self_collision: off}' overrides the check's request)");
+  const nlohmann::json& sc = *it;
+  std::string pairs;
+  bool expected_seen = false;
+  const std::string want = s.Has("pair") ? s.params.at("pair") : "";
+  const auto slash = want.find('/');
+  const std::string flipped = slash == std::string::npos ? want : want.substr(slash + 1) + "/" + want.substr(0, slash);
+  double expected_cycles = 0;
+  for (const auto& p : sc.value("pairs", nlohmann::json::array())) {
+    const std::string name = p.value("pair", std::string());
+    pairs += (pairs.empty() ? "" : "; ") + name + " from " + Fmt(p.value("first_time", 0.0)) +
+             " s, deepest " + Fmt(1e3 * p.value("deepest", 0.0)) + " mm";
+    if (!want.empty() && (name == want || name == flipped)) {
+      expected_seen = true;
+      expected_cycles = p.value("cycles", 0.0);
+    }
+  }
+  const std::string checked = Fmt(sc.value("pairs_checked", 0.0)) + " link pairs checked in " +
+                              Fmt(sc.value("checks", 0.0)) + " cycles";
+  if (!want.empty()) {
+    r.value = expected_cycles;
+    r.passed = expected_seen;
+    r.limit = want + " in contact";
+    r.detail = checked + "; in contact: " + (pairs.empty() ? "none" : pairs);
+    return r;
+  }
+  r.value = sc.value("cycles_in_contact", 0.0);
+  r.passed = r.value <= s.Number("max");
+  r.limit = "<= " + Fmt(s.Number("max"));
+  r.detail = checked + "; in contact: " + (pairs.empty() ? "none" : pairs);
+  return r;
+}
+
 // still standing after a push (runner/recovery.h)
 CheckResult Standing(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
   CheckResult r{"standing", false, 0, "m", "", ""};
@@ -288,6 +328,7 @@ CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::js
   try {
     if (spec.type == "max_rejected") return MaxRejected(spec, sim);
     if (spec.type == "real_time_factor") return RealTimeFactor(spec, sim);
+    if (spec.type == "self_collisions") return SelfCollisions(spec, sim);
     if (log.Column("time") < 0 || log.Column("base_z") < 0)
       return Fail({spec.type, false, 0, "", "", ""}, "the data log has no time/base columns");
     if (spec.type == "base_height") return BaseHeight(spec, log);

@@ -65,6 +65,13 @@ std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& si
     std::replace(flag.begin(), flag.end(), '_', '-');
     argv.insert(argv.end(), {flag, Num(value)});
   }
+  // a self_collisions check needs sim_host's self_collision effect (the scenario's own
+  // effects, in sim_args below, come later and win)
+  for (const auto& c : s.checks) {
+    if (c.type != "self_collisions") continue;
+    argv.insert(argv.end(), {"--effects", "self_collision=on"});
+    break;
+  }
   // pushes, then the scenario's own arguments
   for (const auto& p : s.pushes) argv.insert(argv.end(), {"--push", PushArgument(p)});
   for (const auto& a : s.sim_args) argv.push_back(ExpandPlaceholders(a, out_dir));

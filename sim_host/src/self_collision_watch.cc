@@ -1,0 +1,277 @@
+// sim_host's self_collision effect (see self_collision_watch.h).
+#include "sim_host/self_collision_watch.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "collision/from_mjcf.h"
+#include "collision/pair_file.h"
+
+namespace ohrp::sim {
+namespace {
+
+// CPU time of this thread [s]: time spent descheduled on a shared machine does not count
+double Now() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// the largest distance of a point of `s` from its link's origin [m]
+double ShapeReach(const collision::Shape& s) {
+  double r = 0;
+  switch (s.type) {
+    case collision::ShapeType::kSphere: r = s.size[0]; break;
+    case collision::ShapeType::kCapsule: r = s.size[0] + s.size[1]; break;
+    case collision::ShapeType::kCylinder: r = std::hypot(s.size[0], s.size[1]); break;
+    case collision::ShapeType::kBox: r = s.size.norm(); break;
+    case collision::ShapeType::kConvex:
+      for (const auto& v : s.vertices) r = std::max(r, v.norm());
+      break;
+  }
+  return s.p_LS.norm() + r;
+}
+
+// per link, each hinge above it with a bound of the distance of any point of the link from the
+// hinge's axis in any posture: from the hinge's anchor to its link's origin, then down the
+// chain (a child's origin lies within |p_PL| + 2 |anchor_L| of its parent's, whatever its
+// angle), then the link's own shapes
+std::vector<std::vector<std::pair<int, double>>> Reach(const collision::RobotGeometry& g) {
+  const size_t n = g.links.size();
+  std::vector<double> own(n, 0.0);
+  for (size_t l = 0; l < n; ++l)
+    for (const auto& s : g.links[l].shapes) own[l] = std::max(own[l], ShapeReach(s));
+  std::vector<std::vector<std::pair<int, double>>> out(n);
+  for (size_t l = 0; l < n; ++l) {
+    double chain = 0;  // from the current link's origin down to link l's origin, bounded
+    for (int k = static_cast<int>(l); k >= 0; k = g.links[k].parent) {
+      const collision::Link& link = g.links[k];
+      if (link.joint >= 0) out[l].emplace_back(link.joint, link.anchor_L.norm() + chain + own[l]);
+      chain += link.p_PL.norm() + 2 * link.anchor_L.norm();
+    }
+  }
+  return out;
+}
+
+std::string Hex(uint64_t v) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "0x%llx", static_cast<unsigned long long>(v));
+  return b;
+}
+
+}  // namespace
+
+std::unique_ptr<SelfCollisionWatch> SelfCollisionWatch::Create(const mjModel* m,
+                                                               const RobotMap& robot,
+                                                               const std::string& file,
+                                                               std::string* error) {
+  std::unique_ptr<SelfCollisionWatch> w(new SelfCollisionWatch());
+  w->robot_ = &robot;
+  collision::RobotGeometry g;
+  std::string why;
+  if (!collision::GeometryFromModel(m, robot, &g, &why)) {
+    *error = "self_collision: the robot's geometry cannot be checked: " + why;
+    return nullptr;
+  }
+  w->checker_ = collision::SelfCollision::Create(g, &why);
+  if (!w->checker_) {
+    *error = "self_collision: " + why;
+    return nullptr;
+  }
+  const std::vector<collision::LinkPair> all = collision::NonAdjacentPairs(g);
+  w->all_pairs_ = static_cast<int>(all.size());
+  w->q_.assign(robot.joints.size(), 0.0);
+  if (file.empty()) {
+    w->source_ = "all non-adjacent pairs";
+    w->pairs_ = all;
+    // parts built into each other: in contact at the zero posture or in a keyframe
+    w->checker_->SetPose(w->q_);
+    w->distance_.assign(w->pairs_.size(), 0.0);
+    w->ExcludeTouching("the zero posture");
+    for (int k = 0; k < m->nkey; ++k) {
+      for (size_t i = 0; i < robot.joints.size(); ++i)
+        w->q_[i] = m->key_qpos[k * m->nq + robot.joints[i].qpos_adr];
+      w->checker_->SetPose(w->q_);
+      const char* n = mj_id2name(m, mjOBJ_KEY, k);
+      w->ExcludeTouching(std::string("keyframe ") + (n ? n : std::to_string(k)));
+    }
+  } else {
+    collision::SelfCollisionFile f;
+    if (!collision::ReadSelfCollisionFile(file, &f, &why)) {
+      *error = "--self-collision: " + why;
+      return nullptr;
+    }
+    if (f.robot.model_hash != g.model_hash) {
+      *error = "--self-collision: " + file + " is for robot " + f.robot.name + " (model hash " +
+               Hex(f.robot.model_hash) + "), the scene's robot " + robot.name + " has " +
+               Hex(g.model_hash) + " (make one with ohrp_selfcollision --model SCENE --out FILE)";
+      return nullptr;
+    }
+    w->from_file_ = true;
+    w->source_ = file;
+    std::vector<collision::LinkPair> listed = f.online;
+    for (const auto& r : f.ranges) listed.insert(listed.end(), r.pairs.begin(), r.pairs.end());
+    for (const auto& p : listed) {
+      const int a = collision::FindLink(g, f.robot.links[p.a].name);
+      const int b = collision::FindLink(g, f.robot.links[p.b].name);
+      if (a < 0 || b < 0) {
+        *error = "--self-collision: " + file + ": the pair " + f.robot.links[p.a].name + "/" +
+                 f.robot.links[p.b].name + " names a link the scene's robot does not have";
+        return nullptr;
+      }
+      const collision::LinkPair q{std::min(a, b), std::max(a, b)};
+      if (std::find(w->pairs_.begin(), w->pairs_.end(), q) == w->pairs_.end()) w->pairs_.push_back(q);
+    }
+  }
+  w->reach_ = Reach(g);
+  w->q_last_.assign(robot.joints.size(), std::nan(""));
+  w->moved_.assign(g.links.size(), 0.0);
+  const size_t n = w->pairs_.size();
+  w->moved_a_.assign(n, 0.0);
+  w->moved_b_.assign(n, 0.0);
+  w->distance_.assign(n, -INFINITY);  // no measurement yet
+  w->in_contact_.reserve(n);
+  w->first_time_.assign(n, -1.0);
+  w->deepest_.assign(n, 0.0);
+  w->deepest_time_.assign(n, 0.0);
+  w->first_cycle_.assign(n, 0);
+  w->cycles_.assign(n, 0);
+  w->order_.reserve(n);
+  return w;
+}
+
+std::string SelfCollisionWatch::PairName(const collision::LinkPair& p) const {
+  const auto& links = checker_->robot().links;
+  return links[p.a].name + "/" + links[p.b].name;
+}
+
+void SelfCollisionWatch::ExcludeTouching(const std::string& where) {
+  distance_.resize(pairs_.size());
+  checker_->Check(pairs_, 0.0, distance_);
+  std::vector<collision::LinkPair> kept;
+  for (size_t i = 0; i < pairs_.size(); ++i) {
+    if (distance_[i] <= 0) excluded_.push_back(PairName(pairs_[i]) + " (" + where + ")");
+    else kept.push_back(pairs_[i]);
+  }
+  pairs_ = std::move(kept);
+}
+
+void SelfCollisionWatch::ReadPose(const mjData* d) {
+  for (size_t i = 0; i < q_.size(); ++i) q_[i] = d->qpos[robot_->joints[i].qpos_adr];
+  checker_->SetPose(q_);
+}
+
+void SelfCollisionWatch::Start(const mjData* d) {
+  if (from_file_) return;
+  ReadPose(d);
+  const size_t before = pairs_.size();
+  ExcludeTouching("the initial state");
+  if (pairs_.size() != before) {  // the per-pair arrays follow the list (set-up, not per cycle)
+    const size_t n = pairs_.size();
+    moved_a_.assign(n, 0.0);
+    moved_b_.assign(n, 0.0);
+    first_time_.assign(n, -1.0);
+    deepest_.assign(n, 0.0);
+    deepest_time_.assign(n, 0.0);
+    first_cycle_.assign(n, 0);
+    cycles_.assign(n, 0);
+  }
+  distance_.assign(pairs_.size(), -INFINITY);  // no measurement yet
+}
+
+void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
+  const double t0 = Now();
+  // how far each link can have moved since the last check
+  for (size_t j = 0; j < q_.size(); ++j) q_[j] = d->qpos[robot_->joints[j].qpos_adr];
+  bool fresh = false;  // the first check, or an angle that is not finite: measure every pair
+  for (size_t l = 0; l < reach_.size(); ++l) {
+    double m = 0;
+    for (const auto& [joint, r] : reach_[l]) {
+      const double dq = std::abs(q_[joint] - q_last_[joint]);
+      if (std::isfinite(dq)) m += dq * r;
+      else fresh = true;
+    }
+    moved_[l] += m;
+  }
+  q_last_ = q_;  // same size: no allocation
+  bool posed = false;
+  in_contact_.clear();
+  for (size_t i = 0; i < pairs_.size(); ++i) {
+    const collision::LinkPair& p = pairs_[i];
+    // still apart: the last lower bound exceeds the two links' motion since (1 um: GJK's
+    // certification tolerance)
+    const double moved = (moved_[p.a] - moved_a_[i]) + (moved_[p.b] - moved_b_[i]);
+    if (!fresh && distance_[i] - moved > 1e-6) continue;
+    if (!posed) {
+      checker_->SetPose(q_);
+      posed = true;
+    }
+    distance_[i] = checker_->Distance(p.a, p.b, 0.0);
+    moved_a_[i] = moved_[p.a];
+    moved_b_[i] = moved_[p.b];
+    ++measured_;
+    const double x = distance_[i];
+    if (!(x < 0)) continue;
+    in_contact_.push_back(static_cast<int>(i));
+    if (first_time_[i] < 0) {
+      first_time_[i] = time;
+      first_cycle_[i] = cycle;
+      order_.push_back(static_cast<int>(i));
+    }
+    ++cycles_[i];
+    if (-x > deepest_[i]) {
+      deepest_[i] = -x;
+      deepest_time_[i] = time;
+    }
+  }
+  ++checks_;
+  cycles_in_contact_ += !in_contact_.empty();
+  const double dt = Now() - t0;
+  check_seconds_ += dt;
+  check_max_ = std::max(check_max_, dt);
+}
+
+std::string SelfCollisionWatch::Describe() const {
+  const int links = static_cast<int>(checker_->robot().links.size());
+  std::string s = std::to_string(pairs_.size()) + " link pairs of " + std::to_string(links) +
+                  " links checked every control cycle with the controllers' checker (";
+  if (from_file_) {
+    s += "the online and safe-range pairs of " + source_ + ")";
+  } else {
+    s += "all " + std::to_string(all_pairs_) + " non-adjacent pairs";
+    if (!excluded_.empty())
+      s += " less " + std::to_string(excluded_.size()) + " in contact at the zero posture, a keyframe or the start";
+    s += ")";
+  }
+  return s;
+}
+
+SelfCollisionSummary SelfCollisionWatch::Summary() const {
+  SelfCollisionSummary s;
+  s.on = true;
+  s.source = source_;
+  s.links = static_cast<int>(checker_->robot().links.size());
+  s.pairs_checked = static_cast<int>(pairs_.size());
+  s.excluded = excluded_;
+  s.checks = checks_;
+  s.measured = measured_;
+  s.cycles_in_contact = cycles_in_contact_;
+  s.check_seconds = check_seconds_;
+  s.check_max = check_max_;
+  for (int i : order_) {
+    SelfCollisionHit h;
+    h.pair = PairName(pairs_[i]);
+    h.first_time = first_time_[i];
+    h.first_cycle = first_cycle_[i];
+    h.deepest = deepest_[i];
+    h.deepest_time = deepest_time_[i];
+    h.cycles = cycles_[i];
+    s.pairs.push_back(h);
+  }
+  return s;
+}
+
+}  // namespace ohrp::sim
