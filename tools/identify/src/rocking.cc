@@ -124,14 +124,30 @@ bool InvertRocking(const RockingGeometry& geo, const contact::SoftContactParams&
     q.damping = dd;
     return PredictRocking(geo.points, geo.weights, geo.mass, geo.Iyy, geo.g, q);
   };
-  // K: omega_d grows with K (the bed's rotational stiffness); bisection in log K
-  double lo = k_lo, hi = k_hi;
-  const double w_lo = mode(lo, p.damping).omega_d, w_hi = mode(hi, p.damping).omega_d;
-  if (!(omega_d > w_lo && omega_d < w_hi)) {
+  // K: on the rocking branch omega_d grows with K. At very soft soles the body topples (no
+  // rocking mode) and the slowest oscillating mode is another one, so the bracket is found on a
+  // grid (log K) where omega_d rises through the target, then bisected
+  double lo = 0, hi = 0;
+  auto bracket_k = [&](double dd) {
+    constexpr int kGrid = 80;
+    double k_prev = k_lo, w_prev = mode(k_lo, dd).omega_d;
+    for (int i = 1; i <= kGrid; ++i) {
+      const double kk = k_lo * std::pow(k_hi / k_lo, static_cast<double>(i) / kGrid);
+      const double w = mode(kk, dd).omega_d;
+      if (w_prev > 0 && w > w_prev && w_prev <= omega_d && omega_d <= w) {
+        lo = k_prev;
+        hi = kk;
+        return true;
+      }
+      k_prev = kk;
+      w_prev = w;
+    }
+    return false;
+  };
+  if (!bracket_k(p.damping)) {
     *error = "a rocking frequency of " + std::to_string(omega_d / (2 * M_PI)) +
              " Hz lies outside what stiffnesses " + std::to_string(k_lo) + " .. " +
-             std::to_string(k_hi) + " N/m give (" + std::to_string(w_lo / (2 * M_PI)) + " .. " +
-             std::to_string(w_hi / (2 * M_PI)) + " Hz)";
+             std::to_string(k_hi) + " N/m give on the rocking branch";
     return false;
   }
   for (int i = 0; i < 100; ++i) {
@@ -153,8 +169,11 @@ bool InvertRocking(const RockingGeometry& geo, const contact::SoftContactParams&
       (mode(*k, mid).zeta < zeta ? dl : dh) = mid;
     }
     *d = 0.5 * (dl + dh);
-    lo = k_lo;
-    hi = k_hi;
+    if (!bracket_k(*d)) {
+      *error = "no stiffness gives a rocking frequency of " + std::to_string(omega_d / (2 * M_PI)) +
+               " Hz at D = " + std::to_string(*d) + " s/m";
+      return false;
+    }
     for (int i = 0; i < 100; ++i) {
       const double mid = std::sqrt(lo * hi);
       (mode(mid, *d).omega_d < omega_d ? lo : hi) = mid;

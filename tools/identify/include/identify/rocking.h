@@ -47,10 +47,11 @@ bool GeometryAt(const mjModel* m, const std::vector<std::pair<std::string, doubl
                 const contact::SoftContactParams& p, RockingGeometry* out, std::string* error);
 
 // The soles' stiffness and damping that give the rocking mode (omega_d, zeta) on `geometry`,
-// the other parameters as in `p`: K by bisection on omega_d over [k_lo, k_hi], then D on zeta
-// over [0, d_hi] at that K. False with `*error` when a target lies outside what the ranges give.
+// the other parameters as in `p`: K by bisection on omega_d where it rises through the target
+// on a grid over [k_lo, k_hi] (the rocking branch), then D on zeta over [0, d_hi] at that K,
+// then K again at that D. False with `*error` when a target lies outside what the ranges give.
 bool InvertRocking(const RockingGeometry& geometry, const contact::SoftContactParams& p,
                    double omega_d, double zeta, double* k, double* d, std::string* error,
-                   double k_lo = 1e5, double k_hi = 1e8, double d_hi = 1e3);
+                   double k_lo = 2e5, double k_hi = 1e8, double d_hi = 1e3);
 
 }  // namespace ohrp::identify
