@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <chrono>
 #include <vector>
 
 #include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
@@ -48,34 +49,40 @@ double NoiseOf(const std::string& c) {
   return 0;  // time, status, rejected, qref_, quaternions
 }
 
-TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
-  for (const char* p : {"hw_emulator", "hw_driver", "posture", "ohrp_identify", "ohrp_run", "sim_host"})
-    if (!fs::exists(Program(p))) GTEST_SKIP() << Program(p) << " is not built";
-  const std::string dir = TempPath("identify_robot") + ".d";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string segment = UniqueSegment("idrobot");
+// Records the experiment on the emulated robot into dir/robot.csv. Returns "" for a faithful
+// real-time recording, else why not: the emulator resynchronised its robot time to the wall
+// clock (it fell far behind: the robot's time then runs slower than the driver's, and every
+// frequency in the log with it) or the driver skipped cycles at more than 50 places after the
+// push (a loaded machine).
+std::string Record(const std::string& dir, const std::string& segment) {
   const std::string scene = kSource + "/mjcf/hrp1s/scene_flat.xml";
-
+  fs::remove(dir + "/port");
+  fs::remove(dir + "/emulator.out");
+  fs::remove(dir + "/driver.out");
   // the robot: the emulated boards with soft soles of their own, the scenario's push
   const pid_t emu = Spawn({Program("hw_emulator"), "--model", scene, "--keyframe", "halfsit",
                            "--port", "0", "--port-file", dir + "/port", "--wait-driver", "60",
                            "--timestep", "0.0005", "--period", "0.002", "--contact", "soft",
                            "--contact-stiffness", "2e6", "--contact-damping", "45", "--push",
-                           "9.0,9.5,0,0,0,0,40,0", "--quiet"},
+                           "9.0,9.5,0,0,0,0,40,0"},
                           dir + "/emulator.out");
   int port = 0;
   for (int i = 0; i < 600 && port == 0; ++i) {
     std::ifstream in(dir + "/port");
     if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  ASSERT_GT(port, 0) << ReadText(dir + "/emulator.out");
+  if (port == 0) {
+    kill(emu, SIGKILL);
+    WaitExit(emu, 10);
+    return "hw_emulator did not start: " + ReadText(dir + "/emulator.out");
+  }
   const pid_t drv = Spawn({Program("hw_driver"), "--model", scene, "--io",
                            Program("../lib/libohrp_io_udp.so"), "--io-arg",
                            "port=" + std::to_string(port), "--io-arg", "timeout_ms=100",
                            "--segment", segment, "--period", "0.002", "--watchdog-cycles", "100",
                            "--board-timeout-cycles", "100", "--rt-priority", "0", "--no-mlock",
-                           "--duration", "13.5", "--log", dir + "/robot.csv", "--quiet"},
+                           "--duration", "13.5", "--log", dir + "/robot.csv", "--summary",
+                           dir + "/driver.json", "--quiet"},
                           dir + "/driver.out");
   for (int i = 0; i < 600 && !fs::exists("/dev/shm/ohrp_" + segment); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -89,7 +96,51 @@ TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
   kill(emu, SIGINT);
   WaitExit(emu, 30);
   RemoveSegment(segment);
-  ASSERT_EQ(drv_code, 0) << ReadText(dir + "/driver.out") << ReadText(dir + "/emulator.out");
+  if (drv_code != 0)
+    return "hw_driver exited " + std::to_string(drv_code) + ": " + ReadText(dir + "/driver.out");
+  const std::string emu_out = ReadText(dir + "/emulator.out");
+  unsigned long resyncs = 0;
+  const size_t at = emu_out.find(" overruns, ");
+  if (at != std::string::npos) resyncs = std::stoul(emu_out.substr(at + 11));
+  // the driver's rows from the push on (8.5 .. 13.5 s): a few skipped cycles only lose rows
+  // (measured here: 12 places, the identification unchanged to 0.1 %), many mean a stalled loop
+  int gaps = 0;
+  {
+    std::ifstream in(dir + "/robot.csv");
+    std::string line;
+    std::getline(in, line);
+    double prev = -1;
+    while (std::getline(in, line)) {
+      const double t = std::stod(line);
+      if (prev >= 8.5 && t - prev > 1.5 * 0.002) ++gaps;
+      prev = t;
+    }
+  }
+  if (resyncs > 0 || gaps > 50)
+    return "not real time (a loaded machine): hw_emulator resynchronised " +
+           std::to_string(resyncs) + " times, hw_driver skipped cycles at " + std::to_string(gaps) +
+           " places after 8.5 s";
+  return "";
+}
+
+TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
+  for (const char* p : {"hw_emulator", "hw_driver", "posture", "ohrp_identify", "ohrp_run", "sim_host"})
+    if (!fs::exists(Program(p))) GTEST_SKIP() << Program(p) << " is not built";
+  const std::string tmp = TempPath("identify_robot");
+  const std::string dir = tmp + ".d";
+  fs::remove(tmp);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string segment = UniqueSegment("idrobot");
+
+  // a faithful recording: up to three tries on a loaded machine, each saying why it was not
+  std::string why;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    why = Record(dir, segment);
+    if (why.empty()) break;
+    std::printf("[ note     ] recording %d not used: %s\n", attempt + 1, why.c_str());
+  }
+  ASSERT_TRUE(why.empty()) << why;
 
   // sensor noise on every measured channel, seeded
   {
@@ -145,7 +196,7 @@ TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
               ka, 100 * (ka / kStiffness - 1), da, 100 * (da / kDamping - 1), k,
               j["refined"]["k_se"].get<double>(), 100 * (k / kStiffness - 1), d,
               j["refined"]["d_se"].get<double>(), 100 * (d / kDamping - 1), j["runs"].size());
-  fs::remove_all(dir);
+  if (!HasFailure()) fs::remove_all(dir);  // kept for a look otherwise
 }
 
 }  // namespace

@@ -127,7 +127,7 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
   std::vector<size_t> gaps;
   for (size_t k = 0; k + 1 < idx.size(); ++k) gaps.push_back(idx[k + 1] - idx[k]);
   std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  const size_t w = std::max<size_t>(2, static_cast<size_t>(0.15 * static_cast<double>(gaps[gaps.size() / 2])));
+  const size_t w = std::max<size_t>(2, static_cast<size_t>(0.3 * static_cast<double>(gaps[gaps.size() / 2])));
   std::vector<double> te, xe;
   for (size_t i : idx) {
     const size_t l = i >= b + w ? i - w : b, h = std::min(e - 1, i + w);
@@ -152,7 +152,7 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
     const double g = half_periods[half_periods.size() / 2];
     size_t keep = 1;
     while (keep < te.size() && std::fabs(te[keep] - te[keep - 1] - g) < 0.25 * g &&
-           std::fabs(xe[keep] - xe[keep - 1]) > 12 * o.noise)
+           std::fabs(xe[keep] - xe[keep - 1]) > 8 * o.noise)
       ++keep;
     te.resize(keep);
     xe.resize(keep);

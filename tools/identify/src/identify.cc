@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <sstream>
 
 #include "compare/oscillation.h"
@@ -43,7 +44,7 @@ struct Measured {
 };
 
 bool Measure(const runner::Table& log, const std::string& path, const std::string& channel,
-             double from, double to, Measured* m, std::string* error) {
+             double from, double to, Measured* m, std::string* error, double add_noise = 0) {
   const int tc = log.Column("time"), c = log.Column(channel);
   if (tc < 0 || c < 0) {
     *error = path + ": no column '" + (tc < 0 ? std::string("time") : channel) + "'";
@@ -58,6 +59,32 @@ bool Measure(const runner::Table& log, const std::string& path, const std::strin
                   channel.c_str(), from, to);
     *error = path + buf + m->osc.why;
     return false;
+  }
+  if (add_noise > 0) {
+    // the recording's noise on the simulation too, so that both are measured alike (noise
+    // biases the extrema of the small swings, hence the decay): the mean of kNoiseDraws
+    // seeded draws
+    constexpr int kNoiseDraws = 8;
+    double f = 0, delta = 0;
+    int used = 0;
+    for (int k = 0; k < kNoiseDraws; ++k) {
+      std::mt19937 rng(1000 + k);
+      std::normal_distribution<double> n(0.0, add_noise);
+      std::vector<double> x = m->x;
+      for (double& v : x) v += n(rng);
+      const compare::Oscillation o = compare::AnalyseOscillation(m->t, x, from, to);
+      if (!o.found) continue;
+      f += o.frequency;
+      delta += o.log_decrement;
+      ++used;
+    }
+    if (used == 0) {
+      *error = path + ": with the recording's noise added, the oscillation of " + channel +
+               " is not found any more";
+      return false;
+    }
+    m->osc.frequency = f / used;
+    m->osc.log_decrement = delta / used;
   }
   return true;
 }
@@ -115,6 +142,7 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
     return kUsage;
   }
   contact::SoftContactParams p;  // the soles' other parameters: sim_host's defaults
+  r->noise = compare::NoiseSigma(rec.col(rec.Column(o.channel)));
   r->from = push_end + o.settle;
   r->to = r->from + o.window;
 
@@ -125,7 +153,8 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
     std::string log;
     if (!run(k, d, dir, &log, error)) return false;
     runner::Table t;
-    if (!t.Load(log, error) || !Measure(t, log, o.channel, r->from, r->to, m, error)) return false;
+    if (!t.Load(log, error) || !Measure(t, log, o.channel, r->from, r->to, m, error, r->noise))
+      return false;
     r->runs.push_back({{"k", k}, {"d", d}, {"frequency", m->osc.frequency},
                        {"log_decrement", m->osc.log_decrement}, {"dir", dir}});
     say(Fmt("simulated K %.4g N/m, D %.4g s/m: f %.4f Hz, log decrement %.4f", k, d,

@@ -8,7 +8,9 @@
 //       sim_args, each through one RunVariant, which a sweep executor can replace) around the
 //       estimate: the simulated frequency against K at D_a (three runs, a line through them:
 //       K where it equals the recording's), then the simulated log decrement against D at that
-//       K (three runs): the mismatch of frequency and decay brought to zero;
+//       K (three runs): the mismatch of frequency and decay brought to zero. The simulations
+//       are measured with the recording's noise added (its sigma from the channel, the mean of
+//       8 seeded draws), so that noise biases both measurements alike;
 //   (c) their uncertainty: the measurement's standard error through the slopes of (b)
 //       (sigma_K = sigma_f / |df/dK|, sigma_D = sigma_delta / |d delta/dD|), and a final run at
 //       (K, D) compared with the recording (compare-logs RMS, frequency and decay differences).
@@ -49,6 +51,8 @@ struct Estimate {
 
 struct IdentifyResult {
   double lag = 0;                   // recording's time minus the simulation's
+  double noise = 0;                 // the recording's noise on the channel (1 sigma), which
+                                    // the simulations' channel gets too before it is measured
   double from = 0, to = 0;          // the simulation's window [s]
   double f = 0, f_se = 0, delta = 0, delta_se = 0;  // the recording's oscillation
   Estimate closed_form;             // (a)
