@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   ohrp::identify::IdentifyResult r;
   std::string error;
   const int code = ohrp::identify::Identify(
-      o, ohrp::identify::OhrpRunVariant(ohrp_run, o.scenario, o.source_dir), &r, &error);
+      o, ohrp::identify::OhrpRunVariant(ohrp_run, o.scenario), &r, &error);
   if (code != 0) {
     std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
     return code;

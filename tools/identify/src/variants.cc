@@ -26,8 +26,7 @@ std::string Number(double v) {
 
 }  // namespace
 
-RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenario,
-                          const std::string& source_dir) {
+RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenario) {
   return [=](double k, double d, const std::string& dir, std::string* log, std::string* error) {
     namespace fs = std::filesystem;
     std::error_code ec;
@@ -62,7 +61,6 @@ RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenar
                " s/m wrote no log (exit " + std::to_string(rc) + "; see " + dir + "/run.txt)";
       return false;
     }
-    (void)source_dir;
     return true;
   };
 }

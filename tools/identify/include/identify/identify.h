@@ -30,8 +30,9 @@ using RunVariant = std::function<bool(double k, double d, const std::string& dir
 
 // The default RunVariant: `ohrp_run SCENARIO` with "--contact-stiffness K --contact-damping D"
 // added to the scenario's sim_args (a copy of the scenario in `dir`).
-RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenario,
-                          const std::string& source_dir);
+// (The scenario's relative paths are the repository's, as ohrp_run resolves them: the copy
+// may live anywhere.)
+RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenario);
 
 struct IdentifyOptions {
   std::string recording;          // the robot's data log (hw_driver --log)
