@@ -43,15 +43,38 @@ struct Measured {
   std::vector<double> t, x;
 };
 
+// the sum of the comma-separated channels of `log` (e.g. both ankles' pitch moments); false
+// with *error naming a missing one
+bool Channel(const runner::Table& log, const std::string& path, const std::string& channels,
+             std::vector<double>* x, std::string* error) {
+  std::stringstream ss(channels);
+  x->assign(log.rows(), 0.0);
+  int n = 0;
+  for (std::string c; std::getline(ss, c, ',');) {
+    const int col = log.Column(c);
+    if (col < 0) {
+      *error = path + ": no channel '" + c + "' (--channel)";
+      return false;
+    }
+    for (size_t i = 0; i < x->size(); ++i) (*x)[i] += log.col(col)[i];
+    ++n;
+  }
+  if (n == 0) {
+    *error = "--channel names no channel";
+    return false;
+  }
+  return true;
+}
+
 bool Measure(const runner::Table& log, const std::string& path, const std::string& channel,
              double from, double to, Measured* m, std::string* error, double add_noise = 0) {
-  const int tc = log.Column("time"), c = log.Column(channel);
-  if (tc < 0 || c < 0) {
-    *error = path + ": no column '" + (tc < 0 ? std::string("time") : channel) + "'";
+  const int tc = log.Column("time");
+  if (tc < 0) {
+    *error = path + ": no column 'time'";
     return false;
   }
   m->t = log.col(tc);
-  m->x = log.col(c);
+  if (!Channel(log, path, channel, &m->x, error)) return false;
   m->osc = compare::AnalyseOscillation(m->t, m->x, from, to);
   if (!m->osc.found) {
     char buf[160];
@@ -122,10 +145,12 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
   };
   runner::Table rec;
   if (!rec.Load(o.recording, error)) return kUsage;
-  if (rec.Column(o.channel) < 0) {
-    *error = o.recording + ": no channel '" + o.channel + "' (--channel)";
+  if (rec.Column("time") < 0 || rec.rows() < 3) {
+    *error = o.recording + ": not a data log (no 'time' column, or fewer than 3 rows)";
     return kUsage;
   }
+  std::vector<double> rx;
+  if (!Channel(rec, o.recording, o.channel, &rx, error)) return kUsage;
   runner::Scenario sc;
   if (!runner::LoadScenario(o.scenario, &sc, error)) return kUsage;
   double push_end = 0;
@@ -142,7 +167,7 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
     return kUsage;
   }
   contact::SoftContactParams p;  // the soles' other parameters: sim_host's defaults
-  r->noise = compare::NoiseSigma(rec.col(rec.Column(o.channel)));
+  r->noise = compare::NoiseSigma(rx);
   r->from = push_end + o.settle;
   r->to = r->from + o.window;
 
@@ -164,7 +189,6 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
   Measured nominal;
   if (!simulate(p.stiffness, p.damping, &nominal)) return kFailed;
   const auto& rt = rec.col(rec.Column("time"));
-  const auto& rx = rec.col(rec.Column(o.channel));
   if (!compare::CrossCorrelationLag(nominal.t, nominal.x, rt, rx, 0.0, 2.0, &r->lag, &err)) {
     *error = "aligning the recording on the simulation (" + o.channel + "): " + err;
     return kUsage;

@@ -1,6 +1,7 @@
 // ohrp_identify: the soft soles' stiffness and damping from a recording of the standing robot's
 // damped rocking (see identify/identify.h, docs/identify.md).
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -21,13 +22,16 @@ int main(int argc, char** argv) {
       "inertia and centre of mass in the recorded posture; (b) simulations of the experiment\n"
       "(ohrp_run) around that estimate bring the simulated frequency and decay onto the\n"
       "recording's; (c) uncertainties from the measurement's standard errors through the\n"
-      "simulated slopes. Writes DIR/identify.json and the runs in DIR/runN.",
+      "simulated slopes. Writes DIR/identify.json, the runs in DIR/runN and the last run\n"
+      "against the recording in DIR/compare/ (ohrp_compare_logs: compare.png).",
       "ohrp_identify"};
   app.add_option("recording", o.recording, "the robot's data log (hw_driver --log)")
       ->required()->check(CLI::ExistingFile);
   app.add_option("--scenario", o.scenario, "the experiment, as ohrp_run takes it")
       ->capture_default_str()->check(CLI::ExistingFile);
-  app.add_option("--channel", o.channel, "oscillating channel measured in both")->capture_default_str();
+  app.add_option("--channel", o.channel,
+                 "oscillating channel measured in both; a comma-separated list measures their sum")
+      ->capture_default_str();
   app.add_option("--settle", o.settle, "[s] after the push's end before the measured window")
       ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--window", o.window, "[s] of free rocking measured")
@@ -73,6 +77,27 @@ int main(int argc, char** argv) {
   j["final"] = {{"frequency", r.final_f}, {"log_decrement", r.final_delta}, {"rms", r.final_rms}};
   j["runs"] = r.runs;
   std::ofstream(o.out_dir + "/identify.json") << j.dump(2) << "\n";
+  // the paper's figure 12: the run at the identified K, D and the recording on the same axes
+  // (ohrp_compare_logs, aligned by the lag found: DIR/compare/compare.png)
+  const std::string compare = (fs::path(argv[0]).parent_path() / "ohrp_compare_logs").string();
+  if (fs::exists(compare) && !r.runs.empty()) {
+    auto quote = [](const std::string& s) {
+      std::string q = "'";
+      for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      return q + "'";
+    };
+    char window[96];
+    std::snprintf(window, sizeof(window), " --from %.6f --to %.6f", r.from, r.to);
+    const std::string cmd = quote(compare) + " " +
+                            quote(r.runs.back()["dir"].get<std::string>() + "/run/log.csv") + " " +
+                            quote(o.recording) + " --channels " + quote(o.channel) +
+                            " --oscillation " + quote(o.channel) + window +
+                            " --labels simulation,robot --out " + quote(o.out_dir + "/compare") +
+                            " > " + quote(o.out_dir + "/compare.txt") + " 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+      std::fprintf(stderr, "ohrp_identify: the comparison plot could not be made (see %s/compare.txt)\n",
+                   o.out_dir.c_str());
+  }
   std::printf("K = %.4g +- %.2g N/m, D = %.4g +- %.2g s/m  (closed form: K %.4g +- %.2g, D %.4g +- %.2g; %s/identify.json)\n",
               r.refined.k, r.refined.k_se, r.refined.d, r.refined.d_se, r.closed_form.k,
               r.closed_form.k_se, r.closed_form.d, r.closed_form.d_se, o.out_dir.c_str());

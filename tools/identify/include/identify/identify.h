@@ -38,7 +38,9 @@ struct IdentifyOptions {
   std::string recording;          // the robot's data log (hw_driver --log)
   std::string scenario;           // the experiment (scenarios/rocking_fig12.yaml)
   std::string source_dir;         // repository root: the scenario's scene is relative to it
-  std::string channel = "rfsensor_ty";  // the oscillating channel measured
+  std::string channel = "rfsensor_ty,lfsensor_ty";  // the oscillating channel measured (a
+                                  // comma-separated list: their sum, here both ankles' pitch
+                                  // moments: twice the swing, sqrt 2 the noise)
   double settle = 0.15;           // [s] after the push's end before the free oscillation
   double window = 3.0;            // [s] of free oscillation measured
   double step = 0.15;             // relative step of the K and D runs around the estimate
