@@ -140,6 +140,11 @@ TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
     if (why.empty()) break;
     std::printf("[ note     ] recording %d not used: %s\n", attempt + 1, why.c_str());
   }
+#ifdef OHRP_SANITIZE
+  // the sanitizers slow the emulated robot's real-time loop: a recording that could not be made
+  // in real time there says so instead of failing (the normal build fails on it)
+  if (!why.empty()) GTEST_SKIP() << "under the sanitizers: " << why;
+#endif
   ASSERT_TRUE(why.empty()) << why;
 
   // sensor noise on every measured channel, seeded
