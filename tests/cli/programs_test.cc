@@ -150,7 +150,9 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"bench_selfcollision", {}, "--postures", {"--file", "nosuch.yaml"}, false},
         ProgramCase{"ohrp_selfcollision", {"--out", "/dev/null"}, "--margin",
                     {"--out", "/dev/null", "--model", "nosuch.xml"}, false},
-        ProgramCase{"bench_accuracy", {}, "--restarts", {}, false}),
+        ProgramCase{"bench_accuracy", {}, "--restarts", {}, false},
+        ProgramCase{"ohrp_compare_logs", {kStand, kStand}, "--max-lag", {"nosuch.csv", kStand}},
+        ProgramCase{"ohrp_identify", {kStand}, "--window", {"nosuch.csv"}}),
     [](const ::testing::TestParamInfo<ProgramCase>& info) { return info.param.name; });
 
 }  // namespace

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "runner/checks.h"  // runner::Table: the data logs' reader
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::hw::udp {
@@ -98,8 +99,10 @@ class DriverEndToEnd : public ::testing::Test {
   // Runs the chain: hw_emulator with `emulator_args`, hw_driver (udp plugin, `driver_args`,
   // generous timeouts so that a loaded machine does not trip the safe mode), then posture
   // ramping to half-sitting in 1 s. Returns hw_driver's exit code; the emulator is stopped with
-  // SIGINT afterwards and its log read into rows_.
-  int RunChain(std::vector<std::string> emulator_args, std::vector<std::string> driver_args) {
+  // SIGINT afterwards and its log read into rows_. `sigint_after` > 0: hw_driver gets a SIGINT
+  // that many wall seconds after posture started (a stop by hand).
+  int RunChain(std::vector<std::string> emulator_args, std::vector<std::string> driver_args,
+               double sigint_after = 0) {
     std::vector<std::string> e = {kBin + "/hw_emulator", "--model", kScene, "--port", "0",
                                   "--port-file", Path("port"), "--wait-driver", "60", "--log",
                                   Path("emu.csv"), "--log-every", "10"};
@@ -139,6 +142,7 @@ class DriverEndToEnd : public ::testing::Test {
 
     // the controller, as against sim_host
     posture_ = Exec({kBin + "/posture", "--segment", segment_, "--ramp", "1.0"}, Path("posture.out"));
+    if (sigint_after > 0 && WaitExit(&driver_, sigint_after) == -1) kill(driver_, SIGINT);
     const int code = WaitExit(&driver_, kMaxWall);
     WaitExit(&posture_, kMaxWall);
     kill(emulator_, SIGINT);
@@ -194,6 +198,23 @@ class DriverEndToEnd : public ::testing::Test {
   fs::path dir_;
   pid_t emulator_ = -1, driver_ = -1, posture_ = -1;
 };
+
+// sim_host's data log of the robot standing half-sitting (posture, 4 s lock-step)
+void RunSimHost(const std::string& segment, const std::string& log, const std::string& out) {
+  pid_t sim = Exec({kBin + "/sim_host", "--scene", kScene, "--segment", segment, "--duration",
+                    "4", "--log", log, "--progress", "0"},
+                   out + ".sim");
+  bool segment_up = false;
+  const std::string shm = "/dev/shm/" + shm::SegmentObjectName(segment);
+  for (auto t0 = Clock::now(); !segment_up && Since(t0) < kMaxWall;) {
+    segment_up = fs::exists(shm);
+    if (!segment_up) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(segment_up) << Read(out + ".sim");
+  pid_t posture = Exec({kBin + "/posture", "--segment", segment, "--ramp", "1.0"}, out + ".posture");
+  ASSERT_EQ(WaitExit(&sim, kMaxWall), 0) << Read(out + ".sim");
+  ASSERT_EQ(WaitExit(&posture, kMaxWall), 0) << Read(out + ".posture");
+}
 
 // FNV-1a (64 bit) of a file's bytes: the identity of a program file
 uint64_t FileHash(const std::string& path) {
@@ -319,6 +340,88 @@ TEST_F(DriverEndToEnd, ABoardResetIsReArmedAndTheServosComeOnAgain) {
   EXPECT_EQ(order, (std::vector<std::string>{"servo_on", "board_reset", "board_rearm", "servo_on"}))
       << summary_["events"].dump();
   EXPECT_GT(ServosOnUntil(), 4.0);  // all 29 servos on again on the emulated robot
+}
+
+// hw_driver --log writes sim_host's data log format: the same column names but the simulator's
+// ground truth (base_*), read by the same reader (runner::Table), one row per servo cycle, a
+// period apart; and the values are the robot's: standing half-sitting, the joints where
+// sim_host's robot has them and the feet carrying the same weight.
+TEST_F(DriverEndToEnd, TheDriversLogHasSimHostsColumnsAndTheSameReaderReadsIt) {
+  RunSimHost(segment_ + "s", Path("sim.csv"), Path("sim"));
+  runner::Table sim, drv;
+  std::string error;
+  ASSERT_TRUE(sim.Load(Path("sim.csv"), &error)) << error;
+  ASSERT_EQ(RunChain({}, {"--duration", "4", "--io-arg", "timeout_ms=100",
+                          "--board-timeout-cycles", "100", "--log", Path("driver.csv")}),
+            0)
+      << Read(Path("driver.out"));
+  ASSERT_TRUE(drv.Load(Path("driver.csv"), &error)) << error;
+
+  // the columns: sim_host's, less the ground truth
+  std::vector<std::string> expected;
+  for (const auto& n : sim.names())
+    if (n.rfind("base_", 0) != 0) expected.push_back(n);
+  EXPECT_EQ(drv.names(), expected);
+  EXPECT_EQ(sim.names().size(), expected.size() + 10);  // base x y z, quaternion, velocity
+  EXPECT_EQ(drv.Column("base_z"), -1);
+
+  // one row per servo cycle (the summary's count), a period apart, times strictly increasing
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(drv.rows(), summary_["cycles"].get<size_t>());
+  const auto& t = drv.col(drv.Column("time"));
+  double dt_min = 1, dt_max = 0;
+  for (size_t i = 1; i < t.size(); ++i) {
+    dt_min = std::fmin(dt_min, t[i] - t[i - 1]);
+    dt_max = std::fmax(dt_max, t[i] - t[i - 1]);
+  }
+  EXPECT_NEAR(dt_min, 0.002, 1e-9);  // skipped slots (a loaded machine) make larger steps only
+  // the last row is the last cycle run: the duration, then the stop's damped hold before the
+  // servo-off (--servo-off-time, 0.2 s by default)
+  EXPECT_NEAR(t.back(), summary_["duration"].get<double>(), 1e-6);
+  EXPECT_NEAR(t.back(), 4.0 + 0.2, 0.01);
+
+  // the values: the last row of each log, the robot standing half-sitting on both
+  auto last = [](const runner::Table& tb, const std::string& name) {
+    const int c = tb.Column(name);
+    EXPECT_GE(c, 0) << name;
+    return c < 0 ? NAN : tb.col(c).back();
+  };
+  double worst_q = 0;
+  for (const auto& n : expected) {
+    if (n.rfind("q_", 0) != 0) continue;
+    worst_q = std::fmax(worst_q, std::fabs(last(drv, n) - last(sim, n)));
+  }
+  EXPECT_LT(worst_q, 0.02);
+  const double fz_sim = last(sim, "rfsensor_fz") + last(sim, "lfsensor_fz");
+  const double fz_drv = last(drv, "rfsensor_fz") + last(drv, "lfsensor_fz");
+  EXPECT_GT(fz_sim, 100.0);
+  EXPECT_NEAR(fz_drv, fz_sim, 0.05 * fz_sim);
+  std::printf("[ figures  ] driver log: %zu columns (sim_host's %zu less 10 base_*), %zu rows = "
+              "cycles, dt %.6f..%.6f s; last row: joints within %.4f rad of sim_host's, feet "
+              "%.1f N (sim_host %.1f N)\n",
+              drv.names().size(), sim.names().size(), drv.rows(), dt_min, dt_max, worst_q, fz_drv,
+              fz_sim);
+}
+
+// A stop by SIGINT: the log is flushed whole, every cycle the driver ran is in it.
+TEST_F(DriverEndToEnd, TheDriversLogIsFlushedWholeAfterSigint) {
+  ASSERT_EQ(RunChain({}, {"--duration", "0", "--io-arg", "timeout_ms=100",
+                          "--board-timeout-cycles", "100", "--log", Path("driver.csv")},
+                     2.5),
+            130)
+      << Read(Path("driver.out"));
+  runner::Table drv;
+  std::string error;
+  ASSERT_TRUE(drv.Load(Path("driver.csv"), &error)) << error;
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["outcome"], "interrupted");
+  EXPECT_EQ(drv.rows(), summary_["cycles"].get<size_t>());
+  EXPECT_GT(drv.rows(), 500u);
+  const std::string text = Read(Path("driver.csv"));
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(text.back(), '\n');  // no half-written row
+  std::printf("[ figures  ] SIGINT: %zu rows in the log, %zu cycles run\n", drv.rows(),
+              summary_["cycles"].get<size_t>());
 }
 
 }  // namespace

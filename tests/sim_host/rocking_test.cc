@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "contact/geometry.h"
+#include "identify/rocking.h"
 #include "leaning_robot.h"
 
 namespace ohrp::sim {
@@ -25,52 +26,10 @@ double Pitch(const mjData* d, int body) {
   return std::asin(std::clamp(2 * (q[0] * q[2] - q[3] * q[1]), -1.0, 1.0));
 }
 
-// The rigid robot on the sample points of its soles, in the sagittal plane: coordinates the
-// centre of mass's x and z and the pitch; each point is a normal spring-damper (k w, Hunt-Crossley
-// linearised at its static depth: b = c k w delta) and a tangential one (k_t w, b_t w). Returns
-// the damped frequency [rad/s] and damping ratio of the slowest (rocking) mode.
-struct Mode {
-  double omega_d = 0, zeta = 0;
-};
-Mode PredictRocking(const std::vector<Eigen::Vector2d>& r,  // points (x, z) from the CoM [m]
-                    const std::vector<double>& w,           // their area fractions (per sole)
-                    double m, double Iyy, double g, const contact::SoftContactParams& p) {
-  // static depths: a load plane delta_i = a + b r_x,i with sum k w delta = m g and no moment
-  // about the centre of mass, sum k w delta r_x = 0
-  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
-  for (size_t i = 0; i < r.size(); ++i) {
-    A(0, 0) += p.stiffness * w[i];
-    A(0, 1) += p.stiffness * w[i] * r[i].x();
-    A(1, 0) += p.stiffness * w[i] * r[i].x();
-    A(1, 1) += p.stiffness * w[i] * r[i].x() * r[i].x();
-  }
-  const Eigen::Vector2d ab = A.colPivHouseholderQr().solve(Eigen::Vector2d(m * g, 0));
-  Eigen::Matrix3d K = Eigen::Matrix3d::Zero(), B = Eigen::Matrix3d::Zero();
-  double load_times_height = 0;
-  for (size_t i = 0; i < r.size(); ++i) {
-    const double delta = ab(0) + ab(1) * r[i].x();
-    EXPECT_GT(delta, 0) << "point " << i << " unloaded: the linear model does not hold";
-    // a small pitch th moves the point by (th r_z, -th r_x)
-    const Eigen::Vector3d jx(1, 0, r[i].y()), jz(0, 1, -r[i].x());
-    const double kn = p.stiffness * w[i], bn = p.damping * kn * delta;
-    K += kn * jz * jz.transpose() + p.tangential_stiffness * w[i] * jx * jx.transpose();
-    B += bn * jz * jz.transpose() + p.tangential_damping * w[i] * jx * jx.transpose();
-    load_times_height += kn * delta * r[i].y();  // r_z < 0: below the centre of mass
-  }
-  K(2, 2) += load_times_height;  // the static loads' lever shortens as the body tilts: - m g h
-  const Eigen::Matrix3d M = Eigen::Vector3d(m, m, Iyy).asDiagonal();
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(6, 6);
-  S.topRightCorner(3, 3) = Eigen::Matrix3d::Identity();
-  S.bottomLeftCorner(3, 3) = -M.inverse() * K;
-  S.bottomRightCorner(3, 3) = -M.inverse() * B;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(S);
-  Mode slowest{1e30, 0};
-  for (int k = 0; k < 6; ++k) {
-    const auto l = es.eigenvalues()(k);
-    if (l.imag() > 1e-6 && l.imag() < slowest.omega_d) slowest = {l.imag(), -l.real() / std::abs(l)};
-  }
-  return slowest;
-}
+// The linearised model (the rigid robot on the sample points of its soles, in the sagittal
+// plane) is identify/rocking.h's PredictRocking, which ohrp identify inverts.
+using identify::Mode;
+using identify::PredictRocking;
 
 TEST(Rocking, StandingRobotRocksAsTheLinearisedSpringDamperPredicts) {
   testing::LeaningRobot r;

@@ -1,18 +1,16 @@
-// The driver's real-time loop and its safety state machine (see driver.h).
+// The driver's real-time loop and its safety state machine (see driver.h). The loop's state is
+// driver_state.h; the names of states and events names.cc; the stop requests requests.cc.
 #include "hw_driver/driver.h"
-
-#include <signal.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "hw_driver/guard.h"
+#include "driver_state.h"
+#include "requests.h"
 
 namespace ohrp::hw {
 namespace {
-
-constexpr size_t kMaxEvents = 1024;  // events kept per run; more are counted as dropped
 
 // what the servos-off state after a recovered safe mode waits for before a new servo-on
 enum class Rearm {
@@ -21,168 +19,15 @@ enum class Rearm {
   kBoards,      // board_timeout_cycles valid reads in a row without a reset (after a reset)
 };
 
-std::atomic<int> g_stop_requests{0};
-std::atomic<bool> g_emergency_stop{false};
-
-void OnStopSignal(int) { RequestStop(); }
-void OnEmergencySignal(int) { RequestEmergencyStop(); }
-
-// the servo period [ns] (at least 1 us)
-int64_t PeriodNs(const DriverOptions& o) {
-  return std::max<int64_t>(1000, std::llround(o.period * 1e9));
-}
-
-void Bump(std::atomic<uint64_t>& a, uint64_t n = 1) {
-  a.store(a.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
-}
-
-bool AllFinite(const double* v, int n) {
-  for (int i = 0; i < n; ++i) {
-    if (!std::isfinite(v[i])) return false;
-  }
-  return true;
-}
-
 }  // namespace
-
-//---------------- names and requests ----------------
-
-const char* DriverStateName(DriverState s) {
-  switch (s) {
-    case DriverState::kUnconfigured: return "unconfigured";
-    case DriverState::kInactive: return "inactive";
-    case DriverState::kActive: return "active";
-    case DriverState::kSafeMode: return "safe_mode";
-    case DriverState::kStopping: return "stopping";
-    case DriverState::kClosed: return "closed";
-  }
-  return "?";
-}
-
-const char* EventName(EventKind k) {
-  switch (k) {
-    case EventKind::kServoOn: return "servo_on";
-    case EventKind::kControllerAttached: return "controller_attached";
-    case EventKind::kControllerSilent: return "controller_silent";
-    case EventKind::kControllerDied: return "controller_died";
-    case EventKind::kControllerDetached: return "controller_detached";
-    case EventKind::kBoardSilent: return "board_silent";
-    case EventKind::kBoardBack: return "board_back";
-    case EventKind::kBoardReset: return "board_reset";
-    case EventKind::kSensorFault: return "sensor_fault";
-    case EventKind::kSafeMode: return "safe_mode";
-    case EventKind::kServoOff: return "servo_off";
-    case EventKind::kEmergencyStop: return "emergency_stop";
-    case EventKind::kEndOfData: return "end_of_data";
-    case EventKind::kStopRequested: return "stop_requested";
-    case EventKind::kDurationReached: return "duration_reached";
-    case EventKind::kIoError: return "io_error";
-    case EventKind::kNoValidRead: return "no_valid_read";
-    case EventKind::kBoardNonFinite: return "board_non_finite";
-    case EventKind::kWaitingForController: return "waiting_for_controller";
-    case EventKind::kBoardRearm: return "board_rearm";
-  }
-  return "?";
-}
-
-void RequestStop() noexcept { g_stop_requests.fetch_add(1); }
-void RequestEmergencyStop() noexcept { g_emergency_stop.store(true); }
-void ClearRequests() noexcept {
-  g_stop_requests.store(0);
-  g_emergency_stop.store(false);
-}
-
-void InstallSignalHandlers() {
-  struct sigaction sa {};
-  sa.sa_handler = OnStopSignal;  // no SA_RESTART: blocking waits return and see the request
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  sa.sa_handler = OnEmergencySignal;
-  sigaction(SIGUSR2, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
-}
-
-//---------------- the loop's state ----------------
-
-struct Driver::Impl {
-  Impl(const DriverOptions& o, const shm::ProducerConfig& r, RobotIo* i, shm::Producer* p)
-      : opt(o), robot(r), io(i), producer(p), guard(r), waker(o.wake, PeriodNs(o)) {
-    njoint = static_cast<int>(r.joint_names.size());
-    nforce = static_cast<int>(r.force_names.size());
-    nimu = static_cast<int>(r.imu_names.size());
-    events.reserve(kMaxEvents);
-  }
-
-  const DriverOptions opt;
-  const shm::ProducerConfig& robot;
-  RobotIo* io;
-  shm::Producer* producer;
-  CommandGuard guard;
-  Waker waker;  // sleeps (and spins) to each cycle's start
-  int njoint = 0, nforce = 0, nimu = 0;
-
-  IoState in{};
-  double last_valid_q[shm::kMaxJoints] = {};  // positions of the last valid read
-  IoCommand out{};
-  shm::CommandBlock cmd{};
-  std::vector<Event> events;
-  uint64_t events_dropped = 0;
-
-  DriverState state = DriverState::kInactive;
-  bool servo_on = false;
-  bool estopped = false;
-  uint32_t late_flag = 0;      // kCommandLate until the next accepted block
-  uint32_t rejected_flag = 0;  // kCommandRejected until the next accepted block
-  uint64_t last_command_cycle = 0;
-  uint64_t k = 0;
-  double time = 0;             // driver time of cycle k [s]
-
-  void Record(EventKind kind, int64_t value = 0) noexcept {
-    if (events.size() < kMaxEvents) {
-      events.push_back(Event{k, time, kind, value});  // capacity reserved: no allocation
-    } else {
-      ++events_dropped;
-    }
-  }
-
-  void Publish(uint32_t flags, const LiveStats& live) noexcept {
-    shm::SensorBlock& s = producer->BeginSensors();
-    s.cycle = k;
-    s.time = time;
-    s.status = shm::status::kRunning | flags | late_flag | rejected_flag |
-               (producer->controller_pid() ? 0u : shm::status::kNoController) |
-               (state == DriverState::kSafeMode || state == DriverState::kStopping
-                    ? shm::status::kHolding : 0u) |
-               (servo_on ? 0u : shm::status::kServoOff) |
-               (estopped ? shm::status::kEmergencyStop : 0u);
-    s.last_command_cycle = last_command_cycle;
-    s.late_commands = live.late_commands.load(std::memory_order_relaxed);
-    s.rejected_commands = guard.rejected_total();
-    std::memcpy(s.rejected_per_joint, guard.rejected_per_joint(), njoint * sizeof(uint32_t));
-    std::memcpy(s.q, in.q, njoint * sizeof(double));
-    std::memcpy(s.dq, in.dq, njoint * sizeof(double));
-    std::memcpy(s.tau, in.tau, njoint * sizeof(double));
-    std::memcpy(s.force, in.force, nforce * sizeof(shm::ForceTorque));
-    std::memcpy(s.imu, in.imu, nimu * sizeof(shm::Imu));
-    s.sim_truth = shm::SimTruth{};
-    producer->PublishSensors();
-  }
-
-  void Write() noexcept {
-    const shm::JointCommand* ref = guard.references();
-    for (int i = 0; i < njoint; ++i) {
-      out.servo_on[i] = servo_on;
-      out.joint[i] = ref[i];
-    }
-    io->write(out);
-  }
-};
 
 Driver::Driver(const DriverOptions& options, const shm::ProducerConfig& robot, RobotIo* io,
                shm::Producer* producer)
     : impl_(new Impl(options, robot, io, producer)) {}
 
 Driver::~Driver() { delete impl_; }
+
+void Driver::SetLog(model::Recorder* log) { impl_->log = log; }
 
 const RtReport& Driver::PrepareRealTime() {
   if (!rt_prepared_) {
@@ -293,7 +138,7 @@ int Driver::Run() {
 
     //---- emergency stop: servos off in this very cycle
     if (!d.estopped && ((faults & io_fault::kEmergencyStop) ||
-                        g_emergency_stop.load(std::memory_order_relaxed))) {
+                        EmergencyStopRequested())) {
       d.estopped = true;
       d.Record(EventKind::kEmergencyStop, (faults & io_fault::kEmergencyStop) ? 1 : 2);
       if (d.servo_on) d.Record(EventKind::kServoOff);
@@ -437,7 +282,7 @@ int Driver::Run() {
     if (done) break;
 
     //---- stop requests and the duration
-    const int stops = g_stop_requests.load(std::memory_order_relaxed);
+    const int stops = StopRequests();
     if (stops > stops_seen) {
       if (stops_seen == 0) d.Record(EventKind::kStopRequested, stops);
       stops_seen = stops;
@@ -467,7 +312,7 @@ int Driver::Run() {
 
   //---- last block: what the run ended with
   d.time = static_cast<double>(slot - t0) * 1e-9;
-  d.Publish(shm::status::kShuttingDown, live_);
+  d.Publish(shm::status::kShuttingDown, live_, false);  // the last cycle's time again: not logged
   const bool failed = result_.exit_code != kExitOk && result_.exit_code != kExitInterrupted;
   d.producer->SetState(failed ? shm::ProducerState::kFailed : shm::ProducerState::kStopped);
   d.state = DriverState::kInactive;

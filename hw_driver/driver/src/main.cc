@@ -65,6 +65,12 @@ int main(int argc, char** argv) {
                  "at the CPU cost of the spin; sleep sleeps to the start itself: no spin, tens "
                  "of us late")
       ->capture_default_str()->check(CLI::IsMember({"spin-tail", "sleep"}));
+  app.add_option("--log", o.log_path,
+                 "CSV data log in sim_host's format (same column names, no ground-truth base_* "
+                 "columns): time, q_/qref_/tau_<joint>, F/T, IMU, status, rejected; written by a "
+                 "thread off the servo loop, flushed at the end (also after SIGINT/SIGTERM)");
+  app.add_option("--log-every", d.log_every, "cycles between rows of --log")
+      ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_option("--summary", o.summary_path, "JSON summary written at the end");
   app.add_option("--stats", o.stats_path, "JSON stats file rewritten while running");
   app.add_option("--stats-interval", o.stats_interval, "[s] between rewrites of --stats")

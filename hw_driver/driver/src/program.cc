@@ -8,10 +8,12 @@
 #include <boost/interprocess/shared_memory_object.hpp>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <thread>
 
 #include "hw_driver/plugin.h"
 #include "robot_model/model.h"
+#include "robot_model/recorder.h"
 #include "robot_model/sensors.h"
 
 namespace ohrp::hw {
@@ -144,6 +146,18 @@ int RunProgram(const ProgramOptions& o) {
     std::fprintf(stderr, "hw_driver: %s\n", error.c_str());
     return kExitUsage;
   }
+  // the data log: sim_host's columns without the ground truth (no base_* on the robot)
+  std::unique_ptr<model::Recorder> log;
+  if (!o.log_path.empty()) {
+    model::RecorderChannels channels;
+    channels.base = false;
+    log = model::Recorder::Open(o.log_path, {robot.joint_names, robot.force_names, robot.imu_names},
+                                &error, 16384, channels);
+    if (!log) {
+      std::fprintf(stderr, "hw_driver: %s (--log)\n", error.c_str());
+      return kExitUsage;
+    }
+  }
   auto plugin = IoPlugin::Load(o.io_plugin, &error);
   if (!plugin) {
     std::fprintf(stderr, "hw_driver: %s\n", error.c_str());
@@ -184,6 +198,7 @@ int RunProgram(const ProgramOptions& o) {
 
   //---------------- the reporter: SIGUSR1 and the stats file, off the loop's thread ----------
   Driver driver(o.driver, robot, &plugin->io(), producer.get());
+  driver.SetLog(log.get());
   std::atomic<bool> reporter_stop{false};
   std::thread reporter([&] {
     using Clock = std::chrono::steady_clock;
@@ -225,6 +240,18 @@ int RunProgram(const ProgramOptions& o) {
     std::fprintf(stderr, "hw_driver: cannot write the summary '%s'\n", o.summary_path.c_str());
   }
   if (!o.stats_path.empty()) WriteStats(o.stats_path, o, robot, driver.live(), &r);
+  if (log) {
+    log->Flush();  // everything the loop pushed, SIGINT or not
+    if (log->dropped() > 0) {
+      std::fprintf(stderr, "hw_driver: warning: the data log dropped %lu rows (its writer fell "
+                   "behind; try --log-every N)\n", static_cast<unsigned long>(log->dropped()));
+    }
+    if (!o.quiet) {
+      std::fprintf(stderr, "hw_driver: data log %s: %lu rows\n", o.log_path.c_str(),
+                   static_cast<unsigned long>(log->written()));
+    }
+    log.reset();
+  }
   producer.reset();
   g_segment_object[0] = 0;
   return exit_code;

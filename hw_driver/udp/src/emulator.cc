@@ -55,10 +55,7 @@ bool Emulator::SetUp(int* exit_code) {
   }
   m_ = scene_->m();
   d_ = scene_->d();
-  if (!scene_->Reset(o_.keyframe, &error)) {
-    std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
-    return false;
-  }
+  if (o_.timestep > 0) m_->opt.timestep = o_.timestep;
   const double ratio = o_.period / m_->opt.timestep;
   steps_per_cycle_ = static_cast<int>(std::lround(ratio));
   if (steps_per_cycle_ < 1 || std::fabs(ratio - steps_per_cycle_) > 1e-6) {
@@ -69,6 +66,36 @@ bool Emulator::SetUp(int* exit_code) {
   }
   if (!model::MapRobot(m_, &robot_, &error)) {
     std::fprintf(stderr, "hw_emulator: %s: %s\n", o_.model.c_str(), error.c_str());
+    return false;
+  }
+  // the contact under the soles, as sim_host sets it up (sim_host/feet.h), before the state
+  // is first computed
+  sim::FeetOptions feet;
+  if (!sim::ParseContactModel(o_.contact, &feet.model)) {
+    std::fprintf(stderr, "hw_emulator: --contact '%s': want soft, native, rigid or auto\n",
+                 o_.contact.c_str());
+    return false;
+  }
+  if (o_.contact_stiffness > 0) feet.params.stiffness = o_.contact_stiffness;
+  if (o_.contact_damping >= 0) feet.params.damping = o_.contact_damping;
+  if (!sim::SetUpFeet(m_, feet, robot_.total_mass, &soft_, &error)) {
+    std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
+    return false;
+  }
+  for (const std::string& spec : o_.pushes) {
+    sim::Perturbation p;
+    if (!sim::ParsePerturbation(spec, &p, &error)) {
+      std::fprintf(stderr, "hw_emulator: --push %s: %s\n", spec.c_str(), error.c_str());
+      return false;
+    }
+    pushes_.push_back(p);
+  }
+  if (!pushes_.empty() && robot_.base_body < 0) {
+    std::fprintf(stderr, "hw_emulator: --push needs a floating base; %s has none\n", o_.model.c_str());
+    return false;
+  }
+  if (!scene_->Reset(o_.keyframe, &error)) {
+    std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
     return false;
   }
   std::vector<std::string> names;
@@ -111,6 +138,8 @@ bool Emulator::SetUp(int* exit_code) {
     motor_.push_back(b);
   }
   servo_ = std::make_unique<model::Servo>(robot_);
+  step_ = std::make_unique<sim::PhysicsStep>(
+      m_, d_, sim::PhysicsStep::Parts{servo_.get(), soft_.get(), &pushes_, robot_.base_body, nullptr});
   block_.njoint = static_cast<int>(robot_.joints.size());
   for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = shm::JointCommand{};  // kOff
   servo_->Accept(block_);
@@ -264,10 +293,8 @@ int Emulator::Run() {
 
     // physics, the motor boards' PD at every step
     if (started_) {
-      for (int s = 0; s < steps_per_cycle_; ++s) {
-        servo_->Apply(m_, d_);
-        mj_step(m_, d_);
-      }
+      // sim_host's physics step: pushes, the servo, the soft soles (when --contact soft), mj_step
+      for (int s = 0; s < steps_per_cycle_; ++s) step_->Step();
       bool finite = true;
       for (int i = 0; i < m_->nq; ++i) finite &= std::isfinite(d_->qpos[i]);
       if (!finite || d_->warning[mjWARN_BADQACC].number != badqacc) {

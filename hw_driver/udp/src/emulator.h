@@ -5,7 +5,10 @@
 //   1. drain the socket: hellos tell the boards where the driver is; the newest command packet
 //      of each motor board is checked and applied (servo on/off per joint, the servo's
 //      references, sim_host's Servo refusing bad joints);
-//   2. step the physics (period / timestep steps) with the motor boards' PD at every step;
+//   2. step the physics (period / timestep steps) with the motor boards' PD at every step, with
+//      sim_host's physics step (sim_host/step.h): pushes, the servo, the soft soles' contact
+//      (--contact soft, --contact-stiffness/--contact-damping: a robot whose feet differ from
+//      the simulation's, for identification, docs/identify.md), mj_step;
 //   3. answer one state packet per board (motor boards: q, dq, tau, servo state; the sensor
 //      board: F/T and IMU), through the injected faults (loss, late, silent, stuck, saturated).
 // The robot's time stands still until the first command packet arrives (the boards keep
@@ -25,6 +28,11 @@ struct EmulatorOptions {
   std::string port_file;           // the bound port is written there once bound
   std::string boards;              // motor boards' joint ranges (empty: DefaultLayout)
   double period = 0.001;           // board cycle [s], a multiple of the model's timestep
+  double timestep = 0;             // physics step [s]; 0: the model's
+  std::string contact = "native";  // under the soles, as sim_host --contact (sim_host/feet.h)
+  double contact_stiffness = 0;    // soft soles' normal stiffness [N/m]; 0: the default
+  double contact_damping = -1;     // soft soles' Hunt-Crossley damping [s/m]; < 0: the default
+  std::vector<std::string> pushes; // T0,T1,FX,FY,FZ,TX,TY,TZ on the base (sim_host --push)
   double duration = 0;             // robot time to run [s]; 0: until SIGINT
   double wait_driver = 0;          // wall time to wait for the first command [s]; 0: forever
   double loss = 0;                 // packet loss probability, both directions

@@ -14,6 +14,9 @@
 #include "hw_udp/socket.h"
 #include "robot_model/model.h"
 #include "robot_model/servo.h"
+#include "sim_host/feet.h"
+#include "sim_host/host.h"
+#include "sim_host/step.h"
 
 namespace ohrp::hw::udp::emu {
 
@@ -75,6 +78,9 @@ class Emulator {
   mjData* d_ = nullptr;
   model::RobotMap robot_;
   std::unique_ptr<model::Servo> servo_;
+  std::unique_ptr<contact::SoftFootContact> soft_;  // --contact soft: the soles' spring-dampers
+  std::vector<sim::Perturbation> pushes_;           // --push
+  std::unique_ptr<sim::PhysicsStep> step_;          // sim_host's step of all the above
   BoardLayout layout_;
   std::vector<MotorBoard> motor_;
   uint32_t sensor_tx_seq_ = 0;

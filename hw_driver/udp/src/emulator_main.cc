@@ -22,6 +22,21 @@ int main(int argc, char** argv) {
                  "groups from the joint names); the sensor board comes after them");
   app.add_option("--period", o.period, "board cycle [s], a multiple of the model's timestep")
       ->capture_default_str()->check(ohrp::cli::Positive());
+  app.add_option("--timestep", o.timestep, "physics step [s] (default: the model's)")
+      ->check(ohrp::cli::Positive());
+  app.add_option("--contact", o.contact,
+                 "under the soles, as sim_host --contact: soft (the paper's spring-dampers), "
+                 "native (MuJoCo's, as the scene defines it), rigid, auto")
+      ->capture_default_str()->check(CLI::IsMember({"soft", "native", "rigid", "auto"}));
+  app.add_option("--contact-stiffness", o.contact_stiffness,
+                 "soft: normal stiffness of one sole [N/m] (default: sim_host's)")
+      ->check(ohrp::cli::Positive());
+  app.add_option("--contact-damping", o.contact_damping,
+                 "soft: Hunt-Crossley damping [s/m] (default: sim_host's)")
+      ->check(ohrp::cli::NonNegative());
+  app.add_option("--push", o.pushes,
+                 "T0,T1,FX,FY,FZ,TX,TY,TZ: a wrench on the base from robot time T0 to T1 [s, N, "
+                 "N m], as sim_host --push (repeat)");
   app.add_option("--duration", o.duration, "robot time to run [s]; 0 runs until Ctrl-C")
       ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_option("--wait-driver", o.wait_driver,

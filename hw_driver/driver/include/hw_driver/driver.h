@@ -84,6 +84,10 @@
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/controller_loss.h"
 
+namespace ohrp::model {
+class Recorder;
+}
+
 namespace ohrp::hw {
 
 // exit codes of hw_driver (the same numbers as sim_host's where the meaning is the same)
@@ -116,6 +120,7 @@ struct DriverOptions {
   shm::ControllerLoss on_controller_loss = shm::ControllerLoss::kEnd;
   RtSettings rt;
   WakeOptions wake;                // how each cycle waits for its start (wake.h)
+  int log_every = 1;               // cycles between rows of the data log (Driver::SetLog)
 };
 
 // One thing that happened in the loop, recorded without allocation and printed after it.
@@ -198,6 +203,12 @@ class Driver {
   // Applies options.rt to the calling thread (SCHED_FIFO, mlockall, stack) once; Run calls it
   // when the caller did not. Call it first to print its warnings before the loop starts.
   const RtReport& PrepareRealTime();
+
+  // The data log (robot_model/recorder.h, sim_host's format without the ground-truth base
+  // columns): each published sensor block (every options.log_every cycles; not the closing
+  // kShuttingDown block, which repeats the last cycle's time) is copied into the log's ring; its thread writes the file. Not owned; outlives
+  // Run. Call before Run.
+  void SetLog(model::Recorder* log);
 
   // Runs the loop on the calling thread until the run ends; returns the exit code (also in
   // result()). Run once per Driver.

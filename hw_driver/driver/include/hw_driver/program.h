@@ -1,5 +1,6 @@
 // The hw_driver program around the loop: reads the robot from its MJCF model (robot_model's
 // parser), loads the IO plugin, opens the boards, creates the segment, runs the Driver, and
+// writes the data log (--log, sim_host's format, by a thread off the loop), and
 // reports: the lateness table and the events on stderr after the loop, a JSON summary
 // (--summary), a stats file refreshed while it runs (--stats) and the table on SIGUSR1.
 #pragma once
@@ -19,6 +20,7 @@ struct ProgramOptions {
   std::string segment = "hrp1s";
   std::string summary_path;           // JSON summary at the end; empty: none
   std::string stats_path;             // JSON stats rewritten every stats_interval; empty: none
+  std::string log_path;               // CSV data log (robot_model/recorder.h); empty: none
   double stats_interval = 1.0;        // [s]
   bool quiet = false;                 // errors and warnings only
   DriverOptions driver;

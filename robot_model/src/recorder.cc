@@ -1,13 +1,22 @@
 // CSV data log with a background writer (see recorder.h).
-#include "sim_host/recorder.h"
+#include "robot_model/recorder.h"
 
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 
-namespace ohrp::sim {
+namespace ohrp::model {
 
-std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const RobotMap& robot,
+LogNames LogNamesOf(const RobotMap& robot) {
+  LogNames n;
+  for (const auto& j : robot.joints) n.joints.push_back(j.name);
+  for (const auto& f : robot.forces) n.forces.push_back(f.name);
+  for (const auto& u : robot.imus) n.imus.push_back(u.name);
+  return n;
+}
+
+
+std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames& names,
                                          std::string* error, size_t capacity,
                                          const RecorderChannels& channels) {
   FILE* f = std::fopen(path.c_str(), "w");
@@ -18,9 +27,9 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const RobotMap
   std::unique_ptr<Recorder> r(new Recorder());
   r->file_ = f;
   r->base_ = channels.base;
-  r->njoint_ = channels.joints ? static_cast<int>(robot.joints.size()) : 0;
-  r->nforce_ = channels.force_torque ? static_cast<int>(robot.forces.size()) : 0;
-  r->nimu_ = channels.imu ? static_cast<int>(robot.imus.size()) : 0;
+  r->njoint_ = channels.joints ? static_cast<int>(names.joints.size()) : 0;
+  r->nforce_ = channels.force_torque ? static_cast<int>(names.forces.size()) : 0;
+  r->nimu_ = channels.imu ? static_cast<int>(names.imus.size()) : 0;
   r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + 6 * r->nforce_ + 10 * r->nimu_ + 2;
   r->capacity_ = capacity;
   r->ring_.assign(r->width_ * capacity, 0.0);
@@ -28,13 +37,18 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const RobotMap
   // header line
   std::string h = "time";
   if (r->base_) h += ",base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,base_vx,base_vy,base_vz";
+  auto column = [&h](const std::string& a, const char* b) {
+    h += ',';
+    h += a;
+    h += b;
+  };
   for (const char* prefix : {"q_", "qref_", "tau_"})
-    for (int i = 0; i < r->njoint_; ++i) h += "," + std::string(prefix) + robot.joints[i].name;
+    for (int i = 0; i < r->njoint_; ++i) column(prefix, names.joints[i].c_str());
   for (int f = 0; f < r->nforce_; ++f)
-    for (const char* c : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) h += "," + robot.forces[f].name + c;
+    for (const char* c : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) column(names.forces[f], c);
   for (int u = 0; u < r->nimu_; ++u)
     for (const char* c : {"_gx", "_gy", "_gz", "_ax", "_ay", "_az", "_qw", "_qx", "_qy", "_qz"})
-      h += "," + robot.imus[u].name + c;
+      column(names.imus[u], c);
   h += ",status,rejected\n";
   std::fputs(h.c_str(), f);
   r->line_.reserve(r->width_ * 24);
@@ -115,4 +129,4 @@ void Recorder::WriterLoop() {
   }
 }
 
-}  // namespace ohrp::sim
+}  // namespace ohrp::model

@@ -1,0 +1,112 @@
+// The driver loop's state (Driver::Impl): what one cycle reads, publishes and writes, the
+// event log, and the data log's hook. Internal to the driver library (driver.cc).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "hw_driver/driver.h"
+#include "hw_driver/guard.h"
+#include "robot_model/recorder.h"
+
+namespace ohrp::hw {
+
+inline constexpr size_t kMaxEvents = 1024;  // events kept per run; more are counted as dropped
+
+// the servo period [ns] (at least 1 us)
+inline int64_t PeriodNs(const DriverOptions& o) {
+  return std::max<int64_t>(1000, std::llround(o.period * 1e9));
+}
+
+inline void Bump(std::atomic<uint64_t>& a, uint64_t n = 1) {
+  a.store(a.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
+}
+
+inline bool AllFinite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+struct Driver::Impl {
+  Impl(const DriverOptions& o, const shm::ProducerConfig& r, RobotIo* i, shm::Producer* p)
+      : opt(o), robot(r), io(i), producer(p), guard(r), waker(o.wake, PeriodNs(o)) {
+    njoint = static_cast<int>(r.joint_names.size());
+    nforce = static_cast<int>(r.force_names.size());
+    nimu = static_cast<int>(r.imu_names.size());
+    events.reserve(kMaxEvents);
+  }
+
+  const DriverOptions opt;
+  const shm::ProducerConfig& robot;
+  RobotIo* io;
+  shm::Producer* producer;
+  CommandGuard guard;
+  Waker waker;  // sleeps (and spins) to each cycle's start
+  int njoint = 0, nforce = 0, nimu = 0;
+
+  IoState in{};
+  double last_valid_q[shm::kMaxJoints] = {};  // positions of the last valid read
+  IoCommand out{};
+  shm::CommandBlock cmd{};
+  std::vector<Event> events;
+  uint64_t events_dropped = 0;
+
+  DriverState state = DriverState::kInactive;
+  bool servo_on = false;
+  bool estopped = false;
+  uint32_t late_flag = 0;      // kCommandLate until the next accepted block
+  uint32_t rejected_flag = 0;  // kCommandRejected until the next accepted block
+  uint64_t last_command_cycle = 0;
+  uint64_t k = 0;
+  double time = 0;             // driver time of cycle k [s]
+  model::Recorder* log = nullptr;  // the data log (--log), or none
+
+  void Record(EventKind kind, int64_t value = 0) noexcept {
+    if (events.size() < kMaxEvents) {
+      events.push_back(Event{k, time, kind, value});  // capacity reserved: no allocation
+    } else {
+      ++events_dropped;
+    }
+  }
+
+  void Publish(uint32_t flags, const LiveStats& live, bool record = true) noexcept {
+    shm::SensorBlock& s = producer->BeginSensors();
+    s.cycle = k;
+    s.time = time;
+    s.status = shm::status::kRunning | flags | late_flag | rejected_flag |
+               (producer->controller_pid() ? 0u : shm::status::kNoController) |
+               (state == DriverState::kSafeMode || state == DriverState::kStopping
+                    ? shm::status::kHolding : 0u) |
+               (servo_on ? 0u : shm::status::kServoOff) |
+               (estopped ? shm::status::kEmergencyStop : 0u);
+    s.last_command_cycle = last_command_cycle;
+    s.late_commands = live.late_commands.load(std::memory_order_relaxed);
+    s.rejected_commands = guard.rejected_total();
+    std::memcpy(s.rejected_per_joint, guard.rejected_per_joint(), njoint * sizeof(uint32_t));
+    std::memcpy(s.q, in.q, njoint * sizeof(double));
+    std::memcpy(s.dq, in.dq, njoint * sizeof(double));
+    std::memcpy(s.tau, in.tau, njoint * sizeof(double));
+    std::memcpy(s.force, in.force, nforce * sizeof(shm::ForceTorque));
+    std::memcpy(s.imu, in.imu, nimu * sizeof(shm::Imu));
+    s.sim_truth = shm::SimTruth{};
+    producer->PublishSensors();
+    // the data log, as sim_host's: the block just published and the references the servos held
+    // over the interval it ends (written in the previous cycle); a copy into the log's ring
+    if (record && log && k % static_cast<uint64_t>(opt.log_every) == 0) log->Push(s, guard.references());
+  }
+
+  void Write() noexcept {
+    const shm::JointCommand* ref = guard.references();
+    for (int i = 0; i < njoint; ++i) {
+      out.servo_on[i] = servo_on;
+      out.joint[i] = ref[i];
+    }
+    io->write(out);
+  }
+};
+
+}  // namespace ohrp::hw

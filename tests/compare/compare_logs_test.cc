@@ -1,0 +1,192 @@
+// ohrp_compare_logs on two synthetic logs with closed forms: A is a damped oscillation in x
+// (and in z with another frequency and decay), B is A delayed by a known lag with noise, y
+// offset by a known constant. The program must find the lag, the frequencies and decays of
+// both logs, and the RMS of the differences (the noise's, and the offset's with it), within
+// stated tolerances; bad input exits 2 with a message naming the file or channel.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
+#include "synthetic.h"
+
+namespace ohrp::compare {
+namespace {
+
+namespace fs = std::filesystem;
+using ohrp::controllers::testing::Program;
+using ohrp::controllers::testing::ReadText;
+using ohrp::controllers::testing::Spawn;
+using ohrp::controllers::testing::TempPath;
+using ohrp::controllers::testing::WaitExit;
+using testing::Damped;
+using testing::Noise;
+
+constexpr double kLag = 0.213;     // [s] B behind A
+constexpr double kNoise = 0.02;    // B's noise (amplitude 1)
+constexpr double kOffset = 0.05;   // B's y - A's y
+
+class CompareLogs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = TempPath("compare_logs");
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    x_.f_d = 1.7;
+    x_.zeta = 0.05;
+    za_.f_d = 1.2;
+    za_.zeta = 0.08;
+    za_.amp = 0.5;
+    zb_ = za_;
+    zb_.f_d = 1.3;
+    zb_.zeta = 0.06;
+    // A: 2 ms, clean; B: 2.5 ms from another start, delayed by kLag, noisy
+    Noise na(0.0, 1), nb(kNoise, 2);
+    std::ofstream a(A()), b(B());
+    a << "time,x,y,z,status,rejected\n";
+    b << "time,q_extra,x,y,z,status,rejected\n";
+    for (int k = 0; k * 0.002 <= 12.0; ++k) {
+      const double t = k * 0.002;
+      a << t << "," << x_(t) << "," << 0.3 * x_(t) << "," << za_(t) << ",1,0\n";
+    }
+    for (int k = 0; 0.0011 + k * 0.0025 <= 12.5; ++k) {
+      const double t = 0.0011 + k * 0.0025, s = t - kLag;
+      b << t << ",0," << x_(s) + nb() << "," << 0.3 * x_(s) + kOffset + nb() << ","
+        << zb_(s) + nb() << ",1,0\n";
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string A() const { return dir_ + "/a.csv"; }
+  std::string B() const { return dir_ + "/b.csv"; }
+
+  int Run(std::vector<std::string> args, std::string* out) {
+    args.insert(args.begin(), Program("ohrp_compare_logs"));
+    const std::string log = dir_ + "/run.out";
+    const int code = WaitExit(Spawn(args, log), 60.0);
+    *out = ReadText(log);
+    return code;
+  }
+
+  std::string dir_;
+  Damped x_, za_, zb_;
+};
+
+TEST_F(CompareLogs, LagFrequencyDecayAndRmsAreTheClosedForms) {
+  std::string out;
+  ASSERT_EQ(Run({A(), B(), "--channels", "x,y", "--oscillation", "x,z", "--out", dir_ + "/out",
+                 "--no-plot"},
+                &out),
+            0)
+      << out;
+  std::ifstream in(dir_ + "/out/compare.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << out;
+
+  // the lag, by cross-correlation of x (the first channel): within 1 ms
+  EXPECT_NEAR(j["lag"].get<double>(), kLag, 0.001) << out;
+  std::map<std::string, nlohmann::json> ch;
+  for (const auto& c : j["channels"]) ch[c["name"]] = c;
+  ASSERT_EQ(ch.size(), 3u);
+
+  // x: B - A is B's noise after the alignment, as B is interpolated linearly at A's times:
+  // (1 - u) n_k + u n_k+1 has the variance noise^2 ((1 - u)^2 + u^2), u the fraction of B's
+  // step at A's time, averaged over A's rows in the window. Within 10 % (the residual lag and
+  // the interpolation of the signal add little); the mean 0 within a few noise / sqrt(rows)
+  const double from = j["window"][0].get<double>(), to = j["window"][1].get<double>();
+  double factor = 0;
+  int rows = 0;
+  for (int k = 0; k * 0.002 <= 12.0; ++k) {
+    const double t = k * 0.002;
+    if (t < from || t > to) continue;
+    const double pos = (t + kLag - 0.0011) / 0.0025, u = pos - std::floor(pos);
+    factor += (1 - u) * (1 - u) + u * u;
+    ++rows;
+  }
+  ASSERT_GT(rows, 4000);
+  const double noise_rms = kNoise * std::sqrt(factor / rows);
+  EXPECT_NEAR(ch["x"]["rms"].get<double>(), noise_rms, 0.1 * noise_rms);
+  EXPECT_NEAR(ch["x"]["bias"].get<double>(), 0.0, 0.002);
+  EXPECT_NEAR(ch["x"]["lag"].get<double>(), kLag, 0.001);
+  EXPECT_LT(std::fabs(ch["x"]["peak"].get<double>()), 6 * kNoise);
+  // y: the offset and the noise: RMS sqrt(offset^2 + noise^2), mean the offset
+  EXPECT_NEAR(ch["y"]["rms"].get<double>(), std::hypot(kOffset, noise_rms), 0.02 * kOffset);
+  EXPECT_NEAR(ch["y"]["bias"].get<double>(), kOffset, 0.002);
+
+  // the oscillations of each log, the closed forms': f_d within 1 %, log decrement within 5 %
+  auto expect_osc = [](const nlohmann::json& o, const Damped& d, const char* what) {
+    ASSERT_TRUE(o["found"].get<bool>()) << what << ": " << o.dump();
+    EXPECT_NEAR(o["frequency"].get<double>(), d.f_d, 0.01 * d.f_d) << what;
+    EXPECT_NEAR(o["log_decrement"].get<double>(), d.log_decrement(), 0.05 * d.log_decrement()) << what;
+    EXPECT_NEAR(o["damping_ratio"].get<double>(), d.zeta, 0.05 * d.zeta) << what;
+    std::printf("[ figures  ] %s: f %.4f Hz (%.4f), delta %.4f (%.4f), zeta %.4f (%.4f)\n", what,
+                o["frequency"].get<double>(), d.f_d, o["log_decrement"].get<double>(),
+                d.log_decrement(), o["damping_ratio"].get<double>(), d.zeta);
+  };
+  expect_osc(ch["x"]["oscillation"]["a"], x_, "x in A");
+  expect_osc(ch["x"]["oscillation"]["b"], x_, "x in B (noisy)");
+  expect_osc(ch["z"]["oscillation"]["a"], za_, "z in A");
+  expect_osc(ch["z"]["oscillation"]["b"], zb_, "z in B (noisy, other f and decay)");
+  EXPECT_NEAR(ch["z"]["oscillation"]["frequency_difference"].get<double>(), zb_.f_d - za_.f_d, 0.02);
+  // the table on stdout names every channel
+  for (const char* n : {"x", "y", "z"}) EXPECT_NE(out.find(std::string("\n") + n + " "), std::string::npos) << out;
+  std::printf("[ figures  ] lag %.5f s (%.3f), rms x %.5f (%.5f), rms y %.5f (%.5f)\n",
+              j["lag"].get<double>(), kLag, ch["x"]["rms"].get<double>(), noise_rms,
+              ch["y"]["rms"].get<double>(), std::hypot(kOffset, noise_rms));
+}
+
+TEST_F(CompareLogs, AThresholdEventAlignsAsWell) {
+  // x first rises above 0.5 a known time after the release, in both logs: the event's lag is
+  // the delay (B's noise moves the crossing by about noise / slope = 0.02 / 10.7 s)
+  std::string out;
+  ASSERT_EQ(Run({A(), B(), "--align", "event:x>0.5", "--channels", "x", "--out", dir_ + "/ev",
+                 "--no-plot"},
+                &out),
+            0)
+      << out;
+  std::ifstream in(dir_ + "/ev/compare.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << out;
+  EXPECT_NEAR(j["lag"].get<double>(), kLag, 0.006);
+}
+
+TEST_F(CompareLogs, BadInputExitsTwoNamingWhatWasWrong) {
+  std::string out;
+  EXPECT_EQ(Run({A(), dir_ + "/nosuch.csv"}, &out), 2);
+  EXPECT_NE(out.find("nosuch.csv"), std::string::npos) << out;
+
+  EXPECT_EQ(Run({A(), B(), "--channels", "x,nosuch", "--no-plot", "--out", dir_ + "/o"}, &out), 2);
+  EXPECT_NE(out.find("no channel 'nosuch'"), std::string::npos) << out;
+
+  EXPECT_EQ(Run({A(), B(), "--align", "xcorr:q_extra", "--no-plot", "--out", dir_ + "/o"}, &out), 2);
+  EXPECT_NE(out.find("q_extra"), std::string::npos) << out;
+
+  {
+    std::ofstream c(dir_ + "/other.csv");
+    c << "time,u,v,status\n0,1,2,0\n0.1,1,2,0\n0.2,1,2,0\n";
+  }
+  EXPECT_EQ(Run({A(), dir_ + "/other.csv", "--align", "none", "--no-plot", "--out", dir_ + "/o"}, &out), 2);
+  EXPECT_NE(out.find("no channel in common"), std::string::npos) << out;
+
+  {
+    std::ofstream c(dir_ + "/broken.csv");
+    c << "time,x,y,z,status\n0,1,2,3,0\n0.1,1,oops,3,0\n";
+  }
+  EXPECT_EQ(Run({A(), dir_ + "/broken.csv", "--align", "none", "--no-plot", "--out", dir_ + "/o"}, &out), 2);
+  EXPECT_NE(out.find("broken.csv:3"), std::string::npos) << out;
+
+  EXPECT_EQ(Run({A(), B(), "--align", "sideways", "--no-plot", "--out", dir_ + "/o"}, &out), 2);
+  EXPECT_NE(out.find("xcorr:CHANNEL"), std::string::npos) << out;
+
+  EXPECT_EQ(Run({A(), B(), "--align", "event:push_start", "--no-plot", "--out", dir_ + "/o"}, &out), 2);
+  EXPECT_NE(out.find("push_start"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace ohrp::compare

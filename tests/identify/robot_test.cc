@@ -1,0 +1,208 @@
+// The identification tested honestly: a "robot" recording made with hw_driver + hw_emulator whose
+// soles have parameters the identification is not told (2e6 N/m and 45 s/m; sim_host's default
+// soles are 3e6 N/m and 30 s/m), the experiment of scenarios/rocking_fig12.yaml (its posture and
+// gains, its push), sensor noise added to every channel of the driver's log afterwards; then
+// ohrp_identify on the noisy log must recover both within 10 %.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <chrono>
+#include <vector>
+
+#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
+
+namespace ohrp::identify {
+namespace {
+
+namespace fs = std::filesystem;
+using controllers::testing::Program;
+using controllers::testing::ReadText;
+using controllers::testing::RemoveSegment;
+using controllers::testing::Spawn;
+using controllers::testing::TempPath;
+using controllers::testing::UniqueSegment;
+using controllers::testing::WaitExit;
+
+const std::string kSource = OHRP_SOURCE_DIR;
+constexpr double kStiffness = 2e6;  // [N/m] the robot's soles, not told to the identification
+constexpr double kDamping = 45;     // [s/m]
+
+// the sensor noise added to the log, per kind of column (1 sigma)
+double NoiseOf(const std::string& c) {
+  auto ends = [&](const char* s) { return c.size() > 3 && c.compare(c.size() - 3, 3, s) == 0; };
+  if (c.rfind("q_", 0) == 0) return 1e-4;     // [rad] encoders
+  if (c.rfind("tau_", 0) == 0) return 0.5;    // [N m]
+  if (ends("_fx") || ends("_fy") || ends("_fz")) return 2.0;  // [N]
+  if (ends("_tx") || ends("_ty") || ends("_tz")) return 0.5;  // [N m]
+  if (ends("_gx") || ends("_gy") || ends("_gz")) return 5e-3;  // [rad/s]
+  if (ends("_ax") || ends("_ay") || ends("_az")) return 0.05;  // [m/s^2]
+  return 0;  // time, status, rejected, qref_, quaternions
+}
+
+// Records the experiment on the emulated robot into dir/robot.csv. Returns "" for a faithful
+// real-time recording, else why not: the emulator resynchronised its robot time to the wall
+// clock (it fell far behind: the robot's time then runs slower than the driver's, and every
+// frequency in the log with it) or the driver skipped cycles at more than 50 places after the
+// push (a loaded machine).
+std::string Record(const std::string& dir, const std::string& segment) {
+  const std::string scene = kSource + "/mjcf/hrp1s/scene_flat.xml";
+  fs::remove(dir + "/port");
+  fs::remove(dir + "/emulator.out");
+  fs::remove(dir + "/driver.out");
+  // the robot: the emulated boards with soft soles of their own, the scenario's push
+  const pid_t emu = Spawn({Program("hw_emulator"), "--model", scene, "--keyframe", "halfsit",
+                           "--port", "0", "--port-file", dir + "/port", "--wait-driver", "60",
+                           "--timestep", "0.0005", "--period", "0.002", "--contact", "soft",
+                           "--contact-stiffness", "2e6", "--contact-damping", "45", "--push",
+                           "9.0,9.5,0,0,0,0,40,0"},
+                          dir + "/emulator.out");
+  int port = 0;
+  for (int i = 0; i < 600 && port == 0; ++i) {
+    std::ifstream in(dir + "/port");
+    if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (port == 0) {
+    kill(emu, SIGKILL);
+    WaitExit(emu, 10);
+    return "hw_emulator did not start: " + ReadText(dir + "/emulator.out");
+  }
+  const pid_t drv = Spawn({Program("hw_driver"), "--model", scene, "--io",
+                           Program("../lib/libohrp_io_udp.so"), "--io-arg",
+                           "port=" + std::to_string(port), "--io-arg", "timeout_ms=100",
+                           "--segment", segment, "--period", "0.002", "--watchdog-cycles", "100",
+                           "--board-timeout-cycles", "100", "--rt-priority", "0", "--no-mlock",
+                           "--duration", "13.5", "--log", dir + "/robot.csv", "--summary",
+                           dir + "/driver.json", "--quiet"},
+                          dir + "/driver.out");
+  for (int i = 0; i < 600 && !fs::exists("/dev/shm/ohrp_" + segment); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  // the scenario's controller (scenarios/rocking_fig12.yaml)
+  const pid_t ctl = Spawn({Program("posture"), "--segment", segment, "--pose",
+                           kSource + "/controllers/poses/hrp1s_halfsit_lean.yaml", "--ramp", "4.0",
+                           "--kp-scale", "100", "--kd-scale", "10"},
+                          dir + "/posture.out");
+  const int drv_code = WaitExit(drv, 120);
+  WaitExit(ctl, 30);
+  kill(emu, SIGINT);
+  WaitExit(emu, 30);
+  RemoveSegment(segment);
+  if (drv_code != 0)
+    return "hw_driver exited " + std::to_string(drv_code) + ": " + ReadText(dir + "/driver.out");
+  const std::string emu_out = ReadText(dir + "/emulator.out");
+  unsigned long resyncs = 0;
+  const size_t at = emu_out.find(" overruns, ");
+  if (at != std::string::npos) resyncs = std::stoul(emu_out.substr(at + 11));
+  // the driver's rows from the push on (8.5 .. 13.5 s): a few skipped cycles only lose rows
+  // (measured here: 12 places, the identification unchanged to 0.1 %), many mean a stalled loop
+  int gaps = 0;
+  {
+    std::ifstream in(dir + "/robot.csv");
+    std::string line;
+    std::getline(in, line);
+    double prev = -1;
+    while (std::getline(in, line)) {
+      const double t = std::stod(line);
+      if (prev >= 8.5 && t - prev > 1.5 * 0.002) ++gaps;
+      prev = t;
+    }
+  }
+  if (resyncs > 0 || gaps > 50)
+    return "not real time (a loaded machine): hw_emulator resynchronised " +
+           std::to_string(resyncs) + " times, hw_driver skipped cycles at " + std::to_string(gaps) +
+           " places after 8.5 s";
+  return "";
+}
+
+TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
+  for (const char* p : {"hw_emulator", "hw_driver", "posture", "ohrp_identify", "ohrp_run", "sim_host"})
+    if (!fs::exists(Program(p))) GTEST_SKIP() << Program(p) << " is not built";
+  const std::string tmp = TempPath("identify_robot");
+  const std::string dir = tmp + ".d";
+  fs::remove(tmp);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string segment = UniqueSegment("idrobot");
+
+  // a faithful recording: up to three tries on a loaded machine, each saying why it was not
+  std::string why;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    why = Record(dir, segment);
+    if (why.empty()) break;
+    std::printf("[ note     ] recording %d not used: %s\n", attempt + 1, why.c_str());
+  }
+#ifdef OHRP_SANITIZE
+  // the sanitizers slow the emulated robot's real-time loop: a recording that could not be made
+  // in real time there says so instead of failing (the normal build fails on it)
+  if (!why.empty()) GTEST_SKIP() << "under the sanitizers: " << why;
+#endif
+  ASSERT_TRUE(why.empty()) << why;
+
+  // sensor noise on every measured channel, seeded
+  {
+    std::ifstream in(dir + "/robot.csv");
+    std::ofstream out(dir + "/robot_noisy.csv");
+    std::string header, line;
+    ASSERT_TRUE(std::getline(in, header));
+    out << header << "\n";
+    std::vector<double> sd;
+    std::stringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) sd.push_back(NoiseOf(c));
+    std::mt19937 rng(16);
+    std::normal_distribution<double> n(0.0, 1.0);
+    int rows = 0;
+    while (std::getline(in, line)) {
+      std::stringstream ls(line);
+      size_t c = 0;
+      for (std::string v; std::getline(ls, v, ','); ++c) {
+        const double x = std::stod(v) + (c < sd.size() ? sd[c] * n(rng) : 0.0);
+        char buf[32];
+        std::snprintf(buf, sizeof(buf), "%.9g", x);
+        out << (c ? "," : "") << buf;
+      }
+      out << "\n";
+      ++rows;
+    }
+    ASSERT_GT(rows, 6000);  // 13.5 s at 2 ms
+  }
+
+  // identify, told nothing of the soles
+  const int code = WaitExit(Spawn({Program("ohrp_identify"), dir + "/robot_noisy.csv", "--scenario",
+                                   kSource + "/scenarios/rocking_fig12.yaml", "--out", dir + "/id"},
+                                  dir + "/identify.out"),
+                            300);
+  ASSERT_EQ(code, 0) << ReadText(dir + "/identify.out");
+  std::ifstream in(dir + "/id/identify.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << ReadText(dir + "/identify.out");
+  const double k = j["refined"]["k"], d = j["refined"]["d"];
+  const double ka = j["closed_form"]["k"], da = j["closed_form"]["d"];
+  EXPECT_NEAR(k, kStiffness, 0.10 * kStiffness);
+  EXPECT_NEAR(d, kDamping, 0.10 * kDamping);
+  // the linearised model alone, to the paper's 10 % as well
+  EXPECT_NEAR(ka, kStiffness, 0.10 * kStiffness);
+  EXPECT_NEAR(da, kDamping, 0.10 * kDamping);
+  EXPECT_GT(j["refined"]["k_se"].get<double>(), 0);
+  EXPECT_GT(j["refined"]["d_se"].get<double>(), 0);
+  std::printf("[ figures  ] robot soles 2e6 N/m, 45 s/m; recording f %.4f +- %.4f Hz, delta %.4f +- %.4f; "
+              "closed form K %.4g (%+.2f %%), D %.4g (%+.2f %%); refined K %.4g +- %.2g (%+.2f %%), "
+              "D %.4g +- %.2g (%+.2f %%); %zu simulations\n",
+              j["recorded"]["frequency"].get<double>(), j["recorded"]["frequency_se"].get<double>(),
+              j["recorded"]["log_decrement"].get<double>(), j["recorded"]["log_decrement_se"].get<double>(),
+              ka, 100 * (ka / kStiffness - 1), da, 100 * (da / kDamping - 1), k,
+              j["refined"]["k_se"].get<double>(), 100 * (k / kStiffness - 1), d,
+              j["refined"]["d_se"].get<double>(), 100 * (d / kDamping - 1), j["runs"].size());
+  if (!HasFailure()) fs::remove_all(dir);  // kept for a look otherwise
+}
+
+}  // namespace
+}  // namespace ohrp::identify

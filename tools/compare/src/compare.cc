@@ -1,0 +1,338 @@
+// Two data logs held against each other (see compare.h).
+#include "compare/compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "compare/signal.h"
+
+namespace ohrp::compare {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int kExitOk = 0, kExitUsage = 2;
+
+// columns that are no measurement
+bool Bookkeeping(const std::string& n) { return n == "time" || n == "status" || n == "rejected"; }
+
+std::string Join(const std::vector<std::string>& v, size_t most = 12) {
+  std::string s;
+  for (size_t i = 0; i < v.size() && i < most; ++i) s += (i ? ", " : "") + v[i];
+  if (v.size() > most) s += ", ... (" + std::to_string(v.size()) + " in all)";
+  return s;
+}
+
+// the first time `c` crosses `v` upwards (`above`) or downwards; NAN when never
+double FirstCrossing(const runner::Table& t, int time_col, int c, double v, bool above) {
+  const auto& x = t.col(c);
+  const auto& tt = t.col(time_col);
+  for (size_t i = 1; i < x.size(); ++i) {
+    const bool crossed = above ? (x[i - 1] <= v && x[i] > v) : (x[i - 1] >= v && x[i] < v);
+    if (crossed) return tt[i - 1] + (v - x[i - 1]) / (x[i] - x[i - 1]) * (tt[i] - tt[i - 1]);
+  }
+  return NAN;
+}
+
+// the summary JSON of a log for event:NAME
+std::string SummaryOf(const std::string& log, const std::string& given) {
+  if (!given.empty()) return given;
+  const fs::path dir = fs::path(log).parent_path();
+  for (const char* name : {"sim_summary.json", "summary.json"}) {
+    std::error_code ec;
+    if (fs::exists(dir / name, ec)) return (dir / name).string();
+  }
+  return "";
+}
+
+// the first event `name` in `summary`; false with *error
+bool EventTime(const std::string& summary, const std::string& log, const std::string& name,
+               double* time, std::string* error) {
+  if (summary.empty()) {
+    *error = "event:" + name + " needs the events of '" + log +
+             "': no sim_summary.json or summary.json beside it (give --summary-a/--summary-b)";
+    return false;
+  }
+  std::ifstream in(summary);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.contains("events") || !j["events"].is_array()) {
+    *error = summary + ": not a summary with an \"events\" list";
+    return false;
+  }
+  std::set<std::string> names;
+  for (const auto& e : j["events"]) {
+    if (!e.is_object() || !e.contains("event") || !e.contains("time")) continue;
+    const std::string n = e["event"].is_string() ? e["event"].get<std::string>() : "";
+    if (n == name && e["time"].is_number()) {
+      *time = e["time"].get<double>();
+      return true;
+    }
+    names.insert(n);
+  }
+  *error = summary + ": no event '" + name + "' (it has: " +
+           Join(std::vector<std::string>(names.begin(), names.end())) + ")";
+  return false;
+}
+
+}  // namespace
+
+int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
+  runner::Table a, b;
+  if (!a.Load(o.a, error) || !b.Load(o.b, error)) return kExitUsage;
+  const int ta = a.Column("time"), tb = b.Column("time");
+  if (ta < 0 || tb < 0) {
+    *error = (ta < 0 ? o.a : o.b) + ": no 'time' column (not a data log of sim_host or hw_driver)";
+    return kExitUsage;
+  }
+  if (a.rows() < 3 || b.rows() < 3) {
+    *error = (a.rows() < 3 ? o.a : o.b) + ": fewer than 3 rows";
+    return kExitUsage;
+  }
+  for (const runner::Table* t : {&a, &b}) {
+    const auto& tt = t->col(t == &a ? ta : tb);
+    for (size_t i = 1; i < tt.size(); ++i) {
+      if (!(tt[i] > tt[i - 1])) {
+        *error = (t == &a ? o.a : o.b) + ":" + std::to_string(i + 2) +
+                 ": the time does not increase (" + std::to_string(tt[i]) + " after " +
+                 std::to_string(tt[i - 1]) + ")";
+        return kExitUsage;
+      }
+    }
+  }
+  std::vector<std::string> common;
+  for (const auto& n : a.names())
+    if (!Bookkeeping(n) && b.Column(n) >= 0) common.push_back(n);
+  if (common.empty()) {
+    *error = "the logs have no channel in common (" + o.a + ": " + Join(a.names()) + "; " + o.b +
+             ": " + Join(b.names()) + ")";
+    return kExitUsage;
+  }
+  auto check_channel = [&](const std::string& n, const char* what) {
+    if (a.Column(n) >= 0 && b.Column(n) >= 0 && !Bookkeeping(n)) return true;
+    *error = std::string(what) + ": no channel '" + n + "' in " +
+             (a.Column(n) < 0 ? o.a : o.b) + " (channels in both: " + Join(common) + ")";
+    return false;
+  };
+  std::vector<std::string> channels = o.channels.empty() ? common : o.channels;
+  for (const auto& n : channels)
+    if (!check_channel(n, "--channels")) return kExitUsage;
+  for (const auto& n : o.oscillating) {
+    if (!check_channel(n, "--oscillation")) return kExitUsage;
+    if (std::find(channels.begin(), channels.end(), n) == channels.end()) channels.push_back(n);
+  }
+
+  //---- alignment
+  std::string align = o.align;
+  if (align.empty()) {
+    const std::string first = !o.channels.empty() ? o.channels.front()
+                              : !o.oscillating.empty() ? o.oscillating.front() : "";
+    if (first.empty()) {
+      *error = "say how to align the logs: --align xcorr:CHANNEL (e.g. xcorr:" + common.front() +
+               "), event:NAME, event:CHANNEL>VALUE or none; or name --channels (the first is "
+               "cross-correlated)";
+      return kExitUsage;
+    }
+    align = "xcorr:" + first;
+  }
+  const auto& tA = a.col(ta);
+  const auto& tB = b.col(tb);
+  if (align == "none") {
+    out->lag = 0;
+    out->align_detail = "none: lag 0";
+  } else if (align.rfind("xcorr:", 0) == 0) {
+    const std::string ch = align.substr(6);
+    if (!check_channel(ch, "--align")) return kExitUsage;
+    std::string why;
+    if (!CrossCorrelationLag(tA, a.col(a.Column(ch)), tB, b.col(b.Column(ch)), 0.0, o.max_lag,
+                             &out->lag, &why)) {
+      *error = "--align " + align + ": " + why;
+      return kExitUsage;
+    }
+    out->align_detail = "cross-correlation of " + ch;
+  } else if (align.rfind("event:", 0) == 0) {
+    const std::string ev = align.substr(6);
+    const size_t op = ev.find_first_of("<>");
+    double t_a = NAN, t_b = NAN;
+    if (op != std::string::npos) {
+      const std::string ch = ev.substr(0, op);
+      char* end = nullptr;
+      const std::string vs = ev.substr(op + 1);
+      const double v = std::strtod(vs.c_str(), &end);
+      if (vs.empty() || *end != 0 || !std::isfinite(v)) {
+        *error = "--align " + align + ": '" + vs + "' is not a number (want event:CHANNEL>VALUE)";
+        return kExitUsage;
+      }
+      if (!check_channel(ch, "--align")) return kExitUsage;
+      t_a = FirstCrossing(a, ta, a.Column(ch), v, ev[op] == '>');
+      t_b = FirstCrossing(b, tb, b.Column(ch), v, ev[op] == '>');
+      if (std::isnan(t_a) || std::isnan(t_b)) {
+        *error = "--align " + align + ": " + ch + " never " + (ev[op] == '>' ? "rises above " : "falls below ") +
+                 vs + " in " + (std::isnan(t_a) ? o.a : o.b);
+        return kExitUsage;
+      }
+    } else {
+      if (!EventTime(SummaryOf(o.a, o.summary_a), o.a, ev, &t_a, error) ||
+          !EventTime(SummaryOf(o.b, o.summary_b), o.b, ev, &t_b, error))
+        return kExitUsage;
+    }
+    out->lag = t_b - t_a;
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "event %s at %.6g s in A, %.6g s in B", ev.c_str(), t_a, t_b);
+    out->align_detail = buf;
+  } else {
+    *error = "--align '" + align + "': want xcorr:CHANNEL, event:NAME, event:CHANNEL>VALUE, "
+             "event:CHANNEL<VALUE or none";
+    return kExitUsage;
+  }
+
+  //---- the window: A's times within both logs and [from, to]
+  out->from = std::max({o.from, tA.front(), tB.front() - out->lag});
+  out->to = std::min({o.to, tA.back(), tB.back() - out->lag});
+  std::vector<size_t> rows;
+  for (size_t i = 0; i < tA.size(); ++i)
+    if (tA[i] >= out->from && tA[i] <= out->to) rows.push_back(i);
+  if (rows.size() < 3) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), "the common window [%.6g, %.6g] s (A's time, lag %.6g s) holds %zu rows of A: "
+                  "check --from/--to and the alignment", out->from, out->to, out->lag, rows.size());
+    *error = buf;
+    return kExitUsage;
+  }
+  out->samples = rows.size();
+
+  //---- per channel
+  out->channels.clear();
+  for (const auto& n : channels) {
+    ChannelResult r;
+    r.name = n;
+    const auto& xa = a.col(a.Column(n));
+    const auto& xb = b.col(b.Column(n));
+    size_t cursor = 0;
+    double s2 = 0, sum = 0, ma = 0, sa2 = 0;
+    for (size_t i : rows) ma += xa[i];
+    ma /= static_cast<double>(rows.size());
+    for (size_t i : rows) {
+      const double d = Interpolate(tB, xb, tA[i] + out->lag, &cursor) - xa[i];
+      s2 += d * d;
+      sum += d;
+      sa2 += (xa[i] - ma) * (xa[i] - ma);
+      if (std::fabs(d) > std::fabs(r.peak)) {
+        r.peak = d;
+        r.peak_time = tA[i];
+      }
+    }
+    const double count = static_cast<double>(rows.size());
+    r.rms = std::sqrt(s2 / count);
+    r.bias = sum / count;
+    r.rms_a = std::sqrt(sa2 / count);
+    std::string why;
+    double lag = 0;
+    if (CrossCorrelationLag(tA, xa, tB, xb, out->lag, 0.25, &lag, &why)) {
+      r.has_lag = true;
+      r.lag = lag;
+    }
+    if (std::find(o.oscillating.begin(), o.oscillating.end(), n) != o.oscillating.end()) {
+      r.oscillating = true;
+      r.osc_a = AnalyseOscillation(tA, xa, out->from, out->to);
+      r.osc_b = AnalyseOscillation(tB, xb, out->from + out->lag, out->to + out->lag);
+    }
+    out->channels.push_back(std::move(r));
+  }
+  return kExitOk;
+}
+
+namespace {
+
+nlohmann::json OscJson(const Oscillation& o) {
+  if (!o.found) return {{"found", false}, {"why", o.why}};
+  return {{"found", true},
+          {"frequency", o.frequency},
+          {"frequency_se", o.frequency_se},
+          {"natural_frequency", o.natural_frequency},
+          {"sigma", o.sigma},
+          {"sigma_se", o.sigma_se},
+          {"log_decrement", o.log_decrement},
+          {"log_decrement_se", o.log_decrement_se},
+          {"decay_ratio", o.decay_ratio},
+          {"damping_ratio", o.damping_ratio},
+          {"amplitude", o.amplitude},
+          {"noise", o.noise},
+          {"extrema", o.extrema},
+          {"first", o.first},
+          {"last", o.last},
+          {"extremum_times", o.extremum_times},
+          {"extremum_values", o.extremum_values}};
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const CompareOptions& o, const Comparison& c) {
+  nlohmann::json j;
+  j["a"] = {{"log", o.a}, {"label", o.label_a}};
+  j["b"] = {{"log", o.b}, {"label", o.label_b}};
+  j["lag"] = c.lag;
+  j["alignment"] = c.align_detail;
+  j["window"] = {c.from, c.to};
+  j["samples"] = c.samples;
+  nlohmann::json ch = nlohmann::json::array();
+  for (const auto& r : c.channels) {
+    nlohmann::json e = {{"name", r.name}, {"rms", r.rms},           {"peak", r.peak},
+                        {"peak_time", r.peak_time}, {"bias", r.bias}, {"rms_a", r.rms_a}};
+    e["lag"] = r.has_lag ? nlohmann::json(r.lag) : nlohmann::json(nullptr);
+    if (r.oscillating) {
+      e["oscillation"] = {{"a", OscJson(r.osc_a)}, {"b", OscJson(r.osc_b)}};
+      if (r.osc_a.found && r.osc_b.found) {
+        e["oscillation"]["frequency_difference"] = r.osc_b.frequency - r.osc_a.frequency;
+        e["oscillation"]["log_decrement_difference"] = r.osc_b.log_decrement - r.osc_a.log_decrement;
+      }
+    }
+    ch.push_back(e);
+  }
+  j["channels"] = ch;
+  return j;
+}
+
+std::string Table(const Comparison& c) {
+  std::string s;
+  char buf[400];
+  std::snprintf(buf, sizeof(buf), "alignment: %s; lag of B behind A %.4f s; window [%.3f, %.3f] s of A (%zu rows)\n\n",
+                c.align_detail.c_str(), c.lag, c.from, c.to, c.samples);
+  s += buf;
+  std::snprintf(buf, sizeof(buf), "%-28s %12s %12s %9s %12s %12s %10s\n", "channel", "rms(B-A)",
+                "peak(B-A)", "at [s]", "mean(B-A)", "rms(A-mean)", "lag [s]");
+  s += buf;
+  for (const auto& r : c.channels) {
+    char lag[32] = "-";
+    if (r.has_lag) std::snprintf(lag, sizeof(lag), "%.4f", r.lag);
+    std::snprintf(buf, sizeof(buf), "%-28s %12.5g %12.5g %9.3f %12.5g %12.5g %10s\n", r.name.c_str(),
+                  r.rms, r.peak, r.peak_time, r.bias, r.rms_a, lag);
+    s += buf;
+  }
+  bool any = false;
+  for (const auto& r : c.channels) any = any || r.oscillating;
+  if (!any) return s;
+  std::snprintf(buf, sizeof(buf), "\n%-28s %4s %16s %16s %10s %9s %7s\n", "oscillation", "log",
+                "f_d [Hz]", "log decrement", "ratio/per", "zeta", "extrema");
+  s += buf;
+  for (const auto& r : c.channels) {
+    if (!r.oscillating) continue;
+    for (int k = 0; k < 2; ++k) {
+      const Oscillation& o = k == 0 ? r.osc_a : r.osc_b;
+      if (!o.found) {
+        std::snprintf(buf, sizeof(buf), "%-28s %4s not found: %s\n", r.name.c_str(), k ? "B" : "A",
+                      o.why.c_str());
+      } else {
+        std::snprintf(buf, sizeof(buf), "%-28s %4s %8.4f+-%-7.4f %8.4f+-%-7.4f %10.4f %9.4f %7d\n",
+                      r.name.c_str(), k ? "B" : "A", o.frequency, o.frequency_se, o.log_decrement,
+                      o.log_decrement_se, o.decay_ratio, o.damping_ratio, o.extrema);
+      }
+      s += buf;
+    }
+  }
+  return s;
+}
+
+}  // namespace ohrp::compare

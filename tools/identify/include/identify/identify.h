@@ -1,0 +1,71 @@
+// ohrp identify: the soft soles' stiffness K and damping D from a recording of the standing
+// robot's damped rocking (the paper's figure 12 experiment, scenarios/rocking_fig12.yaml):
+//   (a) the recording's rocking frequency and decay (compare/oscillation.h on one channel over
+//       the free oscillation after the push) through the linearised model (rocking.h, with the
+//       robot's mass, inertia and centre of mass from the model in the recorded posture):
+//       K_a, D_a, their standard errors propagated from the measurement's;
+//   (b) simulations of the same experiment (the scenario with the soles' K and D in its
+//       sim_args, each through one RunVariant, which a sweep executor can replace) around the
+//       estimate: the simulated frequency against K at D_a (three runs, a line through them:
+//       K where it equals the recording's), then the simulated log decrement against D at that
+//       K (three runs): the mismatch of frequency and decay brought to zero. The simulations
+//       are measured with the recording's noise added (its sigma from the channel, the mean of
+//       8 seeded draws), so that noise biases both measurements alike;
+//   (c) their uncertainty: the measurement's standard error through the slopes of (b)
+//       (sigma_K = sigma_f / |df/dK|, sigma_D = sigma_delta / |d delta/dD|), and a final run at
+//       (K, D) compared with the recording (compare-logs RMS, frequency and decay differences).
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace ohrp::identify {
+
+// One simulation of the experiment with soles (K [N/m], D [s/m]), its outputs in `dir`; the
+// data log's path in *log. False with *error.
+using RunVariant = std::function<bool(double k, double d, const std::string& dir, std::string* log,
+                                      std::string* error)>;
+
+// The default RunVariant: `ohrp_run SCENARIO` with "--contact-stiffness K --contact-damping D"
+// added to the scenario's sim_args (a copy of the scenario in `dir`).
+// (The scenario's relative paths are the repository's, as ohrp_run resolves them: the copy
+// may live anywhere.)
+RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenario);
+
+struct IdentifyOptions {
+  std::string recording;          // the robot's data log (hw_driver --log)
+  std::string scenario;           // the experiment (scenarios/rocking_fig12.yaml)
+  std::string source_dir;         // repository root: the scenario's scene is relative to it
+  std::string channel = "rfsensor_ty,lfsensor_ty";  // the oscillating channel measured (a
+                                  // comma-separated list: their sum, here both ankles' pitch
+                                  // moments: twice the swing, sqrt 2 the noise)
+  double settle = 0.15;           // [s] after the push's end before the free oscillation
+  double window = 3.0;            // [s] of free oscillation measured
+  double step = 0.15;             // relative step of the K and D runs around the estimate
+  std::string out_dir;            // variants' folders, identify.json
+  bool quiet = false;
+};
+
+struct Estimate {
+  double k = 0, k_se = 0, d = 0, d_se = 0;
+};
+
+struct IdentifyResult {
+  double lag = 0;                   // recording's time minus the simulation's
+  double noise = 0;                 // the recording's noise on the channel (1 sigma), which
+                                    // the simulations' channel gets too before it is measured
+  double from = 0, to = 0;          // the simulation's window [s]
+  double f = 0, f_se = 0, delta = 0, delta_se = 0;  // the recording's oscillation
+  Estimate closed_form;             // (a)
+  Estimate refined;                 // (b), (c)
+  double final_f = 0, final_delta = 0, final_rms = 0;  // the run at the refined K, D
+  nlohmann::json runs = nlohmann::json::array();      // every simulation: K, D, f, delta
+};
+
+// Exit code 0, or 2 (bad input: files, channel, no oscillation in the recording) or 1 (a
+// simulation failed) with *error.
+int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r, std::string* error);
+
+}  // namespace ohrp::identify

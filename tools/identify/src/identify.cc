@@ -1,0 +1,292 @@
+// ohrp identify: the soles' K and D from a recording of the damped rocking (see identify.h).
+#include "identify/identify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <sstream>
+
+#include "compare/oscillation.h"
+#include "compare/signal.h"
+#include "contact/params.h"
+#include "identify/rocking.h"
+#include "robot_model/model.h"
+#include "runner/checks.h"
+#include "runner/scenario.h"
+
+namespace ohrp::identify {
+namespace {
+
+constexpr int kOk = 0, kFailed = 1, kUsage = 2;
+
+// the end of the scenario's last push [s]: its `pushes` or a --push in its sim_args
+bool PushEnd(const runner::Scenario& s, double* end) {
+  bool found = false;
+  for (const auto& p : s.pushes) {
+    *end = found ? std::max(*end, p.at + p.duration) : p.at + p.duration;
+    found = true;
+  }
+  for (size_t i = 0; i + 1 < s.sim_args.size(); ++i) {
+    if (s.sim_args[i] != "--push") continue;
+    double t0 = 0, t1 = 0;
+    if (std::sscanf(s.sim_args[i + 1].c_str(), "%lf,%lf", &t0, &t1) == 2) {
+      *end = found ? std::max(*end, t1) : t1;
+      found = true;
+    }
+  }
+  return found;
+}
+
+struct Measured {
+  compare::Oscillation osc;
+  std::vector<double> t, x;
+};
+
+// the sum of the comma-separated channels of `log` (e.g. both ankles' pitch moments); false
+// with *error naming a missing one
+bool Channel(const runner::Table& log, const std::string& path, const std::string& channels,
+             std::vector<double>* x, std::string* error) {
+  std::stringstream ss(channels);
+  x->assign(log.rows(), 0.0);
+  int n = 0;
+  for (std::string c; std::getline(ss, c, ',');) {
+    const int col = log.Column(c);
+    if (col < 0) {
+      *error = path + ": no channel '" + c + "' (--channel)";
+      return false;
+    }
+    for (size_t i = 0; i < x->size(); ++i) (*x)[i] += log.col(col)[i];
+    ++n;
+  }
+  if (n == 0) {
+    *error = "--channel names no channel";
+    return false;
+  }
+  return true;
+}
+
+bool Measure(const runner::Table& log, const std::string& path, const std::string& channel,
+             double from, double to, Measured* m, std::string* error, double add_noise = 0) {
+  const int tc = log.Column("time");
+  if (tc < 0) {
+    *error = path + ": no column 'time'";
+    return false;
+  }
+  m->t = log.col(tc);
+  if (!Channel(log, path, channel, &m->x, error)) return false;
+  m->osc = compare::AnalyseOscillation(m->t, m->x, from, to);
+  if (!m->osc.found) {
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), ": no damped oscillation of %s in [%.3f, %.3f] s: ",
+                  channel.c_str(), from, to);
+    *error = path + buf + m->osc.why;
+    return false;
+  }
+  if (add_noise > 0) {
+    // the recording's noise on the simulation too, so that both are measured alike (noise
+    // biases the extrema of the small swings, hence the decay): the mean of kNoiseDraws
+    // seeded draws
+    constexpr int kNoiseDraws = 8;
+    double f = 0, delta = 0;
+    int used = 0;
+    for (int k = 0; k < kNoiseDraws; ++k) {
+      std::mt19937 rng(1000 + k);
+      std::normal_distribution<double> n(0.0, add_noise);
+      std::vector<double> x = m->x;
+      for (double& v : x) v += n(rng);
+      const compare::Oscillation o = compare::AnalyseOscillation(m->t, x, from, to);
+      if (!o.found) continue;
+      f += o.frequency;
+      delta += o.log_decrement;
+      ++used;
+    }
+    if (used == 0) {
+      *error = path + ": with the recording's noise added, the oscillation of " + channel +
+               " is not found any more";
+      return false;
+    }
+    m->osc.frequency = f / used;
+    m->osc.log_decrement = delta / used;
+  }
+  return true;
+}
+
+// a least-squares line y = a + b x through the points; returns b and sets *a
+double Line(const std::vector<double>& x, const std::vector<double>& y, double* a) {
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    mx += x[i];
+    my += y[i];
+  }
+  mx /= static_cast<double>(x.size());
+  my /= static_cast<double>(x.size());
+  double sxx = 0, sxy = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+  }
+  const double b = sxy / sxx;
+  *a = my - b * mx;
+  return b;
+}
+
+std::string Fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[200];
+  std::snprintf(buf, sizeof(buf), f, a, b, c, d);
+  return buf;
+}
+
+}  // namespace
+
+int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r, std::string* error) {
+  auto say = [&](const std::string& s) {
+    if (!o.quiet) std::fprintf(stderr, "ohrp identify: %s\n", s.c_str());
+  };
+  runner::Table rec;
+  if (!rec.Load(o.recording, error)) return kUsage;
+  if (rec.Column("time") < 0 || rec.rows() < 3) {
+    *error = o.recording + ": not a data log (no 'time' column, or fewer than 3 rows)";
+    return kUsage;
+  }
+  std::vector<double> rx;
+  if (!Channel(rec, o.recording, o.channel, &rx, error)) return kUsage;
+  runner::Scenario sc;
+  if (!runner::LoadScenario(o.scenario, &sc, error)) return kUsage;
+  double push_end = 0;
+  if (!PushEnd(sc, &push_end)) {
+    *error = o.scenario + ": no push (pushes, or --push in sim_args): the experiment is a push "
+             "and the free rocking after it (scenarios/rocking_fig12.yaml)";
+    return kUsage;
+  }
+  const std::string scene = sc.scene.empty() || sc.scene[0] == '/' ? sc.scene : o.source_dir + "/" + sc.scene;
+  std::string err;
+  auto model = model::Scene::Load(scene, &err);
+  if (!model) {
+    *error = err;
+    return kUsage;
+  }
+  contact::SoftContactParams p;  // the soles' other parameters: sim_host's defaults
+  r->noise = compare::NoiseSigma(rx);
+  r->from = push_end + o.settle;
+  r->to = r->from + o.window;
+
+  //---- the simulated experiment at sim_host's default soles: where the recording's window is
+  int n = 0;
+  auto simulate = [&](double k, double d, Measured* m) -> bool {
+    const std::string dir = o.out_dir + "/run" + std::to_string(n++);
+    std::string log;
+    if (!run(k, d, dir, &log, error)) return false;
+    runner::Table t;
+    if (!t.Load(log, error) || !Measure(t, log, o.channel, r->from, r->to, m, error, r->noise))
+      return false;
+    r->runs.push_back({{"k", k}, {"d", d}, {"frequency", m->osc.frequency},
+                       {"log_decrement", m->osc.log_decrement}, {"dir", dir}});
+    say(Fmt("simulated K %.4g N/m, D %.4g s/m: f %.4f Hz, log decrement %.4f", k, d,
+            m->osc.frequency, m->osc.log_decrement));
+    return true;
+  };
+  Measured nominal;
+  if (!simulate(p.stiffness, p.damping, &nominal)) return kFailed;
+  const auto& rt = rec.col(rec.Column("time"));
+  if (!compare::CrossCorrelationLag(nominal.t, nominal.x, rt, rx, 0.0, 2.0, &r->lag, &err)) {
+    *error = "aligning the recording on the simulation (" + o.channel + "): " + err;
+    return kUsage;
+  }
+  Measured recorded;
+  if (!Measure(rec, o.recording, o.channel, r->from + r->lag, r->to + r->lag, &recorded, error))
+    return kUsage;
+  r->f = recorded.osc.frequency;
+  r->f_se = recorded.osc.frequency_se;
+  r->delta = recorded.osc.log_decrement;
+  r->delta_se = recorded.osc.log_decrement_se;
+  say(Fmt("recording: lag %.4f s; f %.4f +- %.4f Hz", r->lag, r->f, r->f_se) +
+      Fmt(", log decrement %.4f +- %.4f (%g extrema)", r->delta, r->delta_se, recorded.osc.extrema));
+
+  //---- (a) the closed form in the recorded posture (mean joint positions over the window)
+  std::vector<std::pair<std::string, double>> q;
+  for (const auto& name : rec.names()) {
+    if (name.rfind("q_", 0) != 0) continue;
+    const auto& v = rec.col(rec.Column(name));
+    double s = 0;
+    int cnt = 0;
+    for (size_t i = 0; i < rt.size(); ++i)
+      if (rt[i] >= r->from + r->lag && rt[i] <= r->to + r->lag) {
+        s += v[i];
+        ++cnt;
+      }
+    if (cnt > 0) q.emplace_back(name.substr(2), s / cnt);
+  }
+  RockingGeometry geo;
+  if (!GeometryAt(model->m(), q, p, &geo, error)) return kUsage;
+  auto zeta_of = [](double delta) { return delta / std::sqrt(4 * M_PI * M_PI + delta * delta); };
+  auto omega_of = [&](double f, double delta) {
+    (void)delta;
+    return 2 * M_PI * f;
+  };
+  double ka = 0, da = 0;
+  if (!InvertRocking(geo, p, omega_of(r->f, r->delta), zeta_of(r->delta), &ka, &da, error)) return kUsage;
+  // standard errors: the measurement's, through the inversion (one-sided differences)
+  double k1 = 0, d1 = 0, k2 = 0, d2 = 0;
+  std::string ignore;
+  InvertRocking(geo, p, omega_of(r->f + r->f_se, r->delta), zeta_of(r->delta), &k1, &d1, &ignore);
+  InvertRocking(geo, p, omega_of(r->f, r->delta), zeta_of(r->delta + r->delta_se), &k2, &d2, &ignore);
+  r->closed_form = {ka, std::hypot(k1 - ka, k2 - ka), da, std::hypot(d1 - da, d2 - da)};
+  say(Fmt("(a) closed form (mass %.2f kg, Iyy %.2f kg m^2, CoM %.3f m above the soles): ", geo.mass,
+          geo.Iyy, geo.com_height) +
+      Fmt("K %.4g +- %.2g N/m, D %.4g +- %.2g s/m", ka, r->closed_form.k_se, da, r->closed_form.d_se));
+
+  //---- (b) simulations around it: f against K at D_a, then the log decrement against D
+  std::vector<double> ks, fs;
+  for (double s : {1 - o.step, 1.0, 1 + o.step}) {
+    Measured m;
+    if (!simulate(ka * s, da, &m)) return kFailed;
+    ks.push_back(ka * s);
+    fs.push_back(m.osc.frequency);
+  }
+  double fa = 0;
+  const double dfdk = Line(ks, fs, &fa);
+  if (!(dfdk > 0)) {
+    *error = "the simulated frequency does not grow with K around the estimate: cannot refine";
+    return kFailed;
+  }
+  const double kb = (r->f - fa) / dfdk;
+  std::vector<double> ds, dels;
+  for (double s : {1 - 2 * o.step, 1.0, 1 + 2 * o.step}) {
+    Measured m;
+    if (!simulate(kb, da * s, &m)) return kFailed;
+    ds.push_back(da * s);
+    dels.push_back(m.osc.log_decrement);
+  }
+  double dela = 0;
+  const double ddeldd = Line(ds, dels, &dela);
+  if (!(ddeldd > 0)) {
+    *error = "the simulated decay does not grow with D around the estimate: cannot refine";
+    return kFailed;
+  }
+  const double db = (r->delta - dela) / ddeldd;
+  r->refined = {kb, r->f_se / dfdk, db, r->delta_se / ddeldd};
+
+  //---- (c) the run at the refined K, D against the recording
+  Measured fin;
+  if (!simulate(kb, db, &fin)) return kFailed;
+  r->final_f = fin.osc.frequency;
+  r->final_delta = fin.osc.log_decrement;
+  double s2 = 0;
+  int cnt = 0;
+  size_t cursor = 0;
+  for (size_t i = 0; i < fin.t.size(); ++i) {
+    if (fin.t[i] < r->from || fin.t[i] > r->to) continue;
+    const double dlt = compare::Interpolate(rt, rx, fin.t[i] + r->lag, &cursor) - fin.x[i];
+    s2 += dlt * dlt;
+    ++cnt;
+  }
+  r->final_rms = cnt ? std::sqrt(s2 / cnt) : NAN;
+  say(Fmt("(b) refined: K %.4g +- %.2g N/m, D %.4g +- %.2g s/m", kb, r->refined.k_se, db, r->refined.d_se));
+  say(Fmt("(c) at the refined K, D: f %.4f Hz (recording %.4f), log decrement %.4f (%.4f)", r->final_f,
+          r->f, r->final_delta, r->delta) +
+      Fmt("; RMS of recording - simulation over the window %.4g", r->final_rms));
+  return kOk;
+}
+
+}  // namespace ohrp::identify

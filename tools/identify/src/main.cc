@@ -1,0 +1,105 @@
+// ohrp_identify: the soft soles' stiffness and damping from a recording of the standing robot's
+// damped rocking (see identify/identify.h, docs/identify.md).
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "cli/command_line.h"
+#include "identify/identify.h"
+
+int main(int argc, char** argv) {
+  namespace fs = std::filesystem;
+  ohrp::identify::IdentifyOptions o;
+  o.source_dir = OHRP_SOURCE_DIR;
+  o.scenario = o.source_dir + "/scenarios/rocking_fig12.yaml";
+  o.out_dir = "identify";
+  CLI::App app{
+      "ohrp_identify: estimates the soft soles' stiffness K [N/m] and damping D [s/m] from a\n"
+      "recording of the standing robot's damped rocking after a push (the paper's figure 12,\n"
+      "the experiment of --scenario). (a) The recording's rocking frequency and log decrement\n"
+      "on --channel through the linearised rigid-body-on-springs model with the robot's mass,\n"
+      "inertia and centre of mass in the recorded posture; (b) simulations of the experiment\n"
+      "(ohrp_run) around that estimate bring the simulated frequency and decay onto the\n"
+      "recording's; (c) uncertainties from the measurement's standard errors through the\n"
+      "simulated slopes. Writes DIR/identify.json, the runs in DIR/runN and the last run\n"
+      "against the recording in DIR/compare/ (ohrp_compare_logs: compare.png).",
+      "ohrp_identify"};
+  app.add_option("recording", o.recording, "the robot's data log (hw_driver --log)")
+      ->required()->check(CLI::ExistingFile);
+  app.add_option("--scenario", o.scenario, "the experiment, as ohrp_run takes it")
+      ->capture_default_str()->check(CLI::ExistingFile);
+  app.add_option("--channel", o.channel,
+                 "oscillating channel measured in both; a comma-separated list measures their sum")
+      ->capture_default_str();
+  app.add_option("--settle", o.settle, "[s] after the push's end before the measured window")
+      ->capture_default_str()->check(ohrp::cli::NonNegative());
+  app.add_option("--window", o.window, "[s] of free rocking measured")
+      ->capture_default_str()->check(ohrp::cli::Positive());
+  app.add_option("--step", o.step, "relative step of the simulations around the estimate")
+      ->capture_default_str()->check(ohrp::cli::InRange(0.01, 0.5));
+  app.add_option("--out", o.out_dir, "folder for identify.json and the simulations")->capture_default_str();
+  app.add_flag("--quiet,-q", o.quiet, "print the result only");
+  app.footer(
+      "Exit codes: 0 identified, 1 a simulation failed or the refinement could not proceed,\n"
+      "2 bad option or input (a missing or malformed recording, an unknown channel, a scenario\n"
+      "without a push, no oscillation in the recording). docs/identify.md has the method.");
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  const std::string ohrp_run = (fs::path(argv[0]).parent_path() / "ohrp_run").string();
+  if (!fs::exists(ohrp_run)) {
+    std::fprintf(stderr, "ohrp_identify: %s is not built (it runs the simulations)\n", ohrp_run.c_str());
+    return 2;
+  }
+  std::error_code ec;
+  fs::create_directories(o.out_dir, ec);
+  o.out_dir = fs::absolute(o.out_dir).string();
+  ohrp::identify::IdentifyResult r;
+  std::string error;
+  const int code = ohrp::identify::Identify(
+      o, ohrp::identify::OhrpRunVariant(ohrp_run, o.scenario), &r, &error);
+  if (code != 0) {
+    std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
+    return code;
+  }
+  nlohmann::json j;
+  j["recording"] = o.recording;
+  j["scenario"] = o.scenario;
+  j["channel"] = o.channel;
+  j["lag"] = r.lag;
+  j["noise"] = r.noise;
+  j["window"] = {r.from, r.to};
+  j["recorded"] = {{"frequency", r.f}, {"frequency_se", r.f_se}, {"log_decrement", r.delta},
+                   {"log_decrement_se", r.delta_se}};
+  j["closed_form"] = {{"k", r.closed_form.k}, {"k_se", r.closed_form.k_se},
+                      {"d", r.closed_form.d}, {"d_se", r.closed_form.d_se}};
+  j["refined"] = {{"k", r.refined.k}, {"k_se", r.refined.k_se}, {"d", r.refined.d},
+                  {"d_se", r.refined.d_se}};
+  j["final"] = {{"frequency", r.final_f}, {"log_decrement", r.final_delta}, {"rms", r.final_rms}};
+  j["runs"] = r.runs;
+  std::ofstream(o.out_dir + "/identify.json") << j.dump(2) << "\n";
+  // the paper's figure 12: the run at the identified K, D and the recording on the same axes
+  // (ohrp_compare_logs, aligned by the lag found: DIR/compare/compare.png)
+  const std::string compare = (fs::path(argv[0]).parent_path() / "ohrp_compare_logs").string();
+  if (fs::exists(compare) && !r.runs.empty()) {
+    auto quote = [](const std::string& s) {
+      std::string q = "'";
+      for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      return q + "'";
+    };
+    char window[96];
+    std::snprintf(window, sizeof(window), " --from %.6f --to %.6f", r.from, r.to);
+    const std::string cmd = quote(compare) + " " +
+                            quote(r.runs.back()["dir"].get<std::string>() + "/run/log.csv") + " " +
+                            quote(o.recording) + " --channels " + quote(o.channel) +
+                            " --oscillation " + quote(o.channel) + window +
+                            " --labels simulation,robot --out " + quote(o.out_dir + "/compare") +
+                            " > " + quote(o.out_dir + "/compare.txt") + " 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+      std::fprintf(stderr, "ohrp_identify: the comparison plot could not be made (see %s/compare.txt)\n",
+                   o.out_dir.c_str());
+  }
+  std::printf("K = %.4g +- %.2g N/m, D = %.4g +- %.2g s/m  (closed form: K %.4g +- %.2g, D %.4g +- %.2g; %s/identify.json)\n",
+              r.refined.k, r.refined.k_se, r.refined.d, r.refined.d_se, r.closed_form.k,
+              r.closed_form.k_se, r.closed_form.d, r.closed_form.d_se, o.out_dir.c_str());
+  return 0;
+}
