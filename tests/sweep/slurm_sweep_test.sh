@@ -1,0 +1,43 @@
+#!/bin/bash
+# The Slurm executor for real (issue 16): a single-node Slurm cluster started here from Debian's
+# slurm-wlm and munge (slurm_cluster.sh: private key, socket, ports and folders, torn down on
+# exit even on failure), the 9-variant soles sweep run locally and then as one Slurm array job;
+# every variant must have run as its own array task, and the gathered reports must agree
+# (variants, parameter values, statuses, verdicts and every check value, exactly). Exit 77
+# (SKIP, with the reason) when the cluster cannot start, e.g. not root.
+# usage: slurm_sweep_test.sh SOURCE_DIR BIN_DIR OUT_DIR PYTHON
+set -u
+src="$1" bin="$2" out="$3" py="$4"
+check="$py $src/tests/sweep/check_report.py"
+fail() { echo "FAIL: $*"; exit 1; }
+. "$src/tests/sweep/slurm_cluster.sh"
+trap slurm_cluster_stop EXIT
+if ! slurm_cluster_start; then
+  echo "SKIP: no Slurm cluster: $SLURM_CLUSTER_WHY"
+  exit 77
+fi
+echo "Slurm cluster up in $SLURM_CLUSTER_DIR: $(sinfo -h -N -o '%N %c CPUs %t')"
+rm -rf "$out"; mkdir -p "$out"
+
+# the same sweep, locally (two at a time: the machine's cores) and under Slurm
+t0=$(date +%s%N)
+"$bin/ohrp_sweep" "$src/tests/sweep/soles.yaml" --out "$out/local" --jobs "$(nproc)" \
+  >"$out/local.md" 2>"$out/local.stderr" || { cat "$out/local.stderr" "$out/local.md"; fail "local sweep: exit $?"; }
+t1=$(date +%s%N)
+"$bin/ohrp_sweep" "$src/tests/sweep/soles.yaml" --out "$out/slurm" --slurm --partition test --poll 0.5 \
+  >"$out/slurm.md" 2>"$out/slurm.stderr"
+rc=$?
+t2=$(date +%s%N)
+cat "$out/slurm.stderr" "$out/slurm.md"
+[ $rc -eq 0 ] || { cat "$SLURM_CLUSTER_DIR"/log/slurm*.log | tail -30; fail "Slurm sweep: exit $rc"; }
+echo "wall time: local $(( (t1 - t0) / 1000000 )) ms, Slurm $(( (t2 - t1) / 1000000 )) ms (submission to gathered report)"
+$check statuses "$out/slurm" pass pass pass pass pass pass pass pass pass || fail "Slurm statuses"
+$check same "$out/local" "$out/slurm" || fail "the Slurm report differs from the local one"
+# each task wrote its own Slurm output and ran on its own segment
+for t in 0 1 2 3 4 5 6 7 8; do
+  [ -f "$out/slurm/slurm/task_$t.out" ] || fail "no Slurm output of task $t"
+  grep -q "\"segment\": \"sweep_$($check field "$out/slurm" $t slurm_job)_$t\"" \
+    "$out/slurm/variants/v00$t/status.json" || fail "task $t did not run on segment sweep_<job>_$t"
+done
+test -s "$out/slurm/plot_base_height_vs_contact_params.stiffness.png" || fail "no plot"
+echo "PASS"
