@@ -116,6 +116,16 @@ CONF
 slurm_cluster_stop() {
   local d="$SLURM_CLUSTER_DIR" pid
   [ -n "$d" ] || return 0
+  # jobs still queued or running are cancelled first (their steps end with them)
+  if [ -n "${SLURM_CONF:-}" ] && [ -s "$d/slurmctld.pid" ]; then
+    local jobs
+    jobs="$(squeue -h -o %A 2>/dev/null | sort -u | tr '\n' ' ')"
+    if [ -n "$jobs" ]; then
+      # shellcheck disable=SC2086
+      scancel $jobs 2>/dev/null
+      _slurm_wait_for "[ -z \"\$(squeue -h 2>/dev/null)\" ]" 15
+    fi
+  fi
   # the daemons this fixture started, by their pid files (never by name: another cluster may run)
   for f in "$d/slurmd.pid" "$d/slurmctld.pid" "$d/munge/munged.pid"; do
     [ -s "$f" ] && SLURM_CLUSTER_PIDS+=("$(cat "$f")")
@@ -124,6 +134,10 @@ slurm_cluster_stop() {
   for pid in "${SLURM_CLUSTER_PIDS[@]}"; do
     for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     kill -KILL "$pid" 2>/dev/null
+  done
+  # a job step left behind (slurmstepd outlives slurmd): those whose folder is this cluster's
+  for pid in $(pgrep -x slurmstepd); do
+    case "$(readlink "/proc/$pid/cwd" 2>/dev/null)" in "$d"/*|"$d") kill -KILL "$pid" 2>/dev/null ;; esac
   done
   rm -rf "$d"
   SLURM_CLUSTER_DIR=""

@@ -88,7 +88,7 @@ std::vector<VariantResult> Gather(const SweepSpec& spec, const std::string& out_
     }
     if (status.value("killed_at_time_limit", false)) {
       r.status = "timeout";
-      r.detail = "killed at the time limit of " + std::to_string(status.value("time_limit", 0.0)) +
+      r.detail = "killed at the time limit of " + NumberText(status.value("time_limit", 0.0)) +
                  " s wall (see " + r.log_dir + "/ohrp_run.out)";
     } else if (status.value("cancelled", false) || r.exit_code == 130 || r.verdict == "interrupted") {
       r.status = "cancelled";

@@ -231,7 +231,8 @@ bool ReadParameter(const YAML::Node& n, const std::string& path, const std::stri
     const double f = steps == 1 ? 0 : static_cast<double>(i) / static_cast<double>(steps - 1);
     double x = p->log_scale ? std::exp(std::log(from) + f * (std::log(to) - std::log(from)))
                             : from + f * (to - from);
-    if (i == steps - 1) x = to;  // the end exactly
+    if (i == 0) x = from;  // the ends exactly
+    if (i == steps - 1 && steps > 1) x = to;
     Value v;
     v.numeric = true;
     v.number = x;
@@ -484,6 +485,11 @@ bool ReadSweep(const YAML::Node& root, const std::string& path, const std::strin
 
 std::string NumberText(double v) {
   char b[40];
+  // whole numbers in full (3000000, 30), others in the fewest significant digits that read back
+  if (std::fabs(v) < 1e15 && v == std::round(v)) {
+    std::snprintf(b, sizeof(b), "%.0f", v);
+    return b;
+  }
   for (int digits = 1; digits <= 17; ++digits) {
     std::snprintf(b, sizeof(b), "%.*g", digits, v);
     if (std::strtod(b, nullptr) == v) break;

@@ -86,7 +86,8 @@ bool ParseSweep(const std::string& text, const std::string& path, const std::str
 bool SetKey(const std::string& yaml, const std::string& key, const Value& value,
             std::string* out_yaml, std::string* why);
 
-// A number as the shortest text that reads back as the same double ("3e+06" -> "3000000").
+// A number as text that reads back as the same double: whole numbers in full (3e6 -> "3000000"),
+// others in the fewest significant digits (0.1 -> "0.1", 2.5e-4 -> "0.00025").
 std::string NumberText(double v);
 
 //---------------- running ----------------
