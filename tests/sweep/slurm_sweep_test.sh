@@ -30,7 +30,8 @@ rc=$?
 t2=$(date +%s%N)
 cat "$out/slurm.stderr" "$out/slurm.md"
 [ $rc -eq 0 ] || { cat "$SLURM_CLUSTER_DIR"/log/slurm*.log | tail -30; fail "Slurm sweep: exit $rc"; }
-echo "wall time: local $(( (t1 - t0) / 1000000 )) ms, Slurm $(( (t2 - t1) / 1000000 )) ms (submission to gathered report)"
+tail -1 "$out/local.stderr"
+echo "wall time of ohrp_sweep (plots included): local $(( (t1 - t0) / 1000000 )) ms, Slurm $(( (t2 - t1) / 1000000 )) ms"
 $check statuses "$out/slurm" pass pass pass pass pass pass pass pass pass || fail "Slurm statuses"
 $check same "$out/local" "$out/slurm" || fail "the Slurm report differs from the local one"
 # each task wrote its own Slurm output and ran on its own segment

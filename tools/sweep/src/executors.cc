@@ -22,6 +22,8 @@ namespace fs = std::filesystem;
 namespace ohrp::sweep {
 namespace {
 
+constexpr double kSqueueGiveUp = 300;  // [s] of squeue failing in a row before giving up
+
 double Now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -35,7 +37,8 @@ std::string Describe(const SweepSpec& s, const Variant& v) {
 
 // the status one finished variant got, for a progress line
 std::string StatusOf(const SweepSpec& spec, const std::string& out_dir, int id) {
-  SweepSpec one = spec;
+  SweepSpec one;  // the parameters and this variant only (not every variant's scenario)
+  one.parameters = spec.parameters;
   one.variants = {spec.variants[id]};
   const auto r = Gather(one, out_dir);
   return r[0].status + (r[0].status == "pass" ? "" : " (" + r[0].detail.substr(0, 100) + ")");
@@ -145,12 +148,16 @@ std::map<int, std::string> TaskStates(const std::string& job) {
   return states;
 }
 
-// whether the job still has tasks pending or running
-bool JobActive(const std::string& job) {
+// whether the job still has tasks pending or running: 1 yes, 0 no, -1 squeue failed (*why)
+int JobActive(const std::string& job, std::string* why) {
   std::string out;
   const int rc = Capture({"squeue", "-h", "-j", job, "-o", "%T"}, &out);
-  if (rc != 0) return out.find("Invalid job id") == std::string::npos;  // gone: done; else retry
-  return !Trim(out).empty();
+  if (rc != 0) {
+    if (out.find("Invalid job id") != std::string::npos) return 0;  // gone from the queue: done
+    *why = Trim(out);
+    return -1;
+  }
+  return Trim(out).empty() ? 0 : 1;
 }
 
 void RunSlurm(const SweepSpec& spec, const Executor& ex, const std::string& out_dir,
@@ -205,7 +212,19 @@ void RunSlurm(const SweepSpec& spec, const Executor& ex, const std::string& out_
   int reported = 0;
   bool cancelled = false;
   const auto poll = std::chrono::milliseconds(static_cast<int>(ex.poll_interval * 1000));
-  while (JobActive(job)) {
+  double failing_since = -1;  // squeue failing (the controller restarting?): give up after a while
+  std::string why;
+  for (int active; (active = JobActive(job, &why)) != 0;) {
+    if (active < 0) {
+      if (failing_since < 0) failing_since = Now();
+      if (Now() - failing_since > kSqueueGiveUp) {
+        outcome->error = "squeue has failed for " + std::to_string(static_cast<int>(kSqueueGiveUp)) +
+                         " s (" + why + "); gathering what job " + job + " wrote so far";
+        break;
+      }
+    } else {
+      failing_since = -1;
+    }
     if (StopRequested() && !cancelled) {
       cancelled = true;
       std::fprintf(stderr, "ohrp_sweep: interrupted; cancelling Slurm job %s\n", job.c_str());

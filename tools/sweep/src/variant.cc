@@ -119,23 +119,27 @@ int RunVariant(const std::string& variant_dir, const std::string& segment, doubl
   // ohrp_run in its own process group, so that the group (sim_host, controllers) can be ended
   const double t0 = Now();
   const std::time_t started = std::time(nullptr);
+  // everything the child needs is made before the fork: other threads (the local executor's
+  // workers) may hold the allocator's lock at that moment, so the child allocates nothing
+  const std::string output = dir + "/ohrp_run.out";
+  std::vector<char*> args;
+  for (auto& a : argv) args.push_back(a.data());
+  args.push_back(nullptr);
+  const int fd = ::open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
-    const int fd = ::open((dir + "/ohrp_run.out").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
-      dup2(fd, 1);
+      dup2(fd, 1);  // dup2 clears O_CLOEXEC on the copies
       dup2(fd, 2);
-      ::close(fd);
     }
     if (chdir(ctx.source_dir.c_str()) != 0) _exit(126);
-    std::vector<char*> args;
-    for (auto& a : argv) args.push_back(a.data());
-    args.push_back(nullptr);
     execv(args[0], args.data());
-    std::fprintf(stderr, "ohrp_sweep: cannot execute %s: %s\n", args[0], std::strerror(errno));
+    static const char kCannot[] = "ohrp_sweep: cannot execute ohrp_run (build it: cmake --build build)\n";
+    if (write(2, kCannot, sizeof(kCannot) - 1) < 0) _exit(127);
     _exit(127);
   }
+  if (fd >= 0) ::close(fd);
   int code = -1;
   bool timed_out = false, cancelled = false;
   if (pid > 0) {

@@ -18,6 +18,14 @@
 //                variant, never lost (not run, cancelled, killed at the time limit, failed)
 //   WriteReport  sweep.csv, table.md and the plots
 // RunSweep(spec, executor) does all of them.
+//
+// From another program (e.g. an identification that refines a fit with simulations): write the
+// sweep as YAML text and parse it, run it with either executor, read the results (and each
+// variant's data log, `<log_dir>/run/log.csv`):
+//   SweepSpec spec;
+//   if (!ParseSweep(text, "tools/identify/refine.yaml", source_dir, &spec, &error)) ...;
+//   const SweepOutcome o = RunSweep(spec, Executor{}, out_dir, RunContext{source_dir, bin_dir});
+//   for (const VariantResult& r : o.results) ... r.status, r.checks, r.log_dir + "/run/log.csv"
 #pragma once
 
 #include <map>
