@@ -41,4 +41,28 @@ for t in 0 1 2 3 4 5 6 7 8; do
     "$out/slurm/variants/v00$t/status.json" || fail "task $t did not run on segment sweep_<job>_$t"
 done
 test -s "$out/slurm/plot_base_height_vs_contact_params.stiffness.png" || fail "no plot"
+
+# under Slurm too, a failing variant and one hanging past the time limit are reported as such
+"$bin/ohrp_sweep" "$src/tests/sweep/outcomes.yaml" --out "$out/outcomes" --slurm --poll 0.5 \
+  >"$out/outcomes.md" 2>"$out/outcomes.stderr"
+rc=$?
+cat "$out/outcomes.md"
+[ $rc -eq 1 ] || fail "outcomes under Slurm: exit $rc, not 1"
+$check statuses "$out/outcomes" pass fail timeout || fail "outcomes under Slurm"
+
+# and a cancelled sweep: SIGINT while the first tasks run cancels the array job (scancel); the
+# running variants and the pending ones (which never wrote a status: Slurm's state says what
+# became of them) are all reported cancelled
+"$bin/ohrp_sweep" "$src/tests/sweep/long.yaml" --out "$out/cancelled" --slurm --poll 0.5 \
+  >"$out/cancelled.md" 2>"$out/cancelled.stderr" &
+pid=$!
+_slurm_wait_for "[ -n \"\$(squeue -h -t RUNNING)\" ]" 30 || fail "the long sweep's tasks never ran"
+sleep 1
+kill -INT $pid
+wait $pid
+rc=$?
+cat "$out/cancelled.stderr" "$out/cancelled.md"
+[ $rc -eq 130 ] || fail "cancelled sweep under Slurm: exit $rc, not 130"
+$check statuses "$out/cancelled" cancelled cancelled cancelled cancelled || fail "cancelled under Slurm"
+[ -z "$(squeue -h)" ] || fail "jobs left in the queue: $(squeue -h)"
 echo "PASS"

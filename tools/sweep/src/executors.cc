@@ -119,6 +119,24 @@ int CountStatuses(const SweepSpec& spec, const std::string& out_dir) {
   return k;
 }
 
+// the task ids of an array record: "4", or a range of tasks never started as their own jobs
+// ("[2-5]", "2-3,7", "0-8%2" with its limit of running tasks)
+std::vector<int> TaskIds(std::string spec) {
+  std::vector<int> ids;
+  spec = spec.substr(0, spec.find('%'));
+  std::string clean;
+  for (char c : spec)
+    if (c != '[' && c != ']') clean += c;
+  std::istringstream in(clean);
+  for (std::string part; std::getline(in, part, ',');) {
+    const auto dash = part.find('-');
+    const std::string a = part.substr(0, dash), b = dash == std::string::npos ? a : part.substr(dash + 1);
+    if (a.empty() || b.empty() || (a + b).find_first_not_of("0123456789") != std::string::npos) continue;
+    for (int k = std::stoi(a); k <= std::stoi(b); ++k) ids.push_back(k);
+  }
+  return ids;
+}
+
 // the array's task states: sacct when accounting is on, else the controller's memory
 // (scontrol keeps finished jobs for MinJobAge); "" for a task neither knows
 std::map<int, std::string> TaskStates(const std::string& job) {
@@ -129,9 +147,7 @@ std::map<int, std::string> TaskStates(const std::string& job) {
     for (std::string line; std::getline(in, line);) {
       const auto us = line.find('_'), bar = line.find('|');
       if (us == std::string::npos || bar == std::string::npos || bar < us) continue;
-      const std::string task = line.substr(us + 1, bar - us - 1);
-      if (task.empty() || task.find_first_not_of("0123456789") != std::string::npos) continue;
-      states[std::stoi(task)] = Trim(line.substr(bar + 1));
+      for (int task : TaskIds(line.substr(us + 1, bar - us - 1))) states[task] = Trim(line.substr(bar + 1));
     }
     if (!states.empty()) return states;
   }
@@ -140,9 +156,8 @@ std::map<int, std::string> TaskStates(const std::string& job) {
     for (std::string line; std::getline(in, line);) {
       const auto t = line.find("ArrayTaskId="), s = line.find("JobState=");
       if (t == std::string::npos || s == std::string::npos) continue;
-      const std::string task = line.substr(t + 12, line.find(' ', t) - t - 12);
-      if (task.empty() || task.find_first_not_of("0123456789") != std::string::npos) continue;
-      states[std::stoi(task)] = line.substr(s + 9, line.find(' ', s) - s - 9);
+      for (int task : TaskIds(line.substr(t + 12, line.find(' ', t) - t - 12)))
+        states[task] = line.substr(s + 9, line.find(' ', s) - s - 9);
     }
   }
   return states;
