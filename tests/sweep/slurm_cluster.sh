@@ -4,6 +4,7 @@
 #   . slurm_cluster.sh
 #   slurm_cluster_start || { echo "SKIP: $SLURM_CLUSTER_WHY"; exit 77; }
 #   trap slurm_cluster_stop EXIT        # kills the daemons, removes the folder, even on failure
+# (and should the test be killed outright, a watchdog started with the cluster does the same)
 # After a start, SLURM_CONF is exported (sbatch, squeue, sacct and scancel use it) and
 # SLURM_CLUSTER_DIR is the folder; SLURM_CLUSTER_WHY says why a start failed.
 
@@ -110,6 +111,11 @@ CONF
     SLURM_CLUSTER_WHY="the node never became idle: $(sinfo -N 2>&1 | tail -2); $(tail -3 "$d/log/slurmctld.log" 2>/dev/null)"
     return 1
   fi
+  # a watchdog in its own session stops the cluster should the test die without its EXIT trap
+  # (a ctest timeout kills the test's process tree with SIGKILL; the daemons are not in it)
+  setsid -f bash -c '. "$1"; while kill -0 "$2" 2>/dev/null && [ -d "$3" ]; do sleep 1; done
+                     [ -d "$3" ] && SLURM_CLUSTER_DIR="$3" slurm_cluster_stop' \
+    _ "${BASH_SOURCE[0]}" "$$" "$d" </dev/null >/dev/null 2>&1
   return 0
 }
 
