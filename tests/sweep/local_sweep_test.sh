@@ -12,8 +12,14 @@ fail() { echo "FAIL: $*"; exit 1; }
 # pass, fail, timeout (6 s limit; the hanging variant's sim_host would wait 30 s)
 start=$(date +%s%N)
 "$bin/ohrp_sweep" "$src/tests/sweep/outcomes.yaml" --out "$out/outcomes" --jobs 3 \
-  >"$out/outcomes.md" 2>"$out/outcomes.stderr"
+  >"$out/outcomes.md" 2>"$out/outcomes.stderr" &
+sweep=$!
+# the hanging controller does run (so that its absence afterwards means it was ended)
+seen=0
+for _ in $(seq 50); do pgrep -f "^ohrp_never_answers" >/dev/null && { seen=1; break; }; sleep 0.1; done
+wait $sweep
 rc=$?
+[ $seen -eq 1 ] || fail "the hanging controller never ran"
 took=$(( ($(date +%s%N) - start) / 1000000 ))
 cat "$out/outcomes.stderr" "$out/outcomes.md"
 [ $rc -eq 1 ] || fail "exit $rc, not 1 (a variant did not pass)"
@@ -26,7 +32,7 @@ echo "timed-out variant: $wall s wall; the sweep: $took ms"
 awk -v w="$wall" 'BEGIN { exit !(w >= 6 && w < 12) }' || fail "the hanging variant ran $wall s, not 6-12 s"
 grep -q "killed at the time limit" "$out/outcomes/sweep.csv" || fail "no 'killed at the time limit' detail"
 # nothing of the hanging variant is left (its sleep was in the killed group)
-[ -z "$(pgrep -f "$src/tests/sweep/never_answers.sh")" ] || fail "the hanging controller still runs"
+[ -z "$(pgrep -f "^ohrp_never_answers")" ] || fail "the hanging controller still runs"
 grep -q '^| 2 |.*| timeout |' "$out/outcomes/table.md" || fail "table.md has no timeout row"
 
 # interrupted: one variant at a time, SIGINT while the first (20 s simulated) runs; the one
