@@ -253,8 +253,14 @@ bool ReadSweep(const YAML::Node& root, const std::string& path, const std::strin
   // name, scenario, time limit
   s.name = fs::path(path).filename().string();
   if (s.name.size() > 5 && s.name.substr(s.name.size() - 5) == ".yaml") s.name.resize(s.name.size() - 5);
-  if (root["name"] && (!ReadText(root["name"], &s.name, &why) || s.name.empty())) {
-    *error = AtKey(path, root, "name") + "name: must be a non-empty text";
+  if (root["name"] && !ReadText(root["name"], &s.name, &why)) s.name.clear();
+  const bool plain = !s.name.empty() && s.name.size() <= 100 &&
+                     s.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                              "0123456789_-.") == std::string::npos;
+  if (!plain) {
+    *error = (root["name"] ? AtKey(path, root, "name") : "sweep '" + path + "': ") + "name: '" + s.name +
+             "' must be 1 to 100 letters, digits, '_', '-' or '.' (it names the output folder and the Slurm job)" +
+             (root["name"] ? "" : "; give 'name:' since the file's name is not one");
     return false;
   }
   std::string scenario;
