@@ -37,8 +37,10 @@ $check same "$out/local" "$out/slurm" || fail "the Slurm report differs from the
 # each task wrote its own Slurm output and ran on its own segment
 for t in 0 1 2 3 4 5 6 7 8; do
   [ -f "$out/slurm/slurm/task_$t.out" ] || fail "no Slurm output of task $t"
-  grep -q "\"segment\": \"sweep_$($check field "$out/slurm" $t slurm_job)_$t\"" \
-    "$out/slurm/variants/v00$t/status.json" || fail "task $t did not run on segment sweep_<job>_$t"
+  seg="sweep_$($check field "$out/slurm" $t slurm_job)_$t"
+  grep -q "\"segment\": \"$seg\"" "$out/slurm/variants/v00$t/status.json" \
+    && grep -q "$seg\b" "$out/slurm/variants/v00$t/run/sim_host.stderr" \
+    || fail "task $t did not run on segment $seg"
 done
 test -s "$out/slurm/plot_base_height_vs_contact_params.stiffness.png" || fail "no plot"
 
