@@ -11,7 +11,8 @@ fail() { echo "FAIL: $*"; exit 1; }
 # wrong names: exit 2 with the reason, and no build started (the build folder stays empty)
 export OHRP_BUILD_DIR="$TMP/empty-build"
 for args in "run nosuch" "compare nosuch" "bench nosuch" "video $TMP/nosuch" "view $TMP/nosuch" \
-            "compare-logs $TMP/nosuch.csv $TMP/nosuch2.csv" "identify $TMP/nosuch.csv"; do
+            "compare-logs $TMP/nosuch.csv $TMP/nosuch2.csv" "identify $TMP/nosuch.csv" \
+            "sweep $TMP/nosuch.yaml"; do
   # shellcheck disable=SC2086
   out="$(timeout 60 "$ROOT/ohrp" $args 2>&1)"; rc=$?
   [ "$rc" -eq 2 ] || fail "'ohrp $args' gave exit $rc, not 2: $out"

@@ -118,6 +118,7 @@ TEST(ControllerCommandLine, TimeoutsThatAreNotTimesExitTwo) {
 // every program of build/bin
 const std::string kIo = "--io=" + Program("../lib/libohrp_io_replay.so");
 const std::string kStand = kSource + "/scenarios/stand.yaml";
+const std::string kSweep = kSource + "/tests/sweep/soles.yaml";
 const std::string kAngles = kStand;  // any file that exists
 const std::string kSample1 = kSource + "/../shared/external/openhrp3-sample/sample1.wrl";
 INSTANTIATE_TEST_SUITE_P(
@@ -131,6 +132,7 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"ohrp_video", {"runs/x"}, "--fps", {}},
         ProgramCase{"ohrp_view", {"runs/x"}, "--rate", {"runs/nosuch"}},
         ProgramCase{"ohrp_push", {}, "--max-impulse", {}},
+        ProgramCase{"ohrp_sweep", {kSweep, "--check"}, "--jobs", {"nosuch.yaml"}},
         ProgramCase{"ohrp_vrml2mjcf", {kSample1}, "--print", {"nosuch.wrl"}},
         ProgramCase{"posture", {"--segment", "x"}, "--ramp",
                     {"--segment", "x", "--pose", "nosuch.yaml"}},

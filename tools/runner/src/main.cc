@@ -25,6 +25,15 @@ int main(int argc, char** argv) {
                  "run with this contact under the soles instead of the scenario's "
                  "(soft, native, rigid): to compare contact models on the same run")
       ->check(CLI::IsMember({"soft", "native", "rigid"}));
+  app.add_option("--segment", o.segment,
+                 "the run's segment name (default: run_<name>_<pid>); e.g. one per Slurm task, so "
+                 "that runs sharing a machine never collide (ohrp_sweep)")
+      ->check([](const std::string& v) {
+        for (char c : v)
+          if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+            return std::string("must be letters, digits, '_', '-' or '.'");
+        return v.empty() || v.size() > 100 ? std::string("must be 1 to 100 characters") : std::string();
+      });
   app.add_flag("--no-plot", no_plot, "do not draw plot.png");
   app.add_flag("--quiet,-q", quiet, "do not echo the processes' output while they run");
   bool realtime = false, view = false;
@@ -57,7 +66,7 @@ int main(int argc, char** argv) {
   // the viewer: its own process on the run's segment, ended with the run
   pid_t viewer = -1;
   if (view) {
-    o.segment = "run_" + s.name + "_" + std::to_string(getpid());
+    if (o.segment.empty()) o.segment = "run_" + s.name + "_" + std::to_string(getpid());
     const std::string scene = s.scene.empty() || s.scene[0] == '/' ? s.scene : o.source_dir + "/" + s.scene;
     const std::string program = o.bin_dir + "/ohrp_view", port = std::to_string(view_port);
     viewer = fork();
