@@ -59,8 +59,8 @@ class SoftFootContact {
   void Apply(const mjModel* m, mjData* d);
   // mj_kinematics + mj_comPos + mj_comVel at the current qpos/qvel (what mj_step recomputes
   // anyway), then Evaluate and Apply: the call to make just before mj_step. When implicit()
-  // (the default), the applied wrench is the linearly implicit one (see implicit.cc): the
-  // spring and damper at the end of the step to first order, through the sole bodies'
+  // (the default), the applied wrench is the implicit one (see implicit.cc): the law averaged
+  // along the step's path, the end velocity from one Newton step through the sole bodies'
   // apparent inertia; wrenches() stay the law at the step's start.
   void ApplyBeforeStep(const mjModel* m, mjData* d);
   // The same between mj_step1 and mj_step2 (Euler and implicit integrators), which have just
