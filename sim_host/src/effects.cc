@@ -393,9 +393,10 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
     const char* n = mj_id2name(m, mjOBJ_CAMERA, c);
     cams.push_back(n ? n : "camera" + std::to_string(c));
   }
-  declare(Effect::kCameras, false, false,
+  declare(Effect::kCameras, !cams.empty(), !cams.empty(),
           cams.empty() ? "the scene declares no camera"
-                       : "declared by the scene (" + Join(cams) + "), no consumer of images: sim_host renders none");
+                       : "declared by the scene (" + Join(cams) + "): rendered only while an attached "
+                         "program asks for images (none asks: nothing set up, no cost)");
 
   // the log and its channels
   declare(Effect::kLog, log, log, log ? "--log" : "no --log");
@@ -417,11 +418,6 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
     if (e == Effect::kSoftContact && (r == 1) != soft) {
       *error = std::string("soft_contact=") + (r ? "on" : "off") +
                ": the contact under the soles is chosen with --contact (scenario key 'contact')";
-      return false;
-    }
-    if (e == Effect::kCameras && r == 1) {
-      *error = "cameras=on: sim_host renders no images (the segment carries the cameras' "
-               "description only); nothing could consume them";
       return false;
     }
     if (r == 1 && !E[i].declared) {

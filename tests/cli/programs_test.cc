@@ -145,6 +145,7 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"bench_rt", {}, "--period", {}, false},
         ProgramCase{"bench_contact", {}, "--dt", {}, false},
         ProgramCase{"bench_effects", {}, "--cycles", {}, false},
+        ProgramCase{"bench_cameras", {}, "--cycles", {}, false},
         ProgramCase{"bench_balance", {}, "--impulse", {}, false},
         ProgramCase{"bench_walk", {}, "--control-period", {}, false},
         ProgramCase{"bench_selfcollision", {}, "--postures", {"--file", "nosuch.yaml"}, false},

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "shm_bridge/controller_loss.h"
+#include "sim_host/cameras.h"
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 
@@ -76,6 +77,7 @@ struct HostOptions {
   bool quiet = false;
   EffectRequests effects;          // effects switched on/off by request (sim_host/effects.h)
   bool explain = false;            // print the effects table and exit without running
+  CameraOptions cameras;           // the robot's cameras: size, rate (sim_host/cameras.h)
 };
 
 // exit codes of sim_host
