@@ -134,6 +134,8 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"ohrp_vrml2mjcf", {kSample1}, "--print", {"nosuch.wrl"}},
         ProgramCase{"posture", {"--segment", "x"}, "--ramp",
                     {"--segment", "x", "--pose", "nosuch.yaml"}},
+        ProgramCase{"track_ball", {"--segment", "x"}, "--kp",
+                    {"--segment", "x", "--pose", "nosuch.yaml"}},
         ProgramCase{"playback", {"--segment", "x", "--angles", kAngles}, "--time-scale",
                     {"--segment", "x", "--angles", "nosuch.dat"}},
         ProgramCase{"balance", {"--segment", "x"}, "--lift",
