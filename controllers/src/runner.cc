@@ -1,9 +1,11 @@
 // The runner: attach, lifecycle, the cycle loop, and how a run ends.
 #include "controllers/runner.h"
 
-#include <csignal>
+#include <array>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <memory>
 #include <ostream>
 #include <thread>
 
@@ -141,6 +143,21 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       return rep.exit_code = kExitConfig;
     }
   }
+  // the images the controller wants: asked for now, read each cycle into one buffer
+  const uint32_t cameras = controller.cameras();
+  std::unique_ptr<shm::ImageSlot> image;
+  std::array<uint64_t, shm::kMaxCameras> last_frame{};
+  if (cameras != 0) {
+    if (!adaptor.request_images(cameras)) {
+      err << prog << ": segment " << seg << ": cannot ask for the images of cameras (bitmask "
+          << cameras << "): the header declares " << header.ncamera
+          << " cameras, or 16 programs ask already\n";
+      adaptor.close();
+      controller.close();
+      return rep.exit_code = kExitConfig;
+    }
+    image = std::make_unique<shm::ImageSlot>();
+  }
   out << prog << ": attached to segment " << seg << ": robot " << header.robot_name << ", "
       << header.njoint << " joints, control period " << Fixed(header.control_period * 1e3, 3)
       << " ms, producer " << producer << std::endl;
@@ -169,6 +186,13 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     last_status = sensors.status;
     late = sensors.late_commands;
     rejected = sensors.rejected_commands;
+    for (int c = 0; cameras >> c != 0 && c < shm::kMaxCameras; ++c) {
+      if ((cameras & (1u << c)) != 0 &&
+          adaptor.read_image(c, last_frame[c], image.get()) == shm::ImageResult::kOk) {
+        last_frame[c] = image->frame;
+        controller.on_image(c, *image);
+      }
+    }
     controller.update(sensors, &commands);
     if (guarded) guard.Filter(sensors, &commands);
     result = adaptor.write(commands);

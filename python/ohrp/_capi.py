@@ -85,6 +85,18 @@ _sig("ohrp_get_sim_truth", ctypes.c_int, _robot, _dp)
 _sig("ohrp_write", ctypes.c_int, _robot, _ip, _dp, _dp, _dp, _dp, _dp)
 _sig("ohrp_last_commands", ctypes.c_int, _robot, _ip, _dp, _dp, _dp, _dp, _dp)
 _sig("ohrp_result_name", _cp, ctypes.c_int)
+# camera images
+_sig("ohrp_ncamera", ctypes.c_int, _robot)
+_sig("ohrp_camera_name", _cp, _robot, ctypes.c_int)
+_sig("ohrp_camera_index", ctypes.c_int, _robot, _cp)
+_sig("ohrp_camera_info", ctypes.c_int, _robot, ctypes.c_int, ctypes.POINTER(ctypes.c_int),
+     ctypes.POINTER(ctypes.c_int), _dp)
+_sig("ohrp_request_images", ctypes.c_int, _robot, ctypes.c_uint32)
+_sig("ohrp_read_image", ctypes.c_int, _robot, ctypes.c_int, ctypes.c_uint64,
+     ctypes.POINTER(ctypes.c_uint64), _dp, ctypes.POINTER(ctypes.c_int),
+     ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_uint8),
+     ctypes.c_size_t, ctypes.POINTER(ctypes.c_float), ctypes.c_size_t)
+(IMAGE_OK, IMAGE_NO_FRAME, IMAGE_BUSY, IMAGE_BAD_CAMERA, IMAGE_TOO_SMALL, IMAGE_NOT_OPEN) = range(6)
 
 
 def result_name(code):

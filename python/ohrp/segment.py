@@ -10,6 +10,12 @@ After each read() the sensors of that cycle are in numpy arrays that read() refi
 q, dq, tau (njoint), passive_q, passive_dq (npassive: joints no actuator drives), force (nforce x 6: fx fy fz tx ty tz), imu (nimu x 10: gyro, accel,
 quaternion wxyz), and the scalars time, cycle, status; sim_truth() gives the simulation's
 ground truth (or None on hardware). Units and conventions are the segment's (SI, rad).
+
+Cameras: camera_names, camera_sizes [(width, height)], camera_fovy [deg]; request_images(
+["LeftCamera"]) asks the producer for them (it renders or delivers only what somebody asks
+for; [] withdraws, close() too); read_image("LeftCamera") gives the latest new frame as a dict
+(frame, time, rgb: height x width x 3 uint8, depth: height x width float32 [m] or None), or
+None when there is no new frame.
 """
 
 import ctypes
@@ -76,6 +82,16 @@ class Robot:
         self.passive_q, self.passive_dq = np.zeros(self.npassive), np.zeros(self.npassive)
         self.time, self.cycle, self.status = 0.0, 0, 0
         self._truth = np.zeros(13)
+        # cameras: names, sizes, fields of view; one buffer per camera for read_image
+        self.ncamera = _lib.ohrp_ncamera(h)
+        self.camera_names = _names(h, self.ncamera, _lib.ohrp_camera_name)
+        self.camera_sizes, self.camera_fovy = [], []
+        for i in range(self.ncamera):
+            w, hh, f = ctypes.c_int(), ctypes.c_int(), ctypes.c_double()
+            _lib.ohrp_camera_info(h, i, ctypes.byref(w), ctypes.byref(hh), ctypes.byref(f))
+            self.camera_sizes.append((w.value, hh.value))
+            self.camera_fovy.append(f.value)
+        self._last_frame = [0] * self.ncamera
         self._mode = (ctypes.c_int32 * max(n, 1))()
 
     @classmethod
@@ -142,6 +158,54 @@ class Robot:
         self.time, self.cycle, self.status = (_lib.ohrp_time(h), _lib.ohrp_cycle(h),
                                               _lib.ohrp_status(h))
         return True
+
+    def camera(self, name):
+        """The index of a camera by name (ValueError when the robot has none of that name)."""
+        i = _lib.ohrp_camera_index(self._handle(), name.encode())
+        if i < 0:
+            raise ValueError("robot '%s' has no camera '%s' (cameras: %s)"
+                             % (self.robot_name, name, ", ".join(self.camera_names) or "none"))
+        return i
+
+    def request_images(self, cameras):
+        """Asks the producer for the images of `cameras` (names; [] withdraws)."""
+        mask = 0
+        for name in cameras:
+            mask |= 1 << self.camera(name)
+        if not _lib.ohrp_request_images(self._handle(), mask):
+            raise SegmentError("segment '%s': the producer refused the request for %s "
+                               "(16 programs ask already?)" % (self.segment, list(cameras)))
+
+    def read_image(self, name, with_depth=True):
+        """The latest frame of camera `name` newer than the last one returned, as a dict
+        (frame, time [s], rgb: height x width x 3 uint8, top row first, depth: height x width
+        float32 [m] or None), or None when there is none yet (asked for too recently, or not
+        asked for). Retries while the producer rewrites the slot."""
+        i = self.camera(name)
+        w, hh = self.camera_sizes[i]
+        rgb = np.empty((hh, w, 3), dtype=np.uint8)
+        depth = np.empty((hh, w), dtype=np.float32) if with_depth else None
+        frame, t = ctypes.c_uint64(), ctypes.c_double()
+        fw, fh, has_depth = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
+        for _ in range(100):
+            r = _lib.ohrp_read_image(
+                self._handle(), i, self._last_frame[i], ctypes.byref(frame), ctypes.byref(t),
+                ctypes.byref(fw), ctypes.byref(fh), ctypes.byref(has_depth),
+                rgb.ctypes.data_as(ctypes.POINTER(ctypes.c_uint8)), rgb.size,
+                depth.ctypes.data_as(ctypes.POINTER(ctypes.c_float)) if with_depth else None,
+                depth.size if with_depth else 0)
+            if r != _capi.IMAGE_BUSY:
+                break
+        if r == _capi.IMAGE_NO_FRAME:
+            return None
+        if r != _capi.IMAGE_OK:
+            raise SegmentError("segment '%s': read_image('%s'): result %d" % (self.segment, name, r), r)
+        self._last_frame[i] = frame.value
+        n = fw.value * fh.value
+        out_rgb = rgb.reshape(-1)[:3 * n].reshape(fh.value, fw.value, 3)
+        out_depth = (depth.reshape(-1)[:n].reshape(fh.value, fw.value)
+                     if with_depth and has_depth.value else None)
+        return {"frame": frame.value, "time": t.value, "rgb": out_rgb, "depth": out_depth}
 
     def sim_truth(self):
         """The simulation's ground truth of the last cycle read, as a dict of arrays (base

@@ -123,6 +123,38 @@ int ohrp_write(ohrp_robot* r, const int32_t* mode, const double* q_ref, const do
 int ohrp_last_commands(const ohrp_robot* r, int32_t* mode, double* q_ref, double* dq_ref,
                        double* tau_ff, double* kp, double* kd);
 
+/* ---- camera images (shm_bridge/images.h) ---- */
+
+/* results of ohrp_read_image */
+enum {
+  OHRP_IMAGE_OK = 0,          /* a frame was copied */
+  OHRP_IMAGE_NO_FRAME = 1,    /* no frame newer than after_frame (none asked for, or not yet) */
+  OHRP_IMAGE_BUSY = 2,        /* the producer kept rewriting the slot: retry */
+  OHRP_IMAGE_BAD_CAMERA = 3,  /* no such camera */
+  OHRP_IMAGE_TOO_SMALL = 4,   /* rgb_len or depth_len is smaller than the frame */
+  OHRP_IMAGE_NOT_OPEN = 5
+};
+
+int ohrp_ncamera(const ohrp_robot* r);
+const char* ohrp_camera_name(const ohrp_robot* r, int i); /* NULL when i is out of range */
+int ohrp_camera_index(const ohrp_robot* r, const char* name);
+/* camera i's size [pixel] and vertical field of view [deg] (pointers may be NULL); 0 when i
+ * is out of range */
+int ohrp_camera_info(const ohrp_robot* r, int i, int* width, int* height, double* fovy);
+/* Asks the producer for the images of the cameras in `mask` (bit i: camera i; 0 withdraws;
+ * ohrp_close withdraws too). The producer renders (sim_host) or delivers (hw_driver) only
+ * what somebody asks for. 1 when accepted, 0 otherwise (a bit names no camera, or 16
+ * programs ask already). A set-up call: it may allocate. */
+int ohrp_request_images(ohrp_robot* r, uint32_t mask);
+/* Copies the latest frame of camera `camera` whose counter is greater than `after_frame` (0:
+ * any): RGB8 width x height x 3, top row first, into `rgb` (rgb_len bytes); the depth [m],
+ * width x height floats, into `depth` when not NULL and the frame has one (depth_len floats);
+ * its counter, capture time [s], size and whether it has depth into the pointers that are not
+ * NULL. Does not wait for a new frame and does not allocate once ohrp_request_images ran. */
+int ohrp_read_image(ohrp_robot* r, int camera, uint64_t after_frame, uint64_t* frame,
+                    double* time, int* width, int* height, int* has_depth, uint8_t* rgb,
+                    size_t rgb_len, float* depth, size_t depth_len);
+
 /* 1 when the producer has ended its run after failing (e.g. a diverged simulation) */
 int ohrp_producer_failed(const ohrp_robot* r);
 /* a name for a result code ("ok", "timeout", ...) */

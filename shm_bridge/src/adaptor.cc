@@ -168,10 +168,24 @@ ProducerState RobotAdaptor::producer_state() const {
   return static_cast<ProducerState>(internal::LoadState(segment_->header));
 }
 
+//---------------- images ----------------
+
+bool RobotAdaptor::request_images(uint32_t cameras) {
+  if (segment_ == nullptr) return false;
+  if (header_.ncamera < 32 && (cameras >> header_.ncamera) != 0) return false;
+  return RequestImages(segment_->images.requests, getpid(), cameras);
+}
+
+ImageResult RobotAdaptor::read_image(int camera, uint64_t after_frame, ImageSlot* out) const {
+  if (segment_ == nullptr) return ImageResult::kNotOpen;
+  return ReadLatestImage(segment_, camera, after_frame, out);
+}
+
 //---------------- close ----------------
 
 void RobotAdaptor::close() {
   if (segment_ == nullptr) return;
+  RequestImages(segment_->images.requests, getpid(), 0);  // withdraw this process's request
   pid_t self = getpid();
   internal::SwapControllerPid(segment_->header, &self, 0);  // only our own claim is released
   delete static_cast<bip::mapped_region*>(region_);

@@ -24,6 +24,7 @@ struct ohrp_robot {
   SensorBlock sensors{};
   bool have_sensors = false;
   CommandBlock commands{};  // a controller's last written block
+  std::unique_ptr<ohrp::shm::ImageSlot> image;  // ohrp_read_image's copy (made at request)
 
   const SegmentHeader& header() const {
     return controller ? controller->header() : observer->header();
@@ -303,6 +304,77 @@ int ohrp_last_commands(const ohrp_robot* r, int32_t* mode, double* q_ref, double
     if (kd) kd[i] = j.kd;
   }
   return 1;
+}
+
+int ohrp_ncamera(const ohrp_robot* r) { return Count(r, &SegmentHeader::ncamera); }
+
+const char* ohrp_camera_name(const ohrp_robot* r, int i) {
+  if (!Valid(r) || i < 0 || i >= r->header().ncamera) return nullptr;
+  return r->header().cameras[i].name;
+}
+
+int ohrp_camera_index(const ohrp_robot* r, const char* name) {
+  if (!Valid(r) || name == nullptr) return -1;
+  for (int i = 0; i < r->header().ncamera; ++i) {
+    if (std::strcmp(r->header().cameras[i].name, name) == 0) return i;
+  }
+  return -1;
+}
+
+int ohrp_camera_info(const ohrp_robot* r, int i, int* width, int* height, double* fovy) {
+  if (ohrp_camera_name(r, i) == nullptr) return 0;
+  const ohrp::shm::CameraInfo& c = r->header().cameras[i];
+  if (width != nullptr) *width = c.width;
+  if (height != nullptr) *height = c.height;
+  if (fovy != nullptr) *fovy = c.fovy;
+  return 1;
+}
+
+int ohrp_request_images(ohrp_robot* r, uint32_t mask) {
+  if (!Valid(r)) return 0;
+  try {
+    if (!r->image) r->image = std::make_unique<ohrp::shm::ImageSlot>();
+    const bool ok = r->controller ? r->controller->request_images(mask)
+                                  : r->observer->request_images(mask);
+    return ok ? 1 : 0;
+  } catch (...) {
+    return 0;
+  }
+}
+
+int ohrp_read_image(ohrp_robot* r, int camera, uint64_t after_frame, uint64_t* frame,
+                    double* time, int* width, int* height, int* has_depth, uint8_t* rgb,
+                    size_t rgb_len, float* depth, size_t depth_len) {
+  using ohrp::shm::ImageResult;
+  if (!Valid(r)) return OHRP_IMAGE_NOT_OPEN;
+  try {
+    if (!r->image) r->image = std::make_unique<ohrp::shm::ImageSlot>();
+  } catch (...) {
+    return OHRP_IMAGE_NOT_OPEN;
+  }
+  ohrp::shm::ImageSlot& s = *r->image;
+  const ImageResult got = r->controller ? r->controller->read_image(camera, after_frame, &s)
+                                        : r->observer->read_image(camera, after_frame, &s);
+  switch (got) {
+    case ImageResult::kOk: break;
+    case ImageResult::kNoFrame: return OHRP_IMAGE_NO_FRAME;
+    case ImageResult::kBusy: return OHRP_IMAGE_BUSY;
+    case ImageResult::kBadCamera: return OHRP_IMAGE_BAD_CAMERA;
+    default: return OHRP_IMAGE_NOT_OPEN;
+  }
+  const size_t n = static_cast<size_t>(s.width) * static_cast<size_t>(s.height);
+  const bool with_depth = depth != nullptr && s.has_depth != 0;
+  if (rgb == nullptr || rgb_len < 3 * n || (with_depth && depth_len < n)) {
+    return OHRP_IMAGE_TOO_SMALL;
+  }
+  std::memcpy(rgb, s.rgb, 3 * n);
+  if (with_depth) std::memcpy(depth, s.depth, sizeof(float) * n);
+  if (frame != nullptr) *frame = s.frame;
+  if (time != nullptr) *time = s.time;
+  if (width != nullptr) *width = s.width;
+  if (height != nullptr) *height = s.height;
+  if (has_depth != nullptr) *has_depth = s.has_depth != 0 ? 1 : 0;
+  return OHRP_IMAGE_OK;
 }
 
 int ohrp_producer_failed(const ohrp_robot* r) {

@@ -114,6 +114,12 @@ Status ValidateConfig(const ProducerConfig& config) {
                      std::to_string(cam.width) + "x" + std::to_string(cam.height) +
                      ", both must be > 0");
     }
+    if (cam.width > kMaxImageWidth || cam.height > kMaxImageHeight) {
+      return Invalid(Indexed("cameras", i) + " '" + cam.name + "' has size " +
+                     std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                     ", larger than the segment's image slots (" + std::to_string(kMaxImageWidth) +
+                     "x" + std::to_string(kMaxImageHeight) + "): choose a smaller camera size");
+    }
     if (!(cam.fovy > 0.0 && cam.fovy < 180.0)) {
       return Invalid(Indexed("cameras", i) + " '" + cam.name + "' fovy must be in (0, 180) deg");
     }

@@ -71,10 +71,12 @@ std::string JointProblem(const SegmentHeader& h) {
 std::string CameraProblem(const SegmentHeader& h) {
   for (int i = 0; i < h.ncamera; ++i) {
     const CameraInfo& c = h.cameras[i];
-    if (c.width <= 0 || c.height <= 0 || !(c.fovy > 0.0 && c.fovy < 180.0)) {
+    if (c.width <= 0 || c.height <= 0 || c.width > kMaxImageWidth ||
+        c.height > kMaxImageHeight || !(c.fovy > 0.0 && c.fovy < 180.0)) {
       return Indexed("cameras", i) + " has size " + std::to_string(c.width) + "x" +
              std::to_string(c.height) + " and fovy " + Text(c.fovy) +
-             ": both sizes must be > 0 and fovy in (0, 180) [deg]";
+             ": sizes must be in [1, " + std::to_string(kMaxImageWidth) + "] x [1, " +
+             std::to_string(kMaxImageHeight) + "] and fovy in (0, 180) [deg]";
     }
   }
   return "";

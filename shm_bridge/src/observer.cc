@@ -3,8 +3,13 @@
 
 #include <time.h>
 
+#include <unistd.h>
+
+#include <boost/interprocess/exceptions.hpp>
 #include <boost/interprocess/mapped_region.hpp>
+#include <boost/interprocess/shared_memory_object.hpp>
 #include <cmath>
+#include <cstddef>
 #include <memory>
 
 #include "attach.h"
@@ -35,6 +40,7 @@ Status Observer::open(const std::string& segment_name, const ObserverOptions& op
   const Status check = internal::AttachSegment(segment_name, /*writable=*/false, &region, &copy);
   if (!check.ok()) return check;
   header_ = SanitizedHeader(copy);
+  segment_name_ = segment_name;
   options_ = options;
   last_seq_ = 0;
   segment_ = static_cast<const Segment*>(region->get_address());
@@ -90,6 +96,31 @@ bool Observer::commands(CommandBlock* out) const {
   return out->njoint > 0 || out->answers_cycle > 0;
 }
 
+bool Observer::request_images(uint32_t cameras) {
+  if (segment_ == nullptr) return false;
+  if (header_.ncamera < 32 && (cameras >> header_.ncamera) != 0) return false;
+  if (requests_ == nullptr) {
+    if (cameras == 0) return true;  // nothing asked yet, nothing to withdraw
+    static_assert(offsetof(Segment, images) % 4096 == 0 && offsetof(ImageArea, requests) == 0);
+    try {
+      bip::shared_memory_object shm(bip::open_only, SegmentObjectName(segment_name_).c_str(),
+                                    bip::read_write);
+      auto* page = new bip::mapped_region(shm, bip::read_write, offsetof(Segment, images),
+                                          sizeof(ImageArea::requests));
+      requests_region_ = page;
+      requests_ = static_cast<ImageRequest*>(page->get_address());
+    } catch (const bip::interprocess_exception&) {
+      return false;
+    }
+  }
+  return RequestImages(requests_, getpid(), cameras);
+}
+
+ImageResult Observer::read_image(int camera, uint64_t after_frame, ImageSlot* out) const {
+  if (segment_ == nullptr) return ImageResult::kNotOpen;
+  return ReadLatestImage(segment_, camera, after_frame, out);
+}
+
 pid_t Observer::controller_pid() const {
   if (segment_ == nullptr) return 0;
   return internal::LoadControllerPid(Mutable(&segment_->header)[0]);
@@ -102,6 +133,10 @@ ProducerState Observer::producer_state() const {
 
 void Observer::close() {
   if (segment_ == nullptr) return;
+  if (requests_ != nullptr) RequestImages(requests_, getpid(), 0);  // withdraw our request
+  delete static_cast<bip::mapped_region*>(requests_region_);
+  requests_region_ = nullptr;
+  requests_ = nullptr;
   delete static_cast<bip::mapped_region*>(region_);
   segment_ = nullptr;
   region_ = nullptr;

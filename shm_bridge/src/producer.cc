@@ -8,6 +8,7 @@
 #include <boost/interprocess/permissions.hpp>
 #include <boost/interprocess/shared_memory_object.hpp>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -171,7 +172,9 @@ std::unique_ptr<Producer> Producer::Create(const ProducerConfig& config, Status*
     auto* segment = static_cast<Segment*>(region->get_address());
 
     // header first (state kCreating), then kRunning; the zeroed wake-up words are ready
-    std::memset(static_cast<void*>(segment), 0, sizeof(Segment));
+    // (the image area, about 17 MB, is left as the new object's zeros: untouched pages cost
+    // no memory until a camera publishes)
+    std::memset(static_cast<void*>(segment), 0, offsetof(Segment, images));
     segment->sync.sensors_ready.poster_cpu = -1;
     segment->sync.commands_ready.poster_cpu = -1;
     FillHeader(config, &segment->header);

@@ -47,11 +47,6 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
                ": the contact under the soles is chosen with --contact (scenario key 'contact')";
       return false;
     }
-    if (e == Effect::kCameras && r == 1) {
-      *error = "cameras=on: sim_host renders no images (the segment carries the cameras' "
-               "description only); nothing could consume them";
-      return false;
-    }
     if (r == 1 && !E[i].declared) {
       *error = std::string(kNames[i]) + "=on: cannot be switched on: " + E[i].reason;
       return false;

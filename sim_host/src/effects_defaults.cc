@@ -155,9 +155,10 @@ bool DeclareDefaults(const mjModel* m, const RobotMap& robot, const FeetOptions&
     const char* n = mj_id2name(m, mjOBJ_CAMERA, c);
     cams.push_back(n ? n : "camera" + std::to_string(c));
   }
-  declare(Effect::kCameras, false, false,
+  declare(Effect::kCameras, !cams.empty(), !cams.empty(),
           cams.empty() ? "the scene declares no camera"
-                       : "declared by the scene (" + Join(cams) + "), no consumer of images: sim_host renders none");
+                       : "declared by the scene (" + Join(cams) + "): rendered only while an attached "
+                         "program asks for images (none asks: nothing set up, no cost)");
 
   // the log and its channels
   declare(Effect::kLog, log, log, log ? "--log" : "no --log");

@@ -131,6 +131,14 @@ int RunHost(const HostOptions& options) {
     std::printf("%s", DescribeControlPeriod(dt, o.control_period, steps_per_cycle,
                                             options.control_period <= 0).c_str());
     std::printf("%s", DescribeActuation(robot).c_str());
+    if (!robot.cameras.empty()) {
+      std::printf("cameras: %zu (%s first), %dx%d RGB%s, %g frames per simulated second, %s\n",
+                  robot.cameras.size(), robot.cameras[0].name.c_str(), o.cameras.width,
+                  o.cameras.height, o.cameras.depth ? " + depth" : "", o.cameras.rate,
+                  effects.on(Effect::kCameras)
+                      ? "rendered only while an attached program asks for them"
+                      : "never rendered (the cameras effect is off)");
+    }
     return kExitOk;
   }
   const SensorSelection selection = SelectSensors(effects);
@@ -140,6 +148,10 @@ int RunHost(const HostOptions& options) {
   shm::Status status;
   shm::ProducerConfig pc = MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
   pc.read_timeout_hint = o.controller_timeout;
+  for (shm::CameraInfo& c : pc.cameras) {
+    c.width = o.cameras.width;
+    c.height = o.cameras.height;
+  }
   auto producer = shm::Producer::Create(pc, &status);
   if (!producer) {
     std::fprintf(stderr, "sim_host: %s\n", status.message.c_str());
@@ -163,6 +175,7 @@ int RunHost(const HostOptions& options) {
     }
   }
 
+  Cameras cameras(robot, o.cameras, effects.on(Effect::kCameras));
   Servo servo(robot);
   servo.HoldCurrent(d);
   if (!o.quiet) {
@@ -394,6 +407,9 @@ int RunHost(const HostOptions& options) {
       if (Now() < deadline) SleepUntil(deadline);
     }
     const bool last = o.duration > 0 && d->time >= o.duration - 0.5 * dt;
+    // the images of this cycle's end, before its sensors (cameras.h: only while asked)
+    if (!cameras.Tick(m, d, producer.get(), &error))
+      std::fprintf(stderr, "sim_host: cameras off: %s\n", error.c_str());
     publish(last ? shm::status::kShuttingDown : 0);
 
     // progress on long runs (one line every few wall seconds, not per cycle)
@@ -435,6 +451,10 @@ int RunHost(const HostOptions& options) {
     st.log_dropped = recorder->dropped();
   }
   if (!o.quiet) PrintReport(st);
+  if (!o.quiet && cameras.frames() > 0)
+    std::fprintf(stderr, "sim_host: cameras: %lu images rendered, %.2f ms each\n",
+                 static_cast<unsigned long>(cameras.frames()),
+                 1e3 * cameras.render_seconds() / static_cast<double>(cameras.frames()));
   if (soft) {
     st.fcl_queries = soft->stats().fcl_queries;
     st.contact_pairs = soft->stats().pairs_considered;

@@ -88,6 +88,18 @@ int main(int argc, char** argv) {
                  "self_collision effect on; without it, self_collision=on checks every "
                  "non-adjacent pair; docs/selfcollision.md)")
       ->check(CLI::ExistingFile);
+  std::string camera_size = "640x480";
+  app.add_option("--camera-rate", o.cameras.rate,
+                 "frames per second of simulated time of each camera an attached program asks "
+                 "for (rendered offscreen only while asked)")
+      ->capture_default_str()->check(ohrp::cli::InRange(0.1, 1000.0));
+  app.add_option("--camera-size", camera_size,
+                 "size WIDTHxHEIGHT of the cameras' images, at most 640x480")
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--camera-depth", [&o](const std::string& v) { o.cameras.depth = v == "on"; },
+         "publish a depth image [m] beside each RGB image: on | off (default on)")
+      ->check(CLI::IsMember({"on", "off"}));
   app.add_flag("--explain", o.explain,
                "print each effect (on or off, and why), the control period, and each joint's "
                "actuator and how its torque is mapped onto it, for this scene and these "
@@ -98,6 +110,11 @@ int main(int argc, char** argv) {
       "overwrote the segment's wake-up words), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (std::string error; !ohrp::sim::ParseCameraSize(camera_size, &o.cameras.width,
+                                                      &o.cameras.height, &error)) {
+    std::fprintf(stderr, "sim_host: --camera-size: %s\n", error.c_str());
+    return ohrp::sim::kExitUsage;
+  }
   ohrp::sim::ParseContactModel(contact, &o.feet.model);
   for (const auto& spec : effects) {
     std::string error;

@@ -1,7 +1,7 @@
 """Tests the Python package python/ohrp: a controller and an observer attached to a real
 sim_host (HRP-1S on the flat floor, lock-step), the header's names and limits, commands that
 move the robot, the observer's read-only view, and the errors (missing segment, an observer
-writing, wrong array sizes, malformed logs)."""
+writing, wrong array sizes, malformed logs), and camera images from an observer."""
 
 import os
 import subprocess
@@ -132,6 +132,52 @@ class PassiveJoints(unittest.TestCase):
                 self.assertEqual(watcher.passive_q.shape, (watcher.npassive,))
                 self.assertTrue(np.all(np.isfinite(watcher.passive_q)))
                 self.assertGreater(np.abs(watcher.passive_q).max(), 0.1)  # the tarsus is bent
+        finally:
+            stop_sim_host(sim)
+
+
+class CameraImages(unittest.TestCase):
+    def test_camera_images(self):
+        """An observer asks for the left camera of scene_ball.xml: frames arrive as arrays of
+        the camera's size, the red ball in the left half of the image (it lies 20 deg to the
+        left of the optical axis), the depth positive and finite; after the request is
+        withdrawn no new frame comes."""
+        scene = os.path.join(REPO, "mjcf", "hrp1s", "scene_ball.xml")
+        segment = "pytest_cams_%d" % os.getpid()
+        sim = start_sim_host(scene, segment, "--duration", "0", "--wait-controller", "0",
+                             "--keyframe", "halfsit", "--realtime", "--camera-size", "160x120")
+        try:
+            watcher = attach_when_ready(lambda: ohrp.Robot.observer(segment))
+            with watcher:
+                self.assertEqual(watcher.camera_names, ["LeftCamera", "RightCamera"])
+                self.assertEqual(watcher.camera_sizes[0], (160, 120))
+                self.assertIsNone(watcher.read_image("LeftCamera"))  # nobody asked yet
+                watcher.request_images(["LeftCamera"])
+                image = None
+                deadline = time.monotonic() + 20
+                while image is None and time.monotonic() < deadline:
+                    watcher.read()
+                    image = watcher.read_image("LeftCamera")
+                self.assertIsNotNone(image)
+                self.assertEqual(image["rgb"].shape, (120, 160, 3))
+                self.assertEqual(image["depth"].shape, (120, 160))
+                self.assertTrue(np.all(np.isfinite(image["depth"])) and image["depth"].min() > 0)
+                rgb = image["rgb"].astype(int)
+                red = (rgb[:, :, 0] >= 80) & (rgb[:, :, 0] > 1.8 * rgb[:, :, 1]) & \
+                      (rgb[:, :, 0] > 1.8 * rgb[:, :, 2])
+                self.assertGreater(red.sum(), 10)
+                self.assertLess(np.nonzero(red)[1].mean(), 80)  # left of the centre column
+                watcher.request_images([])
+                withdrawn = watcher.time
+                while watcher.read() and watcher.time < withdrawn + 0.05:
+                    pass
+                watcher.read_image("LeftCamera")  # a frame begun before the withdrawal
+                drained = watcher.time
+                while watcher.read() and watcher.time < drained + 0.5:
+                    pass
+                self.assertIsNone(watcher.read_image("LeftCamera"))
+                with self.assertRaises(ValueError):
+                    watcher.read_image("NoseCamera")
         finally:
             stop_sim_host(sim)
 

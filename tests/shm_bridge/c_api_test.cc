@@ -1,11 +1,14 @@
 // Tests the C API (ohrp_shm.h) through a controller and an observer written in C
 // (c_api_user.c): the header's names and counts, the lock-step with data checks, the default
-// command values, the observer's read-only view and the refusals.
+// command values, the observer's read-only view and the refusals; camera images from C.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "c_api_user.h"
+#include "ohrp_shm.h"
 #include "shm_bridge/bridge.h"
 #include "test_util.h"
 
@@ -48,6 +51,71 @@ TEST(CApiTest, ACControllerAndACObserverFollowTheLockStep) {
   producer.reset();
   EXPECT_EQ(WaitExit(controller), 0);
   EXPECT_EQ(WaitExit(observer), 0);
+}
+
+TEST(CApiTest, ImagesAreAskedForAndReadFromC) {
+  const std::string name = testing::UniqueSegment("capi_images");
+  testing::RemoveSegment(name);
+  ProducerConfig config = testing::SmallConfig(name);
+  CameraInfo cam{};
+  std::strcpy(cam.name, "eye");
+  cam.width = 16;
+  cam.height = 8;
+  cam.fovy = 50.0;
+  config.cameras = {cam};
+  Status status;
+  auto producer = Producer::Create(config, &status);
+  ASSERT_TRUE(status.ok()) << status.message;
+
+  char err[256] = {};
+  ohrp_robot* r = ohrp_observe(name.c_str(), 1.0, err, sizeof err);
+  ASSERT_NE(r, nullptr) << err;
+  ASSERT_EQ(ohrp_ncamera(r), 1);
+  EXPECT_STREQ(ohrp_camera_name(r, 0), "eye");
+  EXPECT_EQ(ohrp_camera_index(r, "eye"), 0);
+  EXPECT_EQ(ohrp_camera_index(r, "nose"), -1);
+  int w = 0, h = 0;
+  double fovy = 0;
+  ASSERT_EQ(ohrp_camera_info(r, 0, &w, &h, &fovy), 1);
+  EXPECT_EQ(w, 16);
+  EXPECT_EQ(h, 8);
+  EXPECT_EQ(fovy, 50.0);
+  EXPECT_EQ(ohrp_camera_info(r, 1, &w, &h, &fovy), 0);
+
+  EXPECT_EQ(ohrp_request_images(r, 0b10), 0) << "camera 1 does not exist";
+  ASSERT_EQ(ohrp_request_images(r, 0b01), 1);
+  EXPECT_EQ(producer->ImagesRequested(), 1u);
+
+  std::vector<uint8_t> rgb(3 * 16 * 8), got(rgb.size());
+  std::vector<float> depth(16 * 8), got_depth(depth.size());
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(i * 13);
+  for (size_t i = 0; i < depth.size(); ++i) depth[i] = 0.25f * static_cast<float>(i);
+  uint64_t frame = 0;
+  double time = 0;
+  int has_depth = 0;
+  EXPECT_EQ(ohrp_read_image(r, 0, 0, &frame, &time, &w, &h, &has_depth, got.data(), got.size(),
+                            got_depth.data(), got_depth.size()),
+            OHRP_IMAGE_NO_FRAME);
+  ASSERT_EQ(producer->PublishImage(0, 1.25, 16, 8, rgb.data(), depth.data()), ImageResult::kOk);
+  EXPECT_EQ(ohrp_read_image(r, 0, 0, &frame, &time, &w, &h, &has_depth, got.data(),
+                            got.size() - 1, nullptr, 0),
+            OHRP_IMAGE_TOO_SMALL);
+  ASSERT_EQ(ohrp_read_image(r, 0, 0, &frame, &time, &w, &h, &has_depth, got.data(), got.size(),
+                            got_depth.data(), got_depth.size()),
+            OHRP_IMAGE_OK);
+  EXPECT_EQ(frame, 1u);
+  EXPECT_EQ(time, 1.25);
+  EXPECT_EQ(has_depth, 1);
+  EXPECT_EQ(got, rgb);
+  EXPECT_EQ(got_depth, depth);
+  EXPECT_EQ(ohrp_read_image(r, 0, frame, nullptr, nullptr, nullptr, nullptr, nullptr, got.data(),
+                            got.size(), nullptr, 0),
+            OHRP_IMAGE_NO_FRAME);
+  EXPECT_EQ(ohrp_read_image(r, 3, 0, nullptr, nullptr, nullptr, nullptr, nullptr, got.data(),
+                            got.size(), nullptr, 0),
+            OHRP_IMAGE_BAD_CAMERA);
+  ohrp_close(r);  // withdraws the request
+  EXPECT_EQ(producer->ImagesRequested(), 0u);
 }
 
 TEST(CApiTest, RefusalsSaySoInC) {

@@ -144,8 +144,10 @@ TEST_F(EffectsFlat, DefaultsOfTheStandingScene) {
   EXPECT_FALSE(p.on(Effect::kOtherSensors));
   EXPECT_NE(p[Effect::kOtherSensors].reason.find("87 MuJoCo sensors"), std::string::npos);
   EXPECT_FALSE(p.on(Effect::kNoise));
-  EXPECT_FALSE(p.on(Effect::kCameras));
-  EXPECT_NE(p[Effect::kCameras].reason.find("no consumer of images"), std::string::npos);
+  // on, but rendered only while a program asks (sim_host/cameras.h)
+  EXPECT_TRUE(p.on(Effect::kCameras));
+  EXPECT_NE(p[Effect::kCameras].reason.find("rendered only while an attached program asks"),
+            std::string::npos);
   EXPECT_FALSE(p.on(Effect::kLog));
   EXPECT_FALSE(p.on(Effect::kLogForceTorque));
   // the soles' pairs with the floor exist, handed to the soft-foot contact; the ankles are
@@ -212,7 +214,9 @@ TEST_F(EffectsFlat, SelfCollisionIsOnWhenAsked) {
 }
 
 TEST_F(EffectsFlat, WhatCannotBeSwitchedOnIsRefused) {
-  EXPECT_NE(Refused(*flat_, "cameras=on").find("renders no images"), std::string::npos);
+  EXPECT_NE(Refused(LoadText(kPendulum), "cameras=on").find("the scene declares no camera"),
+            std::string::npos);
+  EXPECT_FALSE(Resolve(*flat_, "cameras=off").on(Effect::kCameras));
   EXPECT_NE(Refused(*flat_, "soft_contact=off").find("--contact"), std::string::npos);
   EXPECT_NE(Refused(*flat_, "self_contact=on").find("cannot be switched on"), std::string::npos);
   EXPECT_NE(Refused(*flat_, "native_contact=on").find("cannot be switched on"), std::string::npos);
@@ -521,13 +525,16 @@ TEST(EffectsProcess, ExplainPrintsTheTableAndCreatesNoSegment) {
                         "--explain"}, &out, &err), 0) << err;
   EXPECT_NE(out.find("rne_post           on     needed by force_torque, accelerometer"), std::string::npos) << out;
   EXPECT_NE(out.find("soft_contact       on"), std::string::npos);
-  EXPECT_NE(out.find("cameras            off    declared by the scene (LeftCamera, RightCamera)"), std::string::npos);
+  EXPECT_NE(out.find("cameras            on     declared by the scene (LeftCamera, RightCamera): rendered only while"), std::string::npos) << out;
+  EXPECT_NE(out.find("cameras: 2 (LeftCamera first), 640x480 RGB + depth, 30 frames per simulated second, rendered only while an attached program asks for them"), std::string::npos) << out;
   EXPECT_NE(out.find("world/RLEG_ANKLE_R"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists("/dev/shm/ohrp_" + segment));
   EXPECT_TRUE(err.empty()) << err;
   // bad requests: exit 2 with the reason
-  EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--effects", "cameras=on"}, &out, &err), 2);
-  EXPECT_NE(err.find("renders no images"), std::string::npos) << err;
+  EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--effects", "self_collision=on"}, &out, &err), 2);
+  EXPECT_NE(err.find("cannot be switched on"), std::string::npos) << err;
+  EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--camera-size", "641x480"}, &out, &err), 2);
+  EXPECT_NE(err.find("--camera-size: camera size '641x480' must be WIDTHxHEIGHT within 1x1 to 640x480"), std::string::npos) << err;
   EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--effects", "gravity"}, &out, &err), 2);
   EXPECT_NE(err.find("NAME=VALUE"), std::string::npos) << err;
 }

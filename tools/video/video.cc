@@ -1,11 +1,10 @@
 // ohrp_video: offscreen video of a run (OSMesa, no display needed). Replays the data log of a
 // run (base pose and joint angles per row, see sim_host/recorder.h) through the scene's model and
-// renders it with MuJoCo's renderer into an MP4 (through Debian's ffmpeg) or PNG frames.
+// renders it with MuJoCo's renderer (render/offscreen.h) into an MP4 (through Debian's ffmpeg) or PNG frames.
 //
 // Rendering after the run, from the log, keeps the simulation free of any rendering cost (the
 // effects it runs are the ones the scene calls for) and works on any run folder, including the
 // ones CI leaves behind.
-#include <GL/osmesa.h>
 #include <mujoco/mujoco.h>
 #include <png.h>
 #include <sys/stat.h>
@@ -16,10 +15,10 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "cli/command_line.h"
+#include "render/offscreen.h"
 #include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
 
 namespace {
@@ -195,53 +194,26 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  // ---- OSMesa context first, then MuJoCo's
-  std::vector<unsigned char> gl_buffer(static_cast<size_t>(width) * height * 4);
-  OSMesaContext gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
-  const std::unique_ptr<std::remove_pointer_t<OSMesaContext>, decltype(&OSMesaDestroyContext)>
-      gl_owner(gl, OSMesaDestroyContext);
-  if (!gl || !OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
-    std::fprintf(stderr, "ohrp_video: cannot create the OSMesa context (libosmesa6)\n");
+  // ---- the offscreen context (render/offscreen.h: OSMesa, then MuJoCo's)
+  ohrp::render::OffscreenOptions render_options;
+  render_options.width = width;
+  render_options.height = height;
+  render_options.shadows = shadows;
+  const std::unique_ptr<ohrp::render::Offscreen> renderer =
+      ohrp::render::Offscreen::Create(m, render_options, &error);
+  if (!renderer) {
+    std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
     return 3;
   }
-  m->vis.global.offwidth = width;
-  m->vis.global.offheight = height;
-  mjvScene scn;
   mjvCamera cam;
-  mjvOption opt;
-  mjrContext con;
-  mjv_defaultScene(&scn);
   mjv_defaultCamera(&cam);
-  mjv_defaultOption(&opt);
-  mjr_defaultContext(&con);
-  mjv_makeScene(m, &scn, 4000);
-  mjr_makeContext(m, &con, mjFONTSCALE_100);
-  // MuJoCo's scene and rendering context are freed on every return, before the OSMesa context
-  struct RenderOwner {
-    mjvScene* scn;
-    mjrContext* con;
-    ~RenderOwner() {
-      mjr_freeContext(con);
-      mjv_freeScene(scn);
-    }
-  } render_owner{&scn, &con};
-  mjr_setBuffer(mjFB_OFFSCREEN, &con);
-  if (con.currentBuffer != mjFB_OFFSCREEN) {
-    std::fprintf(stderr, "ohrp_video: no offscreen buffer\n");
-    return 3;
-  }
-  // software rendering: shadows and reflections would cost most of the frame time
-  if (!shadows) {
-    scn.flags[mjRND_SHADOW] = 0;
-    scn.flags[mjRND_REFLECTION] = 0;
-  }
   // a free camera following the base horizontally, looking at the base's height
   cam.type = mjCAMERA_FREE;
   cam.distance = distance;
   cam.azimuth = azimuth;
   cam.elevation = elevation;
   const mjrRect viewport{0, 0, width, height};
-  std::vector<unsigned char> rgb(static_cast<size_t>(width) * height * 3), flipped(rgb.size());
+  std::vector<unsigned char> flipped(static_cast<size_t>(width) * height * 3);
 
   // renders the state at time t (linear interpolation between rows) into `flipped` (top row first)
   size_t row = 0;
@@ -270,15 +242,11 @@ int main(int argc, char** argv) {
     mj_kinematics(m, d);
     mj_comPos(m, d);
     mj_camlight(m, d);
-    mjv_updateScene(m, d, &opt, nullptr, &cam, mjCAT_ALL, &scn);
-    mjr_render(viewport, &scn, &con);
+    renderer->Draw(m, d, &cam, width, height);
     char text[64];
     std::snprintf(text, sizeof(text), "t = %.2f s", t);
-    mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, title.c_str(), text, &con);
-    mjr_readPixels(rgb.data(), nullptr, viewport, &con);
-    const size_t stride = static_cast<size_t>(width) * 3;
-    for (int y = 0; y < height; ++y)
-      std::copy_n(rgb.data() + (height - 1 - y) * stride, stride, flipped.data() + y * stride);
+    mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, title.c_str(), text, renderer->context());
+    renderer->Read(width, height, flipped.data(), nullptr);
   };
 
   int status = 0;

@@ -72,6 +72,17 @@ class Controller {
   // the default says nothing.
   virtual void report(std::ostream& out) const { (void)out; }
 
+  // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
+  // the header), valid from kInactive on: the runner asks the producer for them after
+  // configure (and fails with exit 3 when it cannot) and, in each cycle, before update, hands
+  // each new frame to on_image. The defaults: no camera. on_image does not allocate, throw or
+  // log.
+  virtual uint32_t cameras() const { return 0; }
+  virtual void on_image(int camera, const shm::ImageSlot& image) noexcept {
+    (void)camera;
+    (void)image;
+  }
+
  protected:
   Controller() = default;
   virtual ConfigStatus on_configure(const shm::SegmentHeader& header) = 0;

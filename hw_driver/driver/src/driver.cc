@@ -191,8 +191,13 @@ int Driver::Run() {
       }
     }
 
-    //---- publish, then the controller's commands until the command deadline (from the cycle
-    //---- after a servo-on: the servo-on cycle's write holds the measured positions)
+    //---- the cameras' frames (only while some program asks), then the sensors; then the
+    //---- controller's commands until the command deadline (from the cycle after a servo-on:
+    //---- the servo-on cycle's write holds the measured positions)
+    if (d.ncamera > 0) {
+      if (d.k % kImageRequestPollCycles == 0) d.images_wanted = d.producer->ImagesRequested();
+      d.io->images(d.images_wanted, d.time, &d.images);
+    }
     d.Publish(flags, live_);
     if (!done && d.state == DriverState::kActive && !servoed_on) {
       const pid_t pid = d.producer->controller_pid();

@@ -31,9 +31,27 @@ inline bool AllFinite(const double* v, int n) {
   return true;
 }
 
+// the plugin's camera images go into the segment
+class SegmentImages final : public ImageSink {
+ public:
+  explicit SegmentImages(shm::Producer* p) : producer_(p) {}
+  bool Publish(int camera, double time, int width, int height, const uint8_t* rgb,
+               const float* depth) noexcept override {
+    return producer_->PublishImage(camera, time, width, height, rgb, depth) ==
+           shm::ImageResult::kOk;
+  }
+
+ private:
+  shm::Producer* producer_;
+};
+
+// how often the loop looks at the segment's image requests (one kill(pid, 0) per requester)
+inline constexpr uint64_t kImageRequestPollCycles = 10;
+
 struct Driver::Impl {
   Impl(const DriverOptions& o, const shm::ProducerConfig& r, RobotIo* i, shm::Producer* p)
-      : opt(o), robot(r), io(i), producer(p), guard(r), waker(o.wake, PeriodNs(o)) {
+      : opt(o), robot(r), io(i), producer(p), guard(r), waker(o.wake, PeriodNs(o)), images(p) {
+    ncamera = static_cast<int>(r.cameras.size());
     njoint = static_cast<int>(r.joint_names.size());
     nforce = static_cast<int>(r.force_names.size());
     nimu = static_cast<int>(r.imu_names.size());
@@ -46,7 +64,9 @@ struct Driver::Impl {
   shm::Producer* producer;
   CommandGuard guard;
   Waker waker;  // sleeps (and spins) to each cycle's start
-  int njoint = 0, nforce = 0, nimu = 0;
+  SegmentImages images;
+  uint32_t images_wanted = 0;  // the cameras some program asks for (polled every few cycles)
+  int njoint = 0, nforce = 0, nimu = 0, ncamera = 0;
 
   IoState in{};
   double last_valid_q[shm::kMaxJoints] = {};  // positions of the last valid read

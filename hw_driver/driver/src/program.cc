@@ -168,6 +168,7 @@ int RunProgram(const ProgramOptions& o) {
   io_config.joint_names = robot.joint_names;
   io_config.force_names = robot.force_names;
   io_config.imu_names = robot.imu_names;
+  io_config.cameras = robot.cameras;
   io_config.period = o.driver.period;
   io_config.args = o.io_args;
   if (!plugin->io().open(io_config, &error)) {

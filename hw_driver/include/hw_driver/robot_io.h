@@ -21,7 +21,8 @@
 
 namespace ohrp::hw {
 
-inline constexpr uint32_t kRobotIoAbiVersion = 2;  // 2: IoState::nonfinite_boards
+inline constexpr uint32_t kRobotIoAbiVersion = 3;  // 2: IoState::nonfinite_boards;
+                                                   // 3: cameras (IoConfig::cameras, images)
 inline constexpr const char* kRobotIoEntry = "ohrp_create_robot_io";
 
 // What the driver tells the boards at open: the robot (from its model) and the plugin's own
@@ -31,6 +32,7 @@ struct IoConfig {
   std::vector<std::string> joint_names;  // joint-id order
   std::vector<std::string> force_names;
   std::vector<std::string> imu_names;
+  std::vector<shm::CameraInfo> cameras;  // the robot's cameras, header order (name, size, fovy)
   double period = 0.001;                 // servo cycle of the driver [s]
   std::vector<std::string> args;         // "key=value" strings for the plugin
 };
@@ -76,6 +78,20 @@ enum class IoResult {
   kError,   // the transport itself failed (socket error, file gone)
 };
 
+// Where a plugin delivers camera images: the driver's segment (Producer::PublishImage).
+class ImageSink {
+ public:
+  // A frame of IoConfig::cameras[camera] captured at `time` [s, the driver's time base: that of
+  // the cycle whose IoState was read at capture]: `rgb` width x height x 3 bytes (RGB8, top row
+  // first; at most the camera's size), `depth` width x height distances [m] or null. False
+  // when the segment refuses it (camera index or size). Never waits.
+  virtual bool Publish(int camera, double time, int width, int height, const uint8_t* rgb,
+                       const float* depth) noexcept = 0;
+
+ protected:
+  ~ImageSink() = default;
+};
+
 // The boards. open/close are set-up calls (they may allocate and report in `*error`); read and
 // write run every servo cycle and never allocate, throw or block past the cycle.
 class RobotIo {
@@ -86,6 +102,16 @@ class RobotIo {
   virtual IoResult read(IoState* state) noexcept = 0;
   virtual IoResult write(const IoCommand& command) noexcept = 0;
   virtual void close() noexcept = 0;
+  // Camera images: called once per cycle, after read, with the cameras some attached program
+  // asks for (bit i: IoConfig::cameras[i]; 0: nobody asks, and a plugin should then do no
+  // work) and the driver's time of the cycle [s]. Hands the frames captured since the last
+  // call to `sink` (the latest per camera). Runs in the servo cycle: no allocation, no
+  // blocking (a real camera's plugin grabs frames on its own thread). The default: no images.
+  virtual void images(uint32_t wanted, double time, ImageSink* sink) noexcept {
+    (void)wanted;
+    (void)time;
+    (void)sink;
+  }
 };
 
 }  // namespace ohrp::hw

@@ -4,11 +4,14 @@
 // ends its run cleanly), or starts over with loop=1.
 //
 // Arguments (--io-arg KEY=VALUE): file=PATH (required), loop=0|1 (default 0),
-// interp=linear|step (default linear).
+// interp=linear|step (default linear), images=DIR (recorded camera images, image_frames.h:
+// each frame is handed to the segment when the replay's time reaches its own, while some
+// program asks for its camera).
 #include <cmath>
 #include <string>
 
 #include "csv_log.h"
+#include "image_frames.h"
 #include "hw_driver/robot_io.h"
 
 namespace ohrp::hw::replay {
@@ -17,7 +20,7 @@ namespace {
 class ReplayIo final : public RobotIo {
  public:
   bool open(const IoConfig& config, std::string* error) override {
-    std::string file;
+    std::string file, images;
     for (const std::string& arg : config.args) {
       const auto eq = arg.find('=');
       const std::string key = arg.substr(0, eq);
@@ -28,9 +31,11 @@ class ReplayIo final : public RobotIo {
         loop_ = value == "1";
       } else if (key == "interp" && (value == "linear" || value == "step")) {
         step_ = value == "step";
+      } else if (key == "images" && !value.empty()) {
+        images = value;
       } else {
         *error = "replay: unknown argument '" + arg +
-                 "' (use file=PATH, loop=0|1, interp=linear|step)";
+                 "' (use file=PATH, loop=0|1, interp=linear|step, images=DIR)";
         return false;
       }
     }
@@ -43,6 +48,11 @@ class ReplayIo final : public RobotIo {
       return false;
     }
     if (!log_.Load(file, config, error)) return false;
+    has_images_ = !images.empty();
+    if (has_images_ && !images_.Load(images, config.cameras, error)) {
+      *error = "replay: " + *error;
+      return false;
+    }
     period_ = config.period;
     njoint_ = static_cast<int>(config.joint_names.size());
     reads_ = 0;
@@ -63,6 +73,7 @@ class ReplayIo final : public RobotIo {
       }
     }
     const double t = log_.first_time() + elapsed;
+    t_ = t;
     log_.Sample(t, step_, &cursor_, state);
     state->time_ns = static_cast<uint64_t>(std::llround(std::fmax(0.0, t) * 1e9));
     state->silent_boards = 0;
@@ -72,10 +83,16 @@ class ReplayIo final : public RobotIo {
   }
 
   IoResult write(const IoCommand&) noexcept override { return IoResult::kOk; }
+  void images(uint32_t wanted, double time, ImageSink* sink) noexcept override {
+    if (has_images_) images_.Play(t_, wanted, time, sink);
+  }
   void close() noexcept override {}
 
  private:
   CsvLog log_;
+  ImageFrames images_;
+  bool has_images_ = false;
+  double t_ = 0.0;  // the recording's time of the last read [s]
   double period_ = 0.001;
   int njoint_ = 0;
   bool loop_ = false;

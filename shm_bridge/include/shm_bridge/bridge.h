@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "shm_bridge/images.h"
 #include "shm_bridge/layout.h"
 
 namespace ohrp::shm {
@@ -134,6 +135,17 @@ class Producer {
   // Sets the producer state seen by controllers (kStopped / kFailed end their reads).
   void SetState(ProducerState state);
 
+  // Camera images (images.h). PublishImage: a frame of header camera `camera` (RGB8
+  // width x height x 3, top row first; depth [m] or null), never waits for a reader.
+  // ImagesRequested: the cameras (bit i: camera i) some live attached program asks for; the
+  // producer renders only those. Both real-time safe (ImagesRequested makes one kill(pid, 0)
+  // per requesting entry).
+  ImageResult PublishImage(int camera, double time, int width, int height, const uint8_t* rgb,
+                           const float* depth = nullptr) {
+    return shm::PublishImage(segment_, camera, time, width, height, rgb, depth);
+  }
+  uint32_t ImagesRequested() const { return shm::ImagesRequested(segment_->images.requests); }
+
  private:
   Producer() = default;
   Segment* segment_ = nullptr;
@@ -197,6 +209,17 @@ class RobotAdaptor {
   // kSyncCorrupted when the wake-up word was found corrupted (the commands are written, but
   // the producer will not take them).
   ReadResult write(const CommandBlock& commands);
+
+  // Asks the producer for the images of the cameras in `cameras` (bit i: camera i of the
+  // header; 0 withdraws). close() withdraws too, and a dead process's request is ignored. False
+  // when not open, when a bit names no camera of the header, or when kMaxImageRequesters
+  // programs already ask.
+  bool request_images(uint32_t cameras);
+
+  // Copies the latest frame of camera `camera` when it is newer than `after_frame` (0: any)
+  // into `*out` (allocate it once: about 2 MB). kOk, kNoFrame, kBusy, kBadCamera or kNotOpen
+  // (images.h: ReadLatestImage). Real-time safe; never waits for a new frame.
+  ImageResult read_image(int camera, uint64_t after_frame, ImageSlot* out) const;
 
   // True once the producer has let this controller go (its slot holds another pid or none).
   bool dropped() const;

@@ -3,13 +3,16 @@
 // (positions [m] or [rad], velocities [m/s] or [rad/s], forces [N], torques [N m], time [s]).
 //
 // ---------------------------------------------------------------------------------------------
-// Segment = SegmentHeader | SensorBlock | CommandBlock | Sync, at the offsets of `Segment` below.
+// Segment = SegmentHeader | SensorBlock | CommandBlock | Sync | ImageArea, at the offsets of
+// `Segment` below.
 //
 // Who writes what (one writer per block):
 //   header        producer, once before `state` becomes kRunning (then read-only), except
 //                 `controller_pid` (claimed by a controller with compare-and-swap) and `state`.
 //   sensors       producer, every control cycle, under the `sensors.seq` seqlock.
 //   commands      controller, every control cycle, under the `commands.seq` seqlock.
+//   images        producer, per camera frame, under each slot's seqlock (images.h); the
+//                 request entries: each attached program (controller or observer) its own.
 //
 // Lock-step handshake (two wake-up words in `Sync`, futexes the bridge owns, both start at 0):
 //   1. producer  : finishes the physics steps of cycle k, writes sensors (cycle = k),
@@ -48,15 +51,20 @@ namespace ohrp::shm {
 //---------------- capacities and identification ----------------
 
 inline constexpr char kMagic[8] = {'O', 'H', 'R', 'P', 'S', 'E', 'G', '1'};
-inline constexpr uint32_t kLayoutVersion = 4;  // 2: the robot model's identity (model_hash...);
+inline constexpr uint32_t kLayoutVersion = 5;  // 2: the robot model's identity (model_hash...);
                                                // 3: futex wake-up words instead of sem_t;
-                                               // 4: passive joints (npassive, passive_q...)
+                                               // 4: passive joints (npassive, passive_q...);
+                                               // 5: camera images (ImageArea)
 inline constexpr int kMaxJoints = 64;   // actuated joints
 inline constexpr int kMaxPassiveJoints = 32;  // joints no actuator drives, published read-only
 inline constexpr int kMaxForceSensors = 4;  // 6-axis force/torque sensors
 inline constexpr int kMaxImus = 2;
 inline constexpr int kMaxCameras = 4;
 inline constexpr int kNameLen = 32;     // bytes per name, NUL-terminated
+inline constexpr int kMaxImageWidth = 640;   // largest camera image [pixel]
+inline constexpr int kMaxImageHeight = 480;
+inline constexpr int kImageSlots = 2;        // slots per camera (double-buffered)
+inline constexpr int kMaxImageRequesters = 16;  // programs that may ask for images at once
 
 // who fills the segment; a controller never needs to ask, but tools and logs do
 enum class ProducerKind : uint32_t { kUnknown = 0, kSimulation = 1, kHardware = 2, kReplay = 3 };
@@ -238,11 +246,59 @@ struct Sync {
   alignas(64) SignalWord commands_ready;  // posted by the controller when commands are written
 };
 
+//---------------- camera images (producer -> readers; API: images.h) ----------------
+//
+// Kept apart from the sensor block: the per-cycle copy of the sensors never touches them, and
+// the producer renders only while some program asks (requests below). Camera i of the header
+// (cameras[i]) publishes into images.camera[i].
+//
+// Frames of a camera go alternately into its two slots (frame f into slot f % 2), each under
+// its own seqlock (same rule as the data blocks), then `latest` is set to f (release). A reader
+// loads `latest`, copies slot latest % 2 and keeps the copy only when the slot's seq was even
+// and unchanged across the copy; otherwise it retries with the new `latest`. The producer never
+// waits for a reader: a reader slower than two frames retries (and gives up at its deadline).
+//
+// Requests: each program that wants images holds one entry {pid, cameras bitmask (bit i:
+// camera i)}, claimed by compare-and-swap of `pid` from 0 (or from a dead pid); it withdraws by
+// writing 0 to both. The producer renders camera i while some entry of a live pid has bit i.
+// The entries lie on their own page, so that an observer (whose segment mapping is read-only)
+// can map that page alone for writing.
+
+struct ImageSlot {
+  uint64_t seq;           // seqlock counter, odd while written (atomic access)
+  uint64_t frame;         // frame counter of the camera, 1 for its first frame
+  double time;            // simulated (or robot) time of capture [s]
+  int32_t width;          // [pixel], <= the header camera's width and kMaxImageWidth
+  int32_t height;         // [pixel], <= the header camera's height and kMaxImageHeight
+  uint32_t has_depth;     // 1: depth holds width x height values; 0: no depth
+  uint32_t pad0;
+  alignas(64) uint8_t rgb[kMaxImageWidth * kMaxImageHeight * 3];  // RGB8, row-major, top row
+                                                                  // first (width x height x 3)
+  alignas(64) float depth[kMaxImageWidth * kMaxImageHeight];  // distance along the optical axis
+                                                              // [m], same order; when has_depth
+};
+
+struct CameraImages {
+  alignas(64) uint64_t latest;  // frame of the last complete slot, 0: none yet (atomic access)
+  alignas(64) ImageSlot slot[kImageSlots];
+};
+
+struct ImageRequest {
+  int32_t pid;        // requesting process, 0: free entry (atomic access)
+  uint32_t cameras;   // bitmask of the cameras it wants (atomic access)
+};
+
+struct ImageArea {
+  alignas(4096) ImageRequest requests[kMaxImageRequesters];  // alone on its page
+  alignas(4096) CameraImages camera[kMaxCameras];
+};
+
 struct Segment {
   SegmentHeader header;
   alignas(64) SensorBlock sensors;
   alignas(64) CommandBlock commands;
   alignas(64) Sync sync;
+  alignas(4096) ImageArea images;
 };
 
 // A hash of the layout (sizes and offsets of every block and of the capacities), so that a

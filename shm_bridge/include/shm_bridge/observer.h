@@ -3,6 +3,9 @@
 // slot, posts or waits on the handshake, or writes a byte into the segment (the mapping is
 // read-only), so an observer can never slow the lock-step or disturb the controller.
 //
+// The one exception to "never writes": request_images, on demand, maps the page of the image
+// requests (layout.h) for writing and sets this process's own entry there; close withdraws it.
+//
 // An observer sees each published sensor block through the seqlock (never torn), and the last
 // command block the controller wrote. It polls: a wait for the next cycle sleeps `poll` between
 // looks, so it may skip cycles when it is slower than the producer (the cycle counter says how
@@ -14,6 +17,7 @@
 #include <string>
 
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/images.h"
 #include "shm_bridge/layout.h"
 
 namespace ohrp::shm {
@@ -43,6 +47,15 @@ class Observer {
   // false when none was written yet (answers_cycle and njoint 0) or the copy did not settle.
   bool commands(CommandBlock* out) const;
 
+  // Asks the producer for the images of `cameras` (bit i: camera i; 0 withdraws), as
+  // RobotAdaptor::request_images does; the first call maps the requests' page (4 KiB) for
+  // writing, so it is a set-up call (it may allocate). False when not open, a bit names no
+  // camera, the page cannot be mapped, or every request entry is taken.
+  bool request_images(uint32_t cameras);
+
+  // The latest frame of `camera` newer than `after_frame` (images.h: ReadLatestImage).
+  ImageResult read_image(int camera, uint64_t after_frame, ImageSlot* out) const;
+
   // The attached controller's pid now (0: none).
   pid_t controller_pid() const;
   ProducerState producer_state() const;
@@ -55,6 +68,9 @@ class Observer {
  private:
   const Segment* segment_ = nullptr;
   void* region_ = nullptr;  // boost mapped_region, owned
+  void* requests_region_ = nullptr;  // the requests' page mapped writable (request_images), owned
+  ImageRequest* requests_ = nullptr;  // in that page
+  std::string segment_name_;
   SegmentHeader header_{};
   ObserverOptions options_;
   uint64_t last_seq_ = 0;  // seqlock value of the last block returned (0: none yet)

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "shm_bridge/controller_loss.h"
+#include "sim_host/cameras.h"
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 
@@ -79,6 +80,7 @@ struct HostOptions {
   std::string self_collision_file; // the self_collision effect's pairs: a file of
                                    // ohrp_selfcollision (implies self_collision=on); empty: all
                                    // non-adjacent pairs (sim_host/self_collision_watch.h)
+  CameraOptions cameras;           // the robot's cameras: size, rate (sim_host/cameras.h)
 };
 
 // exit codes of sim_host

@@ -113,6 +113,15 @@ const std::vector<CheckType>& CheckTypes() {
         Positive("max_fz", "N, 10", 10)},
        "the sensor's vertical force stays below `max_fz` over [after, until] (the foot is in "
        "the air); a log ending before `until` fails"},
+      {"ball_centred",
+       {{"geom", KeyKind::kText, true, "required"}, {"camera", KeyKind::kText, true, "required"},
+        Num("width", "pixel, 640", 1, 640, false, false, 640),
+        Num("height", "pixel, 480", 1, 480, false, false, 480),
+        Positive("tolerance", "pixel, 10", 10), Time("at", false, "s, the end of the log")},
+       "at `at` the centre of geom `geom`, projected by a pinhole camera at camera `camera`'s "
+       "pose (the logged base pose and joint angles through the scene's kinematics, the "
+       "camera's fovy, a `width` x `height` image), lies within `tolerance` pixels of the "
+       "image centre (runner/vision_checks.h)"},
       {"max_rejected",
        {Num("max", "0", 0, kBig, false, false, 0)},
        "joint commands rejected by the servos (NaN, out of range) are at most `max`"},

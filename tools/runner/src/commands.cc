@@ -56,6 +56,7 @@ std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& si
   if (s.control_period > 0) argv.insert(argv.end(), {"--control-period", Num(s.control_period)});
   if (s.physics_dt > 0) argv.insert(argv.end(), {"--physics-dt", Num(s.physics_dt)});
   if (!s.integrator.empty()) argv.insert(argv.end(), {"--integrator", s.integrator});
+  if (s.camera_rate > 0) argv.insert(argv.end(), {"--camera-rate", Num(s.camera_rate)});
   if (!s.keyframe.empty()) argv.insert(argv.end(), {"--keyframe", s.keyframe});
   if (s.realtime) argv.push_back("--realtime");
   // the contact under the soles

@@ -20,7 +20,7 @@ const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
     "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
-    "contact_params", "effects", "pushes"};
+    "contact_params", "effects", "pushes", "camera_rate"};
 const std::set<std::string> kControllerKeys = {"program", "args"};
 const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
                                               "tangential_stiffness", "tangential_damping"};
@@ -28,6 +28,7 @@ const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping"
 // bounds of the run's numbers
 constexpr double kMaxPhysicsDt = 0.1;        // [s]
 constexpr double kMaxControlPeriod = 1.0;    // [s]
+constexpr double kMaxCameraRate = 1000.0;    // [frames per simulated s], sim_host's bounds: [0.1, 1000]
 constexpr double kMaxDuration = 1e5;         // [s] simulated, about 28 hours
 constexpr double kMaxControllerTimeout = 3600;  // [s] wall
 constexpr double kMaxWallTimeout = 1e6;      // [s] wall
@@ -113,6 +114,8 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
       Optional(root, "control_period", path, error,
                NumberIn(&s->control_period, 0, kMaxControlPeriod, true, "s")) &&
       Optional(root, "duration", path, error, NumberIn(&s->duration, 0, kMaxDuration, true, "s")) &&
+      Optional(root, "camera_rate", path, error,
+               NumberIn(&s->camera_rate, 0.1, kMaxCameraRate, false, "frames per simulated s")) &&
       Optional(root, "integrator", path, error, Choice(&s->integrator, {"euler", "rk4", "implicit"})) &&
       Optional(root, "realtime", path, error,
                [&](const YAML::Node& n, std::string* why) { return ReadBool(n, &s->realtime, why); }) &&

@@ -55,6 +55,7 @@ struct Scenario {
   double duration = 10;          // [s] simulated
   double physics_dt = 0;         // [s], 0: the scene's
   double control_period = 0;     // [s], 0: sim_host's default (the multiple of the step nearest 5 ms)
+  double camera_rate = 0;        // [frames per simulated s] of the cameras asked for; 0: sim_host's (30)
   std::string integrator;        // empty: the scene's
   bool realtime = false;
   std::string on_controller_loss = "end";
