@@ -531,7 +531,7 @@ TEST(EffectsProcess, ExplainPrintsTheTableAndCreatesNoSegment) {
   EXPECT_FALSE(std::filesystem::exists("/dev/shm/ohrp_" + segment));
   EXPECT_TRUE(err.empty()) << err;
   // bad requests: exit 2 with the reason
-  EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--effects", "self_collision=on"}, &out, &err), 2);
+  EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--effects", "self_contact=on"}, &out, &err), 2);
   EXPECT_NE(err.find("cannot be switched on"), std::string::npos) << err;
   EXPECT_EQ(RunSimHost({"--scene", kFlat, "--explain", "--camera-size", "641x480"}, &out, &err), 2);
   EXPECT_NE(err.find("--camera-size: camera size '641x480' must be WIDTHxHEIGHT within 1x1 to 640x480"), std::string::npos) << err;
