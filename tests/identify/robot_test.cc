@@ -2,7 +2,10 @@
 // soles have parameters the identification is not told (2e6 N/m and 45 s/m; sim_host's default
 // soles are 3e6 N/m and 30 s/m), the experiment of scenarios/rocking_fig12.yaml (its posture and
 // gains, its push), sensor noise added to every channel of the driver's log afterwards; then
-// ohrp_identify on the noisy log must recover both within 10 %.
+// ohrp_identify on the noisy log must recover both within 10 %. The same on a recording that
+// sim_host makes of the scenario with those soles (no real time: this one runs on a busy
+// machine too; it does not recover D, see there). Both check that the refinement's simulations ran as sweeps (one sweep folder per
+// stage, its sweep.csv listing the runs identify.json reports).
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -19,6 +22,7 @@
 #include <chrono>
 #include <vector>
 
+#include "contact/params.h"  // sim_host's default soles: the first simulation's
 #include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
 
 namespace ohrp::identify {
@@ -123,6 +127,132 @@ std::string Record(const std::string& dir, const std::string& segment) {
   return "";
 }
 
+// The refinement's simulations went through ohrp sweep's library: `id` holds one sweep folder
+// per stage (nominal, k, d, final) whose sweep.csv lists exactly the runs identify.json reports
+// for that stage, at the K and D the method prescribes from the estimates it reports (K stage:
+// K_a x (1 -+ step) at D_a; D stage: D_a x (1 -+ 2 step) at K_b; final: (K_b, D_b)), each run
+// in that sweep's variants/vNNN folder with its data log.
+void ExpectStagesRanAsSweeps(const std::string& id, const nlohmann::json& j, double step) {
+  const double ka = j["closed_form"]["k"], da = j["closed_form"]["d"];
+  const double kb = j["refined"]["k"], db = j["refined"]["d"];
+  const std::vector<std::pair<std::string, std::vector<std::pair<double, double>>>> stages = {
+      {"nominal", {{contact::SoftContactParams{}.stiffness, contact::SoftContactParams{}.damping}}},
+      {"k", {{ka * (1 - step), da}, {ka, da}, {ka * (1 + step), da}}},
+      {"d", {{kb, da * (1 - 2 * step)}, {kb, da}, {kb, da * (1 + 2 * step)}}},
+      {"final", {{kb, db}}}};
+  size_t total = 0;
+  ASSERT_TRUE(j.contains("sweeps"));
+  ASSERT_EQ(j["sweeps"].size(), stages.size());
+  for (size_t s = 0; s < stages.size(); ++s) {
+    const auto& [stage, kd] = stages[s];
+    SCOPED_TRACE("stage " + stage);
+    EXPECT_EQ(j["sweeps"][s]["stage"], stage);
+    EXPECT_EQ(j["sweeps"][s]["variants"], kd.size());
+    EXPECT_GT(j["sweeps"][s]["wall_time"].get<double>(), 0);
+    // sweep.csv: variant, contact_params.stiffness, contact_params.damping, status, ...
+    std::ifstream csv(id + "/" + stage + "/sweep.csv");
+    ASSERT_TRUE(csv.good()) << id << "/" << stage << "/sweep.csv is missing";
+    std::string line;
+    ASSERT_TRUE(std::getline(csv, line));
+    EXPECT_EQ(line.rfind("variant,contact_params.stiffness,contact_params.damping,status,", 0), 0u) << line;
+    std::vector<std::vector<std::string>> rows;
+    while (std::getline(csv, line)) {
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; cells.size() < 4 && std::getline(ls, c, ',');) cells.push_back(c);
+      rows.push_back(cells);
+    }
+    ASSERT_EQ(rows.size(), kd.size());
+    for (size_t i = 0; i < kd.size(); ++i) {
+      ASSERT_EQ(rows[i].size(), 4u);
+      EXPECT_EQ(std::stoi(rows[i][0]), static_cast<int>(i));
+      EXPECT_NEAR(std::stod(rows[i][1]), kd[i].first, 1e-9 * kd[i].first);
+      EXPECT_NEAR(std::stod(rows[i][2]), kd[i].second, 1e-9 * kd[i].second);
+      EXPECT_TRUE(rows[i][3] == "pass" || rows[i][3] == "fail") << rows[i][3];
+      // identify.json's run of this variant: the same K, D, measured from that folder's log
+      const nlohmann::json& run = j["runs"][total + i];
+      EXPECT_EQ(run["stage"], stage);
+      EXPECT_NEAR(run["k"].get<double>(), kd[i].first, 1e-9 * kd[i].first);
+      EXPECT_NEAR(run["d"].get<double>(), kd[i].second, 1e-9 * kd[i].second);
+      char v[32];
+      std::snprintf(v, sizeof(v), "/v%03zu", i);
+      EXPECT_EQ(run["dir"], id + "/" + stage + "/variants" + v);
+      EXPECT_TRUE(fs::exists(id + "/" + stage + "/variants" + v + "/run/log.csv"));
+    }
+    total += kd.size();
+  }
+  EXPECT_EQ(j["runs"].size(), total);
+}
+
+// Sensor noise on every measured channel of the log `in_path` (NoiseOf, seeded) into `out_path`.
+void AddNoise(const std::string& in_path, const std::string& out_path, int min_rows) {
+  std::ifstream in(in_path);
+  std::ofstream out(out_path);
+  std::string header, line;
+  ASSERT_TRUE(std::getline(in, header));
+  out << header << "\n";
+  std::vector<double> sd;
+  std::stringstream hs(header);
+  for (std::string c; std::getline(hs, c, ',');) sd.push_back(NoiseOf(c));
+  std::mt19937 rng(16);
+  std::normal_distribution<double> n(0.0, 1.0);
+  int rows = 0;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    size_t c = 0;
+    for (std::string v; std::getline(ls, v, ','); ++c) {
+      const double x = std::stod(v) + (c < sd.size() ? sd[c] * n(rng) : 0.0);
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%.9g", x);
+      out << (c ? "," : "") << buf;
+    }
+    out << "\n";
+    ++rows;
+  }
+  ASSERT_GT(rows, min_rows);
+}
+
+// ohrp_identify on `recording` (told nothing of the soles), its results in dir/id: the stages
+// run as sweeps; the refinement brought the final run onto the recording (its frequency within
+// 1 %, its log decrement within 5 %: the lines of (b) are straight to that); with
+// `expect_recovery` both estimates within 10 % of kStiffness and kDamping.
+void IdentifyAndCheck(const std::string& dir, const std::string& recording, const char* what,
+                      bool expect_recovery) {
+  // identify, told nothing of the soles
+  const int code = WaitExit(Spawn({Program("ohrp_identify"), recording, "--scenario",
+                                   kSource + "/scenarios/rocking_fig12.yaml", "--out", dir + "/id",
+                                   "--jobs", "2"},
+                                  dir + "/identify.out"),
+                            300);
+  ASSERT_EQ(code, 0) << ReadText(dir + "/identify.out");
+  std::ifstream in(dir + "/id/identify.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << ReadText(dir + "/identify.out");
+  const double k = j["refined"]["k"], d = j["refined"]["d"];
+  const double ka = j["closed_form"]["k"], da = j["closed_form"]["d"];
+  if (expect_recovery) {
+    EXPECT_NEAR(k, kStiffness, 0.10 * kStiffness);
+    EXPECT_NEAR(d, kDamping, 0.10 * kDamping);
+    // the linearised model alone, to the paper's 10 % as well
+    EXPECT_NEAR(ka, kStiffness, 0.10 * kStiffness);
+    EXPECT_NEAR(da, kDamping, 0.10 * kDamping);
+  }
+  const double f = j["recorded"]["frequency"], delta = j["recorded"]["log_decrement"];
+  EXPECT_NEAR(j["final"]["frequency"].get<double>(), f, 0.01 * f);
+  EXPECT_NEAR(j["final"]["log_decrement"].get<double>(), delta, 0.05 * delta);
+  EXPECT_GT(j["refined"]["k_se"].get<double>(), 0);
+  EXPECT_GT(j["refined"]["d_se"].get<double>(), 0);
+  ExpectStagesRanAsSweeps(dir + "/id", j, 0.15);  // --step's default
+  std::printf("[ figures  ] %s: soles 2e6 N/m, 45 s/m; recording f %.4f +- %.4f Hz, delta %.4f +- %.4f; "
+              "closed form K %.4g (%+.2f %%), D %.4g (%+.2f %%); refined K %.4g +- %.2g (%+.2f %%), "
+              "D %.4g +- %.2g (%+.2f %%); %zu simulations\n",
+              what, j["recorded"]["frequency"].get<double>(), j["recorded"]["frequency_se"].get<double>(),
+              j["recorded"]["log_decrement"].get<double>(), j["recorded"]["log_decrement_se"].get<double>(),
+              ka, 100 * (ka / kStiffness - 1), da, 100 * (da / kDamping - 1), k,
+              j["refined"]["k_se"].get<double>(), 100 * (k / kStiffness - 1), d,
+              j["refined"]["d_se"].get<double>(), 100 * (d / kDamping - 1), j["runs"].size());
+}
+
 TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
   for (const char* p : {"hw_emulator", "hw_driver", "posture", "ohrp_identify", "ohrp_run", "sim_host"})
     if (!fs::exists(Program(p))) GTEST_SKIP() << Program(p) << " is not built";
@@ -148,59 +278,43 @@ TEST(IdentifyRobot, RecoversTheSolesOfAnEmulatedRobotFromANoisyDriverLog) {
   ASSERT_TRUE(why.empty()) << why;
 
   // sensor noise on every measured channel, seeded
-  {
-    std::ifstream in(dir + "/robot.csv");
-    std::ofstream out(dir + "/robot_noisy.csv");
-    std::string header, line;
-    ASSERT_TRUE(std::getline(in, header));
-    out << header << "\n";
-    std::vector<double> sd;
-    std::stringstream hs(header);
-    for (std::string c; std::getline(hs, c, ',');) sd.push_back(NoiseOf(c));
-    std::mt19937 rng(16);
-    std::normal_distribution<double> n(0.0, 1.0);
-    int rows = 0;
-    while (std::getline(in, line)) {
-      std::stringstream ls(line);
-      size_t c = 0;
-      for (std::string v; std::getline(ls, v, ','); ++c) {
-        const double x = std::stod(v) + (c < sd.size() ? sd[c] * n(rng) : 0.0);
-        char buf[32];
-        std::snprintf(buf, sizeof(buf), "%.9g", x);
-        out << (c ? "," : "") << buf;
-      }
-      out << "\n";
-      ++rows;
-    }
-    ASSERT_GT(rows, 6000);  // 13.5 s at 2 ms
-  }
+  AddNoise(dir + "/robot.csv", dir + "/robot_noisy.csv", 6000);  // 13.5 s at 2 ms
+  if (HasFatalFailure()) return;
 
-  // identify, told nothing of the soles
-  const int code = WaitExit(Spawn({Program("ohrp_identify"), dir + "/robot_noisy.csv", "--scenario",
-                                   kSource + "/scenarios/rocking_fig12.yaml", "--out", dir + "/id"},
-                                  dir + "/identify.out"),
-                            300);
-  ASSERT_EQ(code, 0) << ReadText(dir + "/identify.out");
-  std::ifstream in(dir + "/id/identify.json");
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << ReadText(dir + "/identify.out");
-  const double k = j["refined"]["k"], d = j["refined"]["d"];
-  const double ka = j["closed_form"]["k"], da = j["closed_form"]["d"];
-  EXPECT_NEAR(k, kStiffness, 0.10 * kStiffness);
-  EXPECT_NEAR(d, kDamping, 0.10 * kDamping);
-  // the linearised model alone, to the paper's 10 % as well
-  EXPECT_NEAR(ka, kStiffness, 0.10 * kStiffness);
-  EXPECT_NEAR(da, kDamping, 0.10 * kDamping);
-  EXPECT_GT(j["refined"]["k_se"].get<double>(), 0);
-  EXPECT_GT(j["refined"]["d_se"].get<double>(), 0);
-  std::printf("[ figures  ] robot soles 2e6 N/m, 45 s/m; recording f %.4f +- %.4f Hz, delta %.4f +- %.4f; "
-              "closed form K %.4g (%+.2f %%), D %.4g (%+.2f %%); refined K %.4g +- %.2g (%+.2f %%), "
-              "D %.4g +- %.2g (%+.2f %%); %zu simulations\n",
-              j["recorded"]["frequency"].get<double>(), j["recorded"]["frequency_se"].get<double>(),
-              j["recorded"]["log_decrement"].get<double>(), j["recorded"]["log_decrement_se"].get<double>(),
-              ka, 100 * (ka / kStiffness - 1), da, 100 * (da / kDamping - 1), k,
-              j["refined"]["k_se"].get<double>(), 100 * (k / kStiffness - 1), d,
-              j["refined"]["d_se"].get<double>(), 100 * (d / kDamping - 1), j["runs"].size());
+  IdentifyAndCheck(dir, dir + "/robot_noisy.csv", "emulated robot", true);
+  if (!HasFailure()) fs::remove_all(dir);  // kept for a look otherwise
+}
+
+// The same identification on a recording sim_host makes itself: the scenario with the soles
+// 2e6 N/m and 45 s/m (contact_params), run by ohrp_run (not in real time: it does not depend on
+// a quiet machine, unlike the test above), the same sensor noise added. It checks the stages'
+// sweeps and the refinement's convergence on the recording, not the recovery (below).
+TEST(IdentifySimulated, RecoversTheSolesOfANoisySimulatedRecordingThroughSweeps) {
+  for (const char* p : {"ohrp_identify", "ohrp_run", "sim_host", "posture"})
+    if (!fs::exists(Program(p))) GTEST_SKIP() << Program(p) << " is not built";
+  const std::string tmp = TempPath("identify_sim");
+  const std::string dir = tmp + ".d";
+  fs::remove(tmp);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  char params[96];
+  std::snprintf(params, sizeof(params), "contact_params: {stiffness: %.9g, damping: %.9g}\n",
+                kStiffness, kDamping);
+  std::ofstream(dir + "/robot.yaml") << ReadText(kSource + "/scenarios/rocking_fig12.yaml") << params;
+  const int run = WaitExit(Spawn({Program("ohrp_run"), dir + "/robot.yaml", "--out", dir + "/robot",
+                                  "--no-plot", "-q"},
+                                 dir + "/robot.out"),
+                           300);
+  ASSERT_EQ(run, 0) << ReadText(dir + "/robot.out");
+  AddNoise(dir + "/robot/log.csv", dir + "/robot_noisy.csv", 1000);
+  if (HasFatalFailure()) return;
+  // not the 10 % here (measured: K -2.7 %, D -20.5 %): on this recording the alignment on the
+  // nominal run (3e6 N/m, 30 s/m, 3.0 Hz against the recording's 2.45 Hz) finds a lag of 0.059 s
+  // where the true one is 0, and the recording's oscillation measured over the shifted window
+  // comes out at f 2.417 +- 0.029 Hz, delta 0.58 +- 0.05 (over the true window, one channel:
+  // 2.449 Hz, 0.716). main's serial identify gives the same figures on the same file: a
+  // weakness of the alignment (docs/identify.md, "What is weak"), not of the sweeps.
+  IdentifyAndCheck(dir, dir + "/robot_noisy.csv", "simulated robot", false);
   if (!HasFailure()) fs::remove_all(dir);  // kept for a look otherwise
 }
 

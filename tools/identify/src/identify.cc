@@ -14,6 +14,7 @@
 #include "robot_model/model.h"
 #include "runner/checks.h"
 #include "runner/scenario.h"
+#include "simulate.h"
 
 namespace ohrp::identify {
 namespace {
@@ -139,7 +140,7 @@ std::string Fmt(const char* f, double a, double b = 0, double c = 0, double d = 
 
 }  // namespace
 
-int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r, std::string* error) {
+int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
   auto say = [&](const std::string& s) {
     if (!o.quiet) std::fprintf(stderr, "ohrp identify: %s\n", s.c_str());
   };
@@ -159,6 +160,15 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
              "and the free rocking after it (scenarios/rocking_fig12.yaml)";
     return kUsage;
   }
+  // the simulations set the soles through contact_params; the scenario's own sim_args come
+  // after them on sim_host's command line and would win
+  for (const auto& a : sc.sim_args)
+    if (a == "--contact-stiffness" || a == "--contact-damping") {
+      *error = o.scenario + ": sim_args has " + a + ", which would override the K and D the "
+               "simulations set (contact_params.stiffness, .damping): give the soles in "
+               "contact_params instead";
+      return kUsage;
+    }
   const std::string scene = sc.scene.empty() || sc.scene[0] == '/' ? sc.scene : o.source_dir + "/" + sc.scene;
   std::string err;
   auto model = model::Scene::Load(scene, &err);
@@ -172,22 +182,34 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
   r->to = r->from + o.window;
 
   //---- the simulated experiment at sim_host's default soles: where the recording's window is
-  int n = 0;
-  auto simulate = [&](double k, double d, Measured* m) -> bool {
-    const std::string dir = o.out_dir + "/run" + std::to_string(n++);
-    std::string log;
-    if (!run(k, d, dir, &log, error)) return false;
-    runner::Table t;
-    if (!t.Load(log, error) || !Measure(t, log, o.channel, r->from, r->to, m, error, r->noise))
-      return false;
-    r->runs.push_back({{"k", k}, {"d", d}, {"frequency", m->osc.frequency},
-                       {"log_decrement", m->osc.log_decrement}, {"dir", dir}});
-    say(Fmt("simulated K %.4g N/m, D %.4g s/m: f %.4f Hz, log decrement %.4f", k, d,
-            m->osc.frequency, m->osc.log_decrement));
+  // each stage's runs are one sweep (simulate.h), measured as the recording is
+  auto simulate = [&](const std::string& stage, const std::vector<std::pair<double, double>>& kd,
+                      std::vector<Measured>* ms) -> bool {
+    std::vector<std::string> dirs;
+    nlohmann::json record;
+    const bool ran = SimulateStage(o, stage, kd, &dirs, &record, error);
+    if (!record.is_null()) r->sweeps.push_back(record);
+    if (!ran) return false;
+    say("stage " + stage + Fmt(": %g simulations in %.1f s wall", static_cast<double>(kd.size()),
+                               record["wall_time"].get<double>()));
+    ms->assign(kd.size(), Measured{});
+    for (size_t i = 0; i < kd.size(); ++i) {
+      const auto [k, d] = kd[i];
+      Measured& m = (*ms)[i];
+      const std::string log = dirs[i] + "/run/log.csv";
+      runner::Table t;
+      if (!t.Load(log, error) || !Measure(t, log, o.channel, r->from, r->to, &m, error, r->noise))
+        return false;
+      r->runs.push_back({{"k", k}, {"d", d}, {"frequency", m.osc.frequency},
+                         {"log_decrement", m.osc.log_decrement}, {"stage", stage}, {"dir", dirs[i]}});
+      say(Fmt("simulated K %.4g N/m, D %.4g s/m: f %.4f Hz, log decrement %.4f", k, d,
+              m.osc.frequency, m.osc.log_decrement));
+    }
     return true;
   };
-  Measured nominal;
-  if (!simulate(p.stiffness, p.damping, &nominal)) return kFailed;
+  std::vector<Measured> nominal_run;
+  if (!simulate("nominal", {{p.stiffness, p.damping}}, &nominal_run)) return kFailed;
+  const Measured& nominal = nominal_run[0];
   const auto& rt = rec.col(rec.Column("time"));
   if (!compare::CrossCorrelationLag(nominal.t, nominal.x, rt, rx, 0.0, 2.0, &r->lag, &err)) {
     *error = "aligning the recording on the simulation (" + o.channel + "): " + err;
@@ -237,12 +259,14 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
       Fmt("K %.4g +- %.2g N/m, D %.4g +- %.2g s/m", ka, r->closed_form.k_se, da, r->closed_form.d_se));
 
   //---- (b) simulations around it: f against K at D_a, then the log decrement against D
+  std::vector<std::pair<double, double>> kd;
+  for (double s : {1 - o.step, 1.0, 1 + o.step}) kd.emplace_back(ka * s, da);
+  std::vector<Measured> k_runs;
+  if (!simulate("k", kd, &k_runs)) return kFailed;
   std::vector<double> ks, fs;
-  for (double s : {1 - o.step, 1.0, 1 + o.step}) {
-    Measured m;
-    if (!simulate(ka * s, da, &m)) return kFailed;
-    ks.push_back(ka * s);
-    fs.push_back(m.osc.frequency);
+  for (size_t i = 0; i < kd.size(); ++i) {
+    ks.push_back(kd[i].first);
+    fs.push_back(k_runs[i].osc.frequency);
   }
   double fa = 0;
   const double dfdk = Line(ks, fs, &fa);
@@ -251,12 +275,14 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
     return kFailed;
   }
   const double kb = (r->f - fa) / dfdk;
+  kd.clear();
+  for (double s : {1 - 2 * o.step, 1.0, 1 + 2 * o.step}) kd.emplace_back(kb, da * s);
+  std::vector<Measured> d_runs;
+  if (!simulate("d", kd, &d_runs)) return kFailed;
   std::vector<double> ds, dels;
-  for (double s : {1 - 2 * o.step, 1.0, 1 + 2 * o.step}) {
-    Measured m;
-    if (!simulate(kb, da * s, &m)) return kFailed;
-    ds.push_back(da * s);
-    dels.push_back(m.osc.log_decrement);
+  for (size_t i = 0; i < kd.size(); ++i) {
+    ds.push_back(kd[i].second);
+    dels.push_back(d_runs[i].osc.log_decrement);
   }
   double dela = 0;
   const double ddeldd = Line(ds, dels, &dela);
@@ -268,8 +294,9 @@ int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r,
   r->refined = {kb, r->f_se / dfdk, db, r->delta_se / ddeldd};
 
   //---- (c) the run at the refined K, D against the recording
-  Measured fin;
-  if (!simulate(kb, db, &fin)) return kFailed;
+  std::vector<Measured> final_run;
+  if (!simulate("final", {{kb, db}}, &final_run)) return kFailed;
+  const Measured& fin = final_run[0];
   r->final_f = fin.osc.frequency;
   r->final_delta = fin.osc.log_decrement;
   double s2 = 0;

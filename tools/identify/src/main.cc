@@ -7,6 +7,7 @@
 
 #include "cli/command_line.h"
 #include "identify/identify.h"
+#include "sweep/executor_options.h"
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
@@ -22,8 +23,10 @@ int main(int argc, char** argv) {
       "inertia and centre of mass in the recorded posture; (b) simulations of the experiment\n"
       "(ohrp_run) around that estimate bring the simulated frequency and decay onto the\n"
       "recording's; (c) uncertainties from the measurement's standard errors through the\n"
-      "simulated slopes. Writes DIR/identify.json, the runs in DIR/runN and the last run\n"
-      "against the recording in DIR/compare/ (ohrp_compare_logs: compare.png).",
+      "simulated slopes. Each stage's simulations are one sweep (ohrp sweep's library), run\n"
+      "in parallel (--jobs) or as a Slurm array job (--slurm). Writes DIR/identify.json, the\n"
+      "sweeps in DIR/{nominal,k,d,final}/ (sweep.csv, table.md, variants/vNNN/run) and the last\n"
+      "run against the recording in DIR/compare/ (ohrp_compare_logs: compare.png).",
       "ohrp_identify"};
   app.add_option("recording", o.recording, "the robot's data log (hw_driver --log)")
       ->required()->check(CLI::ExistingFile);
@@ -40,23 +43,29 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ohrp::cli::InRange(0.01, 0.5));
   app.add_option("--out", o.out_dir, "folder for identify.json and the simulations")->capture_default_str();
   app.add_flag("--quiet,-q", o.quiet, "print the result only");
+  ohrp::sweep::AddExecutorOptions(&app, &o.executor, "simulations of a stage");
   app.footer(
       "Exit codes: 0 identified, 1 a simulation failed or the refinement could not proceed,\n"
       "2 bad option or input (a missing or malformed recording, an unknown channel, a scenario\n"
       "without a push, no oscillation in the recording). docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  const std::string ohrp_run = (fs::path(argv[0]).parent_path() / "ohrp_run").string();
-  if (!fs::exists(ohrp_run)) {
-    std::fprintf(stderr, "ohrp_identify: %s is not built (it runs the simulations)\n", ohrp_run.c_str());
-    return 2;
+  o.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
+  o.executor.progress = !o.quiet;
+  for (const char* program : {"ohrp_run", "ohrp_sweep"}) {
+    // ohrp_run runs each simulation; a Slurm array task runs it through ohrp_sweep --task
+    if (std::string(program) == "ohrp_sweep" && o.executor.kind != ohrp::sweep::Executor::kSlurm) continue;
+    if (!fs::exists(fs::path(o.bin_dir) / program)) {
+      std::fprintf(stderr, "ohrp_identify: %s/%s is not built (it runs the simulations)\n",
+                   o.bin_dir.c_str(), program);
+      return 2;
+    }
   }
   std::error_code ec;
   fs::create_directories(o.out_dir, ec);
   o.out_dir = fs::absolute(o.out_dir).string();
   ohrp::identify::IdentifyResult r;
   std::string error;
-  const int code = ohrp::identify::Identify(
-      o, ohrp::identify::OhrpRunVariant(ohrp_run, o.scenario), &r, &error);
+  const int code = ohrp::identify::Identify(o, &r, &error);
   if (code != 0) {
     std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
     return code;
@@ -76,10 +85,11 @@ int main(int argc, char** argv) {
                   {"d_se", r.refined.d_se}};
   j["final"] = {{"frequency", r.final_f}, {"log_decrement", r.final_delta}, {"rms", r.final_rms}};
   j["runs"] = r.runs;
+  j["sweeps"] = r.sweeps;
   std::ofstream(o.out_dir + "/identify.json") << j.dump(2) << "\n";
   // the paper's figure 12: the run at the identified K, D and the recording on the same axes
   // (ohrp_compare_logs, aligned by the lag found: DIR/compare/compare.png)
-  const std::string compare = (fs::path(argv[0]).parent_path() / "ohrp_compare_logs").string();
+  const std::string compare = (fs::path(o.bin_dir) / "ohrp_compare_logs").string();
   if (fs::exists(compare) && !r.runs.empty()) {
     auto quote = [](const std::string& s) {
       std::string q = "'";

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "cli/command_line.h"
+#include "sweep/executor_options.h"
 #include "sweep/sweep.h"
 
 namespace fs = std::filesystem;
@@ -12,7 +13,7 @@ int main(int argc, char** argv) {
   std::string file, out_dir, task_dir;
   ohrp::sweep::Executor ex;
   ohrp::sweep::RunContext ctx;
-  bool slurm = false, check_only = false, quiet = false;
+  bool check_only = false, quiet = false;
   CLI::App app{
       "ohrp_sweep: one scenario run many times with parameters varied (scenario keys by path:\n"
       "lists, ranges, grids, zipped lists), each variant one headless ohrp_run with its own folder\n"
@@ -21,19 +22,7 @@ int main(int argc, char** argv) {
       "Format: docs/sweep.md."};
   app.add_option("sweep", file, "sweep file (YAML)")->check(CLI::ExistingFile);
   app.add_option("--out", out_dir, "sweep folder (default: runs/sweep-<name>-<date>-<time>)");
-  app.add_option("--jobs,-j", ex.jobs, "local: variants at once (default: the number of cores)")
-      ->check(ohrp::cli::InRange(0, 256));
-  app.add_flag("--slurm", slurm, "submit the variants as one Slurm array job (sbatch --array) and "
-                                 "gather the results when it ends");
-  app.add_option("--partition", ex.partition, "--slurm: the partition (default: the cluster's)");
-  app.add_option("--time", ex.time, "--slurm: each task's time limit as sbatch takes it "
-                                    "(default: the sweep's time_limit + 1 min)");
-  app.add_option("--max-running", ex.max_running, "--slurm: tasks at once (--array=0-N%M; 0: no limit)")
-      ->check(ohrp::cli::InRange(0, 100000));
-  app.add_option("--sbatch-arg", ex.sbatch_args, "--slurm: one more sbatch option, e.g. "
-                                                 "--sbatch-arg=--cpus-per-task=2 (repeatable)");
-  app.add_option("--poll", ex.poll_interval, "--slurm: seconds between squeue polls")
-      ->check(ohrp::cli::InRange(0.05, 600))->capture_default_str();
+  ohrp::sweep::AddExecutorOptions(&app, &ex);
   app.add_flag("--run-plots", ctx.run_plots, "each variant's own plot.png (ohrp_run without --no-plot)");
   app.add_flag("--check", check_only, "read and check the sweep file, list the variants, run nothing");
   app.add_flag("--quiet,-q", quiet, "no progress lines");
@@ -46,7 +35,6 @@ int main(int argc, char** argv) {
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ctx.source_dir = OHRP_SOURCE_DIR;
   ctx.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
-  ex.kind = slurm ? ohrp::sweep::Executor::kSlurm : ohrp::sweep::Executor::kLocal;
   ex.progress = !quiet;
 
   // a Slurm array task

@@ -4,9 +4,10 @@
 //       the free oscillation after the push) through the linearised model (rocking.h, with the
 //       robot's mass, inertia and centre of mass from the model in the recorded posture):
 //       K_a, D_a, their standard errors propagated from the measurement's;
-//   (b) simulations of the same experiment (the scenario with the soles' K and D in its
-//       sim_args, each through one RunVariant, which a sweep executor can replace) around the
-//       estimate: the simulated frequency against K at D_a (three runs, a line through them:
+//   (b) simulations of the same experiment (the scenario with the soles' K and D set as its
+//       contact_params.stiffness and .damping) around the estimate, each stage one sweep
+//       (ohrp::sweep, its runs in parallel locally or as a Slurm array job): the simulated
+//       frequency against K at D_a (three runs, a line through them:
 //       K where it equals the recording's), then the simulated log decrement against D at that
 //       K (three runs): the mismatch of frequency and decay brought to zero. The simulations
 //       are measured with the recording's noise added (its sigma from the channel, the mean of
@@ -16,35 +17,27 @@
 //       (K, D) compared with the recording (compare-logs RMS, frequency and decay differences).
 #pragma once
 
-#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "sweep/sweep.h"
+
 namespace ohrp::identify {
-
-// One simulation of the experiment with soles (K [N/m], D [s/m]), its outputs in `dir`; the
-// data log's path in *log. False with *error.
-using RunVariant = std::function<bool(double k, double d, const std::string& dir, std::string* log,
-                                      std::string* error)>;
-
-// The default RunVariant: `ohrp_run SCENARIO` with "--contact-stiffness K --contact-damping D"
-// added to the scenario's sim_args (a copy of the scenario in `dir`).
-// (The scenario's relative paths are the repository's, as ohrp_run resolves them: the copy
-// may live anywhere.)
-RunVariant OhrpRunVariant(const std::string& ohrp_run, const std::string& scenario);
 
 struct IdentifyOptions {
   std::string recording;          // the robot's data log (hw_driver --log)
   std::string scenario;           // the experiment (scenarios/rocking_fig12.yaml)
   std::string source_dir;         // repository root: the scenario's scene is relative to it
+  std::string bin_dir;            // ohrp_run, sim_host, the controllers (and ohrp_sweep for Slurm)
+  sweep::Executor executor;       // how each stage's simulations run (local: in parallel)
   std::string channel = "rfsensor_ty,lfsensor_ty";  // the oscillating channel measured (a
                                   // comma-separated list: their sum, here both ankles' pitch
                                   // moments: twice the swing, sqrt 2 the noise)
   double settle = 0.15;           // [s] after the push's end before the free oscillation
   double window = 3.0;            // [s] of free oscillation measured
   double step = 0.15;             // relative step of the K and D runs around the estimate
-  std::string out_dir;            // variants' folders, identify.json
+  std::string out_dir;            // the stages' sweep folders, identify.json
   bool quiet = false;
 };
 
@@ -61,11 +54,12 @@ struct IdentifyResult {
   Estimate closed_form;             // (a)
   Estimate refined;                 // (b), (c)
   double final_f = 0, final_delta = 0, final_rms = 0;  // the run at the refined K, D
-  nlohmann::json runs = nlohmann::json::array();      // every simulation: K, D, f, delta
+  nlohmann::json runs = nlohmann::json::array();      // every simulation: K, D, f, delta, dir
+  nlohmann::json sweeps = nlohmann::json::array();    // every stage's sweep: folder, wall time
 };
 
 // Exit code 0, or 2 (bad input: files, channel, no oscillation in the recording) or 1 (a
 // simulation failed) with *error.
-int Identify(const IdentifyOptions& o, const RunVariant& run, IdentifyResult* r, std::string* error);
+int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error);
 
 }  // namespace ohrp::identify
