@@ -160,12 +160,16 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
     mjtNum* rows = jac_.data() + static_cast<size_t>(6 * k) * nv;
     mj_jacBodyCom(m, d, rows, rows + 3 * nv, bodies_[k]);
   }
-  mj_solveM(m, d, minv_jt_.data(), jac_.data(), n);
+  // half of the solve per Jacobian row, x = D^-1/2 L'^-1 j (M = L' D L), then A = X X^T:
+  // half the work of mj_solveM and a symmetric product
+  mj_solveM2(m, d, minv_jt_.data(), jac_.data(), n);
   using RowMat = Eigen::Matrix<mjtNum, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const Eigen::Map<const RowMat> J(jac_.data(), n, nv);
   const Eigen::Map<const RowMat> X(minv_jt_.data(), n, nv);
   const Eigen::Map<const Eigen::VectorXd> qacc(d->qacc, nv);
-  mobility_.noalias() = J * X.transpose();
+  mobility_.setZero();
+  mobility_.selfadjointView<Eigen::Lower>().rankUpdate(X);
+  mobility_.triangularView<Eigen::StrictlyUpper>() = mobility_.transpose();
   // per body: W0 (the window force at v1 = v0, and the friction of the law at the start) and
   // B = dW / d(end twist)
   for (int k = 0; k < nb; ++k) {

@@ -138,9 +138,9 @@ class SoftFootContact {
   std::vector<int> bodies_;                               // bodies carrying soles, each once
   std::vector<Eigen::Matrix<double, 6, 1>> applied_;      // per body: what Apply() added
   bool at_every_stage_ = false;
-  // implicit step scratch, sized at Create: per body 6x6 stiffness / damping about the centre
-  // of mass, the stacked body Jacobians (6 rows per body), M^-1 J^T, the apparent inverse
-  // inertia, twist changes, wrenches and the LU of the small system
+  // implicit step scratch, sized at Create: per body 6x6 matrices about the centre of mass, the
+  // stacked body Jacobians (6 rows per body), their half solves D^-1/2 L'^-1 J^T, the apparent
+  // inverse inertia, twist changes, wrenches and the LU of the small system
   bool implicit_ = true;
   // stiff_: the law's static stiffness (for the window's lam); damp_: the wrench's derivative
   // in the end twist; normal_: the direction the sum of the normal forces must not turn over
