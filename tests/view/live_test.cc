@@ -228,10 +228,21 @@ TEST_F(Live, AHardwareProducersBaseIsLabelledAsEstimatedFromTheImu) {
   shm::Status status;
   auto producer = shm::Producer::Create(config, &status);
   ASSERT_TRUE(producer) << status.message;
-  // sensor blocks at 200 Hz: straight joints, the IMU tilted 20 deg about x, no kSimulated
+  ASSERT_GT(config.cameras.size(), 0u);
+  // sensor blocks at 200 Hz: straight joints, the IMU tilted 20 deg about x, no kSimulated; and
+  // while somebody asks, a 64 x 48 image of camera 0 at 10 Hz (left half blue, right half yellow)
   std::atomic<bool> stop{false};
+  std::vector<uint8_t> rgb(64 * 48 * 3);
+  for (int i = 0; i < 64 * 48; ++i) {
+    const bool left = i % 64 < 32;
+    rgb[3 * i] = left ? 0 : 255;
+    rgb[3 * i + 1] = left ? 0 : 255;
+    rgb[3 * i + 2] = left ? 255 : 0;
+  }
   std::thread publisher([&] {
     for (uint64_t k = 0; !stop; ++k) {
+      if (k % 20 == 0 && (producer->ImagesRequested() & 1))
+        producer->PublishImage(0, 0.005 * k, 64, 48, rgb.data(), nullptr);
       shm::SensorBlock& s = producer->BeginSensors();
       s.cycle = k;
       s.time = 0.005 * k;
@@ -246,16 +257,25 @@ TEST_F(Live, AHardwareProducersBaseIsLabelledAsEstimatedFromTheImu) {
   Viewer viewer;
   StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
   EXPECT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  usleep(500000);
+  EXPECT_EQ(producer->ImagesRequested(), 0u) << "a viewer without a page asked for images";
   if (!viewer.url.empty()) {
-    Browser browser(viewer.url);
+    Browser browser(viewer.url + "?images=1");
     EXPECT_TRUE(browser.ok()) << browser.error();
     EXPECT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 2"));
     EXPECT_EQ(browser.Eval("document.getElementById('base').textContent").get<std::string>(),
               "base pose: estimated from IMU");
     EXPECT_EQ(browser.Eval("document.getElementById('title').textContent").get<std::string>(),
               "segment " + segment_ + " (hardware)");
+    // the hardware producer's image, drawn as it was published
+    EXPECT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 2"));
+    EXPECT_EQ(browser.Eval("(() => { const c = document.getElementById('camimg0').getContext('2d');"
+                           " return [...c.getImageData(10, 24, 1, 1).data, ...c.getImageData(54, 24, 1, 1).data]; })()"),
+              nlohmann::json({0, 0, 255, 255, 255, 255, 0, 255}));
     browser.Screenshot(OutputDir("live") + "/hardware_imu.png");
   }
+  // the page closed (the browser ended): the request is withdrawn
+  EXPECT_TRUE(shm::testing::WaitFor([&] { return producer->ImagesRequested() == 0; }, 5.0));
   stop = true;
   publisher.join();
 }
