@@ -1,7 +1,8 @@
 // ohrp_view on a running segment (tools/view/src/live.cc): headless Chromium shows HRP-1S
 // standing under sim_host + posture, and its plots advance with simulated time; a viewer that
 // is stopped (SIGSTOP) or killed never slows or breaks the lock-step run; a segment that does
-// not exist is refused with a clear message and exit code 2.
+// not exist is refused with a clear message and exit code 2; the camera images are shown only
+// while a page asks, and then they are the segment's pixels.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -13,6 +14,7 @@
 #include "robot_model/model.h"
 #include "robot_model/sensors.h"
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/observer.h"
 #include "view_process.h"
 
 namespace ohrp::view::testing {
@@ -37,10 +39,12 @@ class Live : public ::testing::Test {
     fs::remove_all(dir_);
   }
   // sim_host on the flat floor (lock-step unless `realtime`); it waits for posture
-  pid_t StartSim(double duration, bool realtime) {
-    std::vector<std::string> args{kScene, "--segment", segment_, "--duration", std::to_string(duration),
+  pid_t StartSim(double duration, bool realtime, const std::string& scene = kScene,
+                 const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> args{scene, "--segment", segment_, "--duration", std::to_string(duration),
                                   "--progress", "0", "--wait-controller", "20"};
     if (realtime) args.push_back("--realtime");
+    args.insert(args.end(), extra.begin(), extra.end());
     const pid_t sim = Start("sim_host", args, (dir_ / "sim_host.txt").string());
     children_.push_back(sim);
     return sim;
@@ -93,6 +97,101 @@ TEST_F(Live, ShowsTheRobotAndThePlotsAdvanceWithSimulatedTime) {
   EXPECT_GT(robot.n, 2000) << out << "/live.png";
 }
 
+// the ball's red (scene_ball.xml: rgba 0.9 0.1 0.1, shaded by the headlight)
+bool BallRed(int r, int g, int b) { return r > 100 && r > 3 * g && r > 3 * b; }
+
+TEST_F(Live, ShowsTheCameraImagesOnlyWhileAPageAsks) {
+  const std::string ball = kSource + "/mjcf/hrp1s/scene_ball.xml";
+  const double camera_rate = 20;
+  StartSim(120, true, ball, {"--camera-size", "320x240", "--camera-rate", "20"});
+  StartPosture();
+  Viewer viewer;
+  StartViewer(&viewer, {segment_, "--port", "0", "--attach-timeout", "20", "--scene", ball},
+              (dir_ / "viewer.txt").string());
+  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  // the test's own observer, which never asks: it sees the frames somebody else asked for
+  shm::Observer reference;
+  ASSERT_TRUE(reference.open(segment_).ok());
+  ASSERT_EQ(reference.header().ncamera, 2);
+  auto slot = std::make_unique<shm::ImageSlot>();
+  Browser browser(viewer.url);
+  ASSERT_TRUE(browser.ok()) << browser.error();
+  auto num = [&](const std::string& key) {
+    return browser.Eval("Number(document.getElementById('state').dataset." + key + ")").get<double>();
+  };
+  // a page open, its camera box not ticked: the producer is not asked, nothing is rendered
+  ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 5"));
+  EXPECT_FALSE(browser.Eval("document.getElementById('images_toggle').hidden").get<bool>());
+  usleep(1500000);
+  EXPECT_EQ(reference.read_image(0, 0, slot.get()), shm::ImageResult::kNoFrame);
+  EXPECT_EQ(num("images"), 0);
+
+  // ticked: images arrive, and their frame counter follows simulated time at the camera rate
+  const double w0 = shm::testing::Now();
+  browser.Eval("document.getElementById('show_images').click()");
+  ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 4", 30.0))
+      << ReadAll(viewer.out_file);
+  // the last image's frame counter and capture time, read together (in one evaluation)
+  auto last_image = [&](double* frame, double* t) {
+    const nlohmann::json j = browser.Eval(
+        "(() => { const d = document.getElementById('state').dataset; return [Number(d.imageFrame), Number(d.imageT)]; })()");
+    *frame = j[0].get<double>();
+    *t = j[1].get<double>();
+  };
+  double f1, t1, f2, t2;
+  const double n1 = num("images"), w1 = shm::testing::Now();
+  last_image(&f1, &t1);
+  usleep(3000000);
+  const double n2 = num("images"), w2 = shm::testing::Now();
+  last_image(&f2, &t2);
+  std::printf("camera images drawn by the page: %.1f per second since it asked, %.1f in the last "
+              "%.1f s (2 cameras, at most 10 each sent); simulated time %.2f s in that time\n",
+              n2 / (w2 - w0), (n2 - n1) / (w2 - w1), w2 - w1, t2 - t1);
+  EXPECT_GT(t2, t1 + 0.3);
+  EXPECT_NEAR(f2 - f1, camera_rate * (t2 - t1), 1.5);
+  // the viewer sends at most --image-rate (10) per camera per second of wall time; the page may
+  // draw a backlog faster, but never more than was sent since it asked
+  EXPECT_LE(n2, 2 * (10 * (w2 - w0) + 1));
+  EXPECT_NE(browser.Eval("document.getElementById('camcap0').textContent").get<std::string>().find("LeftCamera: frame"),
+            std::string::npos);
+
+  // the page's pixels are the segment's: the ball's red where the segment's frame has it
+  ASSERT_EQ(reference.read_image(0, 0, slot.get()), shm::ImageResult::kOk);
+  const int w = slot->width, h = slot->height;
+  double u = 0, v = 0;
+  int n = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint8_t* p = slot->rgb + 3 * (y * w + x);
+      if (BallRed(p[0], p[1], p[2])) { u += x; v += y; ++n; }
+    }
+  ASSERT_GT(n, 20) << "no ball in the segment's left camera image";
+  u /= n;
+  v /= n;
+  EXPECT_LT(u, w / 2.0) << "the ball lies 20 deg to the left of the optical axis";
+  const std::string out = OutputDir("live");
+  ASSERT_TRUE(browser.Screenshot(out + "/camera_images.png"));
+  const nlohmann::json r = nlohmann::json::parse(browser.Eval(
+      "JSON.stringify(document.getElementById('camimg0').getBoundingClientRect())").get<std::string>());
+  const double left = r["left"].get<double>(), top = r["top"].get<double>();
+  const double sx = r["width"].get<double>() / w, sy = r["height"].get<double>() / h;
+  const PixelCount red = CountPixels(out + "/camera_images.png", int(left), int(top), int(left + sx * w),
+                                     int(top + sy * h), BallRed);
+  ASSERT_GT(red.n, 5) << out << "/camera_images.png";
+  // the robot stands still (posture): a few pixels of the 320 x 240 image
+  EXPECT_NEAR((red.x - left) / sx, u, 4.0) << out << "/camera_images.png";
+  EXPECT_NEAR((red.y - top) / sy, v, 4.0) << out << "/camera_images.png";
+
+  // unticked: the request is withdrawn, no new frame is rendered
+  browser.Eval("document.getElementById('show_images').click()");
+  usleep(1500000);
+  uint64_t last = 0;
+  if (reference.read_image(0, 0, slot.get()) == shm::ImageResult::kOk) last = slot->frame;
+  usleep(1500000);
+  EXPECT_EQ(reference.read_image(0, last, slot.get()), shm::ImageResult::kNoFrame)
+      << "frames still rendered after the page stopped asking";
+}
+
 TEST_F(Live, AStoppedOrKilledViewerDoesNotSlowTheLockStep) {
   // the same lock-step run without a viewer, then with one stopped and one killed before the
   // controller starts (the run's time is taken from then)
@@ -130,10 +229,21 @@ TEST_F(Live, AHardwareProducersBaseIsLabelledAsEstimatedFromTheImu) {
   shm::Status status;
   auto producer = shm::Producer::Create(config, &status);
   ASSERT_TRUE(producer) << status.message;
-  // sensor blocks at 200 Hz: straight joints, the IMU tilted 20 deg about x, no kSimulated
+  ASSERT_GT(config.cameras.size(), 0u);
+  // sensor blocks at 200 Hz: straight joints, the IMU tilted 20 deg about x, no kSimulated; and
+  // while somebody asks, a 64 x 48 image of camera 0 at 10 Hz (left half blue, right half yellow)
   std::atomic<bool> stop{false};
+  std::vector<uint8_t> rgb(64 * 48 * 3);
+  for (int i = 0; i < 64 * 48; ++i) {
+    const bool left = i % 64 < 32;
+    rgb[3 * i] = left ? 0 : 255;
+    rgb[3 * i + 1] = left ? 0 : 255;
+    rgb[3 * i + 2] = left ? 255 : 0;
+  }
   std::thread publisher([&] {
     for (uint64_t k = 0; !stop; ++k) {
+      if (k % 20 == 0 && (producer->ImagesRequested() & 1))
+        producer->PublishImage(0, 0.005 * k, 64, 48, rgb.data(), nullptr);
       shm::SensorBlock& s = producer->BeginSensors();
       s.cycle = k;
       s.time = 0.005 * k;
@@ -148,16 +258,25 @@ TEST_F(Live, AHardwareProducersBaseIsLabelledAsEstimatedFromTheImu) {
   Viewer viewer;
   StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
   EXPECT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  usleep(500000);
+  EXPECT_EQ(producer->ImagesRequested(), 0u) << "a viewer without a page asked for images";
   if (!viewer.url.empty()) {
-    Browser browser(viewer.url);
+    Browser browser(viewer.url + "?images=1");
     EXPECT_TRUE(browser.ok()) << browser.error();
     EXPECT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 2"));
     EXPECT_EQ(browser.Eval("document.getElementById('base').textContent").get<std::string>(),
               "base pose: estimated from IMU");
     EXPECT_EQ(browser.Eval("document.getElementById('title').textContent").get<std::string>(),
               "segment " + segment_ + " (hardware)");
+    // the hardware producer's image, drawn as it was published
+    EXPECT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 2"));
+    EXPECT_EQ(browser.Eval("(() => { const c = document.getElementById('camimg0').getContext('2d');"
+                           " return [...c.getImageData(10, 24, 1, 1).data, ...c.getImageData(54, 24, 1, 1).data]; })()"),
+              nlohmann::json({0, 0, 255, 255, 255, 255, 0, 255}));
     browser.Screenshot(OutputDir("live") + "/hardware_imu.png");
   }
+  // the page closed (the browser ended): the request is withdrawn
+  EXPECT_TRUE(shm::testing::WaitFor([&] { return producer->ImagesRequested() == 0; }, 5.0));
   stop = true;
   publisher.join();
 }

@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "robot_model/model_hash.h"
 #include "view/source.h"
@@ -36,10 +37,12 @@ nlohmann::json StatusNames(uint32_t bits) {
 }  // namespace
 
 std::unique_ptr<LiveSource> LiveSource::Open(const std::string& segment, const std::string& scene,
-                                             double rate, double attach_timeout, std::string* error) {
+                                             double rate, double image_rate, double attach_timeout,
+                                             std::string* error) {
   std::unique_ptr<LiveSource> src(new LiveSource());
   src->segment_ = segment;
   src->period_ = 1.0 / rate;
+  src->image_period_ = 1.0 / image_rate;
   // the segment first (retrying while it is not there yet), then the scene
   const double deadline = Now() + attach_timeout;
   for (;;) {
@@ -65,12 +68,15 @@ std::unique_ptr<LiveSource> LiveSource::Open(const std::string& segment, const s
     return nullptr;
   }
   src->thread_ = std::thread([s = src.get()] { s->Loop(); });
+  if (src->observer_.header().ncamera > 0) src->image_thread_ = std::thread([s = src.get()] { s->ImageLoop(); });
   return src;
 }
 
 LiveSource::~LiveSource() {
   stop_ = true;
   if (thread_.joinable()) thread_.join();
+  if (image_thread_.joinable()) image_thread_.join();
+  // the observer's close() (its destructor) withdraws any image request left
 }
 
 nlohmann::json LiveSource::Hello() {
@@ -85,7 +91,84 @@ nlohmann::json LiveSource::Hello() {
                                                                     : "unknown";
   j["control_period"] = h.control_period;
   j["cameras"] = h.ncamera;
+  nlohmann::json cams = nlohmann::json::array();
+  for (int c = 0; c < h.ncamera; ++c)
+    cams.push_back({{"name", h.cameras[c].name}, {"width", h.cameras[c].width}, {"height", h.cameras[c].height}});
+  j["camera_list"] = cams;
+  j["image_rate"] = 1.0 / image_period_;
   return j;
+}
+
+void LiveSource::WatchImages(int delta) { image_watchers_ += delta; }
+
+bool LiveSource::NewestImages(uint64_t sent[shm::kMaxCameras], double timeout,
+                              std::shared_ptr<const std::string> out[shm::kMaxCameras]) {
+  std::unique_lock lock(mutex_);
+  auto fresh = [&] {
+    for (int c = 0; c < shm::kMaxCameras; ++c)
+      if (image_version_[c] > sent[c]) return true;
+    return false;
+  };
+  cv_.wait_for(lock, std::chrono::duration<double>(timeout), fresh);
+  bool any = false;
+  for (int c = 0; c < shm::kMaxCameras; ++c) {
+    out[c] = nullptr;
+    if (image_version_[c] > sent[c]) {
+      out[c] = image_[c];
+      sent[c] = image_version_[c];
+      any = true;
+    }
+  }
+  return any;
+}
+
+// Asks the producer for every camera while some page watches (and withdraws when none does),
+// copies the newest frame of each camera at most every image_period_ and turns it into an
+// image message. read_image is a seqlocked copy: the producer never waits for it, and nothing
+// is held while the pages' threads send.
+void LiveSource::ImageLoop() {
+  const int ncamera = observer_.header().ncamera;
+  const uint32_t all = (1u << ncamera) - 1;
+  auto slot = std::make_unique<shm::ImageSlot>();  // about 2 MB, once
+  uint32_t asked = 0;
+  uint64_t last[shm::kMaxCameras] = {};
+  double next[shm::kMaxCameras] = {};
+  while (!stop_) {
+    const uint32_t want = image_watchers_ > 0 && !ended_ ? all : 0;
+    if (want != asked) {
+      if (observer_.request_images(want)) {
+        asked = want;
+        image_request_failed_ = false;
+      } else {
+        image_request_failed_ = true;  // every request entry is held: retried
+      }
+    }
+    if (!asked) {
+      usleep(20000);
+      continue;
+    }
+    const double now = Now();
+    for (int c = 0; c < ncamera; ++c) {
+      if (now < next[c] || observer_.read_image(c, last[c], slot.get()) != shm::ImageResult::kOk) continue;
+      last[c] = slot->frame;
+      next[c] = now + image_period_;
+      const int32_t head[4] = {c, slot->width, slot->height, 0};
+      const double stamp[2] = {slot->time, static_cast<double>(slot->frame)};
+      const size_t n = static_cast<size_t>(slot->width) * slot->height * 3;
+      auto msg = std::make_shared<std::string>(sizeof head + sizeof stamp + n, '\0');
+      std::memcpy(msg->data(), head, sizeof head);
+      std::memcpy(msg->data() + sizeof head, stamp, sizeof stamp);
+      std::memcpy(msg->data() + sizeof head + sizeof stamp, slot->rgb, n);
+      {
+        std::lock_guard lock(mutex_);
+        image_[c] = std::move(msg);
+        ++image_version_[c];
+      }
+      cv_.notify_all();
+    }
+    usleep(10000);
+  }
+  if (asked) observer_.request_images(0);
 }
 
 std::shared_ptr<const std::string> LiveSource::Newest(uint64_t after, double timeout, uint64_t* version) {
@@ -161,6 +244,9 @@ std::string LiveSource::MakeFrame(const shm::SensorBlock& s, bool ended) {
                    {"last_command_cycle", s.last_command_cycle}};
   j["base"] = simulated ? "ground truth" : "estimated from IMU";
   j["ended"] = ended;
+  if (h.ncamera > 0)
+    j["images"] = image_request_failed_ ? "refused (every image request entry of the segment is held)"
+                  : image_watchers_ > 0 ? "asked" : "not asked";
   // NaN (no reference) is not JSON: it is written as null
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   server.web_dir = OHRP_VIEW_WEB_DIR;
   server.three_js = "/usr/share/javascript/three/three.min.js";
   server.chart_js = "/usr/share/javascript/chart.js/chart.min.js";
-  double rate = 30, attach_timeout = 0;
+  double rate = 30, image_rate = 10, attach_timeout = 0;
   bool exit_when_ended = false;
   CLI::App app{
       "ohrp_view: the robot in 3D in a browser, with time plots of joints, ankle forces and ZMP.\n"
@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ohrp::cli::InRange(0, 65535));
   app.add_option("--rate", rate, "live frames per second sent to the page [Hz]")
       ->capture_default_str()->check(ohrp::cli::InRange(1, 200));
+  app.add_option("--image-rate", image_rate,
+                 "live: camera images per second sent to a page, per camera, while it shows them [Hz]")
+      ->capture_default_str()->check(ohrp::cli::InRange(1, 30));
   app.add_option("--attach-timeout", attach_timeout, "[s] wait this long for the segment to appear")
       ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_flag("--exit-when-ended", exit_when_ended, "live: end when the producer ends its run");
@@ -68,7 +71,7 @@ int main(int argc, char** argv) {
             "segment name has no '/')";
   } else {
     if (scene.empty()) scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
-    source = ohrp::view::LiveSource::Open(target, scene, rate, attach_timeout, &error);
+    source = ohrp::view::LiveSource::Open(target, scene, rate, image_rate, attach_timeout, &error);
   }
   if (!source) {
     std::fprintf(stderr, "ohrp_view: %s\n", error.c_str());

@@ -6,6 +6,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -67,6 +68,35 @@ void PushFrames(websocket::stream<tcp::socket>& ws, Source* source) {
   }
 }
 
+// live images: while this page is connected the source asks the producer for the camera
+// images; the newest image of each camera is sent when there is one (binary, source.h)
+void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
+  struct Watching {
+    Source* s;
+    explicit Watching(Source* source) : s(source) { s->WatchImages(+1); }
+    ~Watching() { s->WatchImages(-1); }
+  } watching(source);
+  ws.binary(true);
+  // the page never sends on this socket: anything readable (its close frame, EOF, an error)
+  // means it stopped watching; looked at every 0.2 s without reading (no read beside writes)
+  auto page_done = [&] {
+    pollfd p{ws.next_layer().native_handle(), POLLIN, 0};
+    return ::poll(&p, 1, 0) != 0;
+  };
+  uint64_t sent[shm::kMaxCameras] = {};
+  std::shared_ptr<const std::string> images[shm::kMaxCameras];
+  int idle = 0;
+  while (!source->ended() && !page_done()) {
+    if (!source->NewestImages(sent, 0.2, images)) {
+      if (++idle % 5 == 0) ws.ping({});  // a page that went away fails the write
+      continue;
+    }
+    for (const auto& image : images)
+      if (image) ws.write(boost::asio::buffer(*image));
+  }
+  // returning closes the socket (and ends the watch)
+}
+
 // replay: answer each {"t": ...} with the frame at that time
 void AnswerFrames(websocket::stream<tcp::socket>& ws, Source* source) {
   for (;;) {
@@ -90,6 +120,16 @@ void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets
     for (;;) {
       http::request<http::string_body> req;
       http::read(socket, buffer, req);
+      if (websocket::is_upgrade(req) && req.target() == "/ws/images") {
+        const Counted counted;
+        websocket::stream<tcp::socket> ws(std::move(socket));
+        ws.accept(req);
+        if (source->live())
+          PushImages(ws, source);
+        else
+          ws.close({websocket::close_code::normal, "no images in a run folder"});
+        return;
+      }
       if (websocket::is_upgrade(req) && req.target() == "/ws") {
         const Counted counted;
         websocket::stream<tcp::socket> ws(std::move(socket));

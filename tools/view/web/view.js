@@ -2,7 +2,8 @@
 // computed by the server), places the robot's geoms on every frame, and plots the chosen joints
 // (q and qref), the ankle forces (Fz) and the ZMP against simulated time (docs/view.md).
 // URL options: ?joints=A,B,C  the joints plotted; ?t=T (replay) start paused at time T [s];
-// ?window=S (live) seconds of history in the plots.
+// ?window=S (live) seconds of history in the plots; ?images=1 (live) show the camera images
+// at once (otherwise the "camera images" box turns them on).
 'use strict';
 
 const params = new URLSearchParams(location.search);
@@ -185,6 +186,7 @@ const windowS = Number(params.get('window') || 10);
 let lastDraw = 0;
 function liveFrame(f) {
   showFrame(f);
+  if (f.images && f.images.startsWith('refused')) { $('cameras').textContent = 'camera images ' + f.images; $('cameras').className = 'warn'; }
   const add = (ds, y) => { if (y !== null && y !== undefined) ds.data.push({x: f.t, y}); };
   const q = charts.q.data.datasets, n = plotJoints.length;
   jointIndex.forEach((j, i) => { add(q[i], f.q[j]); if (f.qref) add(q[n + i], f.qref[j]); });
@@ -253,6 +255,57 @@ function replayFrame(f) {
   if (replay.wanted !== null) { const t = replay.wanted; replay.wanted = null; seek(t); }
 }
 
+// ---------------- live camera images ----------------
+// A second WebSocket, open only while the images are shown (the box ticked and the page
+// visible): the server asks the producer for images only while some page holds one open.
+// Each message: int32 camera, width, height, 0; float64 time, frame; then RGB8 rows.
+let imagesWs = null, cameraList = [];
+function setupImages(h) {
+  cameraList = h.camera_list || [];
+  if (!cameraList.length) return;
+  $('images_toggle').hidden = false;
+  $('images').innerHTML = cameraList.map((c, i) => '<figure><canvas id="camimg' + i + '" width="' + c.width +
+      '" height="' + c.height + '"></canvas><figcaption id="camcap' + i + '">' + c.name +
+      ': no image yet</figcaption></figure>').join('');
+  const box = $('show_images');
+  box.checked = params.get('images') === '1';
+  box.onchange = updateImages;
+  document.addEventListener('visibilitychange', updateImages);
+  updateImages();
+}
+
+function updateImages() {
+  const want = $('show_images').checked && !document.hidden;
+  $('images').style.display = want ? 'flex' : 'none';
+  if (want && !imagesWs) {
+    const ws = new WebSocket('ws://' + location.host + '/ws/images');
+    ws.binaryType = 'arraybuffer';
+    ws.onmessage = (e) => drawImage(e.data);
+    ws.onclose = () => { if (imagesWs === ws) imagesWs = null; };
+    imagesWs = ws;
+  } else if (!want && imagesWs) {
+    imagesWs.close();
+    imagesWs = null;
+  }
+}
+
+function drawImage(buf) {
+  const head = new DataView(buf, 0, 32);
+  const cam = head.getInt32(0, true), w = head.getInt32(4, true), h = head.getInt32(8, true);
+  const t = head.getFloat64(16, true), frame = head.getFloat64(24, true);
+  const canvas = $('camimg' + cam);
+  if (!canvas || buf.byteLength < 32 + 3 * w * h) return;
+  if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
+  const rgb = new Uint8Array(buf, 32, 3 * w * h), img = new ImageData(w, h), px = img.data;
+  for (let i = 0, j = 0; i < w * h; ++i, j += 3) {
+    px[4 * i] = rgb[j]; px[4 * i + 1] = rgb[j + 1]; px[4 * i + 2] = rgb[j + 2]; px[4 * i + 3] = 255;
+  }
+  canvas.getContext('2d').putImageData(img, 0, 0);
+  $('camcap' + cam).textContent = cameraList[cam].name + ': frame ' + frame + ', t = ' + t.toFixed(3) + ' s';
+  stateEl.dataset.images = Number(stateEl.dataset.images) + 1;
+  if (cam === 0) { stateEl.dataset.imageFrame = frame; stateEl.dataset.imageT = t; }
+}
+
 // ---------------- the connection ----------------
 function connect() {
   const ws = new WebSocket('ws://' + location.host + '/ws');
@@ -264,7 +317,9 @@ function connect() {
       document.title = 'ohrp view: ' + m.title;
       $('title').textContent = m.title + (m.producer ? ' (' + m.producer + ')' : '');
       if (m.mode === 'live') { $('timeline').style.display = 'none'; }
-      if (m.cameras > 0) $('cameras').textContent = m.cameras + ' camera(s) declared, no images yet';
+      if (m.mode === 'replay') $('cameras').textContent = 'no images in a run folder';
+      else if (m.cameras > 0) $('cameras').textContent = m.cameras + ' camera(s):';
+      if (m.mode === 'live') setupImages(m);
       resize();
       buildScene(m.scene);
       buildCharts(m.scene);

@@ -8,6 +8,9 @@
 //                              live: every new frame (text, JSON; a slow page gets the newest
 //                              frame when it is ready again, never a queue of old ones);
 //                              replay: answers each {"t": seconds} message with FrameAt(t).
+//   GET /ws/images             live: the camera images (binary messages, source.h), asked from
+//                              the producer only while at least one page holds this socket open;
+//                              replay: closed at once (a run folder has no images).
 // One thread per connection, so a stalled page stalls only its own connection; the source's
 // thread (the observer) never waits for a page.
 #pragma once

@@ -7,6 +7,10 @@
 // q and qref (all joints, segment order) [rad or m], fz (each force sensor's vertical force in
 // its own frame) [N], zmp ([x, y] on z = 0 [m], or null), and for live frames cycle, status
 // (bit names), counters and base ("ground truth" or "estimated from IMU").
+//
+// Live camera images (only while some page watches them, WatchImages): an image message is
+// binary, little-endian: int32 camera, int32 width, int32 height, int32 0, float64 time of
+// capture [s], float64 frame counter, then width x height x 3 bytes RGB8 (top row first).
 #pragma once
 
 #include <array>
@@ -41,6 +45,15 @@ class Source {
   virtual nlohmann::json FrameAt(double t) { return {}; }
   // live: the producer has stopped (its last frame is out)
   virtual bool ended() const { return false; }
+  // live: a page starts (+1) or stops (-1) watching the camera images
+  virtual void WatchImages(int delta) {}
+  // live: blocks up to `timeout` [s] until some camera has an image message newer than
+  // `sent[camera]`; copies the newest messages of those cameras into `out` (null: none) and
+  // their versions into `sent`. False when nothing new came.
+  virtual bool NewestImages(uint64_t sent[shm::kMaxCameras], double timeout,
+                            std::shared_ptr<const std::string> out[shm::kMaxCameras]) {
+    return false;
+  }
 };
 
 //---------------- live: a running segment ----------------
@@ -50,8 +63,11 @@ class LiveSource : public Source {
   // Attaches to `segment` as an observer (waiting up to `attach_timeout` [s] for it to appear),
   // loads `scene` and checks its robot against the segment's model hash. Returns null with
   // `*error` set (no segment, not a segment, another robot); `rate` is the frame rate [Hz].
+  // `image_rate` [Hz] bounds the images sent per camera (taken from the segment only while a
+  // page watches them).
   static std::unique_ptr<LiveSource> Open(const std::string& segment, const std::string& scene,
-                                          double rate, double attach_timeout, std::string* error);
+                                          double rate, double image_rate, double attach_timeout,
+                                          std::string* error);
   ~LiveSource() override;
   bool live() const override { return true; }
   nlohmann::json Hello() override;
@@ -59,10 +75,14 @@ class LiveSource : public Source {
   // frames made so far, and blocks read from the segment
   uint64_t frames() const { return version_.load(); }
   bool ended() const override { return ended_.load(); }
+  void WatchImages(int delta) override;
+  bool NewestImages(uint64_t sent[shm::kMaxCameras], double timeout,
+                    std::shared_ptr<const std::string> out[shm::kMaxCameras]) override;
 
  private:
   LiveSource() = default;
   void Loop();
+  void ImageLoop();
   std::string MakeFrame(const shm::SensorBlock& s, bool ended);
 
   shm::Observer observer_;
@@ -75,6 +95,13 @@ class LiveSource : public Source {
   std::condition_variable cv_;
   std::shared_ptr<const std::string> frame_;
   std::atomic<uint64_t> version_{0};
+  // images: asked from the producer only while image_watchers_ > 0
+  double image_period_ = 0.1;  // [s] between images of one camera (wall clock)
+  std::atomic<int> image_watchers_{0};
+  std::atomic<bool> image_request_failed_{false};
+  std::thread image_thread_;
+  std::shared_ptr<const std::string> image_[shm::kMaxCameras];  // under mutex_
+  uint64_t image_version_[shm::kMaxCameras] = {};              // under mutex_
 };
 
 //---------------- replay: a run folder ----------------
