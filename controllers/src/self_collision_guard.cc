@@ -50,6 +50,14 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   for (const auto& r : file_.ranges)
     for (const auto& p : r.pairs)
       if (std::find(every_.begin(), every_.end(), p) == every_.end()) every_.push_back(p);
+  range_pairs_.clear();
+  for (const auto& r : file_.ranges) {
+    range_pairs_.emplace_back();
+    for (const auto& p : r.pairs)
+      range_pairs_.back().push_back(
+          static_cast<int>(std::find(every_.begin(), every_.end(), p) - every_.begin()));
+  }
+  check_ = std::make_unique<collision::IncrementalCheck>(checker_.get(), every_);
   list_.reserve(every_.size());
   on_list_.assign(every_.size(), 0);
   q_.assign(njoint_, 0.0);
@@ -69,18 +77,16 @@ collision::CheckResult SelfCollisionGuard::Closest(const std::vector<double>& q)
   list_.clear();
   std::fill(on_list_.begin(), on_list_.end(), 0);
   const size_t online = file_.online.size();
-  for (size_t i = 0; i < online; ++i) list_.push_back(every_[i]), on_list_[i] = 1;
-  for (const auto& r : file_.ranges) {
+  for (size_t i = 0; i < online; ++i) list_.push_back(static_cast<int>(i)), on_list_[i] = 1;
+  for (size_t ri = 0; ri < file_.ranges.size(); ++ri) {
+    const auto& r = file_.ranges[ri];
     if (q[r.joint] >= r.lo && q[r.joint] <= r.hi) continue;
-    for (const auto& p : r.pairs) {
-      const size_t k = std::find(every_.begin(), every_.end(), p) - every_.begin();
-      if (!on_list_[k]) list_.push_back(p), on_list_[k] = 1;
-    }
+    for (int k : range_pairs_[ri])
+      if (!on_list_[k]) list_.push_back(k), on_list_[k] = 1;
   }
-  checker_->SetPose(q);
-  collision::CheckResult r = checker_->Check(list_, file_.margin, {});
-  if (r.closest >= 0) r.closest = static_cast<int>(std::find(every_.begin(), every_.end(), list_[r.closest]) - every_.begin());
-  return r;
+  // the pairs that cannot have come within the margin since they were measured are skipped
+  check_->MoveTo(q);
+  return check_->Check(list_, file_.margin);
 }
 
 bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlock* c) {

@@ -20,42 +20,6 @@ double Now() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-// the largest distance of a point of `s` from its link's origin [m]
-double ShapeReach(const collision::Shape& s) {
-  double r = 0;
-  switch (s.type) {
-    case collision::ShapeType::kSphere: r = s.size[0]; break;
-    case collision::ShapeType::kCapsule: r = s.size[0] + s.size[1]; break;
-    case collision::ShapeType::kCylinder: r = std::hypot(s.size[0], s.size[1]); break;
-    case collision::ShapeType::kBox: r = s.size.norm(); break;
-    case collision::ShapeType::kConvex:
-      for (const auto& v : s.vertices) r = std::max(r, v.norm());
-      break;
-  }
-  return s.p_LS.norm() + r;
-}
-
-// per link, each hinge above it with a bound of the distance of any point of the link from the
-// hinge's axis in any posture: from the hinge's anchor to its link's origin, then down the
-// chain (a child's origin lies within |p_PL| + 2 |anchor_L| of its parent's, whatever its
-// angle), then the link's own shapes
-std::vector<std::vector<std::pair<int, double>>> Reach(const collision::RobotGeometry& g) {
-  const size_t n = g.links.size();
-  std::vector<double> own(n, 0.0);
-  for (size_t l = 0; l < n; ++l)
-    for (const auto& s : g.links[l].shapes) own[l] = std::max(own[l], ShapeReach(s));
-  std::vector<std::vector<std::pair<int, double>>> out(n);
-  for (size_t l = 0; l < n; ++l) {
-    double chain = 0;  // from the current link's origin down to link l's origin, bounded
-    for (int k = static_cast<int>(l); k >= 0; k = g.links[k].parent) {
-      const collision::Link& link = g.links[k];
-      if (link.joint >= 0) out[l].emplace_back(link.joint, link.anchor_L.norm() + chain + own[l]);
-      chain += link.p_PL.norm() + 2 * link.anchor_L.norm();
-    }
-  }
-  return out;
-}
-
 std::string Hex(uint64_t v) {
   char b[32];
   std::snprintf(b, sizeof(b), "0x%llx", static_cast<unsigned long long>(v));
@@ -89,7 +53,6 @@ std::unique_ptr<SelfCollisionWatch> SelfCollisionWatch::Create(const mjModel* m,
     w->pairs_ = all;
     // parts built into each other: in contact at the zero posture or in a keyframe
     w->checker_->SetPose(w->q_);
-    w->distance_.assign(w->pairs_.size(), 0.0);
     w->ExcludeTouching("the zero posture");
     for (int k = 0; k < m->nkey; ++k) {
       for (size_t i = 0; i < robot.joints.size(); ++i)
@@ -126,20 +89,7 @@ std::unique_ptr<SelfCollisionWatch> SelfCollisionWatch::Create(const mjModel* m,
       if (std::find(w->pairs_.begin(), w->pairs_.end(), q) == w->pairs_.end()) w->pairs_.push_back(q);
     }
   }
-  w->reach_ = Reach(g);
-  w->q_last_.assign(robot.joints.size(), std::nan(""));
-  w->moved_.assign(g.links.size(), 0.0);
-  const size_t n = w->pairs_.size();
-  w->moved_a_.assign(n, 0.0);
-  w->moved_b_.assign(n, 0.0);
-  w->distance_.assign(n, -INFINITY);  // no measurement yet
-  w->in_contact_.reserve(n);
-  w->first_time_.assign(n, -1.0);
-  w->deepest_.assign(n, 0.0);
-  w->deepest_time_.assign(n, 0.0);
-  w->first_cycle_.assign(n, 0);
-  w->cycles_.assign(n, 0);
-  w->order_.reserve(n);
+  w->TrackPairs();
   return w;
 }
 
@@ -149,14 +99,28 @@ std::string SelfCollisionWatch::PairName(const collision::LinkPair& p) const {
 }
 
 void SelfCollisionWatch::ExcludeTouching(const std::string& where) {
-  distance_.resize(pairs_.size());
-  checker_->Check(pairs_, 0.0, distance_);
+  std::vector<double> distance(pairs_.size());
+  checker_->Check(pairs_, 0.0, distance);
   std::vector<collision::LinkPair> kept;
   for (size_t i = 0; i < pairs_.size(); ++i) {
-    if (distance_[i] <= 0) excluded_.push_back(PairName(pairs_[i]) + " (" + where + ")");
+    if (distance[i] <= 0) excluded_.push_back(PairName(pairs_[i]) + " (" + where + ")");
     else kept.push_back(pairs_[i]);
   }
   pairs_ = std::move(kept);
+}
+
+void SelfCollisionWatch::TrackPairs() {
+  const size_t n = pairs_.size();
+  check_ = std::make_unique<collision::IncrementalCheck>(checker_.get(), pairs_);
+  in_contact_.clear();
+  in_contact_.reserve(n);
+  first_time_.assign(n, -1.0);
+  deepest_.assign(n, 0.0);
+  deepest_time_.assign(n, 0.0);
+  first_cycle_.assign(n, 0);
+  cycles_.assign(n, 0);
+  order_.clear();
+  order_.reserve(n);
 }
 
 void SelfCollisionWatch::ReadPose(const mjData* d) {
@@ -169,51 +133,20 @@ void SelfCollisionWatch::Start(const mjData* d) {
   ReadPose(d);
   const size_t before = pairs_.size();
   ExcludeTouching("the initial state");
-  if (pairs_.size() != before) {  // the per-pair arrays follow the list (set-up, not per cycle)
-    const size_t n = pairs_.size();
-    moved_a_.assign(n, 0.0);
-    moved_b_.assign(n, 0.0);
-    first_time_.assign(n, -1.0);
-    deepest_.assign(n, 0.0);
-    deepest_time_.assign(n, 0.0);
-    first_cycle_.assign(n, 0);
-    cycles_.assign(n, 0);
-  }
-  distance_.assign(pairs_.size(), -INFINITY);  // no measurement yet
+  if (pairs_.size() != before) TrackPairs();  // the per-pair state follows the list (set-up)
 }
 
 void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
   const double t0 = Now();
-  // how far each link can have moved since the last check
   for (size_t j = 0; j < q_.size(); ++j) q_[j] = d->qpos[robot_->joints[j].qpos_adr];
-  bool fresh = false;  // the first check, or an angle that is not finite: measure every pair
-  for (size_t l = 0; l < reach_.size(); ++l) {
-    double m = 0;
-    for (const auto& [joint, r] : reach_[l]) {
-      const double dq = std::abs(q_[joint] - q_last_[joint]);
-      if (std::isfinite(dq)) m += dq * r;
-      else fresh = true;
-    }
-    moved_[l] += m;
-  }
-  q_last_ = q_;  // same size: no allocation
-  bool posed = false;
+  check_->MoveTo(q_);
+  const uint64_t before = check_->measured();
+  check_->CheckAll(0.0);
+  measured_ += check_->measured() - before;
   in_contact_.clear();
   for (size_t i = 0; i < pairs_.size(); ++i) {
-    const collision::LinkPair& p = pairs_[i];
-    // still apart: the last lower bound exceeds the two links' motion since (1 um: GJK's
-    // certification tolerance)
-    const double moved = (moved_[p.a] - moved_a_[i]) + (moved_[p.b] - moved_b_[i]);
-    if (!fresh && distance_[i] - moved > 1e-6) continue;
-    if (!posed) {
-      checker_->SetPose(q_);
-      posed = true;
-    }
-    distance_[i] = checker_->Distance(p.a, p.b, 0.0);
-    moved_a_[i] = moved_[p.a];
-    moved_b_[i] = moved_[p.b];
-    ++measured_;
-    const double x = distance_[i];
+    // a pair not measured carries a lower bound above 0
+    const double x = check_->distance(static_cast<int>(i));
     if (!(x < 0)) continue;
     in_contact_.push_back(static_cast<int>(i));
     if (first_time_[i] < 0) {

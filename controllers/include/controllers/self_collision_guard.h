@@ -10,7 +10,9 @@
 //
 // Configure reads the file and checks it against the segment's header (model hash, joint
 // names); Filter runs every cycle and allocates, throws and logs nothing. No MuJoCo: the file
-// carries the links' geometry.
+// carries the links' geometry. A pair whose last measured distance exceeds the margin by more
+// than its two links can have moved since is not measured again (collision::IncrementalCheck):
+// the answer within the margin is the full check's, at a fraction of its cost while moving.
 #pragma once
 
 #include <iosfwd>
@@ -18,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/incremental_check.h"
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
 #include "shm_bridge/layout.h"
@@ -56,7 +59,9 @@ class SelfCollisionGuard {
   std::unique_ptr<collision::SelfCollision> checker_;
   int njoint_ = 0;
   double period_ = 0;                        // [s]
-  std::vector<collision::LinkPair> list_;    // this cycle's pairs (capacity: every pair)
+  std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
+  std::vector<int> list_;                    // this cycle's pairs, indices into every_
+  std::vector<std::vector<int>> range_pairs_;  // per safe range, its pairs' indices in every_
   std::vector<char> on_list_;                // per online-or-pruned pair index, this cycle
   std::vector<collision::LinkPair> every_;   // the online pairs then each range's pairs
   std::vector<double> q_, q_ahead_, safe_;   // [rad]

@@ -15,13 +15,11 @@
 //     pairs of its safe ranges (all of them, every cycle: the simulation does not assume the
 //     ranges hold), by link name; the file must be for this robot (model hash).
 // A pair is in contact when its signed distance is negative (penetration). Per cycle, Check
-// reads the joint angles from mjData and bounds how far each link can have moved since the last
-// cycle (a point of link l moves at most sum_j |dq_j| r_jl over the joints j above it, r_jl a
-// bound of its distance from j's axis in any posture, from the link lengths and shape sizes);
-// a pair whose last measured distance (a lower bound) exceeds what its two links moved since is
-// still apart and is not measured again; the others are measured with the checker (whose broad
-// phase skips pairs whose bounding spheres are apart). It allocates, throws and logs nothing,
-// and runs once per control cycle, outside the physics steps.
+// reads the joint angles from mjData and checks the pairs with collision::IncrementalCheck, as
+// the controllers' guard does: a pair whose last measured distance exceeds what its two links
+// can have moved since is still apart and is not measured again; the others are measured with
+// the checker (whose broad phase skips pairs whose bounding spheres are apart). It allocates,
+// throws and logs nothing, and runs once per control cycle, outside the physics steps.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -32,6 +30,7 @@
 #include <vector>
 
 #include "collision/geometry.h"
+#include "collision/incremental_check.h"
 #include "collision/self_collision.h"
 #include "sim_host/model.h"
 
@@ -89,7 +88,7 @@ class SelfCollisionWatch {
   const std::vector<int>& in_contact() const { return in_contact_; }
   // per pair, its last measured signed distance [m] (a lower bound when apart; exact for the
   // pairs in contact, which are measured every check)
-  const std::vector<double>& distances() const { return distance_; }
+  const std::vector<double>& distances() const { return check_->distances(); }
 
  private:
   SelfCollisionWatch() = default;
@@ -97,6 +96,8 @@ class SelfCollisionWatch {
   std::string PairName(const collision::LinkPair& p) const;
   // drops the pairs in contact at the current pose (SetPose done), recording them as excluded
   void ExcludeTouching(const std::string& where);
+  // (re)builds the per-pair state for pairs_ (set-up only)
+  void TrackPairs();
 
   const RobotMap* robot_ = nullptr;
   std::unique_ptr<collision::SelfCollision> checker_;
@@ -105,15 +106,10 @@ class SelfCollisionWatch {
   bool from_file_ = false;
   std::vector<collision::LinkPair> pairs_;
   std::vector<std::string> excluded_;
-  // how far a link can move: per link, (segment joint id, bound of the distance of any of the
-  // link's points from that joint's axis [m]) for every hinge between the base and the link
-  std::vector<std::vector<std::pair<int, double>>> reach_;
-  std::vector<double> q_last_;   // the joint angles of the last Check [rad] (NaN: none yet)
-  std::vector<double> moved_;    // per link, the sum of its motion bounds since the start [m]
-  std::vector<double> moved_a_, moved_b_;  // per pair, moved_ of its links when last measured
+  std::unique_ptr<collision::IncrementalCheck> check_;  // over pairs_
   uint64_t measured_ = 0;        // pair measurements made (the others were skipped)
   // per cycle, allocated once
-  std::vector<double> q_, distance_;
+  std::vector<double> q_;
   std::vector<int> in_contact_;
   // per pair
   std::vector<double> first_time_, deepest_, deepest_time_;
