@@ -2,6 +2,7 @@
 #include "robot_model/recorder.h"
 
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cstring>
 
@@ -98,10 +99,14 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs) {
 
 void Recorder::WriteRow(const double* row) {
   line_.clear();
-  char buf[32];
+  // printf's "%.9g", by std::to_chars (the standard defines it so), several times faster: the
+  // writer thread shares the CPUs with a lock-step run
+  char buf[40];
   for (size_t i = 0; i < width_; ++i) {
-    const int n = std::snprintf(buf, sizeof(buf), i ? ",%.9g" : "%.9g", row[i]);
-    line_.append(buf, static_cast<size_t>(n));
+    char* p = buf;
+    if (i) *p++ = ',';
+    p = std::to_chars(p, buf + sizeof(buf), row[i], std::chars_format::general, 9).ptr;
+    line_.append(buf, static_cast<size_t>(p - buf));
   }
   line_ += '\n';
   std::fwrite(line_.data(), 1, line_.size(), file_);
