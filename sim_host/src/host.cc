@@ -369,10 +369,10 @@ int RunHost(const HostOptions& options) {
       if (waiting) continue;
     }
 
-    // physics: the servo runs at every step
+    // physics: the servo runs at every step; the sensors on the cycle's last (published)
     for (int s = 0; s < steps_per_cycle; ++s) {
       const double t = d->time;
-      const bool held = stepper.Step();
+      const bool held = stepper.Step(s == steps_per_cycle - 1);
       ++st.steps;
       // each push's start and end, as events at the step's start
       for (size_t i = 0; i < o.pushes.size(); ++i) {

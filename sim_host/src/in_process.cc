@@ -71,7 +71,7 @@ void InProcessRobot::Publish() {
 
 int InProcessRobot::Cycle(const shm::CommandBlock& commands) {
   const int rejected = servo_->Accept(commands);
-  for (int s = 0; s < steps_per_cycle_; ++s) step_->Step();
+  for (int s = 0; s < steps_per_cycle_; ++s) step_->Step(s == steps_per_cycle_ - 1);
   ++cycle_;
   Publish();
   return rejected;

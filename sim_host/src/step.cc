@@ -8,7 +8,7 @@ PhysicsStep::PhysicsStep(mjModel* m, mjData* d, const Parts& parts) : m_(m), d_(
   push_changed_.assign(n, 0);
 }
 
-bool PhysicsStep::Step() {
+bool PhysicsStep::Step(bool sensors) {
   // the pushes on the step about to run, and which of them started or ended
   if (parts_.pushes && !parts_.pushes->empty() && parts_.push_body >= 0) {
     ApplyPushes(*parts_.pushes, m_, d_, parts_.push_body, pushed_);
@@ -21,6 +21,8 @@ bool PhysicsStep::Step() {
   }
   // the servo's law, the soles' force, the step, the soles' friction state
   if (parts_.servo) parts_.servo->Apply(m_, d_);
+  const int flags = m_->opt.disableflags;
+  if (!sensors) m_->opt.disableflags |= mjDSBL_SENSOR;
   if (parts_.soft && !parts_.soft->at_every_stage() && m_->opt.integrator != mjINT_RK4) {
     // split around the contact, so that the kinematics and the mass matrix MuJoCo computes for
     // the step are those the contact uses (RK4 has no split: mj_step integrates it)
@@ -31,6 +33,7 @@ bool PhysicsStep::Step() {
     if (parts_.soft) parts_.soft->ApplyBeforeStep(m_, d_);
     mj_step(m_, d_);
   }
+  m_->opt.disableflags = flags;
   if (parts_.soft) parts_.soft->Commit();
   ++steps_;
   // the divergence watch

@@ -53,14 +53,14 @@ class LeaningRobot {
   // One physics step, sim_host's own (sim_host/step.h), after the commands (the lean ramped in
   // over one second). Returns false if the servo refused the commands.
   // unsplit: the same parts with mj_step in one piece after the contact's own kinematics (the
-  // reference the split step must reproduce)
-  bool Step(bool unsplit = false) {
+  // reference the split step must reproduce); sensors: PhysicsStep::Step's
+  bool Step(bool unsplit = false, bool sensors = true) {
     const double s = std::clamp((d()->time - lean_start_) / 1.0, 0.0, 1.0);
     for (int i = 0; i < cmd_.njoint; ++i)
       cmd_.joint[i].q_ref = start_[i] + lean_[i] * 0.5 * (1 - std::cos(M_PI * s));
     if (servo_->Accept(cmd_) != 0) return false;
     if (!unsplit) {
-      step_->Step();
+      step_->Step(sensors);
       return true;
     }
     servo_->Apply(m(), d());

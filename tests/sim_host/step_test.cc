@@ -1,5 +1,6 @@
 // sim_host's physics step (sim_host/step.h): the robot standing on its implicit soft soles steps
-// without a heap allocation, and the step reports when each push starts and ends.
+// without a heap allocation, the split step is mj_step's, skipping the sensors on a cycle's
+// early steps changes nothing published, and the step reports when each push starts and ends.
 #include "sim_host/step.h"
 
 #include <gtest/gtest.h>
@@ -57,6 +58,62 @@ TEST(PhysicsStep, SplitStepIsTheUnsplitOne) {
     // and the robot did move: the lean tilted it
     EXPECT_GT(std::abs(split.d()->qpos[3] - 1), 1e-4);
   }
+}
+
+// sim_host computes MuJoCo's sensors only on a control cycle's last step: the motion must be
+// bit for bit that of computing them at every step, and the sensors after each cycle's last
+// step the same values; in between they are left as they were (so the skip did happen)
+TEST(PhysicsStep, SensorsSkippedBeforeTheCyclesLastStepChangeNothingPublished) {
+  testing::LeaningRobot every, last;
+  every.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", 0.001, 0.3, 1.0);
+  last.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", 0.001, 0.3, 1.0);
+  ASSERT_GT(every.m()->nsensordata, 0);
+  const int kSteps = 5;  // per control cycle
+  long stale = 0;
+  for (int i = 0; i < 1500; ++i) {
+    const bool published = i % kSteps == kSteps - 1;
+    ASSERT_TRUE(every.Step());
+    ASSERT_TRUE(last.Step(false, published));
+    for (int k = 0; k < every.m()->nq; ++k) ASSERT_EQ(every.d()->qpos[k], last.d()->qpos[k]) << i;
+    for (int k = 0; k < every.m()->nv; ++k) ASSERT_EQ(every.d()->qvel[k], last.d()->qvel[k]) << i;
+    for (int k = 0; k < every.m()->nsensordata; ++k) {
+      if (published) ASSERT_EQ(every.d()->sensordata[k], last.d()->sensordata[k]) << i << " " << k;
+      else stale += every.d()->sensordata[k] != last.d()->sensordata[k];
+    }
+  }
+  EXPECT_GT(stale, 1000);
+  EXPECT_EQ(last.m()->opt.disableflags & mjDSBL_SENSOR, 0);  // the flag is the step's only
+}
+
+// The implicit soles' apparent inverse inertia (mj_solveM2's half solves, A = X X^T) is
+// J M^-1 J^T from MuJoCo's full solve, both soles of the leaning robot together (coupled)
+TEST(PhysicsStep, SolesMobilityIsJMinvJt) {
+  testing::LeaningRobot r;
+  r.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", 0.001, 0.3, 1.0);
+  for (int i = 0; i < 300; ++i) ASSERT_TRUE(r.Step());
+  const mjModel* m = r.m();
+  mjData* d = r.d();
+  const std::vector<int>& bodies = r.soft().sole_bodies();
+  ASSERT_EQ(bodies.size(), 2u);
+  const int n = 6 * static_cast<int>(bodies.size()), nv = m->nv;
+  mj_step1(m, d);  // the contact's own kinematics and factorised M at this state
+  r.soft().ApplyAfterStep1(m, d);
+  std::vector<double> J(static_cast<size_t>(n) * nv), MinvJt(J.size());
+  for (size_t k = 0; k < bodies.size(); ++k)
+    mj_jacBodyCom(m, d, J.data() + 6 * k * nv, J.data() + (6 * k + 3) * nv, bodies[k]);
+  mj_solveM(m, d, MinvJt.data(), J.data(), n);
+  const Eigen::MatrixXd& A = r.soft().mobility();
+  ASSERT_EQ(A.rows(), n);
+  double worst = 0, scale = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double a = 0;
+      for (int k = 0; k < nv; ++k) a += J[i * nv + k] * MinvJt[j * nv + k];
+      worst = std::max(worst, std::abs(A(i, j) - a));
+      scale = std::max(scale, std::abs(a));
+    }
+  EXPECT_LT(worst, 1e-12 * scale) << "largest entry " << scale;
+  EXPECT_GT(std::abs(A(0, 6)) + std::abs(A(2, 8)), 1e-6 * scale);  // the soles are coupled
 }
 
 TEST(PhysicsStep, ReportsEachPushStartAndEnd) {

@@ -148,13 +148,13 @@ double Run(Setup* s, int cycles, int warmup) {
   if (s->bare) {
     for (int c = 0; c < warmup + cycles; ++c) {
       if (c == warmup) t0 = Now();
-      for (int k = 0; k < kStepsPerCycle; ++k) step.Step();
+      for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
       FillSensors(s->robot, m, d, &block);
     }
   } else {
     for (int c = 0; c < warmup + cycles; ++c) {
       if (c == warmup) t0 = Now();
-      for (int k = 0; k < kStepsPerCycle; ++k) step.Step();
+      for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
       FillSensors(s->robot, m, d, s->selection, &block);
       if (s->noise) s->noise->Apply(s->robot, &block);
       if (s->recorder) s->recorder->Push(block, &s->servo->reference(0));

@@ -294,7 +294,7 @@ int Emulator::Run() {
     // physics, the motor boards' PD at every step
     if (started_) {
       // sim_host's physics step: pushes, the servo, the soft soles (when --contact soft), mj_step
-      for (int s = 0; s < steps_per_cycle_; ++s) step_->Step();
+      for (int s = 0; s < steps_per_cycle_; ++s) step_->Step(s == steps_per_cycle_ - 1);
       bool finite = true;
       for (int i = 0; i < m_->nq; ++i) finite &= std::isfinite(d_->qpos[i]);
       if (!finite || d_->warning[mjWARN_BADQACC].number != badqacc) {

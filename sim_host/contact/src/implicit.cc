@@ -48,13 +48,18 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& r) {
   return s;
 }
 
-// adds a point's 3x3 force Jacobian P (force on the body per motion of the point) about the
-// centre of mass: the point moves by G x with G = [I, -[r]x], its force acts as G^T f
-void AddPoint(const Eigen::Matrix3d& P, const Eigen::Vector3d& r, Mat6* out) {
-  Eigen::Matrix<double, 3, 6> G;
-  G.leftCols<3>().setIdentity();
-  G.rightCols<3>() = -Skew(r);
-  *out += G.transpose() * P * G;
+// adds a point's 3x3 force Jacobian P = b I + c n n^T (force on the body per motion of the
+// point; symmetric) about the centre of mass: the point moves by G x with G = [I, -R], R = [r]x,
+// its force acts as G^T f, so G^T P G = [[P, -P R], [R P, -R P R]] (R^T = -R); with Q = P R,
+// R P = -Q^T and -R P R = -R Q
+void AddPoint(double b, double c, const Eigen::Vector3d& n, const Eigen::Vector3d& r, Mat6* out) {
+  Eigen::Matrix3d P = c * n * n.transpose();
+  P.diagonal().array() += b;
+  const Eigen::Matrix3d Q = P * Skew(r);
+  out->topLeftCorner<3, 3>() += P;
+  out->topRightCorner<3, 3>() -= Q;
+  out->bottomLeftCorner<3, 3>() -= Q.transpose();
+  out->bottomRightCorner<3, 3>().noalias() -= Skew(r) * Q;
 }
 
 // int_0^h max(0, d0 + a s)^n wt(s) ds, wt(s) = (1 - lam)(1 - s/h) + lam / 2, by Gauss-Legendre
@@ -140,9 +145,8 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
         const double area = grid_[s][f.index].weight;
         const double kn = p.exponent * p.stiffness * area *
                           (p.exponent == 1 ? 1.0 : std::pow(f.depth_signed, p.exponent - 1));
-        const Eigen::Matrix3d nn = f.normal * f.normal.transpose();
         const double kt = f.slipping ? 0.0 : p.tangential_stiffness * area;
-        AddPoint(kn * nn + kt * (Eigen::Matrix3d::Identity() - nn), f.pos - com, &stiff_[k]);
+        AddPoint(kt, kn - kt, f.normal, f.pos - com, &stiff_[k]);  // kn n n^T + kt (I - n n^T)
       }
     }
   }
@@ -167,9 +171,10 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
   const Eigen::Map<const RowMat> J(jac_.data(), n, nv);
   const Eigen::Map<const RowMat> X(minv_jt_.data(), n, nv);
   const Eigen::Map<const Eigen::VectorXd> qacc(d->qacc, nv);
-  mobility_.setZero();
-  mobility_.selfadjointView<Eigen::Lower>().rankUpdate(X);
-  mobility_.triangularView<Eigen::StrictlyUpper>() = mobility_.transpose();
+  // A = X X^T, dot products of contiguous rows (Eigen's blocked rank update costs three times
+  // as much at this size)
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j <= i; ++j) mobility_(i, j) = mobility_(j, i) = X.row(i).dot(X.row(j));
   // per body: W0 (the window force at v1 = v0, and the friction of the law at the start) and
   // B = dW / d(end twist)
   for (int k = 0; k < nb; ++k) {
@@ -196,12 +201,12 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
         w0.head<3>() += force;
         w0.tail<3>() += r.cross(force);
         if (nf.fn > 0) normal += nf.fn * f.normal;
-        // the end rate is -(v1 . n): the force on the body per end velocity of the point
-        const Eigen::Matrix3d nn = f.normal * f.normal.transpose();
+        // the end rate is -(v1 . n): the force on the body per end velocity of the point,
+        // -dfn n n^T - t (I - n n^T)
         const double kt = slipping || f.depth <= 0 ? 0.0 : p.tangential_stiffness * area;
         const double bt = slipping ? 0.0 : p.tangential_damping * area;
-        const Eigen::Matrix3d tt = Eigen::Matrix3d::Identity() - nn;
-        AddPoint(-(nf.dfn * nn) - (kSpringBeta * h * kt + kDamperGamma * bt) * tt, r, &damp_[k]);
+        const double t = kSpringBeta * h * kt + kDamperGamma * bt;
+        AddPoint(-t, t - nf.dfn, f.normal, r, &damp_[k]);
       }
     }
     wrench_.segment<6>(6 * k) = w0;

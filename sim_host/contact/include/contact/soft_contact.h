@@ -113,6 +113,10 @@ class SoftFootContact {
   // about its centre of mass): the force held over the step
   const std::vector<Eigen::Matrix<double, 6, 1>>& applied() const { return applied_; }
   const std::vector<int>& sole_geoms() const { return sole_geom_; }
+  const std::vector<int>& sole_bodies() const { return bodies_; }  // each once, in A's order
+  // the sole bodies' apparent inverse inertia A = J M^-1 J^T (6 rows per sole body: linear
+  // then angular, about its centre of mass) of the last implicit step that had a contact
+  const Eigen::MatrixXd& mobility() const { return mobility_; }
   const SoftContactParams& params() const { return params_; }
   ContactGeometry& geometry() { return geometry_; }
   const GeometryStats& stats() const { return geometry_.stats(); }
