@@ -432,6 +432,7 @@ int main(int argc, char** argv) {
     in.choices = choices;
     in.orders = orders;
     in.refcheck = ReferenceCheckTable(rows);
+    in.soft_steps = SoftStepTable(scenes, rows);
     in.headline = head.text;
     if (!WriteDocs(docs_path, in)) {
       std::fprintf(stderr, "bench_accuracy: cannot write %s\n", docs_path.c_str());

@@ -49,6 +49,11 @@ std::string ChoiceTable(const std::vector<SceneSpec>& scenes, const std::vector<
 // The observed order of the position error over the step sweep (markdown table).
 std::string OrderTable(const std::vector<SceneSpec>& scenes, const std::vector<Row>& rows);
 
+// Per scene with the soft soles, Euler from 1 ms up: the soft soles' errors and real-time
+// factor beside the native contact's at the same step and their cost ratio (markdown; "" when
+// no scene has soft rows).
+std::string SoftStepTable(const std::vector<SceneSpec>& scenes, const std::vector<Row>& rows);
+
 // The reference check rows (the reference's setting at half its step), markdown; "" when none.
 std::string ReferenceCheckTable(const std::vector<Row>& rows);
 
@@ -69,7 +74,7 @@ struct DocsInput {
   const std::vector<std::string>* skipped = nullptr;
   const std::vector<Row>* rows = nullptr;
   const std::vector<ClosedRow>* closed = nullptr;
-  std::string choices, orders, refcheck, headline;
+  std::string choices, orders, refcheck, headline, soft_steps;
 };
 // Writes docs/accuracy.md; false when it cannot be written.
 bool WriteDocs(const std::string& path, const DocsInput& in);
