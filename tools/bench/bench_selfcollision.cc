@@ -6,13 +6,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "cli/command_line.h"
+#include "collision/incremental_check.h"
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
+#include "controllers/trajectory.h"
 
 namespace {
 
@@ -30,6 +33,7 @@ double Quantile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   using namespace ohrp::collision;
   std::string path = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml";
+  std::string walk = std::string(OHRP_SOURCE_DIR) + "/../shared/external/openhrp3-sample/SamplePD/angle.dat";
   int postures = 20000;
   double period = 0.005;
   CLI::App app{
@@ -42,6 +46,11 @@ int main(int argc, char** argv) {
   app.add_option("--postures", postures, "random postures")->check(CLI::Range(100, 10000000))
       ->capture_default_str();
   app.add_option("--control-period", period, "[s]")->check(ohrp::cli::Positive())
+      ->capture_default_str();
+  app.add_option("--walk", walk,
+                 "joint angles along a walk (OpenHRP's angle.dat format; its rows are the control "
+                 "cycles): the guard's two checks a cycle (the posture and the next), in full and "
+                 "incrementally; '' to skip")
       ->capture_default_str();
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
@@ -86,6 +95,51 @@ int main(int argc, char** argv) {
               p99_all * 1e6, close_all);
   std::printf("| reduced list (safe ranges kept) | %zu | %.1f | %.1f | %ld |\n", file.online.size(),
               med_red * 1e6, p99_red * 1e6, close_reduced);
+  // along a walk: what the guard checks every cycle, the posture and the one a cycle ahead
+  // (the default file is OpenHRP's sample beside the repository: skipped when it is not there)
+  if (!walk.empty() && app.count("--walk") == 0 && !std::filesystem::exists(walk)) {
+    std::printf("| (no walk: %s not found) | - | - | - | - |\n", walk.c_str());
+    walk.clear();
+  }
+  if (!walk.empty()) {
+    ohrp::controllers::Trajectory traj;
+    const auto status = ohrp::controllers::LoadTrajectory(walk, &traj);
+    if (!status.ok() || traj.njoint != static_cast<int>(g.joint_names.size())) {
+      std::fprintf(stderr, "bench_selfcollision: --walk %s: %s\n", walk.c_str(),
+                   status.ok() ? "not one column per joint of the file's robot" : status.message.c_str());
+      return 2;
+    }
+    IncrementalCheck incremental(checker.get(), file.online);
+    std::vector<int> every(file.online.size());
+    for (size_t i = 0; i < every.size(); ++i) every[i] = static_cast<int>(i);
+    std::vector<double> t_full, t_inc;
+    std::vector<double> q(traj.row(0), traj.row(0) + traj.njoint), ahead = q;
+    long differ = 0;
+    for (size_t r = 0; r + 1 < traj.rows(); ++r) {
+      std::copy_n(traj.row(r), traj.njoint, q.begin());
+      std::copy_n(traj.row(r + 1), traj.njoint, ahead.begin());
+      const double t0 = Now();
+      checker->SetPose(q);
+      const CheckResult a = checker->Check(file.online, file.margin, {});
+      checker->SetPose(ahead);
+      const CheckResult b = checker->Check(file.online, file.margin, {});
+      const double t1 = Now();
+      incremental.MoveTo(q);
+      const CheckResult c = incremental.Check(every, file.margin);
+      incremental.MoveTo(ahead);
+      const CheckResult d = incremental.Check(every, file.margin);
+      const double t2 = Now();
+      t_full.push_back(t1 - t0);
+      t_inc.push_back(t2 - t1);
+      differ += a.closest != c.closest || b.closest != d.closest ||
+                (a.closest >= 0 && a.min_distance != c.min_distance) ||
+                (b.closest >= 0 && b.min_distance != d.min_distance);
+    }
+    std::printf("| reduced list along the walk, 2 postures a cycle, full | %zu | %.1f | %.1f | - |\n",
+                file.online.size(), Quantile(t_full, 0.5) * 1e6, Quantile(t_full, 0.99) * 1e6);
+    std::printf("| the same, incremental (what the guard runs) | %zu | %.1f | %.1f | %ld answers differ |\n",
+                file.online.size(), Quantile(t_inc, 0.5) * 1e6, Quantile(t_inc, 0.99) * 1e6, differ);
+  }
   std::printf("| paper: HRP-1S, 933 MHz Pentium III, ~10,000 polygons | 350 | ~10000 (mean) | - | - |\n");
   std::printf("| paper: reduced list while walking | 36 | ~1000 (35 pairs/ms) | - | - |\n");
   std::printf("| control period | - | %.0f | - | - |\n", period * 1e6);
