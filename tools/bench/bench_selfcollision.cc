@@ -64,6 +64,22 @@ int main(int argc, char** argv) {
   const std::vector<LinkPair> all = NonAdjacentPairs(file.robot);
   const RobotGeometry& g = file.robot;
 
+  // the walk, read before anything runs (the default file is OpenHRP's sample beside the
+  // repository: skipped when it is not there)
+  if (!walk.empty() && app.count("--walk") == 0 && !std::filesystem::exists(walk)) {
+    std::fprintf(stderr, "bench_selfcollision: no walk rows: %s not found\n", walk.c_str());
+    walk.clear();
+  }
+  ohrp::controllers::Trajectory traj;
+  if (!walk.empty()) {
+    const auto status = ohrp::controllers::LoadTrajectory(walk, &traj);
+    if (!status.ok() || traj.njoint != static_cast<int>(g.joint_names.size())) {
+      std::fprintf(stderr, "bench_selfcollision: --walk %s: %s\n", walk.c_str(),
+                   status.ok() ? "not one column per joint of the file's robot" : status.message.c_str());
+      return 2;
+    }
+  }
+
   // the postures, the safe ranges kept
   std::mt19937_64 rng(15);
   std::uniform_real_distribution<double> u(0, 1);
@@ -95,20 +111,8 @@ int main(int argc, char** argv) {
               p99_all * 1e6, close_all);
   std::printf("| reduced list (safe ranges kept) | %zu | %.1f | %.1f | %ld |\n", file.online.size(),
               med_red * 1e6, p99_red * 1e6, close_reduced);
-  // along a walk: what the guard checks every cycle, the posture and the one a cycle ahead
-  // (the default file is OpenHRP's sample beside the repository: skipped when it is not there)
-  if (!walk.empty() && app.count("--walk") == 0 && !std::filesystem::exists(walk)) {
-    std::printf("| (no walk: %s not found) | - | - | - | - |\n", walk.c_str());
-    walk.clear();
-  }
   if (!walk.empty()) {
-    ohrp::controllers::Trajectory traj;
-    const auto status = ohrp::controllers::LoadTrajectory(walk, &traj);
-    if (!status.ok() || traj.njoint != static_cast<int>(g.joint_names.size())) {
-      std::fprintf(stderr, "bench_selfcollision: --walk %s: %s\n", walk.c_str(),
-                   status.ok() ? "not one column per joint of the file's robot" : status.message.c_str());
-      return 2;
-    }
+    // what the guard checks every cycle: the posture and the one a cycle ahead
     IncrementalCheck incremental(checker.get(), file.online);
     std::vector<int> every(file.online.size());
     for (size_t i = 0; i < every.size(); ++i) every[i] = static_cast<int>(i);
