@@ -131,6 +131,7 @@ int RunHost(const HostOptions& options) {
     std::printf("%s", DescribeControlPeriod(dt, o.control_period, steps_per_cycle,
                                             options.control_period <= 0).c_str());
     std::printf("%s", DescribeActuation(robot).c_str());
+    if (soft && !soft->impact_note().empty()) std::printf("note: %s\n", soft->impact_note().c_str());
     if (!robot.cameras.empty()) {
       std::printf("cameras: %zu (%s first), %dx%d RGB%s, %g frames per simulated second, %s\n",
                   robot.cameras.size(), robot.cameras[0].name.c_str(), o.cameras.width,
@@ -190,6 +191,8 @@ int RunHost(const HostOptions& options) {
                  shm::ControllerLossName(o.on_loss));
     if (self_collision)
       std::fprintf(stderr, "sim_host: self_collision: %s\n", self_collision->Describe().c_str());
+    if (soft && !soft->impact_note().empty())
+      std::fprintf(stderr, "sim_host: note: %s\n", soft->impact_note().c_str());
     std::string lines = effects.Short();
     for (size_t at = 0, nl; at < lines.size(); at = nl + 1) {
       nl = lines.find('\n', at);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -23,6 +24,23 @@ TEST(ContactParams, DefaultsAreValidForTheRobot) {
   EXPECT_TRUE(Validate(SoftContactParams{}, kDt, 15.0, &error)) << error;
   EXPECT_FALSE(Validate(SoftContactParams{}, kDt, 5.0, &error));
   EXPECT_NE(error.find("use damping <= "), std::string::npos) << error;
+}
+
+// an impact lasts half a period of the linearised law at the static load: pi sqrt(m / k) for
+// the linear default sole; below 4 steps per impact the note says so and what would resolve it
+TEST(ContactParams, ImpactDurationAndItsNote) {
+  SoftContactParams p;
+  EXPECT_NEAR(ImpactDuration(p, 60.0), M_PI * std::sqrt(60.0 / p.stiffness), 1e-15);
+  p.exponent = 1.5;  // K = 1.5 k delta^0.5, delta = (m g / k)^(2/3)
+  const double delta = std::pow(60.0 * 9.81 / p.stiffness, 1 / 1.5);
+  EXPECT_NEAR(ImpactDuration(p, 60.0), M_PI / std::sqrt(1.5 * p.stiffness * std::sqrt(delta) / 60.0), 1e-15);
+  p = SoftContactParams{};
+  const double t = ImpactDuration(p, 60.0);  // 14.05 ms
+  EXPECT_EQ(ImpactNote(p, 0.001, 60.0), "");
+  EXPECT_EQ(ImpactNote(p, 0.999 * t / kImpactSteps, 60.0), "");
+  const std::string note = ImpactNote(p, 0.004, 60.0);
+  EXPECT_NE(note.find("14 ms"), std::string::npos) << note;
+  EXPECT_NE(note.find("dt <= 3.51 ms"), std::string::npos) << note;
 }
 
 TEST(ContactParams, NegativeStiffnessIsRefusedWithName) {

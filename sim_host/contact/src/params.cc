@@ -13,6 +13,25 @@ bool Finite(double x) { return std::isfinite(x); }
 
 }  // namespace
 
+double ImpactDuration(const SoftContactParams& p, double mass_scale) {
+  const double n = p.exponent, k = p.stiffness, m = mass_scale;
+  const double delta = std::pow(m * 9.81 / k, 1.0 / n);
+  const double K = n * k * std::pow(delta, n - 1);
+  return M_PI / std::sqrt(K / m);
+}
+
+std::string ImpactNote(const SoftContactParams& p, double dt, double mass_scale) {
+  const double t = ImpactDuration(p, mass_scale);
+  if (!(t > 0) || !(dt > 0) || t / dt >= kImpactSteps) return "";
+  std::ostringstream s;
+  s.precision(3);
+  s << "an impact on the soft soles lasts about " << 1e3 * t << " ms under " << mass_scale
+    << " kg, " << t / dt << " steps of " << 1e3 * dt << " ms: the step is stable but does not "
+    << "resolve the restitution of impacts (standing and walking hold; docs/accuracy.md); "
+    << "use dt <= " << 1e3 * t / kImpactSteps << " ms where landings and drops matter";
+  return s.str();
+}
+
 bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error,
               StepScheme scheme) {
   std::ostringstream out;

@@ -168,6 +168,7 @@ std::unique_ptr<SoftFootContact> SoftFootContact::Create(
     c->grid_.push_back(MakeGrid(half, params.grid_x, params.grid_y));
     c->anchors_.emplace_back(c->grid_.back().size());
   }
+  if (scheme == StepScheme::kImplicit) c->impact_note_ = ImpactNote(params, m->opt.timestep, mass_scale);
   c->proposed_ = c->anchors_;
   c->scratch_ = c->anchors_;
   c->wrenches_.resize(soles.size());

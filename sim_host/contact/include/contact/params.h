@@ -83,6 +83,19 @@ enum class StepScheme { kExplicit, kImplicit };
 bool Validate(const SoftContactParams& p, double dt, double mass_scale, std::string* error,
               StepScheme scheme = StepScheme::kExplicit);
 
+// How long an impact on the sole lasts: half a period of the law linearised at the static load
+// of mass_scale, pi / sqrt(K / m), K = n k delta^(n-1), delta = (m g / k)^(1/n) [s] (14 ms for
+// the default sole under 60 kg).
+double ImpactDuration(const SoftContactParams& p, double mass_scale);
+// Steps per impact below which a step does not resolve an impact's restitution (the 60 kg block
+// at 0.1 m/s on the default sole: -0.1 % at 1 ms, -10 % at 4 ms, -77 % at 8 ms, restitution
+// 1.007 at 16 ms: docs/accuracy.md's closed forms). Standing and walking are not impacts of a
+// free body and hold at 4 ms (scenarios stand_4ms, walk_samplepd_4ms).
+inline constexpr double kImpactSteps = 4.0;
+// A note for the user when dt gives fewer than kImpactSteps steps per impact ("" otherwise):
+// what it means and what would resolve impacts. Not an error: the implicit step stays stable.
+std::string ImpactNote(const SoftContactParams& p, double dt, double mass_scale);
+
 // The law's coefficient of restitution for a point mass m [kg] hitting at v0 [m/s] (> 0): the
 // 1-DOF oscillator m x'' = -k x^n (1 + c x')+ integrated with RK4 at step h [s] from contact to
 // separation (crossing linearly interpolated). The reference for the impact tests and the

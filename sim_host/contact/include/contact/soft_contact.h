@@ -118,6 +118,9 @@ class SoftFootContact {
   // then angular, about its centre of mass) of the last implicit step that had a contact
   const Eigen::MatrixXd& mobility() const { return mobility_; }
   const SoftContactParams& params() const { return params_; }
+  // ImpactNote of the parameters at the model's step (implicit step only; "" when it resolves
+  // impacts): sim_host prints it at the start of a run and with --explain
+  const std::string& impact_note() const { return impact_note_; }
   ContactGeometry& geometry() { return geometry_; }
   const GeometryStats& stats() const { return geometry_.stats(); }
 
@@ -139,6 +142,7 @@ class SoftFootContact {
   std::vector<std::vector<Anchor>> scratch_;
   std::vector<SoleWrench> wrenches_;
   std::vector<PointContact> points_;
+  std::string impact_note_;
   std::vector<int> bodies_;                               // bodies carrying soles, each once
   std::vector<Eigen::Matrix<double, 6, 1>> applied_;      // per body: what Apply() added
   bool at_every_stage_ = false;
