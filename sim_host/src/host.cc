@@ -12,6 +12,7 @@
 
 #include "shm_bridge/bridge.h"
 #include "sim_host/divergence.h"
+#include "sim_host/host_text.h"
 #include "sim_host/model.h"
 #include "sim_host/period.h"
 #include "sim_host/recorder.h"
@@ -125,21 +126,10 @@ int RunHost(const HostOptions& options) {
     }
     self_collision->Start(d);
   }
+  const HostText text{o, robot, effects, self_collision.get(), soft.get(), m, steps_per_cycle,
+                      options.control_period <= 0, contact_model};
   if (o.explain) {
-    std::printf("effects of %s (sim_host --explain):\n%s", o.scene.c_str(), effects.Table().c_str());
-    if (self_collision) std::printf("self_collision: %s\n", self_collision->Describe().c_str());
-    std::printf("%s", DescribeControlPeriod(dt, o.control_period, steps_per_cycle,
-                                            options.control_period <= 0).c_str());
-    std::printf("%s", DescribeActuation(robot).c_str());
-    if (soft && !soft->impact_note().empty()) std::printf("note: %s\n", soft->impact_note().c_str());
-    if (!robot.cameras.empty()) {
-      std::printf("cameras: %zu (%s first), %dx%d RGB%s, %g frames per simulated second, %s\n",
-                  robot.cameras.size(), robot.cameras[0].name.c_str(), o.cameras.width,
-                  o.cameras.height, o.cameras.depth ? " + depth" : "", o.cameras.rate,
-                  effects.on(Effect::kCameras)
-                      ? "rendered only while an attached program asks for them"
-                      : "never rendered (the cameras effect is off)");
-    }
+    PrintExplain(text);
     return kExitOk;
   }
   const SensorSelection selection = SelectSensors(effects);
@@ -179,27 +169,7 @@ int RunHost(const HostOptions& options) {
   Cameras cameras(robot, o.cameras, effects.on(Effect::kCameras));
   Servo servo(robot);
   servo.HoldCurrent(d);
-  if (!o.quiet) {
-    std::fprintf(stderr,
-                 "sim_host: robot '%s' (%zu joints, %zu F/T, %zu IMU, %zu cameras, %.2f kg) from "
-                 "%s\nsim_host: segment '%s', physics %g s (%s), control %g s, %s, "
-                 "%s contact, controller loss: %s\n",
-                 robot.name.c_str(), robot.joints.size(), robot.forces.size(), robot.imus.size(),
-                 robot.cameras.size(), robot.total_mass, o.scene.c_str(), o.segment.c_str(), dt,
-                 IntegratorName(m->opt.integrator), o.control_period,
-                 o.realtime ? "real time" : "lock-step", ContactModelName(contact_model),
-                 shm::ControllerLossName(o.on_loss));
-    if (self_collision)
-      std::fprintf(stderr, "sim_host: self_collision: %s\n", self_collision->Describe().c_str());
-    if (soft && !soft->impact_note().empty())
-      std::fprintf(stderr, "sim_host: note: %s\n", soft->impact_note().c_str());
-    std::string lines = effects.Short();
-    for (size_t at = 0, nl; at < lines.size(); at = nl + 1) {
-      nl = lines.find('\n', at);
-      if (nl == std::string::npos) nl = lines.size();
-      std::fprintf(stderr, "sim_host: %s\n", lines.substr(at, nl - at).c_str());
-    }
-  }
+  if (!o.quiet) PrintStart(text);
 
   //---------------- the loop ----------------
   RunStats st;
