@@ -52,10 +52,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       default: {  // a wait of at most 20 us, its spin learnt from an arbitrary past
         int64_t typical = static_cast<int64_t>(Take(data, size, 4)) - 1000;
         if (in::SpinBudget(typical) < 0 || in::SpinBudget(typical) > in::kMaxSpinNs) std::abort();
-        const int64_t start = in::NowNs();
+        const int64_t start = ohrp::MonotonicNs();
         const int64_t until = start + static_cast<int64_t>(Take(data, size, 1)) * 80;
         const in::SignalResult r = in::Wait(&s, until, &typical);
-        if (in::NowNs() > until + kSlackNs) std::abort();
+        if (ohrp::MonotonicNs() > until + kSlackNs) std::abort();
         if (!in::ValidSignalWord(before)) {
           if (r != in::SignalResult::kCorrupt || word.load() != before) std::abort();
         } else if ((before & shm::kSignalPosted) != 0) {

@@ -98,10 +98,10 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
   if (sync_corrupted_) return ReadResult::kSyncCorrupted;
   if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
 
-  const int64_t start = internal::NowNs();
+  const int64_t start = MonotonicNs();
   const int64_t deadline = start + internal::SecondsToNs(options_.read_timeout);
   const int64_t slice_ns = std::max<int64_t>(internal::SecondsToNs(options_.slice), 1000000);
-  for (int64_t now = start;; now = internal::NowNs()) {
+  for (int64_t now = start;; now = MonotonicNs()) {
     const int64_t until = std::min(deadline, now + slice_ns);
     const internal::SignalResult r =
         internal::Wait(&segment_->sync.sensors_ready, until, &wait_typical_ns_);
@@ -131,7 +131,7 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
     if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
     if (dropped()) return ReadResult::kDropped;
     if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
-    if (internal::NowNs() >= deadline) return ReadResult::kTimeout;
+    if (MonotonicNs() >= deadline) return ReadResult::kTimeout;
   }
 }
 

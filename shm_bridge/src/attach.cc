@@ -65,8 +65,8 @@ Status AttachSegment(const std::string& segment_name, bool writable,
   const SegmentHeader& h = segment->header;
 
   // a producer still writing its header gets a moment
-  const int64_t ready_deadline = NowNs() + SecondsToNs(kNotReadyWait);
-  while (StillCreating(h) && NowNs() < ready_deadline) {
+  const int64_t ready_deadline = MonotonicNs() + SecondsToNs(kNotReadyWait);
+  while (StillCreating(h) && MonotonicNs() < ready_deadline) {
     std::this_thread::sleep_for(std::chrono::duration<double>(kNotReadyPoll));
   }
 

@@ -85,7 +85,7 @@ ImageResult ReadLatestImage(const Segment* segment, int camera, uint64_t after_f
   // the reader only loads; atomic_ref needs a non-const object
   auto& images = const_cast<CameraImages&>(segment->images.camera[camera]);
   std::atomic_ref<uint64_t> latest(images.latest);
-  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(timeout);
+  const int64_t deadline = MonotonicNs() + internal::SecondsToNs(timeout);
   for (uint32_t attempt = 1;; ++attempt) {
     const uint64_t frame = latest.load(std::memory_order_acquire);
     if (frame == 0 || frame <= after_frame) return ImageResult::kNoFrame;
@@ -100,7 +100,7 @@ ImageResult ReadLatestImage(const Segment* segment, int camera, uint64_t after_f
         return ImageResult::kOk;
       }
     }
-    if (internal::NowNs() >= deadline) return ImageResult::kBusy;
+    if (MonotonicNs() >= deadline) return ImageResult::kBusy;
     if (attempt % 16 == 0) sched_yield();
   }
 }

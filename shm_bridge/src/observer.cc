@@ -52,7 +52,7 @@ ReadResult Observer::read(SensorBlock* out, double timeout) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
   SegmentHeader& h = Mutable(&segment_->header)[0];
   std::atomic_ref<uint64_t> seq(Mutable(&segment_->sensors)->seq);
-  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(timeout);
+  const int64_t deadline = MonotonicNs() + internal::SecondsToNs(timeout);
   const timespec pause = internal::ToTimespec(std::max<int64_t>(internal::SecondsToNs(options_.poll), 1000));
   for (;;) {
     const bool ended = internal::IsEnded(internal::LoadState(h));
@@ -78,7 +78,7 @@ ReadResult Observer::read(SensorBlock* out, double timeout) {
     }
     if (ended) return ReadResult::kProducerStopped;
     if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
-    if (internal::NowNs() >= deadline) return ReadResult::kTimeout;
+    if (MonotonicNs() >= deadline) return ReadResult::kTimeout;
     nanosleep(&pause, nullptr);
   }
 }
@@ -88,7 +88,7 @@ bool Observer::commands(CommandBlock* out) const {
   const auto copy = [](const CommandBlock* src, CommandBlock* dst) {
     internal::CopyCommands(src, dst);
   };
-  const int64_t deadline = internal::NowNs() + internal::SecondsToNs(0.01);
+  const int64_t deadline = MonotonicNs() + internal::SecondsToNs(0.01);
   if (internal::SeqlockCopy(Mutable(&segment_->commands), out, copy, 0, deadline) !=
       internal::CopyResult::kOk) {
     return false;

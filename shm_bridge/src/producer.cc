@@ -240,10 +240,10 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
   if (sync_corrupted_) return WaitResult::kTimeout;  // never wait on an untrusted word
   if (internal::LoadControllerPid(h) == 0) return WaitResult::kNoController;
 
-  const int64_t start = internal::NowNs();
+  const int64_t start = MonotonicNs();
   const int64_t deadline = start + internal::SecondsToNs(timeout);
   const int64_t slice_ns = std::max<int64_t>(internal::SecondsToNs(slice), 1000000);  // >= 1 ms
-  for (int64_t now = start;; now = internal::NowNs()) {
+  for (int64_t now = start;; now = MonotonicNs()) {
     const int64_t until = std::min(deadline, now + slice_ns);
     const internal::SignalResult r =
         internal::Wait(&segment_->sync.commands_ready, until, &wait_typical_ns_);
@@ -257,7 +257,7 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
       const uint64_t answers =
           std::atomic_ref<uint64_t>(block.answers_cycle).load(std::memory_order_relaxed);
       if (published_ && answers < published_cycle_) {
-        if (internal::NowNs() >= deadline) return WaitResult::kTimeout;
+        if (MonotonicNs() >= deadline) return WaitResult::kTimeout;
         continue;  // stale: consumed, ignored
       }
       const pid_t writer = internal::LoadControllerPid(h);
@@ -276,7 +276,7 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
       internal::SwapControllerPid(h, &controller, 0);
       return WaitResult::kControllerDied;
     }
-    if (internal::NowNs() >= deadline) return WaitResult::kTimeout;
+    if (MonotonicNs() >= deadline) return WaitResult::kTimeout;
   }
 }
 

@@ -64,7 +64,7 @@ int64_t SpinBudget(int64_t typical_ns) {
 
 bool Post(SignalWord* s) {
   std::atomic_ref<int32_t>(s->poster_cpu).store(sched_getcpu(), std::memory_order_relaxed);
-  std::atomic_ref<int64_t>(s->post_ns).store(NowNs(), std::memory_order_relaxed);
+  std::atomic_ref<int64_t>(s->post_ns).store(MonotonicNs(), std::memory_order_relaxed);
   std::atomic_ref<uint32_t> word(s->word);
   const uint32_t old = word.fetch_or(kSignalPosted, std::memory_order_acq_rel);
   if (!ValidSignalWord(old)) {
@@ -79,11 +79,11 @@ void WakeAll(SignalWord* s) { FutexWake(&s->word, INT_MAX); }
 
 SignalResult Wait(SignalWord* s, int64_t until_ns, int64_t* typical_ns) {
   std::atomic_ref<uint32_t> word(s->word);
-  const int64_t start = NowNs();
+  const int64_t start = MonotonicNs();
   // what the peer took to answer: until its post, not until this process ran again
   const auto taken = [&] {
     const int64_t posted = std::atomic_ref<int64_t>(s->post_ns).load(std::memory_order_relaxed);
-    *typical_ns = NextTypical(*typical_ns, AnswerNs(start, posted, NowNs()));
+    *typical_ns = NextTypical(*typical_ns, AnswerNs(start, posted, MonotonicNs()));
     return SignalResult::kSignalled;
   };
 
@@ -100,10 +100,10 @@ SignalResult Wait(SignalWord* s, int64_t until_ns, int64_t* typical_ns) {
     if (TryTake(word, v)) return taken();
     if (budget == 0) break;
     if (same_cpu) {
-      if (NowNs() >= spin_until) break;
+      if (MonotonicNs() >= spin_until) break;
       sched_yield();
     } else {
-      if (i % kClockCheckEvery == 0 && NowNs() >= spin_until) break;
+      if (i % kClockCheckEvery == 0 && MonotonicNs() >= spin_until) break;
       CpuRelax();
     }
   }
@@ -124,7 +124,7 @@ SignalResult Wait(SignalWord* s, int64_t until_ns, int64_t* typical_ns) {
     if (FutexWaitUntil(&s->word, v, &until) == 0) continue;
     if (errno == ETIMEDOUT) {
       word.fetch_and(~kSignalSleeping, std::memory_order_relaxed);
-      *typical_ns = NextTypical(*typical_ns, NowNs() - start);  // a slow peer stops the spin
+      *typical_ns = NextTypical(*typical_ns, MonotonicNs() - start);  // a slow peer stops the spin
       return SignalResult::kTimeout;
     }
     if (errno != EAGAIN && errno != EINTR) {

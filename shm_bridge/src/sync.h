@@ -17,6 +17,8 @@
 #include <type_traits>
 
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/clock.h"
+#include "shm_bridge/clock.h"  // MonotonicNs
 #include "shm_bridge/layout.h"
 
 namespace ohrp::shm::internal {
@@ -24,13 +26,6 @@ namespace ohrp::shm::internal {
 //---------------- monotonic time ----------------
 
 inline constexpr int64_t kNsPerS = 1000000000;
-
-// CLOCK_MONOTONIC now [ns]
-inline int64_t NowNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
-}
 
 // a duration [s] as [ns]; negative and NaN become 0, huge values saturate at ~30 years
 inline int64_t SecondsToNs(double s) {
@@ -112,7 +107,7 @@ CopyResult SeqlockCopy(Block* src, Block* dst, const Copy& copy, pid_t writer_pi
     }
     if (attempt % 4096 == 0) {
       if (writer_pid != 0 && !ProcessAlive(writer_pid)) return CopyResult::kWriterGone;
-      if (NowNs() >= until_ns) return CopyResult::kTimeout;
+      if (MonotonicNs() >= until_ns) return CopyResult::kTimeout;
       sched_yield();
     }
   }

@@ -1,5 +1,6 @@
 // sim_host's cameras (cameras.h).
 #include "sim_host/cameras.h"
+#include "shm_bridge/clock.h"
 
 #include <time.h>
 
@@ -8,12 +9,6 @@
 
 namespace ohrp::sim {
 namespace {
-
-double Now() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 }  // namespace
 
@@ -67,7 +62,7 @@ bool Cameras::Tick(mjModel* m, const mjData* d, shm::Producer* producer, std::st
   if (wanted == 0) return true;
   if (!renderer_ && !SetUp(m, error)) return false;
 
-  const double start = Now();
+  const double start = MonotonicSeconds();
   // the camera poses at the end of the cycle, in the cameras' own mjData
   pose_->time = d->time;
   mju_copy(pose_->qpos, d->qpos, m->nq);
@@ -91,7 +86,7 @@ bool Cameras::Tick(mjModel* m, const mjData* d, shm::Producer* producer, std::st
                            rgb_.data(), options_.depth ? depth_.data() : nullptr);
     ++frames_;
   }
-  seconds_ += Now() - start;
+  seconds_ += MonotonicSeconds() - start;
   return true;
 }
 

@@ -19,6 +19,7 @@
 #include "sim_host/report.h"
 #include "sim_host/self_collision_watch.h"
 #include "sim_host/step.h"
+#include "shm_bridge/clock.h"
 
 namespace ohrp::sim {
 namespace {
@@ -30,12 +31,6 @@ void OnSignal(int sig) { g_signal.store(sig); }
 
 void OnFatal(const char*) {
   if (g_segment_object[0]) boost::interprocess::shared_memory_object::remove(g_segment_object);
-}
-
-double Now() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 void SleepUntil(double t) {
@@ -173,7 +168,7 @@ int RunHost(const HostOptions& options) {
 
   //---------------- the loop ----------------
   RunStats st;
-  st.wall_start = Now();
+  st.wall_start = MonotonicSeconds();
   double next_progress = st.wall_start + o.progress;
   double wait_since = st.wall_start;
   bool had_controller = false;
@@ -223,7 +218,7 @@ int RunHost(const HostOptions& options) {
       case ControllerLoss::kWait:
         std::fprintf(stderr, "sim_host: waiting for a new controller on segment '%s'\n", o.segment.c_str());
         waiting = true;
-        wait_since = Now();
+        wait_since = MonotonicSeconds();
         republish = true;  // the next controller reads this cycle again, marked as holding
         return false;
       case ControllerLoss::kContinue:
@@ -259,7 +254,7 @@ int RunHost(const HostOptions& options) {
     }
     if (waiting && !attached) {
       if (o.on_loss != ControllerLoss::kWait || !had_controller) {
-        if (Now() - wait_since > o.wait_controller) {
+        if (MonotonicSeconds() - wait_since > o.wait_controller) {
           std::fprintf(stderr,
                        "sim_host: no controller attached to segment '%s' within %g s; start one "
                        "(e.g. 'posture --segment %s') or pass --wait-controller 0 to run without\n",
@@ -269,10 +264,10 @@ int RunHost(const HostOptions& options) {
           break;
         }
       }
-      const double slept_from = Now();
+      const double slept_from = MonotonicSeconds();
       timespec pause{0, 2000000};
       nanosleep(&pause, nullptr);
-      st.wall_waiting += Now() - slept_from;
+      st.wall_waiting += MonotonicSeconds() - slept_from;
       continue;
     }
     if (attached) {
@@ -291,17 +286,17 @@ int RunHost(const HostOptions& options) {
       waiting = false;
       double timeout = first_answer ? std::fmax(o.controller_timeout, o.wait_controller)
                                     : o.controller_timeout;
-      if (first_answer) deadline = Now();  // real time starts when the controller is there
-      if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - Now());
-      const double wait_from = first_answer ? Now() : 0.0;
+      if (first_answer) deadline = MonotonicSeconds();  // real time starts when the controller is there
+      if (o.realtime) timeout = std::fmax(0.0, deadline + 0.9 * o.control_period - MonotonicSeconds());
+      const double wait_from = first_answer ? MonotonicSeconds() : 0.0;
       const pid_t answering = producer->controller_pid();
       const shm::WaitResult answer = producer->WaitCommands(timeout, &cmd);
-      if (first_answer) st.wall_waiting += Now() - wait_from;  // a new controller setting up
+      if (first_answer) st.wall_waiting += MonotonicSeconds() - wait_from;  // a new controller setting up
       if (segment_corrupted()) break;
       switch (answer) {
         case shm::WaitResult::kCommands:
           if (st.commands++ == 0) {
-            st.wall_first_command = Now();
+            st.wall_first_command = MonotonicSeconds();
             st.cycles_at_first_command = st.cycles;
           }
           extra_status &= ~(shm::status::kHolding | shm::status::kCommandLate |
@@ -377,7 +372,7 @@ int RunHost(const HostOptions& options) {
 
     if (o.realtime) {
       deadline += o.control_period;
-      if (Now() < deadline) SleepUntil(deadline);
+      if (MonotonicSeconds() < deadline) SleepUntil(deadline);
     }
     const bool last = o.duration > 0 && d->time >= o.duration - 0.5 * dt;
     // the images of this cycle's end, before its sensors (cameras.h: only while asked)
@@ -387,7 +382,7 @@ int RunHost(const HostOptions& options) {
 
     // progress on long runs (one line every few wall seconds, not per cycle)
     if (o.progress > 0 && !o.quiet) {
-      const double now = Now();
+      const double now = MonotonicSeconds();
       if (now >= next_progress) {
         next_progress = now + o.progress;
         char end[32] = "until stopped";  // --duration 0
@@ -402,7 +397,7 @@ int RunHost(const HostOptions& options) {
   }
 
   //---------------- shutdown ----------------
-  st.wall_end = Now();
+  st.wall_end = MonotonicSeconds();
   st.sim_time = d->time;
   if (g_signal.load() && exit_code == kExitOk) {
     st.outcome = "interrupted";

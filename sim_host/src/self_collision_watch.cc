@@ -9,16 +9,10 @@
 
 #include "collision/from_mjcf.h"
 #include "collision/pair_file.h"
+#include "shm_bridge/clock.h"
 
 namespace ohrp::sim {
 namespace {
-
-// CPU time of this thread [s]: time spent descheduled on a shared machine does not count
-double Now() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 std::string Hex(uint64_t v) {
   char b[32];
@@ -137,7 +131,7 @@ void SelfCollisionWatch::Start(const mjData* d) {
 }
 
 void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
-  const double t0 = Now();
+  const double t0 = ThreadCpuSeconds();
   for (size_t j = 0; j < q_.size(); ++j) q_[j] = d->qpos[robot_->joints[j].qpos_adr];
   check_->MoveTo(q_);
   const uint64_t before = check_->measured();
@@ -162,7 +156,7 @@ void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
   }
   ++checks_;
   cycles_in_contact_ += !in_contact_.empty();
-  const double dt = Now() - t0;
+  const double dt = ThreadCpuSeconds() - t0;
   check_seconds_ += dt;
   check_max_ = std::max(check_max_, dt);
 }

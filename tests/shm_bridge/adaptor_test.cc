@@ -18,7 +18,6 @@
 namespace ohrp::shm {
 namespace {
 
-using testing::Now;
 using testing::OpenWhenReady;
 using testing::Pipe;
 using testing::RawSegment;
@@ -142,9 +141,9 @@ TEST_F(AdaptorTest, OpenWaitsBrieflyForAProducerStillCreating) {
     producer->SetState(ProducerState::kRunning);
   });
   RobotAdaptor adaptor;
-  const double t0 = Now();
+  const double t0 = MonotonicSeconds();
   const Status s = adaptor.open(name_);
-  const double waited = Now() - t0;
+  const double waited = MonotonicSeconds() - t0;
   finish.join();
   EXPECT_TRUE(s.ok()) << s.message;
   EXPECT_GE(waited, 0.09);
@@ -421,9 +420,9 @@ TEST_F(AdaptorTest, ReadTimesOutWhenNothingIsPublished) {
   options.slice = 0.02;
   ASSERT_TRUE(adaptor.open(name_, options).ok());
   SensorBlock s{};
-  const double t0 = Now();
+  const double t0 = MonotonicSeconds();
   EXPECT_EQ(adaptor.read(&s), ReadResult::kTimeout);
-  const double waited = Now() - t0;
+  const double waited = MonotonicSeconds() - t0;
   EXPECT_GE(waited, 0.095);
   EXPECT_LT(waited, 0.5);
 }
@@ -458,12 +457,12 @@ TEST_F(AdaptorTest, ReadReturnsProducerGoneSoonAfterTheProducerIsKilled) {
   int exit_code = 0;
   std::thread killer([&] {
     usleep(50000);
-    killed_at = Now();
+    killed_at = MonotonicSeconds();
     kill(child, SIGKILL);
     exit_code = WaitExit(child);
   });
   const ReadResult r = adaptor.read(&s);
-  const double returned_at = Now();
+  const double returned_at = MonotonicSeconds();
   killer.join();
   EXPECT_EQ(exit_code, 128 + SIGKILL);
   EXPECT_EQ(r, ReadResult::kProducerGone) << ReadResultName(r);
@@ -525,15 +524,15 @@ TEST_F(AdaptorTest, ScribbledWakeUpWordsEndBothEndsWithAClearResult) {
       usleep(500);
     }
   });
-  const double t0 = Now();
-  while (!producer->sync_corrupted() && Now() - t0 < 5.0) {
+  const double t0 = MonotonicSeconds();
+  while (!producer->sync_corrupted() && MonotonicSeconds() - t0 < 5.0) {
     producer->BeginSensors().cycle = ++k;
     producer->PublishSensors();
     producer->WaitCommands(0.5, &out);
   }
-  const double producer_noticed = Now() - t0;
+  const double producer_noticed = MonotonicSeconds() - t0;
   const int code = WaitExit(child, 5.0);
-  const double controller_noticed = Now() - t0;
+  const double controller_noticed = MonotonicSeconds() - t0;
   stop = true;
   scribbler.join();
 

@@ -93,7 +93,7 @@ TEST(NextTypical, AveragesAndBoundsEachAnswer) {
 // answer counts at most 2 * kMaxSpinNs in the average.
 TEST_F(SignalWordTest, OneSlowAnswerDoesNotTurnTheSpinOff) {
   int64_t typical = 30000;
-  EXPECT_EQ(Wait(&sync_->commands_ready, NowNs() + 20000000, &typical), SignalResult::kTimeout);
+  EXPECT_EQ(Wait(&sync_->commands_ready, MonotonicNs() + 20000000, &typical), SignalResult::kTimeout);
   EXPECT_LE(typical, kMaxSpinNs);
   EXPECT_GT(SpinBudget(typical), 0);
 }
@@ -106,24 +106,24 @@ TEST_F(SignalWordTest, APostIsTakenOnceAndAtMostOnePends) {
   ASSERT_TRUE(Post(&sync_->sensors_ready));  // a second post before the wait: still one
   EXPECT_EQ(sync_->sensors_ready.word, kSignalPosted);
   EXPECT_EQ(sync_->sensors_ready.poster_cpu, sched_getcpu());
-  EXPECT_EQ(Wait(&sync_->sensors_ready, NowNs() + 1000000000, &typical),
+  EXPECT_EQ(Wait(&sync_->sensors_ready, MonotonicNs() + 1000000000, &typical),
             SignalResult::kSignalled);
   EXPECT_EQ(sync_->sensors_ready.word, 0u);
   EXPECT_GT(typical, 0);
-  EXPECT_EQ(Wait(&sync_->sensors_ready, NowNs() + 20000000, &typical), SignalResult::kTimeout);
+  EXPECT_EQ(Wait(&sync_->sensors_ready, MonotonicNs() + 20000000, &typical), SignalResult::kTimeout);
 }
 
 TEST_F(SignalWordTest, AWaitTimesOutAtItsDeadlineAndLeavesTheWordClear) {
   int64_t typical = 0;
-  const int64_t t0 = NowNs();
+  const int64_t t0 = MonotonicNs();
   EXPECT_EQ(Wait(&sync_->commands_ready, t0 + 30000000, &typical), SignalResult::kTimeout);
-  const int64_t took = NowNs() - t0;
+  const int64_t took = MonotonicNs() - t0;
   EXPECT_GE(took, 30000000);
   EXPECT_LT(took, 500000000);
   EXPECT_EQ(sync_->commands_ready.word, 0u);  // the sleeping bit is cleared again
   EXPECT_GT(typical, kMaxSpinNs);             // the first wait, that long, turns the spin off
   // a deadline already past: no wait at all
-  EXPECT_EQ(Wait(&sync_->commands_ready, NowNs() - 1000, &typical), SignalResult::kTimeout);
+  EXPECT_EQ(Wait(&sync_->commands_ready, MonotonicNs() - 1000, &typical), SignalResult::kTimeout);
 }
 
 // any value the bridge never writes is reported by both ends at once, never waited on
@@ -132,9 +132,9 @@ TEST_F(SignalWordTest, CorruptedWordsAreReportedAtOnce) {
     SCOPED_TRACE(bad);
     int64_t typical = 0;
     sync_->commands_ready.word = bad;
-    const int64_t t0 = NowNs();
+    const int64_t t0 = MonotonicNs();
     EXPECT_EQ(Wait(&sync_->commands_ready, t0 + 2000000000, &typical), SignalResult::kCorrupt);
-    EXPECT_LT(NowNs() - t0, 100000000);
+    EXPECT_LT(MonotonicNs() - t0, 100000000);
     EXPECT_FALSE(Post(&sync_->commands_ready));
   }
   EXPECT_TRUE(ValidSignalWord(0));
@@ -150,13 +150,13 @@ TEST_F(SignalWordTest, ASleepingWaiterInAnotherProcessIsWokenByAPost) {
   Sync* sync = sync_;
   const pid_t child = Spawn([sync] {
     int64_t typical = 10 * kMaxSpinNs;  // slow peer: sleep at once
-    const int64_t t0 = NowNs();
+    const int64_t t0 = MonotonicNs();
     if (Wait(&sync->sensors_ready, t0 + 5000000000, &typical) != SignalResult::kSignalled) {
       return 1;
     }
-    if (NowNs() - t0 > 2000000000) return 2;  // not woken: it slept to its deadline
+    if (MonotonicNs() - t0 > 2000000000) return 2;  // not woken: it slept to its deadline
     typical = 10 * kMaxSpinNs;
-    return Wait(&sync->sensors_ready, NowNs() + 5000000000, &typical) == SignalResult::kCorrupt
+    return Wait(&sync->sensors_ready, MonotonicNs() + 5000000000, &typical) == SignalResult::kCorrupt
                ? 0
                : 3;
   });
@@ -166,9 +166,9 @@ TEST_F(SignalWordTest, ASleepingWaiterInAnotherProcessIsWokenByAPost) {
   usleep(100000);
   sync_->sensors_ready.word = 0x5a5a5a5a;  // a scribbler
   EXPECT_FALSE(Post(&sync_->sensors_ready));
-  const double t0 = testing::Now();
+  const double t0 = MonotonicSeconds();
   EXPECT_EQ(WaitExit(child, 5.0), 0);
-  EXPECT_LT(testing::Now() - t0, 1.0);
+  EXPECT_LT(MonotonicSeconds() - t0, 1.0);
 }
 
 // Two processes pinned to one CPU play ping-pong: a waiter must hand the CPU to its peer, not
@@ -184,7 +184,7 @@ TEST_F(SignalWordTest, TwoProcessesOnOneCpuDoNotSpinAgainstEachOther) {
     if (!PinTo(cpu)) return 1;
     int64_t typical = 0;
     for (int k = 0; k < kRounds; ++k) {
-      if (Wait(&sync->sensors_ready, NowNs() + 5000000000, &typical) != SignalResult::kSignalled) {
+      if (Wait(&sync->sensors_ready, MonotonicNs() + 5000000000, &typical) != SignalResult::kSignalled) {
         return 2;
       }
       if (!Post(&sync->commands_ready)) return 3;
@@ -197,11 +197,11 @@ TEST_F(SignalWordTest, TwoProcessesOnOneCpuDoNotSpinAgainstEachOther) {
   std::vector<double> us;
   int64_t typical = 0;
   for (int k = 0; k < kRounds; ++k) {
-    const int64_t t0 = NowNs();
+    const int64_t t0 = MonotonicNs();
     ASSERT_TRUE(Post(&sync_->sensors_ready));
-    ASSERT_EQ(Wait(&sync_->commands_ready, NowNs() + 5000000000, &typical),
+    ASSERT_EQ(Wait(&sync_->commands_ready, MonotonicNs() + 5000000000, &typical),
               SignalResult::kSignalled);
-    us.push_back(1e-3 * static_cast<double>(NowNs() - t0));
+    us.push_back(1e-3 * static_cast<double>(MonotonicNs() - t0));
   }
   sched_setaffinity(0, sizeof(original), &original);
   EXPECT_EQ(WaitExit(child, 5.0), 0);
@@ -222,7 +222,7 @@ TEST_F(SignalWordTest, TwoProcessesOnTwoCpusExchangeEveryPost) {
     if (!PinTo(other)) return 1;
     int64_t typical = 0;
     for (int k = 0; k < kRounds; ++k) {
-      if (Wait(&sync->sensors_ready, NowNs() + 5000000000, &typical) != SignalResult::kSignalled) {
+      if (Wait(&sync->sensors_ready, MonotonicNs() + 5000000000, &typical) != SignalResult::kSignalled) {
         return 2;
       }
       if (!Post(&sync->commands_ready)) return 3;
@@ -235,11 +235,11 @@ TEST_F(SignalWordTest, TwoProcessesOnTwoCpusExchangeEveryPost) {
   std::vector<double> us;
   int64_t typical = 0;
   for (int k = 0; k < kRounds; ++k) {
-    const int64_t t0 = NowNs();
+    const int64_t t0 = MonotonicNs();
     ASSERT_TRUE(Post(&sync_->sensors_ready));
-    ASSERT_EQ(Wait(&sync_->commands_ready, NowNs() + 5000000000, &typical),
+    ASSERT_EQ(Wait(&sync_->commands_ready, MonotonicNs() + 5000000000, &typical),
               SignalResult::kSignalled);
-    us.push_back(1e-3 * static_cast<double>(NowNs() - t0));
+    us.push_back(1e-3 * static_cast<double>(MonotonicNs() - t0));
   }
   sched_setaffinity(0, sizeof(original), &original);
   EXPECT_EQ(WaitExit(child, 5.0), 0);

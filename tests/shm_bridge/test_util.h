@@ -1,5 +1,5 @@
 // Helpers for the shm_bridge tests: unique segment names, a small producer config, forked
-// children with exit codes, pipes for ordering steps across processes, monotonic time.
+// children with exit codes, pipes for ordering steps across processes.
 #pragma once
 
 #include <poll.h>
@@ -14,15 +14,9 @@
 #include <string>
 
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/clock.h"  // MonotonicSeconds: system-wide, comparable across processes
 
 namespace ohrp::shm::testing {
-
-// CLOCK_MONOTONIC now [s] (system-wide: comparable across processes)
-inline double Now() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 // a segment name unique to this test process and `tag`
 inline std::string UniqueSegment(const std::string& tag) {
@@ -75,7 +69,7 @@ inline pid_t Spawn(const std::function<int()>& body) {
 // Waits for child `pid` up to `timeout` [s]: its exit code, 128 + signal when killed, or -1 on
 // timeout (the child is then killed and reaped).
 inline int WaitExit(pid_t pid, double timeout = 5.0) {
-  const double deadline = Now() + timeout;
+  const double deadline = MonotonicSeconds() + timeout;
   for (;;) {
     int status = 0;
     const pid_t r = waitpid(pid, &status, WNOHANG);
@@ -85,7 +79,7 @@ inline int WaitExit(pid_t pid, double timeout = 5.0) {
       return -2;
     }
     if (r < 0) return -3;
-    if (Now() > deadline) {
+    if (MonotonicSeconds() > deadline) {
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
       return -1;
@@ -96,9 +90,9 @@ inline int WaitExit(pid_t pid, double timeout = 5.0) {
 
 // Polls `condition` every millisecond until it holds or `timeout` [s] passes.
 inline bool WaitFor(const std::function<bool()>& condition, double timeout = 5.0) {
-  const double deadline = Now() + timeout;
+  const double deadline = MonotonicSeconds() + timeout;
   while (!condition()) {
-    if (Now() > deadline) return false;
+    if (MonotonicSeconds() > deadline) return false;
     usleep(1000);
   }
   return true;
@@ -107,10 +101,10 @@ inline bool WaitFor(const std::function<bool()>& condition, double timeout = 5.0
 // Opens `segment_name` as a controller, retrying while the producer is not there yet.
 inline Status OpenWhenReady(RobotAdaptor* adaptor, const std::string& segment_name,
                             const AdaptorOptions& options = {}, double timeout = 5.0) {
-  const double deadline = Now() + timeout;
+  const double deadline = MonotonicSeconds() + timeout;
   for (;;) {
     Status s = adaptor->open(segment_name, options);
-    if (s.code != Error::kNoSegment || Now() > deadline) return s;
+    if (s.code != Error::kNoSegment || MonotonicSeconds() > deadline) return s;
     usleep(1000);
   }
 }

@@ -72,10 +72,10 @@ TEST_F(Live, ShowsTheRobotAndThePlotsAdvanceWithSimulatedTime) {
   const double t1 = browser.Eval("Number(document.getElementById('state').dataset.t)").get<double>();
   const double p1 = browser.Eval("Number(document.getElementById('state').dataset.points)").get<double>();
   const double f1 = browser.Eval("Number(document.getElementById('state').dataset.frames)").get<double>();
-  const double w1 = shm::testing::Now();
+  const double w1 = MonotonicSeconds();
   usleep(2000000);
   const double rate = (browser.Eval("Number(document.getElementById('state').dataset.frames)").get<double>() - f1) /
-                      (shm::testing::Now() - w1);
+                      (MonotonicSeconds() - w1);
   std::printf("frames drawn by the page: %.1f per second (the viewer sends at most 30)\n", rate);
   EXPECT_GT(rate, 5.0);
   const double t2 = browser.Eval("Number(document.getElementById('state').dataset.t)").get<double>();
@@ -127,7 +127,7 @@ TEST_F(Live, ShowsTheCameraImagesOnlyWhileAPageAsks) {
   EXPECT_EQ(num("images"), 0);
 
   // ticked: images arrive, and their frame counter follows simulated time at the camera rate
-  const double w0 = shm::testing::Now();
+  const double w0 = MonotonicSeconds();
   browser.Eval("document.getElementById('show_images').click()");
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 4", 30.0))
       << ReadAll(viewer.out_file);
@@ -139,7 +139,7 @@ TEST_F(Live, ShowsTheCameraImagesOnlyWhileAPageAsks) {
     *t = j[1].get<double>();
   };
   double f1, t1, f2, t2;
-  const double n1 = num("images"), w1 = shm::testing::Now();
+  const double n1 = num("images"), w1 = MonotonicSeconds();
   last_image(&f1, &t1);
   // at least 3 s of wall time, and until 0.3 s of simulated time has passed between the two
   // images (a loaded machine slows the real-time run's rendering and the page's drawing)
@@ -149,7 +149,7 @@ TEST_F(Live, ShowsTheCameraImagesOnlyWhileAPageAsks) {
     usleep(100000);
     last_image(&f2, &t2);
   }
-  const double n2 = num("images"), w2 = shm::testing::Now();
+  const double n2 = num("images"), w2 = MonotonicSeconds();
   std::printf("camera images drawn by the page: %.1f per second since it asked, %.1f in the last "
               "%.1f s (2 cameras, at most 10 each sent); simulated time %.2f s in that time\n",
               n2 / (w2 - w0), (n2 - n1) / (w2 - w1), w2 - w1, t2 - t1);
@@ -211,11 +211,11 @@ TEST_F(Live, AStoppedOrKilledViewerDoesNotSlowTheLockStep) {
       kill(stopped.pid, SIGSTOP);
       kill(killed.pid, SIGKILL);
     }
-    const double t0 = shm::testing::Now();
+    const double t0 = MonotonicSeconds();
     const pid_t posture = StartPosture();
     EXPECT_EQ(shm::testing::WaitExit(sim, 60.0), 0) << ReadAll(dir_ / "sim_host.txt");
     EXPECT_EQ(shm::testing::WaitExit(posture, 10.0), 0) << ReadAll(dir_ / "posture.txt");
-    return shm::testing::Now() - t0;
+    return MonotonicSeconds() - t0;
   };
   const double alone = run(false);
   const double watched = run(true);

@@ -1,5 +1,6 @@
 // Speed-accuracy measurement (see accuracy.h).
 #include "accuracy.h"
+#include "shm_bridge/clock.h"
 
 #include <time.h>
 
@@ -55,12 +56,6 @@ std::string Describe(const Setting& s) {
   if (s.tolerance >= 0) o << " tol=" << s.tolerance;
   if (!s.geometry.empty()) o << " geom=" << s.geometry;
   return o.str();
-}
-
-double ThreadCpu() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 bool LoadWalk(const std::string& dir, Walk* walk, std::string* error) {
@@ -344,9 +339,9 @@ bool MakeReference(const SceneSpec& scene, const Setting& setting, double window
   ref->force.push_back(0);
   const long w0 = sim::WarningCount();
   for (int k = 1; k <= nwin; ++k) {
-    const double t0 = ThreadCpu();
+    const double t0 = ThreadCpuSeconds();
     const double f = sim->Advance(spw);
-    ref->cpu += ThreadCpu() - t0;
+    ref->cpu += ThreadCpuSeconds() - t0;
     ref->sim_time += spw * setting.dt;
     if (!sim->Finite() || sim::WarningCount() != w0) {
       *error = "scene " + scene.name + ": the reference (" + Describe(setting) + ") diverged" +
@@ -403,9 +398,9 @@ PieceResult RunPieces(const SceneSpec& scene, const Setting& setting, const Refe
     sim->Restore(ref.states[k0]);
     const long w0 = sim::WarningCount();
     for (int w = 1; w <= piece_windows; ++w) {
-      const double t0 = ThreadCpu();
+      const double t0 = ThreadCpuSeconds();
       const double f = sim->Advance(spw);
-      r.cpu += ThreadCpu() - t0;
+      r.cpu += ThreadCpuSeconds() - t0;
       r.sim_time += spw * setting.dt;
       if (!sim->Finite() || sim::WarningCount() != w0) {
         r.diverged = true;

@@ -168,9 +168,6 @@ struct PieceResult {
 PieceResult RunPieces(const SceneSpec& scene, const Setting& setting, const Reference& ref,
                       int restarts, int piece_windows);
 
-// Thread CPU time [s].
-double ThreadCpu();
-
 // ---- closed forms ----
 
 // Exact period of a rigid pendulum (pivot inertia I, mass m, pivot-to-centre-of-mass d) released

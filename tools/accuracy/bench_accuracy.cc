@@ -22,6 +22,7 @@
 #include "cli/command_line.h"
 #include "accuracy.h"
 #include "report.h"
+#include "shm_bridge/clock.h"
 
 namespace fs = std::filesystem;
 using namespace ohrp::accuracy;
@@ -241,7 +242,7 @@ int main(int argc, char** argv) {
   std::vector<ClosedRow> closed;
   std::vector<std::string> skipped, no_damping;
   std::map<std::string, std::map<Contact, Reference>> refs;
-  const double t_start = ThreadCpu();
+  const double t_start = ohrp::ThreadCpuSeconds();
   for (const SceneSpec& scene : scenes) {
     const std::string gdef = scene.geometries.empty() ? "" : scene.geometries[0];
     const bool damping = HasDamping(scene);
@@ -424,7 +425,7 @@ int main(int argc, char** argv) {
     in.quick = o.quick;
     in.restarts = o.restarts;
     in.piece_windows = o.piece_windows;
-    in.cpu = ThreadCpu() - t_start;
+    in.cpu = ohrp::ThreadCpuSeconds() - t_start;
     in.scenes = &scenes;
     in.skipped = &skipped;
     in.rows = &rows;

@@ -26,6 +26,7 @@
 
 #include "cli/command_line.h"
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/clock.h"
 
 namespace {
 
@@ -89,19 +90,6 @@ void PinTo(int cpu) {
   CPU_ZERO(&set);
   CPU_SET(cpu, &set);
   sched_setaffinity(0, sizeof(set), &set);
-}
-
-double NowUs() {
-  return std::chrono::duration<double, std::micro>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-// the CPU time of the calling thread [us]
-double ThreadCpuUs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e6 * static_cast<double>(ts.tv_sec) + 1e-3 * static_cast<double>(ts.tv_nsec);
 }
 
 // one measurement: the round trips [us] and the CPU time both processes used [us]
@@ -205,9 +193,9 @@ bool MeasureBridge(int cycles, int warmup, const Pinning& pin, Sample* out) {
   bool ok = true;
   CommandBlock commands{};
   us->reserve(static_cast<std::size_t>(cycles));
-  const double cpu0 = ThreadCpuUs();
+  const double cpu0 = 1e6 * ohrp::ThreadCpuSeconds();
   for (int k = 0; k < warmup + cycles && ok; ++k) {
-    const double t0 = NowUs();
+    const double t0 = 1e6 * ohrp::MonotonicSeconds();
     SensorBlock& s = producer->BeginSensors();
     s.cycle = static_cast<uint64_t>(k);
     s.time = 0.001 * k;
@@ -217,11 +205,11 @@ bool MeasureBridge(int cycles, int warmup, const Pinning& pin, Sample* out) {
     }
     producer->PublishSensors();
     const WaitResult r = producer->WaitCommands(kWaitTimeout, &commands);
-    const double t1 = NowUs();
+    const double t1 = 1e6 * ohrp::MonotonicSeconds();
     ok = r == WaitResult::kCommands && commands.answers_cycle == static_cast<uint64_t>(k);
     if (k >= warmup) us->push_back(t1 - t0);
   }
-  out->cpu_us = ThreadCpuUs() - cpu0;
+  out->cpu_us = 1e6 * ohrp::ThreadCpuSeconds() - cpu0;
   out->total_cycles = warmup + cycles;
   if (!ok) std::fprintf(stderr, "bench_bridge: the bridge round trip failed\n");
   producer.reset();  // the controller's next read returns kProducerStopped
@@ -256,16 +244,16 @@ bool MeasureRaw(int cycles, int warmup, const Pinning& pin, Sample* out) {
   }
   PinTo(pin.producer_cpu);
   us->reserve(static_cast<std::size_t>(cycles));
-  const double cpu0 = ThreadCpuUs();
+  const double cpu0 = 1e6 * ohrp::ThreadCpuSeconds();
   for (int k = 0; k < total; ++k) {
-    const double t0 = NowUs();
+    const double t0 = 1e6 * ohrp::MonotonicSeconds();
     sem_post(&pair->ping);
     while (sem_wait(&pair->pong) != 0) {
     }
-    const double t1 = NowUs();
+    const double t1 = 1e6 * ohrp::MonotonicSeconds();
     if (k >= warmup) us->push_back(t1 - t0);
   }
-  out->cpu_us = ThreadCpuUs() - cpu0;
+  out->cpu_us = 1e6 * ohrp::ThreadCpuSeconds() - cpu0;
   out->total_cycles = total;
   const bool ok = Reap(child, &out->cpu_us);
   sem_destroy(&pair->ping);

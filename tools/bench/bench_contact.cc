@@ -11,12 +11,9 @@
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/step.h"
+#include "shm_bridge/clock.h"
 
 namespace {
-
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -55,9 +52,9 @@ Setup Make(const std::string& path, const std::string& key, double dt,
 // wall seconds per step over `steps` steps
 double Run(Setup* s, int steps) {
   ohrp::sim::PhysicsStep step(s->scene->m(), s->scene->d(), {s->servo.get(), s->soft.get()});
-  const double t0 = Now();
+  const double t0 = ohrp::MonotonicSeconds();
   for (int i = 0; i < steps; ++i) step.Step();  // sim_host's own step (sim_host/step.h)
-  return (Now() - t0) / steps;
+  return (ohrp::MonotonicSeconds() - t0) / steps;
 }
 
 }  // namespace

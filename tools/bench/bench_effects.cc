@@ -35,6 +35,7 @@
 #include "sim_host/recorder.h"
 #include "sim_host/self_collision_watch.h"
 #include "sim_host/step.h"
+#include "shm_bridge/clock.h"
 
 namespace {
 
@@ -42,13 +43,6 @@ using namespace ohrp::sim;
 
 constexpr int kStepsPerCycle = 5;       // 1 ms physics, 5 ms control as on HRP-1S
 constexpr double kSameWithin = 0.03;    // criterion of "costs nothing measurable" [-]
-
-// CPU time of this thread [s]: on a shared machine, time spent descheduled is not counted
-double Now() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 double Quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
@@ -144,16 +138,16 @@ double Run(Setup* s, int cycles, int warmup) {
   static ohrp::shm::SensorBlock block;
   // sim_host's physics step (sim_host/step.h): servo, soft soles, mj_step, commit
   ohrp::sim::PhysicsStep step(m, d, {s->servo.get(), s->soft.get()});
-  double t0 = Now();
+  double t0 = ohrp::ThreadCpuSeconds();
   if (s->bare) {
     for (int c = 0; c < warmup + cycles; ++c) {
-      if (c == warmup) t0 = Now();
+      if (c == warmup) t0 = ohrp::ThreadCpuSeconds();
       for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
       FillSensors(s->robot, m, d, &block);
     }
   } else {
     for (int c = 0; c < warmup + cycles; ++c) {
-      if (c == warmup) t0 = Now();
+      if (c == warmup) t0 = ohrp::ThreadCpuSeconds();
       for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
       FillSensors(s->robot, m, d, s->selection, &block);
       if (s->noise) s->noise->Apply(s->robot, &block);
@@ -161,7 +155,7 @@ double Run(Setup* s, int cycles, int warmup) {
       if (s->watch) s->watch->Check(d, d->time, c);
     }
   }
-  return (Now() - t0) / (cycles * kStepsPerCycle);
+  return (ohrp::ThreadCpuSeconds() - t0) / (cycles * kStepsPerCycle);
 }
 
 }  // namespace

@@ -25,14 +25,11 @@
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/step.h"
+#include "shm_bridge/clock.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -65,9 +62,9 @@ double BareLoop(const std::string& scene_path, double dt, int steps) {
   ohrp::sim::Servo servo(robot);
   servo.HoldCurrent(scene->d());
   ohrp::sim::PhysicsStep step(scene->m(), scene->d(), {&servo, soft.get()});
-  const double t0 = Now();
+  const double t0 = ohrp::MonotonicSeconds();
   for (int i = 0; i < steps; ++i) step.Step();
-  return (Now() - t0) / steps;
+  return (ohrp::MonotonicSeconds() - t0) / steps;
 }
 
 pid_t Spawn(const std::vector<std::string>& argv, bool silent) {

@@ -27,6 +27,7 @@
 #include "hw_driver/program.h"
 #include "hw_driver/rt.h"
 #include "hw_driver/wake.h"
+#include "shm_bridge/clock.h"
 
 namespace {
 
@@ -34,13 +35,13 @@ using ohrp::hw::LatenessHistogram;
 
 // the baseline: sleep to each absolute deadline, record how late the wake-up was
 void PlainLoop(int64_t period_ns, long cycles, LatenessHistogram* h) {
-  int64_t slot = ohrp::hw::MonotonicNs();
+  int64_t slot = ohrp::MonotonicNs();
   for (long i = 0; i < cycles; ++i) {
     slot += period_ns;
     timespec ts{static_cast<time_t>(slot / 1000000000), static_cast<long>(slot % 1000000000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
-    h->Add(ohrp::hw::MonotonicNs() - slot);
+    h->Add(ohrp::MonotonicNs() - slot);
   }
 }
 
@@ -91,12 +92,6 @@ pid_t SpawnController(const std::string& segment) {
 }
 
 // the calling thread's CPU time [ns]
-int64_t ThreadCpuNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
-}
-
 // one loop's figures over all its rounds
 struct Loop {
   LatenessHistogram lateness;
@@ -107,10 +102,10 @@ struct Loop {
   // times one round of `run` (wall and this thread's CPU)
   template <typename F>
   void Time(F&& run) {
-    const int64_t c0 = ThreadCpuNs(), w0 = ohrp::hw::MonotonicNs();
+    const int64_t c0 = ohrp::ThreadCpuNs(), w0 = ohrp::MonotonicNs();
     run();
-    wall_ns += ohrp::hw::MonotonicNs() - w0;
-    cpu_ns += ThreadCpuNs() - c0;
+    wall_ns += ohrp::MonotonicNs() - w0;
+    cpu_ns += ohrp::ThreadCpuNs() - c0;
   }
 };
 

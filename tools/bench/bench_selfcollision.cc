@@ -16,12 +16,9 @@
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
 #include "controllers/trajectory.h"
+#include "shm_bridge/clock.h"
 
 namespace {
-
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 double Quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
@@ -93,13 +90,13 @@ int main(int argc, char** argv) {
   std::vector<double> t_all, t_reduced;
   long close_all = 0, close_reduced = 0;
   for (const auto& q : qs) {
-    const double t0 = Now();
+    const double t0 = ohrp::MonotonicSeconds();
     checker->SetPose(q);
     close_all += checker->Check(all, file.margin, {}).closest >= 0;
-    const double t1 = Now();
+    const double t1 = ohrp::MonotonicSeconds();
     checker->SetPose(q);
     close_reduced += checker->Check(file.online, file.margin, {}).closest >= 0;
-    const double t2 = Now();
+    const double t2 = ohrp::MonotonicSeconds();
     t_all.push_back(t1 - t0);
     t_reduced.push_back(t2 - t1);
   }
@@ -122,17 +119,17 @@ int main(int argc, char** argv) {
     for (size_t r = 0; r + 1 < traj.rows(); ++r) {
       std::copy_n(traj.row(r), traj.njoint, q.begin());
       std::copy_n(traj.row(r + 1), traj.njoint, ahead.begin());
-      const double t0 = Now();
+      const double t0 = ohrp::MonotonicSeconds();
       checker->SetPose(q);
       const CheckResult a = checker->Check(file.online, file.margin, {});
       checker->SetPose(ahead);
       const CheckResult b = checker->Check(file.online, file.margin, {});
-      const double t1 = Now();
+      const double t1 = ohrp::MonotonicSeconds();
       incremental.MoveTo(q);
       const CheckResult c = incremental.Check(every, file.margin);
       incremental.MoveTo(ahead);
       const CheckResult d = incremental.Check(every, file.margin);
-      const double t2 = Now();
+      const double t2 = ohrp::MonotonicSeconds();
       t_full.push_back(t1 - t0);
       t_inc.push_back(t2 - t1);
       differ += a.closest != c.closest || b.closest != d.closest ||

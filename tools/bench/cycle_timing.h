@@ -14,19 +14,9 @@
 #include <vector>
 
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/clock.h"
 
 namespace ohrp::bench {
-
-inline double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-// the calling thread's CPU time [s]
-inline double ThreadCpu() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 inline double Quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
@@ -38,8 +28,8 @@ inline double Quantile(std::vector<double> v, double q) {
 inline double ThreadCpuOverhead() {
   std::vector<double> d(2000);
   for (double& x : d) {
-    const double t0 = ThreadCpu();
-    x = ThreadCpu() - t0;
+    const double t0 = ThreadCpuSeconds();
+    x = ThreadCpuSeconds() - t0;
   }
   return Quantile(d, 0.5);
 }
@@ -52,9 +42,9 @@ struct CycleTimes {
   // the CPU clock's are not)
   template <typename F>
   void Time(F&& f) {
-    const double c0 = ThreadCpu(), w0 = Now();
+    const double c0 = ThreadCpuSeconds(), w0 = MonotonicSeconds();
     f();
-    const double w1 = Now(), c1 = ThreadCpu();
+    const double w1 = MonotonicSeconds(), c1 = ThreadCpuSeconds();
     cpu.push_back(c1 - c0);
     wall.push_back(w1 - w0);
   }

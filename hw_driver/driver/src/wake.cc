@@ -49,12 +49,6 @@ int64_t MaxMarginNs(const WakeOptions& o, int64_t period_ns) {
 
 //---------------- clock and modes ----------------
 
-int64_t MonotonicNs() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
-}
-
 WakeClock& MonotonicClock() {
   static Monotonic clock;
   return clock;

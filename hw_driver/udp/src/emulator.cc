@@ -9,6 +9,7 @@
 
 #include "emulator_impl.h"
 #include "robot_model/sensors.h"
+#include "shm_bridge/clock.h"
 
 namespace ohrp::hw::udp {
 namespace {
@@ -16,12 +17,6 @@ namespace {
 std::atomic<int> g_signal{0};
 void OnSignal(int sig) { g_signal.store(sig); }
 void OnFatal(const char*) {}
-
-double Now() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 void SleepUntil(double t) {
   timespec ts;
@@ -259,13 +254,13 @@ void Emulator::Report(double wall, int exit_code) {
 int Emulator::Run() {
   int exit_code = kEmuExitOk;
   if (!SetUp(&exit_code)) return exit_code;
-  const double wall_start = Now();
+  const double wall_start = MonotonicSeconds();
   double deadline = wall_start;
   double next_control = wall_start;
   const int badqacc = d_->warning[mjWARN_BADQACC].number;
   while (!g_signal.load()) {
     if (o_.duration > 0 && d_->time >= o_.duration - 0.5 * m_->opt.timestep) break;
-    const double now = Now();
+    const double now = MonotonicSeconds();
     if (control_ && now >= next_control) {
       next_control = now + kControlPollPeriod;
       PollControl();
@@ -308,14 +303,14 @@ int Emulator::Run() {
     model::FillSensors(robot_, m_, d_, &sensors_);
     ++cycles_;
 
-    const double sent_at = Now();
+    const double sent_at = MonotonicSeconds();
     if (have_peer_) SendStates(sent_at);
     FlushLate(sent_at);
     if (log_ && cycles_ % static_cast<uint64_t>(o_.log_every) == 0) Log();
 
     // absolute deadlines; far behind (a stalled machine), real time starts again
     deadline += o_.period;
-    const double after = Now();
+    const double after = MonotonicSeconds();
     if (after > deadline + o_.period) ++overruns_;
     if (after > deadline + kMaxBehind) {
       deadline = after;
@@ -323,7 +318,7 @@ int Emulator::Run() {
     }
     SleepUntil(deadline);
   }
-  const double wall = Now() - wall_start;
+  const double wall = MonotonicSeconds() - wall_start;
   if (g_signal.load() && exit_code == kEmuExitOk) {
     exit_code = kEmuExitInterrupted;
     if (!o_.quiet)

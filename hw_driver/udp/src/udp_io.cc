@@ -1,5 +1,6 @@
 // The udp RobotIo (see udp_io.h and PROTOCOL.md).
 #include "hw_udp/udp_io.h"
+#include "shm_bridge/clock.h"
 
 #include <time.h>
 
@@ -11,12 +12,6 @@
 
 namespace ohrp::hw::udp {
 namespace {
-
-int64_t NowNs() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
-}
 
 bool ParseNumber(const std::string& s, double* out) {
   char* end = nullptr;
@@ -159,7 +154,7 @@ bool UdpIo::open(const IoConfig& config, std::string* error) {
   for (const auto& [b, ms] : board_timeouts) timeout_ns_[b] = static_cast<int64_t>(ms * 1e6);
   writes_ = 0;
   lost_at_last_read_ = 0;
-  open_ns_ = NowNs();
+  open_ns_ = MonotonicNs();
   SendHellos(open_ns_);
   return true;
 }
@@ -274,13 +269,13 @@ IoResult UdpIo::read(IoState* state) noexcept {
       ++stats_.foreign;
       continue;
     }
-    Handle(buf_, static_cast<size_t>(n), NowNs());
+    Handle(buf_, static_cast<size_t>(n), MonotonicNs());
   }
 
   stats_.kernel_dropped = socket_.kernel_drops();
 
   // the newest data of every board, and who is silent
-  const int64_t now = NowNs();
+  const int64_t now = MonotonicNs();
   uint32_t faults = 0, silent = 0, nonfinite = 0;
   uint64_t time_ns = 0;
   for (int b = 0; b < layout_.nboards(); ++b) {
@@ -343,7 +338,7 @@ IoResult UdpIo::read(IoState* state) noexcept {
 
 IoResult UdpIo::write(const IoCommand& command) noexcept {
   if (!socket_.is_open()) return IoResult::kError;
-  const int64_t now = NowNs();
+  const int64_t now = MonotonicNs();
   int failed = 0;
   CommandPacket p;
   for (int b = 0; b < static_cast<int>(layout_.motor.size()); ++b) {

@@ -21,6 +21,7 @@
 
 #include "runner/checks.h"
 #include "runner/commands.h"
+#include "shm_bridge/clock.h"
 
 namespace fs = std::filesystem;
 
@@ -29,10 +30,6 @@ namespace {
 
 std::atomic<int> g_signal{0};
 void OnSignal(int sig) { g_signal.store(sig); }
-
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 // a child process whose output goes to a file, echoed with a prefix while it runs
 struct Child {
@@ -103,7 +100,7 @@ void Stop(Child* c, int sig) {
 
 // waits until every child in `cs` is done or `deadline` passes
 void WaitAll(std::vector<Child*> cs, double deadline, bool echo) {
-  while (Now() < deadline) {
+  while (ohrp::MonotonicSeconds() < deadline) {
     bool all = true;
     for (Child* c : cs) {
       Reap(c);
@@ -206,7 +203,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
 
   //---------------- run ----------------
   std::string error;
-  const double t0 = Now();
+  const double t0 = ohrp::MonotonicSeconds();
   const double wall_limit = s.wall_timeout > 0 ? s.wall_timeout : 60 + 30 * s.duration;
   std::string aborted;
   if (!Spawn(&sim, o.source_dir, &error)) {
@@ -221,7 +218,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     const auto size = fs::file_size(shm_file, size_error);
     return !size_error && size > 0;
   };
-  while (!sized() && Now() - t0 < 30) {
+  while (!sized() && ohrp::MonotonicSeconds() - t0 < 30) {
     Reap(&sim);
     if (sim.done) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -250,12 +247,12 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
       Stop(&sim, SIGINT);
       for (auto& c : ctl) Stop(&c, SIGINT);
     }
-    if (Now() - t0 > wall_limit && aborted.empty()) {
+    if (ohrp::MonotonicSeconds() - t0 > wall_limit && aborted.empty()) {
       aborted = "wall-time limit of " + Num(wall_limit) + " s reached";
       std::fprintf(stderr, "ohrp_run: %s; stopping sim_host\n", aborted.c_str());
       Stop(&sim, SIGTERM);
     }
-    WaitAll({&sim}, Now() + 0.1, o.echo);
+    WaitAll({&sim}, ohrp::MonotonicSeconds() + 0.1, o.echo);
     for (auto& c : ctl) {
       Reap(&c);
       Echo(&c, o.echo);
@@ -264,12 +261,12 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   // the controllers see the producer stop and end by themselves; give them a moment
   std::vector<Child*> rest;
   for (auto& c : ctl) rest.push_back(&c);
-  WaitAll(rest, Now() + 5, o.echo);
+  WaitAll(rest, ohrp::MonotonicSeconds() + 5, o.echo);
   for (auto& c : ctl) Stop(&c, SIGTERM);
-  WaitAll(rest, Now() + 2, o.echo);
+  WaitAll(rest, ohrp::MonotonicSeconds() + 2, o.echo);
   for (auto& c : ctl) Stop(&c, SIGKILL);
-  WaitAll(rest, Now() + 1, o.echo);
-  const double wall = Now() - t0;
+  WaitAll(rest, ohrp::MonotonicSeconds() + 1, o.echo);
+  const double wall = ohrp::MonotonicSeconds() - t0;
 
   //---------------- checks ----------------
   nlohmann::json sim_summary = nlohmann::json::object();

@@ -16,6 +16,7 @@
 
 #include "stop.h"
 #include "sweep/sweep.h"
+#include "shm_bridge/clock.h"
 
 namespace fs = std::filesystem;
 
@@ -23,10 +24,6 @@ namespace ohrp::sweep {
 namespace {
 
 constexpr double kSqueueGiveUp = 300;  // [s] of squeue failing in a row before giving up
-
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 std::string Describe(const SweepSpec& s, const Variant& v) {
   std::string d;
@@ -66,14 +63,14 @@ void RunLocal(const SweepSpec& spec, const Executor& ex, const std::string& out_
         (*states)[v.id] = "CANCELLED: the sweep was interrupted before the variant started";
         continue;
       }
-      const double t0 = Now();
+      const double t0 = ohrp::MonotonicSeconds();
       RunVariant(VariantDir(out_dir, v.id), SegmentName(tag, v.id), spec.time_limit, ctx);
       const int k = ++done;
       if (ex.progress) {
         const std::string status = StatusOf(spec, out_dir, v.id);
         std::lock_guard<std::mutex> lock(mutex);
         std::fprintf(stderr, "ohrp_sweep: [%d/%zu] v%03d %s: %s, %.1f s\n", k, n, v.id,
-                     Describe(spec, v).c_str(), status.c_str(), Now() - t0);
+                     Describe(spec, v).c_str(), status.c_str(), ohrp::MonotonicSeconds() - t0);
       }
     }
   };
@@ -231,8 +228,8 @@ void RunSlurm(const SweepSpec& spec, const Executor& ex, const std::string& out_
   std::string why;
   for (int active; (active = JobActive(job, &why)) != 0;) {
     if (active < 0) {
-      if (failing_since < 0) failing_since = Now();
-      if (Now() - failing_since > kSqueueGiveUp) {
+      if (failing_since < 0) failing_since = ohrp::MonotonicSeconds();
+      if (ohrp::MonotonicSeconds() - failing_since > kSqueueGiveUp) {
         outcome->error = "squeue has failed for " + std::to_string(static_cast<int>(kSqueueGiveUp)) +
                          " s (" + why + "); gathering what job " + job + " wrote so far";
         break;
@@ -265,12 +262,12 @@ SweepOutcome RunSweep(const SweepSpec& spec, const Executor& executor, const std
   if (!Prepare(spec, dir, &outcome.error)) return outcome;
   InstallStopHandlers();
   std::map<int, std::string> states;
-  const double t0 = Now();
+  const double t0 = ohrp::MonotonicSeconds();
   if (executor.kind == Executor::kSlurm)
     RunSlurm(spec, executor, dir, ctx, &outcome, &states);
   else
     RunLocal(spec, executor, dir, ctx, &outcome, &states);
-  outcome.wall_time = Now() - t0;
+  outcome.wall_time = ohrp::MonotonicSeconds() - t0;
   outcome.results = Gather(spec, dir, states);
   return outcome;
 }

@@ -16,6 +16,7 @@
 
 #include "stop.h"
 #include "sweep/sweep.h"
+#include "shm_bridge/clock.h"
 
 namespace fs = std::filesystem;
 
@@ -24,10 +25,6 @@ namespace {
 
 constexpr double kKillGrace = 5.0;  // [s] from SIGTERM to SIGKILL of a variant's processes
 constexpr int kTimedOut = 124;      // RunVariant's code for a variant killed at its time limit
-
-double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 std::string Env(const char* name) {
   const char* v = std::getenv(name);
@@ -117,7 +114,7 @@ int RunVariant(const std::string& variant_dir, const std::string& segment, doubl
   fs::remove(dir + "/status.json");
 
   // ohrp_run in its own process group, so that the group (sim_host, controllers) can be ended
-  const double t0 = Now();
+  const double t0 = ohrp::MonotonicSeconds();
   const std::time_t started = std::time(nullptr);
   // everything the child needs is made before the fork: other threads (the local executor's
   // workers) may hold the allocator's lock at that moment, so the child allocates nothing
@@ -152,7 +149,7 @@ int RunVariant(const std::string& variant_dir, const std::string& segment, doubl
         code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
         break;
       }
-      const double now = Now();
+      const double now = ohrp::MonotonicSeconds();
       if (term_at < 0 && (now - t0 > time_limit || StopRequested())) {
         timed_out = !StopRequested();
         cancelled = !timed_out;
@@ -166,7 +163,7 @@ int RunVariant(const std::string& variant_dir, const std::string& segment, doubl
     // whatever is left of the group (a controller that ignored SIGTERM)
     killpg(pid, SIGKILL);
   }
-  const double wall = Now() - t0;
+  const double wall = ohrp::MonotonicSeconds() - t0;
 
   nlohmann::json j;
   j["exit_code"] = code;

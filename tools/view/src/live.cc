@@ -8,16 +8,11 @@
 
 #include "robot_model/model_hash.h"
 #include "view/source.h"
+#include "shm_bridge/clock.h"
 
 namespace ohrp::view {
 
 namespace {
-
-double Now() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 // the status bits by name, for the page
 nlohmann::json StatusNames(uint32_t bits) {
@@ -44,11 +39,11 @@ std::unique_ptr<LiveSource> LiveSource::Open(const std::string& segment, const s
   src->period_ = 1.0 / rate;
   src->image_period_ = 1.0 / image_rate;
   // the segment first (retrying while it is not there yet), then the scene
-  const double deadline = Now() + attach_timeout;
+  const double deadline = MonotonicSeconds() + attach_timeout;
   for (;;) {
     const shm::Status s = src->observer_.open(segment);
     if (s.ok()) break;
-    if (s.code != shm::Error::kNoSegment || Now() >= deadline) {
+    if (s.code != shm::Error::kNoSegment || MonotonicSeconds() >= deadline) {
       *error = s.code == shm::Error::kNoSegment
                    ? "no segment '" + segment + "' (no producer is running under that name: start "
                      "one, e.g. 'sim_host --segment " + segment + " SCENE', or give its --segment)"
@@ -147,7 +142,7 @@ void LiveSource::ImageLoop() {
       usleep(20000);
       continue;
     }
-    const double now = Now();
+    const double now = MonotonicSeconds();
     for (int c = 0; c < ncamera; ++c) {
       if (now < next[c] || observer_.read_image(c, last[c], slot.get()) != shm::ImageResult::kOk) continue;
       last[c] = slot->frame;
@@ -188,7 +183,7 @@ void LiveSource::Loop() {
     if (r == shm::ReadResult::kOk) have = true;
     ended = r == shm::ReadResult::kProducerGone || r == shm::ReadResult::kProducerStopped ||
             r == shm::ReadResult::kNotOpen;
-    const double now = Now();
+    const double now = MonotonicSeconds();
     if (!have || (now < next && !ended)) continue;
     next = now + period_;
     auto frame = std::make_shared<const std::string>(MakeFrame(block, ended));

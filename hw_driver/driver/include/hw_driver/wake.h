@@ -16,10 +16,9 @@
 #include <cstdint>
 #include <string>
 
-namespace ohrp::hw {
+#include "shm_bridge/clock.h"  // MonotonicNs: the one clock of the driver, its benchmark, its tests
 
-// CLOCK_MONOTONIC now [ns]: the one clock of the driver, its benchmark and its tests.
-int64_t MonotonicNs() noexcept;
+namespace ohrp::hw {
 
 // how a loop waits for its deadline
 enum class WakeMode {
