@@ -11,32 +11,34 @@
 
 namespace ohrp {
 
-// CLOCK_MONOTONIC now [ns]
+namespace clock_internal {
+inline timespec Read(clockid_t id) noexcept {
+  timespec ts{};
+  clock_gettime(id, &ts);
+  return ts;
+}
+inline int64_t Ns(const timespec& ts) noexcept {
+  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
+inline double Seconds(const timespec& ts) noexcept {
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+}  // namespace clock_internal
+
+// CLOCK_MONOTONIC now [ns], [s]
 inline int64_t MonotonicNs() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+  return clock_internal::Ns(clock_internal::Read(CLOCK_MONOTONIC));
 }
-
-// CLOCK_MONOTONIC now [s]
 inline double MonotonicSeconds() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  return clock_internal::Seconds(clock_internal::Read(CLOCK_MONOTONIC));
 }
 
-// the calling thread's CPU time [ns]
+// the calling thread's CPU time [ns], [s]
 inline int64_t ThreadCpuNs() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+  return clock_internal::Ns(clock_internal::Read(CLOCK_THREAD_CPUTIME_ID));
 }
-
-// the calling thread's CPU time [s]
 inline double ThreadCpuSeconds() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  return clock_internal::Seconds(clock_internal::Read(CLOCK_THREAD_CPUTIME_ID));
 }
 
 }  // namespace ohrp
