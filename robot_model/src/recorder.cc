@@ -2,9 +2,10 @@
 #include "robot_model/recorder.h"
 
 #include <cerrno>
-#include <charconv>
 #include <chrono>
 #include <cstring>
+
+#include "robot_model/format_g9.h"
 
 namespace ohrp::model {
 
@@ -99,13 +100,12 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs) {
 
 void Recorder::WriteRow(const double* row) {
   line_.clear();
-  // printf's "%.9g", by std::to_chars (the standard defines it so), several times faster: the
-  // writer thread shares the CPUs with a lock-step run
-  char buf[40];
+  // printf's "%.9g" (format_g9.h): the writer thread shares the CPUs with a lock-step run
+  char buf[kFormatG9Max + 1];
   for (size_t i = 0; i < width_; ++i) {
     char* p = buf;
     if (i) *p++ = ',';
-    p = std::to_chars(p, buf + sizeof(buf), row[i], std::chars_format::general, 9).ptr;
+    p = FormatG9(p, row[i]);
     line_.append(buf, static_cast<size_t>(p - buf));
   }
   line_ += '\n';

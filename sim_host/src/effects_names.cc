@@ -97,7 +97,10 @@ bool ParseEffectRequests(const std::string& spec, EffectRequests* out, std::stri
     Effect e;
     if (!ParseEffectName(key, &e)) {
       std::string known;
-      for (int i = 0; i < kEffectCount; ++i) known += (i ? " " : "") + std::string(kNames[i]);
+      for (int i = 0; i < kEffectCount; ++i) {
+        if (i) known += ' ';
+        known += kNames[i];
+      }
       *error = "effects: unknown effect '" + key + "' (known: " + known +
                ", contact:BODY1/BODY2, noise.KIND)";
       return false;

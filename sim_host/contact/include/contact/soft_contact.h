@@ -24,6 +24,7 @@
 #include <mujoco/mujoco.h>
 
 #include <Eigen/LU>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -155,7 +156,14 @@ class SoftFootContact {
   std::vector<Eigen::Matrix<double, 6, 6>> stiff_, damp_;
   std::vector<Eigen::Vector3d> normal_;
   std::vector<mjtNum> jac_, minv_jt_;
+  // per body the dofs that move it (its own and its ancestors', descending), and per pair of
+  // bodies the dofs both have: the only columns where J and D^-1/2 L'^-1 J^T are not zero
+  std::vector<std::vector<int>> chain_;
+  std::vector<std::vector<int>> shared_;  // [k * bodies + l]
   Eigen::MatrixXd mobility_, system_;
+  // the time the next step starts at if the state comes from the step this one made: the
+  // accelerations in mjData are then that step's (see ApplyImplicit)
+  double next_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXd dv_, rhs_, correction_, wrench_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
