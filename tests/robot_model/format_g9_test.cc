@@ -94,7 +94,8 @@ TEST(FormatG9, RoundingTiesAndTheirNeighbours) {
   ExpectSame(v, "ties");
 }
 
-TEST(FormatG9, DecadeBoundaries) {  // powers of ten and 9.99999999x: where x and the notation change
+// powers of ten and 9.99999999x: where the exponent and the notation change
+TEST(FormatG9, DecadeBoundaries) {
   std::mt19937_64 rng(14);
   std::vector<double> v;
   for (int k = -320; k <= 308; ++k) {

@@ -215,7 +215,8 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
   // the work of mj_solveM and a symmetric product, both over the chains' dofs only (the rest of
   // each row is zero)
   std::copy(jac_.begin(), jac_.end(), minv_jt_.begin());
-  for (int r = 0; r < n; ++r) HalfSolveOnChain(m, d, chain_[r / 6], minv_jt_.data() + size_t(r) * nv);
+  for (int r = 0; r < n; ++r)
+    HalfSolveOnChain(m, d, chain_[r / 6], minv_jt_.data() + size_t(r) * nv);
   for (int i = 0; i < n; ++i) {
     const mjtNum* xi = minv_jt_.data() + size_t(i) * nv;
     for (int j = 0; j <= i; ++j) {
