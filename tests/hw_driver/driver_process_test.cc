@@ -16,6 +16,9 @@ using testing::HwDriverProcess;
 using testing::Peek;
 using testing::Since;
 using testing::Written;
+using ohrp::testing::Kill;
+using ohrp::testing::kNoTimeout;
+using ohrp::testing::Pipe;
 
 //---------------- attach and command ----------------
 
@@ -69,7 +72,7 @@ TEST_F(HwDriverProcess, NanCommandsAreRejectedCountedAndTheJointHolds) {
   Start({"--duration", "120", "--watchdog-cycles", "1000000", "--servo-off-time", "0.05"});
   ASSERT_TRUE(WaitSegment()) << Stderr();
   Peek peek(segment_);
-  child_ = Controller(Hold(0.2, std::numeric_limits<double>::quiet_NaN()), -1, -1,
+  child_ = Controller(Hold(0.2, std::numeric_limits<double>::quiet_NaN()), -1, nullptr,
                       shm::status::kCommandRejected);
   EXPECT_TRUE(WaitUntil([&] {
     return peek.get().sensors.rejected_per_joint[1] > 10 &&
@@ -98,16 +101,10 @@ TEST_F(HwDriverProcess, KilledControllerTripsTheSafeModeWithinTwoCycles) {
   Start({"--duration", "60", "--watchdog-cycles", "1000000", "--safe-time", "0.1"});
   ASSERT_TRUE(WaitSegment()) << Stderr();
   Peek peek(segment_);
-  int fds[2];
-  ASSERT_EQ(pipe(fds), 0);
-  child_ = Controller(Hold(0.2, 0.3), 100, fds[1]);
-  char c = 0;
-  ASSERT_EQ(::read(fds[0], &c, 1), 1);  // 100 cycles answered
-  close(fds[0]);
-  close(fds[1]);
-  kill(child_, SIGKILL);
-  waitpid(child_, nullptr, 0);  // reaped: from here its death is observable
-  child_ = -1;
+  Pipe answered;
+  child_ = Controller(Hold(0.2, 0.3), 100, &answered);
+  ASSERT_TRUE(answered.Receive(kNoTimeout));  // 100 cycles answered
+  Kill(&child_);  // reaped: from here its death is observable
   const uint64_t observable = peek.cycle();
   EXPECT_EQ(Wait(), 5) << Stderr();
   EXPECT_FALSE(fs::exists(ShmPath()));
@@ -135,18 +132,12 @@ TEST_F(HwDriverProcess, SilentControllerTripsTheSafeModeAfterTheWatchdogCycles) 
   Start({"--duration", "60", "--watchdog-cycles", "10", "--safe-time", "0.05"});
   ASSERT_TRUE(WaitSegment()) << Stderr();
   Peek peek(segment_);
-  int fds[2];
-  ASSERT_EQ(pipe(fds), 0);
-  child_ = Controller(Hold(0.2, 0.3), 50, fds[1]);
-  char c = 0;
-  ASSERT_EQ(::read(fds[0], &c, 1), 1);
-  close(fds[0]);
-  close(fds[1]);
+  Pipe answered;
+  child_ = Controller(Hold(0.2, 0.3), 50, &answered);
+  ASSERT_TRUE(answered.Receive(kNoTimeout));
   kill(child_, SIGSTOP);  // alive, but silent
   const int code = Wait();
-  kill(child_, SIGKILL);
-  waitpid(child_, nullptr, 0);
-  child_ = -1;
+  Kill(&child_);
   // a loaded machine may also make the controller late before it is stopped: then the driver
   // trips earlier on the same rule, so only the rule is checked, on the driver's own counts
   ASSERT_EQ(code, 5) << Stderr();

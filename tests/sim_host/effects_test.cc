@@ -2,7 +2,6 @@
 // dependency), that an effect switched off is really off in MuJoCo (gravity, limits, passive
 // forces, contact, sensors, mj_rnePostConstraint), the sensor noise (standard deviation,
 // seed, exact when off), and `sim_host --explain` as a process.
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -15,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/process.h"
 #include "runner/scenario.h"
 #include "sim_host/effects.h"
 #include "sim_host/model.h"
@@ -503,10 +503,10 @@ TEST(EffectsNoise, StandardDeviationAndSeed) {
 // runs sim_host with `args`; returns its exit code, stdout and stderr in *out, *err
 int RunSimHost(const std::vector<std::string>& args, std::string* out, std::string* err) {
   const std::string o = testing::WriteTemp("", ".out"), e = testing::WriteTemp("", ".err");
-  std::string cmd = std::string(OHRP_BIN_DIR) + "/sim_host";
-  for (const auto& a : args) cmd += " '" + a + "'";
-  cmd += " >" + o + " 2>" + e;
-  const int status = std::system(cmd.c_str());
+  std::vector<std::string> argv = {std::string(OHRP_BIN_DIR) + "/sim_host"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const int code = ohrp::testing::WaitExit(ohrp::testing::Spawn(argv, {.out = o, .err = e}),
+                                           ohrp::testing::kNoTimeout);
   std::ifstream fo(o), fe(e);
   std::stringstream so, se;
   so << fo.rdbuf();
@@ -515,7 +515,7 @@ int RunSimHost(const std::vector<std::string>& args, std::string* out, std::stri
   *err = se.str();
   std::filesystem::remove(o);
   std::filesystem::remove(e);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return code;
 }
 
 TEST(EffectsProcess, ExplainPrintsTheTableAndCreatesNoSegment) {

@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/process.h"
 #include "shm_bridge/bridge.h"
 #include "test_models.h"
 
@@ -45,10 +46,7 @@ class SimHostProcess : public ::testing::Test {
     err_ = testing::WriteTemp("", ".stderr");
   }
   void TearDown() override {
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
+    ohrp::testing::Kill(&pid_);
     fs::remove("/dev/shm/" + shm::SegmentObjectName(segment_));
   }
 
@@ -58,16 +56,7 @@ class SimHostProcess : public ::testing::Test {
                                      "--segment", segment_, "--physics-dt", "0.001",
                                      "--control-period", "0.002", "--progress", progress_};
     args.insert(args.end(), extra.begin(), extra.end());
-    pid_ = fork();
-    if (pid_ == 0) {
-      const int fd = open(err_.c_str(), O_WRONLY | O_TRUNC);
-      dup2(fd, 2);
-      std::vector<char*> a;
-      for (auto& s : args) a.push_back(s.data());
-      a.push_back(nullptr);
-      execv(a[0], a.data());
-      _exit(127);
-    }
+    pid_ = ohrp::testing::Spawn(args, {.err = err_});
   }
   bool WaitSegment(double timeout = 5) {
     const auto t0 = Clock::now();
@@ -77,19 +66,8 @@ class SimHostProcess : public ::testing::Test {
     }
     return false;
   }
-  // waits for sim_host to end; returns its exit code, or -1 on timeout
-  int Wait(double timeout = 10) {
-    const auto t0 = Clock::now();
-    int st = 0;
-    while (Since(t0) < timeout) {
-      if (waitpid(pid_, &st, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return -1;
-  }
+  // waits for sim_host to end; returns its exit code, or -1 on timeout (left running)
+  int Wait(double timeout = 10) { return ohrp::testing::WaitExit(&pid_, timeout); }
   std::string Stderr() {
     std::ifstream in(err_);
     std::stringstream ss;
@@ -107,10 +85,9 @@ class SimHostProcess : public ::testing::Test {
     FAIL() << st.message;
   }
   // a controller in another process that answers 10 cycles and dies without closing (its
-  // claim stays on the segment); returns its exit code once it is reaped
+  // claim stays on the segment: _exit); returns its exit code once it is reaped
   int RunDyingController() {
-    const pid_t child = fork();
-    if (child == 0) {
+    const pid_t child = ohrp::testing::Spawn([&]() -> int {
       shm::RobotAdaptor a;
       for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
       shm::SensorBlock s{};
@@ -119,10 +96,8 @@ class SimHostProcess : public ::testing::Test {
         a.write(Hold(s, 2));
       }
       _exit(0);
-    }
-    int st = 0;
-    waitpid(child, &st, 0);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    });
+    return ohrp::testing::WaitExit(child, ohrp::testing::kNoTimeout);
   }
   static shm::CommandBlock Hold(const shm::SensorBlock& s, int n) {
     shm::CommandBlock c{};
@@ -263,8 +238,7 @@ TEST_F(SimHostProcess, AfterControllerLossANewControllerCanAttach) {
 TEST_F(SimHostProcess, AControllerStoppedPastTheTimeoutLearnsItWasDroppedWhenResumed) {
   Start({"--duration", "100", "--on-controller-loss", "end", "--controller-timeout", "0.2"});
   ASSERT_TRUE(WaitSegment());
-  const pid_t child = fork();
-  if (child == 0) {
+  const pid_t child = ohrp::testing::Spawn([&]() -> int {
     shm::RobotAdaptor a;
     for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
     shm::SensorBlock s{};
@@ -275,15 +249,16 @@ TEST_F(SimHostProcess, AControllerStoppedPastTheTimeoutLearnsItWasDroppedWhenRes
     raise(SIGSTOP);  // past the timeout; the test resumes it after sim_host has ended
     const shm::ReadResult r = a.read(&s);
     _exit(r == shm::ReadResult::kDropped ? 0 : 10 + static_cast<int>(r));
-  }
+  });
   int st = 0;
   ASSERT_EQ(waitpid(child, &st, WUNTRACED), child);
   ASSERT_TRUE(WIFSTOPPED(st));
   EXPECT_EQ(Wait(), 5) << Stderr();
   EXPECT_NE(Stderr().find("did not answer within the timeout"), std::string::npos) << Stderr();
   kill(child, SIGCONT);
-  ASSERT_EQ(waitpid(child, &st, 0), child);
-  EXPECT_EQ(WIFEXITED(st) ? WEXITSTATUS(st) : -1, 0) << "10 + the ReadResult it got instead";
+  const int code = ohrp::testing::WaitExit(child, ohrp::testing::kNoTimeout);
+  ASSERT_GE(code, 0);  // reaped
+  EXPECT_EQ(code, 0) << "10 + the ReadResult it got instead";
 }
 
 TEST_F(SimHostProcess, DeadSimHostMakesReadFailAndItsStaleSegmentIsReplaced) {
@@ -293,9 +268,7 @@ TEST_F(SimHostProcess, DeadSimHostMakesReadFailAndItsStaleSegmentIsReplaced) {
   shm::SensorBlock s{};
   ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
   ASSERT_EQ(a.write(Hold(s, 2)), shm::ReadResult::kOk);
-  kill(pid_, SIGKILL);
-  waitpid(pid_, nullptr, 0);
-  pid_ = -1;
+  ohrp::testing::Kill(&pid_);
   const auto t0 = Clock::now();
   shm::ReadResult r = shm::ReadResult::kOk;
   while (r == shm::ReadResult::kOk && Since(t0) < 3) r = a.read(&s);
@@ -316,8 +289,7 @@ TEST_F(SimHostProcess, DeadSimHostMakesReadFailAndItsStaleSegmentIsReplaced) {
 TEST_F(SimHostProcess, ScribbledWakeUpWordsEndTheRunWithAClearError) {
   Start({"--duration", "0", "--on-controller-loss", "wait"});
   ASSERT_TRUE(WaitSegment());
-  const pid_t child = fork();
-  if (child == 0) {
+  const pid_t child = ohrp::testing::Spawn([&]() -> int {
     shm::RobotAdaptor a;
     for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
     shm::SensorBlock s{};
@@ -326,7 +298,7 @@ TEST_F(SimHostProcess, ScribbledWakeUpWordsEndTheRunWithAClearError) {
       if (r == shm::ReadResult::kOk) r = a.write(Hold(s, 2));
       if (r != shm::ReadResult::kOk) _exit(10 + static_cast<int>(r));
     }
-  }
+  });
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // cycling by now
   const int fd = open(("/dev/shm/" + shm::SegmentObjectName(segment_)).c_str(), O_RDWR);
   ASSERT_GE(fd, 0) << Stderr();
@@ -339,7 +311,8 @@ TEST_F(SimHostProcess, ScribbledWakeUpWordsEndTheRunWithAClearError) {
   int code = -1;
   while (code == -1 && Since(t0) < 5) {
     for (std::size_t i = 0; i < sizeof(shm::Sync); ++i) sync[i] = static_cast<unsigned char>(random());
-    code = Wait(0.002);
+    code = Wait(0);  // one look, then 5 ms to the next scribble
+    if (code == -1) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   const double noticed = Since(t0);
   munmap(map, sizeof(shm::Segment));
@@ -348,9 +321,8 @@ TEST_F(SimHostProcess, ScribbledWakeUpWordsEndTheRunWithAClearError) {
   EXPECT_EQ(code, 5) << "128 + a signal when killed (134: aborted), -1: hung\n" << Stderr();
   EXPECT_LT(noticed, 2.0);
   EXPECT_NE(Stderr().find("wake-up words were overwritten"), std::string::npos) << Stderr();
-  int st = 0;
-  ASSERT_EQ(waitpid(child, &st, 0), child);
-  const int controller = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  const int controller = ohrp::testing::WaitExit(child, ohrp::testing::kNoTimeout);
+  ASSERT_GE(controller, 0);  // reaped
   EXPECT_TRUE(controller == 10 + static_cast<int>(shm::ReadResult::kSyncCorrupted) ||
               controller == 10 + static_cast<int>(shm::ReadResult::kProducerStopped))
       << "10 + the ReadResult, 128 + a signal: " << controller;
