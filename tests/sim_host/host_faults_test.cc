@@ -59,12 +59,8 @@ TEST_F(SimHostProcess, AControllerStoppedPastTheTimeoutLearnsItWasDroppedWhenRes
   ASSERT_TRUE(WaitSegment());
   const pid_t child = ohrp::testing::Spawn([&]() -> int {
     shm::RobotAdaptor a;
-    for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
     shm::SensorBlock s{};
-    for (int k = 0; k < 10; ++k) {
-      if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
-      a.write(Hold(s, 2));
-    }
+    AnswerTenCycles(&a, &s);
     raise(SIGSTOP);  // past the timeout; the test resumes it after sim_host has ended
     const shm::ReadResult r = a.read(&s);
     _exit(r == shm::ReadResult::kDropped ? 0 : 10 + static_cast<int>(r));

@@ -78,17 +78,22 @@ class SimHostProcess : public ::testing::Test {
     }
     FAIL() << st.message;
   }
+  // in a forked controller: attaches `a` (retrying for up to a second) and answers 10 cycles
+  // holding the pose read into `s`; a read that fails ends the child with exit code 2
+  void AnswerTenCycles(shm::RobotAdaptor* a, shm::SensorBlock* s) {
+    for (int i = 0; i < 200 && !a->open(segment_).ok(); ++i) usleep(5000);
+    for (int k = 0; k < 10; ++k) {
+      if (a->read(s) != shm::ReadResult::kOk) _exit(2);
+      a->write(Hold(*s, 2));
+    }
+  }
   // a controller in another process that answers 10 cycles and dies without closing (its
   // claim stays on the segment: _exit); returns its exit code once it is reaped
   int RunDyingController() {
     const pid_t child = ohrp::testing::Spawn([&]() -> int {
       shm::RobotAdaptor a;
-      for (int i = 0; i < 200 && !a.open(segment_).ok(); ++i) usleep(5000);
       shm::SensorBlock s{};
-      for (int k = 0; k < 10; ++k) {
-        if (a.read(&s) != shm::ReadResult::kOk) _exit(2);
-        a.write(Hold(s, 2));
-      }
+      AnswerTenCycles(&a, &s);
       _exit(0);
     });
     return ohrp::testing::WaitExit(child, ohrp::testing::kNoTimeout);
