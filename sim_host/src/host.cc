@@ -33,15 +33,6 @@ void OnFatal(const char*) {
   if (g_segment_object[0]) boost::interprocess::shared_memory_object::remove(g_segment_object);
 }
 
-void SleepUntil(double t) {
-  timespec ts;
-  ts.tv_sec = static_cast<time_t>(t);
-  ts.tv_nsec = static_cast<long>((t - ts.tv_sec) * 1e9);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    if (g_signal.load()) return;
-  }
-}
-
 bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
   if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
   if (!o.integrator.empty()) {
@@ -372,7 +363,7 @@ int RunHost(const HostOptions& options) {
 
     if (o.realtime) {
       deadline += o.control_period;
-      if (MonotonicSeconds() < deadline) SleepUntil(deadline);
+      if (MonotonicSeconds() < deadline) SleepUntil(deadline, &g_signal);
     }
     const bool last = o.duration > 0 && d->time >= o.duration - 0.5 * dt;
     // the images of this cycle's end, before its sensors (cameras.h: only while asked)

@@ -1,10 +1,7 @@
 // Test helpers: the fake robot and process spawning.
 #include "fake_robot.h"
 
-#include <fcntl.h>
-#include <signal.h>
 #include <sys/mman.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -22,13 +19,6 @@ using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// exit code of a waitpid status; 128 + signal for a signalled child
-int ExitCode(int status) {
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
 }
 
 }  // namespace
@@ -120,12 +110,11 @@ bool FakeRobot::RunUntilCommands(std::size_t n, double wall_timeout) {
 int FakeRobot::RunUntilExit(pid_t pid, double wall_timeout) {
   const auto t0 = Clock::now();
   while (Since(t0) < wall_timeout) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) return ExitCode(status);
+    const int code = ohrp::testing::WaitExit(&pid, 0);  // one look
+    if (code != -1) return code;
     Cycle(0.05);
   }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
+  ohrp::testing::Kill(pid);
   return -1;
 }
 
@@ -187,33 +176,7 @@ std::string ReadText(const std::string& path) {
 }
 
 pid_t Spawn(const std::vector<std::string>& args, const std::string& log_path) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
-    if (fd >= 0) {
-      dup2(fd, STDOUT_FILENO);
-      dup2(fd, STDERR_FILENO);
-      close(fd);
-    }
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-int WaitExit(pid_t pid, double wall_timeout) {
-  const auto t0 = Clock::now();
-  while (Since(t0) < wall_timeout) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) return ExitCode(status);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  return -1;
+  return ohrp::testing::Spawn(args, ohrp::testing::ToFile(log_path, /*append=*/true));
 }
 
 }  // namespace ohrp::controllers::testing

@@ -1,5 +1,6 @@
 // Test helpers for cross-process controller tests: a fake robot (an ohrp::shm::Producer that
-// runs lock-step and tracks the commands perfectly) and spawning the built programs.
+// runs lock-step and tracks the commands perfectly) and spawning the built programs (through
+// common/process.h).
 #pragma once
 
 #include <sys/types.h>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/process.h"
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::controllers::testing {
@@ -89,9 +91,10 @@ std::string TempPath(const std::string& tag);
 void WriteText(const std::string& path, const std::string& text);
 std::string ReadText(const std::string& path);
 
-// fork + exec `args` with stdout and stderr appended to `log_path`; returns the pid
+// starts `args` (a program and its arguments) with stdout and stderr appended to `log_path`;
+// returns the pid
 pid_t Spawn(const std::vector<std::string>& args, const std::string& log_path);
-// waits for `pid` without cycling anything; exit code, or -1 on timeout (then killed)
-int WaitExit(pid_t pid, double wall_timeout);
+// waits for a child without cycling anything: its exit code, or -1 on timeout (then killed)
+using ohrp::testing::WaitExit;
 
 }  // namespace ohrp::controllers::testing

@@ -4,9 +4,7 @@
 #include "controllers/runner.h"
 
 #include <gtest/gtest.h>
-#include <poll.h>
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -44,30 +42,22 @@ class RunnerTest : public ::testing::Test {
 };
 
 TEST_F(RunnerTest, ExitsNonZeroNamingThePidWhenTheProducerIsKilled) {
-  int ready[2];
-  ASSERT_EQ(pipe(ready), 0);
-  pid_t producer = fork();
-  ASSERT_GE(producer, 0);
-  if (producer == 0) {  // the fake robot, in its own process, cycling until killed
-    close(ready[0]);
+  ohrp::testing::Pipe ready;
+  const pid_t producer = ohrp::testing::Spawn([&]() -> int {
+    // the fake robot, in its own process, cycling until killed
     std::string error;
     auto robot = FakeRobot::Create(spec_, &error);
     if (!robot) _exit(1);
     bool told = false;
     while (true) {
       robot->Cycle(0.5);
-      if (!told && robot->records().size() >= 20) {
-        told = write(ready[1], "x", 1) == 1;
-      }
+      if (!told && robot->records().size() >= 20) told = ready.Send();
     }
-  }
-  close(ready[1]);
+  });
+  ASSERT_GE(producer, 0);
   pid_t controller = SpawnPosture({"--attach-timeout", "5"});
-  pollfd pfd{ready[0], POLLIN, 0};
-  ASSERT_EQ(poll(&pfd, 1, 10000), 1) << testing::ReadText(log_);  // 20 commands exchanged
-  close(ready[0]);
-  kill(producer, SIGKILL);
-  waitpid(producer, nullptr, 0);  // reaped: no zombie that would still look alive
+  ASSERT_TRUE(ready.Receive(10.0)) << testing::ReadText(log_);  // 20 commands exchanged
+  ohrp::testing::Kill(producer);  // reaped: no zombie that would still look alive
 
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(testing::WaitExit(controller, 10.0), kExitProducerLost);

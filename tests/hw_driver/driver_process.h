@@ -5,9 +5,7 @@
 // driver_recovery_test.cc.
 #pragma once
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -26,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/process.h"
 #include "robot_model/model.h"
 #include "robot_model/model_hash.h"
 #include "shm_bridge/bridge.h"
@@ -108,12 +107,7 @@ class HwDriverProcess : public ::testing::Test {
     model_ = Write("model.xml", kModel);
   }
   void TearDown() override {
-    for (pid_t p : {pid_, child_}) {
-      if (p > 0) {
-        kill(p, SIGKILL);
-        waitpid(p, nullptr, 0);
-      }
-    }
+    for (pid_t* p : {&pid_, &child_}) ohrp::testing::Kill(p);
     fs::remove(ShmPath());
     if (!other_segment_.empty()) fs::remove("/dev/shm/" + shm::SegmentObjectName(other_segment_));
     fs::remove_all(dir_);
@@ -139,19 +133,9 @@ class HwDriverProcess : public ::testing::Test {
     args.insert(args.end(), extra.begin(), extra.end());
     pid_ = Exec(args, Path("driver.stderr"));
   }
-  static pid_t Exec(std::vector<std::string> args, const std::string& err) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const int fd = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      dup2(fd, 2);
-      dup2(fd, 1);
-      std::vector<char*> a;
-      for (auto& s : args) a.push_back(s.data());
-      a.push_back(nullptr);
-      execv(a[0], a.data());
-      _exit(127);
-    }
-    return pid;
+  // starts `args`, its stdout and stderr into the file `err`
+  static pid_t Exec(const std::vector<std::string>& args, const std::string& err) {
+    return ohrp::testing::Spawn(args, ohrp::testing::ToFile(err));
   }
   // waits until the driver's segment exists, has its full size and says kRunning
   bool WaitSegment(double timeout = 20) { return WaitRunning(segment_, timeout); }
@@ -173,18 +157,9 @@ class HwDriverProcess : public ::testing::Test {
     }
     return false;
   }
-  // waits for process `*pid` to end; its exit code (128 + signal), or -1 on timeout
+  // waits for process `*pid` to end; its exit code (128 + signal), or -1 on timeout (left running)
   static int WaitExit(pid_t* pid, double timeout = 30) {
-    const auto t0 = Clock::now();
-    int st = 0;
-    while (Since(t0) < timeout) {
-      if (waitpid(*pid, &st, WNOHANG) == *pid) {
-        *pid = -1;
-        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return -1;
+    return ohrp::testing::WaitExit(pid, timeout);
   }
   int Wait(double timeout = 30) { return WaitExit(&pid_, timeout); }
   // polls `condition` every 2 ms until it holds (true) or `timeout` [s] passes (false)
@@ -226,13 +201,13 @@ class HwDriverProcess : public ::testing::Test {
     return -1;
   }
   // a controller in a forked child: attaches, then answers every cycle with `command` until the
-  // producer stops (exit 0) or the attach fails (exit 2); after `signal_after` answers it writes
-  // one byte to `pipe_fd` (when >= 0). Exit 0 also needs `need_status` seen in some block.
-  pid_t Controller(shm::CommandBlock command, int signal_after = -1, int pipe_fd = -1,
-                   uint32_t need_status = 0) {
+  // producer stops (exit 0) or the attach fails (exit 2); after `signal_after` answers it sends
+  // one byte through `answered` (when not null). Exit 0 also needs `need_status` seen in some
+  // block. It ends with _exit: its adaptor is never closed.
+  pid_t Controller(shm::CommandBlock command, int signal_after = -1,
+                   ohrp::testing::Pipe* answered = nullptr, uint32_t need_status = 0) {
     const std::string segment = segment_;
-    const pid_t pid = fork();
-    if (pid == 0) {
+    return ohrp::testing::Spawn([&]() -> int {
       shm::RobotAdaptor a;
       shm::Status st;
       for (int i = 0; i < 2000; ++i) {
@@ -249,14 +224,10 @@ class HwDriverProcess : public ::testing::Test {
         if (r != shm::ReadResult::kOk) _exit(3);
         seen |= s.status;
         a.write(command);
-        if (n + 1 == signal_after && pipe_fd >= 0) {
-          const char c = 'x';
-          if (::write(pipe_fd, &c, 1) != 1) _exit(4);
-        }
+        if (n + 1 == signal_after && answered != nullptr && !answered->Send()) _exit(4);
       }
       _exit((seen & need_status) == need_status ? 0 : 5);
-    }
-    return pid;
+    });
   }
   static shm::CommandBlock Hold(double q1, double q2) {
     shm::CommandBlock c{};

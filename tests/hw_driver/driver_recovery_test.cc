@@ -52,21 +52,15 @@ TEST_F(HwDriverProcess, AfterALostControllerANewOneAttachesAndTheServosComeOnAga
          "--on-controller-loss", "wait"});
   ASSERT_TRUE(WaitSegment()) << Stderr();
   Peek peek(segment_);
-  int fds[2];
-  ASSERT_EQ(pipe(fds), 0);
-  child_ = Controller(Hold(0.2, 0.3), 100, fds[1]);
-  char c = 0;
-  ASSERT_EQ(::read(fds[0], &c, 1), 1);  // 100 cycles answered
-  close(fds[0]);
-  close(fds[1]);
-  kill(child_, SIGKILL);
-  waitpid(child_, nullptr, 0);
-  child_ = -1;
+  ohrp::testing::Pipe answered;
+  child_ = Controller(Hold(0.2, 0.3), 100, &answered);
+  ASSERT_TRUE(answered.Receive(ohrp::testing::kNoTimeout));  // 100 cycles answered
+  ohrp::testing::Kill(&child_);
 
   // safe mode, then servos off and waiting: the run goes on
   const uint32_t off = shm::status::kServoOff | shm::status::kNoController;
   ASSERT_TRUE(WaitUntil([&] { return (peek.status() & off) == off; })) << Stderr();
-  EXPECT_EQ(waitpid(pid_, nullptr, WNOHANG), 0) << Stderr();
+  EXPECT_TRUE(ohrp::testing::Running(pid_)) << Stderr();
   // a new controller: servo-on again, and its commands act
   child_ = Controller(Hold(-0.4, 0.5));
   EXPECT_TRUE(WaitUntil([&] {

@@ -2,9 +2,7 @@
 // MuJoCo HRP-1S behind them) <- UDP -> hw_driver with libohrp_io_udp.so <- segment -> posture.
 // posture ramps the robot to half-sitting; the emulator's log says whether it stands.
 // Skipped when hw_driver or posture is not built. Bounds are generous: the machine may be loaded.
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -19,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/process.h"
 #include "runner/checks.h"  // runner::Table: the data logs' reader
 #include "shm_bridge/bridge.h"
 
@@ -35,35 +34,13 @@ constexpr double kMaxWall = 90.0;          // [s] no wait in this test is longer
 
 double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-pid_t Exec(std::vector<std::string> args, const std::string& out) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    dup2(fd, 2);
-    dup2(fd, 1);
-    std::vector<char*> a;
-    for (auto& s : args) a.push_back(s.data());
-    a.push_back(nullptr);
-    execv(a[0], a.data());
-    _exit(127);
-  }
-  return pid;
+// starts `args`, its stdout and stderr into the file `out`
+pid_t Exec(const std::vector<std::string>& args, const std::string& out) {
+  return ohrp::testing::Spawn(args, ohrp::testing::ToFile(out));
 }
 
 // exit code once `*pid` ended within `timeout`, else -1
-int WaitExit(pid_t* pid, double timeout) {
-  const auto t0 = Clock::now();
-  while (*pid > 0) {
-    int status;
-    if (waitpid(*pid, &status, WNOHANG) == *pid) {
-      *pid = -1;
-      return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    }
-    if (Since(t0) >= timeout) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return -1;
-}
+using ohrp::testing::WaitExit;
 
 std::string Read(const std::string& path) {
   std::ifstream in(path);
@@ -84,12 +61,7 @@ class DriverEndToEnd : public ::testing::Test {
     fs::remove(ShmPath());
   }
   void TearDown() override {
-    for (pid_t* p : {&posture_, &driver_, &emulator_}) {
-      if (*p > 0) {
-        kill(*p, SIGKILL);
-        waitpid(*p, nullptr, 0);
-      }
-    }
+    for (pid_t* p : {&posture_, &driver_, &emulator_}) ohrp::testing::Kill(p);
     fs::remove(ShmPath());
     if (!dir_.empty()) fs::remove_all(dir_);
   }

@@ -2,9 +2,7 @@
 // position hold keeps HRP-1S standing, injected loss is counted, a silent board is marked, a board
 // reset turns its servos off until re-armed, run-time faults through the control file, errors
 // and SIGINT. Bounds are generous: the machine may be loaded.
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -18,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "common/process.h"
 #include "hw_udp/udp_io.h"
 #include "robot_model/model.h"
 
@@ -70,10 +69,7 @@ class EmulatorTest : public ::testing::Test {
     port_file_ = (dir_ / "port").string();
   }
   void TearDown() override {
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
+    ohrp::testing::Kill(&pid_);
     io_.close();
     fs::remove_all(dir_);
   }
@@ -84,18 +80,7 @@ class EmulatorTest : public ::testing::Test {
                                      "--port-file", port_file_};
     args.insert(args.end(), extra.begin(), extra.end());
     fs::remove(port_file_);
-    pid_ = fork();
-    if (pid_ == 0) {
-      const int fd = open(err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-      dup2(fd, 2);
-      const int null = open("/dev/null", O_WRONLY);
-      dup2(null, 1);
-      std::vector<char*> a;
-      for (auto& s : args) a.push_back(s.data());
-      a.push_back(nullptr);
-      execv(a[0], a.data());
-      _exit(127);
-    }
+    pid_ = ohrp::testing::Spawn(args, {.out = "/dev/null", .err = err_});
   }
 
   // starts hw_emulator on HRP-1S with `extra` options, on a free port; returns the port
@@ -108,9 +93,7 @@ class EmulatorTest : public ::testing::Test {
       std::ifstream in(port_file_);
       int port = 0;
       if (in >> port && port > 0) return port;
-      int status;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
+      if (!Running()) {
         ADD_FAILURE() << "hw_emulator ended before binding:\n" << Stderr();
         return 0;
       }
@@ -121,24 +104,11 @@ class EmulatorTest : public ::testing::Test {
   }
 
   // exit code of the emulator once it ended (-1: still running after `timeout`)
-  int Wait(double timeout = kMaxWall) {
-    const auto t0 = Clock::now();
-    while (pid_ > 0 && Since(t0) < timeout) {
-      int status;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return -1;
-  }
+  int Wait(double timeout = kMaxWall) { return ohrp::testing::WaitExit(&pid_, timeout); }
+  // one look: false once the emulator ended (reaped, its code in exit_code_)
   bool Running() {
-    int status;
-    if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
-      exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    }
+    const int code = ohrp::testing::WaitExit(&pid_, 0);
+    if (code >= 0) exit_code_ = code;
     return pid_ > 0;
   }
 

@@ -3,9 +3,9 @@
 #include "shm_bridge/layout.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/process.h"
 #include "shm_bridge/bridge.h"
 
 #include <cstring>
@@ -150,12 +150,11 @@ TEST(SanitizedHeader, ClampsCountsAndTerminatesNames) {
 
 // A dead child that its parent has not reaped yet is a zombie: it must count as gone.
 TEST(ProcessAliveTest, ZombieIsNotAlive) {
-  const pid_t child = fork();
-  if (child == 0) _exit(0);
+  const pid_t child = ohrp::testing::Spawn([] { return 0; });
   EXPECT_TRUE(ohrp::shm::ProcessAlive(getpid()));
   // give the child time to exit, without reaping it
   for (int i = 0; i < 200 && ohrp::shm::ProcessAlive(child); ++i) usleep(1000);
   EXPECT_FALSE(ohrp::shm::ProcessAlive(child));
-  waitpid(child, nullptr, 0);
+  ohrp::testing::WaitExit(child, ohrp::testing::kNoTimeout);  // reaped
   EXPECT_FALSE(ohrp::shm::ProcessAlive(child));
 }

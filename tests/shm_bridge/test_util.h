@@ -1,11 +1,8 @@
-// Helpers for the shm_bridge tests: unique segment names, a small producer config, forked
-// children with exit codes, pipes for ordering steps across processes.
+// Helpers for the shm_bridge tests: unique segment names, a small producer config, and the
+// forked children with exit codes and the pipes for ordering steps across processes
+// (common/process.h).
 #pragma once
 
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <boost/interprocess/mapped_region.hpp>
@@ -13,10 +10,15 @@
 #include <functional>
 #include <string>
 
+#include "common/process.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/clock.h"  // MonotonicSeconds: system-wide, comparable across processes
 
 namespace ohrp::shm::testing {
+
+using ohrp::testing::Pipe;
+using ohrp::testing::Spawn;
+using ohrp::testing::WaitExit;
 
 // a segment name unique to this test process and `tag`
 inline std::string UniqueSegment(const std::string& tag) {
@@ -51,43 +53,6 @@ inline ProducerConfig SmallConfig(const std::string& segment_name) {
   return c;
 }
 
-// Runs `body` in a forked child that exits with its return value (99 on an exception). The
-// child never returns into the test framework.
-inline pid_t Spawn(const std::function<int()>& body) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    int code = 99;
-    try {
-      code = body();
-    } catch (...) {
-    }
-    _exit(code);
-  }
-  return pid;
-}
-
-// Waits for child `pid` up to `timeout` [s]: its exit code, 128 + signal when killed, or -1 on
-// timeout (the child is then killed and reaped).
-inline int WaitExit(pid_t pid, double timeout = 5.0) {
-  const double deadline = MonotonicSeconds() + timeout;
-  for (;;) {
-    int status = 0;
-    const pid_t r = waitpid(pid, &status, WNOHANG);
-    if (r == pid) {
-      if (WIFEXITED(status)) return WEXITSTATUS(status);
-      if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-      return -2;
-    }
-    if (r < 0) return -3;
-    if (MonotonicSeconds() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      return -1;
-    }
-    usleep(1000);
-  }
-}
-
 // Polls `condition` every millisecond until it holds or `timeout` [s] passes.
 inline bool WaitFor(const std::function<bool()>& condition, double timeout = 5.0) {
   const double deadline = MonotonicSeconds() + timeout;
@@ -108,33 +73,6 @@ inline Status OpenWhenReady(RobotAdaptor* adaptor, const std::string& segment_na
     usleep(1000);
   }
 }
-
-// A pipe used to order steps between a parent and a child: one byte is one signal.
-class Pipe {
- public:
-  Pipe() {
-    if (pipe(fds_) != 0) fds_[0] = fds_[1] = -1;
-  }
-  ~Pipe() {
-    for (int fd : fds_) {
-      if (fd >= 0) close(fd);
-    }
-  }
-  Pipe(const Pipe&) = delete;
-  Pipe& operator=(const Pipe&) = delete;
-
-  bool Send(char c = 'x') { return ::write(fds_[1], &c, 1) == 1; }
-  // true when a byte arrived within `timeout` [s]
-  bool Receive(double timeout = 5.0) {
-    pollfd p{fds_[0], POLLIN, 0};
-    if (poll(&p, 1, static_cast<int>(timeout * 1000)) != 1) return false;
-    char c = 0;
-    return ::read(fds_[0], &c, 1) == 1;
-  }
-
- private:
-  int fds_[2] = {-1, -1};
-};
 
 // Maps the whole object of `segment_name` read-write, to corrupt fields on purpose.
 class RawSegment {

@@ -54,19 +54,11 @@ double FloorDepth(const mjModel* m, const mjData* d, int cam, double u, double v
 TEST(SimHostCameras, RenderOnlyWhileAskedAtTheRateWithTheFloorsDepth) {
   const std::string segment = "cams_" + std::to_string(getpid());
   const std::string err = std::filesystem::temp_directory_path() / (segment + ".stderr");
-  const pid_t host = Spawn([&] {
-    freopen(err.c_str(), "w", stderr);
-    std::vector<std::string> args = {std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", kScene,
-                                     "--keyframe", "halfsit", "--segment", segment,
-                                     "--wait-controller", "0", "--duration", "0", "--realtime",
-                                     "--progress", "0", "--camera-size", "160x120",
-                                     "--camera-rate", "20"};
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    return 127;
-  });
+  const pid_t host = Spawn({std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", kScene,
+                            "--keyframe", "halfsit", "--segment", segment, "--wait-controller",
+                            "0", "--duration", "0", "--realtime", "--progress", "0",
+                            "--camera-size", "160x120", "--camera-rate", "20"},
+                           {.err = err});
   shm::Observer o;
   ASSERT_TRUE(WaitFor([&] { return o.open(segment).ok(); }, 10.0)) << ReadAll(err);
   ASSERT_EQ(o.header().ncamera, 2);

@@ -10,7 +10,6 @@
 // Duration: OHRP_SOAK_SECONDS (default 60, what CI runs); by hand, 5 minutes:
 //   OHRP_SOAK_SECONDS=300 ./ohrp test -L soak
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -69,8 +68,7 @@ size_t Count(const std::string& text, const std::string& part) {
 // a controller that holds the measured pose but sends a NaN position for joint 0 and a
 // runaway velocity reference for joint 1 in every block, until killed
 pid_t BadController(const std::string& segment) {
-  const pid_t pid = fork();
-  if (pid == 0) {
+  return ohrp::testing::Spawn([&]() -> int {
     shm::RobotAdaptor a;
     for (int i = 0; i < 400 && !a.open(segment).ok(); ++i) usleep(5000);
     if (!a.is_open()) _exit(2);
@@ -93,8 +91,7 @@ pid_t BadController(const std::string& segment) {
       c.joint[1].dq_ref = 1e300;
       a.write(c);
     }
-  }
-  return pid;
+  });
 }
 
 // one controller of the soak: what it is and how it is ended
@@ -154,8 +151,7 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
       }
     }
     kill(r.pid, r.signal);
-    int st = 0;
-    waitpid(r.pid, &st, 0);
+    ohrp::testing::WaitExit(r.pid, ohrp::testing::kNoTimeout);
     // the loss is seen before the next controller starts, so every event is its own
     const auto lost = Clock::now();
     while (Count(ct::ReadText(err), "waiting for a new controller") < runs.size() &&

@@ -3,55 +3,31 @@
 // sim_host must exit 4 with the watch's diagnostic on stderr and in its summary, posture must
 // exit non-zero saying that the producer diverged, and the segment must be gone. And a body
 // falling beside the robot in a scene without MuJoCo's `energy` flag is no divergence.
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "common/process.h"
 #include "shm_bridge/bridge.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-pid_t Spawn(std::vector<std::string> args, const std::string& out_file) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fd = open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    std::vector<char*> a;
-    for (auto& s : args) a.push_back(s.data());
-    a.push_back(nullptr);
-    execv(a[0], a.data());
-    _exit(127);
-  }
-  return pid;
+// starts `args`, its stdout and stderr into the file `out_file`
+pid_t Spawn(const std::vector<std::string>& args, const std::string& out_file) {
+  return ohrp::testing::Spawn(args, ohrp::testing::ToFile(out_file));
 }
 
 // exit code, or -1 after `timeout` [s] (the process is then killed)
-int WaitExit(pid_t pid, double timeout) {
-  const auto t0 = std::chrono::steady_clock::now();
-  int st = 0;
-  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout) {
-    if (waitpid(pid, &st, WNOHANG) == pid) return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  return -1;
-}
+using ohrp::testing::WaitExit;
 
 std::string Read(const std::string& path) {
   std::ifstream in(path);

@@ -6,8 +6,6 @@
 #pragma once
 
 #include <png.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <boost/asio/connect.hpp>
@@ -23,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "../shm_bridge/test_util.h"  // Now, WaitFor, WaitExit
+#include "../shm_bridge/test_util.h"  // WaitFor; common/process.h: Spawn, Terminate
 
 namespace ohrp::view::testing {
 
@@ -91,17 +89,12 @@ class Browser {
     profile_ = fs::temp_directory_path() / ("ohrp_view_chromium_" + std::to_string(getpid()));
     fs::remove_all(profile_);
     fs::create_directories(profile_);
-    pid_ = fork();
-    if (pid_ == 0) {
-      freopen("/dev/null", "w", stdout);
-      freopen("/dev/null", "w", stderr);
-      const std::string profile = "--user-data-dir=" + profile_.string();
-      const std::string size = "--window-size=" + std::to_string(width) + "," + std::to_string(height);
-      execlp("chromium", "chromium", "--headless", "--no-sandbox", "--enable-unsafe-swiftshader",
-             "--remote-debugging-port=0", "--no-first-run", "--hide-scrollbars", profile.c_str(),
-             size.c_str(), "about:blank", static_cast<char*>(nullptr));
-      _exit(127);
-    }
+    pid_ = ohrp::testing::Spawn(
+        {"chromium", "--headless", "--no-sandbox", "--enable-unsafe-swiftshader",
+         "--remote-debugging-port=0", "--no-first-run", "--hide-scrollbars",
+         "--user-data-dir=" + profile_.string(),
+         "--window-size=" + std::to_string(width) + "," + std::to_string(height), "about:blank"},
+        {.out = "/dev/null", .err = "/dev/null"});
     // the protocol's port, then a page with the url
     std::string port, browser_path;
     shm::testing::WaitFor([&] {
@@ -130,10 +123,7 @@ class Browser {
     } catch (...) {
     }
     ws_.reset();
-    if (pid_ > 0) {
-      kill(pid_, SIGTERM);
-      if (shm::testing::WaitExit(pid_, 5.0) == -1) kill(pid_, SIGKILL);
-    }
+    ohrp::testing::Terminate(pid_, 5.0);  // killed when it has not ended within 5 s
     std::error_code ec;
     fs::remove_all(profile_, ec);
   }

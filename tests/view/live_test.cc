@@ -30,11 +30,7 @@ class Live : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override {
-    for (pid_t p : children_) {
-      kill(p, SIGCONT);
-      kill(p, SIGKILL);
-      shm::testing::WaitExit(p, 5.0);
-    }
+    for (pid_t p : children_) ohrp::testing::Kill(p);
     shm::testing::RemoveSegment(segment_);
     fs::remove_all(dir_);
   }

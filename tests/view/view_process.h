@@ -1,6 +1,6 @@
 // Programs of the viewer's tests as child processes: sim_host, posture and ohrp_view started
 // with their arguments (output to files in the test's folder), the viewer's URL read from its
-// first line, and the exit codes (shm_bridge/test_util.h's WaitExit).
+// first line, and the exit codes (common/process.h's WaitExit).
 #pragma once
 
 #include <signal.h>
@@ -24,17 +24,9 @@ inline const std::string kScene = kSource + "/mjcf/hrp1s/scene_flat.xml";
 // Starts bin/`program` with `args`, its stdout and stderr into `out_file`.
 inline pid_t Start(const std::string& program, const std::vector<std::string>& args,
                    const std::string& out_file) {
-  return shm::testing::Spawn([&] {
-    freopen(out_file.c_str(), "w", stdout);
-    dup2(fileno(stdout), 2);
-    std::vector<std::string> all{kBin + "/" + program};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    return 127;
-  });
+  std::vector<std::string> all{kBin + "/" + program};
+  all.insert(all.end(), args.begin(), args.end());
+  return ohrp::testing::Spawn(all, ohrp::testing::ToFile(out_file));
 }
 
 inline std::string ReadAll(const std::string& path) {
@@ -47,13 +39,7 @@ inline std::string ReadAll(const std::string& path) {
 struct Viewer {
   pid_t pid = -1;
   std::string url, out_file;
-  ~Viewer() {
-    if (pid > 0) {
-      kill(pid, SIGCONT);
-      kill(pid, SIGTERM);
-      shm::testing::WaitExit(pid, 5.0);
-    }
-  }
+  ~Viewer() { ohrp::testing::Terminate(pid, 5.0); }
 };
 inline void StartViewer(Viewer* v, const std::vector<std::string>& args, const std::string& out_file,
                         double timeout = 20.0) {

@@ -14,13 +14,13 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/command_line.h"
+#include "quantile.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/observer.h"
 #include "sim_host/cameras.h"
@@ -40,10 +40,7 @@ double Clock(clockid_t id) {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
+using ohrp::bench::Median;
 
 [[noreturn]] void Fail(const std::string& what) {
   std::fprintf(stderr, "bench_cameras: %s\n", what.c_str());

@@ -1,13 +1,13 @@
 // bench_contact: the cost of one physics step of the standing robot with the soft-foot contact
 // beside the same step with MuJoCo's native contact, measured alternately in the same run.
 // A step is sim_host's physics step (sim_host/step.h): servo, (soft contact), mj_step, (commit).
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "cli/command_line.h"
+#include "quantile.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/step.h"
@@ -15,10 +15,7 @@
 
 namespace {
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
+using ohrp::bench::Median;
 
 struct Setup {
   std::unique_ptr<ohrp::sim::Scene> scene;

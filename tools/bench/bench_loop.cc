@@ -12,7 +12,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +21,7 @@
 #include <vector>
 
 #include "cli/command_line.h"
+#include "quantile.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
 #include "sim_host/step.h"
@@ -31,10 +31,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
+using ohrp::bench::Median;
 
 // bare loop: sim_host's physics step alone (servo, soft soles, mj_step), in one process;
 // returns wall seconds per step

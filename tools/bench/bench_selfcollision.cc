@@ -3,7 +3,6 @@
 // (the file's online pairs plus the pairs of each safe range the posture leaves), beside the
 // 5 ms control period. Postures are random within the joint limits, the safe ranges kept (the
 // regime the reduced list is for). The paper's figures are printed for reference.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -16,16 +15,10 @@
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
 #include "controllers/trajectory.h"
+#include "quantile.h"
 #include "shm_bridge/clock.h"
 
-namespace {
-
-double Quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
-}
-
-}  // namespace
+using ohrp::bench::Quantile;
 
 int main(int argc, char** argv) {
   using namespace ohrp::collision;

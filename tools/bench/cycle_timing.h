@@ -6,7 +6,6 @@
 
 #include <time.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -14,15 +13,10 @@
 #include <vector>
 
 #include "shm_bridge/bridge.h"
+#include "quantile.h"  // Quantile
 #include "shm_bridge/clock.h"
 
 namespace ohrp::bench {
-
-inline double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
-}
 
 // the cost of reading the thread CPU clock (the median of back-to-back reads) [s]
 inline double ThreadCpuOverhead() {

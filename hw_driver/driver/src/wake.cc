@@ -1,17 +1,13 @@
 // Waking on time: the monotonic clock, the learned margin and the spin-tail wait (see wake.h).
 #include "hw_driver/wake.h"
 
-#include <time.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <stdexcept>
 
 namespace ohrp::hw {
 namespace {
 
-constexpr int64_t kNsPerS = 1000000000;
 constexpr double kStepFraction = 1.0 / 8;  // quantile step: this part of the estimate
 constexpr double kMinStep = 250;           // [ns] the step when the estimate is near zero
 
@@ -28,13 +24,7 @@ inline void CpuRelax() noexcept {
 class Monotonic final : public WakeClock {
  public:
   int64_t Now() noexcept override { return MonotonicNs(); }
-  void SleepUntil(int64_t t) noexcept override {
-    timespec ts{};
-    ts.tv_sec = static_cast<time_t>(t / kNsPerS);
-    ts.tv_nsec = static_cast<long>(t % kNsPerS);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
-  }
+  void SleepUntil(int64_t t) noexcept override { SleepUntilNs(t); }
 };
 
 int64_t ToNs(double s) { return std::llround(s * 1e9); }

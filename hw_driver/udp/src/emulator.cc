@@ -1,6 +1,5 @@
 // The hw_emulator loop: set-up, real-time cycle, report (see emulator.h).
 #include <signal.h>
-#include <time.h>
 
 #include <atomic>
 #include <cmath>
@@ -17,15 +16,6 @@ namespace {
 std::atomic<int> g_signal{0};
 void OnSignal(int sig) { g_signal.store(sig); }
 void OnFatal(const char*) {}
-
-void SleepUntil(double t) {
-  timespec ts;
-  ts.tv_sec = static_cast<time_t>(t);
-  ts.tv_nsec = static_cast<long>((t - static_cast<double>(ts.tv_sec)) * 1e9);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    if (g_signal.load()) return;
-  }
-}
 
 }  // namespace
 
@@ -316,7 +306,7 @@ int Emulator::Run() {
       deadline = after;
       ++resyncs_;
     }
-    SleepUntil(deadline);
+    SleepUntil(deadline, &g_signal);
   }
   const double wall = MonotonicSeconds() - wall_start;
   if (g_signal.load() && exit_code == kEmuExitOk) {

@@ -16,15 +16,16 @@ std::string Shown(const YAML::Node& n) {
 
 }  // namespace
 
-std::string At(const std::string& path, const YAML::Node& node) {
-  return "scenario '" + path + "': line " + std::to_string(node.Mark().line + 1) + ": ";
+std::string At(const std::string& path, const YAML::Node& node, const char* kind) {
+  return std::string(kind) + " '" + path + "': line " + std::to_string(node.Mark().line + 1) + ": ";
 }
 
-std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key) {
+std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key,
+                  const char* kind) {
   if (map.IsMap())
     for (const auto& kv : map)
-      if (kv.first.IsScalar() && kv.first.Scalar() == key) return At(path, kv.first);
-  return At(path, map);
+      if (kv.first.IsScalar() && kv.first.Scalar() == key) return At(path, kv.first, kind);
+  return At(path, map, kind);
 }
 
 bool ReadNumber(const YAML::Node& n, double* out, std::string* why) {
@@ -107,16 +108,18 @@ bool ReadChoice(const YAML::Node& n, const std::vector<std::string>& choices, st
 }
 
 bool KnownKeysOnly(const YAML::Node& map, const std::set<std::string>& known,
-                   const std::string& path, const std::string& where, std::string* error) {
+                   const std::string& path, const std::string& where, std::string* error,
+                   const char* kind) {
   std::set<std::string> seen;
   for (const auto& kv : map) {
     const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "?";
     if (!known.count(key)) {
-      *error = At(path, kv.first) + where + "unknown key '" + key + "' (known: " + JoinNames(known) + ")";
+      *error = At(path, kv.first, kind) + where + "unknown key '" + key + "' (known: " +
+               JoinNames(known) + ")";
       return false;
     }
     if (!seen.insert(key).second) {
-      *error = At(path, kv.first) + where + "'" + key + "' is given twice";
+      *error = At(path, kv.first, kind) + where + "'" + key + "' is given twice";
       return false;
     }
   }

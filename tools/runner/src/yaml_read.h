@@ -11,12 +11,14 @@
 
 namespace ohrp::runner {
 
-// "scenario 'FILE': line N: " for the node (its first line, 1-based)
-std::string At(const std::string& path, const YAML::Node& node);
+// "scenario 'FILE': line N: " for the node (its first line, 1-based). `kind` names what the
+// file is: a scenario, or a file of another format read with these functions ("sweep").
+std::string At(const std::string& path, const YAML::Node& node, const char* kind = "scenario");
 
 // At() of the key `key` of mapping `map` (the line of the key: a value left empty has no line
 // of its own); At(map) when the key is absent.
-std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key);
+std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key,
+                  const char* kind = "scenario");
 
 // A finite number. False with `*why` ("must be a number, not 'low'" or "must be finite").
 bool ReadNumber(const YAML::Node& n, double* out, std::string* why);
@@ -35,7 +37,8 @@ bool ReadChoice(const YAML::Node& n, const std::vector<std::string>& choices, st
 // The keys of mapping `map` are all in `known` and none is repeated. False with `*error`
 // (prefixed with At() of the key) naming the first key that is not, and the known ones.
 bool KnownKeysOnly(const YAML::Node& map, const std::set<std::string>& known,
-                   const std::string& path, const std::string& where, std::string* error);
+                   const std::string& path, const std::string& where, std::string* error,
+                   const char* kind = "scenario");
 
 // "a, b, c"
 std::string JoinNames(const std::set<std::string>& names);

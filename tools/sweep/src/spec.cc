@@ -20,6 +20,7 @@ namespace ohrp::sweep {
 namespace {
 
 using runner::JoinNames;
+using runner::KnownKeysOnly;
 using runner::ReadInteger;
 using runner::ReadNumber;
 using runner::ReadText;
@@ -36,33 +37,11 @@ constexpr size_t kMaxVariants = 100000;
 constexpr long long kMaxSteps = 10000;
 constexpr double kMaxTimeLimit = 1e6;  // [s]
 
-// "sweep 'FILE': line N: "
-std::string At(const std::string& path, const YAML::Node& n) {
-  return "sweep '" + path + "': line " + std::to_string(n.Mark().line + 1) + ": ";
-}
-
+// the messages' "sweep 'FILE': line N: ", through the runner's reads
+constexpr const char* kSweep = "sweep";
+std::string At(const std::string& path, const YAML::Node& n) { return runner::At(path, n, kSweep); }
 std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key) {
-  if (map.IsMap())
-    for (const auto& kv : map)
-      if (kv.first.IsScalar() && kv.first.Scalar() == key) return At(path, kv.first);
-  return At(path, map);
-}
-
-bool KnownKeys(const YAML::Node& map, const std::set<std::string>& known, const std::string& path,
-               const std::string& where, std::string* error) {
-  std::set<std::string> seen;
-  for (const auto& kv : map) {
-    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "?";
-    if (!known.count(key)) {
-      *error = At(path, kv.first) + where + "unknown key '" + key + "' (known: " + JoinNames(known) + ")";
-      return false;
-    }
-    if (!seen.insert(key).second) {
-      *error = At(path, kv.first) + where + "'" + key + "' is given twice";
-      return false;
-    }
-  }
-  return true;
+  return runner::AtKey(path, map, key, kSweep);
 }
 
 // a scalar as a parameter value: numbers in their shortest exact form
@@ -85,7 +64,7 @@ bool ReadParameter(const YAML::Node& n, const std::string& path, const std::stri
     *error = At(path, n) + where + "must be a mapping, e.g. {key: contact_params.stiffness, values: [1e6, 3e6]}";
     return false;
   }
-  if (!KnownKeys(n, kParameterKeys, path, where, error)) return false;
+  if (!KnownKeysOnly(n, kParameterKeys, path, where, error, kSweep)) return false;
   p->line = n.Mark().line + 1;
   std::string why;
   if (!n["key"] || !ReadText(n["key"], &p->key, &why) || p->key.empty()) {
@@ -128,7 +107,7 @@ bool ReadParameter(const YAML::Node& n, const std::string& path, const std::stri
     *error = AtKey(path, n, "range") + rw + "must be a mapping, e.g. {from: 1e6, to: 1e7, steps: 5, scale: log}";
     return false;
   }
-  if (!KnownKeys(r, kRangeKeys, path, rw, error)) return false;
+  if (!KnownKeysOnly(r, kRangeKeys, path, rw, error, kSweep)) return false;
   double from = 0, to = 0;
   long long steps = 0;
   for (const char* k : {"from", "to", "steps"}) {
@@ -246,7 +225,7 @@ bool ReadSweep(const YAML::Node& root, const std::string& path, const std::strin
     *error = "sweep '" + path + "' is " + (root.IsNull() ? "empty" : "not a YAML mapping") + " (see docs/sweep.md)";
     return false;
   }
-  if (!KnownKeys(root, kTopKeys, path, "", error)) return false;
+  if (!KnownKeysOnly(root, kTopKeys, path, "", error, kSweep)) return false;
   SweepSpec s;
   s.file = path;
   std::string why;
@@ -399,7 +378,7 @@ bool ReadSweep(const YAML::Node& root, const std::string& path, const std::strin
         *error = At(path, plots[i]) + where + "must be a mapping {check, against}";
         return false;
       }
-      if (!KnownKeys(plots[i], kPlotKeys, path, where, error)) return false;
+      if (!KnownKeysOnly(plots[i], kPlotKeys, path, where, error, kSweep)) return false;
       PlotSpec p;
       p.line = plots[i].Mark().line + 1;
       if (!plots[i]["check"] || !ReadText(plots[i]["check"], &p.check, &why) ||
