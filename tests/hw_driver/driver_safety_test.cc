@@ -101,8 +101,12 @@ TEST_F(HwDriverProcess, NanFromABoardTripsTheSafeModeNamingTheNanAndTheBoard) {
   EXPECT_EQ(EventCycle(s, "board_non_finite"), 300) << s.dump(1);
   EXPECT_EQ(EventCycle(s, "board_silent"), -1) << s.dump(1);
   for (const auto& e : s["events"]) {
-    if (e["event"] == "board_non_finite") EXPECT_EQ(e["value"].get<long>(), 1);
-    if (e["event"] == "safe_mode") EXPECT_EQ(e["value"].get<long>(), 6);  // kSafeBoardNonFinite
+    if (e["event"] == "board_non_finite") {
+      EXPECT_EQ(e["value"].get<long>(), 1);
+    }
+    if (e["event"] == "safe_mode") {
+      EXPECT_EQ(e["value"].get<long>(), 6);  // kSafeBoardNonFinite
+    }
   }
   EXPECT_EQ(s["safe_mode_cycle"].get<long>(), 304);
   EXPECT_EQ(Records().back().servo, 0);
