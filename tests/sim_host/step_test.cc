@@ -85,8 +85,9 @@ TEST(PhysicsStep, SensorsSkippedBeforeTheCyclesLastStepChangeNothingPublished) {
   EXPECT_EQ(last.m()->opt.disableflags & mjDSBL_SENSOR, 0);  // the flag is the step's only
 }
 
-// The implicit soles' apparent inverse inertia (mj_solveM2's half solves, A = X X^T) is
-// J M^-1 J^T from MuJoCo's full solve, both soles of the leaning robot together (coupled)
+// The implicit soles' apparent inverse inertia (half solves over the sole bodies' dof chains,
+// A = X X^T) is J M^-1 J^T from MuJoCo's full solve, both soles of the leaning robot together
+// (coupled)
 TEST(PhysicsStep, SolesMobilityIsJMinvJt) {
   testing::LeaningRobot r;
   r.Load("mjcf/hrp1s/scene_flat.xml", "halfsit", 0.001, 0.3, 1.0);
