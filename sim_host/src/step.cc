@@ -2,7 +2,8 @@
 
 namespace ohrp::sim {
 
-PhysicsStep::PhysicsStep(mjModel* m, mjData* d, const Parts& parts) : m_(m), d_(d), parts_(parts) {
+PhysicsStep::PhysicsStep(mjModel* m, mjData* d, const Parts& parts)
+    : m_(m), d_(d), parts_(parts), fold_(m) {
   const size_t n = parts_.pushes ? parts_.pushes->size() : 0;
   push_on_.assign(n, 0);
   push_changed_.assign(n, 0);
@@ -23,6 +24,7 @@ bool PhysicsStep::Step(bool sensors) {
   if (parts_.servo) parts_.servo->Apply(m_, d_);
   const int flags = m_->opt.disableflags;
   if (!sensors) m_->opt.disableflags |= mjDSBL_SENSOR;
+  fold_.Begin(m_, d_);  // Euler's implicit joint damping through M's own factorisation
   if (parts_.soft && !parts_.soft->at_every_stage() && m_->opt.integrator != mjINT_RK4) {
     // split around the contact, so that the kinematics and the mass matrix MuJoCo computes for
     // the step are those the contact uses (RK4 has no split: mj_step integrates it)
@@ -33,6 +35,7 @@ bool PhysicsStep::Step(bool sensors) {
     if (parts_.soft) parts_.soft->ApplyBeforeStep(m_, d_);
     mj_step(m_, d_);
   }
+  fold_.End(m_, d_);
   m_->opt.disableflags = flags;
   if (parts_.soft) parts_.soft->Commit();
   ++steps_;

@@ -35,6 +35,7 @@ class LeaningRobot {
     ASSERT_TRUE(SetUpFeet(m(), feet, robot_.total_mass, &soft_, &error)) << error;
     ASSERT_TRUE(scene_->Reset(keyframe, &error)) << error;
     servo_ = std::make_unique<Servo>(robot_);
+    fold_ = std::make_unique<DampingFold>(m());
     step_ = std::make_unique<PhysicsStep>(m(), d(),
                                           PhysicsStep::Parts{servo_.get(), soft_.get()});
     cmd_.njoint = static_cast<int>(robot_.joints.size());
@@ -64,8 +65,10 @@ class LeaningRobot {
       return true;
     }
     servo_->Apply(m(), d());
+    fold_->Begin(m(), d());  // the step's damping fold too: only the split differs
     soft_->ApplyBeforeStep(m(), d());
     mj_step(m(), d());
+    fold_->End(m(), d());
     soft_->Commit();
     return true;
   }
@@ -83,6 +86,7 @@ class LeaningRobot {
   RobotMap robot_;
   std::unique_ptr<contact::SoftFootContact> soft_;
   std::unique_ptr<PhysicsStep> step_;
+  std::unique_ptr<DampingFold> fold_;
   std::unique_ptr<Servo> servo_;
   shm::CommandBlock cmd_{};
   std::vector<double> start_, lean_;

@@ -104,7 +104,8 @@ void ComputeWrench(const SoftContactParams& p, const SoleBox& sole, const SoleTw
       continue;
     }
     // 2-4. spring and Hunt-Crossley damper, never pulling.
-    const double spring = p.stiffness * w * std::pow(f.depth_fit, p.exponent);
+    const double spring =
+        p.stiffness * w * (p.exponent == 1 ? f.depth_fit : std::pow(f.depth_fit, p.exponent));
     f.fn = std::max(0.0, spring * (1.0 + p.damping * f.pen_vel));
     // 5. friction: tangential spring-damper from the anchor, saturated by Coulomb.
     const Anchor& a = anchors.size() > static_cast<size_t>(c.index) ? anchors[c.index] : Anchor{};

@@ -52,46 +52,95 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& r) {
   return s;
 }
 
-// adds a point's 3x3 force Jacobian P = b I + c n n^T (force on the body per motion of the
-// point; symmetric) about the centre of mass: the point moves by G x with G = [I, -R], R = [r]x,
-// its force acts as G^T f, so G^T P G = [[P, -P R], [R P, -R P R]] (R^T = -R); with Q = P R,
-// R P = -Q^T and -R P R = -R Q
-void AddPoint(double b, double c, const Eigen::Vector3d& n, const Eigen::Vector3d& r, Mat6* out) {
-  Eigen::Matrix3d P = c * n * n.transpose();
-  P.diagonal().array() += b;
-  const Eigen::Matrix3d Q = P * Skew(r);
-  out->topLeftCorner<3, 3>() += P;
-  out->topRightCorner<3, 3>() -= Q;
-  out->bottomLeftCorner<3, 3>() -= Q.transpose();
-  out->bottomRightCorner<3, 3>().noalias() -= Skew(r) * Q;
-}
+// The 6x6 force Jacobian about the centre of mass of a body's points, each with the 3x3
+// Jacobian P = b I + c n n^T (force on the body per motion of the point; symmetric): the point
+// moves by G x with G = [I, -R], R = [r]x, its force acts as G^T f, so its share is
+// G^T P G = [[P, -P R], [R P, -R P R]] (R^T = -R). With m = n x r (n^T R = m^T, R n = -m,
+// R R = r r^T - |r|^2 I) the blocks are sums of outer products,
+//   P R = b R + c n m^T,   R P = b R - c m n^T,   -R P R = b (|r|^2 I - r r^T) + c m m^T,
+// so the points are summed first and the matrix is assembled once.
+class PointSum {
+ public:
+  void Add(double b, double c, const Eigen::Vector3d& n, const Eigen::Vector3d& r) {
+    const double m[3] = {n[1] * r[2] - n[2] * r[1], n[2] * r[0] - n[0] * r[2],
+                         n[0] * r[1] - n[1] * r[0]};
+    b_ += b;
+    br2_ += b * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    for (int i = 0; i < 3; ++i) {
+      const double cn = c * n[i], cm = c * m[i], brr = b * r[i];
+      br_[i] += brr;
+      for (int j = 0; j < 3; ++j) {
+        nn_[i][j] += cn * n[j];
+        nm_[i][j] += cn * m[j];
+        mm_[i][j] += cm * m[j];
+        rr_[i][j] += brr * r[j];
+      }
+    }
+  }
+  void Write(Mat6* out) const {
+    Mat6& o = *out;
+    const Eigen::Matrix3d R = Skew(Eigen::Vector3d(br_[0], br_[1], br_[2]));  // sum of b R
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        o(i, j) = nn_[i][j];
+        o(i, j + 3) = -R(i, j) - nm_[i][j];
+        o(i + 3, j) = R(i, j) - nm_[j][i];
+        o(i + 3, j + 3) = mm_[i][j] - rr_[i][j];
+      }
+      o(i, i) += b_;
+      o(i + 3, i + 3) += br2_;
+    }
+  }
 
-// int_0^h max(0, d0 + a s)^n wt(s) ds, wt(s) = (1 - lam)(1 - s/h) + lam / 2, by Gauss-Legendre
-// over the part of the interval where the depth is positive (exact for n = 1)
-double Segment(double d0, double a, double h, double n, double lam) {
+ private:
+  double b_ = 0, br2_ = 0, br_[3] = {0, 0, 0};
+  double nn_[3][3] = {}, nm_[3][3] = {}, mm_[3][3] = {}, rr_[3][3] = {};
+};
+
+// int_0^h max(0, d0 + a s)^n wt(s) ds, wt(s) = (1 - lam)(1 - s/h) + lam / 2, and its
+// derivative in a, int n max(0, d0 + a s)^(n-1) s wt(s) ds (the ends of the part where the
+// depth is positive move with a, but the integrand is 0 there), by Gauss-Legendre over that
+// part (exact for n = 1)
+struct Integral {
+  double value = 0, slope = 0;
+};
+Integral Segment(double d0, double a, double h, double n, double lam) {
   double lo = 0, hi = h;
   if (a > 0) {
-    if (d0 + a * h <= 0) return 0;
+    if (d0 + a * h <= 0) return {};
     if (d0 < 0) lo = -d0 / a;
   } else if (a < 0) {
-    if (d0 <= 0) return 0;
+    if (d0 <= 0) return {};
     if (d0 + a * h < 0) hi = -d0 / a;
   } else if (d0 <= 0) {
-    return 0;
+    return {};
   }
   const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-  auto f = [&](double s) {
+  Integral out;
+  auto add = [&](double s, double weight) {
     const double depth = std::max(d0 + a * s, 0.0);
-    const double wt = (1 - lam) * (1 - s / h) + 0.5 * lam;
-    return (n == 1 ? depth : std::pow(depth, n)) * wt;
+    const double wt = weight * ((1 - lam) * (1 - s / h) + 0.5 * lam);
+    if (n == 1) {
+      out.value += depth * wt;
+      out.slope += s * wt;
+    } else {
+      const double pn1 = std::pow(depth, n - 1);
+      out.value += pn1 * depth * wt;
+      out.slope += n * pn1 * s * wt;
+    }
   };
-  if (n == 1) {  // a polynomial of degree 2: two points are exact
+  if (n == 1) {  // polynomials of degree 2: two points are exact
     const double x = half * 0.5773502691896258;
-    return half * (f(mid - x) + f(mid + x));
+    add(mid - x, half);
+    add(mid + x, half);
+    return out;
   }
   const double x1 = half * 0.3399810435848563, x2 = half * 0.8611363115940526;
-  return half * (0.6521451548625461 * (f(mid - x1) + f(mid + x1)) +
-                 0.3478548451374538 * (f(mid - x2) + f(mid + x2)));
+  add(mid - x1, half * 0.6521451548625461);
+  add(mid + x1, half * 0.6521451548625461);
+  add(mid - x2, half * 0.3478548451374538);
+  add(mid + x2, half * 0.3478548451374538);
+  return out;
 }
 
 // one point's normal force at the end rate r1 and its derivative in r1 (0 where it is 0)
@@ -100,16 +149,14 @@ struct Normal {
 };
 Normal WindowForce(const SoftContactParams& p, double area, double delta, double r0, double r1,
                    double h, double lam) {
-  const double n = p.exponent;
   const double scale = p.stiffness * area / h;
-  const double before = Segment(delta, -r0, h, n, lam);
-  auto after = [&](double r) { return Segment(delta, r, h, n, lam); };
-  const double spring = scale * (before + after(r1));
+  const Integral before = Segment(delta, -r0, h, p.exponent, lam);
+  const Integral after = Segment(delta, r1, h, p.exponent, lam);
+  const double spring = scale * (before.value + after.value);
   Normal out;
   out.fn = spring * (1 + p.damping * r1);
   if (out.fn <= 0) return Normal{};
-  const double eps = 1e-7 + 1e-6 * std::abs(r1);
-  const double dspring = scale * (after(r1 + eps) - after(r1 - eps)) / (2 * eps);
+  const double dspring = scale * after.slope;
   out.dfn = dspring * (1 + p.damping * r1) + spring * p.damping;
   return out;
 }
@@ -174,7 +221,7 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
   for (int k = 0; k < nb; ++k) {
     const int b = bodies_[k];
     const Eigen::Vector3d com = Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
-    stiff_[k].setZero();
+    PointSum stiff;
     for (size_t s = 0; s < sole_geom_.size(); ++s) {
       if (m->geom_bodyid[sole_geom_[s]] != b) continue;
       for (const PointForce& f : wrenches_[s].per_point) {
@@ -184,9 +231,10 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
         const double kn = p.exponent * p.stiffness * area *
                           (p.exponent == 1 ? 1.0 : std::pow(f.depth_signed, p.exponent - 1));
         const double kt = f.slipping ? 0.0 : p.tangential_stiffness * area;
-        AddPoint(kt, kn - kt, f.normal, f.pos - com, &stiff_[k]);  // kn n n^T + kt (I - n n^T)
+        stiff.Add(kt, kn - kt, f.normal, f.pos - com);  // kn n n^T + kt (I - n n^T)
       }
     }
+    stiff.Write(&stiff_[k]);
   }
   if (!any) {
     Apply(m, d);
@@ -235,7 +283,7 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
     const double lam = w2 > kHatLimit ? 1 - kHatLimit / w2 : 0.0;
     Vec6 w0 = Vec6::Zero();
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    damp_[k].setZero();
+    PointSum damp;
     for (size_t s = 0; s < sole_geom_.size(); ++s) {
       if (m->geom_bodyid[sole_geom_[s]] != b) continue;
       for (const PointForce& f : wrenches_[s].per_point) {
@@ -257,9 +305,10 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
         const double kt = slipping || f.depth <= 0 ? 0.0 : p.tangential_stiffness * area;
         const double bt = slipping ? 0.0 : p.tangential_damping * area;
         const double t = kSpringBeta * h * kt + kDamperGamma * bt;
-        AddPoint(-t, t - nf.dfn, f.normal, r, &damp_[k]);
+        damp.Add(-t, t - nf.dfn, f.normal, r);
       }
     }
+    damp.Write(&damp_[k]);
     wrench_.segment<6>(6 * k) = w0;
     normal_[k] = normal;
   }

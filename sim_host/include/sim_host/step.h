@@ -2,6 +2,8 @@
 // the benchmarks, the accuracy tool, the tests), so that each times and tests the real step:
 //   pushes -> servo -> soft contact (implicit force, contact/soft_contact.h) -> mj_step
 //   -> commit of the contact's friction state -> divergence watch.
+// With the Euler integrator, joint damping is folded into the armature for the step
+// (sim_host/damping_fold.h): MuJoCo's implicit damping with one factorisation of M, not two.
 // With the soft soles and the Euler or implicit integrator, the step is MuJoCo's mj_step1, the
 // contact, mj_step2: the contact reads the kinematics and the factorised mass matrix that
 // mj_step1 computed for the step instead of computing them once more (same forces, same state).
@@ -16,6 +18,7 @@
 
 #include "contact/soft_contact.h"
 #include "robot_model/servo.h"
+#include "sim_host/damping_fold.h"
 #include "sim_host/divergence.h"
 #include "sim_host/host.h"
 
@@ -52,6 +55,7 @@ class PhysicsStep {
   Parts parts_;
   double pushed_[6] = {0, 0, 0, 0, 0, 0};  // the push wrench now in xfrc_applied
   std::vector<char> push_on_, push_changed_;
+  DampingFold fold_;
   uint64_t steps_ = 0;
 };
 
