@@ -161,20 +161,6 @@ Normal WindowForce(const SoftContactParams& p, double area, double delta, double
   return out;
 }
 
-// x <- D^-1/2 L'^-1 x (M = L' D L, MuJoCo's qLD) for a row x that is zero outside `chain`, a
-// body's dofs and all their ancestors, descending: the solve stays within the chain. What
-// mj_solveM2 does over all the dofs.
-void HalfSolveOnChain(const mjModel* m, const mjData* d, const std::vector<int>& chain,
-                      mjtNum* x) {
-  for (int i : chain) {
-    const mjtNum t = x[i];
-    if (t == 0 || m->dof_simplenum[i]) continue;
-    int adr = m->dof_Madr[i] + 1;
-    for (int j = m->dof_parentid[i]; j >= 0; j = m->dof_parentid[j]) x[j] -= t * d->qLD[adr++];
-  }
-  for (int i : chain) x[i] *= d->qLDiagSqrtInv[i];
-}
-
 }  // namespace
 
 void SoftFootContact::AllocateImplicit(const mjModel* m) {
@@ -187,18 +173,40 @@ void SoftFootContact::AllocateImplicit(const mjModel* m) {
       if (m->body_dofnum[b] > 0) dof = m->body_dofadr[b] + m->body_dofnum[b] - 1;
     for (; dof >= 0; dof = m->dof_parentid[dof]) chain_[k].push_back(dof);
   }
+  // the half solve's eliminations within each chain (what mj_solveM2 does over all the dofs,
+  // restricted to the dofs the body's Jacobian can be non-zero at): row `to` of X loses qLD[adr]
+  // times row `from`, in the order of `from` (descending dofs, each row final when it is used)
+  solve_.assign(nb, {});
+  x_.assign(nb, {});
+  jc_.assign(nb, {});
+  for (int k = 0; k < nb; ++k) {
+    const std::vector<int>& chain = chain_[k];
+    auto position = [&](int dof) {
+      return static_cast<int>(std::find(chain.begin(), chain.end(), dof) - chain.begin());
+    };
+    for (int p = 0; p < static_cast<int>(chain.size()); ++p) {
+      const int i = chain[p];
+      if (m->dof_simplenum[i]) continue;
+      int adr = m->dof_Madr[i] + 1;
+      for (int j = m->dof_parentid[i]; j >= 0; j = m->dof_parentid[j])
+        solve_[k].push_back({p, position(j), adr++});
+    }
+    x_[k] = ChainRows::Zero(static_cast<int>(chain.size()), 6);
+    jc_[k] = x_[k];
+  }
+  // per pair of bodies (k < l) the chain positions of the dofs both have
   shared_.assign(static_cast<size_t>(nb) * nb, {});
   for (int k = 0; k < nb; ++k)
-    for (int l = 0; l < nb; ++l)
-      for (int i : chain_[k])
-        if (std::find(chain_[l].begin(), chain_[l].end(), i) != chain_[l].end())
-          shared_[static_cast<size_t>(k) * nb + l].push_back(i);
+    for (int l = k + 1; l < nb; ++l)
+      for (int pk = 0; pk < static_cast<int>(chain_[k].size()); ++pk)
+        for (int pl = 0; pl < static_cast<int>(chain_[l].size()); ++pl)
+          if (chain_[k][pk] == chain_[l][pl])
+            shared_[static_cast<size_t>(k) * nb + l].push_back({pk, pl});
   const int n = 6 * nb;
   stiff_.assign(bodies_.size(), Mat6::Zero());
   damp_.assign(bodies_.size(), Mat6::Zero());
   normal_.assign(bodies_.size(), Eigen::Vector3d::Zero());
   jac_.assign(static_cast<size_t>(n) * m->nv, 0);
-  minv_jt_.assign(static_cast<size_t>(n) * m->nv, 0);
   mobility_ = Eigen::MatrixXd::Zero(n, n);
   system_ = Eigen::MatrixXd::Zero(n, n);
   dv_ = rhs_ = correction_ = wrench_ = Eigen::VectorXd::Zero(n);
@@ -254,24 +262,29 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
     mj_crb(m, d);
     mj_factorM(m, d);
   }
-  const int n = 6 * nb;
   for (int k = 0; k < nb; ++k) {
     mjtNum* rows = jac_.data() + static_cast<size_t>(6 * k) * nv;
     mj_jacBodyCom(m, d, rows, rows + 3 * nv, bodies_[k]);
   }
-  // half of the solve per Jacobian row, x = D^-1/2 L'^-1 j (M = L' D L), then A = X X^T: half
-  // the work of mj_solveM and a symmetric product, both over the chains' dofs only (the rest of
-  // each row is zero)
-  std::copy(jac_.begin(), jac_.end(), minv_jt_.begin());
-  for (int r = 0; r < n; ++r)
-    HalfSolveOnChain(m, d, chain_[r / 6], minv_jt_.data() + size_t(r) * nv);
-  for (int i = 0; i < n; ++i) {
-    const mjtNum* xi = minv_jt_.data() + size_t(i) * nv;
-    for (int j = 0; j <= i; ++j) {
-      const mjtNum* xj = minv_jt_.data() + size_t(j) * nv;
-      mjtNum dot = 0;
-      for (int dof : shared_[size_t(i / 6) * nb + j / 6]) dot += xi[dof] * xj[dof];
-      mobility_(i, j) = mobility_(j, i) = dot;
+  // half of the solve for each body's six Jacobian rows, X = D^-1/2 L'^-1 J^T (M = L' D L), on
+  // the dofs of its chain only (J is zero elsewhere), then A = X^T X: half the work of
+  // mj_solveM and a symmetric product. X holds a chain position per row, the six Jacobian
+  // rows side by side.
+  for (int k = 0; k < nb; ++k) {
+    const std::vector<int>& chain = chain_[k];
+    ChainRows& x = x_[k];
+    for (int p = 0; p < static_cast<int>(chain.size()); ++p)
+      for (int r = 0; r < 6; ++r) x(p, r) = jac_[size_t(6 * k + r) * nv + chain[p]];
+    jc_[k] = x;
+    for (const Elimination& e : solve_[k]) x.row(e.to) -= d->qLD[e.adr] * x.row(e.from);
+    for (int p = 0; p < static_cast<int>(chain.size()); ++p) x.row(p) *= d->qLDiagSqrtInv[chain[p]];
+    mobility_.block<6, 6>(6 * k, 6 * k).noalias() = x.transpose().lazyProduct(x);
+    for (int l = 0; l < k; ++l) {
+      Mat6 a = Mat6::Zero();
+      for (const auto& [pl, pk] : shared_[size_t(l) * nb + k])
+        a.noalias() += x_[l].row(pl).transpose() * x.row(pk);
+      mobility_.block<6, 6>(6 * l, 6 * k) = a;
+      mobility_.block<6, 6>(6 * k, 6 * l) = a.transpose();
     }
   }
   // per body: W0 (the window force at v1 = v0, and the friction of the law at the start) and
@@ -314,11 +327,11 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
   }
   // the free twist change: last step's accelerations, plus what the contact changed since
   for (int k = 0; k < nb; ++k) correction_.segment<6>(6 * k) = wrench_.segment<6>(6 * k) - applied_[k];
-  for (int r = 0; r < n; ++r) {  // J qacc, over the chain's dofs
-    const mjtNum* jr = jac_.data() + size_t(r) * nv;
-    mjtNum dot = 0;
-    for (int dof : chain_[r / 6]) dot += jr[dof] * d->qacc[dof];
-    dv_[r] = dot;
+  for (int k = 0; k < nb; ++k) {  // J qacc, over the chain's dofs
+    Vec6 jqacc = Vec6::Zero();
+    for (int p = 0; p < static_cast<int>(chain_[k].size()); ++p)
+      jqacc += d->qacc[chain_[k][p]] * jc_[k].row(p).transpose();
+    dv_.segment<6>(6 * k) = jqacc;
   }
   dv_.noalias() += mobility_ * correction_;
   dv_ *= h;

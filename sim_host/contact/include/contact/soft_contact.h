@@ -27,6 +27,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/force.h"
@@ -155,11 +156,20 @@ class SoftFootContact {
   // in the end twist; normal_: the direction the sum of the normal forces must not turn over
   std::vector<Eigen::Matrix<double, 6, 6>> stiff_, damp_;
   std::vector<Eigen::Vector3d> normal_;
-  std::vector<mjtNum> jac_, minv_jt_;
-  // per body the dofs that move it (its own and its ancestors', descending), and per pair of
-  // bodies the dofs both have: the only columns where J and D^-1/2 L'^-1 J^T are not zero
+  std::vector<mjtNum> jac_;
+  // per body the dofs that move it (its own and its ancestors', descending): the only columns
+  // where its Jacobian and D^-1/2 L'^-1 J^T are not zero; the half solve's eliminations within
+  // the chain (row `to` -= qLD[adr] row `from`, positions in the chain); per pair of bodies
+  // k < l the positions of the dofs both chains have ([k * bodies + l]); per body its Jacobian
+  // and its half solve on the chain (a row per chain position, the six Jacobian rows as columns)
+  struct Elimination {
+    int from, to, adr;
+  };
+  using ChainRows = Eigen::Matrix<double, Eigen::Dynamic, 6>;
   std::vector<std::vector<int>> chain_;
-  std::vector<std::vector<int>> shared_;  // [k * bodies + l]
+  std::vector<std::vector<Elimination>> solve_;
+  std::vector<std::vector<std::pair<int, int>>> shared_;
+  std::vector<ChainRows> jc_, x_;
   Eigen::MatrixXd mobility_, system_;
   // the time the next step starts at if the state comes from the step this one made: the
   // accelerations in mjData are then that step's (see ApplyImplicit)
