@@ -61,7 +61,9 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& r) {
 // so the points are summed first and the matrix is assembled once.
 class PointSum {
  public:
-  void Add(double b, double c, const Eigen::Vector3d& n, const Eigen::Vector3d& r) {
+  void Add(double b, double c, const Eigen::Vector3d& normal, const Eigen::Vector3d& arm) {
+    // local copies: the sums below cannot alias them, so they stay in registers
+    const double n[3] = {normal[0], normal[1], normal[2]}, r[3] = {arm[0], arm[1], arm[2]};
     const double m[3] = {n[1] * r[2] - n[2] * r[1], n[2] * r[0] - n[0] * r[2],
                          n[0] * r[1] - n[1] * r[0]};
     b_ += b;

@@ -165,7 +165,7 @@ class SoftFootContact {
   struct Elimination {
     int from, to, adr;
   };
-  using ChainRows = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+  using ChainRows = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
   std::vector<std::vector<int>> chain_;
   std::vector<std::vector<Elimination>> solve_;
   std::vector<std::vector<std::pair<int, int>>> shared_;
