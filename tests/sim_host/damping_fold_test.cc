@@ -130,6 +130,31 @@ TEST(DampingFold, IsMujocosImplicitDampingOnAChain) {
   }
 }
 
+// The comparisons above would also pass if the fold did nothing (MuJoCo integrates the damping
+// itself then): with Euler, during the step MuJoCo must see no damping, the armature a + h d
+// (dof_M0 too for a simple dof) and the force -d v in qfrc_applied, on top of what was there
+TEST(DampingFold, EulerStepSeesNoDampingWhileFolded) {
+  Model r(kRotor);
+  ASSERT_TRUE(r.m);
+  ASSERT_TRUE(r.m->dof_simplenum[0]);
+  const double h = r.m->opt.timestep, a = r.m->dof_armature[0], d = r.m->dof_damping[0];
+  const double m0 = r.m->dof_M0[0];
+  r.d->qvel[0] = 2.0;
+  r.d->qfrc_applied[0] = 0.25;
+  DampingFold fold(r.m);
+  ASSERT_TRUE(fold.Begin(r.m, r.d));
+  EXPECT_EQ(r.m->dof_damping[0], 0.0);
+  EXPECT_DOUBLE_EQ(r.m->dof_armature[0], a + h * d);
+  EXPECT_DOUBLE_EQ(r.m->dof_M0[0], m0 + h * d);
+  EXPECT_DOUBLE_EQ(r.d->qfrc_applied[0], 0.25 - d * 2.0);
+  mj_step(r.m, r.d);
+  fold.End(r.m, r.d);
+  EXPECT_EQ(r.m->dof_damping[0], d);
+  EXPECT_EQ(r.m->dof_armature[0], a);
+  EXPECT_EQ(r.m->dof_M0[0], m0);
+  EXPECT_EQ(r.d->qfrc_applied[0], 0.25);
+}
+
 // RK4 integrates damping its own way: the fold leaves it alone
 TEST(DampingFold, LeavesRk4Alone) {
   Model r(kChain);
