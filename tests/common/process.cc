@@ -137,7 +137,12 @@ Pipe::~Pipe() {
   }
 }
 
-bool Pipe::Send(char c) { return ::write(fds_[1], &c, 1) == 1; }
+bool Pipe::Send(char c) { return fds_[1] >= 0 && ::write(fds_[1], &c, 1) == 1; }
+
+void Pipe::CloseSendEnd() {
+  if (fds_[1] >= 0) close(fds_[1]);
+  fds_[1] = -1;
+}
 
 bool Pipe::Receive(double timeout) {
   pollfd p{fds_[0], POLLIN, 0};

@@ -78,8 +78,13 @@ class Pipe {
 
   // Writes one byte; false when it could not.
   bool Send(char c = 'x');
-  // True when a byte arrived within `timeout` [s] (kNoTimeout: waits as long as it takes).
+  // True when a byte arrived within `timeout` [s] (kNoTimeout: waits as long as it takes);
+  // false at once when every send end is closed (see CloseSendEnd).
   bool Receive(double timeout = 5.0);
+  // Closes this process's send end: call it in the parent once the child that sends has been
+  // spawned, so that the child's exit (its send end closing) ends a Receive instead of leaving
+  // it waiting for a byte that cannot come.
+  void CloseSendEnd();
 
  private:
   int fds_[2] = {-1, -1};

@@ -54,7 +54,8 @@ TEST_F(HwDriverProcess, AfterALostControllerANewOneAttachesAndTheServosComeOnAga
   Peek peek(segment_);
   ohrp::testing::Pipe answered;
   child_ = Controller(Hold(0.2, 0.3), 100, &answered);
-  ASSERT_TRUE(answered.Receive(ohrp::testing::kNoTimeout));  // 100 cycles answered
+  answered.CloseSendEnd();  // the controller's exit ends the wait
+  ASSERT_TRUE(answered.Receive(60)) << Stderr();  // 100 cycles answered
   ohrp::testing::Kill(&child_);
 
   // safe mode, then servos off and waiting: the run goes on

@@ -12,7 +12,6 @@ using testing::HwDriverProcess;
 using testing::Peek;
 using testing::Since;
 using ohrp::testing::Kill;
-using ohrp::testing::kNoTimeout;
 using ohrp::testing::Pipe;
 
 //---------------- safety ----------------
@@ -23,7 +22,8 @@ TEST_F(HwDriverProcess, KilledControllerTripsTheSafeModeWithinTwoCycles) {
   Peek peek(segment_);
   Pipe answered;
   child_ = Controller(Hold(0.2, 0.3), 100, &answered);
-  ASSERT_TRUE(answered.Receive(kNoTimeout));  // 100 cycles answered
+  answered.CloseSendEnd();  // the controller's exit ends the wait
+  ASSERT_TRUE(answered.Receive(60)) << Stderr();  // 100 cycles answered
   Kill(&child_);  // reaped: from here its death is observable
   const uint64_t observable = peek.cycle();
   EXPECT_EQ(Wait(), 5) << Stderr();
@@ -54,12 +54,14 @@ TEST_F(HwDriverProcess, SilentControllerTripsTheSafeModeAfterTheWatchdogCycles) 
   Peek peek(segment_);
   Pipe answered;
   child_ = Controller(Hold(0.2, 0.3), 50, &answered);
-  ASSERT_TRUE(answered.Receive(kNoTimeout));
-  kill(child_, SIGSTOP);  // alive, but silent
+  answered.CloseSendEnd();  // the controller's exit ends the wait
+  // a loaded machine (the sanitizer build on two CPUs) may make the controller late by the 10
+  // cycles before it has answered 50: then the driver trips on the same rule, the controller
+  // sees the run end and exits without sending, and there is no one left to stop. Either way
+  // only the rule is checked, on the driver's own counts.
+  if (answered.Receive(60)) kill(child_, SIGSTOP);  // alive, but silent
   const int code = Wait();
   Kill(&child_);
-  // a loaded machine may also make the controller late before it is stopped: then the driver
-  // trips earlier on the same rule, so only the rule is checked, on the driver's own counts
   ASSERT_EQ(code, 5) << Stderr();
   const auto s = Summary();
   const long silent = EventCycle(s, "controller_silent");
