@@ -17,11 +17,13 @@ using ohrp::collision::PruneResult;
 std::string Report(const PruneResult& r, double seconds) {
   const auto& f = r.file;
   std::string s = "# self-collision pairs of " + f.robot.name + "\n\n";
-  char line[256];
+  size_t extra = 0;  // the joint_only links of bodies with several hinges
+  for (const auto& l : f.robot.links) extra += l.joint_only;
+  char line[320];
   std::snprintf(line, sizeof(line),
-                "links %zu; non-adjacent pairs %zu; structural %zu; never %zu; pruned by safe "
-                "ranges %zu; online %zu (%.1f s)\n\n",
-                f.robot.links.size(), r.all, f.structural.size(), f.never.size(),
+                "links %zu (bodies %zu, extra hinges of a body %zu); non-adjacent pairs %zu; "
+                "structural %zu; never %zu; pruned by safe ranges %zu; online %zu (%.1f s)\n\n",
+                f.robot.links.size(), f.robot.links.size() - extra, extra, r.all, f.structural.size(), f.never.size(),
                 r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
                 seconds);
   s += line;

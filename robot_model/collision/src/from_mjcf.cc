@@ -75,42 +75,61 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
   // the segment's joint id of each MuJoCo joint
   std::map<int, int> segment_id;
   for (size_t i = 0; i < robot.joints.size(); ++i) segment_id[robot.joints[i].joint_id] = static_cast<int>(i);
-  std::map<int, int> link_of;  // MuJoCo body id -> link index
+  std::map<int, int> link_of;  // MuJoCo body id -> link index (its last link)
   for (int b : model::RobotBodies(m, robot)) {
-    Link l;
-    l.name = Name(m, mjOBJ_BODY, b);
-    const std::string where = "body '" + l.name + "'";
+    const std::string body = Name(m, mjOBJ_BODY, b);
+    const std::string where = "body '" + body + "'";
     const auto parent = link_of.find(m->body_parentid[b]);
-    l.parent = parent == link_of.end() ? -1 : parent->second;
-    // the base (a root) is the frame of reference: it stays at the origin
-    if (l.parent >= 0 || b != robot.base_body) {
-      l.p_PL = Vec(m->body_pos + 3 * b);
-      l.q_PL = Quat(m->body_quat + 4 * b).normalized();
+    int parent_link = parent == link_of.end() ? -1 : parent->second;
+    // the body's pose in its parent; the base (a root) is the frame of reference: it stays at
+    // the origin
+    Eigen::Vector3d p_PB = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q_PB = Eigen::Quaterniond::Identity();
+    if (parent_link >= 0 || b != robot.base_body) {
+      p_PB = Vec(m->body_pos + 3 * b);
+      q_PB = Quat(m->body_quat + 4 * b).normalized();
     }
-    // its hinge, if any
-    const int nj = m->body_jntnum[b], j0 = m->body_jntadr[b];
-    if (b != robot.base_body && nj > 1) {
-      *error = where + " has " + std::to_string(nj) + " joints: the checker takes one hinge a body";
-      return false;
-    }
-    if (b != robot.base_body && nj == 1) {
-      const std::string jw = where + ": joint '" + Name(m, mjOBJ_JOINT, j0) + "'";
-      if (m->jnt_type[j0] != mjJNT_HINGE) {
+    // its hinges, in MuJoCo's order: each turns the body's frame as the ones before it left it,
+    // about its own axis through its own anchor (both in the body's frame). All but the last
+    // become links of their own that carry no shapes (joint_only); the last carries the shapes.
+    const int nj = b == robot.base_body ? 0 : m->body_jntnum[b], j0 = m->body_jntadr[b];
+    Link l;
+    for (int j = j0; j < j0 + nj; ++j) {
+      const std::string jw = where + ": joint '" + Name(m, mjOBJ_JOINT, j) + "'";
+      if (m->jnt_type[j] != mjJNT_HINGE) {
         *error = jw + " is not a hinge (slide, ball and free joints below the base are not supported)";
         return false;
       }
-      const auto id = segment_id.find(j0);
+      const auto id = segment_id.find(j);
       if (id == segment_id.end()) {
         *error = jw + " has no motor, so it is not in the segment's joints";
         return false;
       }
-      if (m->qpos0[m->jnt_qposadr[j0]] != 0) {
+      if (m->qpos0[m->jnt_qposadr[j]] != 0) {
         *error = jw + " has a reference angle (ref) that is not zero";
         return false;
       }
+      if (j > j0) {  // the hinge before this one becomes a link of its own
+        l.joint_only = true;
+        l.name = body + "@" + Name(m, mjOBJ_JOINT, j - 1);
+        parent_link = static_cast<int>(out->links.size());
+        out->links.push_back(std::move(l));
+        l = Link();
+      }
+      l.parent = parent_link;
+      if (j == j0) {
+        l.p_PL = p_PB;
+        l.q_PL = q_PB;
+      }
       l.joint = id->second;
-      l.axis_L = Vec(m->jnt_axis + 3 * j0).normalized();
-      l.anchor_L = Vec(m->jnt_pos + 3 * j0);
+      l.axis_L = Vec(m->jnt_axis + 3 * j).normalized();
+      l.anchor_L = Vec(m->jnt_pos + 3 * j);
+    }
+    l.name = body;
+    if (nj == 0) {
+      l.parent = parent_link;
+      l.p_PL = p_PB;
+      l.q_PL = q_PB;
     }
     // its geoms
     for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {

@@ -28,13 +28,19 @@ bool ParseShape(const std::string& name, ShapeType* type) {
   return false;
 }
 
+int BodyParent(const RobotGeometry& robot, int link) {
+  int p = robot.links[link].parent;
+  while (p >= 0 && robot.links[p].joint_only) p = robot.links[p].parent;
+  return p;
+}
+
 std::vector<LinkPair> NonAdjacentPairs(const RobotGeometry& robot) {
   std::vector<LinkPair> pairs;
   const int n = static_cast<int>(robot.links.size());
   for (int a = 0; a < n; ++a) {
     for (int b = a + 1; b < n; ++b) {
-      // parent and child are never checked: their joint's range keeps them apart (the paper)
-      if (robot.links[b].parent == a || robot.links[a].parent == b) continue;
+      // parent and child are never checked: their joints' ranges keep them apart (the paper)
+      if (BodyParent(robot, b) == a || BodyParent(robot, a) == b) continue;
       if (robot.links[a].shapes.empty() || robot.links[b].shapes.empty()) continue;
       pairs.push_back({a, b});
     }
@@ -65,6 +71,8 @@ std::string Validate(const RobotGeometry& robot) {
              std::to_string(njoint - 1);
     if (l.joint >= 0 && std::abs(l.axis_L.norm() - 1) > 1e-6)
       return where + "its hinge axis is not a unit vector";
+    if (l.joint_only && (l.joint < 0 || !l.shapes.empty()))
+      return where + "a joint_only link needs a hinge (joint) and no shapes";
     if (std::abs(l.q_PL.norm() - 1) > 1e-6 || !l.p_PL.allFinite())
       return where + "its pose in the parent is not finite with a unit quaternion";
     // the shapes: positive sizes, vertices for a convex hull

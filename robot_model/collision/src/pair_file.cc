@@ -62,6 +62,12 @@ int Int(const YAML::Node& n, const std::string& key) {
   return x;
 }
 
+bool Bool(const YAML::Node& n, const std::string& key) {
+  bool x = false;
+  if (!n.IsScalar() || !YAML::convert<bool>::decode(n, x)) throw Bad{LineOf(n), key + ": must be true or false"};
+  return x;
+}
+
 std::string Str(const YAML::Node& n, const std::string& key) {
   if (!n.IsScalar()) throw Bad{LineOf(n), key + ": must be a single value"};
   return n.Scalar();
@@ -139,6 +145,7 @@ void ReadRobot(const YAML::Node& root, RobotGeometry* r) {
     link.joint = j.IsScalar() && j.Scalar() == "-1" ? -1 : JointId(*r, j, "joint");
     link.axis_L = Vec(Need(l, "axis"), "axis");
     link.anchor_L = Vec(Need(l, "anchor"), "anchor");
+    if (const YAML::Node jo = l["joint_only"]) link.joint_only = Bool(jo, "joint_only");
     for (const auto& s : Need(l, "shapes")) link.shapes.push_back(ReadShape(s));
     r->links.push_back(std::move(link));
   }
@@ -165,7 +172,9 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
     o << "  - name: " << l.name << "\n    parent: " << l.parent << "\n    pos: " << V(l.p_PL)
       << "\n    quat: " << Q(l.q_PL) << "\n    joint: "
       << (l.joint < 0 ? std::string("-1") : r.joint_names[l.joint]) << "\n    axis: "
-      << V(l.axis_L) << "\n    anchor: " << V(l.anchor_L) << "\n    shapes:\n";
+      << V(l.axis_L) << "\n    anchor: " << V(l.anchor_L) << "\n";
+    if (l.joint_only) o << "    joint_only: true  # a hinge of the body below\n";
+    o << "    shapes:\n";
     for (const Shape& s : l.shapes) {
       o << "      - {type: " << ShapeName(s.type) << ", size: " << V(s.size)
         << ", pos: " << V(s.p_LS) << ", quat: " << Q(s.q_LS);

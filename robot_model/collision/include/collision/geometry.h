@@ -43,6 +43,11 @@ struct Link {
   Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();         // hinge axis (unit) in the link
   Eigen::Vector3d anchor_L = Eigen::Vector3d::Zero();        // a point on the axis [m]
   std::vector<Shape> shapes;
+  // A body with several hinges (MuJoCo's humanoid: a hip of three) is a chain of links, one
+  // hinge each: the first ones carry no shapes and are joint_only, the last carries the body's
+  // shapes and its name. A joint_only link and its child are one body: the body's parent and
+  // the link with its shapes are adjacent (BodyParent).
+  bool joint_only = false;
 };
 
 // a robot's links in topological order (a parent before its children) and its joints
@@ -60,15 +65,19 @@ struct LinkPair {
   bool operator==(const LinkPair& o) const { return a == o.a && b == o.b; }
 };
 
-// Every pair of links that is not parent and child, in order (a, then b). Links without shapes
-// are left out.
+// The link of the body `link` hangs from: its parent, past the joint_only links of its own
+// body; -1 for a root.
+int BodyParent(const RobotGeometry& robot, int link);
+
+// Every pair of links that is not parent and child (BodyParent), in order (a, then b). Links
+// without shapes are left out.
 std::vector<LinkPair> NonAdjacentPairs(const RobotGeometry& robot);
 
 // The link index of `name`, -1 when there is none.
 int FindLink(const RobotGeometry& robot, const std::string& name);
 
 // Checks the geometry: parents before children, joint ids in range, unit axes and quaternions,
-// positive sizes, convex shapes with vertices. Returns an empty string or what is wrong.
+// joint_only links with a hinge and no shapes, positive sizes, convex shapes with vertices. Returns an empty string or what is wrong.
 std::string Validate(const RobotGeometry& robot);
 
 }  // namespace ohrp::collision

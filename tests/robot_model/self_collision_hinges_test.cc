@@ -1,0 +1,203 @@
+// The self-collision checker on bodies with several hinges (MuJoCo's humanoid: a hip of three,
+// a shoulder of two): from_mjcf makes each extra hinge a joint_only link, and the checker's link
+// poses must still be MuJoCo's for any posture, the body's parent and the body must stay one
+// adjacent pair, and the self-collision file must keep the chain.
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "collision/from_mjcf.h"
+#include "collision/pair_file.h"
+#include "collision/self_collision.h"
+#include "robot_model/model.h"
+
+namespace ohrp::collision {
+namespace {
+
+// a torso with a three-hinge hip (axes and anchors off the body's origin, a turned body frame),
+// a one-hinge knee below it and a two-hinge shoulder
+constexpr const char* kHinges = R"(<mujoco model="hinges">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <freejoint/>
+      <geom type="box" size=".1 .15 .2"/>
+      <body name="thigh" pos="0 -.1 -.25" quat="0.9659 0 0.2588 0">
+        <joint name="hip_x" axis="1 0 0" pos="0 0 .05" limited="true" range="-.5 .5"/>
+        <joint name="hip_z" axis="0 .3 1" pos=".02 0 0" limited="true" range="-.7 .4"/>
+        <joint name="hip_y" axis="0 1 0" pos="0 .01 .03" limited="true" range="-1.5 .3"/>
+        <geom type="capsule" fromto="0 0 0 0 .01 -.34" size=".06"/>
+        <body name="shin" pos="0 .01 -.4">
+          <joint name="knee" axis="0 -1 0" pos="0 0 .02" limited="true" range="-2 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -.3" size=".05"/>
+        </body>
+      </body>
+      <body name="arm" pos="0 .2 .15">
+        <joint name="shoulder_1" axis="2 1 1" limited="true" range="-1.5 1"/>
+        <joint name="shoulder_2" axis="0 -1 1" pos=".01 .02 0" limited="true" range="-1.5 1"/>
+        <geom type="capsule" fromto="0 0 0 .16 .16 -.16" size=".04"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="hip_x"/> <motor joint="hip_z"/> <motor joint="hip_y"/> <motor joint="knee"/>
+    <motor joint="shoulder_1"/> <motor joint="shoulder_2"/>
+  </actuator>
+</mujoco>
+)";
+
+struct Loaded {
+  mjModel* m = nullptr;
+  model::RobotMap robot;
+  RobotGeometry g;
+  ~Loaded() { mj_deleteModel(m); }
+};
+
+// the model at `path` and its geometry; false (with a failure recorded) when either fails
+bool Load(const std::string& path, Loaded* out) {
+  char err[512] = "";
+  out->m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
+  EXPECT_TRUE(out->m) << err;
+  if (!out->m) return false;
+  std::string error;
+  const bool ok = model::MapRobot(out->m, &out->robot, &error) &&
+                  GeometryFromModel(out->m, out->robot, &out->g, &error);
+  EXPECT_TRUE(ok) << error;
+  return ok;
+}
+
+std::string WriteHinges() {
+  const std::string path = ::testing::TempDir() + "hinges.xml";
+  std::ofstream(path) << kHinges;
+  return path;
+}
+
+// the checker's pose of every body's link (the one named as the body) is MuJoCo's, base at the
+// origin, in `trials` random postures within the limits; returns the links compared
+int ExpectPosesMatchMujoco(const Loaded& l, int trials) {
+  std::string error;
+  auto c = SelfCollision::Create(l.g, &error);
+  EXPECT_TRUE(c) << error;
+  if (!c) return 0;
+  mjData* d = mj_makeData(l.m);
+  std::mt19937 rng(7);
+  int compared = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    std::vector<double> q(l.g.joint_names.size());
+    mju_copy(d->qpos, l.m->qpos0, l.m->nq);
+    for (size_t j = 0; j < q.size(); ++j) {
+      q[j] = std::uniform_real_distribution<double>(l.g.q_min[j], l.g.q_max[j])(rng);
+      d->qpos[l.robot.joints[j].qpos_adr] = q[j];
+    }
+    d->qpos[0] = d->qpos[1] = d->qpos[2] = 0;
+    mj_kinematics(l.m, d);
+    c->SetPose(q);
+    for (size_t k = 0; k < l.g.links.size(); ++k) {
+      if (l.g.links[k].joint_only) continue;
+      const int b = mj_name2id(l.m, mjOBJ_BODY, l.g.links[k].name.c_str());
+      EXPECT_GE(b, 0) << l.g.links[k].name;
+      if (b < 0) continue;
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->xmat + 9 * b);
+      EXPECT_LT((c->LinkPose(k).translation() - Eigen::Vector3d(d->xpos + 3 * b)).norm(), 1e-9)
+          << l.g.links[k].name << ", trial " << trial;
+      EXPECT_LT((c->LinkPose(k).linear() - R).norm(), 1e-9) << l.g.links[k].name;
+      ++compared;
+    }
+  }
+  mj_deleteData(d);
+  return compared;
+}
+
+TEST(SelfCollisionHinges, EachExtraHingeIsAJointOnlyLink) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteHinges(), &l));
+  std::vector<std::string> names;
+  for (const Link& k : l.g.links) names.push_back(k.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"torso", "thigh@hip_x", "thigh@hip_z", "thigh",
+                                             "shin", "arm@shoulder_1", "arm"}));
+  for (const Link& k : l.g.links) {
+    const bool extra = k.name.find('@') != std::string::npos;
+    EXPECT_EQ(k.joint_only, extra) << k.name;
+    EXPECT_EQ(k.shapes.empty(), extra) << k.name;
+    if (k.name != "torso") {
+      EXPECT_GE(k.joint, 0) << k.name;
+    }
+  }
+  // the hinges in MuJoCo's order down the chain, the body's shapes on its last link
+  const int thigh = FindLink(l.g, "thigh");
+  EXPECT_EQ(l.g.joint_names[l.g.links[thigh].joint], "hip_y");
+  EXPECT_EQ(l.g.joint_names[l.g.links[thigh - 1].joint], "hip_z");
+  EXPECT_EQ(l.g.joint_names[l.g.links[thigh - 2].joint], "hip_x");
+  EXPECT_EQ(BodyParent(l.g, thigh), FindLink(l.g, "torso"));
+  EXPECT_EQ(BodyParent(l.g, FindLink(l.g, "shin")), thigh);
+}
+
+TEST(SelfCollisionHinges, LinkPosesMatchMujoco) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteHinges(), &l));
+  EXPECT_EQ(ExpectPosesMatchMujoco(l, 200), 200 * 4);
+}
+
+TEST(SelfCollisionHinges, ABodyAndItsParentStayOneAdjacentPair) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteHinges(), &l));
+  // four links with shapes: C(4, 2) = 6, less torso/thigh, thigh/shin and torso/arm
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const LinkPair& p : NonAdjacentPairs(l.g))
+    pairs.emplace_back(l.g.links[p.a].name, l.g.links[p.b].name);
+  EXPECT_EQ(pairs, (std::vector<std::pair<std::string, std::string>>{
+                       {"torso", "shin"}, {"thigh", "arm"}, {"shin", "arm"}}));
+}
+
+TEST(SelfCollisionHinges, TheFileKeepsTheChain) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteHinges(), &l));
+  SelfCollisionFile f;
+  f.robot = l.g;
+  f.online = NonAdjacentPairs(l.g);
+  const std::string path = ::testing::TempDir() + "hinges_selfcollision.yaml";
+  std::string error;
+  ASSERT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
+  SelfCollisionFile back;
+  ASSERT_TRUE(ReadSelfCollisionFile(path, &back, &error)) << error;
+  ASSERT_EQ(back.robot.links.size(), l.g.links.size());
+  for (size_t k = 0; k < l.g.links.size(); ++k) {
+    EXPECT_EQ(back.robot.links[k].joint_only, l.g.links[k].joint_only) << l.g.links[k].name;
+    EXPECT_EQ(back.robot.links[k].parent, l.g.links[k].parent) << l.g.links[k].name;
+  }
+  EXPECT_EQ(back.online, f.online);
+  // a joint_only link with shapes is refused, naming it
+  RobotGeometry bad = l.g;
+  bad.links[FindLink(bad, "thigh@hip_z")].shapes = bad.links[FindLink(bad, "thigh")].shapes;
+  EXPECT_NE(Validate(bad).find("'thigh@hip_z': a joint_only link needs a hinge"), std::string::npos)
+      << Validate(bad);
+}
+
+// MuJoCo's own humanoid (../shared/external beside the repository): abdomen, hips and shoulders
+// of two and three hinges
+TEST(SelfCollisionHinges, MujocosHumanoidPosesMatchMujoco) {
+  const std::string path = std::string(OHRP_SOURCE_DIR) +
+                           "/../shared/external/mujoco-2.2.2-models/humanoid/humanoid.xml";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not there";
+  Loaded l;
+  ASSERT_TRUE(Load(path, &l));
+  int bodies = 0, extra = 0, hinged = 0;
+  for (const Link& k : l.g.links) {
+    (k.joint_only ? extra : bodies) += 1;
+    hinged += k.joint >= 0;
+  }
+  EXPECT_EQ(bodies, l.m->nbody - 1);  // every body but the world
+  EXPECT_GT(extra, 0);
+  EXPECT_EQ(hinged, static_cast<int>(l.g.joint_names.size()));  // one hinge a link, all of them
+  EXPECT_EQ(ExpectPosesMatchMujoco(l, 100), 100 * bodies);
+  // the thighs hang from the pelvis, not from their hips' joint_only links
+  const int thigh = FindLink(l.g, "right_thigh"), pelvis = FindLink(l.g, "pelvis");
+  ASSERT_GE(thigh, 0);
+  EXPECT_EQ(BodyParent(l.g, thigh), pelvis);
+}
+
+}  // namespace
+}  // namespace ohrp::collision
