@@ -1,9 +1,19 @@
 // The viewer's scene geometry (tools/view/src/geometry.cc): the description of HRP-1S's flat
-// scene, the geoms' world poses by forward kinematics, and the ZMP from the sole sensors
-// against closed forms.
+// scene, the geoms' world poses by forward kinematics, the ZMP from the sole sensors against
+// closed forms, and the meshes (an inline cube, menagerie's H1).
 #include "view/geometry.h"
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
 
 namespace ohrp::view {
 namespace {
@@ -37,6 +47,103 @@ TEST_F(Geometry, DescribesTheFloorAndTheRobotsGeoms) {
   EXPECT_GT(d["moving"].size(), 40u);
   EXPECT_EQ(d["joints"].size(), 29u);
   EXPECT_EQ(geometry_->Poses(state_).size(), d["moving"].size());
+}
+
+// RFC 4648's test vectors
+TEST(GeometryMeshes, Base64IsRfc4648s) {
+  for (const auto& [in, out] : std::vector<std::pair<std::string, std::string>>{
+           {"", ""}, {"f", "Zg=="}, {"fo", "Zm8="}, {"foo", "Zm9v"}, {"foob", "Zm9vYg=="},
+           {"fooba", "Zm9vYmE="}, {"foobar", "Zm9vYmFy"}})
+    EXPECT_EQ(Base64(in.data(), in.size()), out) << in;
+  const unsigned char high[3] = {0xfb, 0xff, 0xbf};
+  EXPECT_EQ(Base64(high, 3), "+/+/");
+}
+
+// each triangle of the compact mesh is the same triangle of MuJoCo's, its positions unrepeated
+void ExpectSameTriangles(const mjModel* m, int mesh, const MeshData& c) {
+  const float* v = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
+  const int* f = m->mesh_face + 3 * m->mesh_faceadr[mesh];
+  ASSERT_EQ(c.faces.size(), 3u * m->mesh_facenum[mesh]);
+  const size_t n = c.vertices.size() / 3;
+  std::set<std::array<float, 3>> unique;
+  for (size_t k = 0; k < n; ++k)
+    unique.insert({c.vertices[3 * k], c.vertices[3 * k + 1], c.vertices[3 * k + 2]});
+  EXPECT_EQ(unique.size(), n) << "a position is repeated";
+  for (size_t k = 0; k < c.faces.size(); ++k) {
+    ASSERT_LT(c.faces[k], n);
+    for (int x = 0; x < 3; ++x) ASSERT_EQ(c.vertices[3 * c.faces[k] + x], v[3 * f[k] + x]);
+  }
+}
+
+// meshes: sent once with their vertices and triangles, each mesh geom naming its mesh
+TEST(GeometryMeshes, EachMeshIsSentOnceWithItsTriangles) {
+  const std::string path = ::testing::TempDir() + "view_meshes.xml";
+  std::ofstream(path) << R"(<mujoco model="meshes">
+    <asset><mesh name="cube" vertex="-1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1  -1 -1 1  1 -1 1  1 1 1  -1 1 1"
+                 scale="0.1 0.1 0.1"/></asset>
+    <worldbody><geom type="plane" size="5 5 0.1"/>
+      <body name="base" pos="0 0 0.6"><freejoint/><geom type="mesh" mesh="cube"/>
+        <body name="arm" pos="0 0.3 0"><joint name="j1" axis="0 1 0"/>
+          <geom type="mesh" mesh="cube"/><geom type="sphere" size="0.05"/></body></body>
+    </worldbody><actuator><motor joint="j1"/></actuator></mujoco>)";
+  std::string error;
+  const auto g = SceneGeometry::Load(path, &error);
+  ASSERT_TRUE(g) << error;
+  const nlohmann::json& d = g->Describe();
+  ASSERT_EQ(d["meshes"].size(), 1u);
+  const nlohmann::json& mesh = d["meshes"][0];
+  EXPECT_EQ(mesh["name"], "cube");
+  // a cube's hull: 8 corners at 0.1 sqrt(3) m from its centre (MuJoCo turns it to its inertia
+  // axes, which a cube leaves free), 12 triangles
+  const MeshData c = CompactMesh(g->model(), 0);
+  ASSERT_EQ(c.vertices.size(), 8u * 3);
+  for (int k = 0; k < 8; ++k)
+    EXPECT_NEAR(Eigen::Vector3f(c.vertices.data() + 3 * k).norm(), 0.1 * std::sqrt(3.0), 1e-6);
+  ExpectSameTriangles(g->model(), 0, c);
+  EXPECT_EQ(mesh["nvert"], 8);
+  EXPECT_EQ(mesh["nface"], 12);
+  EXPECT_EQ(mesh["vertices"], Base64(c.vertices.data(), c.vertices.size() * sizeof(float)));
+  EXPECT_EQ(mesh["faces"], Base64(c.faces.data(), c.faces.size() * sizeof(uint32_t)));
+  ASSERT_EQ(d["moving"].size(), 3u);
+  EXPECT_EQ(d["moving"][0]["type"], "mesh");
+  EXPECT_EQ(d["moving"][0]["mesh"], 0);
+  EXPECT_EQ(d["moving"][1]["mesh"], 0);
+  EXPECT_FALSE(d["moving"][2].contains("mesh"));
+}
+
+// menagerie's H1 and Cassie (../shared/external beside the repository), whose visual geoms are
+// all meshes; Cassie's repeat each corner in every triangle
+TEST(GeometryMeshes, H1AndCassieAreDrawnByTheirVisualMeshes) {
+  for (const std::string robot : {"unitree_h1", "agility_cassie"}) {
+    const std::string path =
+        std::string(OHRP_SOURCE_DIR) + "/../shared/external/menagerie/" + robot + "/scene.xml";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not there";
+    std::string error;
+    const auto g = SceneGeometry::Load(path, &error);
+    ASSERT_TRUE(g) << error;
+    const nlohmann::json& d = g->Describe();
+    const mjModel* m = g->model();
+    size_t mesh_geoms = 0, vertices = 0, merged = 0;
+    for (const auto& geom : d["moving"]) {
+      if (geom["type"] != "mesh") continue;
+      ++mesh_geoms;
+      ASSERT_LT(geom["mesh"].get<size_t>(), d["meshes"].size());
+    }
+    EXPECT_GE(mesh_geoms, 20u) << robot << ": one visual mesh a link";
+    for (const auto& mesh : d["meshes"]) {
+      const int id = mj_name2id(m, mjOBJ_MESH, mesh["name"].get<std::string>().c_str());
+      ASSERT_GE(id, 0) << mesh["name"];
+      const MeshData c = CompactMesh(m, id);
+      ExpectSameTriangles(m, id, c);
+      EXPECT_EQ(mesh["nvert"].get<size_t>(), c.vertices.size() / 3);
+      EXPECT_EQ(mesh["vertices"].get<std::string>().size(), (c.vertices.size() * 4 + 2) / 3 * 4);
+      vertices += m->mesh_vertnum[id];
+      merged += c.vertices.size() / 3;
+    }
+    std::printf("%s: %zu mesh geoms drawn, %zu meshes, %zu vertices (%zu merged), description "
+                "%.1f MB\n", robot.c_str(), mesh_geoms, d["meshes"].size(), vertices, merged,
+                d.dump().size() / 1e6);
+  }
 }
 
 TEST_F(Geometry, PosesFollowTheBase) {

@@ -2,7 +2,7 @@
 // standing under sim_host + posture, and its plots advance with simulated time; a viewer that
 // is stopped (SIGSTOP) or killed never slows or breaks the lock-step run; a segment that does
 // not exist is refused with a clear message and exit code 2; the camera images are shown only
-// while a page asks, and then they are the segment's pixels.
+// while a page asks, and then they are the segment's pixels; a robot of meshes is drawn.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -293,6 +293,67 @@ TEST_F(Live, RunWithViewStartsAViewerThatEndsWithTheRun) {
                                        "-q", "--out", (dir_ / "out").string()}, out);
   EXPECT_EQ(shm::testing::WaitExit(run, 60.0), 0) << ReadAll(out);
   EXPECT_NE(ReadAll(out).find("ohrp_view: serving http://127.0.0.1:"), std::string::npos) << ReadAll(out);
+}
+
+// a robot drawn by meshes only (menagerie's H1 is): a green cube mesh on a free base with a
+// hinged mesh arm, live under sim_host; the page draws them from the description's meshes
+TEST_F(Live, ARobotOfMeshesIsDrawn) {
+  const fs::path scene = dir_ / "meshes.xml";
+  std::ofstream(scene) << R"(<mujoco model="meshes"><option timestep="0.001" gravity="0 0 0"/>
+    <asset><mesh name="cube" vertex="-1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1  -1 -1 1  1 -1 1  1 1 1  -1 1 1"
+                 scale="0.15 0.15 0.15"/></asset>
+    <worldbody><geom type="plane" size="5 5 0.1"/>
+      <body name="base" pos="0 0 0.6"><freejoint/>
+        <geom type="mesh" mesh="cube" rgba="0.2 0.8 0.2 1" mass="5"/>
+        <body name="arm" pos="0 0.3 0"><joint name="j1" type="hinge" axis="0 1 0"/>
+          <geom type="mesh" mesh="cube" rgba="0.2 0.8 0.2 1" mass="1"/></body></body>
+    </worldbody><actuator><motor joint="j1" ctrllimited="true" ctrlrange="-1 1"/></actuator></mujoco>)";
+  const pid_t sim = Start("sim_host", {scene.string(), "--segment", segment_, "--realtime", "--duration",
+                                       "60", "--wait-controller", "0", "--progress", "0"},
+                          (dir_ / "sim_host.txt").string());
+  children_.push_back(sim);
+  Viewer viewer;
+  StartViewer(&viewer, {segment_, "--scene", scene.string(), "--port", "0", "--attach-timeout", "20"},
+              (dir_ / "viewer.txt").string());
+  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file) << ReadAll(dir_ / "sim_host.txt");
+  Browser browser(viewer.url);
+  ASSERT_TRUE(browser.ok()) << browser.error();
+  ASSERT_TRUE(browser.WaitTrue("Number(document.getElementById('state').dataset.frames) > 5"));
+  const std::string out = OutputDir("meshes");
+  ASSERT_TRUE(browser.Screenshot(out + "/meshes.png"));
+  const nlohmann::json r = nlohmann::json::parse(browser.Eval(
+      "JSON.stringify(document.getElementById('view3d').getBoundingClientRect())").get<std::string>());
+  const PixelCount robot = CountPixels(out + "/meshes.png", r["left"].get<int>(), r["top"].get<int>(),
+                                       r["right"].get<int>(), r["bottom"].get<int>(), RobotGreen);
+  EXPECT_GT(robot.n, 2000) << out << "/meshes.png";
+}
+
+// menagerie's H1 (../shared/external beside the repository), hung as in its scenario: its
+// visual geoms are black meshes, and the page draws them
+TEST_F(Live, MenageriesH1IsDrawnByItsMeshes) {
+  const std::string scene = kSource + "/scenarios/scenes/h1_hung.xml";
+  if (!fs::exists(kSource + "/../shared/external/menagerie/unitree_h1/h1.xml"))
+    GTEST_SKIP() << "menagerie's H1 is not beside the repository";
+  const pid_t sim = Start("sim_host", {scene, "--segment", segment_, "--realtime", "--duration", "60",
+                                       "--wait-controller", "0", "--progress", "0"},
+                          (dir_ / "sim_host.txt").string());
+  children_.push_back(sim);
+  Viewer viewer;
+  StartViewer(&viewer, {segment_, "--scene", scene, "--port", "0", "--attach-timeout", "20"},
+              (dir_ / "viewer.txt").string());
+  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file) << ReadAll(dir_ / "sim_host.txt");
+  Browser browser(viewer.url);
+  ASSERT_TRUE(browser.ok()) << browser.error();
+  ASSERT_TRUE(browser.WaitTrue("Number(document.getElementById('state').dataset.frames) > 5"));
+  const std::string out = OutputDir("h1");
+  ASSERT_TRUE(browser.Screenshot(out + "/h1.png"));
+  const nlohmann::json r = nlohmann::json::parse(browser.Eval(
+      "JSON.stringify(document.getElementById('view3d').getBoundingClientRect())").get<std::string>());
+  // H1's black (0.1 0.1 0.1, shaded), darker than the floor and the sky
+  const PixelCount robot = CountPixels(out + "/h1.png", r["left"].get<int>(), r["top"].get<int>(),
+                                       r["right"].get<int>(), r["bottom"].get<int>(),
+                                       [](int R, int G, int B) { return std::max({R, G, B}) < 40; });
+  EXPECT_GT(robot.n, 2000) << out << "/h1.png";
 }
 
 // a one-joint robot on the segment, HRP-1S in the viewer's (default) scene: refused by the hash

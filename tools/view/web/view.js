@@ -39,6 +39,25 @@ function resize() {
   camera.updateProjectionMatrix();
 }
 
+let meshes = [];  // the description's meshes as three.js geometries, shared by their geoms
+
+// base64 to the bytes it encodes
+function bytesOf(b64) {
+  const s = atob(b64), out = new Uint8Array(s.length);
+  for (let i = 0; i < s.length; ++i) out[i] = s.charCodeAt(i);
+  return out.buffer;
+}
+
+// one of the description's meshes (vertices and triangles in the frame its geoms' poses place;
+// little-endian float32 and uint32 arrays in base64)
+function makeMesh(m) {
+  const geo = new THREE.BufferGeometry();
+  geo.setAttribute('position', new THREE.BufferAttribute(new Float32Array(bytesOf(m.vertices)), 3));
+  geo.setIndex(new THREE.BufferAttribute(new Uint32Array(bytesOf(m.faces)), 1));
+  geo.computeVertexNormals();
+  return geo;
+}
+
 // one geom as a three.js object (MuJoCo sizes are half-lengths and radii)
 function makeGeom(g) {
   const s = g.size, color = new THREE.Color(g.rgba[0], g.rgba[1], g.rgba[2]);
@@ -61,6 +80,8 @@ function makeGeom(g) {
         obj.add(cap);
       }
     }
+  } else if (g.type === 'mesh') {
+    if (meshes[g.mesh]) obj = new THREE.Mesh(meshes[g.mesh], mat);
   } else if (g.type === 'plane') {
     const w = s[0] > 0 ? 2 * s[0] : 40, h = s[1] > 0 ? 2 * s[1] : 40;
     const floor = new THREE.MeshLambertMaterial({color: 0x46525e});
@@ -80,6 +101,7 @@ function setPose(obj, p) {
 }
 
 function buildScene(desc) {
+  meshes = (desc.meshes || []).map(makeMesh);
   for (const g of desc.static) {
     const o = makeGeom(g);
     if (o) { setPose(o, g.pose); scene3.add(o); }
@@ -87,12 +109,24 @@ function buildScene(desc) {
   moving = desc.moving.map((g) => { const o = makeGeom(g); if (o) scene3.add(o); return o; });
 }
 
+// draws the scene once at the browser's next frame, however many poses and camera moves came
+// before it: a robot of heavy meshes then draws less often but never falls behind the frames
+let renderPending = false;
+function render() {
+  if (renderPending) return;
+  renderPending = true;
+  requestAnimationFrame(() => {
+    renderPending = false;
+    placeCamera();
+    renderer.render(scene3, camera);
+  });
+}
+
 function showPoses(poses) {
   poses.forEach((p, i) => { if (moving[i]) setPose(moving[i], p); });
   // the camera follows the robot horizontally
   if (poses.length) { orbit.target.x = poses[0][0]; orbit.target.y = poses[0][1]; }
-  placeCamera();
-  renderer.render(scene3, camera);
+  render();
 }
 
 // mouse: drag turns the camera, the wheel brings it closer
@@ -104,11 +138,11 @@ window.addEventListener('mousemove', (e) => {
   orbit.azimuth -= 0.01 * (e.clientX - drag[0]);
   orbit.elevation = Math.max(-0.2, Math.min(1.4, orbit.elevation + 0.01 * (e.clientY - drag[1])));
   drag = [e.clientX, e.clientY];
-  placeCamera(); renderer.render(scene3, camera);
+  render();
 });
 canvas.addEventListener('wheel', (e) => {
   orbit.distance = Math.max(0.5, orbit.distance * (e.deltaY > 0 ? 1.1 : 0.9));
-  placeCamera(); renderer.render(scene3, camera);
+  render();
   e.preventDefault();
 });
 
@@ -332,7 +366,7 @@ function connect() {
   ws.onclose = () => { $('counters').textContent += ' (viewer disconnected)'; };
 }
 
-window.addEventListener('resize', () => { resize(); placeCamera(); renderer.render(scene3, camera); });
+window.addEventListener('resize', () => { resize(); render(); });
 resize();
 placeCamera();
 connect();

@@ -2,13 +2,15 @@
 // static ones (the world body's: floor, steps) sent once, and the moving ones (the robot's),
 // whose world poses are computed here by forward kinematics (mj_kinematics) from the base pose
 // and the joint angles of a sensor block or a log row. The page only places boxes and cylinders
-// where it is told: the geometry is exact and the page needs no kinematic tree.
+// where it is told (and draws the meshes the description carries): the geometry is exact and
+// the page needs no kinematic tree.
 //
 // Units: SI (m, rad); poses are (x, y, z, qw, qx, qy, qz) in the world frame.
 #pragma once
 
 #include <mujoco/mujoco.h>
 
+#include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,6 +29,17 @@ struct RobotState {
   std::vector<shm::ForceTorque> ft;   // force/torque sensors, segment order (may be empty)
 };
 
+// A mesh for the page: MuJoCo's compiled vertices, in the frame its geoms' poses place, with
+// repeated positions merged, and its triangles as indices into them.
+struct MeshData {
+  std::vector<float> vertices;   // x, y, z, ... [m]
+  std::vector<uint32_t> faces;   // i, j, k, ...
+};
+MeshData CompactMesh(const mjModel* m, int mesh);
+
+// `bytes` bytes at `data` in base64 (RFC 4648, with padding).
+std::string Base64(const void* data, size_t bytes);
+
 class SceneGeometry {
  public:
   // Loads the MJCF scene at `path` and maps its robot. Returns null with `*error` naming the
@@ -34,9 +47,13 @@ class SceneGeometry {
   static std::unique_ptr<SceneGeometry> Load(const std::string& path, std::string* error);
 
   // The scene's description for the page: {"static": [geom...], "moving": [geom...],
-  // "joints": [names], "forces": [names], "robot": name}; each geom is {"type", "size",
-  // "rgba"} and, for static ones, "pose". Only visible geoms (group 0-2, alpha > 0). Made once
-  // at Load: safe to call from any thread while another calls Poses().
+  // "joints": [names], "forces": [names], "robot": name, "meshes": [mesh...]}; each geom is
+  // {"type", "size", "rgba"}, for static ones "pose", for a mesh geom "mesh" (its index in
+  // "meshes"); each mesh is {"name", "nvert", "nface", "vertices", "faces"}, CompactMesh's
+  // arrays as base64 (little-endian float32 x, y, z [m]; uint32 i, j, k), sent once however
+  // many geoms draw it. Only visible geoms
+  // (group 0-2, alpha > 0). Made once at Load: safe to call from any thread while another
+  // calls Poses().
   const nlohmann::json& Describe() const { return description_; }
 
   // World poses of the moving geoms for `state` (one 7-array per geom, order of Describe()).
@@ -54,11 +71,13 @@ class SceneGeometry {
  private:
   SceneGeometry() = default;
   nlohmann::json Geom(int g) const;
+  nlohmann::json Mesh(int mesh) const;
   nlohmann::json MakeDescription() const;
 
   std::unique_ptr<model::Scene> scene_;
   model::RobotMap robot_;
   std::vector<int> static_geoms_, moving_geoms_;
+  std::vector<int> meshes_;        // MuJoCo mesh ids of the drawn geoms, in "meshes" order
   std::vector<bool> sole_sensor_;  // per force sensor: used for the ZMP
   nlohmann::json description_;
 };
