@@ -10,25 +10,28 @@ namespace ohrp::compare {
 namespace {
 
 // least-squares line y = a + b x; returns b, its standard error in *se (0 with 2 points)
-double FitSlope(const std::vector<double>& x, const std::vector<double>& y, double* se) {
+double FitSlope(const std::vector<double>& x, const std::vector<double>& y, double* se,
+                const std::vector<double>* weights = nullptr) {
   const size_t n = x.size();
-  double mx = 0, my = 0;
+  auto w = [&](size_t i) { return weights ? (*weights)[i] : 1.0; };
+  double sw = 0, mx = 0, my = 0;
   for (size_t i = 0; i < n; ++i) {
-    mx += x[i];
-    my += y[i];
+    sw += w(i);
+    mx += w(i) * x[i];
+    my += w(i) * y[i];
   }
-  mx /= static_cast<double>(n);
-  my /= static_cast<double>(n);
+  mx /= sw;
+  my /= sw;
   double sxx = 0, sxy = 0;
   for (size_t i = 0; i < n; ++i) {
-    sxx += (x[i] - mx) * (x[i] - mx);
-    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += w(i) * (x[i] - mx) * (x[i] - mx);
+    sxy += w(i) * (x[i] - mx) * (y[i] - my);
   }
   const double b = sxy / sxx;
   double rss = 0;
   for (size_t i = 0; i < n; ++i) {
     const double r = y[i] - (my + b * (x[i] - mx));
-    rss += r * r;
+    rss += w(i) * r * r;
   }
   *se = n > 2 ? std::sqrt(rss / static_cast<double>(n - 2) / sxx) : 0.0;
   return b;
@@ -141,7 +144,7 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
   }
 
   // keep the regular part: from the first extremum on, while each half period is within 25 %
-  // of the median one and each swing is above 12 noise sigma (in the tail, where the swings
+  // of the median one and each swing is above 16 noise sigma (in the tail, where the swings
   // sink into the noise, an extremum's time is noise's and one spurious extremum would shift
   // every index after it)
   {
@@ -152,7 +155,7 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
     const double g = half_periods[half_periods.size() / 2];
     size_t keep = 1;
     while (keep < te.size() && std::fabs(te[keep] - te[keep - 1] - g) < 0.25 * g &&
-           std::fabs(xe[keep] - xe[keep - 1]) > 8 * o.noise)
+           std::fabs(xe[keep] - xe[keep - 1]) > 16 * o.noise)
       ++keep;
     te.resize(keep);
     xe.resize(keep);
@@ -167,19 +170,25 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
   for (size_t i = 0; i < k.size(); ++i) k[i] = static_cast<double>(i);
   double half_se = 0;
   const double half = FitSlope(k, te, &half_se);
-  std::vector<double> ts, ls;
+  // each ln h weighted by the inverse of its variance: a swing h read between two noisy
+  // extrema is off by about sqrt(2) noise sigma, so ln h by sqrt(2) sigma / h, with a floor of
+  // 1 % for what is not noise. Unweighted, the last swings (a few sigma above the noise, which
+  // one draw of noise keeps and another drops) would move the decay by 15 %.
+  std::vector<double> ts, ls, ws;
   for (size_t i = 0; i + 1 < te.size(); ++i) {
     const double swing = std::fabs(xe[i + 1] - xe[i]);
     if (!(swing > 0)) continue;
     ts.push_back(0.5 * (te[i] + te[i + 1]));
     ls.push_back(std::log(swing));
+    const double rel = std::sqrt(2.0) * o.noise / swing;
+    ws.push_back(1 / (rel * rel + 1e-4));
   }
   if (ts.size() < 3 || !(half > 0)) {
     o.why = "the extrema do not make a regular oscillation";
     return o;
   }
   double slope_se = 0;
-  const double slope = FitSlope(ts, ls, &slope_se);
+  const double slope = FitSlope(ts, ls, &slope_se, &ws);
   const double td = 2 * half;
   o.found = true;
   o.extrema = static_cast<int>(te.size());

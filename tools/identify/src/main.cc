@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
   j["scenario"] = o.scenario;
   j["channel"] = o.channel;
   j["lag"] = r.lag;
+  j["first"] = {{"lag", r.first_lag}, {"k", r.first.k}, {"d", r.first.d}};
   j["noise"] = r.noise;
   j["window"] = {r.from, r.to};
   j["recorded"] = {{"frequency", r.f}, {"frequency_se", r.f_se}, {"log_decrement", r.delta},

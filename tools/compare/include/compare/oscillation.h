@@ -8,7 +8,10 @@
 // half a damped period apart and the swing between two successive ones,
 // h_i = |e_{i+1} - e_i|, falls as exp(-sigma t_i), whatever the offset c. So:
 //   damped period T_d = 2 x slope of the extremum times against their index (least squares),
-//   sigma = -slope of ln h_i against time (least squares),
+//   sigma = -slope of ln h_i against time (least squares, each ln h_i weighted by its inverse
+//   variance (sqrt(2) noise / h_i)^2 with a 1 % floor, so that the tail's swings near the
+//   noise, which one draw of noise keeps and another drops, hardly move it; swings are kept
+//   while above 16 noise sigma),
 //   log decrement delta = sigma T_d (per period), decay ratio exp(-delta) (amplitude ratio of
 //   one period to the previous), damping ratio zeta = delta / sqrt(4 pi^2 + delta^2), natural
 //   frequency f_n = f_d / sqrt(1 - zeta^2).

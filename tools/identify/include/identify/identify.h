@@ -46,12 +46,16 @@ struct Estimate {
 };
 
 struct IdentifyResult {
-  double lag = 0;                   // recording's time minus the simulation's
+  double lag = 0;                   // recording's time minus the simulation's (aligned on
+                                    // the K stage's middle run)
+  double first_lag = 0;             // the same aligned on the nominal run (default soles)
+  Estimate first;                   // the closed form on that first alignment: the K stage's
+                                    // centre
   double noise = 0;                 // the recording's noise on the channel (1 sigma), which
                                     // the simulations' channel gets too before it is measured
   double from = 0, to = 0;          // the simulation's window [s]
   double f = 0, f_se = 0, delta = 0, delta_se = 0;  // the recording's oscillation
-  Estimate closed_form;             // (a)
+  Estimate closed_form;             // (a), on the recording aligned again (lag)
   Estimate refined;                 // (b), (c)
   double final_f = 0, final_delta = 0, final_rms = 0;  // the run at the refined K, D
   nlohmann::json runs = nlohmann::json::array();      // every simulation: K, D, f, delta, dir
