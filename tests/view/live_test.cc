@@ -5,9 +5,11 @@
 // while a page asks, and then they are the segment's pixels; a robot of meshes is drawn.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <thread>
 
 #include "browser.h"
@@ -295,6 +297,31 @@ TEST_F(Live, RunWithViewStartsAViewerThatEndsWithTheRun) {
   EXPECT_NE(ReadAll(out).find("ohrp_view: serving http://127.0.0.1:"), std::string::npos) << ReadAll(out);
 }
 
+// `scene` under sim_host (real time, no controller) watched live: the pixels of the 3D view
+// that `match` in a screenshot (build/tests/view_output/NAME/NAME.png); -1 when a step failed
+int RobotPixels(const std::string& segment, const fs::path& dir, std::vector<pid_t>* children,
+                const std::string& scene, const std::string& name,
+                const std::function<bool(int, int, int)>& match) {
+  children->push_back(Start("sim_host", {scene, "--segment", segment, "--realtime", "--duration", "60",
+                                         "--wait-controller", "0", "--progress", "0"},
+                            (dir / "sim_host.txt").string()));
+  Viewer viewer;
+  StartViewer(&viewer, {segment, "--scene", scene, "--port", "0", "--attach-timeout", "20"},
+              (dir / "viewer.txt").string());
+  EXPECT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file) << ReadAll(dir / "sim_host.txt");
+  if (viewer.url.empty()) return -1;
+  Browser browser(viewer.url);
+  EXPECT_TRUE(browser.ok()) << browser.error();
+  if (!browser.ok() || !browser.WaitTrue("Number(document.getElementById('state').dataset.frames) > 5"))
+    return -1;
+  const std::string png = OutputDir(name) + "/" + name + ".png";
+  if (!browser.Screenshot(png)) return -1;
+  const nlohmann::json r = nlohmann::json::parse(browser.Eval(
+      "JSON.stringify(document.getElementById('view3d').getBoundingClientRect())").get<std::string>());
+  return CountPixels(png, r["left"].get<int>(), r["top"].get<int>(), r["right"].get<int>(),
+                     r["bottom"].get<int>(), match).n;
+}
+
 // a robot drawn by meshes only (menagerie's H1 is): a green cube mesh on a free base with a
 // hinged mesh arm, live under sim_host; the page draws them from the description's meshes
 TEST_F(Live, ARobotOfMeshesIsDrawn) {
@@ -308,52 +335,17 @@ TEST_F(Live, ARobotOfMeshesIsDrawn) {
         <body name="arm" pos="0 0.3 0"><joint name="j1" type="hinge" axis="0 1 0"/>
           <geom type="mesh" mesh="cube" rgba="0.2 0.8 0.2 1" mass="1"/></body></body>
     </worldbody><actuator><motor joint="j1" ctrllimited="true" ctrlrange="-1 1"/></actuator></mujoco>)";
-  const pid_t sim = Start("sim_host", {scene.string(), "--segment", segment_, "--realtime", "--duration",
-                                       "60", "--wait-controller", "0", "--progress", "0"},
-                          (dir_ / "sim_host.txt").string());
-  children_.push_back(sim);
-  Viewer viewer;
-  StartViewer(&viewer, {segment_, "--scene", scene.string(), "--port", "0", "--attach-timeout", "20"},
-              (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file) << ReadAll(dir_ / "sim_host.txt");
-  Browser browser(viewer.url);
-  ASSERT_TRUE(browser.ok()) << browser.error();
-  ASSERT_TRUE(browser.WaitTrue("Number(document.getElementById('state').dataset.frames) > 5"));
-  const std::string out = OutputDir("meshes");
-  ASSERT_TRUE(browser.Screenshot(out + "/meshes.png"));
-  const nlohmann::json r = nlohmann::json::parse(browser.Eval(
-      "JSON.stringify(document.getElementById('view3d').getBoundingClientRect())").get<std::string>());
-  const PixelCount robot = CountPixels(out + "/meshes.png", r["left"].get<int>(), r["top"].get<int>(),
-                                       r["right"].get<int>(), r["bottom"].get<int>(), RobotGreen);
-  EXPECT_GT(robot.n, 2000) << out << "/meshes.png";
+  EXPECT_GT(RobotPixels(segment_, dir_, &children_, scene.string(), "meshes", RobotGreen), 2000);
 }
 
 // menagerie's H1 (../shared/external beside the repository), hung as in its scenario: its
-// visual geoms are black meshes, and the page draws them
+// visual geoms are black meshes (0.1 0.1 0.1, shaded: darker than the floor and the sky)
 TEST_F(Live, MenageriesH1IsDrawnByItsMeshes) {
-  const std::string scene = kSource + "/scenarios/scenes/h1_hung.xml";
   if (!fs::exists(kSource + "/../shared/external/menagerie/unitree_h1/h1.xml"))
     GTEST_SKIP() << "menagerie's H1 is not beside the repository";
-  const pid_t sim = Start("sim_host", {scene, "--segment", segment_, "--realtime", "--duration", "60",
-                                       "--wait-controller", "0", "--progress", "0"},
-                          (dir_ / "sim_host.txt").string());
-  children_.push_back(sim);
-  Viewer viewer;
-  StartViewer(&viewer, {segment_, "--scene", scene, "--port", "0", "--attach-timeout", "20"},
-              (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file) << ReadAll(dir_ / "sim_host.txt");
-  Browser browser(viewer.url);
-  ASSERT_TRUE(browser.ok()) << browser.error();
-  ASSERT_TRUE(browser.WaitTrue("Number(document.getElementById('state').dataset.frames) > 5"));
-  const std::string out = OutputDir("h1");
-  ASSERT_TRUE(browser.Screenshot(out + "/h1.png"));
-  const nlohmann::json r = nlohmann::json::parse(browser.Eval(
-      "JSON.stringify(document.getElementById('view3d').getBoundingClientRect())").get<std::string>());
-  // H1's black (0.1 0.1 0.1, shaded), darker than the floor and the sky
-  const PixelCount robot = CountPixels(out + "/h1.png", r["left"].get<int>(), r["top"].get<int>(),
-                                       r["right"].get<int>(), r["bottom"].get<int>(),
-                                       [](int R, int G, int B) { return std::max({R, G, B}) < 40; });
-  EXPECT_GT(robot.n, 2000) << out << "/h1.png";
+  EXPECT_GT(RobotPixels(segment_, dir_, &children_, kSource + "/scenarios/scenes/h1_hung.xml", "h1",
+                        [](int r, int g, int b) { return std::max({r, g, b}) < 40; }),
+            2000);
 }
 
 // a one-joint robot on the segment, HRP-1S in the viewer's (default) scene: refused by the hash
