@@ -23,7 +23,8 @@ std::string Report(const PruneResult& r, double seconds) {
   std::snprintf(line, sizeof(line),
                 "links %zu (bodies %zu, extra hinges of a body %zu); non-adjacent pairs %zu; "
                 "structural %zu; never %zu; pruned by safe ranges %zu; online %zu (%.1f s)\n\n",
-                f.robot.links.size(), f.robot.links.size() - extra, extra, r.all, f.structural.size(), f.never.size(),
+                f.robot.links.size(), f.robot.links.size() - extra, extra, r.all,
+                f.structural.size(), f.never.size(),
                 r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
                 seconds);
   s += line;

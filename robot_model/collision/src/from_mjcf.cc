@@ -80,20 +80,18 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
     const std::string body = Name(m, mjOBJ_BODY, b);
     const std::string where = "body '" + body + "'";
     const auto parent = link_of.find(m->body_parentid[b]);
-    int parent_link = parent == link_of.end() ? -1 : parent->second;
-    // the body's pose in its parent; the base (a root) is the frame of reference: it stays at
-    // the origin
-    Eigen::Vector3d p_PB = Eigen::Vector3d::Zero();
-    Eigen::Quaterniond q_PB = Eigen::Quaterniond::Identity();
-    if (parent_link >= 0 || b != robot.base_body) {
-      p_PB = Vec(m->body_pos + 3 * b);
-      q_PB = Quat(m->body_quat + 4 * b).normalized();
+    // the link being filled hangs from the body's parent at the body's pose; the base (a root)
+    // is the frame of reference: it stays at the origin
+    Link l;
+    l.parent = parent == link_of.end() ? -1 : parent->second;
+    if (l.parent >= 0 || b != robot.base_body) {
+      l.p_PL = Vec(m->body_pos + 3 * b);
+      l.q_PL = Quat(m->body_quat + 4 * b).normalized();
     }
     // its hinges, in MuJoCo's order: each turns the body's frame as the ones before it left it,
     // about its own axis through its own anchor (both in the body's frame). All but the last
     // become links of their own that carry no shapes (joint_only); the last carries the shapes.
     const int nj = b == robot.base_body ? 0 : m->body_jntnum[b], j0 = m->body_jntadr[b];
-    Link l;
     for (int j = j0; j < j0 + nj; ++j) {
       const std::string jw = where + ": joint '" + Name(m, mjOBJ_JOINT, j) + "'";
       if (m->jnt_type[j] != mjJNT_HINGE) {
@@ -109,28 +107,18 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
         *error = jw + " has a reference angle (ref) that is not zero";
         return false;
       }
-      if (j > j0) {  // the hinge before this one becomes a link of its own
+      if (j > j0) {  // the previous hinge's link is complete; this one hangs from it unmoved
         l.joint_only = true;
         l.name = body + "@" + Name(m, mjOBJ_JOINT, j - 1);
-        parent_link = static_cast<int>(out->links.size());
         out->links.push_back(std::move(l));
         l = Link();
-      }
-      l.parent = parent_link;
-      if (j == j0) {
-        l.p_PL = p_PB;
-        l.q_PL = q_PB;
+        l.parent = static_cast<int>(out->links.size()) - 1;
       }
       l.joint = id->second;
       l.axis_L = Vec(m->jnt_axis + 3 * j).normalized();
       l.anchor_L = Vec(m->jnt_pos + 3 * j);
     }
     l.name = body;
-    if (nj == 0) {
-      l.parent = parent_link;
-      l.p_PL = p_PB;
-      l.q_PL = q_PB;
-    }
     // its geoms
     for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
       Shape s;

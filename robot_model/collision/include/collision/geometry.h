@@ -77,7 +77,8 @@ std::vector<LinkPair> NonAdjacentPairs(const RobotGeometry& robot);
 int FindLink(const RobotGeometry& robot, const std::string& name);
 
 // Checks the geometry: parents before children, joint ids in range, unit axes and quaternions,
-// joint_only links with a hinge and no shapes, positive sizes, convex shapes with vertices. Returns an empty string or what is wrong.
+// joint_only links with a hinge and no shapes, positive sizes, convex shapes with vertices.
+// Returns an empty string or what is wrong.
 std::string Validate(const RobotGeometry& robot);
 
 }  // namespace ohrp::collision

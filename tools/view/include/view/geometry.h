@@ -51,9 +51,8 @@ class SceneGeometry {
   // {"type", "size", "rgba"}, for static ones "pose", for a mesh geom "mesh" (its index in
   // "meshes"); each mesh is {"name", "nvert", "nface", "vertices", "faces"}, CompactMesh's
   // arrays as base64 (little-endian float32 x, y, z [m]; uint32 i, j, k), sent once however
-  // many geoms draw it. Only visible geoms
-  // (group 0-2, alpha > 0). Made once at Load: safe to call from any thread while another
-  // calls Poses().
+  // many geoms draw it. Only visible geoms (group 0-2, alpha > 0). Made once at Load: safe to
+  // call from any thread while another calls Poses().
   const nlohmann::json& Describe() const { return description_; }
 
   // World poses of the moving geoms for `state` (one 7-array per geom, order of Describe()).
