@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "controllers/trajectory.h"
 #include "stability_util.h"
@@ -58,6 +59,60 @@ TEST(DivergenceWatch, EnergyAgreesWithMujocosAndAFreeFallIsNotFlagged) {
   EXPECT_NEAR(d->qvel[2], -9.81, 0.02);
   EXPECT_LE(watch.max_excess(), 0.11);
   EXPECT_NEAR(watch.energy(), watch.energy_start(), 0.11);
+}
+
+// The watch's kinetic energy walks MuJoCo's sparse mass matrix itself: it must equal
+// 1/2 v^T (M v) from mj_mulM, on trees with free, ball, slide and hinge joints (HRP-1S, and a
+// chain hanging from a free body), at random postures and velocities
+TEST(DivergenceWatch, KineticEnergyIsHalfVTransposeMV) {
+  constexpr const char* kTree = R"(
+<mujoco model="tree">
+  <worldbody>
+    <body name="base" pos="0 0 1">
+      <freejoint/>
+      <geom type="box" size="0.2 0.1 0.05" mass="5" contype="0" conaffinity="0"/>
+      <body name="upper" pos="0.2 0 0">
+        <joint name="shoulder" type="ball"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1" contype="0" conaffinity="0"/>
+        <body name="lower" pos="0.3 0 0">
+          <joint name="elbow" type="hinge" axis="0 1 0"/>
+          <joint name="twist" type="hinge" axis="1 0 0"/>
+          <joint name="reach" type="slide" axis="1 0 0"/>
+          <geom type="capsule" fromto="0 0 0 0.25 0.05 0" size="0.02" mass="0.7" contype="0" conaffinity="0"/>
+        </body>
+      </body>
+    </body>
+    <body name="arm" pos="1 0 1">
+      <joint name="swing" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="0.5" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+  for (const bool robot : {false, true}) {
+    auto sim = robot ? Sim::FromScene(Src("mjcf/hrp1s/scene_flat.xml")) : Sim::FromString(kTree);
+    ASSERT_TRUE(sim);
+    mjModel* m = sim->m();
+    mjData* d = sim->d();
+    DivergenceWatch watch(m);
+    std::vector<double> mv(m->nv);
+    unsigned seed = 7;
+    auto uniform = [&seed] {
+      seed = seed * 1103515245u + 12345u;
+      return ((seed >> 8) & 0xffff) / 32768.0 - 1.0;  // [-1, 1)
+    };
+    for (int trial = 0; trial < 50; ++trial) {
+      for (int i = 0; i < m->nq; ++i) d->qpos[i] = m->qpos0[i] + 0.5 * uniform();
+      mj_normalizeQuat(m, d->qpos);
+      for (int i = 0; i < m->nv; ++i) d->qvel[i] = 3 * uniform();
+      watch.Start(m, d);  // E(0) of this state: writes d->energy as every check does
+      mj_mulM(m, d, mv.data(), d->qvel);
+      double expected = 0;
+      for (int i = 0; i < m->nv; ++i) expected += 0.5 * d->qvel[i] * mv[i];
+      ASSERT_GT(expected, 0.1);
+      EXPECT_NEAR(d->energy[1], expected, 1e-12 * expected)
+          << (robot ? "HRP-1S" : "tree") << ", trial " << trial;
+    }
+  }
 }
 
 // MuJoCo 2.2's mj_energyPos is 0 without the scene's `energy` flag: the watch computes the

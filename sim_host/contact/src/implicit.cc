@@ -32,6 +32,7 @@
 #include <cmath>
 
 #include "contact/soft_contact.h"
+#include "small_dense.h"
 
 namespace ohrp::contact {
 namespace {
@@ -68,26 +69,29 @@ class PointSum {
                          n[0] * r[1] - n[1] * r[0]};
     b_ += b;
     br2_ += b * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    int k = 0;  // the upper triangle of the symmetric sums, row by row
     for (int i = 0; i < 3; ++i) {
       const double cn = c * n[i], cm = c * m[i], brr = b * r[i];
       br_[i] += brr;
-      for (int j = 0; j < 3; ++j) {
-        nn_[i][j] += cn * n[j];
-        nm_[i][j] += cn * m[j];
-        mm_[i][j] += cm * m[j];
-        rr_[i][j] += brr * r[j];
+      for (int j = 0; j < 3; ++j) nm_[i][j] += cn * m[j];
+      for (int j = i; j < 3; ++j, ++k) {
+        nn_[k] += cn * n[j];
+        mm_[k] += cm * m[j];
+        rr_[k] += brr * r[j];
       }
     }
   }
   void Write(Mat6* out) const {
+    static constexpr int kUpper[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
     Mat6& o = *out;
     const Eigen::Matrix3d R = Skew(Eigen::Vector3d(br_[0], br_[1], br_[2]));  // sum of b R
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
-        o(i, j) = nn_[i][j];
+        const int u = kUpper[i][j];
+        o(i, j) = nn_[u];
         o(i, j + 3) = -R(i, j) - nm_[i][j];
         o(i + 3, j) = R(i, j) - nm_[j][i];
-        o(i + 3, j + 3) = mm_[i][j] - rr_[i][j];
+        o(i + 3, j + 3) = mm_[u] - rr_[u];
       }
       o(i, i) += b_;
       o(i + 3, i + 3) += br2_;
@@ -96,7 +100,7 @@ class PointSum {
 
  private:
   double b_ = 0, br2_ = 0, br_[3] = {0, 0, 0};
-  double nn_[3][3] = {}, nm_[3][3] = {}, mm_[3][3] = {}, rr_[3][3] = {};
+  double nm_[3][3] = {}, nn_[6] = {}, mm_[6] = {}, rr_[6] = {};  // nn, mm, rr: upper triangles
 };
 
 // int_0^h max(0, d0 + a s)^n wt(s) ds, wt(s) = (1 - lam)(1 - s/h) + lam / 2, and its
@@ -212,7 +216,6 @@ void SoftFootContact::AllocateImplicit(const mjModel* m) {
   mobility_ = Eigen::MatrixXd::Zero(n, n);
   system_ = Eigen::MatrixXd::Zero(n, n);
   dv_ = rhs_ = correction_ = wrench_ = Eigen::VectorXd::Zero(n);
-  lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
 }
 
 void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_factored) {
@@ -280,7 +283,7 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
     jc_[k] = x;
     for (const Elimination& e : solve_[k]) x.row(e.to) -= d->qLD[e.adr] * x.row(e.from);
     for (int p = 0; p < static_cast<int>(chain.size()); ++p) x.row(p) *= d->qLDiagSqrtInv[chain[p]];
-    mobility_.block<6, 6>(6 * k, 6 * k).noalias() = x.transpose().lazyProduct(x);
+    internal::Gram6(x, mobility_.block<6, 6>(6 * k, 6 * k));
     for (int l = 0; l < k; ++l) {
       Mat6 a = Mat6::Zero();
       for (const auto& [pl, pk] : shared_[size_t(l) * nb + k])
@@ -294,7 +297,8 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
   for (int k = 0; k < nb; ++k) {
     const int b = bodies_[k];
     const Eigen::Vector3d com = Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
-    const double w2 = h * h * (mobility_.block<6, 6>(6 * k, 6 * k) * stiff_[k]).trace();
+    // tr(A K) (both symmetric)
+    const double w2 = h * h * mobility_.block<6, 6>(6 * k, 6 * k).cwiseProduct(stiff_[k]).sum();
     const double lam = w2 > kHatLimit ? 1 - kHatLimit / w2 : 0.0;
     Vec6 w0 = Vec6::Zero();
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
@@ -343,8 +347,8 @@ void SoftFootContact::ApplyImplicit(const mjModel* m, mjData* d, bool mass_facto
     system_.middleRows<6>(6 * k).noalias() -= h * damp_[k] * mobility_.middleRows<6>(6 * k);
     rhs_.segment<6>(6 * k) = damp_[k] * dv_.segment<6>(6 * k);
   }
-  lu_.compute(system_);
-  correction_.noalias() = lu_.solve(rhs_);
+  correction_ = rhs_;
+  internal::SolveInPlace(&system_, &correction_);
   // the sum never pulls: the correction is cut where it would turn the normal force over
   for (int k = 0; k < nb; ++k) {
     if (normal_[k].squaredNorm() == 0) continue;

@@ -140,7 +140,6 @@ class DivergenceWatch {
   double energy0_ = 0, energy_ = 0, work_ = 0, max_excess_ = 0;
   // the last finite state (copied every step: nq + 2 nv doubles, no allocation)
   std::vector<double> last_qpos_, last_qvel_, last_qacc_;
-  std::vector<double> scratch_;  // M qvel
   double last_time_ = 0;
   // the latched detection
   DivergenceKind kind_ = DivergenceKind::kNone;

@@ -175,7 +175,6 @@ class SoftFootContact {
   // accelerations in mjData are then that step's (see ApplyImplicit)
   double next_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXd dv_, rhs_, correction_, wrench_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 }  // namespace ohrp::contact
