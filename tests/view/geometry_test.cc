@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <vector>
 
 namespace ohrp::view {
 namespace {
@@ -109,6 +110,45 @@ TEST(GeometryMeshes, EachMeshIsSentOnceWithItsTriangles) {
   EXPECT_EQ(d["moving"][0]["mesh"], 0);
   EXPECT_EQ(d["moving"][1]["mesh"], 0);
   EXPECT_FALSE(d["moving"][2].contains("mesh"));
+}
+
+// HRP-1S's uneven scene stands on a height field: the description carries it once, its
+// elevations in metres (MuJoCo's 0..1 samples times the top height), and the floor geom points
+// at it
+TEST(GeometryHfields, TheUnevenFloorIsSentWithItsElevations) {
+  std::string error;
+  const auto g =
+      SceneGeometry::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_uneven.xml", &error);
+  ASSERT_TRUE(g) << error;
+  const mjModel* m = g->model();
+  ASSERT_EQ(m->nhfield, 1);
+  const nlohmann::json& d = g->Describe();
+  ASSERT_EQ(d["hfields"].size(), 1u);
+  const nlohmann::json& h = d["hfields"][0];
+  EXPECT_EQ(h["name"], "waves");
+  EXPECT_EQ(h["nrow"], m->hfield_nrow[0]);
+  EXPECT_EQ(h["ncol"], m->hfield_ncol[0]);
+  ASSERT_EQ(h["size"].size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(h["size"][i].get<double>(), m->hfield_size[i]);
+  const std::vector<float> z = HfieldHeights(m, 0);
+  ASSERT_EQ(z.size(), static_cast<size_t>(m->hfield_nrow[0] * m->hfield_ncol[0]));
+  float lo = z[0], hi = z[0];
+  for (size_t i = 0; i < z.size(); ++i) {
+    // size="1 1 0.006 0.05": the top height is 0.006 m
+    EXPECT_FLOAT_EQ(z[i], static_cast<float>(0.006 * m->hfield_data[i])) << i;
+    lo = std::min(lo, z[i]);
+    hi = std::max(hi, z[i]);
+  }
+  EXPECT_GT(hi - lo, 0.003f) << "the waves are +-3 mm";
+  EXPECT_EQ(h["heights"], Base64(z.data(), z.size() * sizeof(float)));
+  int floors = 0;
+  for (const auto& s : d["static"]) {
+    if (s["type"] != "hfield") continue;
+    ++floors;
+    EXPECT_EQ(s["hfield"], 0);
+    EXPECT_EQ(s["name"], "floor");
+  }
+  EXPECT_EQ(floors, 1);
 }
 
 // menagerie's H1 and Cassie (../shared/external beside the repository), whose visual geoms are

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <thread>
+#include <vector>
 
 #include "browser.h"
 #include "robot_model/model.h"
@@ -336,6 +337,32 @@ TEST_F(Live, ARobotOfMeshesIsDrawn) {
           <geom type="mesh" mesh="cube" rgba="0.2 0.8 0.2 1" mass="1"/></body></body>
     </worldbody><actuator><motor joint="j1" ctrllimited="true" ctrlrange="-1 1"/></actuator></mujoco>)";
   EXPECT_GT(RobotPixels(segment_, dir_, &children_, scene.string(), "meshes", RobotGreen), 2000);
+}
+
+// a height field (MuJoCo's binary format: int32 rows, int32 columns, float32 samples) with a
+// magenta ridge in front of a small robot: the page draws it from the description's samples
+TEST_F(Live, AHeightFieldIsDrawn) {
+  const int nrow = 20, ncol = 30;
+  std::vector<float> samples;
+  for (int r = 0; r < nrow; ++r)
+    for (int c = 0; c < ncol; ++c) samples.push_back(std::exp(-0.02f * (c - 15) * (c - 15)));
+  {
+    std::ofstream bin(dir_ / "ridge.bin", std::ios::binary);
+    bin.write(reinterpret_cast<const char*>(&nrow), sizeof nrow);
+    bin.write(reinterpret_cast<const char*>(&ncol), sizeof ncol);
+    bin.write(reinterpret_cast<const char*>(samples.data()), samples.size() * sizeof(float));
+  }
+  const fs::path scene = dir_ / "ridge.xml";
+  std::ofstream(scene) << R"(<mujoco model="ridge"><option timestep="0.001" gravity="0 0 0"/>
+    <asset><hfield name="ridge" file="ridge.bin" size="1.5 1 0.3 0.05"/></asset>
+    <worldbody><geom type="hfield" hfield="ridge" rgba="0.9 0.1 0.9 1"/>
+      <body name="base" pos="0 0 0.6"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="5"/>
+        <body name="arm" pos="0 0.3 0"><joint name="j1" type="hinge" axis="0 1 0"/>
+          <geom type="box" size="0.05 0.05 0.05" mass="1"/></body></body>
+    </worldbody><actuator><motor joint="j1" ctrllimited="true" ctrlrange="-1 1"/></actuator></mujoco>)";
+  EXPECT_GT(RobotPixels(segment_, dir_, &children_, scene.string(), "hfield",
+                        [](int r, int g, int b) { return r > g + 60 && b > g + 60; }),
+            2000);
 }
 
 // menagerie's H1 (../shared/external beside the repository), hung as in its scenario: its

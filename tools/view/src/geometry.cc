@@ -24,7 +24,8 @@ const char* TypeName(int type) {
     case mjGEOM_CYLINDER: return "cylinder";
     case mjGEOM_BOX: return "box";
     case mjGEOM_MESH: return "mesh";
-    default: return nullptr;  // height fields: not drawn yet
+    case mjGEOM_HFIELD: return "hfield";
+    default: return nullptr;
   }
 }
 
@@ -50,6 +51,10 @@ std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std:
     if (m->geom_type[i] == mjGEOM_MESH &&
         std::find(g->meshes_.begin(), g->meshes_.end(), m->geom_dataid[i]) == g->meshes_.end())
       g->meshes_.push_back(m->geom_dataid[i]);
+    // so is a height field
+    if (m->geom_type[i] == mjGEOM_HFIELD &&
+        std::find(g->hfields_.begin(), g->hfields_.end(), m->geom_dataid[i]) == g->hfields_.end())
+      g->hfields_.push_back(m->geom_dataid[i]);
   }
   // the sole sensors: a sensor's body is a *_SOLE geom's body or one of its ancestors
   for (const auto& f : g->robot_.forces) {
@@ -81,6 +86,8 @@ nlohmann::json SceneGeometry::Geom(int g) const {
   j["name"] = name ? name : "";
   if (m->geom_type[g] == mjGEOM_MESH)
     j["mesh"] = std::find(meshes_.begin(), meshes_.end(), m->geom_dataid[g]) - meshes_.begin();
+  if (m->geom_type[g] == mjGEOM_HFIELD)
+    j["hfield"] = std::find(hfields_.begin(), hfields_.end(), m->geom_dataid[g]) - hfields_.begin();
   return j;
 }
 
@@ -135,6 +142,29 @@ nlohmann::json SceneGeometry::Mesh(int mesh) const {
   return j;
 }
 
+std::vector<float> HfieldHeights(const mjModel* m, int hfield) {
+  const int n = m->hfield_nrow[hfield] * m->hfield_ncol[hfield];
+  const float* data = m->hfield_data + m->hfield_adr[hfield];
+  const double top = m->hfield_size[4 * hfield + 2];
+  std::vector<float> out(n);
+  for (int i = 0; i < n; ++i) out[i] = static_cast<float>(top * data[i]);
+  return out;
+}
+
+nlohmann::json SceneGeometry::Hfield(int hfield) const {
+  const mjModel* m = scene_->m();
+  const std::vector<float> heights = HfieldHeights(m, hfield);
+  nlohmann::json j;
+  const char* name = mj_id2name(m, mjOBJ_HFIELD, hfield);
+  j["name"] = name ? name : "";
+  j["nrow"] = m->hfield_nrow[hfield];
+  j["ncol"] = m->hfield_ncol[hfield];
+  j["size"] = {m->hfield_size[4 * hfield], m->hfield_size[4 * hfield + 1],
+               m->hfield_size[4 * hfield + 2], m->hfield_size[4 * hfield + 3]};
+  j["heights"] = Base64(heights.data(), heights.size() * sizeof(float));
+  return j;
+}
+
 nlohmann::json SceneGeometry::MakeDescription() const {
   const mjData* d = scene_->d();
   nlohmann::json out;
@@ -153,6 +183,8 @@ nlohmann::json SceneGeometry::MakeDescription() const {
   for (int g : moving_geoms_) out["moving"].push_back(Geom(g));
   out["meshes"] = nlohmann::json::array();
   for (int mesh : meshes_) out["meshes"].push_back(Mesh(mesh));
+  out["hfields"] = nlohmann::json::array();
+  for (int h : hfields_) out["hfields"].push_back(Hfield(h));
   out["joints"] = nlohmann::json::array();
   for (const auto& jm : robot_.joints) out["joints"].push_back(jm.name);
   out["forces"] = nlohmann::json::array();

@@ -58,6 +58,39 @@ function makeMesh(m) {
   return geo;
 }
 
+let hfields = [];  // the description's height fields as three.js geometries
+
+// one of the description's height fields: a grid of triangles over the samples, row r at
+// y = -sy + 2 sy r / (nrow - 1), column c at x = -sx + 2 sx c / (ncol - 1) in its geom's frame,
+// at the elevations [m] of the float32 array (row-major, base64)
+function makeHfield(h) {
+  const z = new Float32Array(bytesOf(h.heights)), nr = h.nrow, nc = h.ncol;
+  const sx = h.size[0], sy = h.size[1];
+  const pos = new Float32Array(3 * nr * nc);
+  for (let r = 0; r < nr; ++r) {
+    for (let c = 0; c < nc; ++c) {
+      const k = r * nc + c;
+      pos[3 * k] = -sx + 2 * sx * c / (nc - 1);
+      pos[3 * k + 1] = -sy + 2 * sy * r / (nr - 1);
+      pos[3 * k + 2] = z[k];
+    }
+  }
+  const idx = new Uint32Array(6 * (nr - 1) * (nc - 1));
+  let i = 0;
+  for (let r = 0; r + 1 < nr; ++r) {
+    for (let c = 0; c + 1 < nc; ++c) {
+      const a = r * nc + c, b = a + 1, d = a + nc, e = d + 1;
+      idx.set([a, b, e, a, e, d], i);  // counter-clockwise seen from above
+      i += 6;
+    }
+  }
+  const geo = new THREE.BufferGeometry();
+  geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+  geo.setIndex(new THREE.BufferAttribute(idx, 1));
+  geo.computeVertexNormals();
+  return geo;
+}
+
 // one geom as a three.js object (MuJoCo sizes are half-lengths and radii)
 function makeGeom(g) {
   const s = g.size, color = new THREE.Color(g.rgba[0], g.rgba[1], g.rgba[2]);
@@ -82,6 +115,8 @@ function makeGeom(g) {
     }
   } else if (g.type === 'mesh') {
     if (meshes[g.mesh]) obj = new THREE.Mesh(meshes[g.mesh], mat);
+  } else if (g.type === 'hfield') {
+    if (hfields[g.hfield]) obj = new THREE.Mesh(hfields[g.hfield], mat);
   } else if (g.type === 'plane') {
     const w = s[0] > 0 ? 2 * s[0] : 40, h = s[1] > 0 ? 2 * s[1] : 40;
     const floor = new THREE.MeshLambertMaterial({color: 0x46525e});
@@ -102,6 +137,7 @@ function setPose(obj, p) {
 
 function buildScene(desc) {
   meshes = (desc.meshes || []).map(makeMesh);
+  hfields = (desc.hfields || []).map((h) => (h.nrow > 1 && h.ncol > 1 ? makeHfield(h) : null));
   for (const g of desc.static) {
     const o = makeGeom(g);
     if (o) { setPose(o, g.pose); scene3.add(o); }

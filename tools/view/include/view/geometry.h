@@ -2,8 +2,8 @@
 // static ones (the world body's: floor, steps) sent once, and the moving ones (the robot's),
 // whose world poses are computed here by forward kinematics (mj_kinematics) from the base pose
 // and the joint angles of a sensor block or a log row. The page only places boxes and cylinders
-// where it is told (and draws the meshes the description carries): the geometry is exact and
-// the page needs no kinematic tree.
+// where it is told (and draws the meshes and height fields the description carries): the
+// geometry is exact and the page needs no kinematic tree.
 //
 // Units: SI (m, rad); poses are (x, y, z, qw, qx, qy, qz) in the world frame.
 #pragma once
@@ -37,6 +37,11 @@ struct MeshData {
 };
 MeshData CompactMesh(const mjModel* m, int mesh);
 
+// A height field's elevations [m] for the page: MuJoCo's samples (hfield_data, 0..1) times its
+// top height, row-major, row r at y = -size_y + 2 size_y r / (nrow - 1), column c at
+// x = -size_x + 2 size_x c / (ncol - 1) in its geom's frame (as MuJoCo draws and collides it).
+std::vector<float> HfieldHeights(const mjModel* m, int hfield);
+
 // `bytes` bytes at `data` in base64 (RFC 4648, with padding).
 std::string Base64(const void* data, size_t bytes);
 
@@ -47,12 +52,14 @@ class SceneGeometry {
   static std::unique_ptr<SceneGeometry> Load(const std::string& path, std::string* error);
 
   // The scene's description for the page: {"static": [geom...], "moving": [geom...],
-  // "joints": [names], "forces": [names], "robot": name, "meshes": [mesh...]}; each geom is
-  // {"type", "size", "rgba"}, for static ones "pose", for a mesh geom "mesh" (its index in
-  // "meshes"); each mesh is {"name", "nvert", "nface", "vertices", "faces"}, CompactMesh's
-  // arrays as base64 (little-endian float32 x, y, z [m]; uint32 i, j, k), sent once however
-  // many geoms draw it. Only visible geoms (group 0-2, alpha > 0). Made once at Load: safe to
-  // call from any thread while another calls Poses().
+  // "joints": [names], "forces": [names], "robot": name, "meshes": [mesh...],
+  // "hfields": [height field...]}; each geom is {"type", "size", "rgba"}, for static ones
+  // "pose", for a mesh geom "mesh" (its index in "meshes"); each mesh is {"name", "nvert",
+  // "nface", "vertices", "faces"}, CompactMesh's arrays as base64 (little-endian float32 x, y,
+  // z [m]; uint32 i, j, k), sent once however many geoms draw it. Likewise a height field
+  // geom's "hfield" indexes "hfields", each {"name", "nrow", "ncol", "size" (MuJoCo's four),
+  // "heights"} (HfieldHeights as float32 in base64). Only visible geoms (group 0-2, alpha > 0).
+  // Made once at Load: safe to call from any thread while another calls Poses().
   const nlohmann::json& Describe() const { return description_; }
 
   // World poses of the moving geoms for `state` (one 7-array per geom, order of Describe()).
@@ -71,12 +78,14 @@ class SceneGeometry {
   SceneGeometry() = default;
   nlohmann::json Geom(int g) const;
   nlohmann::json Mesh(int mesh) const;
+  nlohmann::json Hfield(int hfield) const;
   nlohmann::json MakeDescription() const;
 
   std::unique_ptr<model::Scene> scene_;
   model::RobotMap robot_;
   std::vector<int> static_geoms_, moving_geoms_;
   std::vector<int> meshes_;        // MuJoCo mesh ids of the drawn geoms, in "meshes" order
+  std::vector<int> hfields_;       // MuJoCo height field ids, in "hfields" order
   std::vector<bool> sole_sensor_;  // per force sensor: used for the ZMP
   nlohmann::json description_;
 };
