@@ -1,7 +1,8 @@
 // The implicit soft soles' small dense algebra (implicit.cc), written out for its sizes: 6 rows
-// per sole body, 12 for a biped. Eigen's dynamic-size PartialPivLU and lazy products dispatch
-// and block for large matrices; at these sizes that overhead was most of their cost (7.5k and
-// 2.3k instructions per step of HRP-1S). No allocation, no exceptions.
+// per sole body, 12 for a biped. Eigen's dynamic-size PartialPivLU and lazy product dispatch
+// and block for large matrices: on HRP-1S standing they took 9.7k instructions per step (the
+// 12x12 factorisation and solve) and 2.3k per sole body (X^T X); written out, 5.4k and 1.0k
+// (callgrind). No allocation, no exceptions.
 #pragma once
 
 #include <Eigen/Dense>
