@@ -29,6 +29,15 @@ const char* TypeName(int type) {
   }
 }
 
+// the position of MuJoCo id `id` in `ids` (the description's "meshes" or "hfields"), added at
+// the end when it is not there yet: each asset is sent once however many geoms draw it
+int Slot(std::vector<int>* ids, int id) {
+  const auto at = std::find(ids->begin(), ids->end(), id);
+  if (at != ids->end()) return static_cast<int>(at - ids->begin());
+  ids->push_back(id);
+  return static_cast<int>(ids->size()) - 1;
+}
+
 }  // namespace
 
 std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std::string* error) {
@@ -47,14 +56,9 @@ std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std:
     const float* rgba = m->geom_matid[i] >= 0 ? m->mat_rgba + 4 * m->geom_matid[i] : m->geom_rgba + 4 * i;
     if (rgba[3] <= 0) continue;
     (m->geom_bodyid[i] == 0 ? g->static_geoms_ : g->moving_geoms_).push_back(i);
-    // a mesh is sent once, however many geoms draw it
-    if (m->geom_type[i] == mjGEOM_MESH &&
-        std::find(g->meshes_.begin(), g->meshes_.end(), m->geom_dataid[i]) == g->meshes_.end())
-      g->meshes_.push_back(m->geom_dataid[i]);
-    // so is a height field
-    if (m->geom_type[i] == mjGEOM_HFIELD &&
-        std::find(g->hfields_.begin(), g->hfields_.end(), m->geom_dataid[i]) == g->hfields_.end())
-      g->hfields_.push_back(m->geom_dataid[i]);
+    // a mesh or a height field is sent once, however many geoms draw it
+    if (m->geom_type[i] == mjGEOM_MESH) g->geom_asset_[i] = Slot(&g->meshes_, m->geom_dataid[i]);
+    if (m->geom_type[i] == mjGEOM_HFIELD) g->geom_asset_[i] = Slot(&g->hfields_, m->geom_dataid[i]);
   }
   // the sole sensors: a sensor's body is a *_SOLE geom's body or one of its ancestors
   for (const auto& f : g->robot_.forces) {
@@ -84,10 +88,8 @@ nlohmann::json SceneGeometry::Geom(int g) const {
   j["rgba"] = {rgba[0], rgba[1], rgba[2], rgba[3]};
   const char* name = mj_id2name(m, mjOBJ_GEOM, g);
   j["name"] = name ? name : "";
-  if (m->geom_type[g] == mjGEOM_MESH)
-    j["mesh"] = std::find(meshes_.begin(), meshes_.end(), m->geom_dataid[g]) - meshes_.begin();
-  if (m->geom_type[g] == mjGEOM_HFIELD)
-    j["hfield"] = std::find(hfields_.begin(), hfields_.end(), m->geom_dataid[g]) - hfields_.begin();
+  if (m->geom_type[g] == mjGEOM_MESH) j["mesh"] = geom_asset_.at(g);
+  if (m->geom_type[g] == mjGEOM_HFIELD) j["hfield"] = geom_asset_.at(g);
   return j;
 }
 

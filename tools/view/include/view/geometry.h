@@ -11,6 +11,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -86,6 +87,7 @@ class SceneGeometry {
   std::vector<int> static_geoms_, moving_geoms_;
   std::vector<int> meshes_;        // MuJoCo mesh ids of the drawn geoms, in "meshes" order
   std::vector<int> hfields_;       // MuJoCo height field ids, in "hfields" order
+  std::map<int, int> geom_asset_;  // a drawn mesh or height field geom: its index in those
   std::vector<bool> sole_sensor_;  // per force sensor: used for the ZMP
   nlohmann::json description_;
 };
