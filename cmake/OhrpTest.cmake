@@ -1,5 +1,6 @@
 # ohrp_add_test(NAME name SOURCES a.cc b.cc LIBS lib... [LABELS l...] [TIMEOUT s] [SERIAL])
-# Declares one GoogleTest executable and registers its tests with ctest. SERIAL: its tests run
+# Declares one GoogleTest executable, linked with the tests' shared helpers (tests/common:
+# child processes, scratch files), and registers its tests with ctest. SERIAL: its tests run
 # alone (real-time tests whose deadlines a parallel test would make them miss). Its timeout is
 # tripled in the sanitizer build (OHRP_SANITIZE).
 function(ohrp_add_test)
@@ -15,7 +16,7 @@ function(ohrp_add_test)
     set(T_LABELS unit)
   endif()
   add_executable(${T_NAME} ${T_SOURCES})
-  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main Threads::Threads)
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} ohrp::test_process GTest::gtest GTest::gtest_main Threads::Threads)
   target_compile_definitions(${T_NAME} PRIVATE
     OHRP_SOURCE_DIR="${OHRP_SOURCE_DIR}"
     OHRP_BIN_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")

@@ -56,7 +56,8 @@ TEST_F(BalanceHw, StandsThroughHwDriverAndUdp) {
 // 5. a stuck ankle F/T sensor (stale values): the driver flags kBoardFault, balance holds its
 // last posture from then on and says so; the held robot keeps standing
 TEST_F(BalanceHw, AStuckAnkleSensorLatchesTheHold) {
-  const Chain c = RunChain("bal_hw_stuck", {"balance"}, {"--stuck", "ft0@4.5"}, 6.5);
+  const Chain c = RunChain("bal_hw_stuck", {"balance"}, {"--stuck", "ft0@4.5"}, 6.5,
+                           kFaultTolerance);
   ASSERT_EQ(c.driver, 0) << c.driver_out;
   ASSERT_EQ(c.controller, 0) << c.controller_out;
   // (driver time, which starts a few cycles before the emulator's robot time)
@@ -76,7 +77,8 @@ TEST_F(BalanceHw, AStuckAnkleSensorLatchesTheHold) {
 // a board falling silent: the driver's safe mode ends the run (exit 6); balance held from the
 // silence on (kBoardFault, never NaN: the driver rejected no command)
 TEST_F(BalanceHw, ASilentBoardLatchesTheHoldBeforeTheDriversSafeMode) {
-  const Chain c = RunChain("bal_hw_silent", {"balance"}, {"--silent", "2@4.5"}, 7.0);
+  const Chain c = RunChain("bal_hw_silent", {"balance"}, {"--silent", "2@4.5"}, 7.0,
+                           kFaultTolerance);
   ASSERT_EQ(c.driver, 6) << c.driver_out;
   // the plugin marks the board silent after timeout_ms (100 ms): until then the driver
   // publishes the board's last values (stale), which balance cannot tell from fresh ones

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <thread>
 
+#include "common/scratch.h"
+
 namespace ohrp::controllers::testing {
 namespace {
 
@@ -157,12 +159,7 @@ void RemoveSegment(const std::string& segment) {
 
 std::string Program(const std::string& name) { return std::string(OHRP_BIN_DIR) + "/" + name; }
 
-std::string TempPath(const std::string& tag) {
-  std::string path = "/tmp/ohrp_ctltest_" + tag + "_XXXXXX";
-  int fd = mkstemp(path.data());
-  if (fd >= 0) close(fd);
-  return path;
-}
+std::string TempPath(const std::string& tag) { return ohrp::testing::ScratchFile(tag, ""); }
 
 void WriteText(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;

@@ -85,7 +85,7 @@ std::string UniqueSegment(const std::string& tag);
 void RemoveSegment(const std::string& segment);
 // the path of a built program in OHRP_BIN_DIR
 std::string Program(const std::string& name);
-// a fresh temporary file path (created empty) under /tmp
+// a fresh file (created empty) in the test's scratch folder (common/scratch.h)
 std::string TempPath(const std::string& tag);
 // writes `text` to `path`
 void WriteText(const std::string& path, const std::string& text);

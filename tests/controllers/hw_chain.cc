@@ -10,6 +10,7 @@
 #include <fstream>
 #include <thread>
 
+#include "common/scratch.h"
 #include "fake_robot.h"
 #include "shm_bridge/bridge.h"
 
@@ -41,12 +42,10 @@ std::vector<EmulatorRow> ReadEmulatorLog(const std::string& path) {
 }  // namespace
 
 Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
-               const std::vector<std::string>& emulator_args, double duration) {
+               const std::vector<std::string>& emulator_args, double duration,
+               Tolerance tolerance) {
   Chain c;
-  const std::string base = TempPath(tag);
-  const fs::path dir = base + "_dir";
-  fs::remove(base);
-  fs::create_directories(dir);
+  const fs::path dir = ohrp::testing::ScratchFolder(tag);
   auto path = [&](const char* f) { return (dir / f).string(); };
   // the emulator first: it writes its port once it listens
   std::vector<std::string> e = {Program("hw_emulator"), "--model", kScene, "--keyframe",
@@ -65,10 +64,11 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
   const std::string segment = UniqueSegment(tag);
   const pid_t driver = Spawn(
       {Program("hw_driver"), "--model", kScene, "--io", Program("../lib/libohrp_io_udp.so"),
-       "--io-arg", "port=" + std::to_string(port), "--io-arg", "timeout_ms=100", "--segment",
-       segment, "--period", "0.002", "--watchdog-cycles", "100", "--board-timeout-cycles",
-       "100", "--rt-priority", "0", "--no-mlock", "--duration", std::to_string(duration),
-       "--summary", path("driver.json")},
+       "--io-arg", "port=" + std::to_string(port), "--io-arg",
+       "timeout_ms=" + std::to_string(tolerance.board_ms), "--segment", segment, "--period",
+       "0.002", "--watchdog-cycles", std::to_string(tolerance.cycles), "--board-timeout-cycles",
+       std::to_string(tolerance.cycles), "--rt-priority", "0", "--no-mlock", "--duration",
+       std::to_string(duration), "--summary", path("driver.json")},
       path("driver.out"));
   const std::string shm_path = "/dev/shm/" + shm::SegmentObjectName(segment);
   for (double t = 0; !fs::exists(shm_path) && t < kWall; t += 0.01)

@@ -28,11 +28,24 @@ struct Chain {
   nlohmann::json summary;  // the driver's --summary
 };
 
+// How long a silence the chain takes for a fault: the UDP plugin's board timeout (timeout_ms) and
+// the driver's controller watchdog and board timeout (in 2 ms servo cycles).
+struct Tolerance {
+  int board_ms = 100;
+  int cycles = 100;
+};
+// the fault tests time the latch against these (a silent board is flagged after 100 ms)
+inline constexpr Tolerance kFaultTolerance = {100, 100};
+// the runs that must end clean: a stall of the loaded VM (a process not scheduled for a few
+// hundred milliseconds) is not what they test, and must not read as a silent board
+inline constexpr Tolerance kStallTolerance = {1000, 500};
+
 // Runs the emulator (flat scene, halfsit keyframe, `emulator_args` added), the driver
 // (`duration` s of 2 ms servo cycles), then `controller` (a program of build/bin or a path, and
 // its arguments; the segment is added); the emulator is stopped with SIGINT once the driver ended.
 Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
-               const std::vector<std::string>& emulator_args, double duration);
+               const std::vector<std::string>& emulator_args, double duration,
+               Tolerance tolerance = kStallTolerance);
 
 // base height and tilt over [t0, t1] of robot time, all 29 servos on: {z_lo, z_hi, tilt_max}
 std::array<double, 3> Span(const Chain& c, double t0, double t1);

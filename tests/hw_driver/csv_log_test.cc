@@ -1,6 +1,7 @@
 // Tests the replay plugin's reading of sim_host's CSV data log: columns found by name,
 // interpolation and steps, finite-difference velocities, and the errors for a log that does
 // not fit the robot.
+#include "common/scratch.h"
 #include "csv_log.h"
 
 #include <unistd.h>
@@ -17,8 +18,7 @@ namespace {
 class CsvLogTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = std::filesystem::temp_directory_path() /
-            ("csv_log_test_" + std::to_string(getpid()) + ".csv");
+    path_ = ohrp::testing::ScratchPath("csv_log", ".csv");
     config_.joint_names = {"a", "b"};
     config_.force_names = {"ft"};
     config_.imu_names = {"imu"};

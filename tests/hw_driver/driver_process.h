@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/process.h"
+#include "common/scratch.h"
 #include "robot_model/model.h"
 #include "robot_model/model_hash.h"
 #include "shm_bridge/bridge.h"
@@ -101,9 +102,7 @@ class HwDriverProcess : public ::testing::Test {
     const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     segment_ = "hwtest_" + std::to_string(getpid()) + "_" + name;
     fs::remove(ShmPath());
-    dir_ = fs::temp_directory_path() / ("hw_driver_test_" + std::to_string(getpid()) + "_" + name);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ohrp::testing::ScratchFolder(name);
     model_ = Write("model.xml", kModel);
   }
   void TearDown() override {

@@ -19,6 +19,7 @@
 
 #include "common/process.h"
 #include "runner/checks.h"  // runner::Table: the data logs' reader
+#include "common/scratch.h"
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::hw::udp {
@@ -55,9 +56,7 @@ class DriverEndToEnd : public ::testing::Test {
     for (const char* p : {"/hw_driver", "/posture", "/hw_emulator"})
       if (!fs::exists(kBin + p)) GTEST_SKIP() << kBin << p << " is not built";
     segment_ = "udpe2e_" + std::to_string(getpid());
-    dir_ = fs::temp_directory_path() / ("hw_udp_e2e_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ohrp::testing::ScratchFolder("e2e");
     fs::remove(ShmPath());
   }
   void TearDown() override {

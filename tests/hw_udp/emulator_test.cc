@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "common/process.h"
+#include "common/scratch.h"
 #include "hw_udp/udp_io.h"
 #include "robot_model/model.h"
 
@@ -61,10 +62,8 @@ const Robot& Hrp1s() {
 class EmulatorTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string tag = std::to_string(getpid()) + "_" +
-                            ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() / ("hw_udp_" + tag);
-    fs::create_directories(dir_);
+    dir_ = ohrp::testing::ScratchFolder(
+        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     err_ = (dir_ / "stderr").string();
     port_file_ = (dir_ / "port").string();
   }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/scratch.h"
 #include "faults.h"
 
 namespace ohrp::hw::udp {
@@ -77,9 +78,7 @@ TEST(FaultPlan, ControlLinesChangeTheFaults) {
 }
 
 TEST(ControlFile, ReturnsOnlyCompleteNewLines) {
-  const std::string path = std::filesystem::temp_directory_path() /
-                           ("hw_udp_control_" + std::to_string(::getpid()));
-  std::remove(path.c_str());
+  const std::string path = ohrp::testing::ScratchPath("control");
   ControlFile f(path);
   EXPECT_TRUE(f.NewLines().empty());  // not there yet
   {

@@ -1,12 +1,12 @@
 // Tests the push-recovery measures (tools/runner/src/recovery.cc) and the checks `standing`
 // and `settles` on synthetic logs whose answers are known in closed form.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
 #include <functional>
 
+#include "common/scratch.h"
 #include "runner/checks.h"
 #include "runner/recovery.h"
 
@@ -24,8 +24,7 @@ struct Row {
 };
 
 Table Log(double duration, const std::function<Row(double)>& at) {
-  static int n = 0;
-  const std::string path = "/tmp/ohrp_recovery_test_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".csv";
+  const std::string path = ohrp::testing::ScratchPath("recovery_log", ".csv");
   std::ofstream out(path);
   out << "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,rf_fz,rf_tx,rf_ty,lf_fz,lf_tx,lf_ty\n";
   out.precision(17);

@@ -2,12 +2,12 @@
 // synthetic logs whose centre of pressure is known in closed form: a force f acting at a point p
 // of the sole plane gives the moment n = p x f about the sensor origin.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
 #include <functional>
 
+#include "common/scratch.h"
 #include "runner/checks.h"
 #include "runner/sole_checks.h"
 
@@ -57,9 +57,7 @@ void Moment(const Contact& c, double z, double n[3]) {
 // n = p x f_g + c x W
 Table Log(double duration, double z, const std::function<std::pair<Contact, Contact>(double)>& at,
           const Foot& foot = {}) {
-  static int n = 0;
-  const std::string path = "/tmp/ohrp_sole_checks_test_" + std::to_string(getpid()) + "_" +
-                           std::to_string(n++) + ".csv";
+  const std::string path = ohrp::testing::ScratchPath("sole_log", ".csv");
   std::ofstream out(path);
   out << "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz";
   for (const char* s : {"lfsensor", "rfsensor"})

@@ -1,30 +1,20 @@
-// A helper of the runner's tests: small files (scenarios, logs) and folders written to /tmp.
+// A helper of the runner's tests: small files (scenarios, logs) and run output folders, in the
+// test process's scratch folder (common/scratch.h), removed when the test ends.
 #pragma once
 
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
 #include <string>
+
+#include "common/scratch.h"
 
 namespace ohrp::runner {
 
-// Writes `text` to a fresh file /tmp/ohrp_runner_test_<pid>_<n><suffix> and returns its path.
+// Writes `text` to a fresh file in the scratch folder and returns its path.
 inline std::string Temp(const std::string& text, const char* suffix = ".yaml") {
-  static int n = 0;
-  const std::string p = "/tmp/ohrp_runner_test_" + std::to_string(getpid()) + "_" +
-                        std::to_string(n++) + suffix;
-  std::ofstream(p) << text;
-  return p;
+  return ohrp::testing::ScratchFile("runner_test", text, suffix);
 }
 
-// Creates a fresh empty folder /tmp/ohrp_runner_test_<pid>_<n>.d (a run's output folder) and
-// returns its path.
-inline std::string TempDir() {
-  const std::string p = Temp("", ".d");
-  std::filesystem::remove(p);
-  std::filesystem::create_directory(p);
-  return p;
-}
+// Creates a fresh empty folder in the scratch folder (a run's output folder) and returns its
+// path.
+inline std::string TempDir() { return ohrp::testing::ScratchFolder("runner_test"); }
 
 }  // namespace ohrp::runner

@@ -1,6 +1,7 @@
 // Tests the offscreen renderer (render/offscreen.h) against closed forms: a camera above a floor
 // sees the floor's distance along its optical axis in every pixel when it looks straight down,
 // and the pinhole ray's distance when it looks 30 deg down; rows come top first.
+#include "common/scratch.h"
 #include "render/offscreen.h"
 
 #include <gtest/gtest.h>
@@ -25,8 +26,7 @@ struct Frame {
 
 // renders the scene's camera 0 (a camera at height `z` with axes `xyaxes` above a plane)
 Frame Render(double z, const std::string& xyaxes, int samples = 0) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("offscreen_" + std::to_string(getpid()) + ".xml")).string();
+  const std::string path = ohrp::testing::ScratchPath("offscreen", ".xml");
   std::ofstream(path) << "<mujoco><worldbody><geom type='plane' size='20 20 0.1' rgba='0.2 0.8 0.2 1'/>"
                          "<camera pos='0 0 " << z << "' xyaxes='" << xyaxes << "' fovy='45'/>"
                          "</worldbody></mujoco>";

@@ -2,6 +2,7 @@
 // same robot and for the same robot on another floor, and changes when a mass, an axis, a limit,
 // a body position or the joint order changes; CheckModelMatches names each such difference
 // against the header a real Producer wrote from MakeProducerConfig.
+#include "common/scratch.h"
 #include "robot_model/model_hash.h"
 
 #include <gtest/gtest.h>
@@ -53,10 +54,8 @@ class ModelHashTest : public ::testing::Test {
  protected:
   void SetUp() override {
     InstallMujocoHandlers(nullptr);
-    dir_ = fs::temp_directory_path() /
-           ("model_hash_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    dir_ = ohrp::testing::ScratchFolder(
+        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     robot_xml_ = ReadText(kRobotDir + "hrp1s.xml");
   }
   void TearDown() override { fs::remove_all(dir_); }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "../shm_bridge/test_util.h"
+#include "common/scratch.h"
 #include "shm_bridge/observer.h"
 
 namespace ohrp::sim {
@@ -53,7 +54,7 @@ double FloorDepth(const mjModel* m, const mjData* d, int cam, double u, double v
 
 TEST(SimHostCameras, RenderOnlyWhileAskedAtTheRateWithTheFloorsDepth) {
   const std::string segment = "cams_" + std::to_string(getpid());
-  const std::string err = std::filesystem::temp_directory_path() / (segment + ".stderr");
+  const std::string err = ohrp::testing::ScratchPath("sim_host", ".stderr");
   const pid_t host = Spawn({std::string(OHRP_BIN_DIR) + "/sim_host", "--scene", kScene,
                             "--keyframe", "halfsit", "--segment", segment, "--wait-controller",
                             "0", "--duration", "0", "--realtime", "--progress", "0",

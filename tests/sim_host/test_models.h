@@ -1,11 +1,9 @@
-// Small inline MJCF models for the sim_host tests, written to temporary files.
+// Small inline MJCF models for the sim_host tests, written to scratch files (common/scratch.h).
 #pragma once
 
-#include <unistd.h>
-
-#include <cstdio>
-#include <fstream>
 #include <string>
+
+#include "common/scratch.h"
 
 namespace ohrp::sim::testing {
 
@@ -66,15 +64,9 @@ inline constexpr const char* kFilteredActuator = R"(
 </mujoco>
 )";
 
-// Writes `text` to a fresh temporary file and returns its path.
+// Writes `text` to a fresh file in the test's scratch folder and returns its path.
 inline std::string WriteTemp(const std::string& text, const std::string& suffix = ".xml") {
-  char path[] = "/tmp/ohrp_test_XXXXXX";
-  const int fd = mkstemp(path);
-  close(fd);
-  const std::string p = std::string(path) + suffix;
-  std::rename(path, p.c_str());
-  std::ofstream(p) << text;
-  return p;
+  return ohrp::testing::ScratchFile("model", text, suffix);
 }
 
 }  // namespace ohrp::sim::testing

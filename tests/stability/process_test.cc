@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/process.h"
+#include "common/scratch.h"
 #include "shm_bridge/bridge.h"
 
 namespace {
@@ -40,8 +41,7 @@ TEST(DivergenceStop, SimHostStopsWithADiagnosticAndThePostureControllerIsTold) {
   const std::string segment = "stabtest_" + std::to_string(getpid());
   const std::string object = "/dev/shm/" + ohrp::shm::SegmentObjectName(segment);
   fs::remove(object);
-  const fs::path dir = fs::temp_directory_path() / ("ohrp_divergence_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = ohrp::testing::ScratchFolder("divergence");
   const std::string pose = (dir / "pose.yaml").string();
   std::ofstream(pose) << "joints:\n  j1: 0.5\n  j2: 0.3\n";
   const std::string summary = (dir / "summary.json").string();
@@ -98,8 +98,7 @@ TEST(DivergenceStop, SimHostStopsWithADiagnosticAndThePostureControllerIsTold) {
 // of free fall (20 kg, 8.6 kJ of kinetic energy against a margin of 200 J) is no divergence
 TEST(DivergenceStop, AFallingBodyBesideTheRobotDoesNotStopTheRun) {
   const std::string segment = "stabfall_" + std::to_string(getpid());
-  const fs::path dir = fs::temp_directory_path() / ("ohrp_fall_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = ohrp::testing::ScratchFolder("fall");
   const std::string scene = (dir / "arm_and_ball.xml").string();
   std::ofstream(scene) << R"(<mujoco model="arm_and_ball">
   <option timestep="0.001"/>

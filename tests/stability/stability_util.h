@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "common/scratch.h"
 #include "sim_host/divergence.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
@@ -58,9 +59,7 @@ class Sim {
     return std::unique_ptr<Sim>(new Sim(m));
   }
   static std::unique_ptr<Sim> FromString(const std::string& xml) {
-    const std::string path = std::filesystem::temp_directory_path() /
-                             ("ohrp_stab_" + std::to_string(::getpid()) + "_" +
-                              std::to_string(counter_++) + ".xml");
+    const std::string path = ohrp::testing::ScratchPath("model", ".xml");
     std::ofstream(path) << xml;
     auto s = FromFile(path);
     std::filesystem::remove(path);
@@ -130,7 +129,6 @@ class Sim {
   mjModel* m_;
   mjData* d_;
   std::unique_ptr<Scene> scene_;
-  static inline int counter_ = 0;
 };
 
 // A stable run: finite throughout, energy within `energy_tol` [J] of what the sources supplied,

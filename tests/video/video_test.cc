@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "common/scratch.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -29,7 +31,7 @@ struct Result {
   std::string err;
 };
 Result Exec(const std::string& args) {
-  const std::string err_file = fs::temp_directory_path() / ("ohrp_video_err_" + std::to_string(getpid()));
+  const std::string err_file = ohrp::testing::ScratchPath("video_stderr");
   const int status = std::system((kBin + " " + args + " >/dev/null 2>" + err_file).c_str());
   std::ifstream in(err_file);
   std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -73,8 +75,7 @@ Blob RedBlob(const std::string& png_path) {
 class Video : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("ohrp_video_test_" + std::to_string(getpid()));
-    fs::create_directories(dir_);
+    dir_ = ohrp::testing::ScratchFolder("video");
     std::ofstream(dir_ / "scene.xml") << kScene;
     std::ofstream log(dir_ / "log.csv");
     log << "time,q_hinge\n0,0\n1,1.5707963\n2,1.5707963\n";

@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "common/scratch.h"
+
 #include "../shm_bridge/test_util.h"  // WaitFor; common/process.h: Spawn, Terminate
 
 namespace ohrp::view::testing {
@@ -86,9 +88,7 @@ class Browser {
   // Starts chromium (window `width` x `height`) and opens `url` in a new page. ok() is false,
   // with error(), when chromium does not start or its protocol does not answer.
   Browser(const std::string& url, int width = 1200, int height = 700) {
-    profile_ = fs::temp_directory_path() / ("ohrp_view_chromium_" + std::to_string(getpid()));
-    fs::remove_all(profile_);
-    fs::create_directories(profile_);
+    profile_ = ohrp::testing::ScratchFolder("chromium_profile");
     pid_ = ohrp::testing::Spawn(
         {"chromium", "--headless", "--no-sandbox", "--enable-unsafe-swiftshader",
          "--remote-debugging-port=0", "--no-first-run", "--hide-scrollbars",

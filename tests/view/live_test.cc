@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "browser.h"
+#include "common/scratch.h"
 #include "robot_model/model.h"
 #include "robot_model/sensors.h"
 #include "shm_bridge/bridge.h"
@@ -28,9 +29,7 @@ class Live : public ::testing::Test {
   void SetUp() override {
     segment_ = shm::testing::UniqueSegment("view");
     shm::testing::RemoveSegment(segment_);
-    dir_ = fs::temp_directory_path() / ("ohrp_view_live_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ohrp::testing::ScratchFolder("live");
   }
   void TearDown() override {
     for (pid_t p : children_) ohrp::testing::Kill(p);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "browser.h"
+#include "common/scratch.h"
 #include "view_process.h"
 
 namespace ohrp::view::testing {
@@ -14,8 +15,7 @@ namespace {
 class Replay : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("ohrp_view_replay_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
+    dir_ = ohrp::testing::ScratchFolder("replay");
     fs::create_directories(dir_ / "run");
     // a run whose base rises from 0.7235 m to 0.8735 m in 2 s (the robot floats up, nothing hides
     // it), the right knee bends, 300 N per ankle

@@ -1,0 +1,27 @@
+// Files and folders a test writes, in one place: a folder of the test process's own, made
+// unique by mkdtemp (never a name a previous run, or another process with a reused pid, left
+// behind) and removed with everything in it when the process that made it exits. A test that
+// crashes leaves its folder; the next run cannot collide with it.
+#pragma once
+
+#include <string>
+
+namespace ohrp::testing {
+
+// The test process's scratch folder, $TMPDIR/ohrp_test_<program>_XXXXXX, made at the first
+// call. Removed at the exit of the process that made it (a forked child's exit leaves it).
+// Throws std::runtime_error when it cannot be made.
+const std::string& ScratchDir();
+
+// A fresh path in the scratch folder: "<tag>_<n><suffix>" with n counting up in this process.
+// Nothing is created.
+std::string ScratchPath(const std::string& tag, const std::string& suffix = "");
+
+// A fresh path in the scratch folder with `text` written to it.
+std::string ScratchFile(const std::string& tag, const std::string& text,
+                        const std::string& suffix = "");
+
+// A fresh, empty folder in the scratch folder.
+std::string ScratchFolder(const std::string& tag);
+
+}  // namespace ohrp::testing
