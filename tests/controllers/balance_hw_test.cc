@@ -33,14 +33,14 @@ class BalanceHw : public ::testing::Test {
 // 2. the program that stands on sim_host stands the emulated robot through the driver
 TEST_F(BalanceHw, StandsThroughHwDriverAndUdp) {
   const Chain c = RunChain("bal_hw", {"balance"}, {}, 7.0);
-  ASSERT_EQ(c.driver, 0) << c.driver_out;
-  ASSERT_EQ(c.controller, 0) << c.controller_out;
-  EXPECT_EQ(c.emulator, 130);
-  EXPECT_NE(c.controller_out.find("balance: stood"), std::string::npos) << c.controller_out;
-  EXPECT_EQ(c.controller_out.find("HELD"), std::string::npos) << c.controller_out;
-  ASSERT_FALSE(c.summary.is_discarded());
-  EXPECT_EQ(c.summary["safe_mode"], false);
-  EXPECT_EQ(c.summary["rejected_commands"], 0);
+  ASSERT_EQ(c.driver, 0) << Diagnosis(c);
+  ASSERT_EQ(c.controller, 0) << Diagnosis(c);
+  EXPECT_EQ(c.emulator, 130) << Diagnosis(c);
+  EXPECT_NE(c.controller_out.find("balance: stood"), std::string::npos) << Diagnosis(c);
+  EXPECT_EQ(c.controller_out.find("HELD"), std::string::npos) << Diagnosis(c);
+  ASSERT_FALSE(c.summary.is_discarded()) << Diagnosis(c);
+  EXPECT_EQ(c.summary["safe_mode"], false) << Diagnosis(c);
+  EXPECT_EQ(c.summary["rejected_commands"], 0) << Diagnosis(c);
   // standing (ramp, settle, centring done by 3.5 s): within 2 cm of the keyframe's height,
   // 3 mm of spread, upright within 3 degrees, until the driver's end (7 s)
   const auto s = Span(c, 3.5, 6.9);

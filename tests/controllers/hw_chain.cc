@@ -84,11 +84,19 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
   c.emulator = WaitExit(emulator, kWall);
   c.controller_out = ReadText(path("controller.out"));
   c.driver_out = ReadText(path("driver.out"));
+  c.emulator_out = ReadText(path("emu.out"));
   c.rows = ReadEmulatorLog(path("emu.csv"));
   c.summary = nlohmann::json::parse(ReadText(path("driver.json")), nullptr, false);
   fs::remove_all(dir);
   RemoveSegment(segment);
   return c;
+}
+
+std::string Diagnosis(const Chain& c) {
+  return "exit codes: driver " + std::to_string(c.driver) + ", controller " +
+         std::to_string(c.controller) + ", emulator " + std::to_string(c.emulator) +
+         "\ndriver summary: " + c.summary.dump() + "\n--- driver\n" + c.driver_out +
+         "--- controller\n" + c.controller_out + "--- emulator\n" + c.emulator_out;
 }
 
 std::array<double, 3> Span(const Chain& c, double t0, double t1) {

@@ -23,7 +23,7 @@ struct EmulatorRow {
 
 struct Chain {
   int driver = -1, controller = -1, emulator = -1;  // exit codes
-  std::string controller_out, driver_out;
+  std::string controller_out, driver_out, emulator_out;
   std::vector<EmulatorRow> rows;
   nlohmann::json summary;  // the driver's --summary
 };
@@ -46,6 +46,10 @@ inline constexpr Tolerance kStallTolerance = {1000, 500};
 Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
                const std::vector<std::string>& emulator_args, double duration,
                Tolerance tolerance = kStallTolerance);
+
+// What to read when a run went wrong: the exit codes, the driver's summary (deadline misses,
+// lateness, late commands, board faults) and the three programs' output.
+std::string Diagnosis(const Chain& c);
 
 // base height and tilt over [t0, t1] of robot time, all 29 servos on: {z_lo, z_hi, tilt_max}
 std::array<double, 3> Span(const Chain& c, double t0, double t1);

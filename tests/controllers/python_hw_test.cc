@@ -24,11 +24,11 @@ TEST(PythonHw, PostureStandsThroughHwDriverAndUdp) {
 #endif
   setenv("OHRP_LIB", OHRP_SHM_C_LIB, 1);  // this build's C library, whatever its folder
   const Chain c = RunChain("py_hw", {kPython, "--ramp", "2.0"}, {}, 6.0);
-  ASSERT_EQ(c.driver, 0) << c.driver_out;
-  ASSERT_EQ(c.controller, 0) << c.controller_out;
-  EXPECT_EQ(c.emulator, 130);
-  ASSERT_FALSE(c.summary.is_discarded());
-  EXPECT_EQ(c.summary["rejected_commands"], 0);
+  ASSERT_EQ(c.driver, 0) << Diagnosis(c);
+  ASSERT_EQ(c.controller, 0) << Diagnosis(c);
+  EXPECT_EQ(c.emulator, 130) << Diagnosis(c);
+  ASSERT_FALSE(c.summary.is_discarded()) << Diagnosis(c);
+  EXPECT_EQ(c.summary["rejected_commands"], 0) << Diagnosis(c);
   // ramped to half-sitting by 2 s: within 2 cm of the keyframe's height, upright, steady
   const auto s = Span(c, 3.0, 5.9);
   EXPECT_NEAR(s[0], kHalfSitHeight, 0.02);

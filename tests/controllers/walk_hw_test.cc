@@ -43,15 +43,15 @@ const EmulatorRow& FirstOn(const Chain& c) {
 
 // the chain ended cleanly: driver and walk exit 0, no fault, no rejected command
 void ExpectCleanRun(const Chain& c) {
-  EXPECT_EQ(c.driver, 0) << c.driver_out;
-  EXPECT_EQ(c.controller, 0) << c.controller_out;
-  EXPECT_EQ(c.emulator, 130);
-  ASSERT_FALSE(c.summary.is_discarded()) << c.driver_out;
-  EXPECT_EQ(c.summary["safe_mode"], false) << c.summary.dump();
-  EXPECT_EQ(c.summary["rejected_commands"], 0) << c.summary.dump();
-  EXPECT_EQ(c.controller_out.find("HELD"), std::string::npos) << c.controller_out;
+  EXPECT_EQ(c.driver, 0) << Diagnosis(c);
+  EXPECT_EQ(c.controller, 0) << Diagnosis(c);
+  EXPECT_EQ(c.emulator, 130) << Diagnosis(c);
+  ASSERT_FALSE(c.summary.is_discarded()) << Diagnosis(c);
+  EXPECT_EQ(c.summary["safe_mode"], false) << Diagnosis(c);
+  EXPECT_EQ(c.summary["rejected_commands"], 0) << Diagnosis(c);
+  EXPECT_EQ(c.controller_out.find("HELD"), std::string::npos) << Diagnosis(c);
   EXPECT_NE(c.controller_out.find("walk: done, standing on both feet"), std::string::npos)
-      << c.controller_out;
+      << Diagnosis(c);
 }
 
 // not fallen: the base stays above 0.6 m and upright within 5 deg with all servos on (the
