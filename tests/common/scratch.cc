@@ -1,9 +1,11 @@
 #include "common/scratch.h"
 
 #include <errno.h>
+#include <gtest/gtest.h>
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -16,13 +18,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// the folder and the process that made it; removed by that process's static destruction
+// the folder and the process that made it; removed by that process's static destruction,
+// unless a test of the process failed
 struct Scratch {
   std::string dir;
   pid_t owner = -1;
   int next = 0;
   ~Scratch() {
     if (owner != getpid() || dir.empty()) return;
+    if (::testing::UnitTest::GetInstance()->Failed()) {
+      std::fprintf(stderr, "a test failed: its scratch folder %s is kept for a look\n",
+                   dir.c_str());
+      return;
+    }
     std::error_code ec;
     fs::remove_all(dir, ec);
   }

@@ -1,7 +1,8 @@
 // Files and folders a test writes, in one place: a folder of the test process's own, made
 // unique by mkdtemp (never a name a previous run, or another process with a reused pid, left
-// behind) and removed with everything in it when the process that made it exits. A test that
-// crashes leaves its folder; the next run cannot collide with it.
+// behind) and removed with everything in it when the process that made it exits, unless one of
+// its tests failed: then it is kept for a look, and its path printed. A test that crashes
+// leaves its folder too; the next run cannot collide with it.
 #pragma once
 
 #include <string>
@@ -9,7 +10,8 @@
 namespace ohrp::testing {
 
 // The test process's scratch folder, $TMPDIR/ohrp_test_<program>_XXXXXX, made at the first
-// call. Removed at the exit of the process that made it (a forked child's exit leaves it).
+// call. Removed at the exit of the process that made it when its tests passed (a forked child's
+// exit leaves it).
 // Throws std::runtime_error when it cannot be made.
 const std::string& ScratchDir();
 
