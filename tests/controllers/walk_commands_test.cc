@@ -6,13 +6,14 @@
 #include <cstdio>
 #include <fstream>
 
+#include "common/scratch.h"
 #include "controllers/walk.h"
 
 namespace ohrp::controllers {
 namespace {
 
 std::string Temp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/walk_commands_test_" + name;
+  const std::string path = ohrp::testing::ScratchDir() + "/walk_commands_test_" + name;
   std::ofstream(path) << text;
   return path;
 }
@@ -75,7 +76,7 @@ TEST(WalkParams, RefusesUnknownKeysAndWrongTypesWithTheLine) {
   EXPECT_NE(s.message.find("must be a number"), std::string::npos) << s.message;
   s = LoadWalkParams(Temp("list.yaml", "- 1\n- 2\n"), &o);
   EXPECT_FALSE(s.ok());
-  s = LoadWalkParams(::testing::TempDir() + "/nosuch.yaml", &o);
+  s = LoadWalkParams(ohrp::testing::ScratchDir() + "/nosuch.yaml", &o);
   EXPECT_EQ(s.code, ConfigError::kFile);
   EXPECT_NE(s.message.find("nosuch.yaml"), std::string::npos) << s.message;
 }

@@ -36,14 +36,15 @@ RobotGeometry Hrp1s() {
 }
 
 // a tree of `n` links hanging from a base, each on a hinge about a random axis through an
-// anchor off its origin, with one or two random shapes
-RobotGeometry RandomTree(int n, unsigned seed) {
+// anchor off its origin (with `slides`, every third link on a slide along a random axis, limits
+// -0.1..0.15 m), with one or two random shapes
+RobotGeometry RandomTree(int n, unsigned seed, bool slides = false) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   const auto vec = [&](double scale) -> Eigen::Vector3d { return Eigen::Vector3d(u(rng), u(rng), u(rng)) * scale; };
   const auto rot = [&]() -> Eigen::Quaterniond { return Eigen::Quaterniond(Eigen::AngleAxisd(3 * u(rng), vec(1).normalized())); };
   RobotGeometry g;
-  g.name = "tree" + std::to_string(seed);
+  g.name = "tree" + std::to_string(seed) + (slides ? "_slides" : "");
   Link base;
   base.name = "base";
   Shape s;
@@ -58,8 +59,9 @@ RobotGeometry RandomTree(int n, unsigned seed) {
     k.p_PL = vec(0.15);
     k.q_PL = rot();
     k.joint = l - 1;
+    k.slide = slides && l % 3 == 0;
     k.axis_L = vec(1).normalized();
-    k.anchor_L = vec(0.05);
+    k.anchor_L = k.slide ? Eigen::Vector3d::Zero() : vec(0.05);
     for (int c = 0; c < 1 + (u(rng) > 0); ++c) {
       Shape t;
       t.type = std::array{ShapeType::kBox, ShapeType::kCapsule, ShapeType::kCylinder,
@@ -72,15 +74,17 @@ RobotGeometry RandomTree(int n, unsigned seed) {
     }
     g.links.push_back(k);
     g.joint_names.push_back("j" + std::to_string(l));
-    g.q_min.push_back(-2.5);
-    g.q_max.push_back(2.5);
+    g.q_min.push_back(k.slide ? -0.1 : -2.5);
+    g.q_max.push_back(k.slide ? 0.15 : 2.5);
   }
   std::string why = Validate(g);
   EXPECT_TRUE(why.empty()) << why;
   return g;
 }
 
-std::vector<RobotGeometry> Robots() { return {Hrp1s(), RandomTree(12, 1), RandomTree(20, 2)}; }
+std::vector<RobotGeometry> Robots() {
+  return {Hrp1s(), RandomTree(12, 1), RandomTree(20, 2), RandomTree(18, 3, /*slides=*/true)};
+}
 
 // the walk: steps from 0.1 mrad to 0.3 rad per joint (some checks move nothing noticeable and
 // some jump), every third check a jump a "period" ahead checked in between, subsets of pairs

@@ -1,7 +1,8 @@
 // The self-collision checker on bodies with several hinges (MuJoCo's humanoid: a hip of three,
-// a shoulder of two): from_mjcf makes each extra hinge a joint_only link, and the checker's link
-// poses must still be MuJoCo's for any posture, the body's parent and the body must stay one
-// adjacent pair, and the self-collision file must keep the chain.
+// a shoulder of two) and on slides (a lift, a telescoping arm, a gripper's finger): from_mjcf
+// makes each extra joint a joint_only link, and the checker's link poses must still be MuJoCo's
+// for any posture, the body's parent and the body must stay one adjacent pair, and the
+// self-collision file must keep the chain and the slides.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
@@ -12,6 +13,7 @@
 #include "collision/from_mjcf.h"
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
+#include "common/scratch.h"
 #include "robot_model/model.h"
 
 namespace ohrp::collision {
@@ -69,9 +71,11 @@ bool Load(const std::string& path, Loaded* out) {
   return ok;
 }
 
-std::string WriteHinges() {
-  const std::string path = ::testing::TempDir() + "hinges.xml";
-  std::ofstream(path) << kHinges;
+
+// writes `xml` to a file named `name` in the tests' temporary folder and returns its path
+std::string WriteXml(const std::string& name, const std::string& xml) {
+  const std::string path = ohrp::testing::ScratchDir() + "/" + name;
+  std::ofstream(path) << xml;
   return path;
 }
 
@@ -113,7 +117,7 @@ int ExpectPosesMatchMujoco(const Loaded& l, int trials) {
 
 TEST(SelfCollisionHinges, EachExtraHingeIsAJointOnlyLink) {
   Loaded l;
-  ASSERT_TRUE(Load(WriteHinges(), &l));
+  ASSERT_TRUE(Load(WriteXml("hinges.xml", kHinges), &l));
   std::vector<std::string> names;
   for (const Link& k : l.g.links) names.push_back(k.name);
   EXPECT_EQ(names, (std::vector<std::string>{"torso", "thigh@hip_x", "thigh@hip_z", "thigh",
@@ -137,13 +141,13 @@ TEST(SelfCollisionHinges, EachExtraHingeIsAJointOnlyLink) {
 
 TEST(SelfCollisionHinges, LinkPosesMatchMujoco) {
   Loaded l;
-  ASSERT_TRUE(Load(WriteHinges(), &l));
+  ASSERT_TRUE(Load(WriteXml("hinges.xml", kHinges), &l));
   EXPECT_EQ(ExpectPosesMatchMujoco(l, 200), 200 * 4);
 }
 
 TEST(SelfCollisionHinges, ABodyAndItsParentStayOneAdjacentPair) {
   Loaded l;
-  ASSERT_TRUE(Load(WriteHinges(), &l));
+  ASSERT_TRUE(Load(WriteXml("hinges.xml", kHinges), &l));
   // four links with shapes: C(4, 2) = 6, less torso/thigh, thigh/shin and torso/arm
   std::vector<std::pair<std::string, std::string>> pairs;
   for (const LinkPair& p : NonAdjacentPairs(l.g))
@@ -154,11 +158,11 @@ TEST(SelfCollisionHinges, ABodyAndItsParentStayOneAdjacentPair) {
 
 TEST(SelfCollisionHinges, TheFileKeepsTheChain) {
   Loaded l;
-  ASSERT_TRUE(Load(WriteHinges(), &l));
+  ASSERT_TRUE(Load(WriteXml("hinges.xml", kHinges), &l));
   SelfCollisionFile f;
   f.robot = l.g;
   f.online = NonAdjacentPairs(l.g);
-  const std::string path = ::testing::TempDir() + "hinges_selfcollision.yaml";
+  const std::string path = ohrp::testing::ScratchDir() + "/hinges_selfcollision.yaml";
   std::string error;
   ASSERT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
   SelfCollisionFile back;
@@ -172,8 +176,107 @@ TEST(SelfCollisionHinges, TheFileKeepsTheChain) {
   // a joint_only link with shapes is refused, naming it
   RobotGeometry bad = l.g;
   bad.links[FindLink(bad, "thigh@hip_z")].shapes = bad.links[FindLink(bad, "thigh")].shapes;
-  EXPECT_NE(Validate(bad).find("'thigh@hip_z': a joint_only link needs a hinge"), std::string::npos)
+  EXPECT_NE(Validate(bad).find("'thigh@hip_z': a joint_only link needs a joint"), std::string::npos)
       << Validate(bad);
+}
+
+// slides: a lift (a slide then a hinge on one turned body, the slide's axis off the body's
+// axes), a telescoping arm (a hinge, then a slide below it) and a gripper finger on the lift
+constexpr const char* kSlides = R"(<mujoco model="slides">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <freejoint/>
+      <geom type="box" size=".1 .15 .2"/>
+      <body name="lift" pos=".05 0 .25" quat="0.9659 0.2588 0 0">
+        <joint name="lift_z" type="slide" axis="0 .2 1" pos=".3 .1 0" limited="true"
+               range="-.1 .15"/>
+        <joint name="lift_yaw" axis="0 0 1" pos=".02 0 0" limited="true" range="-1 1"/>
+        <geom type="box" size=".05 .05 .05"/>
+        <body name="finger" pos=".08 0 0">
+          <joint name="finger_x" type="slide" axis="1 0 0" limited="true" range="0 .04"/>
+          <geom type="box" size=".02 .01 .03"/>
+        </body>
+      </body>
+      <body name="upper_arm" pos="0 .2 .15">
+        <joint name="shoulder" axis="0 1 0" pos="0 0 .02" limited="true" range="-1.5 1.5"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -.2" size=".04"/>
+        <body name="forearm" pos="0 0 -.2">
+          <joint name="extend" type="slide" axis="0 0 -1" limited="true" range="0 .12"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -.2" size=".03"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="lift_z"/> <motor joint="lift_yaw"/> <motor joint="finger_x"/>
+    <motor joint="shoulder"/> <motor joint="extend"/>
+  </actuator>
+</mujoco>
+)";
+
+TEST(SelfCollisionSlides, SlidesAreLinksOfTheirOwn) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteXml("slides.xml", kSlides), &l));
+  std::vector<std::string> names;
+  std::vector<bool> slides;
+  for (const Link& k : l.g.links) {
+    names.push_back(k.name);
+    slides.push_back(k.slide);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"torso", "lift@lift_z", "lift", "finger", "upper_arm",
+                                             "forearm"}));
+  EXPECT_EQ(slides, (std::vector<bool>{false, true, false, true, false, true}));
+  EXPECT_TRUE(l.g.links[1].joint_only);
+  EXPECT_EQ(l.g.q_min[l.g.links[3].joint], 0.0);
+  EXPECT_EQ(l.g.q_max[l.g.links[3].joint], 0.04);
+}
+
+TEST(SelfCollisionSlides, LinkPosesMatchMujoco) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteXml("slides.xml", kSlides), &l));
+  EXPECT_EQ(ExpectPosesMatchMujoco(l, 200), 200 * 5);
+}
+
+TEST(SelfCollisionSlides, TheFileKeepsTheSlides) {
+  Loaded l;
+  ASSERT_TRUE(Load(WriteXml("slides.xml", kSlides), &l));
+  SelfCollisionFile f;
+  f.robot = l.g;
+  f.online = NonAdjacentPairs(l.g);
+  const std::string path = ohrp::testing::ScratchDir() + "/slides_selfcollision.yaml";
+  std::string error;
+  ASSERT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
+  SelfCollisionFile back;
+  ASSERT_TRUE(ReadSelfCollisionFile(path, &back, &error)) << error;
+  ASSERT_EQ(back.robot.links.size(), l.g.links.size());
+  for (size_t k = 0; k < l.g.links.size(); ++k) {
+    EXPECT_EQ(back.robot.links[k].slide, l.g.links[k].slide) << l.g.links[k].name;
+    EXPECT_EQ(back.robot.links[k].joint_only, l.g.links[k].joint_only) << l.g.links[k].name;
+  }
+  // the same postures from the file's geometry
+  l.g = back.robot;
+  EXPECT_EQ(ExpectPosesMatchMujoco(l, 50), 50 * 5);
+}
+
+// a slide's travel bounds how far the links below it move: one without a range is refused,
+// naming it and saying what would work
+TEST(SelfCollisionSlides, ASlideWithoutARangeIsRefused) {
+  std::string xml = kSlides;
+  const std::string limited = R"(limited="true" range="0 .04")";
+  xml.replace(xml.find(limited), limited.size(), "");
+  char err[512] = "";
+  mjModel* m = mj_loadXML(WriteXml("slides_unlimited.xml", xml).c_str(), nullptr, err, sizeof(err));
+  ASSERT_TRUE(m) << err;
+  model::RobotMap robot;
+  RobotGeometry g;
+  std::string error;
+  ASSERT_TRUE(model::MapRobot(m, &robot, &error)) << error;
+  EXPECT_FALSE(GeometryFromModel(m, robot, &g, &error));
+  EXPECT_NE(error.find("joint 'finger_x' is a slide without a range: give it one"),
+            std::string::npos)
+      << error;
+  mj_deleteModel(m);
 }
 
 // MuJoCo's own humanoid (../shared/external beside the repository): abdomen, hips and shoulders

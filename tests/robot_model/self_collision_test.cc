@@ -13,6 +13,7 @@
 
 #include "collision/from_mjcf.h"
 #include "collision/pair_file.h"
+#include "common/scratch.h"
 #include "robot_model/model.h"
 
 namespace ohrp::collision {
@@ -222,7 +223,7 @@ TEST(SelfCollisionFile, TheShippedHrp1sFileMatchesTheModel) {
 }
 
 TEST(SelfCollisionFile, MistakesNameTheFileLineAndKey) {
-  const std::string dir = ::testing::TempDir();
+  const std::string dir = ohrp::testing::ScratchDir() + "/";
   const auto write = [&](const std::string& name, const std::string& text) {
     std::ofstream(dir + name) << text;
     return dir + name;

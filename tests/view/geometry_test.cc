@@ -1,6 +1,7 @@
 // The viewer's scene geometry (tools/view/src/geometry.cc): the description of HRP-1S's flat
 // scene, the geoms' world poses by forward kinematics, the ZMP from the sole sensors against
 // closed forms, and the meshes (an inline cube, menagerie's H1).
+#include "common/scratch.h"
 #include "view/geometry.h"
 
 #include <gtest/gtest.h>
@@ -78,7 +79,7 @@ void ExpectSameTriangles(const mjModel* m, int mesh, const MeshData& c) {
 
 // meshes: sent once with their vertices and triangles, each mesh geom naming its mesh
 TEST(GeometryMeshes, EachMeshIsSentOnceWithItsTriangles) {
-  const std::string path = ::testing::TempDir() + "view_meshes.xml";
+  const std::string path = ohrp::testing::ScratchDir() + "/view_meshes.xml";
   std::ofstream(path) << R"(<mujoco model="meshes">
     <asset><mesh name="cube" vertex="-1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1  -1 -1 1  1 -1 1  1 1 1  -1 1 1"
                  scale="0.1 0.1 0.1"/></asset>

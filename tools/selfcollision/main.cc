@@ -17,18 +17,18 @@ using ohrp::collision::PruneResult;
 std::string Report(const PruneResult& r, double seconds) {
   const auto& f = r.file;
   std::string s = "# self-collision pairs of " + f.robot.name + "\n\n";
-  size_t extra = 0;  // the joint_only links of bodies with several hinges
+  size_t extra = 0;  // the joint_only links of bodies with several joints
   for (const auto& l : f.robot.links) extra += l.joint_only;
   char line[320];
   std::snprintf(line, sizeof(line),
-                "links %zu (bodies %zu, extra hinges of a body %zu); non-adjacent pairs %zu; "
+                "links %zu (bodies %zu, extra joints of a body %zu); non-adjacent pairs %zu; "
                 "structural %zu; never %zu; pruned by safe ranges %zu; online %zu (%.1f s)\n\n",
                 f.robot.links.size(), f.robot.links.size() - extra, extra, r.all,
                 f.structural.size(), f.never.size(),
                 r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
                 seconds);
   s += line;
-  s += "## safe ranges [rad] (the full range in brackets)\n\n";
+  s += "## safe ranges [rad, m for slides] (the full range in brackets)\n\n";
   for (const auto& g : f.ranges) {
     std::snprintf(line, sizeof(line), "- %s: %.4f .. %.4f  [%.4f .. %.4f], %zu pairs\n",
                   f.robot.joint_names[g.joint].c_str(), g.lo, g.hi, f.robot.q_min[g.joint],

@@ -68,6 +68,18 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
   out->model_hash = model::ModelHash(m, robot);
   for (const auto& j : robot.joints) {
     out->joint_names.push_back(j.name);
+    const bool unlimited = j.q_min <= -model::kNoLimit || j.q_max >= model::kNoLimit;
+    if (m->jnt_type[j.joint_id] == mjJNT_SLIDE) {
+      // a slide's travel bounds how far the links below it move: it needs its limits
+      if (unlimited) {
+        *error = "joint '" + j.name +
+                 "' is a slide without a range: give it one (range=\"lo hi\" limited=\"true\")";
+        return false;
+      }
+      out->q_min.push_back(j.q_min);
+      out->q_max.push_back(j.q_max);
+      continue;
+    }
     // an unlimited hinge turns all the way round
     out->q_min.push_back(j.q_min <= -model::kNoLimit ? -M_PI : j.q_min);
     out->q_max.push_back(j.q_max >= model::kNoLimit ? M_PI : j.q_max);
@@ -88,14 +100,16 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
       l.p_PL = Vec(m->body_pos + 3 * b);
       l.q_PL = Quat(m->body_quat + 4 * b).normalized();
     }
-    // its hinges, in MuJoCo's order: each turns the body's frame as the ones before it left it,
-    // about its own axis through its own anchor (both in the body's frame). All but the last
-    // become links of their own that carry no shapes (joint_only); the last carries the shapes.
+    // its joints, in MuJoCo's order: each moves the body's frame as the ones before it left it,
+    // a hinge turning it about its own axis through its own anchor, a slide translating it
+    // along its axis (both in the body's frame). All but the last become links of their own
+    // that carry no shapes (joint_only); the last carries the shapes.
     const int nj = b == robot.base_body ? 0 : m->body_jntnum[b], j0 = m->body_jntadr[b];
     for (int j = j0; j < j0 + nj; ++j) {
       const std::string jw = where + ": joint '" + Name(m, mjOBJ_JOINT, j) + "'";
-      if (m->jnt_type[j] != mjJNT_HINGE) {
-        *error = jw + " is not a hinge (slide, ball and free joints below the base are not supported)";
+      if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
+        *error = jw + " is a ball or free joint (below the base only hinges and slides are "
+                      "supported)";
         return false;
       }
       const auto id = segment_id.find(j);
@@ -104,7 +118,7 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
         return false;
       }
       if (m->qpos0[m->jnt_qposadr[j]] != 0) {
-        *error = jw + " has a reference angle (ref) that is not zero";
+        *error = jw + " has a reference position (ref) that is not zero";
         return false;
       }
       if (j > j0) {  // the previous hinge's link is complete; this one hangs from it unmoved
@@ -115,8 +129,10 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
         l.parent = static_cast<int>(out->links.size()) - 1;
       }
       l.joint = id->second;
+      l.slide = m->jnt_type[j] == mjJNT_SLIDE;
       l.axis_L = Vec(m->jnt_axis + 3 * j).normalized();
-      l.anchor_L = Vec(m->jnt_pos + 3 * j);
+      // a slide's anchor does not move anything
+      l.anchor_L = l.slide ? Eigen::Vector3d::Zero() : Vec(m->jnt_pos + 3 * j);
     }
     l.name = body;
     // its geoms

@@ -70,9 +70,14 @@ std::string Validate(const RobotGeometry& robot) {
       return where + "joint id " + std::to_string(l.joint) + " is outside 0.." +
              std::to_string(njoint - 1);
     if (l.joint >= 0 && std::abs(l.axis_L.norm() - 1) > 1e-6)
-      return where + "its hinge axis is not a unit vector";
+      return where + "its joint axis is not a unit vector";
     if (l.joint_only && (l.joint < 0 || !l.shapes.empty()))
-      return where + "a joint_only link needs a hinge (joint) and no shapes";
+      return where + "a joint_only link needs a joint and no shapes";
+    if (l.slide && l.joint < 0) return where + "a slide needs a joint";
+    // a slide's travel bounds how far its link moves (LinkReach)
+    if (l.slide && !(std::isfinite(robot.q_min[l.joint]) && std::isfinite(robot.q_max[l.joint])))
+      return where + "its slide joint '" + robot.joint_names[l.joint] +
+             "' has no finite limits: give it a range";
     if (std::abs(l.q_PL.norm() - 1) > 1e-6 || !l.p_PL.allFinite())
       return where + "its pose in the parent is not finite with a unit quaternion";
     // the shapes: positive sizes, vertices for a convex hull

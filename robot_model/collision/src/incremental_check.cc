@@ -27,8 +27,10 @@ constexpr double kTolerance = 1e-6;  // [m] GJK's certification tolerance
 
 }  // namespace
 
-// From the hinge's anchor to its link's origin, then down the chain (a child's origin lies
-// within |p_PL| + 2 |anchor_L| of its parent's, whatever its angle), then the link's own shapes.
+// A hinge: from its anchor to its link's origin, then down the chain, then the link's own
+// shapes. A slide moves every point below it by exactly its own travel: 1 m per metre. Down the
+// chain, a child's origin lies within |p_PL| + 2 |anchor_L| of its parent's whatever a hinge's
+// angle, within |p_PL| + max(|q_min|, |q_max|) whatever a slide's position within its limits.
 std::vector<std::vector<std::pair<int, double>>> LinkReach(const RobotGeometry& g) {
   const size_t n = g.links.size();
   std::vector<double> own(n, 0.0);
@@ -39,8 +41,15 @@ std::vector<std::vector<std::pair<int, double>>> LinkReach(const RobotGeometry& 
     double chain = 0;  // from the current link's origin down to link l's origin, bounded
     for (int k = static_cast<int>(l); k >= 0; k = g.links[k].parent) {
       const Link& link = g.links[k];
-      if (link.joint >= 0) out[l].emplace_back(link.joint, link.anchor_L.norm() + chain + own[l]);
-      chain += link.p_PL.norm() + 2 * link.anchor_L.norm();
+      if (link.joint >= 0 && link.slide) {
+        out[l].emplace_back(link.joint, 1.0);
+        chain += link.p_PL.norm() +
+                 std::max(std::abs(g.q_min[link.joint]), std::abs(g.q_max[link.joint]));
+      } else {
+        if (link.joint >= 0)
+          out[l].emplace_back(link.joint, link.anchor_L.norm() + chain + own[l]);
+        chain += link.p_PL.norm() + 2 * link.anchor_L.norm();
+      }
     }
   }
   return out;

@@ -145,6 +145,7 @@ void ReadRobot(const YAML::Node& root, RobotGeometry* r) {
     link.joint = j.IsScalar() && j.Scalar() == "-1" ? -1 : JointId(*r, j, "joint");
     link.axis_L = Vec(Need(l, "axis"), "axis");
     link.anchor_L = Vec(Need(l, "anchor"), "anchor");
+    if (const YAML::Node sl = l["slide"]) link.slide = Bool(sl, "slide");
     if (const YAML::Node jo = l["joint_only"]) link.joint_only = Bool(jo, "joint_only");
     for (const auto& s : Need(l, "shapes")) link.shapes.push_back(ReadShape(s));
     r->links.push_back(std::move(link));
@@ -173,7 +174,8 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
       << "\n    quat: " << Q(l.q_PL) << "\n    joint: "
       << (l.joint < 0 ? std::string("-1") : r.joint_names[l.joint]) << "\n    axis: "
       << V(l.axis_L) << "\n    anchor: " << V(l.anchor_L) << "\n";
-    if (l.joint_only) o << "    joint_only: true  # a hinge of the body below\n";
+    if (l.slide) o << "    slide: true  # the joint translates along the axis [m]\n";
+    if (l.joint_only) o << "    joint_only: true  # a joint of the body below\n";
     o << "    shapes:\n";
     for (const Shape& s : l.shapes) {
       o << "      - {type: " << ShapeName(s.type) << ", size: " << V(s.size)

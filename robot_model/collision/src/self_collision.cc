@@ -53,11 +53,15 @@ void SelfCollision::SetPose(std::span<const double> q) {
     X_PL.translate(l.p_PL);
     X_PL.rotate(l.q_PL.toRotationMatrix());
     if (l.joint >= 0 && static_cast<size_t>(l.joint) < q.size()) {
-      const double angle = std::isfinite(q[l.joint]) ? q[l.joint] : 0.0;
-      // a hinge through anchor_L: translate to it, turn, translate back
-      X_PL.translate(l.anchor_L);
-      X_PL.rotate(Eigen::AngleAxisd(angle, l.axis_L));
-      X_PL.translate(-l.anchor_L);
+      const double v = std::isfinite(q[l.joint]) ? q[l.joint] : 0.0;
+      if (l.slide) {
+        X_PL.translate(v * l.axis_L);
+      } else {
+        // a hinge through anchor_L: translate to it, turn, translate back
+        X_PL.translate(l.anchor_L);
+        X_PL.rotate(Eigen::AngleAxisd(v, l.axis_L));
+        X_PL.translate(-l.anchor_L);
+      }
     }
     X_WL_[i] = l.parent < 0 ? X_PL : X_WL_[l.parent] * X_PL;
     sphere_c_W_[i] = X_WL_[i] * sphere_c_L_[i];

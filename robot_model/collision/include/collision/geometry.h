@@ -32,21 +32,23 @@ struct Shape {
   std::vector<int> faces;  // convex: per face, its vertex count then its vertex indices (FCL's)
 };
 
-// one rigid link: its pose in its parent at zero joint angle, then a hinge about `axis_L`
-// through `anchor_L` (both in this link's frame), or no joint (welded to its parent)
+// one rigid link: its pose in its parent at zero joint position, then its joint: a hinge about
+// `axis_L` through `anchor_L` (both in this link's frame), a slide along `axis_L` (the link
+// translated by q axis_L), or no joint (welded to its parent)
 struct Link {
   std::string name;
   int parent = -1;   // index of the parent link, -1 for a root (the base: its frame is the world)
   Eigen::Vector3d p_PL = Eigen::Vector3d::Zero();            // position in the parent [m]
   Eigen::Quaterniond q_PL = Eigen::Quaterniond::Identity();  // orientation in the parent
-  int joint = -1;    // the segment's joint id of its hinge, -1 when welded or the base
-  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();         // hinge axis (unit) in the link
-  Eigen::Vector3d anchor_L = Eigen::Vector3d::Zero();        // a point on the axis [m]
+  int joint = -1;    // the segment's joint id of its joint, -1 when welded or the base
+  bool slide = false;  // the joint is a slide (q in metres), not a hinge (q in radians)
+  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();         // joint axis (unit) in the link
+  Eigen::Vector3d anchor_L = Eigen::Vector3d::Zero();        // hinge: a point on the axis [m]
   std::vector<Shape> shapes;
-  // A body with several hinges (MuJoCo's humanoid: a hip of three) is a chain of links, one
-  // hinge each: the first ones carry no shapes and are joint_only, the last carries the body's
-  // shapes and its name. A joint_only link and its child are one body: the body's parent and
-  // the link with its shapes are adjacent (BodyParent).
+  // A body with several joints (MuJoCo's humanoid: a hip of three hinges) is a chain of links,
+  // one joint each: the first ones carry no shapes and are joint_only, the last carries the
+  // body's shapes and its name. A joint_only link and its child are one body: the body's parent
+  // and the link with its shapes are adjacent (BodyParent).
   bool joint_only = false;
 };
 
@@ -77,7 +79,8 @@ std::vector<LinkPair> NonAdjacentPairs(const RobotGeometry& robot);
 int FindLink(const RobotGeometry& robot, const std::string& name);
 
 // Checks the geometry: parents before children, joint ids in range, unit axes and quaternions,
-// joint_only links with a hinge and no shapes, positive sizes, convex shapes with vertices.
+// joint_only links with a joint and no shapes, slides with finite limits, positive sizes,
+// convex shapes with vertices.
 // Returns an empty string or what is wrong.
 std::string Validate(const RobotGeometry& robot);
 

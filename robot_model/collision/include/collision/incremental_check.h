@@ -1,9 +1,9 @@
 // A self-collision check that does not measure again what cannot have changed: each link's
-// travel is bounded from the joint angles (a point of link l moves at most sum_j |dq_j| r_jl over
-// the hinges j above it, r_jl a bound of its distance from j's axis in any posture, from the link
-// lengths and shape sizes), and a pair whose last measured distance (a lower bound of the gap)
-// exceeds what its two links travelled since, by more than the cutoff, is still farther than the
-// cutoff and is skipped. Every pair that can be within the cutoff is measured with the checker,
+// travel is bounded from the joint positions (a point of link l moves at most sum_j |dq_j| r_jl
+// over the joints j above it: for a hinge r_jl bounds its distance from j's axis in any posture,
+// from the link lengths, shape sizes and slide ranges; for a slide r_jl = 1), and a pair whose
+// last measured distance (a lower bound of the gap) exceeds what its two links travelled since,
+// by more than the cutoff, is still farther than the cutoff and is skipped. Every pair that can be within the cutoff is measured with the checker,
 // so a Check answers exactly what SelfCollision::Check answers on the same pairs for every pair
 // within the cutoff; the others carry a lower bound above it.
 //
@@ -21,8 +21,9 @@
 
 namespace ohrp::collision {
 
-// Per link, each hinge between the base and the link with a bound of the distance of any point
-// of the link's shapes from that hinge's axis in any posture [m]: (segment joint id, bound).
+// Per link, each joint between the base and the link with its reach: for a hinge a bound of the
+// distance of any point of the link's shapes from the hinge's axis in any posture [m], for a
+// slide 1 (a point moves as far as the slide): (segment joint id, reach).
 std::vector<std::vector<std::pair<int, double>>> LinkReach(const RobotGeometry& robot);
 
 class IncrementalCheck {
