@@ -89,8 +89,10 @@ class Browser {
   // with error(), when chromium does not start or its protocol does not answer.
   Browser(const std::string& url, int width = 1200, int height = 700) {
     profile_ = ohrp::testing::ScratchFolder("chromium_profile");
+    // chromium's own temporary folders (org.chromium.Chromium.*) go to the scratch folder too
     pid_ = ohrp::testing::Spawn(
-        {"chromium", "--headless", "--no-sandbox", "--enable-unsafe-swiftshader",
+        {"env", "TMPDIR=" + ohrp::testing::ScratchFolder("chromium_tmp"), "chromium",
+         "--headless", "--no-sandbox", "--enable-unsafe-swiftshader",
          "--remote-debugging-port=0", "--no-first-run", "--hide-scrollbars",
          "--user-data-dir=" + profile_.string(),
          "--window-size=" + std::to_string(width) + "," + std::to_string(height), "about:blank"},
