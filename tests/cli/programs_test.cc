@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
+#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadFile
 
 namespace {
 
 using ohrp::controllers::testing::Program;
-using ohrp::controllers::testing::ReadText;
+using ohrp::testing::ReadFile;
 using ohrp::controllers::testing::Spawn;
 using ohrp::controllers::testing::TempPath;
 using ohrp::controllers::testing::WaitExit;
@@ -38,7 +38,7 @@ int RunProgram(const std::string& name, std::vector<std::string> args, std::stri
   const std::string log = TempPath("cli_" + name);
   args.insert(args.begin(), Program(name));
   const int code = WaitExit(Spawn(args, log), 20.0);
-  *output = ReadText(log);
+  *output = ReadFile(log);
   std::remove(log.c_str());
   return code;
 }

@@ -26,4 +26,8 @@ std::string ScratchFile(const std::string& tag, const std::string& text,
 // A fresh, empty folder in the scratch folder.
 std::string ScratchFolder(const std::string& tag);
 
+// The whole text of the file at `path` (a program's output, a log, a report); "" when it cannot
+// be read.
+std::string ReadFile(const std::string& path);
+
 }  // namespace ohrp::testing

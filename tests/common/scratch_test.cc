@@ -18,13 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The two test programs below, each run alone as a process of its own by the tests that follow
 // (disabled: they do not run in the suite themselves). Each writes into its scratch folder and
 // prints the folder's path; the second fails on purpose.
@@ -54,7 +47,7 @@ ProgramRun RunProgram(const std::string& test) {
                           ToFile(out));
   ProgramRun r;
   r.code = WaitExit(pid, 30.0);
-  const std::string text = Read(out);
+  const std::string text = ReadFile(out);
   const std::size_t at = text.find("SCRATCH ");
   if (at != std::string::npos) r.dir = text.substr(at + 8, text.find('\n', at) - at - 8);
   return r;
@@ -73,7 +66,7 @@ TEST(Scratch, AProgramWhoseTestFailedKeepsItsFolderForALook) {
   EXPECT_EQ(r.code, 1);
   ASSERT_FALSE(r.dir.empty());
   EXPECT_TRUE(fs::is_directory(r.dir)) << r.dir;
-  EXPECT_EQ(Read(r.dir + "/evidence_0"), "what the failed test wrote");
+  EXPECT_EQ(ReadFile(r.dir + "/evidence_0"), "what the failed test wrote");
   fs::remove_all(r.dir);
 }
 
@@ -88,7 +81,7 @@ TEST(Scratch, AForkedChildsExitLeavesTheFolderOfTheProcessThatMadeIt) {
   });
   EXPECT_EQ(WaitExit(child), 0);
   EXPECT_TRUE(fs::is_directory(dir));
-  EXPECT_EQ(Read(file), "written by the child");
+  EXPECT_EQ(ReadFile(file), "written by the child");
 }
 
 TEST(Scratch, EveryPathIsFreshAndInTheFolder) {
@@ -98,7 +91,7 @@ TEST(Scratch, EveryPathIsFreshAndInTheFolder) {
   EXPECT_EQ(fs::path(a).parent_path(), fs::path(ScratchDir()));
   EXPECT_EQ(fs::path(a).extension(), ".csv");
   const std::string f = ScratchFile("scenario", "name: x\n", ".yaml");
-  EXPECT_EQ(Read(f), "name: x\n");
+  EXPECT_EQ(ReadFile(f), "name: x\n");
   const std::string d = ScratchFolder("out");
   EXPECT_TRUE(fs::is_directory(d));
   EXPECT_TRUE(fs::is_empty(d));

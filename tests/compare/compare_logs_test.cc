@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
+#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadFile
 #include "synthetic.h"
 
 namespace ohrp::compare {
@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ohrp::controllers::testing::Program;
-using ohrp::controllers::testing::ReadText;
+using ohrp::testing::ReadFile;
 using ohrp::controllers::testing::Spawn;
 using ohrp::controllers::testing::TempPath;
 using ohrp::controllers::testing::WaitExit;
@@ -70,7 +70,7 @@ class CompareLogs : public ::testing::Test {
     args.insert(args.begin(), Program("ohrp_compare_logs"));
     const std::string log = dir_ + "/run.out";
     const int code = WaitExit(Spawn(args, log), 60.0);
-    *out = ReadText(log);
+    *out = ReadFile(log);
     return code;
   }
 

@@ -94,7 +94,7 @@ BalanceRun RunWithCorruption(const std::string& tag, double t_bad, double t_end,
   }
   producer.reset();  // ends the run: balance reports and exits
   run.exit_code = WaitExit(pid, kWall);
-  run.output = ReadText(log);
+  run.output = ReadFile(log);
   fs::remove(log);
   const shm::SimTruth& truth = robot->sensors().sim_truth;
   run.base_z_end = truth.p_WB[2];

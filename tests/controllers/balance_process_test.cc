@@ -67,7 +67,7 @@ std::string EditedRobot(const std::string& tag, const std::function<void(std::st
   const fs::path dir = base + "_dir";
   fs::remove(base);
   fs::create_directories(dir);
-  std::string text = ReadText(kRobotFile);
+  std::string text = ReadFile(kRobotFile);
   edit(&text);
   WriteText((dir / "hrp1s.xml").string(), text);
   fs::copy_file(kScene, dir / "scene_flat.xml", fs::copy_options::overwrite_existing);
@@ -96,7 +96,7 @@ int RunAlone(std::vector<std::string> args, std::string* output) {
   std::vector<std::string> a = {Program("balance"), "--segment", UniqueSegment("nobody")};
   a.insert(a.end(), args.begin(), args.end());
   const int code = WaitExit(Spawn(a, log), kWall);
-  *output = ReadText(log);
+  *output = ReadFile(log);
   fs::remove(log);
   return code;
 }
@@ -110,14 +110,14 @@ TEST(BalanceProcess, StandsOnSimHost) {
                            "--segment", segment, "--duration", "5", "--log", csv, "--summary",
                            summary, "--progress", "0"},
                           sim_out);
-  ASSERT_TRUE(WaitSegment(segment, kWall)) << ReadText(sim_out);
+  ASSERT_TRUE(WaitSegment(segment, kWall)) << ReadFile(sim_out);
   const pid_t bal = Spawn({Program("balance"), "--segment", segment}, bal_out);
-  ASSERT_EQ(WaitExit(sim, kWall), 0) << ReadText(sim_out);
-  ASSERT_EQ(WaitExit(bal, kWall), 0) << ReadText(bal_out);
-  const std::string report = ReadText(bal_out);
+  ASSERT_EQ(WaitExit(sim, kWall), 0) << ReadFile(sim_out);
+  ASSERT_EQ(WaitExit(bal, kWall), 0) << ReadFile(bal_out);
+  const std::string report = ReadFile(bal_out);
   EXPECT_NE(report.find("balance: stood"), std::string::npos) << report;
   EXPECT_EQ(report.find("HELD"), std::string::npos) << report;
-  const auto j = nlohmann::json::parse(ReadText(summary), nullptr, false);
+  const auto j = nlohmann::json::parse(ReadFile(summary), nullptr, false);
   ASSERT_FALSE(j.is_discarded());
   EXPECT_EQ(j["rejected_commands"], 0);
 
@@ -166,11 +166,11 @@ TEST(BalanceProcess, RefusesAProducerWhoseRobotDiffers) {
                            "--segment", segment, "--duration", "60", "--realtime",
                            "--wait-controller", "0", "--summary", summary, "--progress", "0"},
                           sim_out);
-  ASSERT_TRUE(WaitSegment(segment, kWall)) << ReadText(sim_out);
+  ASSERT_TRUE(WaitSegment(segment, kWall)) << ReadFile(sim_out);
   const int code = WaitExit(Spawn({Program("balance"), "--segment", segment, "--model", copy},
                                   bal_out),
                             kWall);
-  const std::string err = ReadText(bal_out);
+  const std::string err = ReadFile(bal_out);
   EXPECT_EQ(code, 3) << err;
   EXPECT_NE(err.find("--model " + copy + ": the producer's robot is not this model's robot"),
             std::string::npos) << err;
@@ -180,8 +180,8 @@ TEST(BalanceProcess, RefusesAProducerWhoseRobotDiffers) {
   // the producer ran in real time without a controller all along; stopped now
   kill(sim, SIGINT);
   const int sim_code = WaitExit(sim, kWall);
-  const auto j = nlohmann::json::parse(ReadText(summary), nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << ReadText(sim_out);
+  const auto j = nlohmann::json::parse(ReadFile(summary), nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << ReadFile(sim_out);
   EXPECT_EQ(j["commands"], 0) << "the producer received commands from a refused controller";
   // (balance claims the controller slot to read the header, then releases it: the producer
   // may count it as seen, but it never answered a cycle)

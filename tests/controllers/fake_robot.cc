@@ -165,13 +165,6 @@ void WriteText(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 pid_t Spawn(const std::vector<std::string>& args, const std::string& log_path) {
   return ohrp::testing::Spawn(args, ohrp::testing::ToFile(log_path, /*append=*/true));
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/process.h"
+#include "common/scratch.h"
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::controllers::testing {
@@ -89,7 +90,7 @@ std::string Program(const std::string& name);
 std::string TempPath(const std::string& tag);
 // writes `text` to `path`
 void WriteText(const std::string& path, const std::string& text);
-std::string ReadText(const std::string& path);
+using ohrp::testing::ReadFile;  // common/scratch.h
 
 // starts `args` (a program and its arguments) with stdout and stderr appended to `log_path`;
 // returns the pid

@@ -59,7 +59,7 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
     std::ifstream in(path("port"));
     if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  EXPECT_NE(port, 0) << ReadText(path("emu.out"));
+  EXPECT_NE(port, 0) << ReadFile(path("emu.out"));
   // the driver, then the controller once the segment exists
   const std::string segment = UniqueSegment(tag);
   const pid_t driver = Spawn(
@@ -82,11 +82,11 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
   c.controller = WaitExit(program, kWall);
   kill(emulator, SIGINT);
   c.emulator = WaitExit(emulator, kWall);
-  c.controller_out = ReadText(path("controller.out"));
-  c.driver_out = ReadText(path("driver.out"));
-  c.emulator_out = ReadText(path("emu.out"));
+  c.controller_out = ReadFile(path("controller.out"));
+  c.driver_out = ReadFile(path("driver.out"));
+  c.emulator_out = ReadFile(path("emu.out"));
   c.rows = ReadEmulatorLog(path("emu.csv"));
-  c.summary = nlohmann::json::parse(ReadText(path("driver.json")), nullptr, false);
+  c.summary = nlohmann::json::parse(ReadFile(path("driver.json")), nullptr, false);
   fs::remove_all(dir);
   RemoveSegment(segment);
   return c;

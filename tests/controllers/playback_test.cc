@@ -77,7 +77,7 @@ TEST_F(PlaybackTest, CommandsFollowTheFileAfterTheRampThenHoldTheLastRow) {
                               angles_, "--gains", gains, "--ramp", "0.1", "--attach-timeout",
                               "5"},
                              log_);
-  ASSERT_TRUE(robot->RunUntilCommands(170)) << testing::ReadText(log_);  // 0.85 s
+  ASSERT_TRUE(robot->RunUntilCommands(170)) << testing::ReadFile(log_);  // 0.85 s
 
   const auto& rec = robot->records();
   auto error_j1 = [](double t0, const CommandRecord& r, const void*) {
@@ -109,7 +109,7 @@ TEST_F(PlaybackTest, CommandsFollowTheFileAfterTheRampThenHoldTheLastRow) {
     EXPECT_EQ(rec.back().dq_ref[j], 0.0);
   }
   robot->Stop();
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadText(log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadFile(log_);
   std::remove(gains.c_str());
 }
 
@@ -124,7 +124,7 @@ TEST_F(PlaybackTest, RefusesARobotWithAnotherJointCount) {
   pid_t pid = testing::Spawn(
       {testing::Program("playback"), "--segment", segment_, "--angles", angles_}, log_);
   EXPECT_EQ(robot->RunUntilExit(pid), kExitConfig);
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("has 3 joint columns after the time, but the robot has 5 joints"),
             std::string::npos)
       << log;
@@ -149,7 +149,7 @@ TEST_F(PlaybackTest, PlaysSamplePDWithItsVelocitiesAndGainsAndStopsOnSigterm) {
        "--velocities", dir + "/vel.dat", "--gains", dir + "/PDgain.dat", "--ramp", "0.05",
        "--time-scale", "2", "--attach-timeout", "5"},
       log_);
-  ASSERT_TRUE(robot->RunUntilCommands(150)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(150)) << testing::ReadFile(log_);
 
   struct Ctx { const Trajectory* angles; };
   Ctx ctx{&angles};
@@ -182,9 +182,9 @@ TEST_F(PlaybackTest, PlaysSamplePDWithItsVelocitiesAndGainsAndStopsOnSigterm) {
 
   // SIGTERM: a clean stop that frees the controller slot
   kill(pid, SIGTERM);
-  EXPECT_EQ(robot->RunUntilExit(pid), kExitOk) << testing::ReadText(log_);
+  EXPECT_EQ(robot->RunUntilExit(pid), kExitOk) << testing::ReadFile(log_);
   EXPECT_EQ(robot->controller_pid(), 0);
-  EXPECT_NE(testing::ReadText(log_).find("stopped by signal"), std::string::npos);
+  EXPECT_NE(testing::ReadFile(log_).find("stopped by signal"), std::string::npos);
 }
 
 }  // namespace

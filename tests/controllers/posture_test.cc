@@ -41,7 +41,7 @@ TEST_F(PostureTest, ConvergesToHalfSittingAlongARampInProducerTime) {
   pid_t pid = testing::Spawn({testing::Program("posture"), "--segment", segment_, "--ramp",
                               "0.5", "--kp-scale", "2", "--attach-timeout", "5"},
                              log_);
-  ASSERT_TRUE(robot->RunUntilCommands(160)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(160)) << testing::ReadFile(log_);
 
   Pose pose;
   ASSERT_TRUE(LoadPoseFile(DefaultPoseFile(), &pose).ok());
@@ -78,8 +78,8 @@ TEST_F(PostureTest, ConvergesToHalfSittingAlongARampInProducerTime) {
   }
 
   robot->Stop();  // the producer ends its run normally
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadText(log_);
-  const std::string log = testing::ReadText(log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadFile(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("robot SampleRobot, 29 joints, control period 5.000 ms"), std::string::npos)
       << log;
   EXPECT_NE(log.find("ended its run"), std::string::npos) << log;
@@ -102,9 +102,9 @@ testing::CommandRecord HoldOnThreeJoints(const std::string& segment, const std::
                                    "0.1", "--attach-timeout", "5"};
   argv.insert(argv.end(), args.begin(), args.end());
   const pid_t pid = testing::Spawn(argv, log);
-  EXPECT_TRUE(robot->RunUntilCommands(60)) << testing::ReadText(log);
+  EXPECT_TRUE(robot->RunUntilCommands(60)) << testing::ReadFile(log);
   robot->Stop();
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadText(log);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadFile(log);
   return robot->records().empty() ? testing::CommandRecord{} : robot->records().back();
 }
 
@@ -146,11 +146,11 @@ TEST_F(PostureTest, UnknownKeyframeIsAUsageErrorNamingTheScenesKeyframes) {
   pid_t pid = testing::Spawn({testing::Program("posture"), "--segment", segment_, "--scene",
                               scene, "--keyframe", "home"}, log_);
   EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage);
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("no keyframe 'home' (its keyframes: crouch)"), std::string::npos) << log;
   pid = testing::Spawn({testing::Program("posture"), "--segment", segment_, "--keyframe", "crouch"},
                        log_);
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadText(log_);  // no --scene
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadFile(log_);  // no --scene
   std::remove(scene.c_str());
 }
 
@@ -164,7 +164,7 @@ TEST_F(PostureTest, RefusesARobotWhoseJointsAreNotInThePose) {
   ASSERT_TRUE(robot) << error;
   pid_t pid = testing::Spawn({testing::Program("posture"), "--segment", segment_}, log_);
   EXPECT_EQ(robot->RunUntilExit(pid), kExitConfig);
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("has no joints RLEG_HIP_P"), std::string::npos) << log;
   EXPECT_NE(log.find("joints are: J0 J1 J2"), std::string::npos) << log;
   EXPECT_TRUE(robot->records().empty());
@@ -176,7 +176,7 @@ TEST_F(PostureTest, ReportsAMalformedPoseFileBeforeAttaching) {
   pid_t pid = testing::Spawn(
       {testing::Program("posture"), "--segment", segment_, "--pose", pose}, log_);
   EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitConfig);
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find(pose + ":2:"), std::string::npos) << log;
   std::remove(pose.c_str());
 }
@@ -184,9 +184,9 @@ TEST_F(PostureTest, ReportsAMalformedPoseFileBeforeAttaching) {
 TEST_F(PostureTest, RejectsBadOptions) {
   pid_t pid = testing::Spawn({testing::Program("posture"), "--segment", segment_, "--ramp",
                               "-1"}, log_);
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadText(log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadFile(log_);
   pid = testing::Spawn({testing::Program("posture")}, log_);  // --segment missing
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadText(log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitUsage) << testing::ReadFile(log_);
 }
 
 }  // namespace

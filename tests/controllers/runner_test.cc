@@ -56,14 +56,14 @@ TEST_F(RunnerTest, ExitsNonZeroNamingThePidWhenTheProducerIsKilled) {
   });
   ASSERT_GE(producer, 0);
   pid_t controller = SpawnPosture({"--attach-timeout", "5"});
-  ASSERT_TRUE(ready.Receive(10.0)) << testing::ReadText(log_);  // 20 commands exchanged
+  ASSERT_TRUE(ready.Receive(10.0)) << testing::ReadFile(log_);  // 20 commands exchanged
   ohrp::testing::Kill(producer);  // reaped: no zombie that would still look alive
 
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(testing::WaitExit(controller, 10.0), kExitProducerLost);
   const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_LT(took, 1.5);  // noticed within a slice, not at the end of the read timeout
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("sim_host (pid " + std::to_string(producer) + ") is gone"),
             std::string::npos)
       << log;
@@ -74,10 +74,10 @@ TEST_F(RunnerTest, ExitsZeroWhenTheProducerEndsNormally) {
   auto robot = FakeRobot::Create(spec_, &error);
   ASSERT_TRUE(robot) << error;
   pid_t pid = SpawnPosture();
-  ASSERT_TRUE(robot->RunUntilCommands(20)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(20)) << testing::ReadFile(log_);
   robot->Stop();
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadText(log_);
-  EXPECT_NE(testing::ReadText(log_).find("ended its run"), std::string::npos);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadFile(log_);
+  EXPECT_NE(testing::ReadFile(log_).find("ended its run"), std::string::npos);
 }
 
 TEST_F(RunnerTest, ExitsNonZeroWhenTheProducerStallsPastTheReadTimeout) {
@@ -85,10 +85,10 @@ TEST_F(RunnerTest, ExitsNonZeroWhenTheProducerStallsPastTheReadTimeout) {
   auto robot = FakeRobot::Create(spec_, &error);
   ASSERT_TRUE(robot) << error;
   pid_t pid = SpawnPosture({"--read-timeout", "0.3"});
-  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadFile(log_);
   // the producer stays alive but publishes nothing more
   EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitProducerLost);
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("alive but not cycling"), std::string::npos) << log;
 }
 
@@ -99,12 +99,12 @@ TEST_F(RunnerTest, ExitsSevenWhenTheProducerDroppedItWhileItWasStopped) {
   auto robot = FakeRobot::Create(spec_, &error);
   ASSERT_TRUE(robot) << error;
   pid_t pid = SpawnPosture();
-  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadFile(log_);
   kill(pid, SIGSTOP);
   ASSERT_TRUE(robot->DropController(pid));
   kill(pid, SIGCONT);
-  EXPECT_EQ(robot->RunUntilExit(pid), kExitDropped) << testing::ReadText(log_);
-  const std::string log = testing::ReadText(log_);
+  EXPECT_EQ(robot->RunUntilExit(pid), kExitDropped) << testing::ReadFile(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("dropped this controller"), std::string::npos) << log;
   EXPECT_EQ(robot->controller_pid(), 0);  // it released nothing that was not its own
   robot->Stop();
@@ -116,15 +116,15 @@ TEST_F(RunnerTest, AttachTimeoutWaitsForALateProducer) {
   std::string error;
   auto robot = FakeRobot::Create(spec_, &error);
   ASSERT_TRUE(robot) << error;
-  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadFile(log_);
   robot->Stop();
-  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadText(log_);
+  EXPECT_EQ(testing::WaitExit(pid, 10.0), kExitOk) << testing::ReadFile(log_);
 }
 
 TEST_F(RunnerTest, WithoutAttachTimeoutAMissingSegmentFailsAtOnce) {
   pid_t pid = SpawnPosture();
   EXPECT_EQ(testing::WaitExit(pid, 5.0), kExitAttach);
-  const std::string log = testing::ReadText(log_);
+  const std::string log = testing::ReadFile(log_);
   EXPECT_NE(log.find("cannot attach to segment '" + segment_ + "'"), std::string::npos) << log;
   EXPECT_NE(log.find("--attach-timeout"), std::string::npos) << log;
 }
@@ -134,16 +134,16 @@ TEST_F(RunnerTest, SigtermFreesTheSlotForTheNextController) {
   auto robot = FakeRobot::Create(spec_, &error);
   ASSERT_TRUE(robot) << error;
   pid_t first = SpawnPosture();
-  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadFile(log_);
   EXPECT_EQ(robot->controller_pid(), first);
   kill(first, SIGTERM);
-  EXPECT_EQ(robot->RunUntilExit(first), kExitOk) << testing::ReadText(log_);
+  EXPECT_EQ(robot->RunUntilExit(first), kExitOk) << testing::ReadFile(log_);
   EXPECT_EQ(robot->controller_pid(), 0);
   pid_t second = SpawnPosture();
-  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadText(log_);
+  ASSERT_TRUE(robot->RunUntilCommands(10)) << testing::ReadFile(log_);
   EXPECT_EQ(robot->controller_pid(), second);
   robot->Stop();
-  EXPECT_EQ(testing::WaitExit(second, 10.0), kExitOk) << testing::ReadText(log_);
+  EXPECT_EQ(testing::WaitExit(second, 10.0), kExitOk) << testing::ReadFile(log_);
 }
 
 }  // namespace

@@ -43,12 +43,12 @@ pid_t Exec(const std::vector<std::string>& args, const std::string& out) {
 // exit code once `*pid` ended within `timeout`, else -1
 using ohrp::testing::WaitExit;
 
-std::string Read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using ohrp::testing::ReadFile;
+
+// the board timeouts of the runs that must end clean: a board silent for 1 s (a stall of the
+// loaded VM is shorter) is a fault; the silent-board test times its own shorter ones
+constexpr const char* kBoardTimeout = "timeout_ms=1000";
+constexpr const char* kBoardCycles = "500";
 
 class DriverEndToEnd : public ::testing::Test {
  protected:
@@ -67,8 +67,8 @@ class DriverEndToEnd : public ::testing::Test {
   std::string ShmPath() const { return "/dev/shm/" + shm::SegmentObjectName(segment_); }
   std::string Path(const char* f) const { return (dir_ / f).string(); }
 
-  // Runs the chain: hw_emulator with `emulator_args`, hw_driver (udp plugin, `driver_args`,
-  // generous timeouts so that a loaded machine does not trip the safe mode), then posture
+  // Runs the chain: hw_emulator with `emulator_args`, hw_driver (udp plugin, `driver_args`, a
+  // controller watchdog of 1 s so that a loaded machine does not trip the safe mode), then posture
   // ramping to half-sitting in 1 s. Returns hw_driver's exit code; the emulator is stopped with
   // SIGINT afterwards and its log read into rows_. `sigint_after` > 0: hw_driver gets a SIGINT
   // that many wall seconds after posture started (a stop by hand).
@@ -84,7 +84,7 @@ class DriverEndToEnd : public ::testing::Test {
       std::ifstream in(Path("port"));
       if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
       if (WaitExit(&emulator_, 0) != -1) {
-        ADD_FAILURE() << Read(Path("emulator.out"));
+        ADD_FAILURE() << ReadFile(Path("emulator.out"));
         return -1;
       }
     }
@@ -93,7 +93,7 @@ class DriverEndToEnd : public ::testing::Test {
     std::vector<std::string> d = {
         kBin + "/hw_driver", "--model", kScene, "--io", kBin + "/../lib/libohrp_io_udp.so",
         "--io-arg", "port=" + std::to_string(port), "--segment", segment_, "--period", "0.002",
-        "--watchdog-cycles", "100", "--rt-priority", "0", "--no-mlock", "--summary",
+        "--watchdog-cycles", "500", "--rt-priority", "0", "--no-mlock", "--summary",
         Path("driver.json")};
     d.insert(d.end(), driver_args.begin(), driver_args.end());
     driver_ = Exec(d, Path("driver.out"));
@@ -103,7 +103,7 @@ class DriverEndToEnd : public ::testing::Test {
       segment = fs::file_size(ShmPath(), ec) == sizeof(shm::Segment) && !ec;
       if (!segment) {
         if (WaitExit(&driver_, 0) != -1) {
-          ADD_FAILURE() << Read(Path("driver.out"));
+          ADD_FAILURE() << ReadFile(Path("driver.out"));
           return -1;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -117,7 +117,7 @@ class DriverEndToEnd : public ::testing::Test {
     const int code = WaitExit(&driver_, kMaxWall);
     WaitExit(&posture_, kMaxWall);
     kill(emulator_, SIGINT);
-    EXPECT_EQ(WaitExit(&emulator_, kMaxWall), 130) << Read(Path("emulator.out"));
+    EXPECT_EQ(WaitExit(&emulator_, kMaxWall), 130) << ReadFile(Path("emulator.out"));
 
     // the emulator's log: time, base_z, tilt_deg, servos_on, ...
     std::ifstream log(Path("emu.csv"));
@@ -128,7 +128,7 @@ class DriverEndToEnd : public ::testing::Test {
       if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%d", &r.t, &r.z, &r.tilt, &r.on) == 4)
         rows_.push_back(r);
     }
-    summary_ = nlohmann::json::parse(Read(Path("driver.json")), nullptr, false);
+    summary_ = nlohmann::json::parse(ReadFile(Path("driver.json")), nullptr, false);
     return code;
   }
 
@@ -181,15 +181,15 @@ void RunSimHost(const std::string& segment, const std::string& log, const std::s
     segment_up = fs::exists(shm);
     if (!segment_up) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  ASSERT_TRUE(segment_up) << Read(out + ".sim");
+  ASSERT_TRUE(segment_up) << ReadFile(out + ".sim");
   pid_t posture = Exec({kBin + "/posture", "--segment", segment, "--ramp", "1.0"}, out + ".posture");
-  ASSERT_EQ(WaitExit(&sim, kMaxWall), 0) << Read(out + ".sim");
-  ASSERT_EQ(WaitExit(&posture, kMaxWall), 0) << Read(out + ".posture");
+  ASSERT_EQ(WaitExit(&sim, kMaxWall), 0) << ReadFile(out + ".sim");
+  ASSERT_EQ(WaitExit(&posture, kMaxWall), 0) << ReadFile(out + ".posture");
 }
 
 // FNV-1a (64 bit) of a file's bytes: the identity of a program file
 uint64_t FileHash(const std::string& path) {
-  const std::string bytes = Read(path);
+  const std::string bytes = ReadFile(path);
   return shm::Fnv1a64(bytes.data(), bytes.size());
 }
 
@@ -199,7 +199,7 @@ uint64_t FileHash(const std::string& path) {
 TEST_F(DriverEndToEnd, TheSamePostureFileStandsTheRobotOnSimHostAndOnTheDriver) {
   const std::string posture = kBin + "/posture";
   const uint64_t hash_before = FileHash(posture);
-  ASSERT_GT(Read(posture).size(), 1000u);
+  ASSERT_GT(ReadFile(posture).size(), 1000u);
 
   // 1. against sim_host (lock-step), its own log says where the base is
   const std::string sim_log = Path("sim.csv");
@@ -211,10 +211,10 @@ TEST_F(DriverEndToEnd, TheSamePostureFileStandsTheRobotOnSimHostAndOnTheDriver) 
     segment = fs::exists(ShmPath());
     if (!segment) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  ASSERT_TRUE(segment) << Read(Path("sim.out"));
+  ASSERT_TRUE(segment) << ReadFile(Path("sim.out"));
   posture_ = Exec({posture, "--segment", segment_, "--ramp", "1.0"}, Path("posture_sim.out"));
-  ASSERT_EQ(WaitExit(&sim, kMaxWall), 0) << Read(Path("sim.out"));
-  ASSERT_EQ(WaitExit(&posture_, kMaxWall), 0) << Read(Path("posture_sim.out"));
+  ASSERT_EQ(WaitExit(&sim, kMaxWall), 0) << ReadFile(Path("sim.out"));
+  ASSERT_EQ(WaitExit(&posture_, kMaxWall), 0) << ReadFile(Path("posture_sim.out"));
   std::ifstream log(sim_log);
   std::string header, line, last;
   std::getline(log, header);
@@ -224,10 +224,10 @@ TEST_F(DriverEndToEnd, TheSamePostureFileStandsTheRobotOnSimHostAndOnTheDriver) 
   EXPECT_NEAR(z, kHalfSitHeight, 0.02) << "on sim_host";
 
   // 2. the same file against hw_driver + udp + hw_emulator
-  ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", "timeout_ms=100",
-                          "--board-timeout-cycles", "100"}),
+  ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", kBoardTimeout,
+                          "--board-timeout-cycles", kBoardCycles}),
             0)
-      << Read(Path("driver.out"));
+      << ReadFile(Path("driver.out"));
   ExpectStanding(ServosOnUntil(), "same posture file on the driver");
 
   // 3. it was the same program both times
@@ -237,10 +237,10 @@ TEST_F(DriverEndToEnd, TheSamePostureFileStandsTheRobotOnSimHostAndOnTheDriver) 
 }
 
 TEST_F(DriverEndToEnd, PostureThroughHwDriverAndUdpKeepsTheEmulatedRobotStanding) {
-  ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", "timeout_ms=100",
-                          "--board-timeout-cycles", "100"}),
+  ASSERT_EQ(RunChain({}, {"--duration", "5", "--io-arg", kBoardTimeout,
+                          "--board-timeout-cycles", kBoardCycles}),
             0)
-      << Read(Path("driver.out"));
+      << ReadFile(Path("driver.out"));
   ASSERT_GT(rows_.size(), 100u);
   const double t_off = ServosOnUntil();  // the driver's servo-off at its end
   ASSERT_GT(t_off, 3.0) << "servos on for too short a time";
@@ -248,15 +248,15 @@ TEST_F(DriverEndToEnd, PostureThroughHwDriverAndUdpKeepsTheEmulatedRobotStanding
   ASSERT_FALSE(summary_.is_discarded());
   EXPECT_EQ(summary_["packets_lost"], 0);
   EXPECT_EQ(summary_["safe_mode"], false);
-  std::printf("%s", Read(Path("driver.out")).c_str());
+  std::printf("%s", ReadFile(Path("driver.out")).c_str());
 }
 
 TEST_F(DriverEndToEnd, OnePercentLossIsSurvivedAndCounted) {
   ASSERT_EQ(RunChain({"--loss", "0.01", "--seed", "3"},
-                     {"--duration", "4", "--io-arg", "timeout_ms=100",
-                      "--board-timeout-cycles", "100"}),
+                     {"--duration", "4", "--io-arg", kBoardTimeout,
+                      "--board-timeout-cycles", kBoardCycles}),
             0)
-      << Read(Path("driver.out"));
+      << ReadFile(Path("driver.out"));
   ExpectStanding(ServosOnUntil(), "1% loss");
   ASSERT_FALSE(summary_.is_discarded());
   EXPECT_EQ(summary_["safe_mode"], false);
@@ -273,7 +273,7 @@ TEST_F(DriverEndToEnd, ASilentBoardTripsTheDriversSafeMode) {
   const int code = RunChain({"--silent", "2@3.0"},
                             {"--duration", "6", "--io-arg", "timeout_ms=100",
                              "--board-timeout-cycles", "50"});
-  ASSERT_EQ(code, 6) << Read(Path("driver.out"));
+  ASSERT_EQ(code, 6) << ReadFile(Path("driver.out"));
   ASSERT_FALSE(summary_.is_discarded());
   EXPECT_EQ(summary_["safe_mode"], true);
   EXPECT_EQ(summary_["outcome"], "board_fault");
@@ -298,8 +298,10 @@ TEST_F(DriverEndToEnd, ASilentBoardTripsTheDriversSafeMode) {
 TEST_F(DriverEndToEnd, ABoardResetIsReArmedAndTheServosComeOnAgain) {
   // board 0 restarts at robot time 2 s: its servos are off until an all-off command re-arms it;
   // the driver's safe mode ends in that servo-off, then the servos come on again
-  const int code = RunChain({"--reset", "0@2.0"}, {"--duration", "5", "--safe-time", "0.2"});
-  ASSERT_EQ(code, 0) << Read(Path("driver.out"));
+  const int code = RunChain({"--reset", "0@2.0"}, {"--duration", "5", "--safe-time", "0.2",
+                                                    "--io-arg", kBoardTimeout,
+                                                    "--board-timeout-cycles", kBoardCycles});
+  ASSERT_EQ(code, 0) << ReadFile(Path("driver.out"));
   ASSERT_FALSE(summary_.is_discarded());
   EXPECT_EQ(summary_["outcome"], "completed");
   EXPECT_EQ(summary_["recoveries"], 1) << summary_["events"].dump();
@@ -322,10 +324,10 @@ TEST_F(DriverEndToEnd, TheDriversLogHasSimHostsColumnsAndTheSameReaderReadsIt) {
   runner::Table sim, drv;
   std::string error;
   ASSERT_TRUE(sim.Load(Path("sim.csv"), &error)) << error;
-  ASSERT_EQ(RunChain({}, {"--duration", "4", "--io-arg", "timeout_ms=100",
-                          "--board-timeout-cycles", "100", "--log", Path("driver.csv")}),
+  ASSERT_EQ(RunChain({}, {"--duration", "4", "--io-arg", kBoardTimeout,
+                          "--board-timeout-cycles", kBoardCycles, "--log", Path("driver.csv")}),
             0)
-      << Read(Path("driver.out"));
+      << ReadFile(Path("driver.out"));
   ASSERT_TRUE(drv.Load(Path("driver.csv"), &error)) << error;
 
   // the columns: sim_host's, less the ground truth
@@ -376,11 +378,11 @@ TEST_F(DriverEndToEnd, TheDriversLogHasSimHostsColumnsAndTheSameReaderReadsIt) {
 
 // A stop by SIGINT: the log is flushed whole, every cycle the driver ran is in it.
 TEST_F(DriverEndToEnd, TheDriversLogIsFlushedWholeAfterSigint) {
-  ASSERT_EQ(RunChain({}, {"--duration", "0", "--io-arg", "timeout_ms=100",
-                          "--board-timeout-cycles", "100", "--log", Path("driver.csv")},
+  ASSERT_EQ(RunChain({}, {"--duration", "0", "--io-arg", kBoardTimeout,
+                          "--board-timeout-cycles", kBoardCycles, "--log", Path("driver.csv")},
                      2.5),
             130)
-      << Read(Path("driver.out"));
+      << ReadFile(Path("driver.out"));
   runner::Table drv;
   std::string error;
   ASSERT_TRUE(drv.Load(Path("driver.csv"), &error)) << error;
@@ -388,7 +390,7 @@ TEST_F(DriverEndToEnd, TheDriversLogIsFlushedWholeAfterSigint) {
   EXPECT_EQ(summary_["outcome"], "interrupted");
   EXPECT_EQ(drv.rows(), summary_["cycles"].get<size_t>());
   EXPECT_GT(drv.rows(), 500u);
-  const std::string text = Read(Path("driver.csv"));
+  const std::string text = ReadFile(Path("driver.csv"));
   ASSERT_FALSE(text.empty());
   EXPECT_EQ(text.back(), '\n');  // no half-written row
   std::printf("[ figures  ] SIGINT: %zu rows in the log, %zu cycles run\n", drv.rows(),

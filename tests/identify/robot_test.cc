@@ -23,14 +23,14 @@
 #include <vector>
 
 #include "contact/params.h"  // sim_host's default soles: the first simulation's
-#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
+#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadFile
 
 namespace ohrp::identify {
 namespace {
 
 namespace fs = std::filesystem;
 using controllers::testing::Program;
-using controllers::testing::ReadText;
+using ohrp::testing::ReadFile;
 using controllers::testing::RemoveSegment;
 using controllers::testing::Spawn;
 using controllers::testing::TempPath;
@@ -78,7 +78,7 @@ std::string Record(const std::string& dir, const std::string& segment) {
   if (port == 0) {
     kill(emu, SIGKILL);
     WaitExit(emu, 10);
-    return "hw_emulator did not start: " + ReadText(dir + "/emulator.out");
+    return "hw_emulator did not start: " + ReadFile(dir + "/emulator.out");
   }
   const pid_t drv = Spawn({Program("hw_driver"), "--model", scene, "--io",
                            Program("../lib/libohrp_io_udp.so"), "--io-arg",
@@ -101,8 +101,8 @@ std::string Record(const std::string& dir, const std::string& segment) {
   WaitExit(emu, 30);
   RemoveSegment(segment);
   if (drv_code != 0)
-    return "hw_driver exited " + std::to_string(drv_code) + ": " + ReadText(dir + "/driver.out");
-  const std::string emu_out = ReadText(dir + "/emulator.out");
+    return "hw_driver exited " + std::to_string(drv_code) + ": " + ReadFile(dir + "/driver.out");
+  const std::string emu_out = ReadFile(dir + "/emulator.out");
   unsigned long resyncs = 0;
   const size_t at = emu_out.find(" overruns, ");
   if (at != std::string::npos) resyncs = std::stoul(emu_out.substr(at + 11));
@@ -227,10 +227,10 @@ void IdentifyAndCheck(const std::string& dir, const std::string& recording, cons
                                    "--jobs", "2"},
                                   dir + "/identify.out"),
                             300);
-  ASSERT_EQ(code, 0) << ReadText(dir + "/identify.out");
+  ASSERT_EQ(code, 0) << ReadFile(dir + "/identify.out");
   std::ifstream in(dir + "/id/identify.json");
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << ReadText(dir + "/identify.out");
+  ASSERT_FALSE(j.is_discarded()) << ReadFile(dir + "/identify.out");
   const double k = j["refined"]["k"], d = j["refined"]["d"];
   const double ka = j["closed_form"]["k"], da = j["closed_form"]["d"];
   if (expect_recovery) {
@@ -303,12 +303,12 @@ TEST(IdentifySimulated, RecoversTheSolesOfANoisySimulatedRecordingThroughSweeps)
   char params[96];
   std::snprintf(params, sizeof(params), "contact_params: {stiffness: %.9g, damping: %.9g}\n",
                 kStiffness, kDamping);
-  std::ofstream(dir + "/robot.yaml") << ReadText(kSource + "/scenarios/rocking_fig12.yaml") << params;
+  std::ofstream(dir + "/robot.yaml") << ReadFile(kSource + "/scenarios/rocking_fig12.yaml") << params;
   const int run = WaitExit(Spawn({Program("ohrp_run"), dir + "/robot.yaml", "--out", dir + "/robot",
                                   "--no-plot", "-q"},
                                  dir + "/robot.out"),
                            300);
-  ASSERT_EQ(run, 0) << ReadText(dir + "/robot.out");
+  ASSERT_EQ(run, 0) << ReadFile(dir + "/robot.out");
   AddNoise(dir + "/robot/log.csv", dir + "/robot_noisy.csv", 1000);
   if (HasFatalFailure()) return;
   // this recording once came out at K -2.7 %, D -20.5 %: aligned on the nominal run (3.0 Hz

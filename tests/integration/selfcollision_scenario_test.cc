@@ -16,6 +16,7 @@
 
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
+#include "common/scratch.h"
 #include "temp_file.h"
 
 namespace ohrp::collision {
@@ -23,12 +24,7 @@ namespace {
 
 std::string Src(const std::string& p) { return std::string(OHRP_SOURCE_DIR) + "/" + p; }
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using ohrp::testing::ReadFile;
 
 // runs a scenario into a fresh folder; returns the folder
 std::string RunScenario(const std::string& scenario) {
@@ -107,7 +103,7 @@ TEST(SelfCollisionScenario, TheCheckStopsTheArmBeforeTheLeg) {
   const std::string out = RunScenario("scenarios/selfcollision_arm_on.yaml");
   // stopped before contact: the servo lags the held reference by little
   EXPECT_GT(ArmLegDistance(out + "/log.csv"), 0.0);
-  const std::string said = ReadAll(out + "/playback.stderr");
+  const std::string said = ReadFile(out + "/playback.stderr");
   EXPECT_NE(said.find("self-collision: held the last safe references"), std::string::npos) << said;
   EXPECT_NE(said.find("RARM_"), std::string::npos) << said;
   // sim_host checked every cycle and found no two links in contact

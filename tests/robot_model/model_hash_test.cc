@@ -36,12 +36,7 @@ struct Loaded {
   uint64_t hash() const { return ModelHash(scene->m(), robot); }
 };
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ohrp::testing::ReadFile;
 
 // number of occurrences of `what` in `text`
 int Count(const std::string& text, const std::string& what) {
@@ -56,7 +51,7 @@ class ModelHashTest : public ::testing::Test {
     InstallMujocoHandlers(nullptr);
     dir_ = ohrp::testing::ScratchFolder(
         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    robot_xml_ = ReadText(kRobotDir + "hrp1s.xml");
+    robot_xml_ = ReadFile(kRobotDir + "hrp1s.xml");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -268,7 +263,7 @@ TEST_F(ModelHashTest, AnInertiaDifferenceIsNamedAsTheTree) {
 TEST_F(ModelHashTest, ADifferentRobotNameIsANoteBeforeTheDifference) {
   const std::string renamed = (dir_ / "renamed.xml").string();
   {
-    std::string text = ReadText(Edited(R"(<inertial pos="0 0 0.0375" mass="27")",
+    std::string text = ReadFile(Edited(R"(<inertial pos="0 0 0.0375" mass="27")",
                                        R"(<inertial pos="0 0 0.0375" mass="28")"));
     text.replace(text.find(R"(<mujoco model="hrp1s">)"), 22, R"(<mujoco model="hrp2">)");
     std::ofstream(renamed) << text;

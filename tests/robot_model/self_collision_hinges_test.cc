@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -115,6 +116,28 @@ int ExpectPosesMatchMujoco(const Loaded& l, int trials) {
   return compared;
 }
 
+// writes `g` to a self-collision file (every non-adjacent pair online) and reads it back: the
+// links keep their parents, joint_only and slide flags, the pairs stay
+SelfCollisionFile RoundTrip(const RobotGeometry& g) {
+  SelfCollisionFile f;
+  f.robot = g;
+  f.online = NonAdjacentPairs(g);
+  const std::string path = ohrp::testing::ScratchPath(g.name + "_selfcollision", ".yaml");
+  std::string error;
+  SelfCollisionFile back;
+  EXPECT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
+  EXPECT_TRUE(ReadSelfCollisionFile(path, &back, &error)) << error;
+  EXPECT_EQ(back.online, f.online);
+  EXPECT_EQ(back.robot.links.size(), g.links.size());
+  for (size_t k = 0; k < std::min(back.robot.links.size(), g.links.size()); ++k) {
+    const Link &a = g.links[k], &b = back.robot.links[k];
+    EXPECT_EQ(b.parent, a.parent) << a.name;
+    EXPECT_EQ(b.joint_only, a.joint_only) << a.name;
+    EXPECT_EQ(b.slide, a.slide) << a.name;
+  }
+  return back;
+}
+
 TEST(SelfCollisionHinges, EachExtraHingeIsAJointOnlyLink) {
   Loaded l;
   ASSERT_TRUE(Load(WriteXml("hinges.xml", kHinges), &l));
@@ -159,20 +182,7 @@ TEST(SelfCollisionHinges, ABodyAndItsParentStayOneAdjacentPair) {
 TEST(SelfCollisionHinges, TheFileKeepsTheChain) {
   Loaded l;
   ASSERT_TRUE(Load(WriteXml("hinges.xml", kHinges), &l));
-  SelfCollisionFile f;
-  f.robot = l.g;
-  f.online = NonAdjacentPairs(l.g);
-  const std::string path = ohrp::testing::ScratchDir() + "/hinges_selfcollision.yaml";
-  std::string error;
-  ASSERT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
-  SelfCollisionFile back;
-  ASSERT_TRUE(ReadSelfCollisionFile(path, &back, &error)) << error;
-  ASSERT_EQ(back.robot.links.size(), l.g.links.size());
-  for (size_t k = 0; k < l.g.links.size(); ++k) {
-    EXPECT_EQ(back.robot.links[k].joint_only, l.g.links[k].joint_only) << l.g.links[k].name;
-    EXPECT_EQ(back.robot.links[k].parent, l.g.links[k].parent) << l.g.links[k].name;
-  }
-  EXPECT_EQ(back.online, f.online);
+  RoundTrip(l.g);
   // a joint_only link with shapes is refused, naming it
   RobotGeometry bad = l.g;
   bad.links[FindLink(bad, "thigh@hip_z")].shapes = bad.links[FindLink(bad, "thigh")].shapes;
@@ -241,21 +251,8 @@ TEST(SelfCollisionSlides, LinkPosesMatchMujoco) {
 TEST(SelfCollisionSlides, TheFileKeepsTheSlides) {
   Loaded l;
   ASSERT_TRUE(Load(WriteXml("slides.xml", kSlides), &l));
-  SelfCollisionFile f;
-  f.robot = l.g;
-  f.online = NonAdjacentPairs(l.g);
-  const std::string path = ohrp::testing::ScratchDir() + "/slides_selfcollision.yaml";
-  std::string error;
-  ASSERT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
-  SelfCollisionFile back;
-  ASSERT_TRUE(ReadSelfCollisionFile(path, &back, &error)) << error;
-  ASSERT_EQ(back.robot.links.size(), l.g.links.size());
-  for (size_t k = 0; k < l.g.links.size(); ++k) {
-    EXPECT_EQ(back.robot.links[k].slide, l.g.links[k].slide) << l.g.links[k].name;
-    EXPECT_EQ(back.robot.links[k].joint_only, l.g.links[k].joint_only) << l.g.links[k].name;
-  }
   // the same postures from the file's geometry
-  l.g = back.robot;
+  l.g = RoundTrip(l.g).robot;
   EXPECT_EQ(ExpectPosesMatchMujoco(l, 50), 50 * 5);
 }
 

@@ -2,6 +2,7 @@
 // mjcf/hrp1s/hrp1s.xml (bodies, joints, inertias, actuators, sensors, sites, cameras, keyframes,
 // the model hash), sample1_bush.wrl its bush joints as spring-dampers, the other samples and the
 // floors load, a scene Inlines a robot and a floor, and malformed text gets file:line:column.
+#include "common/scratch.h"
 #include "vrml/vrml.h"
 
 #include <gtest/gtest.h>
@@ -43,12 +44,7 @@ ModelPtr LoadMjcf(const std::string& path) {
   return m;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using ohrp::testing::ReadFile;
 
 std::string Name(const mjModel* m, int type, int id) {
   const char* n = mj_id2name(m, type, id);
@@ -75,7 +71,7 @@ constexpr double kAngle = 1e-6;     // keyframe joint angles and heights [rad, m
 
 //---------------- sample1.wrl is hrp1s.xml ----------------
 
-class Sample1 : public testing::Test {
+class Sample1 : public ::testing::Test {
  protected:
   void SetUp() override {
     vrml_ = LoadVrml(kSamples + "sample1.wrl");
@@ -354,7 +350,7 @@ std::string ErrorOf(const std::string& text) {
 }
 
 TEST(Malformed, TruncatedFileNamesWhereItEnds) {
-  const std::string text = ReadText(kSamples + "sample1.wrl");
+  const std::string text = ReadFile(kSamples + "sample1.wrl");
   ASSERT_GT(text.size(), 1000u);
   for (size_t cut : {text.size() / 3, text.size() / 2, text.size() - 10}) {
     const std::string error = ErrorOf(text.substr(0, cut));

@@ -32,12 +32,7 @@ const std::string kScene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_fla
 constexpr int kWidth = 160, kHeight = 120;
 constexpr double kRate = 20.0;  // frames per simulated second
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ohrp::testing::ReadFile;
 
 // the expected depth [m] of pixel (u, v) (top row first) of camera `cam`: where the ray of a
 // pinhole camera with MuJoCo's convention (looking along -z, y up, fovy vertical) meets the
@@ -61,7 +56,7 @@ TEST(SimHostCameras, RenderOnlyWhileAskedAtTheRateWithTheFloorsDepth) {
                             "--camera-size", "160x120", "--camera-rate", "20"},
                            {.err = err});
   shm::Observer o;
-  ASSERT_TRUE(WaitFor([&] { return o.open(segment).ok(); }, 10.0)) << ReadAll(err);
+  ASSERT_TRUE(WaitFor([&] { return o.open(segment).ok(); }, 10.0)) << ReadFile(err);
   ASSERT_EQ(o.header().ncamera, 2);
   EXPECT_STREQ(o.header().cameras[0].name, "LeftCamera");
   EXPECT_EQ(o.header().cameras[0].width, kWidth);
@@ -94,7 +89,7 @@ TEST(SimHostCameras, RenderOnlyWhileAskedAtTheRateWithTheFloorsDepth) {
       if (matched) at_frame = s;
     }
     return frames.size() >= 6 && matched;
-  }, 20.0)) << frames.size() << " frames; " << ReadAll(err);
+  }, 20.0)) << frames.size() << " frames; " << ReadFile(err);
   EXPECT_EQ(o.read_image(1, 0, image.get()), shm::ImageResult::kNoFrame);
   EXPECT_GE(frames.front().second, asked_at - 1e-9);
   int consecutive = 0;
@@ -166,8 +161,8 @@ TEST(SimHostCameras, RenderOnlyWhileAskedAtTheRateWithTheFloorsDepth) {
 
   o.close();
   kill(host, SIGINT);
-  EXPECT_EQ(WaitExit(host, 10.0), 130) << ReadAll(err);
-  EXPECT_NE(ReadAll(err).find("sim_host: cameras: "), std::string::npos) << ReadAll(err);
+  EXPECT_EQ(WaitExit(host, 10.0), 130) << ReadFile(err);
+  EXPECT_NE(ReadFile(err).find("sim_host: cameras: "), std::string::npos) << ReadFile(err);
   std::filesystem::remove(err);
 }
 

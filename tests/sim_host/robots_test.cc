@@ -12,7 +12,7 @@
 #include <chrono>
 #include <thread>
 
-#include "../controllers/fake_robot.h"  // ExternalDir, Program, Spawn, WaitExit, TempPath, ReadText
+#include "../controllers/fake_robot.h"  // ExternalDir, Program, Spawn, WaitExit, TempPath, ReadFile
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::sim {
@@ -38,39 +38,39 @@ class RobotsExplained : public ::testing::Test {
     std::remove(log_.c_str());
     return ct::WaitExit(ct::Spawn(args, log_), 60.0);
   }
-  bool Says(const std::string& text) { return ct::ReadText(log_).find(text) != std::string::npos; }
+  bool Says(const std::string& text) { return ct::ReadFile(log_).find(text) != std::string::npos; }
   std::string external_, log_;
 };
 
 TEST_F(RobotsExplained, UnitreeH1RunsAtTheMultipleOfItsStepNearest5ms) {
-  ASSERT_EQ(Explain("menagerie/unitree_h1/scene.xml"), 0) << ct::ReadText(log_);
-  EXPECT_TRUE(Says("physics step 0.002 s, control period 0.004 s (2 steps per cycle")) << ct::ReadText(log_);
+  ASSERT_EQ(Explain("menagerie/unitree_h1/scene.xml"), 0) << ct::ReadFile(log_);
+  EXPECT_TRUE(Says("physics step 0.002 s, control period 0.004 s (2 steps per cycle")) << ct::ReadFile(log_);
   EXPECT_TRUE(Says("left_knee: motor gear=1: ctrl = tau/1, ctrl in [-300, 300]; torque limit 300"))
-      << ct::ReadText(log_);
-  EXPECT_TRUE(Says("passive joints (0, read-only): none")) << ct::ReadText(log_);
+      << ct::ReadFile(log_);
+  EXPECT_TRUE(Says("passive joints (0, read-only): none")) << ct::ReadFile(log_);
   // an explicit period that does not divide the step names the ones that would
   EXPECT_EQ(Explain("menagerie/unitree_h1/scene.xml", {"--control-period", "0.005"}), 2);
-  EXPECT_TRUE(Says("use --control-period 0.004 or 0.006")) << ct::ReadText(log_);
+  EXPECT_TRUE(Says("use --control-period 0.004 or 0.006")) << ct::ReadFile(log_);
 }
 
 TEST_F(RobotsExplained, CassiesGearedMotorsAndPassiveJoints) {
-  ASSERT_EQ(Explain("menagerie/agility_cassie/scene.xml"), 0) << ct::ReadText(log_);
-  EXPECT_TRUE(Says("control period 0.005 s (10 steps per cycle")) << ct::ReadText(log_);
+  ASSERT_EQ(Explain("menagerie/agility_cassie/scene.xml"), 0) << ct::ReadFile(log_);
+  EXPECT_TRUE(Says("control period 0.005 s (10 steps per cycle")) << ct::ReadFile(log_);
   EXPECT_TRUE(Says("left-knee: motor gear=16: ctrl = tau/16, ctrl in [-12.2, 12.2]; torque limit 195.2"))
-      << ct::ReadText(log_);
-  EXPECT_TRUE(Says("left-foot: motor gear=50: ctrl = tau/50")) << ct::ReadText(log_);
-  EXPECT_TRUE(Says("passive joints (10, read-only): left-shin left-tarsus")) << ct::ReadText(log_);
+      << ct::ReadFile(log_);
+  EXPECT_TRUE(Says("left-foot: motor gear=50: ctrl = tau/50")) << ct::ReadFile(log_);
+  EXPECT_TRUE(Says("passive joints (10, read-only): left-shin left-tarsus")) << ct::ReadFile(log_);
 }
 
 TEST_F(RobotsExplained, MujocosHumanoidsWithTheirGears) {
   for (const char* scene : {"mujoco-2.2.2-models/humanoid/humanoid.xml",
                             "mujoco-2.2.2-models/humanoid100/humanoid100.xml"}) {
-    ASSERT_EQ(Explain(scene), 0) << scene << "\n" << ct::ReadText(log_);
-    EXPECT_TRUE(Says("actuation (21 commanded joints")) << ct::ReadText(log_);
+    ASSERT_EQ(Explain(scene), 0) << scene << "\n" << ct::ReadFile(log_);
+    EXPECT_TRUE(Says("actuation (21 commanded joints")) << ct::ReadFile(log_);
     EXPECT_TRUE(Says("right_hip_y: motor gear=120: ctrl = tau/120, ctrl in [-1, 1]; torque limit 120"))
-        << ct::ReadText(log_);
+        << ct::ReadFile(log_);
     // humanoid100's hundred free objects are not the robot's joints
-    EXPECT_TRUE(Says("passive joints (0, read-only): none")) << ct::ReadText(log_);
+    EXPECT_TRUE(Says("passive joints (0, read-only): none")) << ct::ReadFile(log_);
   }
 }
 
@@ -89,7 +89,7 @@ TEST_F(RobotsExplained, ACassieControllerSeesItsShinAndTarsus) {
   for (int i = 0; i < 1000 && !(st = a.open(segment)).ok(); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  ASSERT_TRUE(st.ok()) << st.message << "\n" << ct::ReadText(log_);
+  ASSERT_TRUE(st.ok()) << st.message << "\n" << ct::ReadFile(log_);
   const shm::SegmentHeader& h = a.header();
   EXPECT_EQ(h.njoint, 10);
   ASSERT_EQ(h.npassive, 10);
@@ -112,7 +112,7 @@ TEST_F(RobotsExplained, ACassieControllerSeesItsShinAndTarsus) {
   ASSERT_EQ(a.write(c), shm::ReadResult::kOk);
   ASSERT_EQ(a.read(&s), shm::ReadResult::kOk);
   a.close();
-  EXPECT_EQ(ct::WaitExit(sim, 30.0), 0) << ct::ReadText(log_);
+  EXPECT_EQ(ct::WaitExit(sim, 30.0), 0) << ct::ReadFile(log_);
 }
 
 }  // namespace

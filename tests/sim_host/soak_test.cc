@@ -26,7 +26,7 @@
 #include <thread>
 #include <vector>
 
-#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadText
+#include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadFile
 #include "shm_bridge/bridge.h"
 
 namespace ohrp::sim {
@@ -144,7 +144,7 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
     while (Since(started) < kControllerLife) {
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
       const long kb = RssKb(sim);
-      ASSERT_GT(kb, 0) << "sim_host is gone: " << ct::ReadText(err);
+      ASSERT_GT(kb, 0) << "sim_host is gone: " << ct::ReadFile(err);
       if (Since(t0) >= warm_up) {
         if (rss_warm < 0) rss_warm = kb;
         rss.push_back(kb);
@@ -154,13 +154,13 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
     ohrp::testing::WaitExit(r.pid, ohrp::testing::kNoTimeout);
     // the loss is seen before the next controller starts, so every event is its own
     const auto lost = Clock::now();
-    while (Count(ct::ReadText(err), "waiting for a new controller") < runs.size() &&
+    while (Count(ct::ReadFile(err), "waiting for a new controller") < runs.size() &&
            Since(lost) < 10)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   kill(sim, SIGINT);
-  ASSERT_EQ(ct::WaitExit(sim, 30.0), 130) << ct::ReadText(err);
-  const nlohmann::json s = nlohmann::json::parse(ct::ReadText(summary));
+  ASSERT_EQ(ct::WaitExit(sim, 30.0), 130) << ct::ReadFile(err);
+  const nlohmann::json s = nlohmann::json::parse(ct::ReadFile(summary));
   std::printf("soak: %.0f s, %zu controllers, %zu pushes, %lu cycles, RSS %ld kB after the "
               "warm-up, at most %ld kB\n",
               seconds, runs.size(), push_t0.size(), s["cycles"].get<unsigned long>(), rss_warm,

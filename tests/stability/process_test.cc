@@ -30,12 +30,7 @@ pid_t Spawn(const std::vector<std::string>& args, const std::string& out_file) {
 // exit code, or -1 after `timeout` [s] (the process is then killed)
 using ohrp::testing::WaitExit;
 
-std::string Read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ohrp::testing::ReadFile;
 
 TEST(DivergenceStop, SimHostStopsWithADiagnosticAndThePostureControllerIsTold) {
   const std::string segment = "stabtest_" + std::to_string(getpid());
@@ -58,8 +53,8 @@ TEST(DivergenceStop, SimHostStopsWithADiagnosticAndThePostureControllerIsTold) {
                               (dir / "posture.txt").string());
   const int sim_exit = WaitExit(sim, 60);
   const int posture_exit = WaitExit(posture, 20);
-  const std::string sim_text = Read((dir / "sim_host.txt").string());
-  const std::string posture_text = Read((dir / "posture.txt").string());
+  const std::string sim_text = ReadFile((dir / "sim_host.txt").string());
+  const std::string posture_text = ReadFile((dir / "posture.txt").string());
 
   // sim_host: exit 4, the diagnostic names the step, the joint and the cause
   EXPECT_EQ(sim_exit, 4) << sim_text;
@@ -120,7 +115,7 @@ TEST(DivergenceStop, AFallingBodyBesideTheRobotDoesNotStopTheRun) {
                            "--progress", "0", "--summary", summary},
                           (dir / "sim_host.txt").string());
   const int code = WaitExit(sim, 60);
-  const std::string text = Read((dir / "sim_host.txt").string());
+  const std::string text = ReadFile((dir / "sim_host.txt").string());
   EXPECT_EQ(code, 0) << text;
   EXPECT_EQ(text.find("diverged"), std::string::npos) << text;
   std::ifstream in(summary);

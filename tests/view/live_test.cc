@@ -63,7 +63,7 @@ TEST_F(Live, ShowsTheRobotAndThePlotsAdvanceWithSimulatedTime) {
   StartPosture();
   Viewer viewer;
   StartViewer(&viewer, {segment_, "--port", "0", "--attach-timeout", "20"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
   Browser browser(viewer.url);
   ASSERT_TRUE(browser.ok()) << browser.error();
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.points > 20"));
@@ -106,7 +106,7 @@ TEST_F(Live, ShowsTheCameraImagesOnlyWhileAPageAsks) {
   Viewer viewer;
   StartViewer(&viewer, {segment_, "--port", "0", "--attach-timeout", "20", "--scene", ball},
               (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
   // the test's own observer, which never asks: it sees the frames somebody else asked for
   shm::Observer reference;
   ASSERT_TRUE(reference.open(segment_).ok());
@@ -128,7 +128,7 @@ TEST_F(Live, ShowsTheCameraImagesOnlyWhileAPageAsks) {
   const double w0 = MonotonicSeconds();
   browser.Eval("document.getElementById('show_images').click()");
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 4", 30.0))
-      << ReadAll(viewer.out_file);
+      << ReadFile(viewer.out_file);
   // the last image's frame counter and capture time, read together (in one evaluation)
   auto last_image = [&](double* frame, double* t) {
     const nlohmann::json j = browser.Eval(
@@ -205,14 +205,14 @@ TEST_F(Live, AStoppedOrKilledViewerDoesNotSlowTheLockStep) {
     if (viewers) {
       StartViewer(&stopped, {segment_, "--port", "0", "--attach-timeout", "20"}, (dir_ / "v1.txt").string());
       StartViewer(&killed, {segment_, "--port", "0", "--attach-timeout", "20"}, (dir_ / "v2.txt").string());
-      EXPECT_FALSE(stopped.url.empty() || killed.url.empty()) << ReadAll(dir_ / "v1.txt");
+      EXPECT_FALSE(stopped.url.empty() || killed.url.empty()) << ReadFile(dir_ / "v1.txt");
       kill(stopped.pid, SIGSTOP);
       kill(killed.pid, SIGKILL);
     }
     const double t0 = MonotonicSeconds();
     const pid_t posture = StartPosture();
-    EXPECT_EQ(shm::testing::WaitExit(sim, 60.0), 0) << ReadAll(dir_ / "sim_host.txt");
-    EXPECT_EQ(shm::testing::WaitExit(posture, 10.0), 0) << ReadAll(dir_ / "posture.txt");
+    EXPECT_EQ(shm::testing::WaitExit(sim, 60.0), 0) << ReadFile(dir_ / "sim_host.txt");
+    EXPECT_EQ(shm::testing::WaitExit(posture, 10.0), 0) << ReadFile(dir_ / "posture.txt");
     return MonotonicSeconds() - t0;
   };
   const double alone = run(false);
@@ -261,7 +261,7 @@ TEST_F(Live, AHardwareProducersBaseIsLabelledAsEstimatedFromTheImu) {
   });
   Viewer viewer;
   StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
-  EXPECT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  EXPECT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
   usleep(500000);
   EXPECT_EQ(producer->ImagesRequested(), 0u) << "a viewer without a page asked for images";
   if (!viewer.url.empty()) {
@@ -293,8 +293,8 @@ TEST_F(Live, RunWithViewStartsAViewerThatEndsWithTheRun) {
   const std::string out = (dir_ / "run.txt").string();
   const pid_t run = Start("ohrp_run", {(dir_ / "short.yaml").string(), "--view", "--realtime", "--no-plot",
                                        "-q", "--out", (dir_ / "out").string()}, out);
-  EXPECT_EQ(shm::testing::WaitExit(run, 60.0), 0) << ReadAll(out);
-  EXPECT_NE(ReadAll(out).find("ohrp_view: serving http://127.0.0.1:"), std::string::npos) << ReadAll(out);
+  EXPECT_EQ(shm::testing::WaitExit(run, 60.0), 0) << ReadFile(out);
+  EXPECT_NE(ReadFile(out).find("ohrp_view: serving http://127.0.0.1:"), std::string::npos) << ReadFile(out);
 }
 
 // `scene` under sim_host (real time, no controller) watched live: the pixels of the 3D view
@@ -308,7 +308,7 @@ int RobotPixels(const std::string& segment, const fs::path& dir, std::vector<pid
   Viewer viewer;
   StartViewer(&viewer, {segment, "--scene", scene, "--port", "0", "--attach-timeout", "20"},
               (dir / "viewer.txt").string());
-  EXPECT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file) << ReadAll(dir / "sim_host.txt");
+  EXPECT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file) << ReadFile(dir / "sim_host.txt");
   if (viewer.url.empty()) return -1;
   Browser browser(viewer.url);
   EXPECT_TRUE(browser.ok()) << browser.error();
@@ -388,15 +388,15 @@ TEST_F(Live, AnotherRobotsSceneIsRefused) {
   children_.push_back(sim);
   const std::string out = (dir_ / "viewer.txt").string();
   const pid_t pid = Start("ohrp_view", {segment_, "--attach-timeout", "20"}, out);
-  EXPECT_EQ(shm::testing::WaitExit(pid, 30.0), 2) << ReadAll(out) << ReadAll(dir_ / "sim_host.txt");
-  EXPECT_NE(ReadAll(out).find("does not hold the robot of segment"), std::string::npos) << ReadAll(out);
+  EXPECT_EQ(shm::testing::WaitExit(pid, 30.0), 2) << ReadFile(out) << ReadFile(dir_ / "sim_host.txt");
+  EXPECT_NE(ReadFile(out).find("does not hold the robot of segment"), std::string::npos) << ReadFile(out);
 }
 
 TEST_F(Live, ANonexistentSegmentIsRefused) {
   const std::string out = (dir_ / "viewer.txt").string();
   const pid_t pid = Start("ohrp_view", {segment_}, out);
   EXPECT_EQ(shm::testing::WaitExit(pid, 20.0), 2);
-  EXPECT_NE(ReadAll(out).find("no segment '" + segment_ + "'"), std::string::npos) << ReadAll(out);
+  EXPECT_NE(ReadFile(out).find("no segment '" + segment_ + "'"), std::string::npos) << ReadFile(out);
 }
 
 }  // namespace

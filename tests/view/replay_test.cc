@@ -44,7 +44,7 @@ PixelCount RobotPixels(Browser* b, const std::string& png) {
 TEST_F(Replay, ShowsTheRobotAndTheSliderMovesIt) {
   Viewer viewer;
   StartViewer(&viewer, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadAll(viewer.out_file);
+  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
   // the page paused at t = 0
   Browser browser(viewer.url + "?t=0");
   ASSERT_TRUE(browser.ok()) << browser.error();
@@ -77,14 +77,14 @@ TEST_F(Replay, AFolderWithoutLogIsRefused) {
   const std::string out = (dir_ / "viewer.txt").string();
   const pid_t pid = Start("ohrp_view", {(dir_ / "run").string()}, out);
   EXPECT_EQ(shm::testing::WaitExit(pid, 20.0), 2);
-  EXPECT_NE(ReadAll(out).find("has no log.csv"), std::string::npos) << ReadAll(out);
+  EXPECT_NE(ReadFile(out).find("has no log.csv"), std::string::npos) << ReadFile(out);
 }
 
 TEST_F(Replay, AMissingFolderIsRefused) {
   const std::string out = (dir_ / "viewer.txt").string();
   const pid_t pid = Start("ohrp_view", {(dir_ / "nowhere").string()}, out);
   EXPECT_EQ(shm::testing::WaitExit(pid, 20.0), 2);
-  EXPECT_NE(ReadAll(out).find("no run folder"), std::string::npos) << ReadAll(out);
+  EXPECT_NE(ReadFile(out).find("no run folder"), std::string::npos) << ReadFile(out);
 }
 
 }  // namespace

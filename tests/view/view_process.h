@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../shm_bridge/test_util.h"
+#include "common/scratch.h"
 
 namespace ohrp::view::testing {
 
@@ -29,10 +30,7 @@ inline pid_t Start(const std::string& program, const std::vector<std::string>& a
   return ohrp::testing::Spawn(all, ohrp::testing::ToFile(out_file));
 }
 
-inline std::string ReadAll(const std::string& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using ohrp::testing::ReadFile;
 
 // A viewer started on `target`: its pid and the URL it printed ("" when it printed none within
 // `timeout` [s], e.g. because it exited).
@@ -45,8 +43,8 @@ inline void StartViewer(Viewer* v, const std::vector<std::string>& args, const s
                         double timeout = 20.0) {
   v->out_file = out_file;
   v->pid = Start("ohrp_view", args, out_file);
-  shm::testing::WaitFor([&] { return ReadAll(out_file).find("http://") != std::string::npos; }, timeout);
-  const std::string out = ReadAll(out_file);
+  shm::testing::WaitFor([&] { return ReadFile(out_file).find("http://") != std::string::npos; }, timeout);
+  const std::string out = ReadFile(out_file);
   const size_t at = out.find("http://");
   if (at != std::string::npos) v->url = out.substr(at, out.find(' ', at) - at);
 }
