@@ -16,7 +16,8 @@ function(ohrp_add_test)
     set(T_LABELS unit)
   endif()
   add_executable(${T_NAME} ${T_SOURCES})
-  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} ohrp::test_process GTest::gtest GTest::gtest_main Threads::Threads)
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} ohrp::test_process GTest::gtest GTest::gtest_main
+                        Threads::Threads)
   target_compile_definitions(${T_NAME} PRIVATE
     OHRP_SOURCE_DIR="${OHRP_SOURCE_DIR}"
     OHRP_BIN_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")

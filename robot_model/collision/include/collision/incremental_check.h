@@ -3,9 +3,10 @@
 // over the joints j above it: for a hinge r_jl bounds its distance from j's axis in any posture,
 // from the link lengths, shape sizes and slide ranges; for a slide r_jl = 1), and a pair whose
 // last measured distance (a lower bound of the gap) exceeds what its two links travelled since,
-// by more than the cutoff, is still farther than the cutoff and is skipped. Every pair that can be within the cutoff is measured with the checker,
-// so a Check answers exactly what SelfCollision::Check answers on the same pairs for every pair
-// within the cutoff; the others carry a lower bound above it.
+// by more than the cutoff, is still farther than the cutoff and is skipped. Every pair that can
+// be within the cutoff is measured with the checker, so a Check answers exactly what
+// SelfCollision::Check answers on the same pairs for every pair within the cutoff; the others
+// carry a lower bound above it.
 //
 // Shared by the controllers' online guard (controllers/self_collision_guard.h) and sim_host's
 // self_collision effect, which check a robot every control cycle. MoveTo and Check allocate,
