@@ -27,12 +27,15 @@ Shape Cylinder(double r, double h) { Shape s; s.type = ShapeType::kCylinder; s.s
 Shape Capsule(double r, double h) { Shape s; s.type = ShapeType::kCapsule; s.size = {r, h, 0}; return s; }
 
 // two free-standing links, one shape each, at poses (p, q) in the base frame
-double Pair(Shape a, const Eigen::Vector3d& p_a, Shape b, const Eigen::Vector3d& p_b,
-            const Eigen::Quaterniond& q_b = Eigen::Quaterniond::Identity()) {
+std::unique_ptr<SelfCollision> TwoLinks(Shape a, const Eigen::Vector3d& p_a, Shape b,
+                                        const Eigen::Vector3d& p_b,
+                                        const Eigen::Quaterniond& q_a = Eigen::Quaterniond::Identity(),
+                                        const Eigen::Quaterniond& q_b = Eigen::Quaterniond::Identity()) {
   RobotGeometry r;
   Link la, lb;
   la.name = "a";
   la.p_PL = p_a;
+  la.q_PL = q_a;
   la.shapes = {a};
   lb.name = "b";
   lb.p_PL = p_b;
@@ -42,6 +45,13 @@ double Pair(Shape a, const Eigen::Vector3d& p_a, Shape b, const Eigen::Vector3d&
   std::string error;
   auto c = SelfCollision::Create(r, &error);
   EXPECT_TRUE(c) << error;
+  return c;
+}
+
+// their distance
+double Pair(Shape a, const Eigen::Vector3d& p_a, Shape b, const Eigen::Vector3d& p_b,
+            const Eigen::Quaterniond& q_b = Eigen::Quaterniond::Identity()) {
+  auto c = TwoLinks(a, p_a, b, p_b, Eigen::Quaterniond::Identity(), q_b);
   return c ? c->Distance(0, 1, INFINITY) : NAN;
 }
 
@@ -163,6 +173,55 @@ TEST(SelfCollisionCheck, FarPairsNeverReachGjk) {
   EXPECT_GT(k.narrow_queries, 0);
   EXPECT_EQ(k.closest, 0);
   EXPECT_NEAR(k.min_distance, 0.18 - 0.1, kTol);
+}
+
+// Above the cutoff the broad phase may answer with any lower bound of the gap: the bounding
+// spheres, or the gap of the shapes' projections on the line of their centres, which is tight
+// for limbs side by side where the spheres of long shapes overlap.
+TEST(SelfCollisionCheck, BroadPhaseBoundsAreLowerBounds) {
+  // two parallel upright capsules (radius 3 cm, half-length 20 cm) 20 cm apart: their spheres
+  // (23 cm) overlap, the gap is 14 cm, and the line of centres finds it without GJK
+  auto limbs = TwoLinks(Capsule(0.03, 0.2), {0, 0, 0}, Capsule(0.03, 0.2), {0.2, 0, 0});
+  ASSERT_TRUE(limbs);
+  const LinkPair both{0, 1};
+  const CheckResult r = limbs->Check(std::span(&both, 1), 0.05, {});
+  EXPECT_EQ(r.narrow_queries, 0);
+  EXPECT_EQ(r.closest, -1);
+  EXPECT_NEAR(r.min_distance, 0.14, 1e-12);
+  // random shapes, sizes, poses: whatever the broad phase answers above a cutoff is at most the
+  // gap GJK measures (no cutoff), and within the cutoff it is the measured gap itself
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto shape = [&](int kind) {
+    const double r = 0.01 + 0.05 * u(rng), h = 0.01 + 0.2 * u(rng);
+    switch (kind) {
+      case 0: return Box(r, h, 0.01 + 0.1 * u(rng));
+      case 1: return Capsule(r, h);
+      case 2: return Cylinder(r, h);
+      default: return Sphere(r);
+    }
+  };
+  auto rotation = [&] {
+    return Eigen::Quaterniond(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+  };
+  int bounded = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Shape a = shape(i % 4), b = shape((i / 4) % 4);
+    const Eigen::Vector3d p(0.6 * u(rng) - 0.3, 0.6 * u(rng) - 0.3, 0.6 * u(rng) - 0.3);
+    auto c = TwoLinks(a, {0, 0, 0}, b, p, rotation(), rotation());
+    ASSERT_TRUE(c);
+    const double exact = c->ShapeDistance(0, 0, 1, 0, INFINITY);
+    for (double cutoff : {0.0, 0.02, 0.1}) {
+      const double d = c->ShapeDistance(0, 0, 1, 0, cutoff);
+      if (d > cutoff) {
+        EXPECT_LE(d, exact + 1e-9) << "pair " << i << ", cutoff " << cutoff;
+        ++bounded;
+      } else {
+        EXPECT_NEAR(d, exact, 1e-12) << "pair " << i << ", cutoff " << cutoff;
+      }
+    }
+  }
+  EXPECT_GT(bounded, 1000);
 }
 
 TEST(SelfCollisionModel, ValidateNamesWhatIsWrong) {
