@@ -73,12 +73,12 @@ double SelfCollision::ShapeDistance(int la, int sa, int lb, int sb, double cutof
   const PreparedShape& b = shapes_->of(lb)[sb];
   const Eigen::Isometry3d X_WA = X_WL_[la] * a.X_LS, X_WB = X_WL_[lb] * b.X_LS;
   // broad phase: the shapes' bounding spheres
-  const double bound = (X_WA.translation() - X_WB.translation()).norm() - a.radius - b.radius;
+  const Eigen::Vector3d centres = X_WB.translation() - X_WA.translation();
+  const double length = centres.norm();
+  const double bound = length - a.radius - b.radius;
   if (bound > cutoff) return bound;
   // a tighter bound, nearly as cheap: the gap between the shapes' projections on the line of
   // their centres (the spheres of long shapes, limbs, are loose)
-  const Eigen::Vector3d centres = X_WB.translation() - X_WA.translation();
-  const double length = centres.norm();
   if (length > 0) {
     const Eigen::Vector3d n = centres / length;
     const double gap = -(Support(a, X_WA, n) + Support(b, X_WB, -n));
