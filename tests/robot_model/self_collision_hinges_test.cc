@@ -2,7 +2,8 @@
 // a shoulder of two) and on slides (a lift, a telescoping arm, a gripper's finger): from_mjcf
 // makes each extra joint a joint_only link, and the checker's link poses must still be MuJoCo's
 // for any posture, the body's parent and the body must stay one adjacent pair, and the
-// self-collision file must keep the chain and the slides.
+// self-collision file must keep the chain and the slides. Meshes MuJoCo compiled without a hull
+// (visual-only ones: a cube here, every mesh of menagerie's H1) get Qhull's.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
@@ -15,6 +16,7 @@
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
 #include "common/scratch.h"
+#include "hull_checks.h"
 #include "robot_model/model.h"
 
 namespace ohrp::collision {
@@ -297,6 +299,94 @@ TEST(SelfCollisionHinges, MujocosHumanoidPosesMatchMujoco) {
   const int thigh = FindLink(l.g, "right_thigh"), pelvis = FindLink(l.g, "pelvis");
   ASSERT_GE(thigh, 0);
   EXPECT_EQ(BodyParent(l.g, thigh), pelvis);
+}
+
+// a base with a box and, on a hinge, a link whose only geom is a visual cube mesh (5 cm half
+// size) 30 cm away along x
+constexpr const char* kVisualCube = R"(<mujoco model="visual_cube">
+  <asset>
+    <mesh name="cube" vertex="-.05 -.05 -.05  .05 -.05 -.05  -.05 .05 -.05  .05 .05 -.05
+                              -.05 -.05 .05  .05 -.05 .05  -.05 .05 .05  .05 .05 .05"
+          face="0 2 1  1 2 3  4 5 6  5 7 6  0 1 4  1 5 4  2 6 3  3 6 7  0 4 2  2 4 6  1 3 5  3 7 5"/>
+  </asset>
+  <worldbody>
+    <body name="base" pos="0 0 1">
+      <freejoint/>
+      <geom name="box" type="box" size=".05 .05 .05"/>
+      <body name="link" pos=".3 0 0">
+        <inertial pos="0 0 0" mass="1" diaginertia=".01 .01 .01"/>
+        <joint name="turn" axis="0 0 1"/>
+        <geom name="cube" type="mesh" mesh="cube" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><motor joint="turn"/></actuator>
+</mujoco>)";
+
+const Shape* OnlyShape(const RobotGeometry& g, const std::string& link) {
+  for (const Link& l : g.links)
+    if (l.name == link && l.shapes.size() == 1) return &l.shapes[0];
+  return nullptr;
+}
+
+TEST(SelfCollisionMeshes, VisualOnlyMeshGetsItsHull) {
+  Loaded l;
+  ASSERT_TRUE(Load(ohrp::testing::ScratchFile("visual_cube", kVisualCube, ".xml"), &l));
+  ASSERT_LT(l.m->mesh_graphadr[0], 0) << "MuJoCo made this mesh's hull itself: the test is moot";
+  const Shape* cube = OnlyShape(l.g, "link");
+  ASSERT_NE(cube, nullptr);
+  EXPECT_EQ(cube->type, ShapeType::kConvex);
+  EXPECT_EQ(cube->vertices.size(), 8u);
+  EXPECT_EQ(cube->faces.size(), 4u * 12);
+  ExpectOutwardTriangles(cube->vertices, cube->faces);
+  std::string error;
+  auto c = SelfCollision::Create(l.g, &error);
+  ASSERT_TRUE(c) << error;
+  const int base = 0, link = 1;
+  ASSERT_EQ(l.g.links[link].name, "link");
+  // face to face: 30 cm between the centres less two half sizes; turned 45 deg about z, the
+  // cube's edge comes 5 (sqrt 2 - 1) cm closer
+  c->SetPose(std::vector<double>{0.0});
+  EXPECT_NEAR(c->Distance(base, link, INFINITY), 0.2, 1e-6);
+  c->SetPose(std::vector<double>{M_PI / 4});
+  EXPECT_NEAR(c->Distance(base, link, INFINITY), 0.2 - 0.05 * (std::sqrt(2.0) - 1), 1e-6);
+}
+
+// menagerie's Unitree H1: every mesh is visual only, the collision geoms are primitives
+TEST(SelfCollisionMeshes, MenageriesH1LoadsWithItsMeshes) {
+  const std::string path =
+      std::string(OHRP_SOURCE_DIR) + "/../shared/external/menagerie/unitree_h1/h1.xml";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not there";
+  Loaded l;
+  ASSERT_TRUE(Load(path, &l));
+  // each mesh geom's shape against MuJoCo's vertices of that mesh
+  std::mt19937 rng(5);
+  int meshes = 0;
+  for (int b = 1; b < l.m->nbody; ++b) {
+    const std::string body = mj_id2name(l.m, mjOBJ_BODY, b);
+    const auto link = std::find_if(l.g.links.begin(), l.g.links.end(),
+                                   [&](const Link& k) { return k.name == body; });
+    ASSERT_NE(link, l.g.links.end()) << body;
+    for (int g = l.m->body_geomadr[b], k = 0; g < l.m->body_geomadr[b] + l.m->body_geomnum[b]; ++g, ++k) {
+      if (l.m->geom_type[g] != mjGEOM_MESH) continue;
+      ++meshes;
+      const int mesh = l.m->geom_dataid[g];
+      const float* v = l.m->mesh_vert + 3 * l.m->mesh_vertadr[mesh];
+      std::vector<Eigen::Vector3d> raw;
+      for (int i = 0; i < l.m->mesh_vertnum[mesh]; ++i) raw.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+      const Shape& s = link->shapes[k];
+      ASSERT_EQ(s.type, ShapeType::kConvex) << body;
+      EXPECT_LT(s.vertices.size(), raw.size()) << body << ": the hull keeps only its corners";
+      for (int i = 0; i < 200; ++i) {
+        const Eigen::Vector3d d = RandomDirection(&rng);
+        EXPECT_NEAR(MaxAlong(s.vertices, d), MaxAlong(raw, d), 1e-9) << body;
+      }
+    }
+  }
+  EXPECT_EQ(meshes, l.m->nmesh);  // one visual geom per mesh in H1
+  // the checker's link poses are MuJoCo's body poses
+  const int links = static_cast<int>(l.g.links.size());
+  EXPECT_EQ(ExpectPosesMatchMujoco(l, 50), 50 * links);
 }
 
 }  // namespace

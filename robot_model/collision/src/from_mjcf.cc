@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "mesh_hull.h"
 #include "robot_model/model_hash.h"
 
 namespace ohrp::collision {
@@ -12,20 +13,19 @@ namespace {
 Eigen::Vector3d Vec(const mjtNum* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 Eigen::Quaterniond Quat(const mjtNum* q) { return Eigen::Quaterniond(q[0], q[1], q[2], q[3]); }
 
-// a mesh geom as the convex hull of its vertices (MuJoCo's graph: numvert, numface,
-// vert_edgeadr, vert_globalid, edge_localid, face_globalid)
+// a mesh geom as the convex hull of its vertices: MuJoCo's (its graph: numvert, numface,
+// vert_edgeadr, vert_globalid, edge_localid, face_globalid) where it made one, Qhull's where it
+// did not (MuJoCo 2.2 makes one only for meshes a colliding geom uses)
 bool MeshHull(const mjModel* m, int mesh, Shape* s, std::string* error) {
+  const float* v = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < m->mesh_vertnum[mesh]; ++i) points.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
   const int adr = m->mesh_graphadr[mesh];
-  if (adr < 0) {
-    *error = "has no convex hull (MuJoCo made no graph: give the mesh more than 3 vertices)";
-    return false;
-  }
+  if (adr < 0) return ConvexHull(points, &s->vertices, &s->faces, error);
   const int* g = m->mesh_graph + adr;
   const int numvert = g[0], numface = g[1];
   const int* face = g + 2 + 2 * numvert + (numvert + 3 * numface);
-  const float* v = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
-  for (int i = 0; i < m->mesh_vertnum[mesh]; ++i)
-    s->vertices.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  s->vertices = std::move(points);
   for (int f = 0; f < numface; ++f) {
     s->faces.push_back(3);
     for (int k = 0; k < 3; ++k) s->faces.push_back(face[3 * f + k]);
