@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,42 @@ TEST(ParseCommandLine, HelpIsZeroAndEveryErrorIsTwo) {
     EXPECT_EQ(err.rfind("prog: ", 0), 0u) << err;
     EXPECT_NE(err.find("Run with --help"), std::string::npos) << err;
   }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Plausible, EveryRangeIsOrderedFiniteAndExplained) {
+  for (const ohrp::cli::PlausibleRange& r : ohrp::cli::kPlausibleRanges) {
+    EXPECT_TRUE(std::isfinite(r.lo) && std::isfinite(r.hi) && r.lo < r.hi) << r.quantity;
+    EXPECT_NE(std::string(r.why), "") << r.quantity;
+    EXPECT_EQ(ohrp::cli::FindPlausible(r.quantity), &r) << r.quantity << " named twice";
+  }
+}
+
+TEST(Plausible, RefusesAbsurdButFiniteValuesNamingRangeAndUnit) {
+  EXPECT_EQ(ohrp::cli::CheckPlausible("physics_dt", 0.001, "physics_dt"), "");
+  EXPECT_EQ(ohrp::cli::CheckPlausible("physics_dt", 1e-300, "s.yaml:3: physics_dt"),
+            "s.yaml:3: physics_dt = 1e-300 is outside the plausible range [1e-05, 0.02] s "
+            "(an integration step between 10 us and 20 ms)");
+  for (double bad : {1e308, -1.0, std::nan(""), HUGE_VAL})
+    EXPECT_NE(ohrp::cli::CheckPlausible("gain_scale", bad, "--kp-scale"), "") << bad;
+  EXPECT_EQ(ohrp::cli::CheckPlausible("gain_scale", 0, "--kp-scale"), "");  // bounds inclusive
+  EXPECT_EQ(ohrp::cli::CheckPlausible("gain_scale", 100, "--kp-scale"), "");
+  EXPECT_EQ(ohrp::cli::CheckPlausible("no_such_quantity", 1, "x"),
+            "x: no plausible range for the quantity 'no_such_quantity'");
+}
+
+TEST(Plausible, ValidatorSaysTheRange) {
+  const CLI::Validator v = ohrp::cli::Plausible("speed_factor");
+  EXPECT_EQ(Check(v, "1"), "");
+  EXPECT_EQ(Check(v, "1e-300"),
+            "1e-300 is outside the plausible range [0.001, 1000] (a playback or video speed "
+            "between 0.001x and 1000x)");
+  EXPECT_EQ(Check(v, "abc"), "'abc' is not a number");
+  EXPECT_EQ(Check(ohrp::cli::Plausible("nonexistent"), "1"),
+            "1: no plausible range for the quantity 'nonexistent'");
 }
 
 }  // namespace

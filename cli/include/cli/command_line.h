@@ -18,6 +18,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "cli/plausible.h"
+
 namespace ohrp::cli {
 
 inline constexpr int kExitHelp = 0;   // --help (or --help-all) printed
@@ -71,6 +73,26 @@ inline CLI::Validator NonNegative() {
 inline CLI::Validator InRange(double lo, double hi) {
   const std::string range = "[" + detail::Short(lo) + ", " + detail::Short(hi) + "]";
   return detail::NumberIn(lo, false, hi, false, "a number in " + range, "in " + range);
+}
+
+// A finite number within the plausible range of `quantity` (cli/plausible.h): the table's range,
+// unit and reason in the message. An unknown quantity refuses every value (a programming error
+// the programs' tests catch).
+inline CLI::Validator Plausible(const std::string& quantity) {
+  const PlausibleRange* r = FindPlausible(quantity);
+  const std::string label = r ? "in [" + detail::Short(r->lo) + ", " + detail::Short(r->hi) + "]" +
+                                    (r->unit[0] ? std::string(" ") + r->unit : std::string())
+                              : "?";
+  return CLI::Validator(
+      [quantity](std::string& text) -> std::string {
+        double v = 0;
+        if (!detail::ParseFinite(text, &v)) return "'" + text + "' is not a number";
+        // "X is outside the plausible range ..." (CLI11 prefixes the option's name)
+        const PlausibleRange* r = FindPlausible(quantity);
+        if (r == nullptr) return CheckPlausible(quantity, v, text);
+        return IsPlausible(*r, v) ? std::string() : text + " is outside " + PlausibleRangeText(*r);
+      },
+      label);
 }
 
 // Parses the command line of `app`. Returns -1 to go on, else the exit code to return at once:
