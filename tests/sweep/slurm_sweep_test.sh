@@ -10,6 +10,8 @@ set -u
 src="$1" bin="$2" out="$3" py="$4"
 check="$py $src/tests/sweep/check_report.py"
 fail() { echo "FAIL: $*"; exit 1; }
+# MaxArraySize 5 (array indices 0-4): the 9-variant sweep goes as two array jobs (0-4, 5-8)
+export SLURM_MAX_ARRAY_SIZE=5
 . "$src/tests/sweep/slurm_cluster.sh"
 trap slurm_cluster_stop EXIT
 if ! slurm_cluster_start; then
@@ -33,10 +35,15 @@ cat "$out/slurm.stderr" "$out/slurm.md"
 tail -1 "$out/local.stderr"
 echo "wall time of ohrp_sweep (plots included): local $(( (t1 - t0) / 1000000 )) ms, Slurm $(( (t2 - t1) / 1000000 )) ms"
 $check statuses "$out/slurm" pass pass pass pass pass pass pass pass pass || fail "Slurm statuses"
-$check same "$out/local" "$out/slurm" || fail "the Slurm report differs from the local one"
+$check same "$out/local" "$out/slurm" 2 || fail "the Slurm report differs from the local one (or not 2 array jobs)"
+# each task had the two CPUs of a lock-stepped pair (sbatch --cpus-per-task=2 by default)
+cpus="$(scontrol show job "$($check field "$out/slurm" 0 slurm_job)" | grep -o 'NumCPUs=[0-9]*' | sort -u)"
+[ "$cpus" = NumCPUs=2 ] || fail "the tasks had '$cpus', not NumCPUs=2"
 # each task wrote its own Slurm output and ran on its own segment
 for t in 0 1 2 3 4 5 6 7 8; do
-  [ -f "$out/slurm/slurm/task_$t.out" ] || fail "no Slurm output of task $t"
+  o="$out/slurm/slurm/task_$t.out"
+  [ $t -ge 5 ] && o="$out/slurm/slurm/chunk5_task_$((t - 5)).out"
+  [ -f "$o" ] || fail "no Slurm output of variant $t ($o)"
   seg="sweep_$($check field "$out/slurm" $t slurm_job)_$t"
   grep -q "\"segment\": \"$seg\"" "$out/slurm/variants/v00$t/status.json" \
     && grep -q "$seg\b" "$out/slurm/variants/v00$t/run/sim_host.stderr" \
