@@ -119,12 +119,7 @@ int RunHost(const HostOptions& options) {
     PrintExplain(text);
     return kExitOk;
   }
-  // the outputs, before anything runs: the summary (a provisional one until the end) and the log
-  if (!o.summary_path.empty() &&
-      !model::PrepareOutputFile(o.summary_path, ProvisionalSummary(o), &error)) {
-    std::fprintf(stderr, "sim_host: --summary: %s\n", error.c_str());
-    return kExitUsage;
-  }
+  // the data log, before anything runs (its header written: a file that takes none is refused)
   std::unique_ptr<Recorder> recorder;
   if (effects.on(Effect::kLog)) {
     RecorderChannels channels;
@@ -158,6 +153,12 @@ int RunHost(const HostOptions& options) {
   std::snprintf(g_segment_object, sizeof(g_segment_object), "%s",
                 producer->object_name().c_str());
 
+  // the summary, before the run: a provisional one (outcome "running") until the end
+  if (!o.summary_path.empty() &&
+      !model::PrepareOutputFile(o.summary_path, ProvisionalSummary(o), &error)) {
+    std::fprintf(stderr, "sim_host: --summary: %s\n", error.c_str());
+    return kExitUsage;  // the segment is removed on the way out
+  }
   Cameras cameras(robot, o.cameras, effects.on(Effect::kCameras));
   Servo servo(robot);
   servo.HoldCurrent(d);

@@ -150,10 +150,11 @@ int RunProgram(const ProgramOptions& o) {
   }
   // the outputs, before anything runs (robot_model/output_file.h)
   for (const auto& [option, path] : {std::pair{"--summary", &o.summary_path}, {"--stats", &o.stats_path}}) {
-    if (!path->empty() && !model::PrepareOutputFile(*path, "{\"state\": \"starting\"}\n", &error)) {
+    if (!path->empty() && !model::PrepareOutputFile(*path, "{}\n", &error)) {
       std::fprintf(stderr, "hw_driver: %s: %s\n", option, error.c_str());
       return kExitUsage;
     }
+    if (!path->empty()) std::remove(path->c_str());  // written whole once there is something to say
   }
   // the data log: sim_host's columns without the ground truth (no base_* on the robot)
   std::unique_ptr<model::Recorder> log;
