@@ -58,7 +58,7 @@ void RunLocal(const SweepSpec& spec, const std::vector<int>& ids, const Executor
                               : std::max(1u, cores / static_cast<unsigned>(std::max(1, ex.cpus_per_variant)));
   jobs = std::min<unsigned>(jobs, static_cast<unsigned>(n));
   if (ex.progress)
-    std::fprintf(stderr, "ohrp_sweep: %zu variants of %s, %u at a time (%d CPUs each of %u), time limit %g s each -> %s\n",
+    std::fprintf(stderr, "ohrp_sweep: %zu variants of %s, %u at a time (%d CPUs each, %u cores here), time limit %g s each -> %s\n",
                  n, spec.scenario_file.c_str(), jobs, ex.cpus_per_variant, cores, spec.time_limit, out_dir.c_str());
   std::atomic<size_t> next{0};
   std::atomic<int> done{0};
