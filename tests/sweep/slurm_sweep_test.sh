@@ -4,7 +4,9 @@
 # exit even on failure), the 9-variant soles sweep run locally and then as one Slurm array job;
 # every variant must have run as its own array task, and the gathered reports must agree
 # (variants, parameter values, statuses, verdicts and every check value, exactly). Exit 77
-# (SKIP, with the reason) when the cluster cannot start, e.g. not root.
+# (SKIP, with the reason) when the cluster cannot start, e.g. not root. The sweep is chunked
+# (MaxArraySize 5), each task gets 2 CPUs, and a sweep whose submitting process was killed is
+# gathered from its folder (--gather) once its job ends.
 # usage: slurm_sweep_test.sh SOURCE_DIR BIN_DIR OUT_DIR PYTHON
 set -u
 src="$1" bin="$2" out="$3" py="$4"
@@ -58,6 +60,20 @@ rc=$?
 cat "$out/outcomes.md"
 [ $rc -eq 1 ] || fail "outcomes under Slurm: exit $rc, not 1"
 $check statuses "$out/outcomes" pass fail timeout || fail "outcomes under Slurm"
+
+# the submitting process dies (SIGKILL) once its array job is queued: the job goes on, and
+# --gather waits for it and reports every variant (here one that falls: its value not finite)
+"$bin/ohrp_sweep" "$src/tests/sweep/falls.yaml" --out "$out/orphan" --slurm --poll 0.5 \
+  >/dev/null 2>"$out/orphan.stderr" &
+pid=$!
+_slurm_wait_for "[ -s '$out/orphan/slurm/jobs.json' ]" 30 || fail "the orphaned sweep never submitted"
+kill -KILL $pid
+wait $pid 2>/dev/null
+"$bin/ohrp_sweep" --gather "$out/orphan" --poll 0.5 >"$out/gathered.md" 2>"$out/gathered.stderr"
+rc=$?
+cat "$out/gathered.stderr" "$out/gathered.md"
+[ $rc -eq 1 ] || fail "--gather of the orphaned Slurm sweep: exit $rc, not 1"
+$check statuses "$out/orphan" pass fell || fail "--gather of the orphaned Slurm sweep"
 
 # and a cancelled sweep: SIGINT while the first tasks run cancels the array job (scancel); the
 # running variants and the pending ones (which never wrote a status: Slurm's state says what

@@ -1,5 +1,6 @@
 // Reading a sweep folder back: one result per variant, whatever happened to it (see sweep.h).
 // Both executors call this after their runs; nothing here knows which one ran the variants.
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -96,10 +97,15 @@ std::string FallOf(const nlohmann::json& sim, const nlohmann::json& summary) {
   return "";
 }
 
-// A process of the run killed by a signal other than an interruption (SIGINT, SIGTERM): exit
-// code 128 + the signal. Which one and how, or "".
+// A process of the run ended by a signal of its own making (SIGSEGV, SIGABRT, SIGBUS, SIGFPE...):
+// exit code 128 + the signal. SIGINT and SIGTERM (an interruption, the end of a run) and SIGKILL
+// (what the runner and the time limit send to a process that would not end) are not crashes.
+// Which process and signal, or "".
 std::string CrashOf(int ohrp_run_code, const nlohmann::json& summary) {
-  auto crashed = [](int code) { return code > 128 && code < 128 + 65 && code != 130 && code != 143; };
+  auto crashed = [](int code) {
+    return code > 128 && code < 128 + 65 && code != 128 + SIGINT && code != 128 + SIGTERM &&
+           code != 128 + SIGKILL;
+  };
   auto describe = [](const std::string& who, int code) {
     const char* name = strsignal(code - 128);
     return who + " ended by signal " + std::to_string(code - 128) + " (" + (name ? name : "?") + ")";

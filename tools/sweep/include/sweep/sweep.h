@@ -138,7 +138,7 @@ struct VariantResult {
   std::vector<std::string> values;  // parameter values, in SweepSpec::parameters order
   // pass, fail (a check failed or a process ended badly), fell (the robot fell: sim_host's
   // outcome or event, or a failed not_fallen check), crashed (a process of the run ended by a
-  // signal other than SIGINT/SIGTERM), timeout (killed at the time limit), cancelled
+  // signal other than SIGINT, SIGTERM or SIGKILL), timeout (killed at the time limit), cancelled
   // (interrupted, or cancelled by Slurm), error (the run could not start), not run
   std::string status = "not run";
   std::string verdict;              // summary.json's verdict, empty without one
