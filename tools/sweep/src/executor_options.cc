@@ -16,8 +16,8 @@ void AddExecutorOptions(CLI::App* app, Executor* ex, const std::string& what) {
       ->capture_default_str()->check(ohrp::cli::InRange(1, 256));
   app->add_flag_callback(
       "--slurm", [ex] { ex->kind = Executor::kSlurm; },
-      "run the " + what + " as one Slurm array job (sbatch --array) and gather the results when "
-      "it ends");
+      "run the " + what + " as a Slurm array job (sbatch --array; several when there are more "
+      "than the site's MaxArraySize) and gather the results when it ends");
   app->add_option("--partition", ex->partition, "--slurm: the partition (default: the cluster's)");
   app->add_option("--time", ex->time, "--slurm: each task's time limit as sbatch takes it "
                                       "(default: the sweep's time_limit + 1 min)");
