@@ -58,6 +58,7 @@ int RunHost(const HostOptions& options) {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
   signal(SIGPIPE, SIG_IGN);
+  signal(SIGXFSZ, SIG_IGN);  // a file size limit fails the log's write (reported), never kills
 
   //---------------- set-up: scene, robot, segment ----------------
   std::string error;
@@ -118,6 +119,20 @@ int RunHost(const HostOptions& options) {
     PrintExplain(text);
     return kExitOk;
   }
+  // the data log, before anything runs (its header written: a file that takes none is refused)
+  std::unique_ptr<Recorder> recorder;
+  if (effects.on(Effect::kLog)) {
+    RecorderChannels channels;
+    channels.base = effects.on(Effect::kLogBase);
+    channels.joints = effects.on(Effect::kLogJoints);
+    channels.force_torque = effects.on(Effect::kLogForceTorque);
+    channels.imu = effects.on(Effect::kLogImu);
+    recorder = Recorder::Open(o.log_path, robot, &error, 8192, channels, o.log_max);
+    if (!recorder) {
+      std::fprintf(stderr, "sim_host: --log: %s\n", error.c_str());
+      return kExitUsage;
+    }
+  }
   const SensorSelection selection = SelectSensors(effects);
   std::unique_ptr<SensorNoise> noise;
   if (effects.on(Effect::kNoise)) noise = std::make_unique<SensorNoise>(effects.noise, selection);
@@ -138,20 +153,12 @@ int RunHost(const HostOptions& options) {
   std::snprintf(g_segment_object, sizeof(g_segment_object), "%s",
                 producer->object_name().c_str());
 
-  std::unique_ptr<Recorder> recorder;
-  if (effects.on(Effect::kLog)) {
-    RecorderChannels channels;
-    channels.base = effects.on(Effect::kLogBase);
-    channels.joints = effects.on(Effect::kLogJoints);
-    channels.force_torque = effects.on(Effect::kLogForceTorque);
-    channels.imu = effects.on(Effect::kLogImu);
-    recorder = Recorder::Open(o.log_path, robot, &error, 8192, channels);
-    if (!recorder) {
-      std::fprintf(stderr, "sim_host: %s\n", error.c_str());
-      return kExitUsage;
-    }
+  // the summary, before the run: a provisional one (outcome "running") until the end
+  if (!o.summary_path.empty() &&
+      !model::PrepareOutputFile(o.summary_path, ProvisionalSummary(o), &error)) {
+    std::fprintf(stderr, "sim_host: --summary: %s\n", error.c_str());
+    return kExitUsage;  // the segment is removed on the way out
   }
-
   Cameras cameras(robot, o.cameras, effects.on(Effect::kCameras));
   Servo servo(robot);
   servo.HoldCurrent(d);
@@ -236,6 +243,7 @@ int RunHost(const HostOptions& options) {
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
     if (segment_corrupted()) break;
+    if (recorder && recorder->failed()) break;  // the log is incomplete: a failed run (below)
 
     // commands for the cycle just published
     const bool attached = producer->controller_pid() != 0;
@@ -397,7 +405,7 @@ int RunHost(const HostOptions& options) {
                  g_signal.load(), d->time);
   }
   if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
-  if (recorder) recorder->Flush();
+  if (recorder) EndLog(recorder.get(), &st, &exit_code);
   st.rejected = servo.rejected_total();
   st.clamped = servo.clamped_total();
   for (size_t i = 0; i < robot.joints.size(); ++i) {
@@ -405,10 +413,6 @@ int RunHost(const HostOptions& options) {
   }
   st.warnings = WarningCount() - warnings_at_start;
   if (self_collision) st.self_collision = self_collision->Summary();
-  if (recorder) {
-    st.log_rows = recorder->written();
-    st.log_dropped = recorder->dropped();
-  }
   if (!o.quiet) PrintReport(st);
   if (!o.quiet && cameras.frames() > 0)
     std::fprintf(stderr, "sim_host: cameras: %lu images rendered, %.2f ms each\n",
@@ -420,7 +424,9 @@ int RunHost(const HostOptions& options) {
     st.contact_pairs_bounded = soft->stats().pairs_bound;
   }
   st.contact = ContactModelName(contact_model);
-  if (!o.summary_path.empty()) WriteSummary(o.summary_path, o, robot, m, st, exit_code, &effects);
+  if (!o.summary_path.empty() &&
+      !WriteSummary(o.summary_path, o, robot, m, st, exit_code, &effects) && exit_code == kExitOk)
+    exit_code = kExitOutputFailed;
   recorder.reset();
   producer.reset();  // removes the segment
   g_segment_object[0] = 0;

@@ -66,10 +66,19 @@ int main(int argc, char** argv) {
                  "when the controller dies, hangs or detaches: end the run, wait for a new one, or "
                  "continue holding (a hung controller is dropped: resumed, it exits 7)")
       ->capture_default_str()->check(CLI::IsMember({"end", "wait", "continue"}));
-  app.add_option("--log", o.log_path, "CSV data log (base pose, joints, F/T, IMU per cycle)");
+  app.add_option("--log", o.log_path,
+                 "CSV data log (base pose, joints, F/T, IMU per cycle), checked writable before "
+                 "the run; a failed write (disk full...) ends the run with exit code 9");
   app.add_option("--log-every", o.log_every, "record one row every N control cycles")
       ->capture_default_str()->check(ohrp::cli::Positive());
-  app.add_option("--summary", o.summary_path, "JSON summary written at the end");
+  std::string log_max;
+  app.add_option("--log-max", log_max,
+                 "bound on the data log's size: bytes, or with k, M, G (e.g. 50M); the rows past "
+                 "it are not written, and the report and summary say how many (the log keeps the "
+                 "run's start; about 0.31 MB per simulated second with HRP-1S's columns)");
+  app.add_option("--summary", o.summary_path,
+                 "JSON summary written at the end (checked writable before the run; says "
+                 "\"running\" until the end)");
   app.add_option("--progress", o.progress, "wall seconds between progress lines; 0: none")
       ->capture_default_str()->check(ohrp::cli::NonNegative());
   app.add_flag("--quiet,-q", o.quiet, "print errors only");
@@ -107,12 +116,21 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
       "4 the simulation diverged, 5 the controller was lost (or never attached, or another process\n"
-      "overwrote the segment's wake-up words), 130 interrupted.\n"
+      "overwrote the segment's wake-up words), 9 the data log or the summary could not be written\n"
+      "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   if (std::string error; !ohrp::sim::ParseCameraSize(camera_size, &o.cameras.width,
                                                       &o.cameras.height, &error)) {
     std::fprintf(stderr, "sim_host: --camera-size: %s\n", error.c_str());
+    return ohrp::sim::kExitUsage;
+  }
+  if (!log_max.empty() && o.log_path.empty()) {
+    std::fprintf(stderr, "sim_host: --log-max bounds the data log: give --log FILE too\n");
+    return ohrp::sim::kExitUsage;
+  }
+  if (std::string error; !log_max.empty() && !ohrp::model::ParseByteSize(log_max, &o.log_max, &error)) {
+    std::fprintf(stderr, "sim_host: --log-max: %s\n", error.c_str());
     return ohrp::sim::kExitUsage;
   }
   ohrp::sim::ParseContactModel(contact, &o.feet.model);

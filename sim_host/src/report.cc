@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "robot_model/kinematics.h"
+#include "robot_model/output_file.h"
 
 namespace ohrp::sim {
 
@@ -115,7 +116,7 @@ void PrintReport(const RunStats& st) {
   }
 }
 
-void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
+bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,
                   const EffectsPlan* effects) {
   const double wall = st.wall_end - st.wall_start;
@@ -173,8 +174,13 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
                        {"energy", x.energy}, {"energy_start", x.energy_start},
                        {"input_work", x.input_work}, {"text", x.Text()}};
   }
-  j["log_rows"] = st.log_rows;
+  j["log_rows"] = st.log_rows;  // on disk
   j["log_dropped"] = st.log_dropped;
+  j["log_rows_lost"] = st.log_lost;
+  j["log_rows_over_limit"] = st.log_over_limit;
+  j["log_bytes"] = st.log_bytes;
+  j["log_max_bytes"] = o.log_max;
+  j["log_error"] = st.log_error;
   nlohmann::json below = nlohmann::json::object();
   for (const auto& f : robot.forces) below[f.name] = m->body_subtreemass[m->site_bodyid[f.site_id]];
   j["mass_below"] = below;
@@ -209,9 +215,10 @@ void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
                            {"check_mean_s", sc.checks ? sc.check_seconds / sc.checks : 0.0},
                            {"check_max_s", sc.check_max}, {"pairs", pairs}};
   }
-  std::ofstream out(path);
-  out << j.dump(2) << "\n";
-  if (!out) std::fprintf(stderr, "sim_host: cannot write the summary '%s'\n", path.c_str());
+  std::string error;
+  if (model::WriteWholeFile(path, j.dump(2) + "\n", &error)) return true;
+  std::fprintf(stderr, "sim_host: --summary: %s\n", error.c_str());
+  return false;
 }
 
 }  // namespace ohrp::sim

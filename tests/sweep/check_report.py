@@ -3,9 +3,10 @@
 
     check_report.py statuses SWEEP_DIR S0 S1 ...     each variant's status, in order; every
                                                      variant not passing names an existing log folder
-    check_report.py same LOCAL_DIR SLURM_DIR         the same variants, parameter values, statuses,
-                                                     verdicts and check values (exactly), and every
-                                                     Slurm row ran as task <variant> of one array job
+    check_report.py same LOCAL_DIR SLURM_DIR [JOBS]  the same variants, parameter values, statuses,
+                                                     verdicts and check values (exactly), and the
+                                                     Slurm rows ran in JOBS array jobs (default 1),
+                                                     each variant as task <variant - the job's first>
     check_report.py field SWEEP_DIR VARIANT COLUMN   prints one cell of sweep.csv
 Exit 0 when it holds, 1 with the differences printed.
 """
@@ -39,17 +40,21 @@ def main(argv):
         bad = []
         if len(a) != len(b) or len(a) == 0:
             bad.append(f"{len(a)} local rows, {len(b)} Slurm rows")
+        expected_jobs = int(argv[4]) if len(argv) > 4 else 1
         jobs = {y["slurm_job"] for y in b}
-        if len(jobs) != 1 or "" in jobs:
-            bad.append(f"the Slurm rows name array jobs {jobs}, not one")
+        if len(jobs) != expected_jobs or "" in jobs:
+            bad.append(f"the Slurm rows name array jobs {jobs}, not {expected_jobs}")
+        first = {}  # each job's first variant: its offset
+        for y in b:
+            first[y["slurm_job"]] = min(first.get(y["slurm_job"], 10**9), int(y["variant"]))
         for x, y in zip(a, b):
             for k in x:
                 if k in RUN_COLUMNS:
                     continue
                 if x[k] != y.get(k):
                     bad.append(f"variant {x['variant']}: {k} is {x[k]} locally, {y.get(k)} under Slurm")
-            if y["slurm_task"] != y["variant"]:
-                bad.append(f"variant {y['variant']} ran as Slurm task '{y['slurm_task']}'")
+            if y["slurm_task"] != str(int(y["variant"]) - first.get(y["slurm_job"], 0)):
+                bad.append(f"variant {y['variant']} ran as Slurm task '{y['slurm_task']}' of job {y['slurm_job']}")
             if x["slurm_task"] or x["slurm_job"]:
                 bad.append(f"variant {x['variant']} of the local sweep names a Slurm task")
         print("\n".join(bad))

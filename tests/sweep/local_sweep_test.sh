@@ -1,7 +1,9 @@
 #!/bin/bash
 # The local executor end to end (tests/sweep/CMakeLists.txt): a variant that passes, one that
 # fails a check and one that hangs past the time limit are each reported as such with their
-# logs (exit 1); an interrupted sweep reports the variants it did not run as cancelled (exit 130).
+# logs (exit 1); an interrupted sweep reports the variants it did not run as cancelled (exit 130);
+# a variant that falls (a non-finite check value) is reported fell and the sweep finishes; a
+# sweep whose process was killed is gathered (--gather) and resumed (--resume) from its folder.
 # usage: local_sweep_test.sh SOURCE_DIR BIN_DIR OUT_DIR PYTHON
 set -u
 src="$1" bin="$2" out="$3" py="$4"
@@ -48,4 +50,38 @@ cat "$out/interrupted.stderr" "$out/interrupted.md"
 [ $rc -eq 130 ] || fail "interrupted sweep: exit $rc, not 130"
 $check statuses "$out/interrupted" cancelled cancelled cancelled cancelled || fail "interrupted statuses"
 [ -f "$out/interrupted/variants/v000/run/summary.json" ] || fail "the running variant left no summary"
+# a variant that falls (its settles value not finite: null in its summary, which aborted
+# ohrp_sweep with exit 134 and no sweep.csv) is reported as such and the sweep finishes
+"$bin/ohrp_sweep" "$src/tests/sweep/falls.yaml" --out "$out/falls" --jobs 2 \
+  >"$out/falls.md" 2>"$out/falls.stderr"
+rc=$?
+cat "$out/falls.stderr" "$out/falls.md"
+[ $rc -eq 1 ] || fail "falling variant: exit $rc, not 1"
+$check statuses "$out/falls" pass fell || fail "falling variant statuses"
+[ "$($check field "$out/falls" 1 settles)" = nan ] || fail "the fallen variant's settles is not nan"
+grep -q "not finite: settles" "$out/falls/sweep.csv" || fail "the detail does not name the non-finite value"
+
+# the submitting process dies (SIGKILL) once the first variant has finished: --gather reports the
+# folder as it is, --resume runs only what has not finished
+"$bin/ohrp_sweep" "$src/tests/sweep/falls.yaml" --out "$out/resume" --jobs 1 -q >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 200); do [ -f "$out/resume/variants/v000/status.json" ] && break; sleep 0.05; done
+kill -KILL $pid
+wait $pid 2>/dev/null
+# the orphaned run of the second variant ends by itself (its own process group)
+for _ in $(seq 200); do pgrep -f "$out/resume/variants" >/dev/null || break; sleep 0.05; done
+[ -f "$out/resume/variants/v001/status.json" ] && fail "the second variant finished before the kill"
+first=$(md5sum < "$out/resume/variants/v000/status.json")
+"$bin/ohrp_sweep" --gather "$out/resume" >"$out/gather.md" 2>"$out/gather.stderr"
+rc=$?
+cat "$out/gather.stderr" "$out/gather.md"
+[ $rc -eq 1 ] || fail "--gather: exit $rc, not 1"
+$check statuses "$out/resume" pass "not run" || fail "--gather statuses"
+"$bin/ohrp_sweep" --resume "$out/resume" --jobs 2 >"$out/resumed.md" 2>"$out/resumed.stderr"
+rc=$?
+cat "$out/resumed.stderr" "$out/resumed.md"
+[ $rc -eq 1 ] || fail "--resume: exit $rc, not 1"
+grep -q "resuming .*: 1 of 2 variants to run" "$out/resumed.stderr" || fail "--resume ran other than the unfinished variant"
+$check statuses "$out/resume" pass fell || fail "--resume statuses"
+[ "$(md5sum < "$out/resume/variants/v000/status.json")" = "$first" ] || fail "--resume ran the finished variant again"
 echo "PASS"

@@ -92,6 +92,7 @@ SlurmctldTimeout=30
 SlurmdTimeout=30
 InactiveLimit=0
 MinJobAge=300
+MaxArraySize=${SLURM_MAX_ARRAY_SIZE:-1001}
 KillWait=5
 Waittime=0
 PlugStackConfig=$d/plugstack.conf

@@ -10,6 +10,7 @@ run, timed out, was cancelled) is listed under the axes. Exit 2 on bad input.
 """
 import argparse
 import csv
+import math
 import sys
 
 import matplotlib
@@ -19,10 +20,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def number(text):
+    """a finite number, else None (empty, inf, nan: listed as without a value)"""
     try:
-        return float(text)
-    except ValueError:
+        v = float(text)
+    except (TypeError, ValueError):
         return None
+    return v if math.isfinite(v) else None
 
 
 def main():
@@ -53,7 +56,8 @@ def main():
         for r in rows:
             x, y = number(r[param]), number(r.get(check, ""))
             if y is None or x is None:
-                missing.append(f"{r['variant']} ({r['status']})")
+                value = r.get(check, "")
+                missing.append(f"{r['variant']} ({r['status']}{', ' + value if value else ''})")
                 continue
             label = ", ".join(f"{p}={r[p]}" for p in others) or check
             passed = r.get(check + "_passed", "true") == "true"

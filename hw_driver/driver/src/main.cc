@@ -2,6 +2,7 @@
 // hw_driver/README.md).
 
 #include "cli/command_line.h"
+#include "robot_model/output_file.h"
 #include "hw_driver/program.h"
 
 int main(int argc, char** argv) {
@@ -71,6 +72,10 @@ int main(int argc, char** argv) {
                  "thread off the servo loop, flushed at the end (also after SIGINT/SIGTERM)");
   app.add_option("--log-every", d.log_every, "cycles between rows of --log")
       ->capture_default_str()->check(ohrp::cli::Positive());
+  std::string log_max;
+  app.add_option("--log-max", log_max,
+                 "bound on --log's size: bytes, or with k, M, G (e.g. 50M); rows past it are not "
+                 "written, and the report says how many");
   app.add_option("--summary", o.summary_path, "JSON summary written at the end");
   app.add_option("--stats", o.stats_path, "JSON stats file rewritten while running");
   app.add_option("--stats-interval", o.stats_interval, "[s] between rewrites of --stats")
@@ -81,11 +86,16 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 duration reached or replay ended, 2 bad option, model, plugin file or\n"
       "segment, 3 the boards failed (open, or no valid read), 5 controller lost (safe mode),\n"
-      "6 board silent (safe mode), 7 emergency stop, 130 interrupted (SIGINT/SIGTERM). A board\n"
+      "6 board silent (safe mode), 7 emergency stop, 9 the data log or the summary could not be\n"
+      "written completely (file and error named), 130 interrupted (SIGINT/SIGTERM). A board\n"
       "reset, and a lost controller with --on-controller-loss wait, are recovered from: servo-off,\n"
       "then servo-on again when safe; the run's end then decides the exit code.\n"
       "Details: hw_driver/README.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (std::string error; !log_max.empty() && !ohrp::model::ParseByteSize(log_max, &o.log_max, &error)) {
+    std::fprintf(stderr, "hw_driver: --log-max: %s\n", error.c_str());
+    return ohrp::hw::kExitUsage;
+  }
   d.rt.lock_memory = !no_mlock;
   ohrp::hw::ParseWakeMode(wake, &d.wake.mode);  // one of the choices above
   ohrp::shm::ParseControllerLoss(loss, &d.on_controller_loss);  // one of the choices above

@@ -13,6 +13,7 @@
 
 #include "hw_driver/plugin.h"
 #include "robot_model/model.h"
+#include "robot_model/output_file.h"
 #include "robot_model/recorder.h"
 #include "robot_model/sensors.h"
 
@@ -132,6 +133,7 @@ bool LoadRobotDescription(const std::string& model_path, const std::string& segm
 int RunProgram(const ProgramOptions& o) {
   model::InstallMujocoHandlers(OnMujocoFatal);
   InstallSignalHandlers();
+  signal(SIGXFSZ, SIG_IGN);  // a file size limit fails the log's write (reported), never kills
   // SIGUSR1 stays blocked in every thread but is taken by the reporter (sigtimedwait), so that
   // it never kills the driver, even during set-up
   sigset_t usr1;
@@ -146,13 +148,21 @@ int RunProgram(const ProgramOptions& o) {
     std::fprintf(stderr, "hw_driver: %s\n", error.c_str());
     return kExitUsage;
   }
+  // the outputs, before anything runs (robot_model/output_file.h)
+  for (const auto& [option, path] : {std::pair{"--summary", &o.summary_path}, {"--stats", &o.stats_path}}) {
+    if (!path->empty() && !model::PrepareOutputFile(*path, "{}\n", &error)) {
+      std::fprintf(stderr, "hw_driver: %s: %s\n", option, error.c_str());
+      return kExitUsage;
+    }
+    if (!path->empty()) std::remove(path->c_str());  // written whole once there is something to say
+  }
   // the data log: sim_host's columns without the ground truth (no base_* on the robot)
   std::unique_ptr<model::Recorder> log;
   if (!o.log_path.empty()) {
     model::RecorderChannels channels;
     channels.base = false;
     log = model::Recorder::Open(o.log_path, {robot.joint_names, robot.force_names, robot.imu_names},
-                                &error, 16384, channels);
+                                &error, 16384, channels, o.log_max);
     if (!log) {
       std::fprintf(stderr, "hw_driver: %s (--log)\n", error.c_str());
       return kExitUsage;
@@ -237,25 +247,23 @@ int RunProgram(const ProgramOptions& o) {
   } else if (exit_code != kExitOk && exit_code != kExitInterrupted) {
     PrintReport(r, driver.live(), o.driver, false);
   }
+  int code = exit_code;  // an output not written whole (below) fails a run that was ok
   if (!o.summary_path.empty() && !WriteStats(o.summary_path, o, robot, driver.live(), &r)) {
     std::fprintf(stderr, "hw_driver: cannot write the summary '%s'\n", o.summary_path.c_str());
+    if (code == kExitOk) code = model::kExitOutputFailed;
   }
   if (!o.stats_path.empty()) WriteStats(o.stats_path, o, robot, driver.live(), &r);
   if (log) {
-    log->Flush();  // everything the loop pushed, SIGINT or not
-    if (log->dropped() > 0) {
-      std::fprintf(stderr, "hw_driver: warning: the data log dropped %lu rows (its writer fell "
-                   "behind; try --log-every N)\n", static_cast<unsigned long>(log->dropped()));
-    }
-    if (!o.quiet) {
-      std::fprintf(stderr, "hw_driver: data log %s: %lu rows\n", o.log_path.c_str(),
-                   static_cast<unsigned long>(log->written()));
-    }
+    // everything the loop pushed, SIGINT or not, written and synced: the rows ON DISK counted
+    const bool complete = log->Close();
+    if (!complete || log->limit_reached() || log->dropped() > 0 || !o.quiet)
+      std::fprintf(stderr, "hw_driver: %s\n", log->Describe().c_str());
+    if (!complete && code == kExitOk) code = model::kExitOutputFailed;
     log.reset();
   }
   producer.reset();
   g_segment_object[0] = 0;
-  return exit_code;
+  return code;
 }
 
 }  // namespace ohrp::hw

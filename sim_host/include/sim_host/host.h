@@ -6,8 +6,11 @@
 // steps of cycle k; the commands answering cycle k act from the next physics step on.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
+
+#include "robot_model/output_file.h"
 
 #include "shm_bridge/controller_loss.h"
 #include "sim_host/cameras.h"
@@ -72,6 +75,8 @@ struct HostOptions {
   ControllerLoss on_loss = ControllerLoss::kEnd;
   std::string log_path;            // CSV data log; empty: none
   int log_every = 1;               // record one row every N control cycles
+  uint64_t log_max = 0;            // [bytes] the log's size bound (--log-max): rows past it are
+                                   // not written, and counted; 0: none
   std::string summary_path;        // JSON summary at the end; empty: none
   double progress = 2.0;           // [s] wall time between progress lines; 0: none
   bool quiet = false;
@@ -89,6 +94,8 @@ inline constexpr int kExitUsage = 2;           // bad option, model, keyframe or
 inline constexpr int kExitMujocoError = 3;
 inline constexpr int kExitDiverged = 4;
 inline constexpr int kExitControllerLost = 5;  // lost (or never got) a controller, policy "end"
+inline constexpr int kExitOutputFailed = model::kExitOutputFailed;  // 9: the data log or the
+                                               // summary could not be written completely
 inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: clean shutdown
 
 // Runs one simulation as described by `options`; returns an exit code above. Prints set-up

@@ -11,6 +11,7 @@
 #include "sim_host/effects.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
+#include "sim_host/recorder.h"
 #include "sim_host/self_collision_watch.h"
 
 namespace ohrp::sim {
@@ -63,8 +64,12 @@ struct RunStats {
                              // (ctrlrange or forcerange, robot_model/actuator.h)
   std::vector<std::pair<std::string, uint64_t>> clamped_joints;  // (joint, steps) with steps > 0
   long warnings = 0;         // MuJoCo warnings during the run
-  uint64_t log_rows = 0;     // rows written to the data log
+  uint64_t log_rows = 0;     // rows of the data log on disk (written whole; synced at the end)
   uint64_t log_dropped = 0;  // rows the log ring could not take
+  uint64_t log_lost = 0;     // rows never written because a write failed
+  uint64_t log_over_limit = 0;  // rows not written past --log-max
+  uint64_t log_bytes = 0;    // the log's size on disk
+  std::string log_error;     // why the log is incomplete ("" when it is complete)
   std::string contact;                  // contact model under the soles (resolved)
   long long fcl_queries = 0;            // soft-foot contact: FCL distance queries
   long long contact_pairs = 0;          // (sole, object) pairs looked at
@@ -99,6 +104,18 @@ std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robo
 // One line: outcome, simulated and wall time, real-time factor, counts.
 void PrintReport(const RunStats& st);
 
+// The end of the data log (sim_host/log_report.cc): closes it (everything written and synced)
+// and puts what reached the disk into `st` (log_*). A failed write is an event
+// "log_write_failed" (at the time and cycle of the first row not on disk; value: the rows on
+// disk), the run's outcome "log_failed" and *exit_code kExitOutputFailed unless the run had
+// already failed otherwise; the size bound reached is an event "log_limit_reached" (value: the
+// rows not written). Either is also said on stderr, --quiet or not.
+void EndLog(model::Recorder* log, RunStats* st, int* exit_code);
+
+// The summary written at the start (--summary checked writable before anything runs): outcome
+// "running", replaced at the end; a reader of a run killed on the way sees that.
+std::string ProvisionalSummary(const HostOptions& o);
+
 // The JSON summary (outcome, timing, counts, the events with their simulated times and cycles,
 // "events": [{"time", "cycle", "event", "value"}], the robot's mass and the mass below each force
 // sensor, which the sensor does not carry, and the soles' rectangles in their sensors' frames,
@@ -108,7 +125,8 @@ void PrintReport(const RunStats& st);
 // on, "self_collision": {"source", "links", "pairs_checked", "excluded", "checks",
 // "cycles_in_contact", "check_mean_s", "check_max_s", "pairs": [{"pair", "first_time",
 // "first_cycle", "deepest" [m], "deepest_time", "cycles"}]}.
-void WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
+// False (and said on stderr, with the reason) when the file could not be written whole.
+bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,
                   const EffectsPlan* effects = nullptr);
 

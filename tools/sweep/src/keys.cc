@@ -75,6 +75,8 @@ bool SplitKey(const std::string& key, std::vector<Token>* out, std::string* why)
 }
 
 std::string NumberText(double v) {
+  // not a number: said as such (inf, -inf, nan), as strtod reads them back
+  if (!std::isfinite(v)) return std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
   char b[40];
   // whole numbers in full (3000000, 30), others in the fewest significant digits that read back
   if (std::fabs(v) < 1e15 && v == std::round(v)) {

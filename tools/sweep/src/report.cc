@@ -1,4 +1,9 @@
 // The sweep's report: sweep.csv, table.md and the plots (see sweep.h, docs/sweep.md).
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +60,31 @@ std::string Slug(const std::string& s) {
   std::string out;
   for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' ? c : '_';
   return out;
+}
+
+// runs a program with its arguments, stdout and stderr into `output`; its exit code (127: it
+// could not run)
+int RunToFile(const std::vector<std::string>& argv, const std::string& output) {
+  std::vector<std::string> copy = argv;  // made before the fork: the child allocates nothing
+  std::vector<char*> args;
+  for (auto& a : copy) args.push_back(a.data());
+  args.push_back(nullptr);
+  const int fd = ::open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+    }
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  if (fd >= 0) ::close(fd);
+  if (pid < 0) return -1;
+  int st = 0;
+  while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
 }
 
 }  // namespace
@@ -149,15 +179,15 @@ bool WriteReport(const SweepSpec& spec, const std::vector<VariantResult>& result
   //---------------- plots ----------------
   if (spec.plots.empty()) return true;
   const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  std::string cmd = python + " '" + ctx.source_dir + "/tools/sweep/plot_sweep.py' '" + csv_path + "'";
+  // an argument vector: no name from the sweep file reaches a shell
+  std::vector<std::string> argv = {python, ctx.source_dir + "/tools/sweep/plot_sweep.py", csv_path};
   for (const auto& p : spec.plots) {
     bool log_scale = false;
     for (const auto& param : spec.parameters) log_scale = log_scale || (param.key == p.against && param.log_scale);
     const std::string file = (fs::path(out_dir) / ("plot_" + Slug(p.check) + "_vs_" + Slug(p.against) + ".png")).string();
-    cmd += " --plot '" + p.check + "' '" + p.against + "' '" + file + "' " + (log_scale ? "log" : "linear");
+    argv.insert(argv.end(), {"--plot", p.check, p.against, file, log_scale ? "log" : "linear"});
   }
-  cmd += " > '" + out_dir + "/plot.stderr' 2>&1";
-  if (std::system(cmd.c_str()) != 0) {
+  if (RunToFile(argv, out_dir + "/plot.stderr") != 0) {
     *error = "the plots could not be made (see " + out_dir + "/plot.stderr)";
     return false;
   }

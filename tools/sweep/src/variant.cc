@@ -81,6 +81,8 @@ bool Prepare(const SweepSpec& spec, const std::string& out_dir, std::string* err
     j["parameters"].push_back({{"key", p.key}, {"values", values}, {"log_scale", p.log_scale}});
   }
   j["variants"] = spec.variants.size();
+  j["plots"] = nlohmann::json::array();
+  for (const auto& p : spec.plots) j["plots"].push_back({{"check", p.check}, {"against", p.against}});
   if (!WriteFile((fs::path(out_dir) / "sweep.json").string(), j.dump(2) + "\n", error)) return false;
 
   // per variant: its scenario and what it is
@@ -91,6 +93,7 @@ bool Prepare(const SweepSpec& spec, const std::string& out_dir, std::string* err
     nlohmann::json vj;
     vj["id"] = v.id;
     vj["time_limit"] = spec.time_limit;
+    vj["value_index"] = v.value_index;  // into sweep.json's values (LoadSweepFolder)
     vj["parameters"] = nlohmann::json::object();
     for (size_t p = 0; p < spec.parameters.size(); ++p)
       vj["parameters"][spec.parameters[p].key] = spec.parameters[p].values[v.value_index[p]].text;
@@ -178,7 +181,7 @@ int RunVariant(const std::string& variant_dir, const std::string& segment, doubl
   if (pid < 0) j["error"] = "fork failed";
   j["slurm_job_id"] = Env("SLURM_JOB_ID");
   j["slurm_array_job_id"] = Env("SLURM_ARRAY_JOB_ID");
-  j["slurm_array_task_id"] = Env("SLURM_ARRAY_TASK_ID");
+  j["slurm_array_task_id"] = Env("SLURM_ARRAY_TASK_ID");  // the variant less its chunk's offset
   std::string error;
   // written to a temporary name first: a reader never sees half a status
   if (WriteFile(dir + "/status.json.tmp", j.dump(2) + "\n", &error))
@@ -188,14 +191,14 @@ int RunVariant(const std::string& variant_dir, const std::string& segment, doubl
   return timed_out ? kTimedOut : code;
 }
 
-int RunSlurmTask(const std::string& out_dir, const RunContext& ctx) {
+int RunSlurmTask(const std::string& out_dir, const RunContext& ctx, int offset) {
   const std::string task = Env("SLURM_ARRAY_TASK_ID"), job = Env("SLURM_ARRAY_JOB_ID");
   if (task.empty() || job.empty() || task.find_first_not_of("0123456789") != std::string::npos) {
     std::fprintf(stderr, "ohrp_sweep: --task runs inside a Slurm array job (SLURM_ARRAY_TASK_ID and "
                          "SLURM_ARRAY_JOB_ID unset); use --slurm to submit one\n");
     return 2;
   }
-  const int id = std::stoi(task);
+  const int id = offset + std::stoi(task);
   const std::string dir = VariantDir(out_dir, id);
   nlohmann::json v;
   try {

@@ -129,15 +129,17 @@ std::string SegmentName(const std::string& tag, int id);
 // What one variant gave.
 struct CheckValue {
   std::string name;
-  double value = 0;
+  double value = 0;  // as the summary gives it: inf, -inf or NaN too (null there reads as NaN)
   bool passed = false;
 };
 
 struct VariantResult {
   int id = 0;
   std::vector<std::string> values;  // parameter values, in SweepSpec::parameters order
-  // pass, fail (a check failed or a process ended badly), timeout (killed at the time limit),
-  // cancelled (interrupted, or cancelled by Slurm), error (the run could not start), not run
+  // pass, fail (a check failed or a process ended badly), fell (the robot fell: sim_host's
+  // outcome or event, or a failed not_fallen check), crashed (a process of the run ended by a
+  // signal other than SIGINT, SIGTERM or SIGKILL), timeout (killed at the time limit), cancelled
+  // (interrupted, or cancelled by Slurm), error (the run could not start), not run
   std::string status = "not run";
   std::string verdict;              // summary.json's verdict, empty without one
   int exit_code = -1;               // ohrp_run's, -1 without one
@@ -167,7 +169,9 @@ bool WriteReport(const SweepSpec& spec, const std::vector<VariantResult>& result
 
 struct Executor {
   enum Kind { kLocal, kSlurm } kind = kLocal;
-  int jobs = 0;                      // local: variants at once; 0: the number of cores
+  int cpus_per_variant = 2;          // CPUs one variant needs: a lock-stepped pair, sim_host and
+                                     // its controller (local: jobs default; Slurm: --cpus-per-task)
+  int jobs = 0;                      // local: variants at once; 0: the cores / cpus_per_variant
   std::string partition;             // slurm: --partition (empty: the cluster's default)
   std::string time;                  // slurm: --time per task (empty: the time limit + 1 min)
   std::vector<std::string> sbatch_args;  // slurm: more sbatch options, as given
@@ -191,9 +195,54 @@ struct SweepOutcome {
 SweepOutcome RunSweep(const SweepSpec& spec, const Executor& executor, const std::string& out_dir,
                       const RunContext& ctx);
 
-// The Slurm array task's side: the variant SLURM_ARRAY_TASK_ID of the prepared sweep folder,
-// on segment sweep_<SLURM_ARRAY_JOB_ID>_<task>. Returns RunVariant's code, 2 when the
-// environment or the folder is not a sweep task's.
-int RunSlurmTask(const std::string& out_dir, const RunContext& ctx);
+// The Slurm array task's side: the variant `offset` + SLURM_ARRAY_TASK_ID of the prepared sweep
+// folder (an array chunk's first variant, see ChunkArray), on segment
+// sweep_<SLURM_ARRAY_JOB_ID>_<variant>. Returns RunVariant's code, 2 when the environment or
+// the folder is not a sweep task's.
+int RunSlurmTask(const std::string& out_dir, const RunContext& ctx, int offset = 0);
+
+//---------------- a sweep folder later: gather, resume ----------------
+
+// Reads a prepared sweep folder back as its spec (sweep.json and each variants/vNNN/variant.json:
+// name, scenario, time limit, parameters and their values, each variant's values, the plots),
+// without the sweep file: what --gather and --resume need after the submitting process died.
+// variant_scenarios stays empty (each variant's scenario.yaml is in its folder). False with
+// `*error` naming the file when the folder is not a sweep folder.
+bool LoadSweepFolder(const std::string& out_dir, SweepSpec* out, std::string* error);
+
+// The variants of a folder still to run: no status.json (never started, or its sweep process
+// died while it ran), or cancelled (interrupted). A variant that passed, failed, fell, crashed,
+// timed out or could not run is finished.
+std::vector<int> UnfinishedVariants(const SweepSpec& spec, const std::string& out_dir);
+
+// Runs the variants `ids` of the prepared folder with the executor (the others are left as they
+// are) and gathers every variant. `resume` says so on the progress line.
+SweepOutcome RunVariants(const SweepSpec& spec, const std::vector<int>& ids,
+                         const Executor& executor, const std::string& out_dir,
+                         const RunContext& ctx);
+
+// Gathers a sweep folder as it is: first waits (polling squeue) for the Slurm array jobs it
+// records (slurm/jobs.json) that are still pending or running, then asks Slurm what became of
+// their tasks that left no status (as RunSweep does), then Gather. Ctrl-C stops the wait (the
+// jobs go on) and gathers what is there.
+SweepOutcome GatherFolder(const SweepSpec& spec, const std::string& out_dir,
+                          const Executor& executor);
+
+//---------------- Slurm's array limit ----------------
+
+// One sbatch --array job of a chunked sweep: task i runs variant offset + i.
+struct ArrayChunk {
+  int offset = 0;
+  std::string indices;  // the --array list: "0-999", "0-3,7,9-12"
+  int count = 0;        // tasks
+};
+
+// Splits variant ids (any order, no duplicates) into array jobs whose task indices stay below
+// `max_array_size` (Slurm's MaxArraySize: indices 0 .. MaxArraySize - 1): chunk k holds the ids
+// in [k M, (k + 1) M), offset k M; consecutive ids are written as ranges.
+std::vector<ArrayChunk> ChunkArray(std::vector<int> ids, int max_array_size);
+
+// MaxArraySize from the text of `scontrol show config` ("MaxArraySize = 1001"); 0 when absent.
+int ParseMaxArraySize(const std::string& scontrol_config);
 
 }  // namespace ohrp::sweep

@@ -1,0 +1,129 @@
+// sim_host's outputs as a process (issue 28 item 3): the data log and the summary are checked
+// writable before anything runs (exit 2 naming the path and the reason), a full disk under the
+// log is a failed run (exit 9, the file and the error named, the summary's log_rows = the rows
+// in the file, an event), and --log-max bounds the log and says what it left out.
+#include <sys/mount.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "common/scratch.h"
+#include "host_process.h"
+
+namespace ohrp::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::SimHostProcess;
+
+nlohmann::json ReadJson(const std::string& path) {
+  try {
+    return nlohmann::json::parse(ohrp::testing::ReadFile(path));
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << path << ": " << e.what();
+    return nlohmann::json::object();
+  }
+}
+
+// data rows of a CSV log (lines after the header), and whether it ends with a whole line
+size_t DataRows(const std::string& path, bool* whole) {
+  const std::string text = ohrp::testing::ReadFile(path);
+  *whole = !text.empty() && text.back() == '\n';
+  const size_t lines = static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
+  return lines > 0 ? lines - 1 : 0;
+}
+
+bool HasEvent(const nlohmann::json& summary, const std::string& kind) {
+  for (const auto& e : summary.value("events", nlohmann::json::array()))
+    if (e.value("event", std::string()) == kind) return true;
+  return false;
+}
+
+TEST_F(SimHostProcess, OutputsThatCannotBeWrittenAreRefusedBeforeTheRun) {
+  const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
+  for (const auto& [option, path, reason] :
+       {std::tuple<std::string, std::string, std::string>{"--log", "/proc/version", ""},
+        {"--log", "/nonexistent/log.csv", "No such file or directory"},
+        {"--log", "/dev/full", "No space left on device"},
+        {"--summary", "/nonexistent/x", "No such file or directory"},
+        {"--summary", "/proc/version", ""}}) {
+    Start({"--duration", "0.1", "--wait-controller", "0", option, path});
+    EXPECT_EQ(Wait(), 2) << option << " " << path << ": " << Stderr();
+    EXPECT_NE(Stderr().find(option + ": cannot write"), std::string::npos) << Stderr();
+    EXPECT_NE(Stderr().find("'" + path + "'"), std::string::npos) << Stderr();
+    EXPECT_NE(Stderr().find(reason), std::string::npos) << Stderr();
+    EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_))) << "no segment made";
+  }
+}
+
+TEST_F(SimHostProcess, TheSummarySaysRunningUntilTheEnd) {
+  const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
+  Start({"--duration", "1", "--wait-controller", "30", "--summary", summary});
+  ASSERT_TRUE(WaitSegment());
+  // written just after the segment is made, before the run (waiting for its controller)
+  for (int i = 0; i < 500 && ohrp::testing::ReadFile(summary).empty(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_EQ(ReadJson(summary).value("outcome", std::string()), "running");
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130);
+  EXPECT_EQ(ReadJson(summary).value("outcome", std::string()), "interrupted");
+}
+
+// the issue's figures: with the disk full, sim_host wrote 161 of 2001 rows and said 2001, exit 0
+TEST_F(SimHostProcess, AFullDiskUnderTheLogIsAFailedRunWithTheRowsOnDiskCounted) {
+  const std::string dir = ohrp::testing::ScratchFolder("tmpfs");
+  if (mount("ohrp_test", dir.c_str(), "tmpfs", 0, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << "); "
+                 << "robot_model_recorder_test fails a write with a file size limit instead";
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{dir};
+  const std::string log = dir + "/log.csv";
+  const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
+  // paced to the wall clock: the tmpfs fills in about 1 s, and the run must end there, not at 20 s
+  Start({"--duration", "20", "--realtime", "--wait-controller", "0", "--log", log, "--summary", summary});
+  EXPECT_EQ(Wait(20), 9) << Stderr();
+  EXPECT_NE(Stderr().find(log), std::string::npos) << Stderr();
+  EXPECT_NE(Stderr().find("No space left on device"), std::string::npos) << Stderr();
+  const nlohmann::json s = ReadJson(summary);
+  EXPECT_EQ(s.value("outcome", std::string()), "log_failed");
+  EXPECT_EQ(s.value("exit_code", 0), 9);
+  EXPECT_NE(s.value("log_error", std::string()).find("No space left on device"), std::string::npos);
+  EXPECT_TRUE(HasEvent(s, "log_write_failed")) << s.dump(2);
+  bool whole = false;
+  const size_t rows = DataRows(log, &whole);
+  EXPECT_TRUE(whole) << "the last row cut in the middle";
+  EXPECT_GT(rows, 10u);
+  EXPECT_EQ(s.value("log_rows", 0ul), rows) << "the summary counts the rows on disk";
+  EXPECT_LT(s.value("sim_time", 99.0), 5.0) << "the run ended at the failure";
+}
+
+TEST_F(SimHostProcess, LogMaxBoundsTheLogAndSaysHowManyRowsItLeftOut) {
+  const std::string log = ohrp::testing::ScratchPath("bounded", ".csv");
+  const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
+  Start({"--duration", "2", "--wait-controller", "0", "--log", log, "--log-max", "20k",
+         "--summary", summary});
+  EXPECT_EQ(Wait(20), 0) << Stderr();
+  EXPECT_LE(fs::file_size(log), 20000u);
+  const nlohmann::json s = ReadJson(summary);
+  bool whole = false;
+  const size_t rows = DataRows(log, &whole);
+  EXPECT_TRUE(whole);
+  EXPECT_EQ(s.value("log_rows", 0ul), rows);
+  // 2 s at 2 ms: 1001 rows published (the first at t = 0), those not on disk counted
+  EXPECT_EQ(rows + s.value("log_rows_over_limit", 0ul) + s.value("log_dropped", 0ul), 1001u) << s.dump(2);
+  EXPECT_GT(s.value("log_rows_over_limit", 0ul), 0u);
+  EXPECT_EQ(s.value("log_max_bytes", 0ul), 20000u);
+  EXPECT_TRUE(HasEvent(s, "log_limit_reached"));
+  EXPECT_NE(Stderr().find("later rows not written"), std::string::npos) << Stderr();
+  // a bad size is refused before the run
+  Start({"--duration", "2", "--wait-controller", "0", "--log", log, "--log-max", "20X"});
+  EXPECT_EQ(Wait(), 2);
+  EXPECT_NE(Stderr().find("--log-max: '20X'"), std::string::npos) << Stderr();
+}
+
+}  // namespace
+}  // namespace ohrp::sim
