@@ -9,6 +9,7 @@
 
 #include "sim_host/divergence.h"
 #include "sim_host/effects.h"
+#include "sim_host/fall.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
 #include "sim_host/self_collision_watch.h"
@@ -22,9 +23,11 @@ struct HostEvent {
   double time = 0;         // simulated time [s]
   uint64_t cycle = 0;
   const char* kind = "";   // controller_attached | controller_died | controller_detached |
-                           // controller_silent | commands_rejected | push_start | push_end
+                           // controller_silent | commands_rejected | push_start | push_end |
+                           // fall
   int64_t value = 0;       // controller_*: its pid; commands_rejected: joints rejected in that
-                           // block; push_*: the push's index in the order given
+                           // block; push_*: the push's index in the order given; fall: the body
+                           // that touched the ground (-1: height or tilt; the summary's "cause")
 };
 
 inline constexpr size_t kMaxHostEvents = 4096;  // events kept per run; more are counted
@@ -71,6 +74,7 @@ struct RunStats {
   long long contact_pairs_bounded = 0;  // of those, rejected by the cheap bound (no FCL)
   Diagnosis divergence;                 // the divergence watch's diagnostic (kind none: none)
   SelfCollisionSummary self_collision;  // the self_collision effect (on: false when off)
+  FallSummary fall;                     // the fall watch and the robot's fall (sim_host/fall.h)
 };
 
 const char* IntegratorName(int integrator);
