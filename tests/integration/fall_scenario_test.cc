@@ -66,7 +66,7 @@ RunOptions Options(const std::string& out) {
 }
 
 // runs scenario `text` into a fresh folder; its summary.json's check `name`
-int Run(const std::string& text, nlohmann::json* check, const std::string& name = "sim_host_completed") {
+int RunText(const std::string& text, nlohmann::json* check, const std::string& name = "sim_host_completed") {
   const std::string file = ohrp::testing::ScratchFile("scenario", text, ".yaml");
   Scenario s;
   std::string error;
@@ -83,7 +83,7 @@ int Run(const std::string& text, nlohmann::json* check, const std::string& name 
 TEST(Falls, AScenarioWhoseRobotFallsFailsWithTheFallsTimeAndCause) {
   const std::string scene = ohrp::testing::ScratchFile("tipper", kTipper, ".xml");
   nlohmann::json c;
-  EXPECT_EQ(Run(TipperScenario(scene, ""), &c), kRunFailed);
+  EXPECT_EQ(RunText(TipperScenario(scene, ""), &c), kRunFailed);
   ASSERT_TRUE(c.is_object());
   EXPECT_FALSE(c["passed"].get<bool>());
   EXPECT_EQ(c["value"], 6);
@@ -95,14 +95,14 @@ TEST(Falls, AScenarioWhoseRobotFallsFailsWithTheFallsTimeAndCause) {
 TEST(Falls, ExpectFallPassesOnAFallAndFailsWithoutOne) {
   const std::string scene = ohrp::testing::ScratchFile("tipper", kTipper, ".xml");
   nlohmann::json c;
-  EXPECT_EQ(Run(TipperScenario(scene, "expect_fall: true\n"), &c), kRunPassed) << c.dump();
+  EXPECT_EQ(RunText(TipperScenario(scene, "expect_fall: true\n"), &c), kRunPassed) << c.dump();
   EXPECT_TRUE(c["passed"].get<bool>());
   EXPECT_NE(c["detail"].get<std::string>().find("as expected: fell at t="), std::string::npos) << c.dump();
   // the same robot hung by a weld cannot fall: a run that expects a fall fails
   std::string hung = kTipper;
   hung.replace(hung.find("  <actuator>"), 0, "  <equality><weld body1=\"torso\"/></equality>\n");
   const std::string hung_scene = ohrp::testing::ScratchFile("hung", hung, ".xml");
-  EXPECT_EQ(Run(TipperScenario(hung_scene, "expect_fall: true\n"), &c), kRunFailed);
+  EXPECT_EQ(RunText(TipperScenario(hung_scene, "expect_fall: true\n"), &c), kRunFailed);
   EXPECT_FALSE(c["passed"].get<bool>());
   EXPECT_NE(c["detail"].get<std::string>().find("expected a fall and the robot did not fall"),
             std::string::npos) << c.dump();
@@ -181,6 +181,23 @@ TEST(Names, UnknownSensorsBodiesAndTorquesAreRefusedWithTheirKeys) {
   std::string error;
   ASSERT_TRUE(LoadScenario(std::string(OHRP_SOURCE_DIR) + "/scenarios/stand.yaml", &s, &error)) << error;
   EXPECT_TRUE(CheckScenarioNames(s, std::string(OHRP_SOURCE_DIR) + "/" + s.scene, &error)) << error;
+}
+
+// every shipped scenario names only what its scene has (scenes of ../shared/external that are
+// not there are skipped)
+TEST(Names, EveryShippedScenarioNamesWhatItsSceneHas) {
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(OHRP_SOURCE_DIR) + "/scenarios")) {
+    if (entry.path().extension() != ".yaml") continue;
+    Scenario s;
+    std::string error;
+    ASSERT_TRUE(LoadScenario(entry.path().string(), &s, &error)) << error;
+    const std::string scene = s.scene[0] == '/' ? s.scene : std::string(OHRP_SOURCE_DIR) + "/" + s.scene;
+    if (!fs::exists(scene)) continue;
+    EXPECT_TRUE(CheckScenarioNames(s, scene, &error)) << error;
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
 }
 
 // the runner's helper runs programs from argument vectors: a shell's metacharacters are text

@@ -50,6 +50,7 @@ bool CheckScenarioNames(const Scenario& s, const std::string& scene, std::string
   }
   std::vector<std::string> joints, sensors;
   for (const auto& j : robot.joints) joints.push_back(j.name);
+  for (const auto& j : robot.passive) joints.push_back(j.name);  // logged and plotted too
   for (const auto& f : robot.forces) sensors.push_back(f.name);
   const std::vector<std::string> bodies = Named(m, mjOBJ_BODY, m->nbody);
   const std::vector<std::string> geoms = Named(m, mjOBJ_GEOM, m->ngeom);

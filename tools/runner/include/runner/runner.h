@@ -40,7 +40,7 @@ inline constexpr int kRunInterrupted = 130;
 int RunScenario(const Scenario& scenario, const RunOptions& options);
 
 // The names scenario `s` gives checked against the model of its scene (the file `scene`, resolved):
-// plot_joints and plot_torques are joints of the robot, fall_allow_contact bodies, the checks'
+// plot_joints and plot_torques are joints of the robot (driven or passive), fall_allow_contact bodies, the checks'
 // `sensors` and `sensor` force sensors, `geom` a geom and `camera` a camera of the scene. False
 // with `*error` naming the scenario file, the line, the key, the name and the ones there are.
 // RunScenario calls it before anything starts (exit kRunUsage).
