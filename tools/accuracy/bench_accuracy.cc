@@ -404,9 +404,10 @@ int main(int argc, char** argv) {
                                : fs::exists("/usr/bin/python3") ? "/usr/bin/python3"
                                                                 : "python3";
     std::string why;  // an argument vector, no shell (tool_process/run_command.h)
-    plot_status = tool::RunCommand({python, src + "/tools/scripts/plot_accuracy.py", csv, o.out}, "", &why);
-    if (plot_status < 0) std::fprintf(stderr, "bench_accuracy: %s\n", why.c_str());
-    if (plot_status != 0) std::fprintf(stderr, "bench_accuracy: plotting failed (%s)\n", cmd.c_str());
+    plot_status = ohrp::tool::RunCommand({python, src + "/tools/scripts/plot_accuracy.py", csv, o.out}, "", &why);
+    if (plot_status != 0)
+      std::fprintf(stderr, "bench_accuracy: plotting failed (%s)\n",
+                   plot_status < 0 ? why.c_str() : "plot_accuracy.py returned non-zero");
   }
 
   // ---- what to choose, the orders and the headline, from the rows ----

@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
     const std::string compare_txt = o.out_dir + "/compare.txt";
     std::remove(compare_txt.c_str());
     std::string why;  // an argument vector, no shell (tool_process/run_command.h)
-    if (tool::RunCommand({compare, r.runs.back()["dir"].get<std::string>() + "/run/log.csv",
+    if (ohrp::tool::RunCommand({compare, r.runs.back()["dir"].get<std::string>() + "/run/log.csv",
                           o.recording, "--channels", o.channel, "--oscillation", o.channel,
                           "--from", from, "--to", to, "--labels", "simulation,robot", "--out",
                           o.out_dir + "/compare"},
