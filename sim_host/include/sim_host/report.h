@@ -108,6 +108,10 @@ void PrintReport(const RunStats& st);
 // sensor, which the sensor does not carry, and the soles' rectangles in their sensors' frames,
 // "soles": {sensor: {"sole", "x": [min, max], "y": [min, max], "z", "foot_mass",
 // "foot_com": [x, y, z]}}).
+// The fall watch (sim_host/fall.h): "fall_watch": {"on", "text", "start_height", "min_height",
+// "max_tilt_deg", "on_fall", "allow_contact"}, and "fall": null, or the first fall {"time",
+// "cycle", "kind" (contact | height | tilt), "cause", "body", "geom", "ground", "depth",
+// "height", "tilt_deg"}; the event "fall" carries the same "cause".
 // `effects` (may be null) adds each effect, on or off, and why. With the self_collision effect
 // on, "self_collision": {"source", "links", "pairs_checked", "excluded", "checks",
 // "cycles_in_contact", "check_mean_s", "check_max_s", "pairs": [{"pair", "first_time",
