@@ -107,6 +107,15 @@ std::unique_ptr<FallWatch> FallWatch::Create(const mjModel* m, const mjData* d0,
     w->description_ = "fall watch off: the robot has no free joint (it is fixed to the world)";
     return w;
   }
+  // the free body MapRobot took as the base carries the robot's joints, or the robot is fixed
+  // and that body is something beside it (a ball, a box)
+  bool carries = false;
+  for (const auto& j : robot.joints) carries = carries || m->body_rootid[m->jnt_bodyid[j.joint_id]] == root;
+  if (!carries) {
+    w->description_ = std::string("fall watch off: the robot's joints are not below its free body '") +
+                      Name(m, mjOBJ_BODY, robot.base_body, "?") + "' (the robot is fixed to the world)";
+    return w;
+  }
   if (const std::string hung = Harness(m, root); !hung.empty()) {
     w->description_ = "fall watch off: " + hung;
     return w;

@@ -17,8 +17,9 @@
 //     start (the start's posture is upright, whatever the base frame's own axes).
 // A robot without soles: no contact test (its feet are unknown; said once); the height is taken
 // above the lowest point of its geoms at the start (a level ground assumed). A robot with no
-// free joint, or one held to the world by an active weld or connect equality (a harness, e.g.
-// scenarios/scenes/h1_hung.xml), cannot fall: the watch is off, and says why once.
+// free joint (or whose joints are not below the free body MapRobot took as its base: a ball
+// beside a fixed arm), or one held to the world by an active weld or connect equality (a
+// harness, e.g. scenarios/scenes/h1_hung.xml), cannot fall: the watch is off, and says why once.
 //
 // Cost: the pairs (robot geom, ground geom) are listed at set-up; per cycle a plane or height
 // field is a dot product per robot geom, other ground geoms a bounding-sphere test, and only a
