@@ -36,17 +36,17 @@ int main(int argc, char** argv) {
   app.add_option("--contact-stiffness", cp.stiffness, "soft: normal stiffness of one sole [N/m^n]")
       ->capture_default_str();
   app.add_option("--contact-exponent", cp.exponent, "soft: force ~ k delta^n, n in [1, 3]")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::InRange(1, 3));
   app.add_option("--contact-damping", cp.damping, "soft: Hunt-Crossley damping [s/m]")
       ->capture_default_str();
   app.add_option("--contact-friction", cp.friction, "soft: Coulomb friction coefficient")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::Plausible("friction"));
   app.add_option("--contact-tangential-stiffness", cp.tangential_stiffness,
                  "soft: shear stiffness of one sole while it sticks [N/m]")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::Plausible("sole_stiffness"));
   app.add_option("--contact-tangential-damping", cp.tangential_damping,
                  "soft: shear damping of one sole while it sticks [N s/m]")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::Plausible("sole_damping"));
   std::vector<std::string> pushes;
   app.add_option("--push", pushes,
                  "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
