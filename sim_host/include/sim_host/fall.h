@@ -23,7 +23,9 @@
 //
 // Cost: the pairs (robot geom, ground geom) are listed at set-up; per cycle a plane or height
 // field is a dot product per robot geom, other ground geoms a bounding-sphere test, and only a
-// pair that passes goes to the narrow phase. No allocation, no logging in Check.
+// pair that passes goes to the narrow phase. No allocation, no logging in Check. Measured
+// (tests/sim_host/fall_watch_test.cc): 4.2 us a check for HRP-1S on scene_rough.xml's 26 ground
+// geoms (1248 pairs), against about 100 us of physics per 5 ms control cycle.
 #pragma once
 
 #include <mujoco/mujoco.h>
