@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "cli/plausible.h"
 #include "shm_bridge/bridge.h"
 #include "sim_host/divergence.h"
 #include "sim_host/host_text.h"
@@ -35,6 +36,10 @@ void OnFatal(const char*) {
 
 bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
   if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
+  // the step, the scene's or ours, is plausible (cli/plausible.h): 1e308 or 1e-300 never runs
+  *error = cli::CheckPlausible("physics_dt", m->opt.timestep,
+                               o.physics_dt > 0 ? "--physics-dt" : o.scene + ": <option timestep>");
+  if (!error->empty()) return false;
   if (!o.integrator.empty()) {
     if (o.integrator == "euler") m->opt.integrator = mjINT_EULER;
     else if (o.integrator == "rk4") m->opt.integrator = mjINT_RK4;
@@ -96,6 +101,12 @@ int RunHost(const HostOptions& options) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
+  // the fall watch, on the initial state (fall.h)
+  auto fall = FallWatch::Create(m, d, robot, o.feet.soles, o.fall, &error);
+  if (!fall) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
   // the control period: the scene's step times n (period.h)
   const double dt = m->opt.timestep;
   int steps_per_cycle = 1;
@@ -117,6 +128,7 @@ int RunHost(const HostOptions& options) {
                       options.control_period <= 0, contact_model};
   if (o.explain) {
     PrintExplain(text);
+    std::printf("%s\n", fall->Describe().c_str());
     return kExitOk;
   }
   // the data log, before anything runs (its header written: a file that takes none is refused)
@@ -163,6 +175,7 @@ int RunHost(const HostOptions& options) {
   Servo servo(robot);
   servo.HoldCurrent(d);
   if (!o.quiet) PrintStart(text);
+  if (!o.quiet) std::fprintf(stderr, "sim_host: %s\n", fall->Describe().c_str());
 
   //---------------- the loop ----------------
   RunStats st;
@@ -368,6 +381,15 @@ int RunHost(const HostOptions& options) {
     ++st.cycles;
     // once a cycle, after its physics steps (allocation-free)
     if (self_collision) self_collision->Check(d, d->time, st.cycles);
+    // the fall watch, once a cycle (allocation-free): the first fall is an event
+    if (fall->Check(m, d, d->time, st.cycles)) {
+      st.Record(d->time, "fall", fall->fall().body);
+      if (o.fall.on_fall == OnFall::kEnd) {
+        exit_code = kExitFell;
+        publish(shm::status::kShuttingDown);
+        break;
+      }
+    }
 
     if (o.realtime) {
       deadline += o.control_period;
@@ -403,6 +425,16 @@ int RunHost(const HostOptions& options) {
     exit_code = kExitInterrupted;
     std::fprintf(stderr, "sim_host: interrupted (signal %d) at t=%.3f s; shutting down\n",
                  g_signal.load(), d->time);
+  }
+  // a fall is the run's outcome unless the run ended for a worse reason (fall.h)
+  st.fall = fall->Summary(m);
+  if (st.fall.fell && (exit_code == kExitOk || exit_code == kExitInterrupted || exit_code == kExitFell)) {
+    char at[96];
+    std::snprintf(at, sizeof(at), "the robot fell at t=%.3f s (cycle %lu): ", st.fall.record.time,
+                  static_cast<unsigned long>(st.fall.record.cycle));
+    st.outcome = "fell";
+    st.detail = at + st.fall.cause;
+    exit_code = kExitFell;
   }
   if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
   if (recorder) EndLog(recorder.get(), &st, &exit_code);

@@ -17,11 +17,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--keyframe", o.keyframe, "initial state: a keyframe of the scene (default: the model's pose)");
   app.add_option("--physics-dt", o.physics_dt, "physics step [s] (default: the scene's timestep)")
-      ->check(ohrp::cli::Positive());
+      ->check(ohrp::cli::Plausible("physics_dt"));
   app.add_option("--control-period", o.control_period,
                  "sensor/command cycle [s], a whole multiple of the physics step (default: the "
                  "multiple nearest 5 ms, e.g. 4 ms on a 2 ms step)")
-      ->check(ohrp::cli::Positive());
+      ->check(ohrp::cli::Plausible("control_period"));
   app.add_option("--integrator", o.integrator, "euler | rk4 | implicit (default: the scene's)")
       ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
   std::string contact = "auto";
@@ -36,17 +36,17 @@ int main(int argc, char** argv) {
   app.add_option("--contact-stiffness", cp.stiffness, "soft: normal stiffness of one sole [N/m^n]")
       ->capture_default_str();
   app.add_option("--contact-exponent", cp.exponent, "soft: force ~ k delta^n, n in [1, 3]")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::InRange(1, 3));
   app.add_option("--contact-damping", cp.damping, "soft: Hunt-Crossley damping [s/m]")
       ->capture_default_str();
   app.add_option("--contact-friction", cp.friction, "soft: Coulomb friction coefficient")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::Plausible("friction"));
   app.add_option("--contact-tangential-stiffness", cp.tangential_stiffness,
                  "soft: shear stiffness of one sole while it sticks [N/m]")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::Plausible("sole_stiffness"));
   app.add_option("--contact-tangential-damping", cp.tangential_damping,
                  "soft: shear damping of one sole while it sticks [N s/m]")
-      ->capture_default_str();
+      ->capture_default_str()->check(ohrp::cli::Plausible("sole_damping"));
   std::vector<std::string> pushes;
   app.add_option("--push", pushes,
                  "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
@@ -54,14 +54,14 @@ int main(int argc, char** argv) {
                  "overlapping pushes add")
       ->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("duration"));
   app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");
   app.add_option("--wait-controller", o.wait_controller,
                  "wall time to wait for the first controller [s]; 0 runs without one (joints hold)")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("timeout"));
   app.add_option("--controller-timeout", o.controller_timeout,
                  "wall time a lock-step controller may take to answer a cycle [s]")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("timeout"));
   app.add_option("--on-controller-loss", loss,
                  "when the controller dies, hangs or detaches: end the run, wait for a new one, or "
                  "continue holding (a hung controller is dropped: resumed, it exits 7)")
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
                  "CSV data log (base pose, joints, F/T, IMU per cycle), checked writable before "
                  "the run; a failed write (disk full...) ends the run with exit code 9");
   app.add_option("--log-every", o.log_every, "record one row every N control cycles")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("cycles"));
   std::string log_max;
   app.add_option("--log-max", log_max,
                  "bound on the data log's size: bytes, or with k, M, G (e.g. 50M); the rows past "
@@ -80,8 +80,19 @@ int main(int argc, char** argv) {
                  "JSON summary written at the end (checked writable before the run; says "
                  "\"running\" until the end)");
   app.add_option("--progress", o.progress, "wall seconds between progress lines; 0: none")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("timeout"));
   app.add_flag("--quiet,-q", o.quiet, "print errors only");
+  std::string on_fall = "end";
+  app.add_option("--on-fall", on_fall,
+                 "when the robot falls (a body other than the feet touches the ground, the base "
+                 "sinks below half its start height over the soles or tilts past 60 deg; "
+                 "docs/architecture.md): end the run at once, or continue simulating; either way "
+                 "the fall is an event of the summary and the exit code is 6")
+      ->capture_default_str()->check(CLI::IsMember({"end", "continue"}));
+  app.add_option("--fall-allow-contact", o.fall.allow_contact,
+                 "bodies of the robot (with the bodies below them) allowed to touch the ground "
+                 "without it being a fall, e.g. the hands: BODY,BODY")
+      ->delimiter(',');
   std::vector<std::string> effects;
   app.add_option("--effects", effects,
                  "switch effects on or off: NAME=on|off, contact:BODY1/BODY2=on|off, "
@@ -116,7 +127,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 completed, 2 bad option, model, keyframe or segment, 3 MuJoCo error,\n"
       "4 the simulation diverged, 5 the controller was lost (or never attached, or another process\n"
-      "overwrote the segment's wake-up words), 9 the data log or the summary could not be written\n"
+      "overwrote the segment's wake-up words), 6 the robot fell (--on-fall end or continue; also\n"
+      "when interrupted after a fall), 9 the data log or the summary could not be written\n"
       "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
@@ -162,5 +174,6 @@ int main(int argc, char** argv) {
     o.pushes.push_back(p);
   }
   ohrp::shm::ParseControllerLoss(loss, &o.on_loss);  // one of the choices checked above
+  ohrp::sim::ParseOnFall(on_fall, &o.fall.on_fall);  // the same
   return ohrp::sim::RunHost(o);
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/plausible.h"
 #include "sim_host/host.h"
 
 namespace ohrp::sim {
@@ -42,6 +43,15 @@ bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* 
   }
   if (v[0] < 0 || !(v[1] > v[0])) {
     *error = "--push '" + spec + "': the window must have 0 <= t0 < t1" + kForm;
+    return false;
+  }
+  // plausible magnitudes (cli/plausible.h) of the force and the torque (a push may last the run)
+  const double f = std::sqrt(v[2] * v[2] + v[3] * v[3] + v[4] * v[4]);
+  const double t = std::sqrt(v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+  for (const std::string& e : {cli::CheckPlausible("force", f, "--push '" + spec + "': |force|"),
+                               cli::CheckPlausible("torque", t, "--push '" + spec + "': |torque|")}) {
+    if (e.empty()) continue;
+    *error = e;
     return false;
   }
   out->t0 = v[0];

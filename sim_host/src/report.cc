@@ -84,6 +84,9 @@ void PrintReport(const RunStats& st) {
                static_cast<unsigned long>(st.steps), static_cast<unsigned long>(st.cycles),
                static_cast<unsigned long>(st.commands), static_cast<unsigned long>(st.late),
                static_cast<unsigned long>(st.rejected), st.warnings);
+  if (st.fall.fell)
+    std::fprintf(stderr, "sim_host: FELL at t=%.3f s (cycle %lu): %s\n", st.fall.record.time,
+                 static_cast<unsigned long>(st.fall.record.cycle), st.fall.cause.c_str());
   // the self_collision effect: each pair with its first contact and deepest penetration
   if (st.self_collision.on) {
     const SelfCollisionSummary& sc = st.self_collision;
@@ -158,9 +161,24 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   j["controllers_seen"] = st.controllers_seen;
   j["mujoco_warnings"] = st.warnings;
   nlohmann::json events = nlohmann::json::array();
-  for (const HostEvent& e : st.events)
+  for (const HostEvent& e : st.events) {
     events.push_back({{"time", e.time}, {"cycle", e.cycle}, {"event", e.kind}, {"value", e.value}});
+    if (std::string(e.kind) == "fall") events.back()["cause"] = st.fall.cause;
+  }
   j["events"] = events;
+  j["fall_watch"] = {{"on", st.fall.on}, {"text", st.fall.watch},
+                     {"start_height", st.fall.start_height}, {"min_height", st.fall.min_height},
+                     {"max_tilt_deg", st.fall.max_tilt}, {"on_fall", OnFallName(o.fall.on_fall)},
+                     {"allow_contact", o.fall.allow_contact}};
+  if (st.fall.fell) {
+    const FallRecord& f = st.fall.record;
+    j["fall"] = {{"time", f.time}, {"cycle", f.cycle}, {"kind", FallKindName(f.kind)},
+                 {"cause", st.fall.cause}, {"body", st.fall.body}, {"geom", st.fall.geom},
+                 {"ground", st.fall.ground}, {"depth", f.depth}, {"height", f.height},
+                 {"tilt_deg", f.tilt}};
+  } else {
+    j["fall"] = nullptr;
+  }
   j["events_dropped"] = st.events_dropped;
   if (st.divergence.kind != DivergenceKind::kNone) {
     const Diagnosis& x = st.divergence;

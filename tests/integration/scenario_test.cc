@@ -128,8 +128,11 @@ TEST(ScenarioStrict, BadChecksAreRefusedWithLineAndKey) {
 // issue 12: every value of the run is checked before anything starts
 TEST(ScenarioStrict, BadRunValuesAreRefusedWithLineAndKey) {
   ExpectRefused({
-      {Variant(3, "physics_dt: -1"), "line 3: physics_dt: must be in (0, 0.1] s, not -1"},
-      {Variant(3, "physics_dt: 0"), "line 3: physics_dt: must be in (0, 0.1] s, not 0"},
+      {Variant(3, "physics_dt: -1"), "line 3: physics_dt: -1 is outside the plausible range [1e-05, 0.02] s"},
+      {Variant(3, "physics_dt: 0"), "line 3: physics_dt: 0 is outside the plausible range"},
+      // issue 28 item 6: absurd but finite
+      {Variant(3, "physics_dt: 1e-300"), "line 3: physics_dt: 1e-300 is outside the plausible range [1e-05, 0.02] s"},
+      {Variant(4, "control_period: 1e-300"), "line 4: control_period: 1e-300 is outside the plausible range"},
       {Variant(3, "physics_dt: .nan"), "line 3: physics_dt: must be finite"},
       {Variant(3, "physics_dt: fast"), "line 3: physics_dt: must be a number, not 'fast'"},
       {Variant(2, "duration: 1e308"), "line 2: duration: must be in (0, 100000] s"},
@@ -142,6 +145,9 @@ TEST(ScenarioStrict, BadRunValuesAreRefusedWithLineAndKey) {
       {Variant(0, "on_controller_loss: panic"), "line 9: on_controller_loss: must be end, wait or continue"},
       {Variant(0, "keyframe: \"\""), "line 9: keyframe: must not be empty"},
       {Variant(0, "realtime: maybe"), "line 9: realtime: must be true or false"},
+      {Variant(0, "expect_fall: maybe"), "line 9: expect_fall: must be true or false"},
+      {Variant(0, "on_fall: panic"), "line 9: on_fall: must be end or continue"},
+      {Variant(0, "fall_allow_contact: hand"), "line 9: fall_allow_contact: must be a list"},
       {Variant(0, "log_every: 0"), "line 9: log_every: must be in [1, 1000000]"},
       {Variant(0, "log_every: 2.5"), "line 9: log_every: must be a whole number"},
       {Variant(0, "controller_timeout: 0"), "line 9: controller_timeout: must be in (0, 3600] s"},

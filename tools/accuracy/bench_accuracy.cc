@@ -23,6 +23,7 @@
 #include "accuracy.h"
 #include "report.h"
 #include "shm_bridge/clock.h"
+#include "tool_process/run_command.h"
 
 namespace fs = std::filesystem;
 using namespace ohrp::accuracy;
@@ -402,10 +403,11 @@ int main(int argc, char** argv) {
     const std::string python = env && *env ? env
                                : fs::exists("/usr/bin/python3") ? "/usr/bin/python3"
                                                                 : "python3";
-    const std::string cmd = "'" + python + "' '" + src + "/tools/scripts/plot_accuracy.py' '" +
-                            csv + "' '" + o.out + "'";
-    plot_status = std::system(cmd.c_str());
-    if (plot_status != 0) std::fprintf(stderr, "bench_accuracy: plotting failed (%s)\n", cmd.c_str());
+    std::string why;  // an argument vector, no shell (tool_process/run_command.h)
+    plot_status = ohrp::tool::RunCommand({python, src + "/tools/scripts/plot_accuracy.py", csv, o.out}, "", &why);
+    if (plot_status != 0)
+      std::fprintf(stderr, "bench_accuracy: plotting failed (%s)\n",
+                   plot_status < 0 ? why.c_str() : "plot_accuracy.py returned non-zero");
   }
 
   // ---- what to choose, the orders and the headline, from the rows ----

@@ -20,6 +20,7 @@
 #include "cli/command_line.h"
 #include "render/offscreen.h"
 #include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
+#include "tool_process/run_command.h"
 
 namespace {
 
@@ -270,21 +271,21 @@ int main(int argc, char** argv) {
   } else {
     const int frames = static_cast<int>(std::floor((t1 - t0) / speed * fps)) + 1;
     FILE* pipe = nullptr;
+    std::unique_ptr<ohrp::tool::PipeTo> ffmpeg;
     if (frames_dir.empty()) {
       if (out.empty()) out = run_dir + "/video.mp4";
-      if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-        std::fprintf(stderr, "ohrp_video: ffmpeg is not installed ('./ohrp setup' installs it, or use "
-                             "--frames DIR for PNG frames)\n");
+      // an argument vector, no shell (tool_process/run_command.h): the output path is one argument
+      ffmpeg = ohrp::tool::PipeTo::Start(
+          {"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s",
+           std::to_string(width) + "x" + std::to_string(height), "-r", std::to_string(fps), "-i",
+           "-", "-pix_fmt", "yuv420p", "-vcodec", "libx264", out},
+          "", &error);
+      if (!ffmpeg) {
+        std::fprintf(stderr, "ohrp_video: %s ('./ohrp setup' installs ffmpeg, or use --frames DIR "
+                             "for PNG frames)\n", error.c_str());
         return 2;
       }
-      const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " +
-                              std::to_string(width) + "x" + std::to_string(height) + " -r " +
-                              std::to_string(fps) + " -i - -pix_fmt yuv420p -vcodec libx264 '" + out + "'";
-      pipe = popen(cmd.c_str(), "w");
-      if (!pipe) {
-        std::fprintf(stderr, "ohrp_video: cannot start ffmpeg\n");
-        return 3;
-      }
+      pipe = ffmpeg->file();
     } else if (!IsDir(frames_dir) && mkdir(frames_dir.c_str(), 0755) != 0) {
       std::fprintf(stderr, "ohrp_video: cannot create '%s'\n", frames_dir.c_str());
       return 2;
@@ -305,7 +306,7 @@ int main(int argc, char** argv) {
       }
       if (k > 0 && k % 100 == 0) std::fprintf(stderr, "ohrp_video: frame %d of %d\n", k, frames);
     }
-    if (pipe && pclose(pipe) != 0) {
+    if (ffmpeg && ffmpeg->Close() != 0) {
       std::fprintf(stderr, "ohrp_video: ffmpeg failed writing '%s'\n", out.c_str());
       status = 1;
     }

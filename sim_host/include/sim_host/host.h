@@ -15,6 +15,7 @@
 #include "shm_bridge/controller_loss.h"
 #include "sim_host/cameras.h"
 #include "sim_host/effects.h"
+#include "sim_host/fall.h"
 #include "sim_host/feet.h"
 
 namespace ohrp::sim {
@@ -86,6 +87,8 @@ struct HostOptions {
                                    // ohrp_selfcollision (implies self_collision=on); empty: all
                                    // non-adjacent pairs (sim_host/self_collision_watch.h)
   CameraOptions cameras;           // the robot's cameras: size, rate (sim_host/cameras.h)
+  FallOptions fall;                // the fall watch: end or continue, bodies allowed to touch
+                                   // the ground (sim_host/fall.h)
 };
 
 // exit codes of sim_host
@@ -94,6 +97,8 @@ inline constexpr int kExitUsage = 2;           // bad option, model, keyframe or
 inline constexpr int kExitMujocoError = 3;
 inline constexpr int kExitDiverged = 4;
 inline constexpr int kExitControllerLost = 5;  // lost (or never got) a controller, policy "end"
+inline constexpr int kExitFell = 6;            // the robot fell (sim_host/fall.h), with --on-fall
+                                               // end or continue; 4, 5 and 3 take precedence
 inline constexpr int kExitOutputFailed = model::kExitOutputFailed;  // 9: the data log or the
                                                // summary could not be written completely
 inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: clean shutdown

@@ -9,6 +9,7 @@
 
 #include "sim_host/divergence.h"
 #include "sim_host/effects.h"
+#include "sim_host/fall.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
@@ -23,9 +24,11 @@ struct HostEvent {
   double time = 0;         // simulated time [s]
   uint64_t cycle = 0;
   const char* kind = "";   // controller_attached | controller_died | controller_detached |
-                           // controller_silent | commands_rejected | push_start | push_end
+                           // controller_silent | commands_rejected | push_start | push_end |
+                           // fall
   int64_t value = 0;       // controller_*: its pid; commands_rejected: joints rejected in that
-                           // block; push_*: the push's index in the order given
+                           // block; push_*: the push's index in the order given; fall: the body
+                           // that touched the ground (-1: height or tilt; the summary's "cause")
 };
 
 inline constexpr size_t kMaxHostEvents = 4096;  // events kept per run; more are counted
@@ -76,6 +79,7 @@ struct RunStats {
   long long contact_pairs_bounded = 0;  // of those, rejected by the cheap bound (no FCL)
   Diagnosis divergence;                 // the divergence watch's diagnostic (kind none: none)
   SelfCollisionSummary self_collision;  // the self_collision effect (on: false when off)
+  FallSummary fall;                     // the fall watch and the robot's fall (sim_host/fall.h)
 };
 
 const char* IntegratorName(int integrator);
@@ -121,6 +125,10 @@ std::string ProvisionalSummary(const HostOptions& o);
 // sensor, which the sensor does not carry, and the soles' rectangles in their sensors' frames,
 // "soles": {sensor: {"sole", "x": [min, max], "y": [min, max], "z", "foot_mass",
 // "foot_com": [x, y, z]}}).
+// The fall watch (sim_host/fall.h): "fall_watch": {"on", "text", "start_height", "min_height",
+// "max_tilt_deg", "on_fall", "allow_contact"}, and "fall": null, or the first fall {"time",
+// "cycle", "kind" (contact | height | tilt), "cause", "body", "geom", "ground", "depth",
+// "height", "tilt_deg"}; the event "fall" carries the same "cause".
 // `effects` (may be null) adds each effect, on or off, and why. With the self_collision effect
 // on, "self_collision": {"source", "links", "pairs_checked", "excluded", "checks",
 // "cycles_in_contact", "check_mean_s", "check_max_s", "pairs": [{"pair", "first_time",

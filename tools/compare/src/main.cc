@@ -10,6 +10,7 @@
 
 #include "cli/command_line.h"
 #include "compare/compare.h"
+#include "tool_process/run_command.h"
 
 namespace {
 
@@ -127,10 +128,10 @@ int main(int argc, char** argv) {
   if (!no_plot && !plot.empty()) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string png = (fs::path(out_dir) / "compare.png").string();
-    const std::string cmd = python + " " + Quote(std::string(OHRP_SOURCE_DIR) + "/tools/scripts/plot_compare.py") +
-                            " " + Quote(json_path) + " " + Quote(png) + " > " +
-                            Quote((fs::path(out_dir) / "plot.stderr").string()) + " 2>&1";
-    if (std::system(cmd.c_str()) != 0) {
+    std::string why;  // an argument vector, no shell (tool_process/run_command.h)
+    if (ohrp::tool::RunCommand({python, std::string(OHRP_SOURCE_DIR) + "/tools/scripts/plot_compare.py",
+                          json_path, png},
+                         (fs::path(out_dir) / "plot.stderr").string(), &why) != 0) {
       std::fprintf(stderr, "ohrp_compare_logs: the plot could not be made (see %s/plot.stderr)\n",
                    out_dir.c_str());
     } else {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "push/push.h"
+#include "tool_process/run_command.h"
 
 namespace fs = std::filesystem;
 
@@ -128,10 +129,10 @@ bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::s
   //---------------- plot ----------------
   if (o.plot && !settle) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    const std::string cmd = python + " '" + o.source_dir + "/tools/push/plot_push.py' '" + o.out_dir +
-                            "/push.csv' '" + o.out_dir + "/push.png' > '" + o.out_dir +
-                            "/plot.stderr' 2>&1";
-    if (std::system(cmd.c_str()) != 0)
+    std::string why;  // an argument vector, no shell (tool_process/run_command.h)
+    if (tool::RunCommand({python, o.source_dir + "/tools/push/plot_push.py", o.out_dir + "/push.csv",
+                          o.out_dir + "/push.png"},
+                         o.out_dir + "/plot.stderr", &why) != 0)
       std::fprintf(stderr, "ohrp_push: the plot could not be made (see %s/plot.stderr)\n", o.out_dir.c_str());
   }
   return true;

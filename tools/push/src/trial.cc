@@ -127,11 +127,13 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
     t.detail = std::string("unreadable summary: ") + e.what();
     return t;
   }
-  // a completed run needs the controller to have ended cleanly; a diverged one is a fall
-  // (a falling robot sinks through the floor, where only the soles collide, until the energy
-  // watch stops sim_host; the controller then ends with an error of its own)
+  // a completed run needs the controller to have ended cleanly; a fall (sim_host's fall watch,
+  // sim_host/fall.h: exit 6, the summary's "fall") is a result, not an error, and so is a
+  // diverged run (a robot falling where only the soles collide once sank through the floor until
+  // the energy watch stopped sim_host); the controller may then end with an error of its own
   const std::string outcome = sim.value("outcome", std::string("no summary"));
-  const bool diverged = outcome == "diverged";
+  const bool fell = sim.contains("fall") && sim["fall"].is_object();
+  const bool diverged = outcome == "diverged" || fell;
   if (outcome != "completed" && !diverged) {
     t.detail = "sim_host: " + outcome + " " + sim.value("detail", std::string()) + " (see " + t.dir + ")";
     return t;
@@ -163,9 +165,12 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
     return t;
   }
   t.standing = sr.standing && !diverged;
-  t.detail = diverged ? "sim_host stopped at t=" + std::to_string(sim.value("sim_time", 0.0)) +
-                            " s: " + sim.value("detail", std::string()).substr(0, 60) + "..."
-                      : sr.why;
+  char fell_at[48];
+  std::snprintf(fell_at, sizeof(fell_at), "fell at t=%.3f s: ", fell ? sim["fall"].value("time", 0.0) : 0.0);
+  t.detail = fell       ? fell_at + sim["fall"].value("cause", std::string())
+             : diverged ? "sim_host stopped at t=" + std::to_string(sim.value("sim_time", 0.0)) +
+                              " s: " + sim.value("detail", std::string()).substr(0, 60) + "..."
+                        : sr.why;
   t.lowest_height = sr.lowest_height;
   t.stance_height = sr.stance_height;
   t.largest_tilt = sr.largest_tilt;

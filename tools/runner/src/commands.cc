@@ -73,6 +73,13 @@ std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& si
     argv.insert(argv.end(), {"--effects", "self_collision=on"});
     break;
   }
+  // falls (sim_host/fall.h)
+  if (s.on_fall != "end") argv.insert(argv.end(), {"--on-fall", s.on_fall});
+  if (!s.fall_allow_contact.empty()) {
+    std::string bodies;
+    for (const auto& b : s.fall_allow_contact) bodies += (bodies.empty() ? "" : ",") + b;
+    argv.insert(argv.end(), {"--fall-allow-contact", bodies});
+  }
   // pushes, then the scenario's own arguments
   for (const auto& p : s.pushes) argv.insert(argv.end(), {"--push", PushArgument(p)});
   for (const auto& a : s.sim_args) argv.push_back(ExpandPlaceholders(a, out_dir));

@@ -22,6 +22,8 @@
 #include "runner/checks.h"
 #include "runner/commands.h"
 #include "shm_bridge/clock.h"
+#include "sim_host/host.h"
+#include "tool_process/run_command.h"
 
 namespace fs = std::filesystem;
 
@@ -137,6 +139,34 @@ std::string Num(double v) {
 
 }  // namespace
 
+CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::json& sim,
+                             const std::string& aborted) {
+  std::string detail = sim.value("outcome", std::string("no summary"));
+  if (const std::string d = sim.value("detail", std::string()); !d.empty()) detail += ": " + d;
+  const nlohmann::json fall = sim.contains("fall") ? sim["fall"] : nlohmann::json();
+  const bool fell = exit_code == sim::kExitFell && fall.is_object();
+  CheckResult r{"sim_host_completed", exit_code == 0, static_cast<double>(exit_code), "exit code",
+                "== 0", detail};
+  char at[64] = "";
+  if (fell)
+    std::snprintf(at, sizeof(at), "fell at t=%.3f s (cycle %llu): ", fall.value("time", 0.0),
+                  static_cast<unsigned long long>(fall.value("cycle", 0ull)));
+  if (fell) r.detail = at + fall.value("cause", std::string("?"));
+  if (s.expect_fall) {
+    r.limit = "a fall (expect_fall: true)";
+    r.passed = fell;
+    if (fell) r.detail = "as expected: " + r.detail;
+    else if (exit_code == 0) r.detail = "expected a fall and the robot did not fall (" + detail + ")";
+  } else if (fell) {
+    r.limit = "== 0, no fall (or expect_fall: true)";
+  }
+  if (!aborted.empty()) {
+    r.passed = false;
+    r.detail = aborted;
+  }
+  return r;
+}
+
 std::map<std::string, std::string> OutputFiles(const std::string& out_dir) {
   std::map<std::string, std::string> files = {
       {"log", "log.csv"}, {"plot", "plot.png"}, {"sim_summary", "sim_summary.json"}};
@@ -170,6 +200,11 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   }
   if (!missing.empty()) {
     std::fprintf(stderr, "ohrp_run: cannot start the run:%s\n", missing.c_str());
+    return kRunUsage;
+  }
+  // the names it gives are the model's (joints, sensors, bodies...)
+  if (std::string why; !CheckScenarioNames(s, scene, &why)) {
+    std::fprintf(stderr, "ohrp_run: %s\n", why.c_str());
     return kRunUsage;
   }
   const std::string out = o.out_dir.empty() ? "runs/" + s.name + "-" + Stamp() : o.out_dir;
@@ -280,16 +315,8 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     }
   }
   std::vector<CheckResult> results;
-  // implicit: the processes ended as they should
-  {
-    CheckResult r{"sim_host_completed", sim.exit_code == 0, static_cast<double>(sim.exit_code),
-                  "exit code", "== 0", sim_summary.value("outcome", std::string("no summary")) +
-                                           (sim_summary.value("detail", std::string()).empty()
-                                                ? ""
-                                                : ": " + sim_summary.value("detail", std::string()))};
-    if (!aborted.empty()) r.detail = aborted;
-    results.push_back(r);
-  }
+  // implicit: the processes ended as they should, the robot did not fall (or fell as expected)
+  results.push_back(SimHostCompleted(s, sim.exit_code, sim_summary, aborted));
   for (auto& c : ctl) {
     results.push_back({c.label + "_exited_cleanly", c.exit_code == 0,
                        static_cast<double>(c.exit_code), "exit code", "== 0",
@@ -333,16 +360,18 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   std::ofstream(out_abs + "/summary.json") << j.dump(2) << "\n";
 
   if (o.plot && have_log) {
+    // an argument vector, no shell: the scenario's names are arguments, never commands
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     std::string joints, torques;
     for (const auto& n : s.plot_joints) joints += (joints.empty() ? "" : ",") + n;
     for (const auto& n : s.plot_torques) torques += (torques.empty() ? "" : ",") + n;
-    std::string cmd = python + " '" + o.source_dir + "/tools/scripts/plot_run.py' '" + out_abs +
-                      "/log.csv' '" + out_abs + "/summary.json' '" + out_abs + "/plot.png'" +
-                      (joints.empty() ? "" : " --joints " + joints) +
-                      (torques.empty() ? "" : " --torques " + torques) + " >> '" + out_abs +
-                      "/plot.stderr' 2>&1";
-    if (std::system(cmd.c_str()) != 0)
+    std::vector<std::string> cmd = {python, o.source_dir + "/tools/scripts/plot_run.py",
+                                    out_abs + "/log.csv", out_abs + "/summary.json",
+                                    out_abs + "/plot.png"};
+    if (!joints.empty()) cmd.insert(cmd.end(), {"--joints", joints});
+    if (!torques.empty()) cmd.insert(cmd.end(), {"--torques", torques});
+    std::string why;
+    if (tool::RunCommand(cmd, out_abs + "/plot.stderr", &why) != 0)
       std::fprintf(stderr, "ohrp_run: the plot could not be made (see %s/plot.stderr)\n", out.c_str());
   }
 

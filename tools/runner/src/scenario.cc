@@ -7,6 +7,7 @@
 #include <set>
 
 #include "check_parse.h"
+#include "cli/plausible.h"
 #include "runner/check_keys.h"
 #include "runner/commands.h"
 #include "pushes.h"
@@ -20,14 +21,13 @@ const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
     "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
-    "contact_params", "effects", "pushes", "camera_rate"};
+    "contact_params", "effects", "pushes", "camera_rate", "expect_fall", "on_fall",
+    "fall_allow_contact"};
 const std::set<std::string> kControllerKeys = {"program", "args"};
 const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
                                               "tangential_stiffness", "tangential_damping"};
 
-// bounds of the run's numbers
-constexpr double kMaxPhysicsDt = 0.1;        // [s]
-constexpr double kMaxControlPeriod = 1.0;    // [s]
+// bounds of the run's numbers (the time steps: cli/plausible.h)
 constexpr double kMaxCameraRate = 1000.0;    // [frames per simulated s], sim_host's bounds: [0.1, 1000]
 constexpr double kMaxDuration = 1e5;         // [s] simulated, about 28 hours
 constexpr double kMaxControllerTimeout = 3600;  // [s] wall
@@ -58,6 +58,17 @@ auto NumberIn(double* out, double lo, double hi, bool lo_open, const char* unit)
       return false;
     }
     return true;
+  };
+}
+
+// a number in the plausible range of `quantity` (cli/plausible.h)
+auto PlausibleNumber(double* out, const char* quantity) {
+  return [=](const YAML::Node& n, std::string* why) {
+    if (!ReadNumber(n, out, why)) return false;
+    const cli::PlausibleRange* r = cli::FindPlausible(quantity);
+    if (r && cli::IsPlausible(*r, *out)) return true;
+    *why = n.Scalar() + " is outside " + (r ? cli::PlausibleRangeText(*r) : std::string("?"));
+    return false;
   };
 }
 
@@ -110,9 +121,8 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
                [&](const YAML::Node& n, std::string* why) { return ReadText(n, &s->description, why); }) &&
       Optional(root, "scene", path, error, NonEmptyText(&s->scene)) &&
       Optional(root, "keyframe", path, error, NonEmptyText(&s->keyframe)) &&
-      Optional(root, "physics_dt", path, error, NumberIn(&s->physics_dt, 0, kMaxPhysicsDt, true, "s")) &&
-      Optional(root, "control_period", path, error,
-               NumberIn(&s->control_period, 0, kMaxControlPeriod, true, "s")) &&
+      Optional(root, "physics_dt", path, error, PlausibleNumber(&s->physics_dt, "physics_dt")) &&
+      Optional(root, "control_period", path, error, PlausibleNumber(&s->control_period, "control_period")) &&
       Optional(root, "duration", path, error, NumberIn(&s->duration, 0, kMaxDuration, true, "s")) &&
       Optional(root, "camera_rate", path, error,
                NumberIn(&s->camera_rate, 0.1, kMaxCameraRate, false, "frames per simulated s")) &&
@@ -136,6 +146,10 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
       Optional(root, "sim_args", path, error, TextList(&s->sim_args)) &&
       Optional(root, "plot_joints", path, error, TextList(&s->plot_joints)) &&
       Optional(root, "plot_torques", path, error, TextList(&s->plot_torques)) &&
+      Optional(root, "expect_fall", path, error,
+               [&](const YAML::Node& n, std::string* why) { return ReadBool(n, &s->expect_fall, why); }) &&
+      Optional(root, "on_fall", path, error, Choice(&s->on_fall, {"end", "continue"})) &&
+      Optional(root, "fall_allow_contact", path, error, TextList(&s->fall_allow_contact)) &&
       KnownPlaceholders(root, "sim_args", path, "", error);
   if (!ok) return false;
   s->log_every = static_cast<int>(log_every);
@@ -289,6 +303,7 @@ bool ReadChecks(const YAML::Node& root, const std::string& path, Scenario* s, st
   for (size_t i = 0; i < list.size(); ++i) {
     CheckSpec spec;
     if (!ParseCheck(list[i], i, s->duration, path, &spec, error)) return false;
+    spec.line = list[i].Mark().line + 1;
     s->checks.push_back(spec);
   }
   return true;
@@ -318,6 +333,7 @@ bool ReadScenario(const YAML::Node& root, const std::string& path, Scenario* out
   Scenario s;
   s.file = path;
   if (!KnownKeysOnly(root, kTopKeys, path, "", error)) return false;
+  for (const auto& kv : root) s.lines[kv.first.Scalar()] = kv.first.Mark().line + 1;
   if (!root["name"]) {
     // the file's name without .yaml
     const auto slash = path.find_last_of('/');

@@ -12,8 +12,10 @@
 #pragma once
 
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "runner/checks.h"
 #include "runner/scenario.h"
 
 namespace ohrp::runner {
@@ -36,6 +38,20 @@ inline constexpr int kRunUsage = 2;        // bad scenario or options
 inline constexpr int kRunInterrupted = 130;
 
 int RunScenario(const Scenario& scenario, const RunOptions& options);
+
+// The names scenario `s` gives checked against the model of its scene (the file `scene`, resolved):
+// plot_joints and plot_torques are joints of the robot (driven or passive), fall_allow_contact bodies, the checks'
+// `sensors` and `sensor` force sensors, `geom` a geom and `camera` a camera of the scene. False
+// with `*error` naming the scenario file, the line, the key, the name and the ones there are.
+// RunScenario calls it before anything starts (exit kRunUsage).
+bool CheckScenarioNames(const Scenario& s, const std::string& scene, std::string* error);
+
+// The implicit check `sim_host_completed` from sim_host's exit code and summary: passes on exit 0
+// without a fall, or, when the scenario expects a fall (`expect_fall: true`), on sim_host's fall
+// (exit 6, the summary's "fall"); the detail names the fall's time and cause ("fell at t=1.234 s
+// (cycle 246): body X touched floor ..."). `aborted`: why the run was stopped, if it was.
+CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::json& sim_summary,
+                             const std::string& aborted);
 
 // The files of a run folder that summary.json lists under "files" (name -> file in the folder):
 // log, plot and sim_summary always; walk (walk.csv, the walk controller's log, written through

@@ -26,6 +26,7 @@ struct CheckSpec {
   // the key's value, or its default in the table of check keys (check_keys.h; NaN: none)
   double Number(const std::string& key) const;
   bool Has(const std::string& key) const { return params.count(key) > 0; }
+  int line = 0;  // where the scenario file gives it (0: not from a file)
 };
 
 // An external push on the robot's base (scenario key `pushes`), applied by sim_host --push
@@ -72,10 +73,17 @@ struct Scenario {
   std::vector<CheckSpec> checks;
   std::vector<std::string> plot_joints;  // joints drawn in the plot (default: a few legs)
   std::vector<std::string> plot_torques; // joints whose torque gets a panel of the plot
+  // falls (sim_host/fall.h): every run fails on a fall unless it expects one, and then it fails
+  // without one
+  bool expect_fall = false;
+  std::string on_fall = "end";           // sim_host --on-fall: end | continue
+  std::vector<std::string> fall_allow_contact;  // sim_host --fall-allow-contact: bodies
+  std::map<std::string, int> lines;      // top-level key -> its line in the file
 };
 
 // Reads and validates a scenario: unknown or repeated keys at every level, values of the wrong
-// type or out of range (physics_dt in (0, 0.1] s, control_period a whole multiple of it,
+// type or out of range (physics_dt and control_period in their plausible ranges (cli/plausible.h),
+// control_period a whole multiple of physics_dt,
 // duration from one control period to 1e5 s, integrator, contact, effects as sim_host takes
 // them), placeholders other than `{out}` in controller args and sim_args, unknown check types
 // and check keys, check times outside the run, a missing `checks`
