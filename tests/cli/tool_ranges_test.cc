@@ -290,4 +290,23 @@ TEST(FileNumbers, VrmlNumbersOutsideTheirRangesAreRefused) {
       << out;
 }
 
+// a hinge's limit of -1000 rad in the model ohrp_selfcollision pre-processes: refused with the
+// joint and the range of an angle, not cut into cells of 80 rad (on today's main it runs)
+TEST(FileNumbers, SelfCollisionHingeLimitOutsideItsRangeIsRefused) {
+  std::string xml = ohrp::testing::ReadFile(kSource + "/mjcf/hrp1s/hrp1s.xml");
+  const std::string from = "range=\"-0.5236 1.0472\"";
+  const size_t at = xml.find(from);
+  ASSERT_NE(at, std::string::npos) << "WAIST_P's range is not in hrp1s.xml";
+  xml.replace(at, from.size(), "range=\"-1000 1.0472\"");
+  const std::string model = ohrp::testing::ScratchFile("absurd", xml, ".xml");
+  std::string out;
+  EXPECT_EQ(RunTool("ohrp_selfcollision", {"--model", model, "--out", ohrp::testing::ScratchPath("sc", ".yaml"),
+                                           "--quiet"},
+                    &out),
+            2)
+      << out;
+  EXPECT_NE(out.find("joint WAIST_P limit = -1000"), std::string::npos) << out;
+  EXPECT_NE(out.find("plausible range [-7, 7] rad"), std::string::npos) << out;
+}
+
 }  // namespace
