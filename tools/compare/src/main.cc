@@ -10,6 +10,7 @@
 
 #include "cli/command_line.h"
 #include "compare/compare.h"
+#include "compare/run_program.h"
 
 namespace {
 
@@ -21,12 +22,6 @@ std::vector<std::string> SplitList(const std::vector<std::string>& items) {
       if (!n.empty()) out.push_back(n);
   }
   return out;
-}
-
-std::string Quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
 }
 
 }  // namespace
@@ -132,10 +127,10 @@ int main(int argc, char** argv) {
   if (!no_plot && !plot.empty()) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string png = (fs::path(out_dir) / "compare.png").string();
-    const std::string cmd = python + " " + Quote(std::string(OHRP_SOURCE_DIR) + "/tools/scripts/plot_compare.py") +
-                            " " + Quote(json_path) + " " + Quote(png) + " > " +
-                            Quote((fs::path(out_dir) / "plot.stderr").string()) + " 2>&1";
-    if (std::system(cmd.c_str()) != 0) {
+    // an argument vector, no shell: the paths are the user's
+    if (ohrp::compare::RunProgram({python, std::string(OHRP_SOURCE_DIR) + "/tools/scripts/plot_compare.py",
+                                   json_path, png},
+                                  (fs::path(out_dir) / "plot.stderr").string()) != 0) {
       std::fprintf(stderr, "ohrp_compare_logs: the plot could not be made (see %s/plot.stderr)\n",
                    out_dir.c_str());
     } else {

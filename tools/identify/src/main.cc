@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "cli/command_line.h"
+#include "compare/run_program.h"
 #include "identify/identify.h"
 #include "sweep/executor_options.h"
 
@@ -94,20 +95,16 @@ int main(int argc, char** argv) {
   // (ohrp_compare_logs, aligned by the lag found: DIR/compare/compare.png)
   const std::string compare = (fs::path(o.bin_dir) / "ohrp_compare_logs").string();
   if (fs::exists(compare) && !r.runs.empty()) {
-    auto quote = [](const std::string& s) {
-      std::string q = "'";
-      for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      return q + "'";
-    };
-    char window[96];
-    std::snprintf(window, sizeof(window), " --from %.6f --to %.6f", r.from, r.to);
-    const std::string cmd = quote(compare) + " " +
-                            quote(r.runs.back()["dir"].get<std::string>() + "/run/log.csv") + " " +
-                            quote(o.recording) + " --channels " + quote(o.channel) +
-                            " --oscillation " + quote(o.channel) + window +
-                            " --labels simulation,robot --out " + quote(o.out_dir + "/compare") +
-                            " > " + quote(o.out_dir + "/compare.txt") + " 2>&1";
-    if (std::system(cmd.c_str()) != 0)
+    char from[32], to[32];
+    std::snprintf(from, sizeof(from), "%.6f", r.from);
+    std::snprintf(to, sizeof(to), "%.6f", r.to);
+    // an argument vector, no shell: the recording's path and the channel are the user's
+    const int code = ohrp::compare::RunProgram(
+        {compare, r.runs.back()["dir"].get<std::string>() + "/run/log.csv", o.recording, "--channels",
+         o.channel, "--oscillation", o.channel, "--from", from, "--to", to, "--labels",
+         "simulation,robot", "--out", o.out_dir + "/compare"},
+        o.out_dir + "/compare.txt");
+    if (code != 0)
       std::fprintf(stderr, "ohrp_identify: the comparison plot could not be made (see %s/compare.txt)\n",
                    o.out_dir.c_str());
   }
