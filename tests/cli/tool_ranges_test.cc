@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -307,6 +308,27 @@ TEST(FileNumbers, SelfCollisionHingeLimitOutsideItsRangeIsRefused) {
       << out;
   EXPECT_NE(out.find("joint WAIST_P limit = -1000"), std::string::npos) << out;
   EXPECT_NE(out.find("plausible range [-7, 7] rad"), std::string::npos) << out;
+}
+
+// a log time of 1e300 in a run replayed by ohrp_view or measured by ohrp_identify: refused with
+// its row and the time's range before anything is served or simulated
+TEST(DerivedNumbers, ViewAndIdentifyLogTimeOutsideItsRangeIsRefused) {
+  const std::string run = ohrp::testing::ScratchFolder("run");
+  const std::string log = run + "/log.csv";
+  {
+    std::ofstream f(log);
+    f << "time,q_WAIST_P\n0,0\n0.1,0.01\n0.2,0.02\n1e300,0.03\n";
+  }
+  std::string out;
+  EXPECT_EQ(RunTool("ohrp_view", {run, "--scene", kScene, "--port", "0"}, &out), 2) << out;
+  EXPECT_NE(out.find("time, row 4 = 1e+300"), std::string::npos) << out;
+  EXPECT_NE(out.find("plausible range [-1e+06, 1e+06]"), std::string::npos) << out;
+  EXPECT_EQ(RunTool("ohrp_identify", {log, "--channel", "q_WAIST_P", "--out",
+                                      ohrp::testing::ScratchFolder("identify"), "--quiet"},
+                    &out),
+            2)
+      << out;
+  EXPECT_NE(out.find("time, row 4 = 1e+300"), std::string::npos) << out;
 }
 
 }  // namespace
