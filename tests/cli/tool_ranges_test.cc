@@ -310,6 +310,24 @@ TEST(FileNumbers, SelfCollisionHingeLimitOutsideItsRangeIsRefused) {
   EXPECT_NE(out.find("plausible range [-7, 7] rad"), std::string::npos) << out;
 }
 
+// the reference posture's angle of 1000 rad (a keyframe of the model): refused the same way
+TEST(FileNumbers, SelfCollisionReferenceAngleOutsideItsRangeIsRefused) {
+  std::string xml = ohrp::testing::ReadFile(kSource + "/mjcf/hrp1s/hrp1s.xml");
+  const std::string from = "qpos=\"0 0 0.683880068 1 0 0 0 0 ";  // halfsit, WAIST_P first
+  const size_t at = xml.find(from);
+  ASSERT_NE(at, std::string::npos) << "halfsit's qpos is not in hrp1s.xml";
+  xml.replace(at, from.size(), "qpos=\"0 0 0.683880068 1 0 0 0 1000 ");
+  const std::string model = ohrp::testing::ScratchFile("absurd_key", xml, ".xml");
+  std::string out;
+  EXPECT_EQ(RunTool("ohrp_selfcollision", {"--model", model, "--out", ohrp::testing::ScratchPath("sc", ".yaml"),
+                                           "--reference", "halfsit", "--quiet"},
+                    &out),
+            2)
+      << out;
+  EXPECT_NE(out.find("keyframe halfsit: joint WAIST_P = 1000"), std::string::npos) << out;
+  EXPECT_NE(out.find("plausible range [-7, 7] rad"), std::string::npos) << out;
+}
+
 // a log time of 1e300 in a run replayed by ohrp_view or measured by ohrp_identify: refused with
 // its row and the time's range before anything is served or simulated
 TEST(DerivedNumbers, ViewAndIdentifyLogTimeOutsideItsRangeIsRefused) {

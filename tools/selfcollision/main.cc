@@ -136,8 +136,17 @@ int main(int argc, char** argv) {
                    reference.c_str(), model.c_str());
       return 2;
     }
-    for (const auto& j : robot.joints)
+    for (const auto& j : robot.joints) {
       o.reference.push_back(scene->m()->key_qpos[key * scene->m()->nq + j.qpos_adr]);
+      // a number of the model: the scans find its cell by division
+      if (scene->m()->jnt_type[j.joint_id] != mjJNT_HINGE) continue;
+      const std::string e = ohrp::cli::CheckPlausible(
+          "angle", o.reference.back(), model + ": keyframe " + reference + ": joint " + j.name);
+      if (!e.empty()) {
+        std::fprintf(stderr, "ohrp_selfcollision: %s\n", e.c_str());
+        return 2;
+      }
+    }
   }
 
   // the pre-processing, with progress on stderr
