@@ -94,6 +94,18 @@ TEST(Plausible, RefusesAbsurdButFiniteValuesNamingRangeAndUnit) {
             "x: no plausible range for the quantity 'no_such_quantity'");
 }
 
+// a column of a file (a log's times): the first value outside the range, named by its row
+TEST(Plausible, EachValueOfAColumnIsCheckedAndTheRowNamed) {
+  const std::vector<double> times = {0, 0.5, 1e300, -1e300};
+  EXPECT_EQ(ohrp::cli::CheckPlausibleEach("time", times, "log.csv: time"),
+            "log.csv: time, row 3 = 1e+300 is outside the plausible range [-1e+06, 1e+06] s (a time "
+            "within about 11 days of a run's start)");
+  EXPECT_EQ(ohrp::cli::CheckPlausibleEach("time", std::vector<double>{0, 1, 2}, "t"), "");
+  EXPECT_NE(ohrp::cli::CheckPlausibleEach("time", std::vector<double>{0, std::nan("")}, "t"), "");
+  EXPECT_EQ(ohrp::cli::CheckPlausibleEach("no_such_quantity", std::vector<double>{1}, "t"),
+            "t, row 1: no plausible range for the quantity 'no_such_quantity'");
+}
+
 TEST(Plausible, ValidatorSaysTheRange) {
   const CLI::Validator v = ohrp::cli::Plausible("speed_factor");
   EXPECT_EQ(Check(v, "1"), "");

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/process.h"
 #include "common/scratch.h"
 
 namespace {
@@ -107,6 +108,24 @@ TEST_F(Video, WritesAnMp4) {
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_TRUE(fs::exists(out));
   EXPECT_GT(fs::file_size(out), 1000u);
+}
+
+// the output path is a file name, never a command: ffmpeg gets an argument vector (today's main
+// put it in single quotes into `sh -c`, so a quote in it ran the rest as a command)
+TEST_F(Video, AnOutputPathWithQuotesIsAFileNameNotACommand) {
+  const std::string marker = "pwned_by_ohrp_video";  // what the injected command would create
+  fs::remove(marker);
+  const fs::path out = dir_ / ("v';touch${IFS}" + marker + ";'.mp4");
+  const std::string err = (dir_ / "stderr.txt").string();
+  const int code = ohrp::testing::WaitExit(
+      ohrp::testing::Spawn({kBin, dir_.string(), "--scene", (dir_ / "scene.xml").string(), "--out",
+                            out.string(), "--fps", "2", "--width", "32", "--height", "32"},
+                           ohrp::testing::ToFile(err)),
+      60.0);
+  EXPECT_FALSE(fs::exists(marker)) << "the path ran as a command";
+  fs::remove(marker);
+  ASSERT_EQ(code, 0) << ohrp::testing::ReadFile(err);
+  EXPECT_TRUE(fs::exists(out)) << ohrp::testing::ReadFile(err);
 }
 
 TEST_F(Video, BadInputsAreClearErrors) {

@@ -86,18 +86,17 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", o.scenes,
                  "only these scenes: pendulum box ball hrp1s_stand hrp1s_walk humanoid");
   app.add_flag("!--no-plot", o.plot, "no PNG charts");
-  app.add_option("--restarts", o.restarts, "restart points per setting (default 10, quick 2)");
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
+  app.add_option("--restarts", o.restarts, "restart points per setting (default 10, quick 2)")
+      ->check(ohrp::cli::Plausible("repeats"));
   app.add_option("--piece-windows", o.piece_windows,
-                 "16 ms windows per piece (default 8, quick 4)");
+                 "16 ms windows per piece (default 8, quick 4)")
+      ->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::InstallMujocoHandlers(OnFatal);
   if (o.quick) {
     if (app.count("--restarts") == 0) o.restarts = 2;
     if (app.count("--piece-windows") == 0) o.piece_windows = 4;
-  }
-  if (o.restarts < 1 || o.piece_windows < 1) {
-    std::fprintf(stderr, "bench_accuracy: --restarts and --piece-windows must be >= 1\n");
-    return 2;
   }
   const std::set<std::string> known = {"pendulum", "box", "ball", "hrp1s_stand", "hrp1s_walk",
                                        "humanoid"};

@@ -61,12 +61,15 @@ int main(int argc, char** argv) {
       "N s over 0.1 s (forward, then to the left) in the measured window. Prints medians and\n"
       "the ratio balance / posture."};
   app.add_option("--scene", scene, "MJCF scene with the halfsit keyframe")->capture_default_str();
+  // every number within its plausible range (cli/plausible.h), then within the bench's own
+  // (a push above 60 N s topples the robot; the rounds' cycles fit the measured window)
   app.add_option("--rounds", rounds, "alternating measurement rounds")->capture_default_str()
-      ->check(ohrp::cli::InRange(1, 1000));
+      ->check(ohrp::cli::Plausible("repeats"))->check(ohrp::cli::InRange(1, 1000));
   app.add_option("--cycles", cycles, "control cycles per round and controller")
-      ->capture_default_str()->check(ohrp::cli::InRange(10, 100000));
+      ->capture_default_str()->check(ohrp::cli::Plausible("cycles"))
+      ->check(ohrp::cli::InRange(10, 100000));
   app.add_option("--impulse", impulse, "push impulse [N s] (0: no push)")->capture_default_str()
-      ->check(ohrp::cli::InRange(0.0, 60.0));
+      ->check(ohrp::cli::Plausible("impulse"))->check(ohrp::cli::InRange(0.0, 60.0));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::model::InstallMujocoHandlers(nullptr);
 

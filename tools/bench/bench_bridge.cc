@@ -303,9 +303,12 @@ int main(int argc, char** argv) {
   int cycles = 20000;
   int warmup = 1000;
   std::string pin_name = "both";
-  app.add_option("--cycles", cycles, "measured cycles per pair")->check(ohrp::cli::Positive());
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
+  // (each measured cycle's time is kept: --cycles is a number of samples too)
+  app.add_option("--cycles", cycles, "measured cycles per pair")->check(ohrp::cli::Plausible("cycles"))
+      ->check(ohrp::cli::Plausible("samples"));
   app.add_option("--warmup", warmup, "unmeasured cycles before each measurement")
-      ->check(ohrp::cli::NonNegative());
+      ->check(ohrp::cli::Plausible("count"));
   app.add_option("--pin", pin_name,
                  "CPU pinning, the same for both pairs: split (pinger and ponger on two CPUs), "
                  "same (both on one CPU), none, or both (a split table, then a same table)")

@@ -66,10 +66,11 @@ int main(int argc, char** argv) {
       "one left-camera frame (offscreen, OSMesa) at 320x240 and 640x480, RGB and RGB + depth.\n"
       "Medians over the rounds; ends with the ratio of a 640x480 frame to a control cycle."};
   app.add_option("--scene", scene, "MJCF scene with a camera")->capture_default_str();
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
   app.add_option("--cycles", cycles, "control cycles (and frames) per measurement")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("cycles"));
   app.add_option("--repeats", repeats, "rounds over all rows")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   InstallMujocoHandlers(nullptr);
 

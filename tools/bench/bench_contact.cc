@@ -67,9 +67,13 @@ int main(int argc, char** argv) {
       "Prints medians and the ratio soft / native."};
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
   app.add_option("--keyframe", key, "initial state")->capture_default_str();
-  app.add_option("--dt", dt, "physics step [s]")->capture_default_str();
-  app.add_option("--steps", steps, "steps per measurement")->capture_default_str();
-  app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str();
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
+  app.add_option("--dt", dt, "physics step [s]")->capture_default_str()
+      ->check(ohrp::cli::Plausible("physics_dt"));
+  app.add_option("--steps", steps, "steps per measurement")->capture_default_str()
+      ->check(ohrp::cli::Plausible("steps"));
+  app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str()
+      ->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::sim::InstallMujocoHandlers(nullptr);
 

@@ -171,10 +171,11 @@ int main(int argc, char** argv) {
       "nothing measurable). Prints medians per physics step and the ratio default / bare."};
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
   app.add_option("--keyframe", key, "initial state")->capture_default_str();
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
   app.add_option("--cycles", cycles, "control cycles (5 physics steps each) per measurement")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("cycles"));
   app.add_option("--repeats", repeats, "rounds over all configurations")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   InstallMujocoHandlers(nullptr);
   const std::string log_path =

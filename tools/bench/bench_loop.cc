@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -64,6 +65,13 @@ double BareLoop(const std::string& scene_path, double dt, int steps) {
   return (ohrp::MonotonicSeconds() - t0) / steps;
 }
 
+// `v` as an argument, every digit kept (std::to_string rounds 1.25e-5 to "0.000013")
+std::string Arg(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
 pid_t Spawn(const std::vector<std::string>& argv, bool silent) {
   std::vector<char*> a;
   for (auto& s : argv) a.push_back(const_cast<char*>(s.c_str()));
@@ -105,8 +113,8 @@ double TwoProcessLoop(const std::string& bin, const std::string& scene, double d
                       bool viewer = false) {
   const std::string seg = "bench_loop_" + std::to_string(getpid());
   const pid_t sim = Spawn({bin + "/sim_host", "--scene", scene, "--segment", seg, "--physics-dt",
-                           std::to_string(dt), "--control-period", std::to_string(dt),
-                           "--duration", std::to_string(duration), "--summary", summary,
+                           Arg(dt), "--control-period", Arg(dt),
+                           "--duration", Arg(duration), "--summary", summary,
                            "--quiet", "--progress", "0"}, false);
   const pid_t view = viewer ? Spawn({bin + "/ohrp_view", seg, "--scene", scene, "--attach-timeout", "20",
                                      "--port", "0"}, true)
@@ -148,17 +156,29 @@ int main(int argc, char** argv) {
       "shared VM). posture runs without its self-collision check for the ratio; a second row has\n"
       "the check on."};
   app.add_option("--scene", scene, "MJCF scene")->capture_default_str();
-  app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str();
-  app.add_option("--duration", duration, "simulated seconds per measurement")->capture_default_str();
-  app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str();
+  // every number within its plausible range (cli/plausible.h), checked before anything runs;
+  // --dt is both a physics step and a control period
+  app.add_option("--dt", dt, "physics step and control period [s]")->capture_default_str()
+      ->check(ohrp::cli::Plausible("physics_dt"))->check(ohrp::cli::Plausible("control_period"));
+  app.add_option("--duration", duration, "simulated seconds per measurement")->capture_default_str()
+      ->check(ohrp::cli::Plausible("duration"));
+  app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str()
+      ->check(ohrp::cli::Plausible("repeats"));
   app.add_flag("--viewer", viewer, "also measure the lock-step with an ohrp_view attached (docs/view.md)");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  // the steps of a measurement, a plausible number (so an int) before it is one
+  const double step_count = std::floor(duration / dt);
+  if (const std::string e = ohrp::cli::CheckPlausible("steps", step_count, "--duration / --dt");
+      !e.empty()) {
+    std::fprintf(stderr, "bench_loop: %s\n", e.c_str());
+    return 2;
+  }
   ohrp::sim::InstallMujocoHandlers(nullptr);
   const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
   const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";
 
   std::vector<double> bare, loop, ratios, sim_cpu, ctl_cpu, watched, checked;
-  const int steps = static_cast<int>(duration / dt);
+  const int steps = static_cast<int>(step_count);
   for (int r = 0; r < repeats; ++r) {
     const double before = BareLoop(scene, dt, steps);
     PairCpu cpu;

@@ -128,19 +128,29 @@ int main(int argc, char** argv) {
   CLI::App app{"bench_rt: hw_driver loop wake-up lateness, --wake sleep and spin-tail, vs a plain\n"
                "clock_nanosleep loop, in the same run; ends with 'ratio: X.XX (spin-tail p99 us /\n"
                "plain p99 us)'"};
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
   app.add_option("--duration", duration, "[s] measured per loop (split over the rounds)")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("duration"));
   app.add_option("--rounds", rounds, "alternating rounds (plain, driver sleep, driver spin-tail)")
-      ->capture_default_str()->check(ohrp::cli::Positive());
-  app.add_option("--period", period, "[s]")->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("repeats"));
+  app.add_option("--period", period, "[s]")->capture_default_str()
+      ->check(ohrp::cli::Plausible("control_period"));
   app.add_option("--priority", priority, "SCHED_FIFO priority of every loop; 0: SCHED_OTHER")
-      ->capture_default_str()->check(ohrp::cli::InRange(0, 99));
+      ->capture_default_str()->check(ohrp::cli::Plausible("priority"));
   app.add_option("--model", model, "robot model (joints and sensors of the segment)")
       ->capture_default_str()->check(CLI::ExistingFile);
   bool no_controller = false;
   app.add_flag("--no-controller-row", no_controller, "skip the informative row with a controller");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   const bool controller_row = !no_controller;
+  // each round runs a whole number of cycles: a plausible count (so a long) before it is one
+  const double round_cycles = std::round(duration / rounds / period);
+  if (const std::string e = ohrp::cli::CheckPlausible(
+          "cycles", round_cycles, "the cycles of a round (--duration / --rounds / --period)");
+      !e.empty()) {
+    std::fprintf(stderr, "bench_rt: %s\n", e.c_str());
+    return 2;
+  }
 
   std::string error;
   ohrp::shm::ProducerConfig robot;
@@ -161,7 +171,7 @@ int main(int argc, char** argv) {
   io.open(io_config, &error);
   const int64_t period_ns = std::llround(period * 1e9);
   const double chunk = duration / rounds;
-  const long chunk_cycles = std::lround(chunk / period);
+  const long chunk_cycles = static_cast<long>(round_cycles);
 
   Loop plain, sleep, spin, with_controller;
   // one round of the driver loop in `mode`; with a controller attached when `controller`

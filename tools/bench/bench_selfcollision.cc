@@ -33,9 +33,10 @@ int main(int argc, char** argv) {
       "under 10 us median). Ends with 'ratio: X (reduced-list median / control period)'."};
   app.add_option("--file", path, "self-collision file (ohrp_selfcollision)")
       ->check(CLI::ExistingFile)->capture_default_str();
-  app.add_option("--postures", postures, "random postures")->check(CLI::Range(100, 10000000))
-      ->capture_default_str();
-  app.add_option("--control-period", period, "[s]")->check(ohrp::cli::Positive())
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
+  app.add_option("--postures", postures, "random postures")->check(ohrp::cli::Plausible("count"))
+      ->check(ohrp::cli::InRange(100, 10000000))->capture_default_str();
+  app.add_option("--control-period", period, "[s]")->check(ohrp::cli::Plausible("control_period"))
       ->capture_default_str();
   app.add_option("--walk", walk,
                  "joint angles along a walk (OpenHRP's angle.dat format; its rows are the control "

@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene, "MJCF scene with the halfsit keyframe")->capture_default_str();
   app.add_option("--command", command, "the walk command (walk --help)")->capture_default_str();
   app.add_option("--control-period", period, "[s] control period, a multiple of 1 ms")
-      ->capture_default_str()->check(ohrp::cli::InRange(0.001, 0.02));
+      ->capture_default_str()->check(ohrp::cli::Plausible("control_period"))
+      ->check(ohrp::cli::InRange(0.001, 0.02));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   ohrp::model::InstallMujocoHandlers(nullptr);
   // what stopped the benchmark, exit code 2

@@ -62,28 +62,34 @@ int main(int argc, char** argv) {
   app.add_option("--model", model, "the robot's MJCF")->check(CLI::ExistingFile);
   app.add_option("--out", out, "the self-collision file to write (YAML)")->required();
   app.add_option("--report", report, "the report to write (Markdown); default: stdout");
+  // every number within its plausible range (cli/plausible.h), then within the tool's own
+  // (the scans' cells and samples bounded so that the pre-processing ends within hours)
+  using ohrp::cli::InRange;
+  using ohrp::cli::Plausible;
   app.add_option("--margin", o.margin, "[m] online stop distance, written to the file")
-      ->check(ohrp::cli::NonNegative());
+      ->check(Plausible("clearance"));
   app.add_option("--clearance", o.clearance, "[m] extra distance pruned pairs keep in the samples")
-      ->check(ohrp::cli::NonNegative());
+      ->check(Plausible("clearance"));
   app.add_option("--samples", o.samples, "postures sampled within the limits")
-      ->check(CLI::Range(1, 100000000));
+      ->check(Plausible("count"))->check(InRange(1, 100000000));
   app.add_option("--coarse", o.coarse, "cells of a joint's range in the coarse scan")
-      ->check(CLI::Range(2, 1000));
+      ->check(Plausible("count"))->check(InRange(2, 1000));
   app.add_option("--fine", o.fine, "sub-cells of a boundary cell in the fine scan")
-      ->check(CLI::Range(1, 1000));
-  app.add_option("--cell-samples", o.cell_samples, "postures per cell")->check(CLI::Range(2, 1000000));
+      ->check(Plausible("count"))->check(InRange(1, 1000));
+  app.add_option("--cell-samples", o.cell_samples, "postures per cell")
+      ->check(Plausible("count"))->check(InRange(2, 1000000));
   app.add_option("--verify", o.verify, "postures of the final verification (0: none)")
-      ->check(CLI::Range(0, 100000000));
+      ->check(Plausible("count"))->check(InRange(0, 100000000));
   app.add_option("--min-range-share", o.min_range_share,
                  "smallest share of a joint's range a safe range may keep")
-      ->check(ohrp::cli::InRange(0, 1));
+      ->check(Plausible("fraction"));
   app.add_option("--range-joints", range_joints,
                  "joints that may get a safe range (names, comma-separated); default: all")
       ->delimiter(',');
   app.add_option("--reference", reference,
                  "a keyframe of the model: the posture the safe ranges must contain; default: zero");
-  app.add_option("--seed", o.seed, "random seed (the same seed gives the same file)");
+  app.add_option("--seed", o.seed, "random seed (the same seed gives the same file)")
+      ->check(InRange(0, 18446744073709551615.0));
   app.add_flag("--quiet", quiet, "no progress on stderr");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
@@ -96,6 +102,19 @@ int main(int argc, char** argv) {
       !ohrp::collision::GeometryFromModel(scene->m(), robot, &geometry, &error)) {
     std::fprintf(stderr, "ohrp_selfcollision: %s: %s\n", model.c_str(), error.c_str());
     return 2;
+  }
+  // the hinges' limits are numbers of the model: the scans cut them into cells, so a range of
+  // 1e300 rad would make every cell absurd
+  for (const auto& j : robot.joints) {
+    if (scene->m()->jnt_type[j.joint_id] != mjJNT_HINGE) continue;
+    const size_t k = static_cast<size_t>(&j - robot.joints.data());
+    for (const double q : {geometry.q_min[k], geometry.q_max[k]}) {
+      const std::string e = ohrp::cli::CheckPlausible("angle", q, model + ": joint " + j.name + " limit");
+      if (!e.empty()) {
+        std::fprintf(stderr, "ohrp_selfcollision: %s\n", e.c_str());
+        return 2;
+      }
+    }
   }
 
   // the joints named for safe ranges
@@ -117,8 +136,17 @@ int main(int argc, char** argv) {
                    reference.c_str(), model.c_str());
       return 2;
     }
-    for (const auto& j : robot.joints)
+    for (const auto& j : robot.joints) {
       o.reference.push_back(scene->m()->key_qpos[key * scene->m()->nq + j.qpos_adr]);
+      // a number of the model: the scans find its cell by division
+      if (scene->m()->jnt_type[j.joint_id] != mjJNT_HINGE) continue;
+      const std::string e = ohrp::cli::CheckPlausible(
+          "angle", o.reference.back(), model + ": keyframe " + reference + ": joint " + j.name);
+      if (!e.empty()) {
+        std::fprintf(stderr, "ohrp_selfcollision: %s\n", e.c_str());
+        return 2;
+      }
+    }
   }
 
   // the pre-processing, with progress on stderr

@@ -8,6 +8,8 @@
 #include <mujoco/mujoco.h>
 #include <png.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -83,22 +85,27 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene, "MJCF scene (default: the one recorded in the run's sim_summary.json)");
   app.add_option("--out,-o", out, "MP4 file (default: RUN/video.mp4; needs ffmpeg, './ohrp setup' installs it)");
   app.add_option("--frames", frames_dir, "write PNG frames frame_00000.png... into this folder instead of an MP4");
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
+  using ohrp::cli::Plausible;
   app.add_option("--still", stills, "write one PNG per listed time [s] (RUN/still_<t>.png) and no video")
-      ->delimiter(',');
-  app.add_option("--fps", fps, "frames per second of the video")->capture_default_str()->check(ohrp::cli::InRange(1.0, 240.0));
-  app.add_option("--speed", speed, "simulated seconds per video second")->capture_default_str()->check(ohrp::cli::Positive());
-  app.add_option("--from", from, "start time [s]")->capture_default_str();
-  app.add_option("--until", until, "end time [s] (default: the end of the log)");
-  app.add_option("--width", width, "frame width [px]")->capture_default_str()->check(ohrp::cli::InRange(16, 4096));
-  app.add_option("--height", height, "frame height [px]")->capture_default_str()->check(ohrp::cli::InRange(16, 4096));
+      ->delimiter(',')->check(Plausible("time"));
+  app.add_option("--fps", fps, "frames per second of the video")->capture_default_str()->check(Plausible("frame_rate"));
+  app.add_option("--speed", speed, "simulated seconds per video second")->capture_default_str()->check(Plausible("speed_factor"));
+  app.add_option("--from", from, "start time [s]")->capture_default_str()->check(Plausible("time"));
+  app.add_option("--until", until, "end time [s] (default: the end of the log)")->check(Plausible("time"));
+  app.add_option("--width", width, "frame width [px]")->capture_default_str()->check(Plausible("pixels"));
+  app.add_option("--height", height, "frame height [px]")->capture_default_str()->check(Plausible("pixels"));
   app.add_flag("--shadows", shadows, "render shadows and reflections (slower in software)");
-  app.add_option("--distance", distance, "camera distance from the robot's base [m]")->capture_default_str();
-  app.add_option("--azimuth", azimuth, "camera azimuth [deg]")->capture_default_str();
-  app.add_option("--elevation", elevation, "camera elevation [deg]")->capture_default_str();
+  app.add_option("--distance", distance, "camera distance from the robot's base [m]")->capture_default_str()
+      ->check(Plausible("distance"));
+  app.add_option("--azimuth", azimuth, "camera azimuth [deg]")->capture_default_str()->check(Plausible("angle_deg"));
+  app.add_option("--elevation", elevation, "camera elevation [deg]")->capture_default_str()->check(Plausible("angle_deg"));
   app.footer("Example: ohrp_video runs/demo/stand            (runs/demo/stand/video.mp4)\n"
              "         ohrp_video runs/demo/stand --still 1,5 (two PNG stills)\n"
-             "Exit codes: 0 written, 2 bad option, run folder, log, scene or time window, or no\n"
-             "ffmpeg, 3 MuJoCo, OSMesa or ffmpeg failed.");
+             "Every number is checked against its plausible range (cli/plausible.h), and so are\n"
+             "the log's times and the video's frame count, before anything is rendered.\n"
+             "Exit codes: 0 written, 2 bad option, run folder, log, scene, time window or frame\n"
+             "count, or no ffmpeg, 3 MuJoCo, OSMesa or ffmpeg failed.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   // ---- inputs: the log and the scene
@@ -187,12 +194,29 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ohrp_video: joints not in the log keep their initial angle: %s\n", missing.c_str());
 
   const std::vector<double>& times = log.col(time_col);
+  // the log's times are numbers of the file: a time of 1e300 would make the frame count absurd
+  if (const std::string e = ohrp::cli::CheckPlausibleEach("time", times, log_path + ": time"); !e.empty()) {
+    std::fprintf(stderr, "ohrp_video: %s\n", e.c_str());
+    return 2;
+  }
   const double t_first = times.front(), t_last = times.back();
-  const double t0 = std::max(from, t_first), t1 = until > 0 ? std::min(until, t_last) : t_last;
+  const bool to_end = app.count("--until") == 0;
+  const double t0 = std::max(from, t_first), t1 = to_end ? t_last : std::min(until, t_last);
   if (t1 <= t0 && stills.empty()) {
     std::fprintf(stderr, "ohrp_video: nothing to render between %g and %g s (the log covers %g to %g s)\n",
-                 from, until, t_first, t_last);
+                 from, to_end ? t_last : until, t_first, t_last);
     return 2;
+  }
+  // the frame count, checked as a number before it is one: every time is within the plausible
+  // range, so the quotient is finite, and a count within "frames" fits an int
+  const double frame_count = std::floor((t1 - t0) / speed * fps) + 1;
+  if (stills.empty()) {
+    const std::string e = ohrp::cli::CheckPlausible(
+        "frames", frame_count, "the video's frame count ((--until - --from) / --speed x --fps)");
+    if (!e.empty()) {
+      std::fprintf(stderr, "ohrp_video: %s\n", e.c_str());
+      return 2;
+    }
   }
 
   // ---- the offscreen context (render/offscreen.h: OSMesa, then MuJoCo's)
@@ -269,7 +293,7 @@ int main(int argc, char** argv) {
       }
     }
   } else {
-    const int frames = static_cast<int>(std::floor((t1 - t0) / speed * fps)) + 1;
+    const int frames = static_cast<int>(frame_count);  // within "frames": fits
     FILE* pipe = nullptr;
     std::unique_ptr<ohrp::tool::PipeTo> ffmpeg;
     if (frames_dir.empty()) {

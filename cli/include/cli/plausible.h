@@ -42,6 +42,8 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"step_time",        0.2,   5,     "s",     "a walking step between 0.2 s and 5 s"},
   {"double_support",   0,     2,     "s",     "a double-support phase of at most 2 s"},
   {"push_duration",    1e-3,  5,     "s",     "a push lasting 1 ms to 5 s"},
+  {"time",             -1e6,  1e6,   "s",     "a time within about 11 days of a run's start"},
+  {"wait",             0,     3600,  "s",     "a wait or delay of at most an hour (0: none)"},
   // gains and scales
   {"gain_scale",       0,     100,   "",      "a gain factor between 0 (limp) and 100x the default"},
   {"speed_factor",     1e-3,  1e3,   "",      "a playback or video speed between 0.001x and 1000x"},
@@ -63,6 +65,8 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"speed",            0,     5,     "m/s",   "a walking speed of at most 5 m/s"},
   {"yaw_rate",         0,     6.3,   "rad/s", "a turning rate of at most one turn a second"},
   {"joint_speed",      0,     100,   "rad/s", "a joint speed of at most 100 rad/s"},
+  {"angle_deg",        -360,  360,   "deg",   "an angle within one turn"},
+  {"clearance",        0,     0.5,   "m",     "a distance kept between links of at most 50 cm"},
   // loads
   {"impulse",          0,     1e3,   "N s",   "a push of at most 1000 N s"},
   {"force",            0,     1e5,   "N",     "a force of at most 1e5 N"},
@@ -76,6 +80,13 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"fraction",         0,     1,     "",      "a fraction between 0 and 1"},
   {"noise",            0,     10,    "",      "a noise level (in the signal's unit) of at most 10"},
   {"frequency",        1e-3,  1e5,   "Hz",    "a frequency between 1 mHz and 100 kHz"},
+  {"repeats",          1,     1e6,   "",      "a number of repetitions (rounds, restarts, windows) between 1 and a million"},
+  {"frames",           1,     1e7,   "",      "a video of at most 10 million frames (about 4 days at 30 fps)"},
+  {"samples",          2,     1e8,   "",      "a signal of 2 to 1e8 samples (at most 0.8 GB as doubles)"},
+  {"pixels",           16,    4096,  "px",    "an image side of 16 to 4096 pixels"},
+  {"frame_rate",       1,     240,   "Hz",    "1 to 240 frames a second"},
+  {"port",             0,     65535, "",      "a TCP or UDP port number (0: the system picks a free one)"},
+  {"priority",         0,     99,    "",      "a SCHED_FIFO priority of 1 to 99 (0: SCHED_OTHER)"},
 };
 // clang-format on
 
@@ -117,6 +128,22 @@ inline std::string CheckPlausible(std::string_view quantity, double value, std::
   if (r == nullptr) return w + ": no plausible range for the quantity '" + std::string(quantity) + "'";
   if (IsPlausible(*r, value)) return std::string();
   return w + " = " + detail::PlausibleNumber(value) + " is outside " + PlausibleRangeText(*r);
+}
+
+// "" when every value of `values` (a column of a log, the entries of a list) is plausible as
+// `quantity`; otherwise the sentence of CheckPlausible for the first that is not, its place
+// named "WHERE, row N" (N counted from 1).
+template <typename Values>
+inline std::string CheckPlausibleEach(std::string_view quantity, const Values& values,
+                                      std::string_view where) {
+  const PlausibleRange* r = FindPlausible(quantity);
+  size_t row = 0;
+  for (const double v : values) {
+    ++row;
+    if (r == nullptr || !IsPlausible(*r, v))
+      return CheckPlausible(quantity, v, std::string(where) + ", row " + std::to_string(row));
+  }
+  return std::string();
 }
 
 }  // namespace ohrp::cli

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "cli/plausible.h"
 #include "vrml/model_tree.h"
 
 namespace ohrp::vrml {
@@ -76,6 +77,13 @@ class Builder {
   }
 
  private:
+  // `value`, the number of the file at `at` that `what` names, within the plausible range of
+  // `quantity` (cli/plausible.h): an absurd but finite number is refused with the range
+  bool Plausible(const Where& at, const char* quantity, double value, const std::string& what) {
+    const std::string e = cli::CheckPlausible(quantity, value, what);
+    return e.empty() || Fail(at, e);
+  }
+
   bool Fail(const Where& at, const std::string& what) {
     *error_ = file_ + ":" + At(at) + what;
     return false;
@@ -124,6 +132,10 @@ class Builder {
     }
     if (!Rotation(n, "rotation", &pose->q)) return false;
     const Eigen::Vector3d center(c[0], c[1], c[2]);
+    if (n.Field("translation") &&
+        !Plausible(n.Field("translation")->at, "distance", Eigen::Vector3d(t[0], t[1], t[2]).norm(),
+                   n.type + ".translation (its length)"))
+      return false;
     pose->p = Eigen::Vector3d(t[0], t[1], t[2]) + center - pose->q * center;
     return true;
   }
@@ -175,12 +187,18 @@ class Builder {
         if (!(j.lower < j.upper))
           return Fail(lo->at, "llimit " + std::to_string(j.lower) + " is not below ulimit " +
                                   std::to_string(j.upper) + " of Joint " + j.name);
+        // a hinge's limits are angles, a slide's positions along its axis
+        const char* quantity = j.type == Joint::kHinge ? "angle" : "height";
+        if (!Plausible(lo->at, quantity, j.lower, "llimit of Joint " + j.name) ||
+            !Plausible(hi->at, quantity, j.upper, "ulimit of Joint " + j.name))
+          return false;
       }
       const double gear = n.Number("gearRatio", 1.0);
       j.armature = n.Number("rotorInertia", 0.0) * gear * gear;
       j.stiffness = n.Number("stiffness", 0.0);
       if (j.armature < 0 || j.stiffness < 0)
         return Fail(n.at, "Joint " + j.name + ": rotorInertia and stiffness must not be negative");
+      if (!Plausible(n.at, "kp", j.stiffness, "stiffness of Joint " + j.name)) return false;
     } else if (type != "fixed" && !type.empty()) {
       return Fail(n.Field("jointType")->at, "jointType \"" + type + "\" of Joint " + j.name +
                                                 " is not one of free, rotate, slide, fixed");
@@ -285,6 +303,8 @@ class Builder {
     }
     if (!(s.mass >= 0) || !std::isfinite(s.mass))
       return Fail(n.at, label + " has a negative mass");
+    // 0: a segment without mass (a frame); any other mass a plausible one
+    if (s.mass > 0 && !Plausible(n.at, "mass", s.mass, "mass of " + label)) return false;
     // a tensor given must be one: symmetric, eigenvalues not negative
     if (!inertia.isZero(0.0)) {
       const double scale = inertia.cwiseAbs().maxCoeff();
@@ -336,6 +356,8 @@ class Builder {
                       : geom.type == Geom::kSphere ? 1 : 0;
     if (!geom.size.allFinite() || (sizes > 0 && !(geom.size.head(sizes).minCoeff() > 0)))
       return Fail(g.at, g.type + " has a size that is not positive");
+    for (int k = 0; k < sizes; ++k)
+      if (!Plausible(g.at, "distance", geom.size[k], g.type + " size")) return false;
     for (const NodePtr& a : n.Nodes("appearance")) {
       for (const NodePtr& m : a->Nodes("material")) {
         double c[3] = {0.8, 0.8, 0.8};

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 
+#include "cli/plausible.h"
 #include "compare/signal.h"
 
 namespace ohrp::compare {
@@ -93,6 +94,9 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
   }
   for (const runner::Table* t : {&a, &b}) {
     const auto& tt = t->col(t == &a ? ta : tb);
+    // times of the file: a plausible run's (a time of 1e300 makes every window absurd)
+    *error = cli::CheckPlausibleEach("time", tt, (t == &a ? o.a : o.b) + ": time");
+    if (!error->empty()) return kExitUsage;
     for (size_t i = 1; i < tt.size(); ++i) {
       if (!(tt[i] > tt[i - 1])) {
         *error = (t == &a ? o.a : o.b) + ":" + std::to_string(i + 2) +
@@ -177,6 +181,11 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
       if (!EventTime(SummaryOf(o.a, o.summary_a), o.a, ev, &t_a, error) ||
           !EventTime(SummaryOf(o.b, o.summary_b), o.b, ev, &t_b, error))
         return kExitUsage;
+      // the events' times are numbers of the summaries: plausible times of a run
+      for (const auto& [t, log] : {std::pair{t_a, o.a}, std::pair{t_b, o.b}}) {
+        *error = cli::CheckPlausible("time", t, "the summary of " + log + ": event " + ev + " time");
+        if (!error->empty()) return kExitUsage;
+      }
     }
     out->lag = t_b - t_a;
     char buf[160];

@@ -24,12 +24,6 @@ std::vector<std::string> SplitList(const std::vector<std::string>& items) {
   return out;
 }
 
-std::string Quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -58,10 +52,13 @@ int main(int argc, char** argv) {
   app.add_option("--channels", channels, "channels compared (comma-separated or repeated); default: every channel both logs have");
   app.add_option("--oscillation", oscillating,
                  "channels whose damped oscillation is measured in each log (frequency, decay)");
-  app.add_option("--from", o.from, "[s] start of the compared window, A's time");
-  app.add_option("--to", o.to, "[s] end of the compared window, A's time");
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
+  app.add_option("--from", o.from, "[s] start of the compared window, A's time")
+      ->check(ohrp::cli::Plausible("time"));
+  app.add_option("--to", o.to, "[s] end of the compared window, A's time")
+      ->check(ohrp::cli::Plausible("time"));
   app.add_option("--max-lag", o.max_lag, "[s] cross-correlation searches lags within +- this")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("duration"));
   app.add_option("--summary-a", o.summary_a, "summary JSON of A for event:NAME (default: sim_summary.json or summary.json beside A)")
       ->check(CLI::ExistingFile);
   app.add_option("--summary-b", o.summary_b, "summary JSON of B for event:NAME (e.g. hw_driver --summary)")
@@ -74,9 +71,11 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "folder for compare.json and compare.png")->capture_default_str();
   app.add_flag("--no-plot", no_plot, "no compare.png");
   app.footer(
-      "Exit codes: 0 compared, 2 bad option or input (a missing or malformed log, no common\n"
-      "channel, an unknown channel, an alignment that cannot be done, an empty window), 3 the\n"
-      "output cannot be written. docs/identify.md has the method.");
+      "Every number, of the options and of the logs' times, is checked against its plausible\n"
+      "range (cli/plausible.h) before anything is compared.\n"
+      "Exit codes: 0 compared, 2 bad option or input (a missing or malformed log, a time outside\n"
+      "its plausible range, no common channel, an unknown channel, an alignment that cannot be\n"
+      "done, an empty window), 3 the output cannot be written. docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.channels = SplitList(channels);
   o.oscillating = SplitList(oscillating);

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "cli/plausible.h"
+
 namespace ohrp::compare {
 
 double Interpolate(const std::vector<double>& t, const std::vector<double>& x, double at,
@@ -67,6 +69,14 @@ bool CrossCorrelationLag(const std::vector<double>& ta, const std::vector<double
     return false;
   }
   const double t0 = std::min(ta.front(), tb.front());
+  // the grids' sizes, plausible numbers of samples before any is made: a log whose median step
+  // is tiny beside its span (times of a file) would otherwise fill the memory or never end
+  for (const auto& [t, name] : {std::pair{&ta, "A"}, std::pair{&tb, "B"}}) {
+    const double samples = std::floor((t->back() - t0) / h) + 1;
+    *error = cli::CheckPlausible("samples", samples,
+                                 std::string("log ") + name + "'s time grid (its span / the median time step)");
+    if (!error->empty()) return false;
+  }
   const Gridded a = OnGrid(ta, xa, t0, h);
   const Gridded b = OnGrid(tb, xb, t0, h);
   auto flat = [](const Gridded& g) {
@@ -79,9 +89,20 @@ bool CrossCorrelationLag(const std::vector<double>& ta, const std::vector<double
              ": nothing to cross-correlate";
     return false;
   }
-  const long center = std::lround(around / h);
-  const long k_max = std::max<long>(2, std::lround(max_lag / h));
   const long na = static_cast<long>(a.v.size()), nb = static_cast<long>(b.v.size());
+  // the lags searched, in grid steps, plausible numbers before they are longs: beyond `reach`
+  // of the centre no lag has an overlap, so no more are searched than that
+  const double center_steps = std::round(around / h);
+  const double reach = std::fabs(static_cast<double>(b.n0 - a.n0)) + static_cast<double>(na + nb);
+  const double k_steps = std::max(2.0, std::min(std::round(max_lag / h), reach + std::fabs(center_steps)));
+  *error = cli::CheckPlausible("samples", std::fabs(center_steps) + 2,
+                               "the lag searched around, in time steps (|lag| / the median time step)");
+  if (error->empty())
+    *error = cli::CheckPlausible("samples", 2 * k_steps + 1,
+                                 "the lags searched (2 --max-lag / the median time step)");
+  if (!error->empty()) return false;
+  const long center = static_cast<long>(center_steps);
+  const long k_max = static_cast<long>(k_steps);
   const long min_overlap = std::max<long>(3, std::min(na, nb) / 4);
   std::vector<double> c(static_cast<size_t>(2 * k_max + 1), NAN);
   long best = -1;

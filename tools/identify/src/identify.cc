@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "cli/plausible.h"
 #include "compare/oscillation.h"
 #include "compare/signal.h"
 #include "contact/params.h"
@@ -150,6 +151,9 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
     *error = o.recording + ": not a data log (no 'time' column, or fewer than 3 rows)";
     return kUsage;
   }
+  // the recording's times are numbers of the file: a plausible run's
+  *error = cli::CheckPlausibleEach("time", rec.col(rec.Column("time")), o.recording + ": time");
+  if (!error->empty()) return kUsage;
   std::vector<double> rx;
   if (!Channel(rec, o.recording, o.channel, &rx, error)) return kUsage;
   runner::Scenario sc;

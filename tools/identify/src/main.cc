@@ -36,12 +36,14 @@ int main(int argc, char** argv) {
   app.add_option("--channel", o.channel,
                  "oscillating channel measured in both; a comma-separated list measures their sum")
       ->capture_default_str();
+  // every number within its plausible range (cli/plausible.h), checked before anything runs
   app.add_option("--settle", o.settle, "[s] after the push's end before the measured window")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::Plausible("wait"));
   app.add_option("--window", o.window, "[s] of free rocking measured")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Plausible("duration"));
   app.add_option("--step", o.step, "relative step of the simulations around the estimate")
-      ->capture_default_str()->check(ohrp::cli::InRange(0.01, 0.5));
+      ->capture_default_str()->check(ohrp::cli::Plausible("fraction"))
+      ->check(ohrp::cli::InRange(0.01, 0.5));
   app.add_option("--out", o.out_dir, "folder for identify.json and the simulations")->capture_default_str();
   app.add_flag("--quiet,-q", o.quiet, "print the result only");
   ohrp::sweep::AddExecutorOptions(&app, &o.executor, "simulations of a stage");

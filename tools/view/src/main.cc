@@ -41,15 +41,17 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene,
                  "MJCF scene (live default: mjcf/hrp1s/scene_flat.xml; replay default: the scene "
                  "recorded in the run's sim_summary.json)");
+  // every number within its plausible range (cli/plausible.h), checked before anything runs;
+  // camera images are narrower (a page shows at most 30 a second)
   app.add_option("--port", server.port, "TCP port on 127.0.0.1; 0 picks a free one")
-      ->capture_default_str()->check(ohrp::cli::InRange(0, 65535));
+      ->capture_default_str()->check(ohrp::cli::Plausible("port"));
   app.add_option("--rate", rate, "live frames per second sent to the page [Hz]")
-      ->capture_default_str()->check(ohrp::cli::InRange(1, 200));
+      ->capture_default_str()->check(ohrp::cli::Plausible("frame_rate"));
   app.add_option("--image-rate", image_rate,
                  "live: camera images per second sent to a page, per camera, while it shows them [Hz]")
-      ->capture_default_str()->check(ohrp::cli::InRange(1, 30));
+      ->capture_default_str()->check(ohrp::cli::Plausible("frame_rate"))->check(ohrp::cli::InRange(1, 30));
   app.add_option("--attach-timeout", attach_timeout, "[s] wait this long for the segment to appear")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::Plausible("wait"));
   app.add_flag("--exit-when-ended", exit_when_ended, "live: end when the producer ends its run");
   app.footer("Examples: ohrp_view hrp1s                 (sim_host --segment hrp1s running)\n"
              "          ohrp_view runs/demo/stand --port 8080\n"

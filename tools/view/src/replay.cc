@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "cli/plausible.h"
 #include "view/source.h"
 
 namespace ohrp::view {
@@ -80,6 +81,9 @@ std::unique_ptr<ReplaySource> ReplaySource::Open(const std::string& run_dir, con
              " (the log's columns are time, base_*, q_<joint>...)";
     return nullptr;
   }
+  // the log's times are numbers of the file: a plausible run's (the timeline spans them)
+  *error = cli::CheckPlausibleEach("time", log.col(src->time_col_), log_path + ": time");
+  if (!error->empty()) return nullptr;
   const size_t slash = run_dir.find_last_not_of('/');
   const std::string trimmed = run_dir.substr(0, slash + 1);
   src->title_ = "run " + trimmed.substr(trimmed.rfind('/') == std::string::npos ? 0 : trimmed.rfind('/') + 1);
