@@ -93,6 +93,23 @@ TEST_F(HwDriverProcess, TheImuTiltedPastTheLimitIsAFall) {
   EXPECT_EQ(Wait(), 0) << Stderr();
 }
 
+// a board refusing what the guard accepted disobeys; refusing the safe mode's hold as well is
+// a failure of its own: the robot was not held
+TEST_F(HwDriverProcess, ARefusedCommandIsADisobeyingBoardAndARefusedHoldIsNamed) {
+  Start({"--io-arg", "refuse_at=200", "--safe-time", "0.1", "--duration", "60"});
+  EXPECT_EQ(Wait(), 8) << Stderr();
+  const auto s = Summary();
+  const auto refused = FirstEvent(s, "command_refused");
+  ASSERT_FALSE(refused.is_null()) << s.dump(1);
+  EXPECT_EQ(refused["cycle"], 200);
+  EXPECT_EQ(refused["board"], 0);
+  const auto hold = FirstEvent(s, "safe_mode_refused");
+  ASSERT_FALSE(hold.is_null()) << s.dump(1);
+  EXPECT_GT(hold["cycle"].get<long>(), 200);
+  EXPECT_LT(hold["cycle"].get<long>(), 220);
+  EXPECT_NE(Stderr().find("a board refused the damped hold"), std::string::npos) << Stderr();
+}
+
 TEST_F(HwDriverProcess, SafeModeGainsTheServosWouldRefuseAreRefusedBeforeTheRun) {
   for (const char* scale : {"1e308", "0", "nan", "-1"}) {
     Start({"--safe-kp-scale", scale, "--duration", "0.3"});
