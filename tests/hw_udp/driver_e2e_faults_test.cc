@@ -163,5 +163,22 @@ TEST_F(DriverEndToEnd, BoardsWithoutCommandsHoldTheRobotByThemselves) {
   EXPECT_EQ(rows_.back().on, 29);
 }
 
+// The chain of the README with its defaults (issue 28, item 7): hw_driver at 1 kHz with its
+// watchdog (20 cycles), board timeouts (10 cycles, timeout_ms 20), SCHED_FIFO 80 and mlockall
+// where permitted, posture with its 2 s ramp. It holds the robot standing, ends exit 0, and no
+// board check fires on a healthy chain. (The other tests loosen these for a loaded machine.)
+TEST_F(DriverEndToEnd, TheReadmesChainWithItsDefaultsStandsTheRobot) {
+  readme_defaults_ = true;
+  const int code = RunChain({}, {"--duration", "5"});
+  ASSERT_EQ(code, 0) << ReadFile(Path("driver.out"));
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["safe_mode"], false);
+  ExpectStanding(ServosOnUntil(), "README chain, defaults");
+  std::printf("[ figures  ] README chain at 1 kHz: %s cycles, %s deadline misses, %s late "
+              "commands, wake-up p99 %s us\n", summary_["cycles"].dump().c_str(),
+              summary_["deadline_misses"].dump().c_str(), summary_["late_commands"].dump().c_str(),
+              summary_["lateness"]["p99_us"].dump().c_str());
+}
+
 }  // namespace
 }  // namespace ohrp::hw::udp::e2e
