@@ -163,6 +163,30 @@ TEST_F(DriverEndToEnd, BoardsWithoutCommandsHoldTheRobotByThemselves) {
   EXPECT_EQ(rows_.back().on, 29);
 }
 
+// The hardware path's fall (issue 28, item 1): a push topples the emulated robot; the driver
+// judges it from the measured IMU, records the fall with its time and tilt, and fails (exit 9),
+// where it used to end "completed", exit 0, with the robot on the floor.
+TEST_F(DriverEndToEnd, APushThatTopplesTheRobotIsAFallWithItsTimeAndTilt) {
+  const int code = RunChain({"--push", "2.5,2.8,600,0,0,0,0,0"},
+                            {"--duration", "6", "--io-arg", kBoardTimeout,
+                             "--board-timeout-cycles", kBoardCycles, "--safe-time", "0.3"});
+  EXPECT_EQ(code, 9) << ReadFile(Path("driver.out"));
+  ASSERT_FALSE(summary_.is_discarded());
+  EXPECT_EQ(summary_["outcome"], "fall");
+  const auto fall = Events(summary_, "fall");
+  ASSERT_EQ(fall.size(), 1u) << summary_["events"].dump();
+  EXPECT_GT(fall[0]["time"].get<double>(), 2.5);
+  EXPECT_GT(fall[0]["reading"].get<double>(), 0.785);
+  EXPECT_EQ(ReadFile(Path("driver.out")).find("completed after"), std::string::npos);
+  // it did fall: the emulator's base tilted past the limit
+  double tilt = 0;
+  for (const Row& r : rows_) tilt = std::fmax(tilt, r.tilt);
+  EXPECT_GT(tilt, 45.0);
+  std::printf("[ figures  ] push at 2.5 s: fall event at t=%.3f s, IMU tilt %.1f deg; the "
+              "emulated base tilted %.0f deg at most\n", fall[0]["time"].get<double>(),
+              fall[0]["reading"].get<double>() * 180 / M_PI, tilt);
+}
+
 // The chain of the README with its defaults (issue 28, item 7): hw_driver at 1 kHz with its
 // watchdog (20 cycles), board timeouts (10 cycles, timeout_ms 20), SCHED_FIFO 80 and mlockall
 // where permitted, posture with its 2 s ramp. It holds the robot standing, ends exit 0, and no

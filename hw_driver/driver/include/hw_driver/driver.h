@@ -43,19 +43,27 @@
 //               servo_on_timeout ends the run (kExitIo).
 //   run         controller's commands checked and clamped, written to the boards.
 //   safe mode   entered when the controller stays silent for watchdog_cycles cycles after its
-//               first answer, dies (pid check in every command wait), or detaches; or when a
-//               board is silent or sends a NaN or inf (event board_non_finite, not
-//               board_silent) for board_timeout_cycles cycles, or reports a reset. Commands
-//               are ignored; after safe_time the servos go off and the run ends, except:
-//   recovery    a board reset: the servo-off that ends the safe mode re-arms the reset board
-//               (udp/PROTOCOL.md: a reset motor board stays off until it gets an all-off
-//               command); the driver then waits, servos off (kInactive, event board_rearm),
-//               for board_timeout_cycles valid reads in a row without a reset flag, and turns
-//               the servos on again holding the measured positions (event servo_on, value =
-//               the recovery's number); an attached controller's commands count again from
-//               the next cycle. A lost controller with on_controller_loss kWait: after the
-//               servo-off the driver waits (event waiting_for_controller) for a new controller
-//               to attach, then servo-on as above, with a valid read. A silent controller is
+//               first answer, dies (pid check in every command wait), or detaches; when a
+//               board is silent or sends a NaN or inf (event board_non_finite) or an
+//               implausible value (event implausible_reading with board, joint and value;
+//               board_checks.h) for board_timeout_cycles cycles; when a board disobeys
+//               (board_checks.h: servo state, acknowledgements, tracking, refused or foreign
+//               commands; exit kExitBoardDisobeys); when the IMU tilts past fall_tilt from its
+//               pose at servo-on (event fall, exit kExitFall). Commands are ignored; after
+//               safe_time the servos go off and the run ends, except after a lost controller
+//               with on_controller_loss kWait (recovery). A board refusing the hold is event
+//               safe_mode_refused and exit kExitBoardDisobeys.
+//   board reset held through, no safe mode: in the cycle the reset is read (events
+//               board_reset, reset_hold) the reset board's joints are written servo-off (the
+//               re-arm of udp/PROTOCOL.md) while the others keep their references; at the
+//               first read without the reset flag they servo on where measured (event servo_on
+//               with the recovery's number) and ramp back to their references in
+//               reset_ramp_time (event reset_ramped); the controller's commands are ignored
+//               meanwhile. No re-arm within board_timeout_cycles (at least 5): safe mode,
+//               kExitBoardDisobeys.
+//   recovery    a lost controller with on_controller_loss kWait: after the servo-off the
+//               driver waits (event waiting_for_controller) for a new controller to attach,
+//               then servo-on as at the start, with a valid read. A silent controller is
 //               dropped from the segment when it is declared lost (Producer::DropController):
 //               resumed, its next read returns kDropped and it exits non-zero. A recovery sets
 //               the run's outcome back to completed: how the run ends decides its exit code;
