@@ -24,7 +24,10 @@ bool Emulator::FromDriver(const Header& h, const sockaddr_in& from, double now) 
       peer_ = from;
       session_ = h.ack;
       have_peer_ = true;
-      for (MotorBoard& b : motor_) b.rx = SeqTracker{};  // a new driver numbers from its start
+      for (MotorBoard& b : motor_) {
+        b.rx = SeqTracker{};  // a new driver numbers from its start
+        b.foreign_flag = 0;   // its own packets refused before the binding are not foreign
+      }
       return true;
     }
   }
