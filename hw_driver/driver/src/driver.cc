@@ -19,8 +19,10 @@ enum class Rearm {
   kBoards,      // board_timeout_cycles valid reads in a row without a reset (after a reset)
 };
 
-// cycles a board takes to show what it was last written (a round trip and a board cycle)
-constexpr int kRoundTripCycles = 5;
+// how long a board may take to show what it was last written (a round trip and a board cycle;
+// up to 11 ms measured on a loaded machine), and to clear its reset flag after the re-arm
+constexpr double kRoundTripTime = 0.02;  // [s]
+constexpr double kRearmTime = 0.1;       // [s]
 
 EventKind EventOf(CheckKind k) {
   switch (k) {
@@ -89,6 +91,10 @@ int Driver::Run() {
   bool hold_refused = false;  // kSafeModeRefused recorded
   bool fell = false;          // kFall recorded
   const int64_t ramp_ns = std::max<int64_t>(1, std::llround(o.reset_ramp_time * 1e9));
+  const int round_trip_cycles =
+      std::max(2, static_cast<int>(std::ceil(kRoundTripTime / std::max(o.period, 1e-6))));
+  const int rearm_cycles = std::max(
+      o.board_timeout_cycles, static_cast<int>(std::ceil(kRearmTime / std::max(o.period, 1e-6))));
   int stops_seen = 0;
   bool done = false;
   const char* outcome = "completed";  // copied into result_ after the loop (no allocation in it)
@@ -147,8 +153,8 @@ int Driver::Run() {
       ++hold_cycles;
       const uint32_t refused = (d.in.reports & io_report::kBoards)
                                    ? d.in.refused_boards & ~d.in.reset_boards : 0u;
-      refused_in_hold = refused && hold_cycles > kRoundTripCycles ? refused_in_hold + 1 : 0;
-      if (refused_in_hold >= kRoundTripCycles && !hold_refused) {
+      refused_in_hold = refused && hold_cycles > round_trip_cycles ? refused_in_hold + 1 : 0;
+      if (refused_in_hold >= round_trip_cycles && !hold_refused) {
         hold_refused = true;
         int b = 0;
         while (b < 31 && !(refused & (1u << b))) ++b;
@@ -284,7 +290,7 @@ int Driver::Run() {
           ramp_start = MonotonicNs();
           ++result_.recoveries;
           d.Record(EventKind::kServoOn, result_.recoveries);
-        } else if (ramp_start < 0 && ++reset_wait > std::max(o.board_timeout_cycles, kRoundTripCycles)) {
+        } else if (ramp_start < 0 && ++reset_wait > rearm_cycles) {
           d.Record(EventKind::kBoardRearm, reset_mask);
           detail = "a reset board did not re-arm (its reset flag stayed on after the all-off "
                    "command): its joints could not be held";

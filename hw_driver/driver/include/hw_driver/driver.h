@@ -59,8 +59,8 @@
 //               first read without the reset flag they servo on where measured (event servo_on
 //               with the recovery's number) and ramp back to their references in
 //               reset_ramp_time (event reset_ramped); the controller's commands are ignored
-//               meanwhile. No re-arm within board_timeout_cycles (at least 5): safe mode,
-//               kExitBoardDisobeys.
+//               meanwhile. No re-arm within board_timeout_cycles or 100 ms, whichever is
+//               longer: safe mode, kExitBoardDisobeys.
 //   recovery    a lost controller with on_controller_loss kWait: after the servo-off the
 //               driver waits (event waiting_for_controller) for a new controller to attach,
 //               then servo-on as at the start, with a valid read. A silent controller is
