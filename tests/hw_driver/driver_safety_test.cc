@@ -115,6 +115,16 @@ TEST_F(HwDriverProcess, NanFromABoardTripsTheSafeModeNamingTheNanAndTheBoard) {
   EXPECT_NE(Stderr().find("board_non_finite (NaN or inf from board mask 0x1)"), std::string::npos)
       << Stderr();
   EXPECT_NE(Stderr().find("safe_mode (NaN or inf from a board)"), std::string::npos) << Stderr();
+  // and the joint that read it
+  bool named = false;
+  for (const auto& e : s["events"]) {
+    if (e["event"] != "implausible_reading") continue;
+    named = true;
+    EXPECT_EQ(e["joint"], 0);
+    EXPECT_EQ(e["reading"], "nan");
+    EXPECT_EQ(e["cycle"], 300);
+  }
+  EXPECT_TRUE(named) << s.dump(1);
 }
 
 TEST_F(HwDriverProcess, EmergencyStopInputTurnsTheServosOffAtOnce) {

@@ -9,6 +9,13 @@
 //   reset_at=N      from read N on a board reports a reset and its servos are off, until a
 //                   write turns every servo off (the re-arm of udp/PROTOCOL.md)
 //   nan_at=N        from read N on joint 0's position is NaN (board 0, io_fault::kNonFinite)
+//   huge_at=N       from read N on joint 1's position reads 1e300 (a finite, implausible value)
+//   servo_off_at=N  from read N on the boards report joint 1's servo off, whatever is written
+//   offset_at=N     from read N on joint 0 reads 0.3 rad away from where it was sent
+//   tilt_at=N       from read N on the IMU reads a tilt of 60 deg about x
+//   reports=0       the plugin reports neither servo states nor follows commands (as replay)
+//   refuse_at=N     from read N on the boards (one board, 0, carrying every joint) report that
+//                   they refused the driver's last command, whatever it was
 //   end_at=N        from read N on: end of data
 //   fail_open=1     open fails ("fake: told to fail")
 //   record=PATH     at close, one line per write: "<write> <reads> <servo> {<mode> <q_ref> <kp>
@@ -47,6 +54,12 @@ class FakeIo final : public RobotIo {
       else if (key == "estop_at") estop_at_ = std::atol(value.c_str());
       else if (key == "reset_at") reset_at_ = std::atol(value.c_str());
       else if (key == "nan_at") nan_at_ = std::atol(value.c_str());
+      else if (key == "huge_at") huge_at_ = std::atol(value.c_str());
+      else if (key == "servo_off_at") servo_off_at_ = std::atol(value.c_str());
+      else if (key == "offset_at") offset_at_ = std::atol(value.c_str());
+      else if (key == "tilt_at") tilt_at_ = std::atol(value.c_str());
+      else if (key == "reports") reports_ = value != "0";
+      else if (key == "refuse_at") refuse_at_ = std::atol(value.c_str());
       else if (key == "end_at") end_at_ = std::atol(value.c_str());
       else if (key == "record") record_path_ = value;
       else if (key == "fail_open" && value == "1") {
@@ -86,12 +99,28 @@ class FakeIo final : public RobotIo {
       s->tau[j] = 0;
       s->servo_on[j] = servo_;
     }
+    s->reports = reports_ ? io_report::kServoState | io_report::kFollowsCommands : 0u;
+    if (servo_off_at_ != kNever && r >= servo_off_at_ && njoint_ > 1) s->servo_on[1] = false;
+    s->refused_boards = 0;
+    if (refuse_at_ != kNever) {  // one board says which joints it carries and what it refused
+      s->reports |= io_report::kBoards;
+      for (int j = 0; j < njoint_; ++j) s->joint_board[j] = 0;
+      if (r >= refuse_at_) s->refused_boards = 1;
+    }
+    if (offset_at_ != kNever && r >= offset_at_) s->q[0] += 0.3;
+    if (huge_at_ != kNever && r >= huge_at_ && njoint_ > 1) s->q[1] = 1e300;
+    s->imu[0].quat_WI[1] = 0;
+    if (tilt_at_ != kNever && r >= tilt_at_) {  // 60 deg about x
+      s->imu[0].quat_WI[0] = std::cos(M_PI / 6);
+      s->imu[0].quat_WI[1] = std::sin(M_PI / 6);
+    } else {
+      s->imu[0].quat_WI[0] = 1.0;
+    }
     if (nan_at_ != kNever && r >= nan_at_ && njoint_ > 0) {
       s->q[0] = std::nan("");
       s->faults |= io_fault::kNonFinite;
       s->nonfinite_boards = 1;
     }
-    s->imu[0].quat_WI[0] = 1.0;
     return s->faults ? IoResult::kFault : IoResult::kOk;
   }
 
@@ -136,7 +165,9 @@ class FakeIo final : public RobotIo {
   bool reset_ = false;  // a board reset, not re-armed yet: its servos stay off
   uint64_t reads_ = 0;
   long silent_at_ = kNever, estop_at_ = kNever, reset_at_ = kNever, end_at_ = kNever,
-       nan_at_ = kNever;
+       nan_at_ = kNever, huge_at_ = kNever, servo_off_at_ = kNever, offset_at_ = kNever,
+       tilt_at_ = kNever, refuse_at_ = kNever;
+  bool reports_ = true;
   std::string record_path_;
   std::vector<Record> records_;
 };

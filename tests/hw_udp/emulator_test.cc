@@ -295,6 +295,46 @@ TEST_F(EmulatorTest, AResetBoardTurnsItsServosOffUntilRearmed) {
   EXPECT_EQ(io_.stats().board[0].lost, 0u);  // the restart of its numbering is no loss
 }
 
+// Sessions (PROTOCOL.md): a second driver (another socket, another session) is refused while
+// the first one commands, and flagged to the first; once the first is gone for the boards' hold
+// time, the boards bind to the new one, which then reads them without the flag.
+TEST_F(EmulatorTest, TheBoardsTakeOnlyTheirDriversCommandsAndANewDriverOnceItIsGone) {
+  const int port = Start({"--duration", "2.5"});
+  ASSERT_GT(port, 0);
+  OpenIo(port, {"timeout_ms=1000"});
+  UdpIo other;
+  IoConfig c = Hrp1s().config;
+  c.args = {"port=" + std::to_string(port), "quiet=1", "timeout_ms=1000"};
+  IoCommand off;  // every servo off
+  IoState theirs;
+  int cycles = 0;
+  bool flagged = false, all_on = true, bound = false;
+  ASSERT_EQ(Drive([&](const IoState& s, IoCommand*) {
+              ++cycles;
+              if (cycles == 200) {
+                std::string e;
+                ASSERT_TRUE(other.open(c, &e)) << e;
+                other.write(off);  // refused: not the boards' driver
+              }
+              if (cycles > 200 && cycles < 1000) {
+                flagged = flagged || s.foreign_boards != 0;
+                for (int j = 0; j < 29; ++j) all_on = all_on && s.servo_on[j];
+              }
+              if (cycles == 1000) io_.close();  // the first driver is gone
+              if (cycles > 1000) {
+                other.read(&theirs);
+                other.write(off);
+                bound = bound || (other.stats().board[0].received > 50 && theirs.foreign_boards == 0);
+              }
+            }),
+            0)
+      << Stderr();
+  EXPECT_TRUE(flagged);
+  EXPECT_TRUE(all_on) << "the second driver's servo-off reached the boards";
+  EXPECT_TRUE(bound) << "the new driver was never bound";
+  EXPECT_GE(Result()["foreign"], 1) << Stderr();
+}
+
 TEST_F(EmulatorTest, TheControlFileInjectsFaultsWhileRunning) {
   const std::string control = (dir_ / "control").string();
   { std::ofstream(control) << "# faults\n"; }

@@ -1,6 +1,7 @@
 // Tests hw_emulator's fault plan: command-line events, control-file lines, following the file.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,31 @@ namespace ohrp::hw::udp {
 namespace {
 
 constexpr int kBoards = 6, kForces = 4, kImus = 1;
+
+// a joint's board reading a given value (NaN and 1e300 included) for a while
+TEST(FaultPlan, AJointValueActsForItsDurationAndAnyNumberIsTaken) {
+  std::vector<FaultEvent> ev;
+  std::string e;
+  ASSERT_TRUE(ParseEvent("--value", "3=1e300@2.0+0.2", kBoards, kForces, kImus, &ev, &e)) << e;
+  FaultState s;
+  ApplyDue(1.9, &ev, &s);
+  EXPECT_EQ(s.value_joint, -1);
+  ApplyDue(2.0, &ev, &s);
+  EXPECT_EQ(s.value_joint, 3);
+  EXPECT_EQ(s.value, 1e300);
+  ApplyDue(2.2, &ev, &s);
+  EXPECT_EQ(s.value_joint, -1);
+  for (const char* bad : {"3@2.0", "x=1@2", "3=@2", "3=1e300", "-1=0@1"}) {
+    EXPECT_FALSE(ParseEvent("--value", bad, kBoards, kForces, kImus, &ev, &e)) << bad;
+    EXPECT_NE(e.find("JOINT=VALUE@TIME"), std::string::npos) << e;
+  }
+  ASSERT_TRUE(ApplyControlLine("value 5 nan", kBoards, kForces, kImus, &s, &e)) << e;
+  EXPECT_EQ(s.value_joint, 5);
+  EXPECT_TRUE(std::isnan(s.value));
+  ASSERT_TRUE(ApplyControlLine("value off", kBoards, kForces, kImus, &s, &e)) << e;
+  EXPECT_EQ(s.value_joint, -1);
+  EXPECT_FALSE(ApplyControlLine("value 5", kBoards, kForces, kImus, &s, &e));
+}
 
 TEST(FaultPlan, EventsActAtTheirTime) {
   std::vector<FaultEvent> ev;

@@ -227,6 +227,27 @@ TEST(SeqTracker, ARestartedSenderResynchronises) {
   EXPECT_EQ(t.lost(), 0u);
 }
 
+// The forged datagram of issue 28: sequence +2^30. Accepted, it made the receiver drop every
+// later packet of the real sender as stale; now it is refused as a jump and the sender's next
+// packets go on being used.
+TEST(SeqTracker, AJumpFarAheadIsRefusedAndTheSendersNextPacketsAreStillUsed) {
+  SeqTracker t;
+  EXPECT_TRUE(t.Accept(100, false));
+  EXPECT_FALSE(t.Accept(100 + (1u << 30), false));
+  EXPECT_EQ(t.jumps(), 1u);
+  EXPECT_EQ(t.last(), 100u);
+  EXPECT_TRUE(t.Accept(101, false));
+  EXPECT_TRUE(t.Accept(102, false));
+  EXPECT_EQ(t.stale(), 0u);
+  // the largest gap a sender may leave is still a gap, counted lost
+  EXPECT_TRUE(t.Accept(102 + kMaxSeqJump, false));
+  EXPECT_EQ(t.lost(), kMaxSeqJump - 1);
+  EXPECT_FALSE(t.Accept(102 + 2 * kMaxSeqJump + 1, false));
+  EXPECT_EQ(t.jumps(), 2u);
+  // a restarted sender (reset flag) resynchronises wherever its numbering starts
+  EXPECT_TRUE(t.Accept(1u << 30, true));
+}
+
 //---------------- layout ----------------
 
 TEST(Layout, DefaultGroupsHrp1sLimbsAndTrunk) {

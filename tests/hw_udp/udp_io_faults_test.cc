@@ -163,5 +163,43 @@ TEST_F(UdpIoTest, ANanFromABoardNamesTheBoard) {
   EXPECT_EQ(s.nonfinite_boards, 0u);
 }
 
+// Every packet of the plugin carries its session id (PROTOCOL.md, "Sessions"); a board whose
+// states acknowledge none of the commands sent for its timeout is named in unacked_boards (the
+// board of the issue that dropped every command as stale), and no longer once it acknowledges.
+TEST_F(UdpIoTest, CarriesItsSessionAndNamesABoardThatAcknowledgesNoCommand) {
+  Open({"timeout_ms=2000", "timeout_ms.1=40"});
+  EXPECT_NE(io_.session(), 0u);
+  IoCommand c;
+  ASSERT_EQ(io_.write(c), IoResult::kOk);
+  CommandPacket p;
+  ASSERT_TRUE(boards_.ReceiveCommand(&p));
+  EXPECT_EQ(p.h.ack, io_.session());
+  const auto t0 = Clock::now();
+  IoState s;
+  uint32_t seq = 1;
+  bool named = false;
+  while (!named && Clock::now() - t0 < std::chrono::seconds(5)) {
+    io_.write(c);
+    for (int b = 0; b < 5; ++b) boards_.SendMotor(b, seq, 0, 0, false, b == 1 ? 0 : seq);
+    boards_.SendSensors(seq++);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    io_.read(&s);
+    named = s.unacked_boards != 0;
+  }
+  ASSERT_TRUE(named);
+  EXPECT_GE(Clock::now() - t0, std::chrono::milliseconds(40));
+  EXPECT_EQ(s.unacked_boards, 1u << 1);
+  EXPECT_TRUE(s.reports & io_report::kBoards);
+  EXPECT_EQ(s.joint_board[0], 0);
+  EXPECT_EQ(s.joint_board[6], 1);
+  // it acknowledges the newest command: no longer named
+  for (int i = 0; i < 3; ++i) {
+    io_.write(c);
+    for (int b = 0; b < 5; ++b) boards_.SendMotor(b, seq, 0, 0, false, seq);
+    boards_.SendSensors(seq++);
+  }
+  ASSERT_TRUE(ReadUntil(&s, [](const IoState& x) { return x.unacked_boards == 0; }));
+}
+
 }  // namespace
 }  // namespace ohrp::hw::udp

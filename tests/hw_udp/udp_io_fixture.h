@@ -66,8 +66,10 @@ class FakeBoards {
   }
 
   // joint j reads q = j + 0.5 * `value`, dq = -j, tau = 10 j
-  void SendMotor(int b, uint32_t seq, double value, uint8_t flags = 0, bool corrupt = false) {
+  void SendMotor(int b, uint32_t seq, double value, uint8_t flags = 0, bool corrupt = false,
+                 uint32_t ack = 0) {
     MotorStatePacket p;
+    p.h.ack = ack;
     p.h.board = static_cast<uint8_t>(b);
     p.h.first = static_cast<uint8_t>(layout_.motor[b].first);
     p.h.count = static_cast<uint8_t>(layout_.motor[b].count);

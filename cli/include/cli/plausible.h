@@ -49,6 +49,7 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"speed_factor",     1e-3,  1e3,   "",      "a playback or video speed between 0.001x and 1000x"},
   {"kp",               0,     1e6,   "N m/rad", "a joint stiffness of at most 1e6 N m/rad"},
   {"kd",               0,     1e4,   "N m s/rad", "a joint damping of at most 1e4 N m s/rad"},
+  {"hold_gain_scale",  1e-2,  100,   "",      "a holding gain factor between 0.01 (soft, still holding) and 100x the default"},
   // contact
   {"sole_stiffness",   1e2,   1e9,   "N/m",   "a sole stiffness between a sponge (1e2) and steel on steel (1e9)"},
   {"sole_damping",     0,     1e7,   "N s/m", "a sole damping of at most 1e7 N s/m"},
@@ -67,6 +68,7 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"joint_speed",      0,     100,   "rad/s", "a joint speed of at most 100 rad/s"},
   {"angle_deg",        -360,  360,   "deg",   "an angle within one turn"},
   {"clearance",        0,     0.5,   "m",     "a distance kept between links of at most 50 cm"},
+  {"tilt",             0,     3.1416, "rad",  "a tilt between 0 and half a turn"},
   // loads
   {"impulse",          0,     1e3,   "N s",   "a push of at most 1000 N s"},
   {"force",            0,     1e5,   "N",     "a force of at most 1e5 N"},

@@ -19,6 +19,24 @@ enum class Rearm {
   kBoards,      // board_timeout_cycles valid reads in a row without a reset (after a reset)
 };
 
+// how long a board may take to show what it was last written (a round trip and a board cycle;
+// up to 11 ms measured on a loaded machine), and to clear its reset flag after the re-arm
+constexpr double kRoundTripTime = 0.02;  // [s]
+constexpr double kRearmTime = 0.1;       // [s]
+
+EventKind EventOf(CheckKind k) {
+  switch (k) {
+    case CheckKind::kImplausible: return EventKind::kImplausibleReading;
+    case CheckKind::kServoMismatch: return EventKind::kServoMismatch;
+    case CheckKind::kUnacknowledged: return EventKind::kCommandsUnacknowledged;
+    case CheckKind::kTracking: return EventKind::kTrackingError;
+    case CheckKind::kRefused: return EventKind::kCommandRefused;
+    case CheckKind::kForeign: return EventKind::kForeignCommand;
+    case CheckKind::kNone: break;
+  }
+  return EventKind::kImplausibleReading;
+}
+
 }  // namespace
 
 Driver::Driver(const DriverOptions& options, const shm::ProducerConfig& robot, RobotIo* io,
@@ -64,12 +82,32 @@ int Driver::Run() {
   int clean_reads = 0;                   // consecutive valid reads without a reset, re-arming
   pid_t controller = 0;
   bool answered = false;      // the current controller has answered at least once
+  bool reset_hold = false;    // holding the posture through a board reset (re-arm, ramp)
+  uint32_t reset_mask = 0;    // the reset boards (all bits: the plugin does not say)
+  int reset_wait = 0;         // cycles waited for the re-arm
+  int64_t ramp_start = -1;    // the ramp back after the re-arm began [ns]; -1: re-arming
+  int refused_in_hold = 0;    // consecutive cycles a board refused the safe mode's hold
+  int hold_cycles = 0;        // cycles since the safe mode or stop began
+  bool hold_refused = false;  // kSafeModeRefused recorded
+  bool fell = false;          // kFall recorded
+  const int64_t ramp_ns = std::max<int64_t>(1, std::llround(o.reset_ramp_time * 1e9));
+  const int round_trip_cycles =
+      std::max(2, static_cast<int>(std::ceil(kRoundTripTime / std::max(o.period, 1e-6))));
+  const int rearm_cycles = std::max(
+      o.board_timeout_cycles, static_cast<int>(std::ceil(kRearmTime / std::max(o.period, 1e-6))));
   int stops_seen = 0;
   bool done = false;
   const char* outcome = "completed";  // copied into result_ after the loop (no allocation in it)
   const char* detail = "";
 
+  auto end_reset_hold = [&] {
+    reset_hold = false;
+    for (int j = 0; j < d.njoint; ++j) d.joint_off[j] = false;
+  };
   auto enter_safe_mode = [&](int exit_code, const char* why, int64_t reason, Rearm then) {
+    end_reset_hold();
+    hold_cycles = 0;
+    refused_in_hold = 0;
     d.state = DriverState::kSafeMode;
     after_safe_mode = then;
     d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
@@ -87,9 +125,63 @@ int Driver::Run() {
       done = true;
       return;
     }
+    end_reset_hold();
+    hold_cycles = 0;
+    refused_in_hold = 0;
     d.state = DriverState::kStopping;
     d.guard.Damp(d.last_valid_q, o.safe_kp_scale, o.safe_kd_scale);
     phase_end = MonotonicNs() + std::llround(o.servo_off_time * 1e9);
+  };
+
+  // The boards' verification of one cycle with a valid read (see board_checks.h): a board that
+  // disobeys ends the active state in a safe mode; the IMU's tilt past fall_tilt is a fall; a
+  // board refusing the hold of a safe mode or stop is a failure of its own.
+  auto check_boards = [&](uint32_t* flags, bool servoed_on) {
+    if (d.state == DriverState::kActive && d.servo_on && !servoed_on) {
+      bool skip[shm::kMaxJoints];
+      for (int j = 0; j < d.njoint; ++j) skip[j] = reset_hold && d.rearm_joint[j];
+      const Finding f = d.checks.Obeyed(d.in, d.commanded_on, d.guard.references(), skip);
+      if (f.kind != CheckKind::kNone) {
+        *flags |= shm::status::kBoardFault;
+        d.Record(EventOf(f.kind), f.joint < 0 ? static_cast<int64_t>(f.value) : 0, f.board,
+                 f.joint, f.value);
+        detail = "a board did not do what it was commanded (see the events)";
+        enter_safe_mode(kExitBoardDisobeys, "board_disobeys", kSafeBoardDisobeys, Rearm::kNone);
+      }
+    }
+    if (d.state == DriverState::kSafeMode || d.state == DriverState::kStopping) {
+      ++hold_cycles;
+      const uint32_t refused = (d.in.reports & io_report::kBoards)
+                                   ? d.in.refused_boards & ~d.in.reset_boards : 0u;
+      refused_in_hold = refused && hold_cycles > round_trip_cycles ? refused_in_hold + 1 : 0;
+      if (refused_in_hold >= round_trip_cycles && !hold_refused) {
+        hold_refused = true;
+        int b = 0;
+        while (b < 31 && !(refused & (1u << b))) ++b;
+        d.Record(EventKind::kSafeModeRefused, refused, b);
+        if (result_.exit_code == kExitOk || result_.exit_code == kExitInterrupted) {
+          result_.exit_code = kExitBoardDisobeys;
+          outcome = "safe_mode_refused";
+        }
+        detail = "a board refused the damped hold: the robot was not held";
+      }
+    }
+    if (o.fall_tilt > 0 && d.have_imu_reference && !fell &&
+        (d.state == DriverState::kActive || d.state == DriverState::kSafeMode ||
+         d.state == DriverState::kStopping)) {
+      const double tilt = TiltBetween(d.imu_reference, d.in.imu[0].quat_WI);
+      if (tilt > o.fall_tilt) {
+        fell = true;
+        d.Record(EventKind::kFall, 0, -1, -1, tilt);
+        detail = "the robot fell: its IMU tilted past --fall-tilt";
+        if (d.state == DriverState::kActive) {
+          enter_safe_mode(kExitFall, "fall", kSafeFall, Rearm::kNone);
+        } else {
+          result_.exit_code = kExitFall;
+          outcome = "fall";
+        }
+      }
+    }
   };
 
   for (;;) {
@@ -106,10 +198,13 @@ int Driver::Run() {
     const IoResult r = d.io->read(&d.in);
     const uint32_t faults = r == IoResult::kError ? 0u : d.in.faults;
     live_.packets_lost.store(d.in.packets_lost, std::memory_order_relaxed);
-    // a NaN or inf from a board is no valid read either, but named as what it is
+    // a NaN or inf from a board is no valid read either, but named as what it is; so is a
+    // reading no joint can give (board_checks.h: outside the range's margin, too fast)
     const bool nonfinite = (faults & io_fault::kNonFinite) || !AllFinite(d.in.q, d.njoint);
     const bool no_answer = r == IoResult::kError || (faults & io_fault::kBoardSilent);
-    const bool silent = no_answer || nonfinite;
+    const Finding implausible = no_answer ? Finding{} : d.checks.Plausible(d.in);
+    const bool bad_values = nonfinite || implausible.kind != CheckKind::kNone;
+    const bool silent = no_answer || bad_values;
     if (silent) {
       Bump(live_.silent_reads);
       ++silent_board;
@@ -119,10 +214,15 @@ int Driver::Run() {
           d.Record(EventKind::kIoError, d.in.silent_boards);
         } else if (no_answer) {
           d.Record(EventKind::kBoardSilent, d.in.silent_boards);
-        } else {
+        } else if (nonfinite) {
           d.Record(EventKind::kBoardNonFinite, d.in.nonfinite_boards);
         }
-        silent_reason = no_answer ? kSafeBoardSilent : kSafeBoardNonFinite;
+        if (!no_answer && implausible.kind != CheckKind::kNone) {
+          d.Record(EventKind::kImplausibleReading, 0, implausible.board, implausible.joint,
+                   implausible.value);
+        }
+        silent_reason = no_answer ? kSafeBoardSilent
+                                  : nonfinite ? kSafeBoardNonFinite : kSafeBoardImplausible;
       }
     } else {
       std::memcpy(d.last_valid_q, d.in.q, d.njoint * sizeof(double));
@@ -155,10 +255,71 @@ int Driver::Run() {
           (running || d.state == DriverState::kInactive)) {
         d.Record(EventKind::kEndOfData);
         begin_stopping(kExitOk, "end_of_data");
-      } else if (running && (faults & io_fault::kBoardReset)) {
+      } else if (running && !reset_hold && (faults & io_fault::kBoardReset)) {
+        // hold the posture through the reset: re-arm the reset board's joints (servo off),
+        // keep every other joint at its reference, then ramp them back (below)
         flags |= shm::status::kBoardFault;
-        d.Record(EventKind::kBoardReset, d.in.silent_boards);
-        enter_safe_mode(kExitBoardFault, "board_fault", kSafeBoardReset, Rearm::kBoards);
+        const bool boards = d.in.reports & io_report::kBoards;
+        reset_mask = boards ? d.in.reset_boards : ~0u;
+        int first_board = -1;
+        for (int j = 0; j < d.njoint; ++j) {
+          const int b = boards ? d.in.joint_board[j] : -1;
+          d.rearm_joint[j] = !boards || (b >= 0 && (reset_mask & (1u << b)));
+          if (!d.rearm_joint[j]) continue;
+          if (first_board < 0) first_board = b;
+          d.ramp_to[j] = d.guard.references()[j];
+          d.joint_off[j] = true;
+        }
+        d.Record(EventKind::kBoardReset, reset_mask, first_board);
+        d.Record(EventKind::kResetHold, reset_mask, first_board);
+        reset_hold = true;
+        reset_wait = 0;
+        ramp_start = -1;
+      } else if (running && reset_hold && silent_board < o.board_timeout_cycles) {
+        flags |= shm::status::kBoardFault;
+        const bool boards = d.in.reports & io_report::kBoards;
+        const bool still_reset = (faults & io_fault::kBoardReset) &&
+                                 (!boards || (d.in.reset_boards & reset_mask));
+        if (ramp_start < 0 && !still_reset && !silent) {
+          // re-armed: servo on where the joints are, then the ramp back to their references
+          for (int j = 0; j < d.njoint; ++j) {
+            if (!d.rearm_joint[j]) continue;
+            d.ramp_from[j] = d.in.q[j];
+            d.joint_off[j] = false;
+          }
+          ramp_start = MonotonicNs();
+          ++result_.recoveries;
+          d.Record(EventKind::kServoOn, result_.recoveries);
+        } else if (ramp_start < 0 && ++reset_wait > rearm_cycles) {
+          d.Record(EventKind::kBoardRearm, reset_mask);
+          detail = "a reset board did not re-arm (its reset flag stayed on after the all-off "
+                   "command): its joints could not be held";
+          enter_safe_mode(kExitBoardDisobeys, "board_disobeys", kSafeBoardReset, Rearm::kNone);
+        }
+        if (reset_hold && ramp_start >= 0) {
+          const double s = std::min(1.0, static_cast<double>(MonotonicNs() - ramp_start) /
+                                             static_cast<double>(ramp_ns));
+          for (int j = 0; j < d.njoint; ++j) {
+            if (!d.rearm_joint[j]) continue;
+            shm::JointCommand c = d.ramp_to[j];
+            double target = c.q_ref;
+            if (c.mode != shm::JointMode::kPosition || c.kp <= 0) {  // not held by position
+              c = shm::JointCommand{};
+              c.mode = shm::JointMode::kPosition;
+              c.kp = d.guard.default_kp(j);
+              c.kd = d.guard.default_kd(j);
+              target = d.ramp_from[j];
+            }
+            c.q_ref = d.ramp_from[j] + s * (target - d.ramp_from[j]);
+            c.dq_ref = 0;
+            d.guard.Set(j, c);
+          }
+          if (s >= 1.0) {
+            end_reset_hold();
+            d.checks.Restart();
+            d.Record(EventKind::kResetRamped, reset_mask);
+          }
+        }
       } else if (running && silent_board >= o.board_timeout_cycles) {
         enter_safe_mode(kExitBoardFault, "board_fault", silent_reason, Rearm::kNone);
       } else if (d.state == DriverState::kInactive && rearm != Rearm::kNone) {
@@ -178,6 +339,11 @@ int Driver::Run() {
         }
       } else if (d.state == DriverState::kInactive && !silent) {
         d.guard.HoldMeasured(d.in.q);
+        d.checks.Restart();
+        if (!d.have_imu_reference && d.nimu > 0) {
+          std::memcpy(d.imu_reference, d.in.imu[0].quat_WI, sizeof(d.imu_reference));
+          d.have_imu_reference = true;
+        }
         d.servo_on = true;
         d.state = DriverState::kActive;
         servoed_on = true;
@@ -190,6 +356,9 @@ int Driver::Run() {
         done = true;
       }
     }
+
+    //---- the boards' verification (board_checks.h), the fall, the holds refused
+    if (!done && !silent) check_boards(&flags, servoed_on);
 
     //---- the cameras' frames (only while some program asks), then the sensors; then the
     //---- controller's commands until the command deadline (from the cycle after a servo-on:
@@ -212,6 +381,10 @@ int Driver::Run() {
             static_cast<double>(std::max<int64_t>(0, slot + window - MonotonicNs())) * 1e-9;
         switch (d.producer->WaitCommands(remaining, &d.cmd)) {
           case shm::WaitResult::kCommands:
+            if (reset_hold) {  // the posture is held through a board reset: not the controller's
+              silent_controller = 0;
+              break;
+            }
             Bump(live_.commands);
             d.last_command_cycle = d.cmd.answers_cycle;
             d.late_flag = 0;

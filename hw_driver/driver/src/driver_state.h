@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "hw_driver/board_checks.h"
 #include "hw_driver/driver.h"
 #include "hw_driver/guard.h"
 #include "robot_model/recorder.h"
@@ -50,7 +51,10 @@ inline constexpr uint64_t kImageRequestPollCycles = 10;
 
 struct Driver::Impl {
   Impl(const DriverOptions& o, const shm::ProducerConfig& r, RobotIo* i, shm::Producer* p)
-      : opt(o), robot(r), io(i), producer(p), guard(r), waker(o.wake, PeriodNs(o)), images(p) {
+      : opt(o), robot(r), io(i), producer(p), guard(r),
+        checks(r, o.board_timeout_cycles,
+               static_cast<int>(std::ceil(o.tracking_time / std::max(o.period, 1e-6)))),
+        waker(o.wake, PeriodNs(o)), images(p) {
     ncamera = static_cast<int>(r.cameras.size());
     njoint = static_cast<int>(r.joint_names.size());
     nforce = static_cast<int>(r.force_names.size());
@@ -63,6 +67,7 @@ struct Driver::Impl {
   RobotIo* io;
   shm::Producer* producer;
   CommandGuard guard;
+  BoardChecks checks;  // the boards' verification (board_checks.h)
   Waker waker;  // sleeps (and spins) to each cycle's start
   SegmentImages images;
   uint32_t images_wanted = 0;  // the cameras some program asks for (polled every few cycles)
@@ -71,6 +76,15 @@ struct Driver::Impl {
   IoState in{};
   double last_valid_q[shm::kMaxJoints] = {};  // positions of the last valid read
   IoCommand out{};
+  // a board reset held through (driver.cc): its joints are re-armed (servo off), then ramped
+  // from where they were measured back to their references while the others hold theirs
+  bool joint_off[shm::kMaxJoints] = {};    // servo off for this joint although the robot's is on
+  bool rearm_joint[shm::kMaxJoints] = {};  // on the reset board
+  double ramp_from[shm::kMaxJoints] = {};
+  shm::JointCommand ramp_to[shm::kMaxJoints] = {};
+  bool commanded_on[shm::kMaxJoints] = {};  // what the last write asked of each servo
+  double imu_reference[4] = {1, 0, 0, 0};   // the IMU's orientation at servo-on (the fall check)
+  bool have_imu_reference = false;
   shm::CommandBlock cmd{};
   std::vector<Event> events;
   uint64_t events_dropped = 0;
@@ -85,9 +99,11 @@ struct Driver::Impl {
   double time = 0;             // driver time of cycle k [s]
   model::Recorder* log = nullptr;  // the data log (--log), or none
 
-  void Record(EventKind kind, int64_t value = 0) noexcept {
+  void Record(EventKind kind, int64_t value = 0, int board = -1, int joint = -1,
+              double reading = 0) noexcept {
     if (events.size() < kMaxEvents) {
-      events.push_back(Event{k, time, kind, value});  // capacity reserved: no allocation
+      // capacity reserved: no allocation
+      events.push_back(Event{k, time, kind, value, board, joint, reading});
     } else {
       ++events_dropped;
     }
@@ -122,7 +138,8 @@ struct Driver::Impl {
   void Write() noexcept {
     const shm::JointCommand* ref = guard.references();
     for (int i = 0; i < njoint; ++i) {
-      out.servo_on[i] = servo_on;
+      out.servo_on[i] = servo_on && !joint_off[i];
+      commanded_on[i] = out.servo_on[i];
       out.joint[i] = ref[i];
     }
     io->write(out);

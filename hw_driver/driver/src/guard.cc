@@ -62,6 +62,13 @@ int CommandGuard::Accept(const shm::CommandBlock& commands) noexcept {
   return rejected;
 }
 
+bool CommandGuard::Set(int i, const shm::JointCommand& c) noexcept {
+  if (!Valid(i, c)) return false;
+  ref_[i] = c;
+  if (c.mode == shm::JointMode::kPosition) ref_[i].q_ref = std::clamp(c.q_ref, q_min_[i], q_max_[i]);
+  return true;
+}
+
 void CommandGuard::Damp(const double* q, double kp_scale, double kd_scale) noexcept {
   for (size_t i = 0; i < ref_.size(); ++i) {
     shm::JointCommand& r = ref_[i];

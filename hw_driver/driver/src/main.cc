@@ -40,10 +40,24 @@ int main(int argc, char** argv) {
   app.add_option("--servo-off-time", d.servo_off_time,
                  "[s] damped hold before servo-off at a normal stop")
       ->capture_default_str()->check(ohrp::cli::NonNegative());
-  app.add_option("--safe-kp-scale", d.safe_kp_scale, "damped hold: kp = default kp * this")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+  app.add_option("--safe-kp-scale", d.safe_kp_scale,
+                 "damped hold: kp = default kp * this (a hold: not 0; the gains must be ones the "
+                 "servos accept)")
+      ->capture_default_str()->check(ohrp::cli::Plausible("hold_gain_scale"));
   app.add_option("--safe-kd-scale", d.safe_kd_scale, "damped hold: kd = default kd * this")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::Plausible("gain_scale"));
+  app.add_option("--tracking-time", d.tracking_time,
+                 "[s] a position-mode joint may be further than tau_max / kp (at least 0.05 rad) "
+                 "from its reference this long; longer: the board disobeys, safe mode (exit 8)")
+      ->capture_default_str()->check(ohrp::cli::Plausible("timeout"));
+  app.add_option("--reset-ramp-time", d.reset_ramp_time,
+                 "[s] after a board reset, its joints ramp back from where they are to their "
+                 "references in this time, the others holding theirs")
+      ->capture_default_str()->check(ohrp::cli::Plausible("ramp_time"));
+  app.add_option("--fall-tilt", d.fall_tilt,
+                 "[rad] the first IMU tilted this far from its pose at servo-on: a fall, safe mode "
+                 "(exit 10); 0: no fall check")
+      ->capture_default_str()->check(ohrp::cli::Plausible("tilt"));
   app.add_option("--servo-on-timeout", d.servo_on_timeout,
                  "[s] wait this long for the boards' first valid read")
       ->capture_default_str()->check(ohrp::cli::Positive());
@@ -86,10 +100,13 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 duration reached or replay ended, 2 bad option, model, plugin file or\n"
       "segment, 3 the boards failed (open, or no valid read), 5 controller lost (safe mode),\n"
-      "6 board silent (safe mode), 7 emergency stop, 9 the data log or the summary could not be\n"
-      "written completely (file and error named), 130 interrupted (SIGINT/SIGTERM). A board\n"
-      "reset, and a lost controller with --on-controller-loss wait, are recovered from: servo-off,\n"
-      "then servo-on again when safe; the run's end then decides the exit code.\n"
+      "6 board silent, NaN or implausible values (safe mode), 7 emergency stop, 8 a board\n"
+      "disobeyed (servo state, acknowledgements, tracking, refused or foreign commands, a reset\n"
+      "not re-armed, a refused safe-mode hold), 9 the data log or the summary could not be\n"
+      "written completely (file and error named), 10 the robot fell (IMU tilt), 130 interrupted\n"
+      "(SIGINT/SIGTERM). A board reset is held through: its joints re-armed and ramped back, the\n"
+      "others holding; a lost controller with --on-controller-loss wait is recovered from:\n"
+      "servo-off, then servo-on when a new one attaches; the run's end then decides the exit code.\n"
       "Details: hw_driver/README.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   if (std::string error; !log_max.empty() && !ohrp::model::ParseByteSize(log_max, &o.log_max, &error)) {

@@ -38,6 +38,16 @@ const char* EventName(EventKind k) {
     case EventKind::kBoardNonFinite: return "board_non_finite";
     case EventKind::kWaitingForController: return "waiting_for_controller";
     case EventKind::kBoardRearm: return "board_rearm";
+    case EventKind::kImplausibleReading: return "implausible_reading";
+    case EventKind::kServoMismatch: return "servo_mismatch";
+    case EventKind::kCommandsUnacknowledged: return "commands_unacknowledged";
+    case EventKind::kTrackingError: return "tracking_error";
+    case EventKind::kCommandRefused: return "command_refused";
+    case EventKind::kForeignCommand: return "foreign_command";
+    case EventKind::kSafeModeRefused: return "safe_mode_refused";
+    case EventKind::kResetHold: return "reset_hold";
+    case EventKind::kResetRamped: return "reset_ramped";
+    case EventKind::kFall: return "fall";
   }
   return "?";
 }

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <boost/interprocess/shared_memory_object.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <thread>
@@ -16,6 +17,7 @@
 #include "robot_model/output_file.h"
 #include "robot_model/recorder.h"
 #include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::hw {
 namespace {
@@ -27,8 +29,8 @@ void OnMujocoFatal(const char*) {
   _exit(kExitUsage);
 }
 
-void PrintEvent(const Event& e) {
-  char what[96] = "";
+void PrintEvent(const Event& e, const shm::ProducerConfig& robot) {
+  char what[160] = "";
   switch (e.kind) {
     case EventKind::kControllerAttached:
     case EventKind::kControllerDied:
@@ -57,12 +59,33 @@ void PrintEvent(const Event& e) {
     case EventKind::kSafeMode: {
       static const char* kWhy[] = {"", "board silent", "board reset", "controller silent",
                                    "controller died", "controller detached",
-                                   "NaN or inf from a board"};
+                                   "NaN or inf from a board", "implausible values from a board",
+                                   "a board disobeyed", "the robot fell"};
       const long v = static_cast<long>(e.value);
       std::snprintf(what, sizeof(what), " (%s): damped hold, then servo-off",
-                    v >= 1 && v <= kSafeBoardNonFinite ? kWhy[v] : "?");
+                    v >= 1 && v <= kSafeFall ? kWhy[v] : "?");
       break;
     }
+    case EventKind::kImplausibleReading:
+    case EventKind::kServoMismatch:
+    case EventKind::kTrackingError:
+      std::snprintf(what, sizeof(what), " (board %d, joint %d %s, read %.6g)", e.board, e.joint,
+                    e.joint >= 0 && e.joint < static_cast<int>(robot.joint_names.size())
+                        ? robot.joint_names[e.joint].c_str() : "?",
+                    e.reading);
+      break;
+    case EventKind::kCommandsUnacknowledged:
+    case EventKind::kCommandRefused:
+    case EventKind::kForeignCommand:
+    case EventKind::kSafeModeRefused:
+    case EventKind::kResetHold:
+    case EventKind::kResetRamped:
+      std::snprintf(what, sizeof(what), " (board %d, board mask 0x%lx)", e.board,
+                    static_cast<long>(e.value));
+      break;
+    case EventKind::kFall:
+      std::snprintf(what, sizeof(what), " (IMU tilt %.1f deg)", e.reading * 180.0 / M_PI);
+      break;
     case EventKind::kServoOn:
       if (e.value > 0) std::snprintf(what, sizeof(what), " (recovery %ld)", static_cast<long>(e.value));
       break;
@@ -85,7 +108,7 @@ void PrintEvent(const Event& e) {
 // The end-of-run report: the outcome with the counts, its detail, the lateness table (when
 // `lateness`) and the events.
 void PrintReport(const DriverResult& r, const LiveStats& live, const DriverOptions& o,
-                 bool lateness) {
+                 const shm::ProducerConfig& robot, bool lateness) {
   std::fprintf(stderr,
                "hw_driver: %s after %.3f s: %lu cycles, %lu deadline misses, %lu slots skipped, "
                "%lu commands, %lu late, %lu rejected, %lu clamped, %lu silent reads, %lu packets "
@@ -106,7 +129,7 @@ void PrintReport(const DriverResult& r, const LiveStats& live, const DriverOptio
                  LatenessTable(live.lateness).c_str());
   }
   std::fprintf(stderr, "hw_driver: events:\n");
-  for (const Event& e : r.events) PrintEvent(e);
+  for (const Event& e : r.events) PrintEvent(e, robot);
   if (r.events_dropped > 0) {
     std::fprintf(stderr, "hw_driver:   (%lu more events not kept)\n",
                  static_cast<unsigned long>(r.events_dropped));
@@ -127,6 +150,26 @@ bool LoadRobotDescription(const std::string& model_path, const std::string& segm
   *out = model::MakeProducerConfig(robot, scene->m(), segment, 0.0, period);
   out->kind = shm::ProducerKind::kHardware;
   out->read_timeout_hint = 10 * period;
+  return true;
+}
+
+bool CheckHoldGains(const shm::ProducerConfig& robot, const DriverOptions& o, std::string* error) {
+  for (size_t j = 0; j < robot.joint_names.size(); ++j) {
+    const double kp = robot.default_kp[j] * o.safe_kp_scale, kd = robot.default_kd[j] * o.safe_kd_scale;
+    const char* which = nullptr;
+    if (!(kp <= model::kMaxGain)) which = "--safe-kp-scale";
+    else if (!(kd <= model::kMaxGain)) which = "--safe-kd-scale";
+    else if (!(kp > 0) && robot.default_kp[j] > 0) which = "--safe-kp-scale";
+    if (which) {
+      char buf[320];
+      std::snprintf(buf, sizeof(buf),
+                    "%s: joint %s's hold gains kp %.6g, kd %.6g would be refused by its servo "
+                    "(gains in (0, %.6g]): the safe mode would not hold",
+                    which, robot.joint_names[j].c_str(), kp, kd, model::kMaxGain);
+      *error = buf;
+      return false;
+    }
+  }
   return true;
 }
 
@@ -155,6 +198,11 @@ int RunProgram(const ProgramOptions& o) {
       return kExitUsage;
     }
     if (!path->empty()) std::remove(path->c_str());  // written whole once there is something to say
+  }
+  // the safe mode's hold must be one the boards take (robot_model/servo.h: gains up to kMaxGain)
+  if (!CheckHoldGains(robot, o.driver, &error)) {
+    std::fprintf(stderr, "hw_driver: %s\n", error.c_str());
+    return kExitUsage;
   }
   // the data log: sim_host's columns without the ground truth (no base_* on the robot)
   std::unique_ptr<model::Recorder> log;
@@ -243,9 +291,9 @@ int RunProgram(const ProgramOptions& o) {
   const DriverResult& r = driver.result();
   // --quiet: a failure only (a stop by SIGINT/SIGTERM is none), without the lateness table
   if (!o.quiet) {
-    PrintReport(r, driver.live(), o.driver, true);
+    PrintReport(r, driver.live(), o.driver, robot, true);
   } else if (exit_code != kExitOk && exit_code != kExitInterrupted) {
-    PrintReport(r, driver.live(), o.driver, false);
+    PrintReport(r, driver.live(), o.driver, robot, false);
   }
   int code = exit_code;  // an output not written whole (below) fails a run that was ok
   if (!o.summary_path.empty() && !WriteStats(o.summary_path, o, robot, driver.live(), &r)) {

@@ -1,4 +1,5 @@
 // Reports of a driver run: the lateness table, the stats/summary JSON (see program.h).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -60,8 +61,22 @@ bool WriteStats(const std::string& path, const ProgramOptions& o, const shm::Pro
     j["rt_warnings"] = result->rt.warnings;
     json events = json::array();
     for (const Event& e : result->events) {
-      events.push_back({{"cycle", e.cycle}, {"time", e.time}, {"event", EventName(e.kind)},
-                        {"value", e.value}});
+      json ev = {{"cycle", e.cycle}, {"time", e.time}, {"event", EventName(e.kind)},
+                 {"value", e.value}};
+      if (e.board >= 0) ev["board"] = e.board;
+      if (e.joint >= 0) {
+        ev["joint"] = e.joint;
+        if (e.joint < static_cast<int>(robot.joint_names.size()))
+          ev["joint_name"] = robot.joint_names[e.joint];
+      }
+      if (e.reading != 0 || e.joint >= 0 || e.kind == EventKind::kFall) {
+        if (std::isfinite(e.reading)) {
+          ev["reading"] = e.reading;
+        } else {
+          ev["reading"] = std::isnan(e.reading) ? "nan" : e.reading > 0 ? "inf" : "-inf";
+        }
+      }
+      events.push_back(ev);
     }
     j["events"] = events;
     j["events_dropped"] = result->events_dropped;

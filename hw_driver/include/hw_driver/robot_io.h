@@ -21,8 +21,9 @@
 
 namespace ohrp::hw {
 
-inline constexpr uint32_t kRobotIoAbiVersion = 3;  // 2: IoState::nonfinite_boards;
-                                                   // 3: cameras (IoConfig::cameras, images)
+inline constexpr uint32_t kRobotIoAbiVersion = 4;  // 2: IoState::nonfinite_boards;
+                                                   // 3: cameras (IoConfig::cameras, images);
+                                                   // 4: IoState::reports and the boards' masks
 inline constexpr const char* kRobotIoEntry = "ohrp_create_robot_io";
 
 // What the driver tells the boards at open: the robot (from its model) and the plugin's own
@@ -50,6 +51,15 @@ inline constexpr uint32_t kNonFinite = 1u << 7;      // a board sent a NaN or in
                                                      // (IoState::nonfinite_boards says which)
 }  // namespace io_fault
 
+// bits of IoState::reports: what a plugin measures, so that the driver checks it (a plugin that
+// leaves a bit clear is not held to it)
+namespace io_report {
+inline constexpr uint32_t kServoState = 1u << 0;      // servo_on[] is what the boards do
+inline constexpr uint32_t kFollowsCommands = 1u << 1; // the joints are driven by the commands
+                                                      // written (not a replay): tracking checked
+inline constexpr uint32_t kBoards = 1u << 2;          // joint_board[] and the board masks below
+}  // namespace io_report
+
 // The boards' latest measurements, as read once per cycle.
 struct IoState {
   uint64_t time_ns = 0;                  // the boards' timestamp of these data [ns]
@@ -57,6 +67,14 @@ struct IoState {
   uint32_t silent_boards = 0;            // bit i: board i silent this cycle
   uint32_t nonfinite_boards = 0;         // bit i: board i's latest data hold a NaN or inf
   uint64_t packets_lost = 0;             // total since open
+  uint32_t reports = 0;                  // io_report:: bits (set by the plugin)
+  // with io_report::kBoards, bit b of each mask is board b:
+  uint32_t reset_boards = 0;             // reports a reset, not re-armed yet (servos off)
+  uint32_t unacked_boards = 0;           // has not acknowledged the commands sent to it for
+                                         // the plugin's board timeout (or acknowledges old ones)
+  uint32_t refused_boards = 0;           // refused a joint command of the driver (its last one)
+  uint32_t foreign_boards = 0;           // refused commands of another sender or session lately
+  int8_t joint_board[shm::kMaxJoints] = {};  // the board of each joint (io_report::kBoards)
   double q[shm::kMaxJoints] = {};        // [rad or m]
   double dq[shm::kMaxJoints] = {};       // [rad/s or m/s]
   double tau[shm::kMaxJoints] = {};      // motor torque [N m or N]

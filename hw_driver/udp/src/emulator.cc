@@ -107,7 +107,8 @@ bool Emulator::SetUp(int* exit_code) {
     return true;
   };
   if (!plan("--silent", o_.silent) || !plan("--reset", o_.reset) || !plan("--stuck", o_.stuck) ||
-      !plan("--saturate", o_.saturate) || !plan("--estop", o_.estop))
+      !plan("--saturate", o_.saturate) || !plan("--estop", o_.estop) ||
+      !plan("--value", o_.values))
     return false;
   faults_.loss = o_.loss;
   faults_.late_rate = o_.late_rate;
@@ -199,7 +200,7 @@ void Emulator::Log() {
 
 void Emulator::Report(double wall, int exit_code) {
   uint64_t cmds = 0, cmd_lost = 0, cmd_dropped = 0, sent = sensor_sent_, dropped = sensor_dropped_,
-           resets = 0;
+           resets = 0, holds = 0, jumps = 0;
   for (const MotorBoard& b : motor_) {
     cmds += b.commands;
     cmd_lost += b.rx.lost();
@@ -207,6 +208,8 @@ void Emulator::Report(double wall, int exit_code) {
     sent += b.states_sent;
     dropped += b.states_dropped;
     resets += b.resets;
+    holds += b.holds;
+    jumps += b.jumps;
   }
   if (!o_.quiet)
     std::fprintf(stderr,
@@ -229,14 +232,16 @@ void Emulator::Report(double wall, int exit_code) {
                "hw_emulator: result exit=%d time=%.4f base_z_start=%.5f base_z_end=%.5f "
                "base_z_min=%.5f tilt_max_deg=%.3f commands=%llu commands_lost=%llu "
                "commands_dropped=%llu states_sent=%llu states_dropped=%llu late=%llu "
-               "send_failed=%llu overruns=%llu\n",
+               "send_failed=%llu overruns=%llu foreign=%llu jumps=%llu holds=%llu\n",
                exit_code, d_->time, z0_, BaseZ(), z_min_ > 1e8 ? BaseZ() : z_min_, tilt_max_,
                static_cast<unsigned long long>(cmds), static_cast<unsigned long long>(cmd_lost),
                static_cast<unsigned long long>(cmd_dropped),
                static_cast<unsigned long long>(sent), static_cast<unsigned long long>(dropped),
                static_cast<unsigned long long>(late_sent_),
                static_cast<unsigned long long>(send_failed_),
-               static_cast<unsigned long long>(overruns_));
+               static_cast<unsigned long long>(overruns_),
+               static_cast<unsigned long long>(foreign_), static_cast<unsigned long long>(jumps),
+               static_cast<unsigned long long>(holds));
 }
 
 //---------------- the loop ----------------
@@ -266,7 +271,8 @@ int Emulator::Run() {
       EstopChanged();
     }
 
-    Receive();
+    Receive(now);
+    HoldIdleBoards(now);
     if (!started_ && o_.wait_driver > 0 && now - wall_start > o_.wait_driver) {
       std::fprintf(stderr,
                    "hw_emulator: no command packet within %g s on udp %s:%d; start the driver "

@@ -2,9 +2,12 @@
 // real time behind them (see PROTOCOL.md for the protocol, faults.h for fault injection).
 //
 // Each cycle (absolute-deadline sleeps on the monotonic clock):
-//   1. drain the socket: hellos tell the boards where the driver is; the newest command packet
-//      of each motor board is checked and applied (servo on/off per joint, the servo's
-//      references, sim_host's Servo refusing bad joints);
+//   1. drain the socket: the first hello binds the boards to its sender's address and session
+//      id (PROTOCOL.md, "Sessions"); hellos and commands of anyone else are refused (counted,
+//      and flagged `foreign` in the states); each motor board's commands are checked and
+//      applied in order (servo on/off per joint, the servo's references, sim_host's Servo
+//      refusing bad joints); a motor board without a valid command for --hold-ms holds its
+//      joints where they are (position hold, the model's default gains) until the next one;
 //   2. step the physics (period / timestep steps) with the motor boards' PD at every step, with
 //      sim_host's physics step (sim_host/step.h): pushes, the servo, the soft soles' contact
 //      (--contact soft, --contact-stiffness/--contact-damping: a robot whose feet differ from
@@ -38,7 +41,10 @@ struct EmulatorOptions {
   double loss = 0;                 // packet loss probability, both directions
   double late_rate = 0, late_ms = 0;  // fraction of state packets held back by late_ms
   unsigned long seed = 1;          // of the loss and late draws
-  std::vector<std::string> silent, reset, stuck, saturate, estop;  // planned faults (faults.h)
+  double hold_ms = 50;             // a motor board with no valid command this long holds its
+                                   // joints where they are, by itself [ms]
+  std::vector<std::string> silent, reset, stuck, saturate, estop, values;  // planned faults
+                                                                          // (faults.h)
   std::string control_file;        // run-time fault commands (faults.h)
   std::string log_path;            // CSV: robot time, base height and tilt, faults
   int log_every = 10;              // cycles between log rows

@@ -9,7 +9,37 @@ namespace ohrp::hw::udp::emu {
 
 //---------------- commands in ----------------
 
-void Emulator::Receive() {
+// Whether a hello or command comes from the driver the boards are bound to (PROTOCOL.md,
+// "Sessions"). The first hello binds them; a hello of another session or address rebinds them
+// only when every motor board has been without a valid command for the hold time (the driver
+// is gone: a new one may connect). Anything else is foreign: refused, counted, flagged.
+bool Emulator::FromDriver(const Header& h, const sockaddr_in& from, double now) {
+  const bool same = have_peer_ && h.ack == session_ && from.sin_addr.s_addr == peer_.sin_addr.s_addr &&
+                    from.sin_port == peer_.sin_port;
+  if (same) return true;
+  if (h.type == static_cast<uint8_t>(PacketType::kHello) && h.ack != 0) {
+    bool idle = true;
+    for (const MotorBoard& b : motor_) idle &= b.last_valid < 0 || now - b.last_valid > o_.hold_ms * 1e-3;
+    if (!have_peer_ || idle) {
+      peer_ = from;
+      session_ = h.ack;
+      have_peer_ = true;
+      for (MotorBoard& b : motor_) {
+        b.rx = SeqTracker{};  // a new driver numbers from its start
+        b.foreign_flag = 0;   // its own packets refused before the binding are not foreign
+      }
+      return true;
+    }
+  }
+  ++foreign_;
+  if (h.board < motor_.size()) {
+    ++motor_[h.board].foreign;
+    motor_[h.board].foreign_flag = kForeignFlagPackets;
+  }
+  return false;
+}
+
+void Emulator::Receive(double now) {
   for (int i = 0; i < kMaxReceive; ++i) {  // bounded: at most this many datagrams a cycle
     sockaddr_in from;
     const long n = socket_.Receive(buf_, kMaxPacketSize, &from);
@@ -22,8 +52,7 @@ void Emulator::Receive() {
     }
     if (faults_.silent & (1u << h.board)) continue;  // a silent board hears nothing either
     if (h.type == static_cast<uint8_t>(PacketType::kHello)) {
-      peer_ = from;
-      have_peer_ = true;
+      FromDriver(h, from, now);
       continue;
     }
     if (h.type != static_cast<uint8_t>(PacketType::kCommand) || h.board >= motor_.size()) {
@@ -41,9 +70,17 @@ void Emulator::Receive() {
       ++corrupted_;
       continue;
     }
-    peer_ = from;
-    have_peer_ = true;
-    if (!b.rx.Accept(p.h.seq, false)) continue;  // old or duplicate
+    if (!FromDriver(p.h, from, now)) continue;
+    const uint64_t jumps = b.rx.jumps();
+    if (!b.rx.Accept(p.h.seq, false)) {  // old, duplicate or a jump: refused
+      if (b.rx.jumps() != jumps) {
+        ++b.jumps;
+        b.foreign_flag = kForeignFlagPackets;
+      }
+      continue;
+    }
+    b.last_valid = now;
+    b.holding = false;
     ApplyCommand(p);
   }
 }
@@ -71,6 +108,31 @@ void Emulator::ApplyCommand(const CommandPacket& p) {
   if (!started_) {
     started_ = true;
     if (!o_.quiet) std::fprintf(stderr, "hw_emulator: first command; robot time starts\n");
+  }
+}
+
+// A motor board without a valid command for the hold time holds by itself: each joint whose
+// servo is on holds the position it has (position mode, the model's default gains).
+void Emulator::HoldIdleBoards(double now) {
+  for (MotorBoard& b : motor_) {
+    if (b.holding || b.last_valid < 0 || now - b.last_valid <= o_.hold_ms * 1e-3) continue;
+    bool any_on = false;
+    for (int k = 0; k < b.count; ++k) any_on |= servo_on_[b.first + k];
+    b.holding = true;
+    if (!any_on) continue;
+    ++b.holds;
+    for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
+    for (int k = 0; k < b.count; ++k) {
+      const int j = b.first + k;
+      if (!servo_on_[j]) continue;
+      shm::JointCommand& c = block_.joint[j];
+      c = shm::JointCommand{};
+      c.mode = shm::JointMode::kPosition;
+      c.q_ref = sensors_.q[j];
+      c.kp = robot_.joints[j].default_kp;
+      c.kd = robot_.joints[j].default_kd;
+    }
+    servo_->Accept(block_);
   }
 }
 
@@ -150,12 +212,15 @@ void Emulator::SendStates(double now) {
     mp.h.seq = seq;
     mp.h.ack = b.ack;
     mp.h.time_ns = t_ns;
-    mp.h.flags = (b.reset_flag ? board_flag::kReset : 0) | (b.joint_fault ? board_flag::kJointFault : 0);
+    mp.h.flags = (b.reset_flag ? board_flag::kReset : 0) | (b.joint_fault ? board_flag::kJointFault : 0) |
+                 (b.foreign_flag > 0 ? board_flag::kForeign : 0) |
+                 (b.holding ? board_flag::kHolding : 0);
+    if (b.foreign_flag > 0) --b.foreign_flag;
     for (int k = 0; k < b.count; ++k) {
       const int j = b.first + k;
       mp.joint[k].servo_on = servo_on_[j];
       mp.joint[k].fault = servo_->rejected_per_joint()[j] > 0 ? 1 : 0;
-      mp.joint[k].q = sensors_.q[j];
+      mp.joint[k].q = j == faults_.value_joint ? faults_.value : sensors_.q[j];
       mp.joint[k].dq = sensors_.dq[j];
       mp.joint[k].tau = sensors_.tau[j];
     }

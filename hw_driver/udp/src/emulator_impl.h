@@ -29,6 +29,7 @@ constexpr int kLateQueue = 512;          // state packets held back at most
 constexpr int kSensorResetCycles = 50;  // a restarted sensor board flags `reset` this long
 constexpr int kMaxReceive = 1024;        // datagrams handled per cycle at most
 constexpr double kMaxBehind = 0.1;       // further behind than this, real time starts again [s]
+constexpr int kForeignFlagPackets = 100; // a board flags `foreign` in this many states after one
 
 inline double Peg(double v, double range) { return v < 0 ? -range : range; }
 
@@ -41,6 +42,10 @@ struct MotorBoard {
   bool locked = false;    // after a reset or e-stop: servo-on refused until an all-off command
   bool reset_flag = false;  // locked by a reset (reported as board_flag::kReset)
   bool joint_fault = false;
+  double last_valid = -1;   // wall time of the last valid command [s] (-1: none yet)
+  bool holding = false;     // holding by itself: no valid command for the hold time
+  int foreign_flag = 0;     // states still to flag `foreign`
+  uint64_t holds = 0, foreign = 0, jumps = 0;
   uint64_t commands = 0, commands_dropped = 0, states_sent = 0, states_dropped = 0, resets = 0;
 };
 
@@ -58,7 +63,9 @@ class Emulator {
 
  private:
   bool SetUp(int* exit_code);
-  void Receive();
+  void Receive(double now);
+  bool FromDriver(const Header& h, const sockaddr_in& from, double now);
+  void HoldIdleBoards(double now);
   void ApplyCommand(const CommandPacket& p);
   void ResetBoard(int b);
   void EstopChanged();
@@ -89,7 +96,8 @@ class Emulator {
   int steps_per_cycle_ = 1;
   UdpSocket socket_;
   sockaddr_in peer_{};
-  bool have_peer_ = false;
+  bool have_peer_ = false;      // bound to a driver: its address (peer_) and session
+  uint32_t session_ = 0;        // the bound driver's session id
   bool started_ = false;   // the first command arrived: robot time runs
   bool estop_ = false;
   bool servo_on_[shm::kMaxJoints] = {};  // per joint, what the motor boards report

@@ -54,10 +54,17 @@ int main(int argc, char** argv) {
   app.add_option("--stuck", o.stuck, "SENSOR@T: ft0..ft3 or imu0.. repeats its value from T on");
   app.add_option("--saturate", o.saturate, "SENSOR@T: the sensor reads the end of its range from T");
   app.add_option("--estop", o.estop, "T[+D]: the emergency stop is pressed at T (all servos off)");
+  app.add_option("--value", o.values,
+                 "JOINT=X@T[+D]: joint JOINT's board reads X (nan, inf, 1e300, ...) as its position "
+                 "from robot time T [s] (for D seconds)");
+  app.add_option("--hold-ms", o.hold_ms,
+                 "a motor board without a valid command this long [ms] holds its joints where "
+                 "they are (position hold, the model's default gains) until the next command")
+      ->capture_default_str()->check(ohrp::cli::InRange(1.0, 10000.0));
   app.add_option("--control", o.control_file,
                  "file of fault commands read while running, one per appended line: loss P | "
                  "late P MS | silent B | talk B | reset B | stuck S | saturate S | sensor-ok S | "
-                 "estop on|off | clear");
+                 "estop on|off | value J X | value off | clear");
   app.add_option("--log", o.log_path,
                  "CSV log: robot time, base height and tilt, servos, faults, base x, y and yaw");
   app.add_option("--log-every", o.log_every, "cycles between log rows")->capture_default_str()

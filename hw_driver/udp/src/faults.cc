@@ -15,6 +15,13 @@ bool ParseDouble(const std::string& s, double* out) {
   return !s.empty() && *end == 0 && std::isfinite(*out);
 }
 
+// a double, NaN and infinities included ("nan", "inf", "-inf")
+bool ParseAnyDouble(const std::string& s, double* out) {
+  char* end = nullptr;
+  *out = std::strtod(s.c_str(), &end);
+  return !s.empty() && *end == 0;
+}
+
 bool ParseBoard(const std::string& s, int nboards, int* out) {
   char* end = nullptr;
   const long b = std::strtol(s.c_str(), &end, 10);
@@ -60,11 +67,17 @@ bool ParseEvent(const std::string& option, const std::string& value, int nboards
   double t = 0, d = 0;
   const bool needs_target = option != "--estop";
   const bool sensor = option == "--stuck" || option == "--saturate";
-  const bool may_last = option == "--silent" || option == "--estop";
+  const bool joint_value = option == "--value";
+  const bool may_last = option == "--silent" || option == "--estop" || joint_value;
   int id = 0;
+  double x = 0;
   bool ok = ParseDouble(when, &t) && t >= 0 && (needs_target == !target.empty()) &&
             (duration.empty() || (may_last && ParseDouble(duration, &d) && d > 0));
-  if (ok && needs_target) {
+  if (ok && joint_value) {
+    const size_t eq = target.find('=');
+    ok = eq != std::string::npos && ParseBoard(target.substr(0, eq), shm::kMaxJoints, &id) &&
+         ParseAnyDouble(target.substr(eq + 1), &x);
+  } else if (ok && needs_target) {
     if (sensor) {
       id = SensorBit(target, nforce, nimu);
       ok = id >= 0;
@@ -76,6 +89,9 @@ bool ParseEvent(const std::string& option, const std::string& value, int nboards
     std::ostringstream s;
     s << option << " " << value << ": expected ";
     if (option == "--estop") s << "TIME[+DURATION] in robot seconds, e.g. 1.5+0.5";
+    else if (joint_value)
+      s << "JOINT=VALUE@TIME[+DURATION] with a joint id and any number (nan, inf too), "
+           "e.g. 3=1e300@2.0+0.2";
     else if (sensor)
       s << "SENSOR@TIME with SENSOR ft0..ft" << nforce - 1 << " or imu0..imu" << nimu - 1
         << ", e.g. ft0@1.0";
@@ -92,9 +108,12 @@ bool ParseEvent(const std::string& option, const std::string& value, int nboards
   else if (option == "--estop") {
     kind = FaultKind::kEstop;
     end_kind = FaultKind::kEstopOff;
+  } else if (joint_value) {
+    kind = FaultKind::kValue;
+    end_kind = FaultKind::kValueOff;
   }
-  events->push_back({t, kind, id, false});
-  if (d > 0) events->push_back({t + d, end_kind, id, false});
+  events->push_back({t, kind, id, false, x});
+  if (d > 0) events->push_back({t + d, end_kind, id, false, 0});
   return true;
 }
 
@@ -114,6 +133,11 @@ void ApplyDue(double t, std::vector<FaultEvent>* events, FaultState* s) {
         break;
       case FaultKind::kEstop: s->estop = true; break;
       case FaultKind::kEstopOff: s->estop = false; break;
+      case FaultKind::kValue:
+        s->value_joint = e.target;
+        s->value = e.value;
+        break;
+      case FaultKind::kValueOff: s->value_joint = -1; break;
     }
   }
 }
@@ -153,6 +177,13 @@ bool ApplyControlLine(const std::string& line, int nboards, int nforce, int nimu
   } else if (cmd == "estop") {
     ok = ok && b.empty() && (a == "on" || a == "off");
     if (ok) s->estop = a == "on";
+  } else if (cmd == "value") {
+    ok = ok && ((a == "off" && b.empty()) ||
+                (ParseBoard(a, shm::kMaxJoints, &id) && ParseAnyDouble(b, &x)));
+    if (ok) {
+      s->value_joint = a == "off" ? -1 : id;
+      s->value = x;
+    }
   } else if (cmd == "clear") {
     ok = ok && a.empty();
     if (ok) {
@@ -166,7 +197,7 @@ bool ApplyControlLine(const std::string& line, int nboards, int nforce, int nimu
   if (!ok) {
     *error = "control line '" + line +
              "' not understood (loss P | late P MS | silent B | talk B | reset B | stuck S | "
-             "saturate S | sensor-ok S | estop on|off | clear)";
+             "saturate S | sensor-ok S | estop on|off | value J X | value off | clear)";
   }
   return ok;
 }

@@ -8,11 +8,13 @@
 //   --stuck S@T        sensor S repeats the value it had at T
 //   --saturate S@T     sensor S reads the end of its range from T on
 //   --estop T[+D]      the emergency-stop input is pressed at T (for D seconds)
+//   --value J=X@T[+D]  joint J's motor board reads X (e.g. nan, 1e300) as its position from T
+//                      (for D seconds): a broken encoder or a corrupted board
 //
 // Control file (--control FILE): hw_emulator reads the lines appended to FILE while it runs
 // (every kControlPollPeriod), one command per line; they act at once:
 //   loss P | late P MS | silent B | talk B | reset B | stuck S | saturate S | sensor-ok S |
-//   estop on | estop off | clear
+//   estop on | estop off | value J X | value off | clear
 // ("clear" ends every fault but resets already done).
 #pragma once
 
@@ -35,16 +37,21 @@ struct FaultState {
   uint32_t stuck = 0;        // bit i: F/T sensor i stuck; bit 8+i: IMU i stuck
   uint32_t saturated = 0;    // same bits, saturated
   bool estop = false;
+  int value_joint = -1;      // >= 0: this joint's board reads `value` as its position
+  double value = 0;          // (any double: NaN and inf included)
   uint32_t reset_request = 0;  // bit b: restart board b now (the loop clears it)
 };
 
-enum class FaultKind { kSilent, kTalk, kReset, kStuck, kSaturate, kSensorOk, kEstop, kEstopOff };
+enum class FaultKind {
+  kSilent, kTalk, kReset, kStuck, kSaturate, kSensorOk, kEstop, kEstopOff, kValue, kValueOff
+};
 
 struct FaultEvent {
   double time = 0;   // robot time [s]
   FaultKind kind = FaultKind::kSilent;
-  int target = 0;    // board id, or sensor bit (see FaultState::stuck)
+  int target = 0;    // board id, or sensor bit (see FaultState::stuck), or joint id (kValue)
   bool done = false;
+  double value = 0;  // kValue: what the joint reads
 };
 
 // Parses a sensor name (ft0..ft3, imu0..imu1) into its FaultState bit; -1 when malformed.

@@ -280,7 +280,11 @@ bool SeqTracker::Accept(uint32_t seq, bool restart) {
     ++stale_;
     return false;
   }
-  if (ahead < 0x80000000u) lost_ += ahead - 1;  // else: the sender restarted its numbering
+  if (ahead > kMaxSeqJump && ahead < 0x80000000u && !restart) {
+    ++jumps_;  // no sender this receiver knows is that far ahead: forged or corrupted
+    return false;
+  }
+  if (ahead <= kMaxSeqJump) lost_ += ahead - 1;  // else: the sender restarted its numbering
   last_ = seq;
   ++received_;
   return true;

@@ -4,6 +4,8 @@
 
 #include <time.h>
 
+#include <random>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -147,13 +149,25 @@ bool UdpIo::open(const IoConfig& config, std::string* error) {
     seq_[b] = SeqTracker{};
     tx_seq_[b] = 0;
     last_ack_[b] = 0;
+    acked_ns_[b] = -1;
     have_[b] = false;
     last_rx_ns_[b] = 0;
     for (Sent& s : sent_[b]) s = Sent{};
+    first_sent_ns_[b] = -1;
   }
   for (const auto& [b, ms] : board_timeouts) timeout_ns_[b] = static_cast<int64_t>(ms * 1e6);
   writes_ = 0;
   lost_at_last_read_ = 0;
+  // this connection's session id: the boards take commands from this driver only
+  std::random_device entropy;
+  do {
+    session_ = static_cast<uint32_t>(entropy()) ^ static_cast<uint32_t>(MonotonicNs());
+  } while (session_ == 0);
+  joint_board_.fill(-1);
+  for (int b = 0; b < static_cast<int>(layout_.motor.size()); ++b) {
+    for (int k = 0; k < layout_.motor[b].count; ++k)
+      joint_board_[layout_.motor[b].first + k] = static_cast<int8_t>(b);
+  }
   open_ns_ = MonotonicNs();
   SendHellos(open_ns_);
   return true;
@@ -189,6 +203,7 @@ void UdpIo::SendHellos(int64_t now_ns) {
   for (int b = 0; b < layout_.nboards(); ++b) {
     Header h;
     h.board = static_cast<uint8_t>(b);
+    h.ack = session_;
     h.time_ns = static_cast<uint64_t>(now_ns);
     const size_t n = EncodeHello(h, buf_);
     if (!socket_.SendTo(boards_addr_, buf_, n)) ++stats_.send_failed;
@@ -242,6 +257,7 @@ void UdpIo::Handle(const uint8_t* data, size_t n, int64_t now_ns) {
   if (h.ack != 0 && h.ack != last_ack_[b]) {
     last_ack_[b] = h.ack;
     const Sent& s = sent_[b][h.ack % kSentRing];
+    if (s.seq == h.ack && s.ns >= 0) acked_ns_[b] = std::max(acked_ns_[b], s.ns);
     if (s.seq == h.ack && s.ns >= 0) {
       const double rtt = 1e-9 * static_cast<double>(now_ns - s.ns);
       ++stats_.rtt_count;
@@ -276,7 +292,8 @@ IoResult UdpIo::read(IoState* state) noexcept {
 
   // the newest data of every board, and who is silent
   const int64_t now = MonotonicNs();
-  uint32_t faults = 0, silent = 0, nonfinite = 0;
+  uint32_t faults = 0, silent = 0, nonfinite = 0, reset = 0, unacked = 0, refused = 0,
+           foreign = 0;
   uint64_t time_ns = 0;
   for (int b = 0; b < layout_.nboards(); ++b) {
     BoardStats& bs = stats_.board[b];
@@ -287,6 +304,16 @@ IoResult UdpIo::read(IoState* state) noexcept {
     if (is_silent) silent |= 1u << b;
     if (!have_[b]) continue;
     const uint8_t f = bs.flags;
+    if (f & board_flag::kReset) reset |= 1u << b;
+    if (f & board_flag::kJointFault) refused |= 1u << b;
+    if (f & board_flag::kForeign) foreign |= 1u << b;
+    // commands unacknowledged: the newest one the board applied was sent longer ago than the
+    // board's timeout (or none was, since the first command went out that long ago)
+    if (b < static_cast<int>(layout_.motor.size()) && first_sent_ns_[b] >= 0 &&
+        last_ack_[b] != tx_seq_[b]) {
+      const int64_t since = acked_ns_[b] >= 0 ? acked_ns_[b] : first_sent_ns_[b];
+      if (now - since > timeout_ns_[b]) unacked |= 1u << b;
+    }
     if (f & board_flag::kReset) faults |= io_fault::kBoardReset;
     if (f & board_flag::kSensorStuck) faults |= io_fault::kSensorStuck;
     if (f & board_flag::kSensorSaturated) faults |= io_fault::kSensorSaturated;
@@ -330,6 +357,12 @@ IoResult UdpIo::read(IoState* state) noexcept {
   state->silent_boards = silent;
   state->nonfinite_boards = nonfinite;
   state->packets_lost = lost;
+  state->reports = io_report::kServoState | io_report::kFollowsCommands | io_report::kBoards;
+  state->reset_boards = reset;
+  state->unacked_boards = unacked;
+  state->refused_boards = refused;
+  state->foreign_boards = foreign;
+  std::memcpy(state->joint_board, joint_board_.data(), sizeof(state->joint_board));
   if (socket_error) return IoResult::kError;
   return faults ? IoResult::kFault : IoResult::kOk;
 }
@@ -349,7 +382,9 @@ IoResult UdpIo::write(const IoCommand& command) noexcept {
     p.h.count = static_cast<uint8_t>(r.count);
     p.h.seq = ++tx_seq_[b];
     if (p.h.seq == 0) p.h.seq = ++tx_seq_[b];  // 0 means "no command yet" in acks
+    p.h.ack = session_;
     p.h.time_ns = static_cast<uint64_t>(now);
+    if (first_sent_ns_[b] < 0) first_sent_ns_[b] = now;
     for (int k = 0; k < r.count; ++k) {
       p.joint[k].servo_on = command.servo_on[r.first + k];
       p.joint[k].cmd = command.joint[r.first + k];

@@ -43,19 +43,27 @@
 //               servo_on_timeout ends the run (kExitIo).
 //   run         controller's commands checked and clamped, written to the boards.
 //   safe mode   entered when the controller stays silent for watchdog_cycles cycles after its
-//               first answer, dies (pid check in every command wait), or detaches; or when a
-//               board is silent or sends a NaN or inf (event board_non_finite, not
-//               board_silent) for board_timeout_cycles cycles, or reports a reset. Commands
-//               are ignored; after safe_time the servos go off and the run ends, except:
-//   recovery    a board reset: the servo-off that ends the safe mode re-arms the reset board
-//               (udp/PROTOCOL.md: a reset motor board stays off until it gets an all-off
-//               command); the driver then waits, servos off (kInactive, event board_rearm),
-//               for board_timeout_cycles valid reads in a row without a reset flag, and turns
-//               the servos on again holding the measured positions (event servo_on, value =
-//               the recovery's number); an attached controller's commands count again from
-//               the next cycle. A lost controller with on_controller_loss kWait: after the
-//               servo-off the driver waits (event waiting_for_controller) for a new controller
-//               to attach, then servo-on as above, with a valid read. A silent controller is
+//               first answer, dies (pid check in every command wait), or detaches; when a
+//               board is silent or sends a NaN or inf (event board_non_finite) or an
+//               implausible value (event implausible_reading with board, joint and value;
+//               board_checks.h) for board_timeout_cycles cycles; when a board disobeys
+//               (board_checks.h: servo state, acknowledgements, tracking, refused or foreign
+//               commands; exit kExitBoardDisobeys); when the IMU tilts past fall_tilt from its
+//               pose at servo-on (event fall, exit kExitFall). Commands are ignored; after
+//               safe_time the servos go off and the run ends, except after a lost controller
+//               with on_controller_loss kWait (recovery). A board refusing the hold is event
+//               safe_mode_refused and exit kExitBoardDisobeys.
+//   board reset held through, no safe mode: in the cycle the reset is read (events
+//               board_reset, reset_hold) the reset board's joints are written servo-off (the
+//               re-arm of udp/PROTOCOL.md) while the others keep their references; at the
+//               first read without the reset flag they servo on where measured (event servo_on
+//               with the recovery's number) and ramp back to their references in
+//               reset_ramp_time (event reset_ramped); the controller's commands are ignored
+//               meanwhile. No re-arm within board_timeout_cycles or 100 ms, whichever is
+//               longer: safe mode, kExitBoardDisobeys.
+//   recovery    a lost controller with on_controller_loss kWait: after the servo-off the
+//               driver waits (event waiting_for_controller) for a new controller to attach,
+//               then servo-on as at the start, with a valid read. A silent controller is
 //               dropped from the segment when it is declared lost (Producer::DropController):
 //               resumed, its next read returns kDropped and it exits non-zero. A recovery sets
 //               the run's outcome back to completed: how the run ends decides its exit code;
@@ -97,6 +105,10 @@ inline constexpr int kExitIo = 3;              // the boards failed: open, or no
 inline constexpr int kExitControllerLost = 5;  // controller silent, dead or detached: safe mode
 inline constexpr int kExitBoardFault = 6;      // a board silent or sending NaN: safe mode
 inline constexpr int kExitEmergencyStop = 7;   // emergency stop: servos off at once
+inline constexpr int kExitBoardDisobeys = 8;   // a board does not do what it was commanded (servo
+                                               // state, acknowledgement, tracking, refused or
+                                               // foreign commands, a reset not re-armed): safe mode
+inline constexpr int kExitFall = 10;           // the IMU says the robot fell: safe mode
 inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: servo-off, clean shutdown
 
 enum class DriverState { kUnconfigured, kInactive, kActive, kSafeMode, kStopping, kClosed };
@@ -121,6 +133,10 @@ struct DriverOptions {
   RtSettings rt;
   WakeOptions wake;                // how each cycle waits for its start (wake.h)
   int log_every = 1;               // cycles between rows of the data log (Driver::SetLog)
+  double tracking_time = 0.25;     // [s] a tracking error may last this long (board_checks.h)
+  double reset_ramp_time = 0.2;    // [s] after a board reset: its joints ramp back from the
+                                   // measured posture to their references
+  double fall_tilt = 0.7854;       // [rad] IMU tilt from its pose at servo-on: a fall (0: off)
 };
 
 // One thing that happened in the loop, recorded without allocation and printed after it.
@@ -131,6 +147,17 @@ enum class EventKind {
   kBoardNonFinite,  // a board sent a NaN or inf: no valid read (value: IoState::nonfinite_boards)
   kWaitingForController,  // servos off after a lost controller; waiting for a new one
   kBoardRearm,            // servos off after a board reset (its re-arm); waiting for clean reads
+  // the boards' verification (board_checks.h): board, joint and reading in the event
+  kImplausibleReading,    // a joint read outside what it can (reading: the value)
+  kServoMismatch,         // a servo not as commanded (reading: the state reported)
+  kCommandsUnacknowledged,  // a board acknowledges no new command (value: board mask)
+  kTrackingError,         // a joint too far from its reference too long (reading: ref - q)
+  kCommandRefused,        // a board refused the driver's command (value: board mask)
+  kForeignCommand,        // a board refused commands of another sender (value: board mask)
+  kSafeModeRefused,       // a board refused the safe mode's (or stop's) hold (value: board mask)
+  kResetHold,             // a board reset: its joints re-armed, the others hold (value: mask)
+  kResetRamped,           // the reset board's joints are back at their references
+  kFall,                  // the IMU's tilt passed --fall-tilt (reading: the tilt [rad])
 };
 const char* EventName(EventKind k);
 
@@ -141,12 +168,18 @@ inline constexpr int64_t kSafeControllerSilent = 3;
 inline constexpr int64_t kSafeControllerDied = 4;
 inline constexpr int64_t kSafeControllerDetached = 5;
 inline constexpr int64_t kSafeBoardNonFinite = 6;  // a board's data held a NaN or inf
+inline constexpr int64_t kSafeBoardImplausible = 7;  // a board's data were implausible
+inline constexpr int64_t kSafeBoardDisobeys = 8;     // a board disobeyed (board_checks.h)
+inline constexpr int64_t kSafeFall = 9;              // the robot fell (IMU tilt)
 
 struct Event {
   uint64_t cycle;
   double time;      // driver time [s]
   EventKind kind;
   int64_t value;    // kind-specific: a pid, a board mask, a count
+  int board = -1;   // the board concerned, when known
+  int joint = -1;   // the joint concerned (joint id), when one is
+  double reading = 0;  // the value read, for the boards' verification events
 };
 
 // Counters readable while the loop runs (relaxed atomics written by the loop only).
@@ -170,7 +203,8 @@ struct LiveStats {
 struct DriverResult {
   int exit_code = kExitOk;
   std::string outcome = "completed";  // completed | end_of_data | interrupted | controller_lost
-                                      // | board_fault | emergency_stop | io_error
+                                      // | board_fault | board_disobeys | fall | emergency_stop
+                                      // | io_error
   std::string detail;
   double duration = 0;                // driver time run [s]
   uint64_t safe_mode_cycle = 0;       // cycle at which safe mode began (0 and !safe_mode: never)

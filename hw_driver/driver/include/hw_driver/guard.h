@@ -42,7 +42,14 @@ class CommandGuard {
   // default gains times the scales. Used by the safe mode and the servo-off sequence.
   void Damp(const double* q, double kp_scale, double kd_scale) noexcept;
 
+  // Sets joint `i`'s reference as the driver decides (the re-arm after a board reset): the
+  // command is clamped into the joint's range when in position mode; refused (false, the
+  // reference kept) when not Valid.
+  bool Set(int i, const shm::JointCommand& c) noexcept;
+
   int njoint() const { return static_cast<int>(ref_.size()); }
+  double default_kp(int i) const { return kp_[i]; }
+  double default_kd(int i) const { return kd_[i]; }
   const shm::JointCommand* references() const { return ref_.data(); }
   const uint32_t* rejected_per_joint() const { return rejected_.data(); }
   uint64_t rejected_total() const { return rejected_total_; }

@@ -33,6 +33,12 @@ struct ProgramOptions {
 bool LoadRobotDescription(const std::string& model_path, const std::string& segment,
                           double period, shm::ProducerConfig* out, std::string* error);
 
+// The safe mode's (and the stop's) damped hold with these options is one every joint's servo
+// accepts (gains within (0, model::kMaxGain]); false with `*error` naming the option and the
+// joint otherwise.
+bool CheckHoldGains(const shm::ProducerConfig& robot, const DriverOptions& options,
+                    std::string* error);
+
 // Runs the whole program; returns its exit code (driver.h).
 int RunProgram(const ProgramOptions& options);
 

@@ -25,7 +25,8 @@ namespace ohrp::hw::udp {
 //---------------- constants ----------------
 
 inline constexpr uint16_t kMagic = 0x4855;        // bytes 'U','H' on the wire
-inline constexpr uint8_t kVersion = 1;            // bump on any incompatible change
+inline constexpr uint8_t kVersion = 2;            // bump on any incompatible change (2: the
+                                                  // driver's session id in its packets' ack field)
 inline constexpr size_t kHeaderSize = 24;         // [byte]
 inline constexpr size_t kCrcSize = 4;             // [byte]
 inline constexpr int kMaxBoardJoints = 8;         // joints per motor board
@@ -36,6 +37,9 @@ inline constexpr size_t kForceSize = 48;          // bytes per F/T sensor (6 dou
 inline constexpr size_t kImuSize = 80;            // bytes per IMU (10 doubles)
 inline constexpr size_t kMaxPacketSize = 1024;    // every packet of this protocol fits [byte]
 inline constexpr int kDefaultPort = 7700;         // the boards' UDP port (emulator default)
+// the largest forward jump of a sequence number a receiver accepts: further ahead is no gap of
+// a sender it knows (65 s of packets at 1 kHz) but a forged or corrupted number, refused
+inline constexpr uint32_t kMaxSeqJump = 1u << 16;
 
 // packet types (header byte 3)
 enum class PacketType : uint8_t {
@@ -53,6 +57,10 @@ inline constexpr uint8_t kSensorStuck = 1u << 1;     // a sensor repeats the sam
 inline constexpr uint8_t kSensorSaturated = 1u << 2; // a sensor reads at the end of its range
 inline constexpr uint8_t kEmergencyStop = 1u << 3;   // the e-stop input is pressed (sensor board)
 inline constexpr uint8_t kJointFault = 1u << 4;      // a joint of the board refused its command
+inline constexpr uint8_t kForeign = 1u << 5;         // the board refused a hello or command of
+                                                      // another sender or session lately
+inline constexpr uint8_t kHolding = 1u << 6;         // no valid command for the board's hold time:
+                                                      // it holds its joints where they are
 }  // namespace board_flag
 
 //---------------- packets (decoded form) ----------------
@@ -65,7 +73,8 @@ struct Header {
   uint8_t first = 0;     // first joint id carried (motor packets), IMUs (sensor state)
   uint8_t flags = 0;     // board_flag:: bits (state packets); 0 in driver packets
   uint32_t seq = 0;      // sender's packet number for this board, +1 per packet
-  uint32_t ack = 0;      // state: seq of the last command the board applied; else 0
+  uint32_t ack = 0;      // state: seq of the last command the board applied; hello and
+                         // command: the driver's session id (non-zero, chosen at its open)
   uint64_t time_ns = 0;  // sender's clock: driver's monotonic time / board time [ns]
 };
 
@@ -132,7 +141,10 @@ DecodeError DecodeSensorState(const uint8_t* data, size_t n, SensorStatePacket* 
 
 // Receiver-side bookkeeping of one board's sequence numbers.
 //   seq == last + 1            in order: accepted
-//   last + 1 < seq < last+2^31 a gap: accepted, seq - last - 1 packets counted lost
+//   last + 1 < seq <= last + kMaxSeqJump
+//                              a gap: accepted, seq - last - 1 packets counted lost
+//   last + kMaxSeqJump < seq < last + 2^31
+//                              a jump: refused (counted in `jumps`), unless `restart`
 //   seq == last                duplicate: refused (counted in `stale`)
 //   otherwise (behind)         old: refused (counted in `stale`), unless `restart` (the sender
 //                              says it restarted, its numbering began again), which resyncs.
@@ -144,12 +156,13 @@ class SeqTracker {
   uint32_t last() const { return last_; }
   uint64_t lost() const { return lost_; }
   uint64_t stale() const { return stale_; }
+  uint64_t jumps() const { return jumps_; }
   uint64_t received() const { return received_; }
 
  private:
   bool started_ = false;
   uint32_t last_ = 0;
-  uint64_t lost_ = 0, stale_ = 0, received_ = 0;
+  uint64_t lost_ = 0, stale_ = 0, jumps_ = 0, received_ = 0;
 };
 
 //---------------- board layout ----------------

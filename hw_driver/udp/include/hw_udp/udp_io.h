@@ -20,6 +20,9 @@
 // newest valid packet per board and counts lost
 // (sequence gaps), corrupted (checksum, length, layout) and stale (old or duplicate) packets;
 // write() sends one command packet per motor board. read and write never allocate or block.
+// Every packet sent carries the session id chosen at open (PROTOCOL.md, "Sessions"); read()
+// reports per board (IoState masks) a reset, a refused command, refused foreign commands, and
+// commands left unacknowledged for the board's timeout_ms.
 #pragma once
 
 #include <array>
@@ -79,6 +82,7 @@ class UdpIo final : public RobotIo {
   void close() noexcept override;
 
   const UdpIoStats& stats() const { return stats_; }
+  uint32_t session() const { return session_; }  // this connection's session id
   const BoardLayout& layout() const { return layout_; }
   int local_port() const { return socket_.port(); }
 
@@ -99,6 +103,10 @@ class UdpIo final : public RobotIo {
   SeqTracker seq_[kMaxBoards];
   uint32_t tx_seq_[kMaxBoards] = {};
   uint32_t last_ack_[kMaxBoards] = {};
+  int64_t acked_ns_[kMaxBoards] = {};       // send time of the newest acknowledged command
+  int64_t first_sent_ns_[kMaxBoards] = {};  // of the first command since open (-1: none yet)
+  uint32_t session_ = 0;                    // chosen at open, in every packet sent
+  std::array<int8_t, shm::kMaxJoints> joint_board_{};
   bool have_[kMaxBoards] = {};
   MotorStatePacket motor_[kMaxBoards];
   SensorStatePacket sensor_{};
