@@ -131,6 +131,17 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
   // (a falling robot sinks through the floor, where only the soles collide, until the energy
   // watch stops sim_host; the controller then ends with an error of its own)
   const std::string outcome = sim.value("outcome", std::string("no summary"));
+  // a controller that saw the robot fall ends with exit 8 (controllers/runner.h): a fall too,
+  // whatever sim_host then made of the controller leaving
+  std::string fell_by;
+  for (const auto& proc : summary["processes"])
+    if (proc["name"] != "sim_host" && proc["exit_code"] == 8) fell_by = proc["name"].get<std::string>();
+  if (!fell_by.empty()) {
+    t.ok = true;
+    t.standing = false;
+    t.detail = "controller '" + fell_by + "' detected a fall (exit 8; see " + t.dir + ")";
+    return t;
+  }
   const bool diverged = outcome == "diverged";
   if (outcome != "completed" && !diverged) {
     t.detail = "sim_host: " + outcome + " " + sim.value("detail", std::string()) + " (see " + t.dir + ")";
