@@ -327,6 +327,14 @@ double BalanceController::base_tilt() const noexcept {
   return std::isfinite(z.z()) ? std::acos(std::clamp(z.z(), -1.0, 1.0)) : kNoTilt;
 }
 
+double BalanceController::com_height() const noexcept {
+  if (phase_ == Phase::kHold || !estimator_) return kNoTilt;
+  const model::Kinematics& k = *kin_est_;  // at the estimated state
+  const double h = estimator_->estimate().p_WCoM.z() -
+                   std::min(k.p_WSole(sole_[0]).z(), k.p_WSole(sole_[1]).z());
+  return std::isfinite(h) ? h : kNoTilt;
+}
+
 std::string BalanceController::failure() const {
   // persistent: the legs missed their targets for longer than the robot's pendulum time (the
   // stance was not under control for that long), or in more than a tenth of the stance
@@ -365,7 +373,7 @@ std::string BalanceController::StanceFigures() const {
 
 void BalanceController::report(std::ostream& out) const {
   char buf[512];
-  const std::string failed = failure();
+  const std::string failed = BalanceController::failure();  // the stance's own, not a subclass's
   if (fall().cause != FallCause::kNone) {
     out << "balance: did NOT keep the robot standing: it fell (" << FallCauseName(fall().cause)
         << ", t = " << fall().time << " s); in stance before that " << StanceFigures() << "\n";

@@ -34,6 +34,7 @@ const char* FallCauseName(FallCause c) {
     case FallCause::kNone: return "none";
     case FallCause::kTilt: return "tilt";
     case FallCause::kUnloaded: return "feet unloaded";
+    case FallCause::kCollapsed: return "collapsed";
   }
   return "?";
 }
@@ -59,6 +60,7 @@ FallLimits FallLimitsFor(double com_height, double support_reach, double upper_b
   l.max_tilt = std::min(2 * tip + upper_body_tilt, 0.5 * M_PI);
   l.tilt_time = tau;
   l.unloaded_time = 2 * tau;
+  l.min_com_height = 0.5 * com_height;
   l.basis = "the model: CoM " + Fixed("%.3f", com_height) + " m over soles reaching " +
             Fixed("%.3f", support_reach) + " m (tipping at " + Fixed("%.1f", tip / kDeg) +
             " deg), pendulum time " + Fixed("%.2f", tau) + " s";
@@ -69,7 +71,7 @@ std::string FallWatch::Configure(const shm::SegmentHeader& header, const FallLim
   limits_ = limits;
   event_ = FallEvent{};
   armed_ = false;
-  tilt_since_ = unloaded_since_ = -1;
+  tilt_since_ = unloaded_since_ = low_since_ = -1;
   nforce_ = std::clamp(header.nforce, 0, shm::kMaxForceSensors);
   weight_ = header.total_mass * kG;
   std::string off;
@@ -118,8 +120,14 @@ double FallWatch::FeetLoad(const shm::SensorBlock& s) const noexcept {
   return load;
 }
 
-bool FallWatch::Update(const shm::SensorBlock& s, double base_tilt) noexcept {
+bool FallWatch::Update(const shm::SensorBlock& s, double base_tilt, double com_height) noexcept {
   if (fallen()) return true;
+  if (limits_.min_com_height > 0 &&
+      Sustained(com_height < limits_.min_com_height, s.time, limits_.tilt_time, &low_since_)) {
+    event_ = {FallCause::kCollapsed, s.time, s.cycle, low_since_, com_height,
+              limits_.min_com_height};
+    return true;
+  }
   if (tilt_on_) {
     const double tilt = Tilt(s, base_tilt);
     // a non-finite tilt is no evidence either way
@@ -156,6 +164,12 @@ std::string FallWatch::Describe() const {
                   "%.0f N (%.0f %% of its weight %.0f N), since t = %.3f s",
                   e.time, static_cast<unsigned long long>(e.cycle), e.value, e.limit,
                   limits_.unloaded_fraction * 100, weight_, e.since);
+  } else if (e.cause == FallCause::kCollapsed) {
+    std::snprintf(buf, sizeof buf,
+                  "the robot fell at t = %.3f s (cycle %llu): its CoM is %.3f m over its lower "
+                  "sole (the estimator), below the limit %.3f m (half its stance height), since "
+                  "t = %.3f s",
+                  e.time, static_cast<unsigned long long>(e.cycle), e.value, e.limit, e.since);
   } else {
     return "the robot did not fall";
   }
@@ -166,10 +180,14 @@ std::string FallWatch::Summary() const {
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "fall watch: base tilt > %.1f deg for %.2f s%s; feet below %.0f %% of the weight "
-                "(%.0f N) for %.2f s%s (%s)",
+                "(%.0f N) for %.2f s%s%s (%s)",
                 limits_.max_tilt / kDeg, limits_.tilt_time, tilt_on_ ? "" : " (off)",
                 limits_.unloaded_fraction * 100, weight_, limits_.unloaded_time,
-                load_on_ ? "" : " (off)", limits_.basis.c_str());
+                load_on_ ? "" : " (off)",
+                limits_.min_com_height > 0
+                    ? ("; CoM below " + Fixed("%.3f", limits_.min_com_height) + " m").c_str()
+                    : "",
+                limits_.basis.c_str());
   return buf;
 }
 

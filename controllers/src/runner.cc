@@ -209,7 +209,7 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     }
     controller.update(sensors, &commands);
     if (guarded) guard.Filter(sensors, &commands);
-    if (options.fall_watch && watch.Update(sensors, controller.base_tilt())) {
+    if (options.fall_watch && watch.Update(sensors, controller.base_tilt(), controller.com_height())) {
       fell = true;  // the producer holds the last commands
       break;
     }

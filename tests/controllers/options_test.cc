@@ -17,7 +17,7 @@ namespace ohrp::controllers::testing {
 namespace {
 
 // runs `name` with `args` (no producer anywhere): exit code, stdout and stderr in *output
-int Run(const std::string& name, std::vector<std::string> args, std::string* output) {
+int RunProgram(const std::string& name, std::vector<std::string> args, std::string* output) {
   const std::string log = TempPath("opt_" + name);
   args.insert(args.begin(), Program(name));
   const int code = WaitExit(Spawn(args, log), 30.0);
@@ -56,7 +56,7 @@ TEST(ControllerOptions, AbsurdValuesAreRefusedWithThePlausibleRange) {
     std::vector<std::string> args = {"--segment", kNoSegment};
     args.insert(args.end(), c.args.begin(), c.args.end());
     std::string out;
-    EXPECT_EQ(Run(c.program, args, &out), kExitUsage) << c.program << " " << c.args[0] << ": " << out;
+    EXPECT_EQ(RunProgram(c.program, args, &out), kExitUsage) << c.program << " " << c.args[0] << ": " << out;
     EXPECT_NE(out.find(c.args[0]), std::string::npos) << out;
     EXPECT_NE(out.find(c.expect), std::string::npos) << c.program << " " << c.args[0] << ": " << out;
     EXPECT_NE(out.find("plausible range"), std::string::npos) << out;
@@ -66,11 +66,11 @@ TEST(ControllerOptions, AbsurdValuesAreRefusedWithThePlausibleRange) {
 TEST(ControllerOptions, TheRobotNarrowsTheRangeBeforeAttaching) {
   std::string out;
   // HRP-1S's soles: a margin of 0.1 m inside them leaves no support (plausible, not for it)
-  EXPECT_EQ(Run("balance", {"--segment", kNoSegment, "--support-margin", "0.1"}, &out), kExitUsage)
+  EXPECT_EQ(RunProgram("balance", {"--segment", kNoSegment, "--support-margin", "0.1"}, &out), kExitUsage)
       << out;
   EXPECT_NE(out.find("this robot's range [0, 0.0"), std::string::npos) << out;
   // a stride of 1.2 m (plausible) is longer than HRP-1S's leg
-  EXPECT_EQ(Run("walk", {"--segment", kNoSegment, "--max-stride", "1.2", "-c", "goal 1 0 0"}, &out),
+  EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "--max-stride", "1.2", "-c", "goal 1 0 0"}, &out),
             kExitUsage)
       << out;
   EXPECT_NE(out.find("--max-stride (max_forward) = 1.2 m is beyond this robot's range"),
@@ -101,7 +101,7 @@ TEST(ControllerOptions, FootstepFilesBeyondTheRobotsPhysicsAreRefusedBeforeAttac
   for (const Bad& b : cases) {
     const std::string file = StepsFile("steps", b.step);
     std::string out;
-    EXPECT_EQ(Run("walk", {"--segment", kNoSegment, "-c", "steps " + file}, &out), kExitUsage)
+    EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "-c", "steps " + file}, &out), kExitUsage)
         << b.step << ": " << out;
     EXPECT_NE(out.find(file + ":4" + b.key), std::string::npos) << b.step << ": " << out;
     EXPECT_NE(out.find(b.expect), std::string::npos) << b.step << ": " << out;
@@ -111,7 +111,7 @@ TEST(ControllerOptions, FootstepFilesBeyondTheRobotsPhysicsAreRefusedBeforeAttac
   // the project's own stairs (0.1 m per stair) are within the limits: the walk gets as far as
   // attaching (no segment: exit 4)
   std::string out;
-  EXPECT_EQ(Run("walk", {"--segment", kNoSegment, "--params",
+  EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "--params",
                          std::string(OHRP_SOURCE_DIR) + "/scenarios/steps/stairs_params.yaml", "-c",
                          "steps " + std::string(OHRP_SOURCE_DIR) + "/scenarios/steps/stairs_up.yaml"},
                 &out),
@@ -121,7 +121,7 @@ TEST(ControllerOptions, FootstepFilesBeyondTheRobotsPhysicsAreRefusedBeforeAttac
 
 TEST(ControllerOptions, ACappedSpeedIsSaidOnStderrAtOnce) {
   std::string out;
-  EXPECT_EQ(Run("walk", {"--segment", kNoSegment, "-c", "velocity 0.6 0 0 4"}, &out), kExitAttach)
+  EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "-c", "velocity 0.6 0 0 4"}, &out), kExitAttach)
       << out;
   EXPECT_NE(out.find("walk: note: \"velocity 0.6 0 0 4\": vx 0.600 m/s is beyond"),
             std::string::npos)

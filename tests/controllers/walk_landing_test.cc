@@ -44,10 +44,10 @@ Walked Walk(const std::string& command, double t_end, bool dead_left) {
   status = walk->configure(robot->header());
   EXPECT_TRUE(status.ok()) << status.message;
   walk->activate(robot->sensors());
-  // the left sole's sensor (the model's left sole, its force sensor by name in the header)
+  // the left ankle's sensor (HRP-1S: lfsensor; its hands' are lhsensor, rhsensor)
   int left = -1;
   for (int f = 0; f < robot->header().nforce; ++f)
-    if (std::string(robot->header().force_names[f]).find('l') == 0) left = f;
+    if (std::string(robot->header().force_names[f]) == "lfsensor") left = f;
   EXPECT_GE(left, 0);
   shm::CommandBlock commands{};
   while (robot->sensors().time < t_end && !walk->done()) {

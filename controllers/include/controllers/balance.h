@@ -106,6 +106,8 @@ class BalanceController : public Controller {
   void fall_limits(FallLimits* limits) const override;
   // the estimator's base tilt (NaN before it runs and while held)
   double base_tilt() const noexcept override;
+  // the estimator's CoM over the lower sole (NaN before it runs and while held)
+  double com_height() const noexcept override;
   // persistent leg IK failures: the stance was not what was commanded (balance.cc)
   std::string failure() const override;
 

@@ -80,6 +80,8 @@ class Controller {
   // the base's tilt from upright [rad], NaN when it has none (the IMU's orientation is used).
   virtual void fall_limits(FallLimits* limits) const { (void)limits; }
   virtual double base_tilt() const noexcept { return kNoTilt; }
+  // its estimate of the CoM's height over its lower sole [m], NaN when it has none
+  virtual double com_height() const noexcept { return kNoTilt; }
   static constexpr double kNoTilt = std::numeric_limits<double>::quiet_NaN();
   // The runner tells the controller, before report, that the robot fell (report then says so
   // instead of any success); fall() is FallCause::kNone otherwise.

@@ -13,12 +13,16 @@
 //             lowered onto the ground, or held in the air, is not "fallen" before it stood).
 //             The magnitude of each sensor's force is used, so the sensor frames' tilt does not
 //             matter.
+//   collapsed the controller's estimate of its CoM's height over its lower sole (a controller
+//             with a state estimator: balance, walk) below `min_com_height` for `tilt_time`: the
+//             robot crumpled without tilting (its knees gave way).
 // The defaults hold for any humanoid without its geometry (DefaultFallLimits); with the model,
 // FallLimitsFor derives them from the stance's CoM height and the soles (balance, walk).
 // Update does not allocate, throw or log.
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "shm_bridge/layout.h"
@@ -31,6 +35,7 @@ struct FallLimits {
   double unloaded_fraction = 0.0;  // [-] of the weight carried by the feet, below: unloaded
   double unloaded_time = 0.0;      // [s] sustained this long
   double armed_fraction = 0.0;     // [-] of the weight the feet must have carried once
+  double min_com_height = 0;       // [m] 0: no collapse check
   int feet[2] = {-1, -1};          // force sensors of the feet (header order); -1: every sensor
   int imu = 0;                     // the IMU whose orientation gives the tilt
   std::string basis;               // how the limits were derived, for the start message
@@ -46,10 +51,10 @@ FallLimits DefaultFallLimits();
 // passes the edge of the support is atan(reach / height); the robot has fallen at twice that
 // plus `upper_body_tilt` [rad] (what the controller itself may tilt the IMU by, e.g. the hip
 // strategy's torso offsets), sustained for the pendulum's time constant sqrt(height / g); the
-// feet unloaded for twice that.
+// feet unloaded for twice that; collapsed when the CoM is below half its stance height.
 FallLimits FallLimitsFor(double com_height, double support_reach, double upper_body_tilt);
 
-enum class FallCause { kNone, kTilt, kUnloaded };
+enum class FallCause { kNone, kTilt, kUnloaded, kCollapsed };
 const char* FallCauseName(FallCause c);
 
 struct FallEvent {
@@ -57,8 +62,8 @@ struct FallEvent {
   double time = 0;        // producer time at which the condition had lasted long enough [s]
   uint64_t cycle = 0;     // the sensor block's cycle then
   double since = 0;       // producer time at which the condition began [s]
-  double value = 0;       // tilt [rad] or the feet's load [N] then
-  double limit = 0;       // max_tilt [rad] or the unloaded load [N]
+  double value = 0;       // tilt [rad], the feet's load [N] or the CoM's height [m] then
+  double limit = 0;       // max_tilt [rad], the unloaded load [N] or min_com_height [m]
 };
 
 class FallWatch {
@@ -68,8 +73,10 @@ class FallWatch {
   // watch then runs what it can.
   std::string Configure(const shm::SegmentHeader& header, const FallLimits& limits);
   // One sensor block; `base_tilt` [rad] is the controller's estimate of the base's tilt (NaN:
-  // none, the IMU's is used). True once the robot has fallen (latched).
-  bool Update(const shm::SensorBlock& s, double base_tilt) noexcept;
+  // none, the IMU's is used), `com_height` [m] its estimate of the CoM's height over its lower
+  // sole (NaN: none). True once the robot has fallen (latched).
+  bool Update(const shm::SensorBlock& s, double base_tilt,
+              double com_height = std::numeric_limits<double>::quiet_NaN()) noexcept;
 
   bool fallen() const { return event_.cause != FallCause::kNone; }
   const FallEvent& event() const { return event_; }
@@ -90,7 +97,7 @@ class FallWatch {
   int nforce_ = 0;
   double weight_ = 0;          // [N]
   bool armed_ = false;
-  double tilt_since_ = -1, unloaded_since_ = -1;  // [s], -1: the condition does not hold
+  double tilt_since_ = -1, unloaded_since_ = -1, low_since_ = -1;  // [s], -1: the condition does not hold
   FallEvent event_;
 };
 
