@@ -344,12 +344,11 @@ std::string BalanceController::failure() const {
   if (!long_run && !many) return std::string();
   char buf[320];
   std::snprintf(buf, sizeof buf,
-                "the legs' inverse kinematics failed persistently: %llu of %llu stance cycles "
-                "(%llu leg results), for up to %.2f s in a row (limits: a tenth of the stance, "
-                "or the pendulum time %.2f s): the robot did not hold the stance commanded",
+                "the legs' inverse kinematics failed persistently: in %llu of %llu stance "
+                "cycles, for up to %.2f s in a row (limits: a tenth of the stance, or the "
+                "pendulum time %.2f s): the robot did not hold the stance commanded",
                 static_cast<unsigned long long>(stats_.ik_failed_cycles),
-                static_cast<unsigned long long>(stats_.stand_cycles),
-                static_cast<unsigned long long>(stats_.ik_failures), stats_.longest_ik_failure,
+                static_cast<unsigned long long>(stats_.stand_cycles), stats_.longest_ik_failure,
                 tau);
   return buf;
 }
