@@ -119,6 +119,16 @@ TEST(ControllerOptions, FootstepFilesBeyondTheRobotsPhysicsAreRefusedBeforeAttac
       << out;
 }
 
+TEST(ControllerOptions, WalkParameterFilesAreCheckedAgainstTheTableWithLineAndKey) {
+  const std::string file = ohrp::testing::ScratchFile(
+      "params", "step_time: 0.8\nmax_forward: 1e308\n", ".yaml");
+  std::string out;
+  EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "--params", file}, &out), kExitUsage) << out;
+  EXPECT_NE(out.find(file + ":2: max_forward = 1e+308 is outside the plausible range [0, 1.5] m"),
+            std::string::npos)
+      << out;
+}
+
 TEST(ControllerOptions, ACappedSpeedIsSaidOnStderrAtOnce) {
   std::string out;
   EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "-c", "velocity 0.6 0 0 4"}, &out), kExitAttach)
