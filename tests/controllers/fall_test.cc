@@ -11,6 +11,7 @@
 #include <regex>
 
 #include "controllers/fall_watch.h"
+#include "common/scratch.h"
 #include "controllers/runner.h"
 #include "in_process_run.h"
 
@@ -156,6 +157,27 @@ TEST(FallPrograms, BalanceStandingQuietlyIsNoFall) {
   EXPECT_FALSE(r.left_early) << r.output;
   EXPECT_NE(r.output.find("balance: stood"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("fall watch: base tilt > "), std::string::npos) << r.output;
+}
+
+// the "stood" with thousands of leg IK failures: a stance pose with the legs stretched
+// (knees 0: the soles' targets at the edge of the legs' reach, where the stabilizer's height
+// corrections put them beyond it) makes the legs' IK fail in most cycles; balance says so and
+// exits 9, never "stood"
+TEST(FallPrograms, BalanceWithPersistentLegIkFailuresDoesNotSayStood) {
+  const std::string pose = ohrp::testing::ScratchFile(
+      "straight", "joints:\n  RLEG_KNEE: 0\n  LLEG_KNEE: 0\n", ".yaml");
+  InProcessRun run;
+  run.io = Hrp1sStanding();
+  run.args = {Program("balance"), "--ramp", "1.0", "--pose", pose, "--no-centre-com",
+              "--no-self-collision"};
+  run.t_end = 6.0;
+  const InProcessResult r = RunInProcess("ik_balance", run);
+  EXPECT_EQ(r.exit_code, kExitFailed) << r.output;
+  EXPECT_EQ(r.output.find("balance: stood"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("balance: FAILED: the legs' inverse kinematics failed persistently"),
+            std::string::npos)
+      << r.output;
+  std::printf("[ figures  ] %s", r.output.substr(r.output.find("balance: did NOT")).c_str());
 }
 
 TEST(FallPrograms, NoFallWatchLetsTheRunGoOn) {
