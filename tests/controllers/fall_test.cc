@@ -180,6 +180,28 @@ TEST(FallPrograms, BalanceWithPersistentLegIkFailuresDoesNotSayStood) {
   std::printf("[ figures  ] %s", r.output.substr(r.output.find("balance: did NOT")).c_str());
 }
 
+// a robot that starts on the floor, on its side (the base turned 90 deg about x, 0.2 m up):
+// posture (the IMU's orientation, the default 45 deg) says so within a second
+TEST(FallPrograms, ARobotStartingOnItsSideIsAFall) {
+  InProcessRun run;
+  run.io = Hrp1sStanding();
+  run.setup = [](sim::InProcessRobot* robot) {
+    double* q = robot->d()->qpos;  // free joint first: x y z, w x y z
+    q[2] = 0.2;
+    q[3] = std::cos(M_PI / 4);
+    q[4] = std::sin(M_PI / 4);
+    q[5] = q[6] = 0;
+    mj_forward(robot->m(), robot->d());
+  };
+  run.args = {Program("posture"), "--ramp", "0.5", "--no-self-collision"};
+  run.t_end = 4.0;
+  const InProcessResult r = RunInProcess("fall_side", run);
+  EXPECT_EQ(r.exit_code, kExitFell) << r.output;
+  EXPECT_LT(FallTime(r.output), 1.5) << r.output;
+  EXPECT_NE(r.output.find("its base tilted"), std::string::npos) << r.output;
+  std::printf("[ figures  ] started on its side: %s", r.output.substr(r.output.find("posture: the robot")).c_str());
+}
+
 TEST(FallPrograms, NoFallWatchLetsTheRunGoOn) {
   InProcessRun run;
   run.io = Hrp1sStanding();

@@ -31,6 +31,8 @@ struct InProcessRun {
   std::function<void(double, shm::CommandBlock*)> edit_commands;
   // edits the sensor block the program reads (the simulation itself is untouched)
   std::function<void(shm::SensorBlock*)> edit_sensors;
+  // edits the robot's initial state once it is created (e.g. a tilted start)
+  std::function<void(sim::InProcessRobot*)> setup;
 };
 
 struct InProcessResult {
@@ -47,6 +49,7 @@ inline InProcessResult RunInProcess(const std::string& tag, const InProcessRun& 
   auto robot = sim::InProcessRobot::Create(spec.io, &error);
   EXPECT_TRUE(robot) << error;
   if (!robot) return out;
+  if (spec.setup) spec.setup(robot.get());
   const std::string segment = UniqueSegment(tag);
   shm::Status status;
   auto producer = shm::Producer::Create(
