@@ -71,8 +71,9 @@ const char* ExitCodeHelp() {
          "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n"
          "  7  the producer dropped this controller: it did not answer within the producer's\n"
          "     timeout (e.g. it was stopped, then resumed)\n"
-         "  8  the robot fell: its base tilted beyond the limit, or its feet stopped carrying\n"
-         "     its weight (the message says when and why; --no-fall-watch turns this off)\n"
+         "  8  the robot fell: its base tilted beyond the limit, its feet stopped carrying its\n"
+         "     weight, or its CoM sank below half its stance height (the message says when and\n"
+         "     why; the limits come from the robot; --no-fall-watch turns this off)\n"
          "  9  the controller could not do what it was asked, by its own measurements (e.g.\n"
          "     walk: a step that did not land; balance: leg IK failing persistently)\n";
 }
