@@ -221,6 +221,7 @@ void BalanceController::SolveJoints(const StabilizerOutput& out, const Eigen::Ve
   kin_ik_->SetJointPositions(q_ik_.data());
   kin_ik_->UpdatePositions();
   const Eigen::Vector2d hips_B = targets_.shift.hips + offset_B;
+  bool failed = false;
   for (int i = 0; i < 2; ++i) {
     const double side = i == 0 ? 0.5 : -0.5;
     const Eigen::Vector3d p =
@@ -232,9 +233,18 @@ void BalanceController::SolveJoints(const StabilizerOutput& out, const Eigen::Ve
       for (int j : leg_ik_[i]->chain()) q_ik_[j] = trial[j];
     } else {
       ++stats_.ik_failures;
+      failed = true;
     }
   }
+  CountIk(failed);
   for (int j = 0; j < njoint(); ++j) q_ref_[j] = q_ik_[j];
+}
+
+void BalanceController::CountIk(bool failed) noexcept {
+  ik_fail_run_ = failed ? ik_fail_run_ + 1 : 0;
+  if (failed) ++stats_.ik_failed_cycles;
+  stats_.longest_ik_failure =
+      std::max(stats_.longest_ik_failure, ik_fail_run_ * header().control_period);
 }
 
 void BalanceController::Write(shm::CommandBlock* commands, double dt) noexcept {
@@ -302,21 +312,76 @@ void BalanceController::on_update(const shm::SensorBlock& s, shm::CommandBlock* 
   Write(commands, dt);
 }
 
+//---------------- the fall watch and the verdict ----------------
+
+void BalanceController::fall_limits(FallLimits* limits) const {
+  *limits = FallLimitsFor(com_height_, sole_reach_, 0.0);  // the base's tilt: no torso in it
+  limits->feet[0] = force_[0];
+  limits->feet[1] = force_[1];
+  limits->imu = imu_;
+}
+
+double BalanceController::base_tilt() const noexcept {
+  if (phase_ == Phase::kHold || !estimator_) return kNoTilt;
+  const Eigen::Vector3d z = estimator_->estimate().quat_WB * Eigen::Vector3d::UnitZ();
+  return std::isfinite(z.z()) ? std::acos(std::clamp(z.z(), -1.0, 1.0)) : kNoTilt;
+}
+
+double BalanceController::com_height() const noexcept {
+  if (phase_ == Phase::kHold || !estimator_) return kNoTilt;
+  const model::Kinematics& k = *kin_est_;  // at the estimated state
+  const double h = estimator_->estimate().p_WCoM.z() -
+                   std::min(k.p_WSole(sole_[0]).z(), k.p_WSole(sole_[1]).z());
+  return std::isfinite(h) ? h : kNoTilt;
+}
+
+std::string BalanceController::failure() const {
+  // persistent: the legs missed their targets for longer than the robot's pendulum time (the
+  // stance was not under control for that long), or in more than a tenth of the stance
+  const double tau = std::sqrt(std::max(com_height_, 1e-3) / 9.81);
+  const bool long_run = stats_.longest_ik_failure > tau;
+  const bool many = stats_.stand_cycles > 0 && stats_.ik_failed_cycles * 10 > stats_.stand_cycles;
+  if (!long_run && !many) return std::string();
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "the legs' inverse kinematics failed persistently: in %llu of %llu stance "
+                "cycles, for up to %.2f s in a row (limits: a tenth of the stance, or the "
+                "pendulum time %.2f s): the robot did not hold the stance commanded",
+                static_cast<unsigned long long>(stats_.ik_failed_cycles),
+                static_cast<unsigned long long>(stats_.stand_cycles), stats_.longest_ik_failure,
+                tau);
+  return buf;
+}
+
 //---------------- report ----------------
 
-void BalanceController::report(std::ostream& out) const {
+std::string BalanceController::StanceFigures() const {
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "balance: stood %.2f s (%llu cycles); max |ZMP error| %.1f mm, max |DCM - c_ref| "
-                "%.1f mm, max foot rotation %.2f deg, max torso offset %.2f deg%s; %llu leg IK "
-                "results not converged\n",
+                "%.2f s (%llu cycles); max |ZMP error| %.1f mm, max |DCM - c_ref| %.1f mm, max "
+                "foot rotation %.2f deg, max torso offset %.2f deg%s; %llu leg IK results not "
+                "converged",
                 stats_.stand_cycles * header().control_period,
                 static_cast<unsigned long long>(stats_.stand_cycles), stats_.max_zmp_error * 1e3,
                 stats_.max_dcm_error * 1e3, stats_.max_foot_rotation * 180 / M_PI,
                 stats_.max_torso_angle * 180 / M_PI,
                 stabilizer_.gains().hip_strategy ? "" : " (hip strategy off)",
                 static_cast<unsigned long long>(stats_.ik_failures));
-  out << buf;
+  return buf;
+}
+
+void BalanceController::report(std::ostream& out) const {
+  char buf[512];
+  const std::string failed = BalanceController::failure();  // the stance's own, not a subclass's
+  if (fall().cause != FallCause::kNone) {
+    out << "balance: did NOT keep the robot standing: it fell (" << FallCauseName(fall().cause)
+        << ", t = " << fall().time << " s); in stance before that " << StanceFigures() << "\n";
+  } else if (!failed.empty()) {
+    out << "balance: did NOT stand as commanded (leg IK failing persistently); in stance "
+        << StanceFigures() << "\n";
+  } else {
+    out << "balance: stood " << StanceFigures() << "\n";
+  }
   if (stats_.hold_reason != HoldReason::kNone) {
     std::snprintf(buf, sizeof buf,
                   "balance: HELD the last commanded posture from t = %.3f s (%llu cycles): %s; "

@@ -38,12 +38,12 @@ int main(int argc, char** argv) {
       ->default_val(DefaultPoseFile())
       ->check(CLI::ExistingFile);
   app.add_option("--ramp", o.ramp, "[s] ramp from the measured pose to the stance pose")
-      ->default_val(o.ramp);
+      ->default_val(o.ramp)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--settle", o.settle, "[s] of quiet standing before the CoM reference is taken")
-      ->default_val(o.settle);
+      ->default_val(o.settle)->check(ohrp::cli::Plausible("wait"));
   app.add_option("--centre-time", o.centre_time,
                  "[s] to move the CoM over the middle of the soles once standing")
-      ->default_val(o.centre_time);
+      ->default_val(o.centre_time)->check(ohrp::cli::Plausible("ramp_time"));
   bool no_centre = false;
   app.add_flag("--no-centre-com", no_centre, "keep the CoM where the stance pose puts it");
   std::vector<std::string> one_leg;
@@ -61,17 +61,17 @@ int main(int argc, char** argv) {
       ->default_val(o.one_leg.shift_time)
       ->check(ohrp::cli::InRange(0.1, 60.0));
   app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
-      ->default_val(g.k_dcm);
+      ->default_val(g.k_dcm)->check(ohrp::cli::Plausible("rate"));
   app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")
-      ->default_val(g.ankle_damping);
+      ->default_val(g.ankle_damping)->check(ohrp::cli::Plausible("kd"));
   app.add_option("--ankle-recovery", g.ankle_recovery, "[s] foot offsets return time constant")
-      ->default_val(g.ankle_recovery);
+      ->default_val(g.ankle_recovery)->check(ohrp::cli::Plausible("time_constant"));
   app.add_option("--z-damping", g.z_damping, "[N s/m] sole height difference damping")
-      ->default_val(g.z_damping);
+      ->default_val(g.z_damping)->check(ohrp::cli::Plausible("linear_damping"));
   app.add_option("--hip-gain", g.hip_gain, "share of the moment beyond the soles asked of the torso")
-      ->default_val(g.hip_gain);
+      ->default_val(g.hip_gain)->check(ohrp::cli::Plausible("gain_scale"));
   app.add_option("--support-margin", g.support_margin, "[m] desired ZMP kept this far inside the soles")
-      ->default_val(g.support_margin);
+      ->default_val(g.support_margin)->check(ohrp::cli::Plausible("support_margin"));
   bool no_ankle = false, no_hip = false;
   app.add_flag("--no-ankle", no_ankle, "feet held as commanded (no foot damping control)");
   app.add_flag("--no-hip", no_hip, "no torso motion (ankle strategy only)");

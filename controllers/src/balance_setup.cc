@@ -2,6 +2,7 @@
 // torso joints, the soles' nominal poses and the stance plan (see balance.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "controllers/balance.h"
 #include "controllers/posture.h"
@@ -91,6 +92,20 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
                                                           ", and the robot of " + o.model +
                                                           " has not");
   }
+  // the support margin against this robot's soles: the desired ZMP kept that far inside a sole
+  // must leave some of it (less than its smallest half size)
+  double half = INFINITY;
+  for (int side : {k.left_sole(), k.right_sole()})
+    half = std::min({half, k.soles()[side].half_size[0], k.soles()[side].half_size[1]});
+  if (!(o.gains.support_margin < half)) {
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "--support-margin = %g m is outside this robot's range [0, %.3f) m (the "
+                  "desired ZMP kept that far inside the soles of %s, whose smallest half size "
+                  "is %.3f m, would leave no support)",
+                  o.gains.support_margin, half, o.model.c_str(), half);
+    return ConfigStatus::Fail(ConfigError::kOption, buf);
+  }
   return ConfigStatus::Ok();
 }
 
@@ -171,6 +186,9 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
     p_BS_nominal_[i] = kin_ik_->p_WSole(sole_[i]);
     R_BS_nominal_[i] = kin_ik_->R_WSole(sole_[i]);
   }
+  // what the fall watch derives its limits from
+  com_height_ = kin_ik_->p_WCoM().z() - 0.5 * (p_BS_nominal_[0].z() + p_BS_nominal_[1].z());
+  sole_reach_ = k.soles()[sole_[0]].half_size[0];
   // the stance plan: centred, then on each sole asked for
   StanceShift centre, side[2];
   if (options_.centre_com &&

@@ -31,10 +31,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--ramp", options.ramp,
                  "[s of producer time] ramp from the current pose to the first row")
-      ->default_val(2.0);
+      ->default_val(2.0)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--time-scale", options.time_scale,
                  "trajectory seconds per producer second (2 = twice as fast)")
-      ->default_val(1.0);
+      ->default_val(1.0)->check(ohrp::cli::Plausible("speed_factor"));
   AddRunOptions(&app, &run);
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
 

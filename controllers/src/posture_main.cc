@@ -48,11 +48,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)->needs(key_option);
   key_option->needs("--scene");
   app.add_option("--ramp", options.ramp, "ramp duration [s of producer time], 0 = jump")
-      ->default_val(2.0);
+      ->default_val(2.0)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--kp-scale", options.kp_scale, "factor on the producer's default kp")
-      ->default_val(1.0);
+      ->default_val(1.0)->check(ohrp::cli::Plausible("gain_scale"));
   app.add_option("--kd-scale", options.kd_scale, "factor on the producer's default kd")
-      ->default_val(1.0);
+      ->default_val(1.0)->check(ohrp::cli::Plausible("gain_scale"));
   AddRunOptions(&app, &run);
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
 

@@ -70,7 +70,12 @@ const char* ExitCodeHelp() {
          "  5  the producer's process is gone, or sent no sensors within --read-timeout\n"
          "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n"
          "  7  the producer dropped this controller: it did not answer within the producer's\n"
-         "     timeout (e.g. it was stopped, then resumed)\n";
+         "     timeout (e.g. it was stopped, then resumed)\n"
+         "  8  the robot fell: its base tilted beyond the limit, its feet stopped carrying its\n"
+         "     weight, or its CoM sank below half its stance height (the message says when and\n"
+         "     why; the limits come from the robot; --no-fall-watch turns this off)\n"
+         "  9  the controller could not do what it was asked, by its own measurements (e.g.\n"
+         "     walk: a step that did not land; balance: leg IK failing persistently)\n";
 }
 
 const char* DefaultSelfCollisionFile() { return OHRP_SELF_COLLISION_FILE; }
@@ -158,15 +163,25 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     }
     image = std::make_unique<shm::ImageSlot>();
   }
+  // the fall watch: the controller's limits for this robot
+  FallWatch watch;
+  if (options.fall_watch) {
+    FallLimits limits = DefaultFallLimits();
+    controller.fall_limits(&limits);
+    const std::string off = watch.Configure(header, limits);
+    if (!off.empty()) out << prog << ": " << off << "\n";
+  }
   out << prog << ": attached to segment " << seg << ": robot " << header.robot_name << ", "
       << header.njoint << " joints, control period " << Fixed(header.control_period * 1e3, 3)
       << " ms, producer " << producer << std::endl;
+  if (options.fall_watch) out << prog << ": " << watch.Summary() << std::endl;
 
   //---------------- the cycle loop: no allocation, throwing or logging ----------------
   shm::SensorBlock sensors{};
   shm::CommandBlock commands{};
   shm::ReadResult result = shm::ReadResult::kOk;
   bool stopped_by_signal = false;
+  bool fell = false;
   bool active = false;
   uint32_t last_status = 0;
   uint64_t late = 0, rejected = 0;
@@ -195,11 +210,15 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     }
     controller.update(sensors, &commands);
     if (guarded) guard.Filter(sensors, &commands);
+    if (options.fall_watch && watch.Update(sensors, controller.base_tilt(), controller.com_height())) {
+      fell = true;  // the producer holds the last commands
+      break;
+    }
     result = adaptor.write(commands);
     if (result != shm::ReadResult::kOk) break;
     ++rep.cycles;
   }
-  if (g_stop) stopped_by_signal = true;
+  if (g_stop && !fell) stopped_by_signal = true;
 
   //---------------- end of the run ----------------
   controller.deactivate();
@@ -208,9 +227,16 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
   const bool producer_failed = adaptor.producer_state() == shm::ProducerState::kFailed;
   adaptor.close();  // frees the controller slot
   controller.close();
+  if (fell) {
+    rep.fall = watch.event();
+    controller.NoteFall(rep.fall);
+  }
 
   std::string why;
-  if (stopped_by_signal) {
+  if (fell) {
+    why = watch.Describe();
+    rep.exit_code = kExitFell;
+  } else if (stopped_by_signal) {
     why = "stopped by signal";
     rep.exit_code = kExitOk;
   } else if (result == shm::ReadResult::kProducerStopped) {
@@ -247,6 +273,14 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
        << seg << " released\n";
   controller.report(out);
   if (guarded) guard.Report(prog, out);
+  // the controller's own verdict, unless the run already failed for a reason of its own
+  if (rep.exit_code == kExitOk || rep.exit_code == kExitFell) {
+    rep.failure = controller.failure();
+    if (!rep.failure.empty()) {
+      err << prog << ": FAILED: " << rep.failure << "\n";
+      if (rep.exit_code == kExitOk) rep.exit_code = kExitFailed;
+    }
+  }
   const CycleCounters& c = controller.counters();
   if (c.non_finite_fixed || c.clamped || c.diverged_sensors || late || rejected) {
     err << prog << ": problems counted: " << c.non_finite_fixed

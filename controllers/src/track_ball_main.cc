@@ -22,17 +22,18 @@ int main(int argc, char** argv) {
       ->default_val(DefaultPoseFile())->check(CLI::ExistingFile);
   app.add_option("--ramp", options.posture.ramp,
                  "ramp to the pose [s of producer time]; the tracking starts after it")
-      ->default_val(2.0)->check(ohrp::cli::NonNegative());
+      ->default_val(2.0)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--camera", options.camera, "the camera (a name of the segment header)")
       ->capture_default_str();
   app.add_option("--joint", options.joint, "the yaw joint that turns the camera")
       ->capture_default_str();
   app.add_option("--kp", options.kp, "joint rate per radian of bearing [1/s]")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::Plausible("rate"));
   app.add_option("--ki", options.ki, "integral gain [1/s^2]")
-      ->capture_default_str()->check(ohrp::cli::NonNegative());
+      ->capture_default_str()->check(ohrp::cli::Plausible("rate2"));
   app.add_option("--max-rate", options.max_rate, "largest joint rate [rad/s]")
-      ->capture_default_str()->check(ohrp::cli::Positive());
+      ->capture_default_str()->check(ohrp::cli::Positive())
+      ->check(ohrp::cli::Plausible("joint_speed"));
   app.add_option("--min-red", options.min_red, "a ball pixel's least red value [0, 255]")
       ->capture_default_str()->check(CLI::Range(0, 255));
   app.add_option("--red-ratio", options.red_ratio,

@@ -275,12 +275,45 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
       }
     }
   }
-  // steps landed: those whose landing time has passed
-  const walking::Gait& gait = gen_.gait();
-  int landed = 0;
-  for (int k = 0; k < gait.step_count() && gait.step_land(k) <= w.t; ++k) ++landed;
-  walk_stats_.steps_done = std::max(walk_stats_.steps_done, landed);
+  CountLandings(s, w.t);
   LogRow(w, out);
+}
+
+//---------------- landings, measured ----------------
+
+double WalkController::FootLoad(const shm::SensorBlock& s, int foot) const noexcept {
+  const double* f = s.force[force_[foot]].force;
+  return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+}
+
+void WalkController::CountLandings(const shm::SensorBlock& s, double t) noexcept {
+  double load[2];
+  for (int i = 0; i < 2; ++i) load[i] = end_load_[i] = FootLoad(s, i);
+  end_tilt_ = base_tilt();
+  // step k landed when, within a quarter of its duration of its planned landing, its foot's
+  // sensor carries a tenth of the weight; past that window it did not land
+  const walking::Gait& gait = gen_.gait();
+  while (next_to_land_ < gait.step_count()) {
+    const int k = next_to_land_;
+    const double due = gait.step_land(k);
+    const double tolerance = 0.25 * (due - gait.step_begin(k));
+    if (t < due - tolerance) return;
+    const int foot = gait.step(k).foot;
+    if (std::isfinite(load[foot])) window_load_ = std::max(window_load_, load[foot]);
+    if (load[foot] >= land_load_) {
+      ++walk_stats_.steps_done;
+    } else {
+      if (t <= due + tolerance) return;
+      if (walk_stats_.steps_missed++ == 0) {
+        walk_stats_.first_missed_step = k;
+        walk_stats_.first_missed_foot = foot;
+        walk_stats_.first_missed_due = due;
+        walk_stats_.first_missed_load = window_load_;
+      }
+    }
+    ++next_to_land_;
+    window_load_ = 0;
+  }
 }
 
 void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::WalkSample& w) noexcept {
@@ -360,6 +393,7 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
   std::array<double, shm::kMaxJoints> trial = q_ik_;
   Eigen::Vector3d p_WB = p_WB_;
   const walking::WalkIkResult r = walk_ik_->Solve(com, quat, p, Rs, trial.data(), &p_WB);
+  CountIk(!r.ok);
   if (r.ok) {
     q_ik_ = trial;
     p_WB_ = p_WB;

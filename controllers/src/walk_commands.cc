@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "cli/plausible.h"
 #include "controllers/walk.h"
 
 namespace ohrp::controllers {
@@ -118,6 +119,17 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
       {"inertia_feedforward", &o->inertia_feedforward}, {"max_forward", &l.max_forward},
       {"max_backward", &l.max_backward}, {"max_side", &l.max_side}, {"min_width", &l.min_width},
       {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance}};
+  // the quantity of each key with a row in the plausible-range table
+  static const std::map<std::string, const char*> kQuantity = {
+      {"step_time", "step_time"},       {"double_support_ratio", "fraction"},
+      {"step_height", "swing_apex"},    {"vertical_fraction", "fraction"},
+      {"start_delay", "wait"},          {"start_time", "double_support"},
+      {"end_time", "double_support"},   {"com_lower", "height"},
+      {"lower_time", "time_constant"},  {"step_search", "distance"},
+      {"max_forward", "stride"},        {"max_backward", "stride"},
+      {"max_side", "stride"},           {"min_width", "stride"},
+      {"clearance", "distance"},        {"preview_time", "duration"},
+      {"swing_tilt_compensation", "fraction"}, {"inertia_feedforward", "gain_scale"}};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     const auto it = keys.find(key);
@@ -136,6 +148,12 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
     }
     if (!std::isfinite(v))
       return ConfigStatus::Fail(ConfigError::kFile, At(path, kv.second) + "'" + key + "' must be finite");
+    // the plausible range of the quantity the key is (cli/plausible.h): exit 2 with the range
+    if (const auto q = kQuantity.find(key); q != kQuantity.end()) {
+      const std::string where = At(path, kv.second) + key;
+      if (std::string e = cli::CheckPlausible(q->second, v, where); !e.empty())
+        return ConfigStatus::Fail(ConfigError::kOption, e);
+    }
     if (key == "max_turn_deg") l.max_turn = v * kDeg;
     else if (key == "max_turn_in_deg") l.max_turn_in = v * kDeg;
     else *it->second = v;

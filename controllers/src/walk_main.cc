@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
                  "the --terrain scene's keyframe the robot starts from (default: its initial state)");
   app.add_option("--log", o.log_file, "CSV log of the walk (plan frame), written at the end");
   app.add_option("--log-seconds", o.log_seconds, "[s] of walk log kept at most")
-      ->default_val(o.log_seconds);
+      ->default_val(o.log_seconds)->check(ohrp::cli::Plausible("duration"));
   app.add_option("--model", b.model, "MJCF (or OpenHRP VRML .wrl) of the robot (must match the producer's robot)")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
@@ -53,23 +53,23 @@ int main(int argc, char** argv) {
       ->default_val(DefaultPoseFile())
       ->check(CLI::ExistingFile);
   app.add_option("--ramp", b.ramp, "[s] ramp from the measured pose to the stance pose")
-      ->default_val(b.ramp);
+      ->default_val(b.ramp)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--step-time", o.gait.step_time, "[s] one step (double + single support)")
-      ->default_val(o.gait.step_time);
+      ->default_val(o.gait.step_time)->check(ohrp::cli::Plausible("step_time"));
   app.add_option("--step-height", o.gait.step_height, "[m] swing foot apex")
-      ->default_val(o.gait.step_height);
+      ->default_val(o.gait.step_height)->check(ohrp::cli::Plausible("swing_apex"));
   app.add_option("--double-support", o.gait.double_support_ratio, "share of a step on both feet")
-      ->default_val(o.gait.double_support_ratio);
+      ->default_val(o.gait.double_support_ratio)->check(ohrp::cli::Plausible("fraction"));
   app.add_option("--max-stride", o.limits.max_forward, "[m] longest step forward")
-      ->default_val(o.limits.max_forward);
+      ->default_val(o.limits.max_forward)->check(ohrp::cli::Plausible("stride"));
   app.add_option("--com-lower", o.com_lower, "[m] walk with the CoM this much below the stance's")
-      ->default_val(o.com_lower);
+      ->default_val(o.com_lower)->check(ohrp::cli::Plausible("height"));
   app.add_option("--servo-hz", b.servo_frequency,
                  "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz)")
       ->default_val(b.servo_frequency)
       ->check(ohrp::cli::InRange(0.0, 50.0));
   app.add_option("--k-dcm", b.gains.k_dcm, "[1/s] convergence rate of the capture point")
-      ->default_val(b.gains.k_dcm);
+      ->default_val(b.gains.k_dcm)->check(ohrp::cli::Plausible("rate"));
   AddRunOptions(&app, &run);
   app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
@@ -94,6 +94,8 @@ int main(int argc, char** argv) {
     std::cerr << "walk: " << status.message << "\n";
     return status.code == ConfigError::kOption ? kExitUsage : kExitConfig;
   }
+  // what planning changed of the commands (a capped speed...): said once now, and in the report
+  for (const std::string& note : controller->notes()) std::cerr << "walk: note: " << note << "\n";
   InstallStopSignalHandlers();
   std::signal(SIGUSR1, OnUsr1);
   return RunController(*controller, run, std::cout, std::cerr);

@@ -1,4 +1,5 @@
 // The walk controller's log (written when it closes) and its report after the run (see walk.h).
+#include <cmath>
 #include <cstdio>
 #include <ostream>
 
@@ -26,19 +27,80 @@ void WalkController::on_close() {
   std::fclose(f);
 }
 
+std::string WalkController::Unverified() const {
+  const WalkStats& w = walk_stats_;
+  char buf[400];
+  if (!started_) return "it never started walking (still standing up when the run ended)";
+  if (w.steps_missed > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "%d step(s) did not land: the first, step %d (%s foot, due at t = %.3f s), "
+                  "carried at most %.0f N within a quarter of its duration of that time (a "
+                  "landed foot carries %.0f N, a tenth of the weight)",
+                  w.steps_missed, w.first_missed_step + 1, walking::SideName(w.first_missed_foot),
+                  w.first_missed_due, w.first_missed_load, land_load_);
+    return buf;
+  }
+  if (!done()) {
+    std::snprintf(buf, sizeof buf, "still walking when the run ended (%d of %d commands begun)",
+                  w.commands_done, static_cast<int>(chunks_.size()));
+    return buf;
+  }
+  if (next_to_land_ < gen_.gait().step_count()) {
+    std::snprintf(buf, sizeof buf, "the landing of %d planned step(s) was never measured",
+                  gen_.gait().step_count() - next_to_land_);
+    return buf;
+  }
+  // standing on both feet, upright: each foot carries a quarter of the weight, and the base is
+  // within the tipping angle of the soles (fall_watch.h)
+  const double quarter = 2.5 * land_load_;
+  const double tipping = std::atan2(sole_reach_, std::max(com_height_, 1e-3));
+  if (!(end_load_[0] >= quarter && end_load_[1] >= quarter)) {
+    std::snprintf(buf, sizeof buf,
+                  "at the end the feet carry %.0f N (left) and %.0f N (right): not standing on "
+                  "both (each should carry a quarter of the weight, %.0f N)",
+                  end_load_[0], end_load_[1], quarter);
+    return buf;
+  }
+  if (!(end_tilt_ >= 0 && end_tilt_ <= tipping)) {
+    std::snprintf(buf, sizeof buf,
+                  "at the end the base is tilted %.1f deg from upright (the soles' tipping angle "
+                  "is %.1f deg)",
+                  end_tilt_ * 180 / M_PI, tipping * 180 / M_PI);
+    return buf;
+  }
+  return std::string();
+}
+
+std::string WalkController::failure() const {
+  const std::string balance = BalanceController::failure();
+  if (!balance.empty()) return balance;
+  const std::string walk = Unverified();
+  return walk.empty() ? walk : "the walk is not done: " + walk;
+}
+
 void WalkController::report(std::ostream& out) const {
   BalanceController::report(out);
+  for (const std::string& note : notes_) out << "walk: note: " << note << "\n";
   char buf[640];
   const WalkStats& w = walk_stats_;
+  const std::string unverified = Unverified();
+  std::string what;
+  if (fall().cause != FallCause::kNone) {
+    what = "NOT done: the robot fell (" + std::string(FallCauseName(fall().cause)) + ")";
+  } else if (unverified.empty()) {
+    what = "done, standing on both feet";
+  } else {
+    what = "NOT done: " + unverified;
+  }
   std::snprintf(buf, sizeof buf,
-                "walk: %s; %d of %d commands, %d of %d steps landed%s; walked %.2f s; max |CoM "
-                "estimated - planned| %.1f mm, max |ZMP measured - desired| %.1f mm, plan frame "
-                "corrections up to %.1f mm; %llu cycles whose leg IK did not converge\n",
-                !started_ ? "never started walking (still standing up)"
-                          : done() ? "done, standing on both feet" : "still walking at the end",
-                w.commands_done, static_cast<int>(chunks_.size()), w.steps_done, w.steps_planned,
-                w.stopped ? " (stopped by SIGUSR1)" : "", w.walk_cycles * header().control_period,
-                w.max_com_error * 1e3, w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
+                "walk: %s; %d of %d commands, %d of %d steps landed (measured)%s; walked %.2f s; "
+                "max |CoM estimated - planned| %.1f mm, max |ZMP measured - desired| %.1f mm, "
+                "plan frame corrections up to %.1f mm; %llu cycles whose leg IK did not "
+                "converge\n",
+                what.c_str(), w.commands_done, static_cast<int>(chunks_.size()), w.steps_done,
+                w.steps_planned, w.stopped ? " (stopped by SIGUSR1)" : "",
+                w.walk_cycles * header().control_period, w.max_com_error * 1e3,
+                w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
                 static_cast<unsigned long long>(w.ik_failures));
   out << buf;
   if (w.ik_failures > 0) {

@@ -2,8 +2,11 @@
 // footsteps (see walk.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
+#include "cli/plausible.h"
 #include "controllers/walk.h"
+#include "controllers/pose.h"
 #include "walking/footstep_file.h"
 
 namespace ohrp::controllers {
@@ -52,8 +55,13 @@ std::unique_ptr<WalkController> WalkController::Create(const WalkOptions& option
   o.balance.centre_com = true;
   *status = LoadParts(o.balance, "walk", &filled, &pose, &kin_est, &kin_ik);
   if (!status->ok()) return nullptr;
-  return std::unique_ptr<WalkController>(
+  std::unique_ptr<WalkController> walk(
       new WalkController(o, filled, std::move(pose), std::move(kin_est), std::move(kin_ik)));
+  // the commands planned on the model now, before anything attaches: a footstep file or an
+  // option that does not fit the robot is refused here
+  *status = walk->Preflight();
+  if (!status->ok()) return nullptr;
+  return walk;
 }
 
 WalkController::WalkController(const WalkOptions& options, const BalanceOptions& filled, Pose pose,
@@ -69,37 +77,16 @@ ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
   std::string error;
   walk_ik_ = walking::WalkIk::Create(kin_ik_.get(), &error);
   if (!walk_ik_) return ConfigStatus::Fail(ConfigError::kMismatch, error);
-  // the stance (base upright at the origin): the soles' nominal poses, the CoM height
-  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
-  kin_ik_->SetJointPositions(target_.data());
-  kin_ik_->Update();
-  const Eigen::Vector3d mid = 0.5 * (p_BS_nominal_[0] + p_BS_nominal_[1]);
-  for (int i = 0; i < 2; ++i) {
-    sole_yaw_B_[i] = YawOf(R_BS_nominal_[i]);
-    R0_[i] = Eigen::AngleAxisd(-sole_yaw_B_[i], Eigen::Vector3d::UnitZ()) * R_BS_nominal_[i];
-    nominal_.p[i] = p_BS_nominal_[i] - mid;
-    nominal_.p[i].z() = 0;
-    nominal_.yaw[i] = sole_yaw_B_[i];
-  }
-  const double zc = kin_ik_->p_WCoM().z() - mid.z() - walk_options_.com_lower;
-  walking::StepLimits& lim = walk_options_.limits;
-  lim.width = (p_BS_nominal_[0] - p_BS_nominal_[1]).head<2>().norm();
-  const model::SoleMap& sole = kin_ik_->soles()[sole_[0]];
-  lim.sole_half_size = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
-  lim.min_width = std::min(lim.min_width, lim.width);
-  if (const std::string e = walking::CheckLimits(lim); !e.empty())
-    return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);
+  if (ConfigStatus s = FitStance(target_.data()); !s.ok()) return s;
   // the generator at the control period and the walking CoM height
   walking::PreviewOptions po = walk_options_.preview;
   po.dt = header.control_period;
-  po.zc = zc;
+  po.zc = zc_;
   if (!gen_.Configure(walk_options_.gait, po, &error))
     return ConfigStatus::Fail(ConfigError::kOption, error);
-  if (!walk_options_.terrain.empty()) {
-    terrain_ = walking::TerrainMap::Load(walk_options_.terrain, walk_options_.keyframe, &error);
-    if (!terrain_) return ConfigStatus::Fail(ConfigError::kFile, "--terrain: " + error);
-  }
+  if (ConfigStatus s = LoadTerrain(); !s.ok()) return s;
   if (ConfigStatus s = PlanCommands(); !s.ok()) return s;
+  land_load_ = 0.1 * kin_est_->mass() * 9.81;
   // what the cycle needs, allocated now
   int total = 0;
   for (const auto& c : chunks_) total += static_cast<int>(c.size());
@@ -115,8 +102,121 @@ ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
   return ConfigStatus::Ok();
 }
 
+ConfigStatus WalkController::Preflight() {
+  // the stance pose on the model's joints (the producer's robot is checked against this model
+  // at configure: the same joints, in the same order)
+  std::vector<std::string> names;
+  for (const model::JointMap& j : kin_ik_->robot().joints) names.push_back(j.name);
+  std::vector<double> q;
+  if (ConfigStatus s = ResolvePose(pose_, names, &q); !s.ok()) return s;
+  q.resize(shm::kMaxJoints, 0.0);
+  if (ConfigStatus s = FitStance(q.data()); !s.ok()) return s;
+  if (ConfigStatus s = LoadTerrain(); !s.ok()) return s;
+  return PlanCommands();
+}
+
+ConfigStatus WalkController::LoadTerrain() {
+  if (walk_options_.terrain.empty() || terrain_) return ConfigStatus::Ok();
+  std::string error;
+  terrain_ = walking::TerrainMap::Load(walk_options_.terrain, walk_options_.keyframe, &error);
+  if (!terrain_) return ConfigStatus::Fail(ConfigError::kFile, "--terrain: " + error);
+  return ConfigStatus::Ok();
+}
+
+double WalkController::LegLength() const {
+  // hip joint to sole along the left leg's joints: the distances between successive joint
+  // anchors (each on its joint's axis, so the same in every posture) and on to the sole's centre
+  const model::Kinematics& k = *kin_ik_;
+  const mjModel* m = k.m();
+  const model::SoleMap& sole = k.soles()[k.left_sole()];
+  double length = 0;
+  bool first = true;
+  Eigen::Vector3d last = Eigen::Vector3d::Zero();
+  for (int j : k.Chain(k.robot().base_body, sole.body_id)) {
+    const int jid = k.robot().joints[j].joint_id;
+    const int body = m->jnt_bodyid[jid];
+    const Eigen::Vector3d anchor =
+        k.p_WBody(body) + k.R_WBody(body) * Eigen::Vector3d(m->jnt_pos[3 * jid],
+                                                            m->jnt_pos[3 * jid + 1],
+                                                            m->jnt_pos[3 * jid + 2]);
+    if (!first) length += (anchor - last).norm();
+    first = false;
+    last = anchor;
+  }
+  return first ? 0.0 : length + (k.p_WSole(k.left_sole()) - last).norm();
+}
+
+ConfigStatus WalkController::FitStance(const double* q) {
+  // the stance (base upright at the origin): the soles' nominal poses, the CoM height
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(q);
+  kin_ik_->Update();
+  const int soles[2] = {kin_ik_->left_sole(), kin_ik_->right_sole()};
+  Eigen::Vector3d p[2];
+  Eigen::Matrix3d R[2];
+  for (int i = 0; i < 2; ++i) {
+    p[i] = kin_ik_->p_WSole(soles[i]);
+    R[i] = kin_ik_->R_WSole(soles[i]);
+  }
+  const Eigen::Vector3d mid = 0.5 * (p[0] + p[1]);
+  for (int i = 0; i < 2; ++i) {
+    sole_yaw_B_[i] = YawOf(R[i]);
+    R0_[i] = Eigen::AngleAxisd(-sole_yaw_B_[i], Eigen::Vector3d::UnitZ()) * R[i];
+    nominal_.p[i] = p[i] - mid;
+    nominal_.p[i].z() = 0;
+    nominal_.yaw[i] = sole_yaw_B_[i];
+  }
+  zc_ = kin_ik_->p_WCoM().z() - mid.z() - walk_options_.com_lower;
+  walking::StepLimits& lim = walk_options_.limits;
+  lim.width = (p[0] - p[1]).head<2>().norm();
+  const model::SoleMap& sole = kin_ik_->soles()[soles[0]];
+  lim.sole_half_size = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
+  lim.min_width = std::min(lim.min_width, lim.width);
+  if (const std::string e = walking::CheckLimits(lim); !e.empty())
+    return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);
+  return FitPhysics(LegLength());
+}
+
+ConfigStatus WalkController::FitPhysics(double leg) {
+  // from the robot (docs/footsteps.md): no step longer than a leg, no rise or swing apex above
+  // a third of it, no step faster than the walking pendulum's time constant sqrt(zc / g)
+  char basis[200];
+  const double tau = std::sqrt(std::max(zc_, 1e-3) / 9.81);
+  std::snprintf(basis, sizeof basis,
+                "from the model: leg length %.3f m, walking CoM height %.3f m, pendulum time "
+                "%.2f s",
+                leg, zc_, tau);
+  walking::StepLimits& lim = walk_options_.limits;
+  lim.physics_basis = basis;
+  if (!(leg > 0)) return ConfigStatus::Ok();  // no leg chain found: the table's ranges hold
+  lim.max_rise = leg / 3;
+  lim.max_apex = leg / 3;
+  const cli::PlausibleRange* step_time = cli::FindPlausible("step_time");
+  lim.min_duration = std::max(step_time->lo, tau);
+  lim.max_duration = step_time->hi;
+  auto beyond = [&](const char* what, double v, double hi) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "%s = %g m is beyond this robot's range [0, %.3f] m (%s)",
+                  what, v, hi, basis);
+    return ConfigStatus::Fail(ConfigError::kOption, buf);
+  };
+  if (lim.max_forward > leg) return beyond("--max-stride (max_forward)", lim.max_forward, leg);
+  if (lim.max_backward > leg) return beyond("max_backward", lim.max_backward, leg);
+  if (lim.width + lim.max_side > leg) return beyond("width + max_side", lim.width + lim.max_side, leg);
+  const walking::GaitOptions& g = walk_options_.gait;
+  if (g.step_height > lim.max_apex) return beyond("--step-height", g.step_height, lim.max_apex);
+  if (g.step_time < lim.min_duration || g.step_time > lim.max_duration) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "--step-time = %g s is outside this robot's range [%.3f, %g] s (%s)",
+                  g.step_time, lim.min_duration, lim.max_duration, basis);
+    return ConfigStatus::Fail(ConfigError::kOption, buf);
+  }
+  return ConfigStatus::Ok();
+}
+
 ConfigStatus WalkController::PlanCommands() {
   chunks_.clear();
+  notes_.clear();
   walking::FeetPose feet = nominal_;
   const walking::StepLimits& lim = walk_options_.limits;
   for (const WalkCommand& c : walk_options_.commands) {
@@ -134,8 +234,10 @@ ConfigStatus WalkController::PlanCommands() {
         break;
       }
       case WalkCommand::Kind::kSteps: {
+        // a footstep file is input: out of the limits or the robot's physics, a bad command
+        // (exit 2), with the file, line, key and range
         if (!walking::ReadFootstepFile(c.file, feet, lim, &steps, &error))
-          return ConfigStatus::Fail(ConfigError::kFile, error);
+          return ConfigStatus::Fail(ConfigError::kOption, error);
         break;
       }
       case WalkCommand::Kind::kWait:

@@ -44,12 +44,16 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"push_duration",    1e-3,  5,     "s",     "a push lasting 1 ms to 5 s"},
   {"time",             -1e6,  1e6,   "s",     "a time within about 11 days of a run's start"},
   {"wait",             0,     3600,  "s",     "a wait or delay of at most an hour (0: none)"},
+  {"time_constant",    1e-3,  100,   "s",     "a time constant between 1 ms and 100 s"},
   // gains and scales
   {"gain_scale",       0,     100,   "",      "a gain factor between 0 (limp) and 100x the default"},
   {"speed_factor",     1e-3,  1e3,   "",      "a playback or video speed between 0.001x and 1000x"},
   {"kp",               0,     1e6,   "N m/rad", "a joint stiffness of at most 1e6 N m/rad"},
   {"kd",               0,     1e4,   "N m s/rad", "a joint damping of at most 1e4 N m s/rad"},
   {"hold_gain_scale",  1e-2,  100,   "",      "a holding gain factor between 0.01 (soft, still holding) and 100x the default"},
+  {"rate",             0,     1e3,   "1/s",   "a convergence rate (a gain per second) of at most 1000/s"},
+  {"rate2",            0,     1e4,   "1/s^2", "an integral gain of at most 1e4/s^2"},
+  {"linear_damping",   0,     1e7,   "N s/m", "a translational damping of at most 1e7 N s/m"},
   // contact
   {"sole_stiffness",   1e2,   1e9,   "N/m",   "a sole stiffness between a sponge (1e2) and steel on steel (1e9)"},
   {"sole_damping",     0,     1e7,   "N s/m", "a sole damping of at most 1e7 N s/m"},

@@ -74,6 +74,8 @@ const char* HoldReasonName(HoldReason r);
 struct BalanceStats {
   uint64_t stand_cycles = 0;
   uint64_t ik_failures = 0;          // leg IK results not converged (the leg kept its last refs)
+  uint64_t ik_failed_cycles = 0;     // stance cycles in which a leg's IK did not converge
+  double longest_ik_failure = 0;     // longest run of such cycles in a row [s]
   uint64_t hold_cycles = 0;
   double max_zmp_error = 0;          // max |zmp_measured - zmp_desired| while standing [m]
   double max_torso_angle = 0;        // largest torso offset used [rad]
@@ -100,6 +102,14 @@ class BalanceController : public Controller {
   // the stance plan's targets of the last cycle (while standing)
   const StanceTargets& targets() const { return targets_; }
   void report(std::ostream& out) const override;
+  // the fall watch from the model: the stance CoM's height over the soles, the soles' reach
+  void fall_limits(FallLimits* limits) const override;
+  // the estimator's base tilt (NaN before it runs and while held)
+  double base_tilt() const noexcept override;
+  // the estimator's CoM over the lower sole (NaN before it runs and while held)
+  double com_height() const noexcept override;
+  // persistent leg IK failures: the stance was not what was commanded (balance.cc)
+  std::string failure() const override;
 
  protected:
   ConfigStatus on_configure(const shm::SegmentHeader& header) override;
@@ -137,6 +147,10 @@ class BalanceController : public Controller {
   void SolveJoints(const StabilizerOutput& out, const Eigen::Vector2d& offset_B,
                    const double lift[2]) noexcept;
   void Write(shm::CommandBlock* commands, double dt) noexcept;
+  // counts a stance cycle whose IK failed (`failed`) or not, and the longest run of them
+  void CountIk(bool failed) noexcept;
+  // the report's figures of the stance: "1.23 s (246 cycles); max |ZMP error| ..."
+  std::string StanceFigures() const;
 
   BalanceOptions options_;
   Pose pose_;
@@ -162,6 +176,9 @@ class BalanceController : public Controller {
   int last_swing_ = 0;          // the sole lifted last
   bool lifted_ = false;         // the swing foot has reached its full lift
   double stand_time_ = 0;                                  // producer time of the stance [s]
+  double com_height_ = 0;    // the stance CoM's height over the soles (model) [m]
+  double sole_reach_ = 0;    // the soles' half length (model) [m]
+  uint64_t ik_fail_run_ = 0; // stance cycles in a row whose IK failed
 
   Phase phase_ = Phase::kRamp;
   std::vector<double> target_;                   // stance pose (njoint)

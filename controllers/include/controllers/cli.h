@@ -14,10 +14,10 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
       ->required();
   app->add_option("--attach-timeout", run->attach_timeout,
                   "[s] wait this long for the segment to appear (0 = fail at once)")
-      ->default_val(0.0)->check(cli::NonNegative());
+      ->default_val(0.0)->check(cli::InRange(0.0, 3600.0));
   app->add_option("--read-timeout", run->read_timeout,
                   "[s] longest wait for one sensor block before giving up")
-      ->default_val(2.0)->check(cli::Positive());
+      ->default_val(2.0)->check(cli::Plausible("timeout"));
   run->self_collision = DefaultSelfCollisionFile();
   run->self_collision_is_default = true;
   app->add_option_function<std::string>(
@@ -32,6 +32,9 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
   app->add_flag_callback(
       "--no-self-collision", [run] { run->self_collision.clear(); },
       "turn the online self-collision check off");
+  app->add_flag_callback(
+      "--no-fall-watch", [run] { run->fall_watch = false; },
+      "do not end the run when the robot falls (exit 8): for experiments that expect a fall");
   app->footer(ExitCodeHelp());
 }
 

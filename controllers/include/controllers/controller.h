@@ -25,10 +25,12 @@
 #include <array>
 #include <cstdint>
 #include <iosfwd>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "controllers/config_status.h"
+#include "controllers/fall_watch.h"
 #include "shm_bridge/layout.h"
 
 namespace ohrp::controllers {
@@ -72,6 +74,24 @@ class Controller {
   // the default says nothing.
   virtual void report(std::ostream& out) const { (void)out; }
 
+  // The fall watch (fall_watch.h), run by the runner on every sensor block. fall_limits: the
+  // limits for this robot, called once after configure (the default keeps DefaultFallLimits; a
+  // controller that knows its model narrows them). base_tilt: the controller's own estimate of
+  // the base's tilt from upright [rad], NaN when it has none (the IMU's orientation is used).
+  virtual void fall_limits(FallLimits* limits) const { (void)limits; }
+  virtual double base_tilt() const noexcept { return kNoTilt; }
+  // its estimate of the CoM's height over its lower sole [m], NaN when it has none
+  virtual double com_height() const noexcept { return kNoTilt; }
+  static constexpr double kNoTilt = std::numeric_limits<double>::quiet_NaN();
+  // The runner tells the controller, before report, that the robot fell (report then says so
+  // instead of any success); fall() is FallCause::kNone otherwise.
+  void NoteFall(const FallEvent& event) { fall_ = event; }
+  const FallEvent& fall() const { return fall_; }
+  // The controller's own verdict on its run, asked after deactivate: "" when it did what it was
+  // asked as far as it can verify from its measurements, else what went wrong (the runner exits
+  // kExitFailed with it). The default: nothing to verify.
+  virtual std::string failure() const { return std::string(); }
+
   // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
   // the header), valid from kInactive on: the runner asks the producer for them after
   // configure (and fails with exit 3 when it cannot) and, in each cycle, before update, hands
@@ -100,6 +120,7 @@ class Controller {
   std::vector<std::string> joint_names_;
   std::array<double, shm::kMaxJoints> last_q_ref_{};  // last good reference, for the hold
   CycleCounters counters_;
+  FallEvent fall_;
 };
 
 // The joint names of a header, joint-id order (njoint clamped to kMaxJoints).

@@ -12,7 +12,13 @@
 //              read timeout, or the producer dropped this controller for missing its own
 //              timeout: shm_bridge/controller_loss.h) or SIGINT/SIGTERM arrives. No allocation, throwing or logging
 //              in the loop; problems are counted and printed after it.
-//   end        deactivate, close the adaptor (the controller slot is freed), close.
+//              Every sensor block also goes to the fall watch (fall_watch.h, limits from the
+//              controller: Controller::fall_limits): a fall ends the loop at once (the
+//              producer holds the last commands) with kExitFell, its time, cycle and cause.
+//   end        deactivate, close the adaptor (the controller slot is freed), close; then the
+//              controller's own verdict (Controller::failure): a run it cannot verify as done
+//              (e.g. walk's steps not landed) is kExitFailed. No success is printed after a fall
+//              or a failure.
 //
 // Exit codes (ExitCode): see below; programs list them in their --help.
 #pragma once
@@ -33,6 +39,9 @@ enum ExitCode : int {
   kExitProducerFailed = 6,  // the producer ended reporting a failure (e.g. diverged)
   kExitDropped = 7,         // the producer dropped this controller: it did not answer within
                             // the producer's timeout (e.g. stopped by SIGSTOP, then resumed)
+  kExitFell = 8,            // the robot fell (the fall watch, fall_watch.h: when and why)
+  kExitFailed = 9,          // the controller could not do what it was asked, by its own
+                            // measurements (e.g. walk: steps that did not land)
 };
 
 // One paragraph for --help footers.
@@ -49,6 +58,7 @@ struct RunOptions {
   // check is off with a note; otherwise a file that does not fit is exit 3.
   std::string self_collision;
   bool self_collision_is_default = false;
+  bool fall_watch = true;              // false: falls are not detected (--no-fall-watch)
 };
 
 // The self-collision file shipped for HRP-1S (mjcf/hrp1s/selfcollision.yaml of the source tree).
@@ -60,6 +70,8 @@ struct RunReport {
   uint64_t cycles = 0;       // command blocks written
   double first_time = 0.0;   // producer time of the first sensor block [s]
   double last_time = 0.0;    // producer time of the last sensor block [s]
+  FallEvent fall;            // the fall the watch saw (cause kNone: none)
+  std::string failure;       // the controller's own verdict when it failed
 };
 
 // Installs SIGINT/SIGTERM handlers that ask a running RunController to stop (without

@@ -85,7 +85,13 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o);
 struct WalkStats {
   uint64_t walk_cycles = 0;     // cycles under the generator
   int steps_planned = 0;
-  int steps_done = 0;           // landed
+  int steps_done = 0;           // landed, by measurement: the landing foot's force/torque
+                                // sensor carried load within a tolerance of the planned time
+  int steps_missed = 0;         // steps whose foot carried no load within that tolerance
+  int first_missed_step = -1;   // the first of them (gait index, 0-based)
+  int first_missed_foot = -1;   // its foot (walking::kLeft, kRight)
+  double first_missed_due = -1; // its planned landing time (generator time) [s]
+  double first_missed_load = 0; // the most its foot carried in the window [N]
   int commands_done = 0;
   uint64_t ik_failures = 0;     // cycles whose leg/CoM IK did not converge (last joints kept)
   double first_ik_failure = -1; // producer time of the first [s]
@@ -108,9 +114,16 @@ class WalkController : public BalanceController {
   bool walking() const { return started_ && gen_.walking(); }
   // all commands walked and the ZMP back between the feet
   bool done() const;
+  // done(), and verified from the measurements at the end: every step landed (measured), both
+  // feet carrying load and the base upright; "" then, else what is missing
+  std::string Unverified() const;
   // the plan's total steps (all commands) and the commands' final stance in the plan frame
   const std::vector<std::vector<walking::Footstep>>& chunks() const { return chunks_; }
   void report(std::ostream& out) const override;
+  // balance's verdict, then the walk's: not Unverified()
+  std::string failure() const override;
+  // a planning note (a capped speed...) said on stderr once, at set-up
+  const std::vector<std::string>& notes() const { return notes_; }
 
  protected:
   ConfigStatus on_configure(const shm::SegmentHeader& header) override;
@@ -124,6 +137,16 @@ class WalkController : public BalanceController {
   // set-up: the commands planned into chunks of footsteps from the nominal stance (its mid
   // frame at the origin), checked against the limits (walk_setup.cc)
   ConfigStatus PlanCommands();
+  // before attaching (Create): the stance pose on the model's joints, the limits, the terrain and
+  // the commands planned, so that a file or an option that does not fit is refused at once
+  ConfigStatus Preflight();
+  // the stance's nominal feet, the walking CoM height and the step limits from the model at
+  // joint positions `q` (base upright at the origin); then the limits of the robot's physics
+  ConfigStatus FitStance(const double* q);
+  ConfigStatus FitPhysics(double leg_length);
+  ConfigStatus LoadTerrain();
+  // hip joint to sole along the left leg (the model) [m]; 0 when no chain is found
+  double LegLength() const;
   // the switch from standing to walking: the plan frame, the generator's start
   void StartWalking(const shm::SensorBlock& s) noexcept;
   void WalkCycle(const shm::SensorBlock& s, double dt) noexcept;
@@ -138,6 +161,9 @@ class WalkController : public BalanceController {
   void SolveWalkJoints(const StabilizerOutput& out, const walking::WalkSample& w,
                        double z_offset) noexcept;
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
+  // the steps whose landing window has come: landed when the foot's sensor carries load
+  void CountLandings(const shm::SensorBlock& s, double t) noexcept;
+  double FootLoad(const shm::SensorBlock& s, int foot) const noexcept;
 
   WalkOptions walk_options_;
   walking::PatternGenerator gen_;
@@ -156,6 +182,7 @@ class WalkController : public BalanceController {
   Eigen::Matrix3d R0_[2];                      // the soles' orientation at yaw 0 (W)
   double sole_yaw_B_[2] = {0, 0};              // the soles' yaw against the base's
   double z_lower_ = 0;                         // [m] lowering still to do at the start
+  double zc_ = 0;                              // [m] walking CoM height over the soles
   bool started_ = false;
   int next_command_ = 0;
   double ready_time_ = 0;                      // a wait ends [s]
@@ -173,6 +200,12 @@ class WalkController : public BalanceController {
   std::vector<std::string> notes_;             // what planning changed (reported)
   std::unique_ptr<walking::TerrainMap> terrain_;
   WalkStats walk_stats_;
+  int next_to_land_ = 0;       // the gait's first step whose landing is not yet measured
+  double window_load_ = 0;     // the most its foot carried in its window so far [N]
+  double land_load_ = 0;       // a foot carrying this much is on the ground [N] (a tenth of
+                               // the robot's weight)
+  double end_load_[2] = {0, 0};  // both feet's loads at the last walk cycle [N]
+  double end_tilt_ = -1;       // the base's tilt then [rad] (-1: never walked)
 };
 
 }  // namespace ohrp::controllers

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,14 @@ struct StepLimits {
                                // (toes in), where the soles would collide
   Eigen::Vector2d sole_half_size{0.11, 0.065};  // [m] for the no-overlap check (x along the sole)
   double clearance = 0.01;                      // [m] least gap between the two soles' rectangles
+  // the physics of one step (the walk derives them from its robot: docs/footsteps.md); the
+  // defaults check nothing. A step's own height and duration (when it gives them, >= 0) and its
+  // height change against the stance sole are checked.
+  double max_rise = INFINITY;      // [m] |landing z - stance sole z|
+  double max_apex = INFINITY;      // [m] swing apex (Footstep::height)
+  double min_duration = 0;         // [s] step time (Footstep::duration)
+  double max_duration = INFINITY;  // [s]
+  std::string physics_basis;       // where these come from, said with a refusal
 };
 
 // "" when the limits are usable, else which one is not (negative, NaN, min_width > width, ...).

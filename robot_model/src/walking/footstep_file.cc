@@ -26,6 +26,12 @@ const char* KeyOf(Limit which) {
       return "yaw_deg";
     case Limit::kClearance:
       return "x, y, yaw_deg";
+    case Limit::kRise:
+      return "z";
+    case Limit::kApex:
+      return "height";
+    case Limit::kDuration:
+      return "duration";
     default:
       return "y";
   }

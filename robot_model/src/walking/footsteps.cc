@@ -196,6 +196,23 @@ std::string CheckStepLimit(const FeetPose& feet, const Footstep& step, const Ste
     return refuse(Limit::kTurnIn, me + " would turn " + Deg(-turn) + " in (toes in) against " +
                                       other + ": max_turn_in is " + Deg(l.max_turn_in) +
                                       turn_range);
+  // the physics of the step: its height change against the stance sole, its apex, its time
+  const std::string basis = l.physics_basis.empty() ? "" : " (" + l.physics_basis + ")";
+  const double rise = step.p.z() - feet.p[s].z();
+  if (std::abs(rise) > l.max_rise + kTol)
+    return refuse(Limit::kRise, me + " would land " + Fmt(std::abs(rise)) + " m " +
+                                    (rise > 0 ? "above " : "below ") + other +
+                                    ": out of the range -" + Fmt(l.max_rise) + " .. " +
+                                    Fmt(l.max_rise) + " m per step" + basis);
+  if (step.height >= 0 && step.height > l.max_apex + kTol)
+    return refuse(Limit::kApex, me + " would swing " + Fmt(step.height) +
+                                    " m high: out of the range 0 .. " + Fmt(l.max_apex) +
+                                    " m" + basis);
+  if (step.duration >= 0 &&
+      (step.duration < l.min_duration - kTol || step.duration > l.max_duration + kTol))
+    return refuse(Limit::kDuration, me + " would step in " + Fmt(step.duration) +
+                                        " s: out of the range " + Fmt(l.min_duration) + " .. " +
+                                        Fmt(l.max_duration) + " s" + basis);
   // the soles apart by the clearance
   const double gap = SoleGap(step.p, step.yaw, feet.p[s], feet.yaw[s], l);
   if (gap < l.clearance - kTol)

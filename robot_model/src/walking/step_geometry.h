@@ -25,7 +25,10 @@ enum class Limit {
   kBackward,
   kTurn,
   kTurnIn,
-  kClearance
+  kClearance,
+  kRise,
+  kApex,
+  kDuration
 };
 
 // CheckStep, also saying which check refused the step (kNone when it passes)

@@ -132,6 +132,17 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
   // diverged run (a robot falling where only the soles collide once sank through the floor until
   // the energy watch stopped sim_host); the controller may then end with an error of its own
   const std::string outcome = sim.value("outcome", std::string("no summary"));
+  // a controller that saw the robot fall ends with exit 8 (controllers/runner.h): a fall too,
+  // whatever sim_host then made of the controller leaving
+  std::string fell_by;
+  for (const auto& proc : summary["processes"])
+    if (proc["name"] != "sim_host" && proc["exit_code"] == 8) fell_by = proc["name"].get<std::string>();
+  if (!fell_by.empty()) {
+    t.ok = true;
+    t.standing = false;
+    t.detail = "controller '" + fell_by + "' detected a fall (exit 8; see " + t.dir + ")";
+    return t;
+  }
   const bool fell = sim.contains("fall") && sim["fall"].is_object();
   const bool diverged = outcome == "diverged" || fell;
   if (outcome != "completed" && !diverged) {
