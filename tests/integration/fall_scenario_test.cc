@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/scratch.h"
+#include "controllers/runner.h"
 #include "runner/commands.h"
 #include "runner/runner.h"
 #include "runner/scenario.h"
@@ -122,6 +123,33 @@ TEST(Falls, TheImplicitCheckReadsSimHostsFall) {
   EXPECT_FALSE(SimHostCompleted(s, 6, fell, "wall-time limit").passed);  // stopped: not a result
   s.expect_fall = false;
   EXPECT_TRUE(SimHostCompleted(s, 0, {{"outcome", "completed"}, {"fall", nullptr}}, "").passed);
+}
+
+// A controller that saw the fall first (exit 8) and left: sim_host then lost its controller
+// (exit 5, no fall of its own yet); the run is a fall in the controller's own words
+TEST(Falls, AControllersOwnFallReportIsAFall) {
+  static_assert(ohrp::runner::kControllerExitFell == ohrp::controllers::kExitFell);
+  const std::string out = ohrp::testing::ScratchFile(
+      "posture.stderr",
+      "posture: attached\nposture: the robot fell at t = 4.515 s (cycle 903): its base tilted "
+      "19.0 deg\n", ".txt");
+  EXPECT_EQ(ControllerFall("posture", 0, out), "");
+  EXPECT_EQ(ControllerFall("posture", 5, out), "");
+  const std::string said = ControllerFall("posture", 8, out);
+  EXPECT_EQ(said, "controller 'posture' saw the robot fall: posture: the robot fell at t = 4.515 s "
+                  "(cycle 903): its base tilted 19.0 deg");
+  Scenario s;
+  const nlohmann::json lost = {{"outcome", "controller_lost"}, {"detail", "controller detached"}};
+  CheckResult r = SimHostCompleted(s, 5, lost, "", said);
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.detail, said + " (sim_host: controller_lost: controller detached)");
+  // even when sim_host itself completed, a controller's fall fails the run
+  EXPECT_FALSE(SimHostCompleted(s, 0, {{"outcome", "completed"}}, "", said).passed);
+  s.expect_fall = true;
+  r = SimHostCompleted(s, 5, lost, "", said);
+  EXPECT_TRUE(r.passed);
+  EXPECT_EQ(r.detail.rfind("as expected: controller 'posture' saw the robot fall", 0), 0u) << r.detail;
+  EXPECT_FALSE(SimHostCompleted(s, 5, lost, "", "").passed);  // lost without a fall: no
 }
 
 TEST(Falls, TheFallKeysReachSimHost) {

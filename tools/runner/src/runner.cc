@@ -140,18 +140,23 @@ std::string Num(double v) {
 }  // namespace
 
 CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::json& sim,
-                             const std::string& aborted) {
+                             const std::string& aborted, const std::string& controller_fall) {
   std::string detail = sim.value("outcome", std::string("no summary"));
   if (const std::string d = sim.value("detail", std::string()); !d.empty()) detail += ": " + d;
   const nlohmann::json fall = sim.contains("fall") ? sim["fall"] : nlohmann::json();
-  const bool fell = exit_code == sim::kExitFell && fall.is_object();
-  CheckResult r{"sim_host_completed", exit_code == 0, static_cast<double>(exit_code), "exit code",
-                "== 0", detail};
+  const bool sim_fell = exit_code == sim::kExitFell && fall.is_object();
+  // a fall seen first by a controller's own sensors (it left, and sim_host lost its controller)
+  const bool fell = sim_fell || !controller_fall.empty();
+  CheckResult r{"sim_host_completed", exit_code == 0 && !fell, static_cast<double>(exit_code),
+                "exit code", "== 0", detail};
   char at[64] = "";
-  if (fell)
+  if (sim_fell) {
     std::snprintf(at, sizeof(at), "fell at t=%.3f s (cycle %llu): ", fall.value("time", 0.0),
                   static_cast<unsigned long long>(fall.value("cycle", 0ull)));
-  if (fell) r.detail = at + fall.value("cause", std::string("?"));
+    r.detail = at + fall.value("cause", std::string("?"));
+  } else if (fell) {
+    r.detail = controller_fall + " (sim_host: " + detail + ")";
+  }
   if (s.expect_fall) {
     r.limit = "a fall (expect_fall: true)";
     r.passed = fell;
@@ -165,6 +170,16 @@ CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::j
     r.detail = aborted;
   }
   return r;
+}
+
+std::string ControllerFall(const std::string& label, int exit_code, const std::string& output) {
+  if (exit_code != kControllerExitFell) return "";
+  std::string said = "exit " + std::to_string(exit_code);
+  std::ifstream in(output);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("the robot fell") != std::string::npos) said = line;
+  }
+  return "controller '" + label + "' saw the robot fall: " + said;
 }
 
 std::map<std::string, std::string> OutputFiles(const std::string& out_dir) {
@@ -316,10 +331,16 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   }
   std::vector<CheckResult> results;
   // implicit: the processes ended as they should, the robot did not fall (or fell as expected)
-  results.push_back(SimHostCompleted(s, sim.exit_code, sim_summary, aborted));
+  std::string controller_fall;
   for (auto& c : ctl) {
-    results.push_back({c.label + "_exited_cleanly", c.exit_code == 0,
-                       static_cast<double>(c.exit_code), "exit code", "== 0",
+    if (controller_fall.empty()) controller_fall = ControllerFall(c.label, c.exit_code, c.output);
+  }
+  results.push_back(SimHostCompleted(s, sim.exit_code, sim_summary, aborted, controller_fall));
+  for (auto& c : ctl) {
+    // a controller that saw the fall a scenario expects ended as it should
+    const bool clean = c.exit_code == 0 || (s.expect_fall && c.exit_code == kControllerExitFell);
+    results.push_back({c.label + "_exited_cleanly", clean, static_cast<double>(c.exit_code),
+                       "exit code", s.expect_fall ? "== 0 or 8 (a fall)" : "== 0",
                        "see " + c.label + ".stderr"});
   }
   Table log;

@@ -50,8 +50,17 @@ bool CheckScenarioNames(const Scenario& s, const std::string& scene, std::string
 // without a fall, or, when the scenario expects a fall (`expect_fall: true`), on sim_host's fall
 // (exit 6, the summary's "fall"); the detail names the fall's time and cause ("fell at t=1.234 s
 // (cycle 246): body X touched floor ..."). `aborted`: why the run was stopped, if it was.
+// `controller_fall`: a controller's own report of a fall (ControllerFall), "" when none: a fall
+// too (the controller saw it first, left, and sim_host then lost its controller).
 CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::json& sim_summary,
-                             const std::string& aborted);
+                             const std::string& aborted, const std::string& controller_fall = "");
+
+// The controllers' exit code for "the robot fell" (controllers/runner.h, kExitFell).
+inline constexpr int kControllerExitFell = 8;
+
+// "" unless the controller `label` ended with kControllerExitFell; then a sentence with its own
+// words on the fall (the last "the robot fell ..." line of its output file `output`).
+std::string ControllerFall(const std::string& label, int exit_code, const std::string& output);
 
 // The files of a run folder that summary.json lists under "files" (name -> file in the folder):
 // log, plot and sim_summary always; walk (walk.csv, the walk controller's log, written through
