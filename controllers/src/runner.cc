@@ -67,7 +67,8 @@ const char* ExitCodeHelp() {
          "  3  a file is malformed or does not fit the robot (joint names/count, limits)\n"
          "  4  could not attach to the segment (not there within --attach-timeout, built\n"
          "     against another layout, another controller attached, ...)\n"
-         "  5  the producer's process is gone, or sent no sensors within --read-timeout\n"
+         "  5  the producer's process is gone, or sent no sensors within --read-timeout, or\n"
+         "     the segment was corrupted under the run (truncated, overwritten)\n"
          "  6  the producer ended reporting a failure (e.g. the simulation diverged)\n"
          "  7  the producer dropped this controller: it did not answer within the producer's\n"
          "     timeout (e.g. it was stopped, then resumed)\n";
