@@ -1,14 +1,19 @@
 // Fuzzes the checks a controller runs on a segment header when it attaches (shm_bridge:
-// CheckHeader, CheckHeaderValues, SanitizedHeader), in the order Adaptor::Attach runs them. The
-// input's bytes are the header (short inputs are zero-padded). The identity fields are then
-// stamped with this build's layout so that most inputs reach the value checks.
+// CheckHeader, CheckHeaderValues, SanitizedHeader), in the order Adaptor::Attach runs them, and
+// the check both ends run on a mapped segment once a cycle (LookAtSegment, src/segment_guard.h).
+// The input's bytes are the header (short inputs are zero-padded), then optionally the object's
+// size (8 bytes: a truncated file), the two wake-up words (4 bytes each: a scribbler's values)
+// and the producer pid the checking end expects (4 bytes). For the value checks the identity
+// fields are then stamped with this build's layout so that most inputs reach them.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 
+#include "segment_guard.h"
 #include "shm_bridge/checks.h"
+#include "signal_word.h"
 
 namespace shm = ohrp::shm;
 
@@ -34,12 +39,40 @@ void CheckAccepted(const shm::SegmentHeader& checked) {
   }
 }
 
+// the per-cycle look at a segment whose header (as another process left it), wake-up words and
+// expected producer pid come from the input: it must find exactly what segment_guard.h says
+void CheckLook(const shm::SegmentHeader& h, const uint8_t* rest, size_t rest_size) {
+  static shm::Segment* segment = new shm::Segment();  // 17 MB once: zeros beyond the header
+  uint32_t words[2] = {0, 0};
+  int32_t expected = h.producer_pid;
+  if (rest_size >= sizeof(words)) std::memcpy(words, rest, sizeof(words));
+  if (rest_size >= sizeof(words) + sizeof(expected)) {
+    std::memcpy(&expected, rest + sizeof(words), sizeof(expected));
+  }
+  segment->header = h;
+  segment->sync.sensors_ready.word = words[0];
+  segment->sync.commands_ready.word = words[1];
+  const shm::SegmentFault seen = shm::internal::LookAtSegment(*segment, expected);
+  const bool words_ok = shm::internal::ValidSignalWord(words[0]) &&
+                        shm::internal::ValidSignalWord(words[1]);
+  const bool state_ok = h.state >= static_cast<uint32_t>(shm::ProducerState::kRunning) &&
+                        h.state <= static_cast<uint32_t>(shm::ProducerState::kFailed);
+  const bool header_ok = std::memcmp(h.magic, shm::kMagic, sizeof(h.magic)) == 0 &&
+                         h.producer_pid == expected && state_ok;
+  const shm::SegmentFault want = !words_ok    ? shm::SegmentFault::kWakeUpWords
+                                 : !header_ok ? shm::SegmentFault::kHeader
+                                              : shm::SegmentFault::kNone;
+  if (seen != want) std::abort();
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   shm::SegmentHeader h;
   std::memset(&h, 0, sizeof(h));
   std::memcpy(&h, data, size < sizeof(h) ? size : sizeof(h));
+  const size_t tail = sizeof(h) + sizeof(uint64_t);  // the words and pid after the size
+  CheckLook(h, data + (size > tail ? tail : size), size > tail ? size - tail : 0);
 
   // the identity check on the bytes as they are (the object's size from the input too); bytes
   // that fail it get this build's identity, so that they reach the value checks

@@ -41,7 +41,9 @@ enum {
   OHRP_NOT_OPEN = 4,         /* a NULL or closed handle */
   OHRP_DROPPED = 5,          /* the producer let this controller go (it missed a deadline) */
   OHRP_NOT_CONTROLLER = 6,   /* ohrp_write on an observer */
-  OHRP_SYNC_CORRUPTED = 7    /* the segment's wake-up words were scribbled on: restart the producer */
+  OHRP_SYNC_CORRUPTED = 7,   /* the segment's wake-up words were scribbled on: restart the producer */
+  OHRP_SEGMENT_CORRUPTED = 8 /* the segment's file was truncated or its header overwritten by
+                                another process: restart the producer */
 };
 
 /* joint modes of ohrp_write (as the segment's JointMode) */

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "attach.h"
+#include "segment_guard.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/checks.h"
 #include "signal_word.h"
@@ -38,8 +39,14 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
   const std::string where = Quoted(segment_name);
   std::unique_ptr<bip::mapped_region> region;
   SegmentHeader copy{};
-  const Status check = internal::AttachSegment(segment_name, /*writable=*/true, &region, &copy);
+  int fd = -1;
+  const Status check = internal::AttachSegment(segment_name, /*writable=*/true,
+                                               options.allow_other_owner, &region, &copy, &fd);
   if (!check.ok()) return check;
+  struct Closer {  // until the adaptor keeps it
+    int* fd;
+    ~Closer() { internal::CloseDescriptor(fd); }
+  } closer{&fd};
   auto* segment = static_cast<Segment*>(region->get_address());
   SegmentHeader& h = segment->header;
 
@@ -82,21 +89,38 @@ Status RobotAdaptor::open(const std::string& segment_name, const AdaptorOptions&
   options_ = options;
   last_cycle_ = 0;
   have_cycle_ = false;
-  sync_corrupted_ = false;
+  fault_ = SegmentFault::kNone;
   wait_typical_ns_ = 0;
   segment_ = segment;
   region_ = region.release();
+  fd_ = fd;
+  fd = -1;
+  watch_ = internal::WatchMapping(static_cast<bip::mapped_region*>(region_)->get_address(),
+                                  static_cast<bip::mapped_region*>(region_)->get_size(), true);
   return Status::Ok();
 }
 
 //---------------- cycle ----------------
 
+ReadResult RobotAdaptor::FaultResult() const {
+  return fault_ == SegmentFault::kWakeUpWords ? ReadResult::kSyncCorrupted
+                                              : ReadResult::kSegmentCorrupted;
+}
+
+ReadResult RobotAdaptor::Checked(ReadResult r) {
+  if (fault_ == SegmentFault::kNone) {
+    fault_ = internal::CheckSegment(*segment_, header_.producer_pid, fd_, watch_);
+  }
+  return fault_ == SegmentFault::kNone ? r : FaultResult();
+}
+
 ReadResult RobotAdaptor::read(SensorBlock* out) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
   SegmentHeader& h = segment_->header;
-  if (dropped()) return ReadResult::kDropped;
-  if (sync_corrupted_) return ReadResult::kSyncCorrupted;
-  if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
+  // the segment first: a truncated or scribbled one also looks dropped or ended
+  if (Checked(ReadResult::kOk) != ReadResult::kOk) return FaultResult();
+  if (dropped()) return Checked(ReadResult::kDropped);
+  if (internal::IsEnded(internal::LoadState(h))) return Checked(ReadResult::kProducerStopped);
 
   const int64_t start = MonotonicNs();
   const int64_t deadline = start + internal::SecondsToNs(options_.read_timeout);
@@ -106,41 +130,44 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
     const internal::SignalResult r =
         internal::Wait(&segment_->sync.sensors_ready, until, &wait_typical_ns_);
     if (r == internal::SignalResult::kCorrupt) {
-      sync_corrupted_ = true;
-      return ReadResult::kSyncCorrupted;
+      if (Checked(ReadResult::kOk) == ReadResult::kOk) fault_ = SegmentFault::kWakeUpWords;
+      return FaultResult();
     }
     if (r == internal::SignalResult::kSignalled) {
-      if (dropped()) return ReadResult::kDropped;
-      if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
+      if (dropped()) return Checked(ReadResult::kDropped);
+      if (internal::IsEnded(internal::LoadState(h))) return Checked(ReadResult::kProducerStopped);
       const auto copy = [this](const SensorBlock* src, SensorBlock* dst) {
         internal::CopySensors(src, dst, header_);
       };
       switch (
           internal::SeqlockCopy(&segment_->sensors, out, copy, header_.producer_pid, deadline)) {
         case internal::CopyResult::kOk:
+          // a copy of zero pages (the file truncated during it) is no sensor block
+          if (internal::MappingLost(watch_)) return Checked(ReadResult::kSegmentCorrupted);
           last_cycle_ = out->cycle;
           have_cycle_ = true;
           return ReadResult::kOk;
         case internal::CopyResult::kWriterGone:
-          return ReadResult::kProducerGone;
+          return Checked(ReadResult::kProducerGone);
         case internal::CopyResult::kTimeout:
-          return ReadResult::kTimeout;
+          return Checked(ReadResult::kTimeout);
       }
     }
-    // the slice ended: check the producer, then the deadline
-    if (!ProcessAlive(header_.producer_pid)) return ReadResult::kProducerGone;
-    if (dropped()) return ReadResult::kDropped;
-    if (internal::IsEnded(internal::LoadState(h))) return ReadResult::kProducerStopped;
+    // the slice ended: check the segment, the producer, then the deadline
+    if (Checked(ReadResult::kOk) != ReadResult::kOk) return FaultResult();
+    if (!ProcessAlive(header_.producer_pid)) return Checked(ReadResult::kProducerGone);
+    if (dropped()) return Checked(ReadResult::kDropped);
+    if (internal::IsEnded(internal::LoadState(h))) return Checked(ReadResult::kProducerStopped);
     if (MonotonicNs() >= deadline) return ReadResult::kTimeout;
   }
 }
 
 ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   if (segment_ == nullptr) return ReadResult::kNotOpen;
-  if (dropped()) return ReadResult::kDropped;
-  if (sync_corrupted_) return ReadResult::kSyncCorrupted;
+  if (fault_ != SegmentFault::kNone) return FaultResult();
+  if (dropped()) return Checked(ReadResult::kDropped);
   if (internal::IsEnded(internal::LoadState(segment_->header))) {
-    return ReadResult::kProducerStopped;
+    return Checked(ReadResult::kProducerStopped);
   }
   CommandBlock& block = segment_->commands;
   const uint64_t odd = internal::SeqlockBegin(&block);
@@ -152,9 +179,11 @@ ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   std::atomic_ref<uint64_t>(block.answers_cycle).store(last_cycle_, std::memory_order_relaxed);
   internal::SeqlockEnd(&block, odd);
   if (!internal::Post(&segment_->sync.commands_ready)) {
-    sync_corrupted_ = true;
-    return ReadResult::kSyncCorrupted;
+    if (Checked(ReadResult::kOk) == ReadResult::kOk) fault_ = SegmentFault::kWakeUpWords;
+    return FaultResult();
   }
+  // commands written into zero pages (the file truncated meanwhile) reach nobody
+  if (internal::MappingLost(watch_)) return Checked(ReadResult::kSegmentCorrupted);
   return ReadResult::kOk;
 }
 
@@ -188,6 +217,9 @@ void RobotAdaptor::close() {
   RequestImages(segment_->images.requests, getpid(), 0);  // withdraw this process's request
   pid_t self = getpid();
   internal::SwapControllerPid(segment_->header, &self, 0);  // only our own claim is released
+  internal::UnwatchMapping(watch_);
+  watch_ = -1;
+  internal::CloseDescriptor(&fd_);
   delete static_cast<bip::mapped_region*>(region_);
   segment_ = nullptr;
   region_ = nullptr;

@@ -1,13 +1,19 @@
 // AttachSegment: map a robot segment by name and check it (attach.h).
 #include "attach.h"
 
+#include <pwd.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <boost/interprocess/exceptions.hpp>
+#include <cstdlib>
 #include <boost/interprocess/shared_memory_object.hpp>
 #include <chrono>
 #include <cstring>
 #include <thread>
 
+#include "segment_guard.h"
 #include "shm_bridge/checks.h"
 #include "sync.h"
 
@@ -18,6 +24,66 @@ namespace {
 
 constexpr double kNotReadyWait = 1.0;   // [s] how long an attach waits for a producer in kCreating
 constexpr double kNotReadyPoll = 0.01;  // [s] poll period of that wait
+
+void Pause() { std::this_thread::sleep_for(std::chrono::duration<double>(kNotReadyPoll)); }
+
+// "uid 65534 (nobody)"
+std::string DescribeUid(uid_t uid) {
+  std::string text = "uid " + std::to_string(uid);
+  passwd entry{};
+  passwd* found = nullptr;
+  char buf[1024];
+  if (getpwuid_r(uid, &entry, buf, sizeof(buf), &found) == 0 && found != nullptr) {
+    text += std::string(" (") + found->pw_name + ")";
+  }
+  return text;
+}
+
+bool ForeignAllowed(bool allow_other_owner) {
+  if (allow_other_owner) return true;
+  const char* env = std::getenv(kAllowForeignSegmentEnv);
+  return env != nullptr && std::string(env) == "1";
+}
+
+// Opens the object of `segment_name`. A file of 0 bytes is one a producer is creating (it
+// creates the object, then sizes it): it is opened again (the name may be replaced meanwhile)
+// until it has a size or `deadline_ns` passes. Returns kNoSegment or kOk; throws what boost
+// throws for other errors.
+Status OpenObject(const std::string& segment_name, const std::string& object_name,
+                  bip::mode_t mode, int64_t deadline_ns, bip::shared_memory_object* shm,
+                  bip::offset_t* size) {
+  for (;;) {
+    try {
+      *shm = bip::shared_memory_object(bip::open_only, object_name.c_str(), mode);
+    } catch (const bip::interprocess_exception& e) {
+      if (e.get_error_code() != bip::not_found_error) throw;
+      return {Error::kNoSegment, "no segment '" + segment_name + "' (/dev/shm/" + object_name +
+                                     "): is sim_host or hw_driver running with --segment " +
+                                     segment_name + "?"};
+    }
+    *size = 0;
+    shm->get_size(*size);
+    if (*size != 0 || MonotonicNs() >= deadline_ns) return Status::Ok();
+    Pause();
+  }
+}
+
+// kForeignOwner when the file of `fd` belongs to another user than this process's effective
+// uid and that is not allowed
+Status CheckOwner(int fd, const std::string& where, const std::string& object_name,
+                  bool allow_other_owner) {
+  struct stat st {};
+  if (fstat(fd, &st) != 0) {
+    return {Error::kSystem, where + " (/dev/shm/" + object_name + "): fstat failed"};
+  }
+  if (st.st_uid == geteuid() || ForeignAllowed(allow_other_owner)) return Status::Ok();
+  return {Error::kForeignOwner,
+          where + " (/dev/shm/" + object_name + ") belongs to " + DescribeUid(st.st_uid) +
+              ", not to this process's " + DescribeUid(geteuid()) +
+              ": another user may have created the name first to feed this program its "
+              "sensors; refused. Remove the file or choose another --segment, or set " +
+              kAllowForeignSegmentEnv + "=1 to attach anyway"};
+}
 
 // true while the producer has not finished its header: state kCreating and the magic is either
 // still zero (fresh object) or complete, and the producer (when known) is alive
@@ -32,43 +98,53 @@ bool StillCreating(const SegmentHeader& h) {
 
 }  // namespace
 
-Status AttachSegment(const std::string& segment_name, bool writable,
-                     std::unique_ptr<bip::mapped_region>* region, SegmentHeader* checked) {
+Status AttachSegment(const std::string& segment_name, bool writable, bool allow_other_owner,
+                     std::unique_ptr<bip::mapped_region>* region, SegmentHeader* checked,
+                     int* fd) {
   region->reset();
+  *fd = -1;
   const std::string object_name = SegmentObjectName(segment_name);
   const std::string where = "segment '" + segment_name + "'";
   const bip::mode_t mode = writable ? bip::read_write : bip::read_only;
+  // a producer still creating the segment (sizing it, writing its header) gets a moment
+  const int64_t ready_deadline = MonotonicNs() + SecondsToNs(kNotReadyWait);
   std::unique_ptr<bip::mapped_region> mapped;
+  int kept = -1;
   try {
-    // the object and its size (mapping a short object would fault on access)
+    // the object, its owner and its size (mapping a short object would fault on access)
     bip::shared_memory_object shm;
-    try {
-      shm = bip::shared_memory_object(bip::open_only, object_name.c_str(), mode);
-    } catch (const bip::interprocess_exception& e) {
-      if (e.get_error_code() != bip::not_found_error) throw;
-      return {Error::kNoSegment, "no segment '" + segment_name + "' (/dev/shm/" + object_name +
-                                     "): is sim_host or hw_driver running with --segment " +
-                                     segment_name + "?"};
-    }
     bip::offset_t size = 0;
-    shm.get_size(size);
+    Status opened = OpenObject(segment_name, object_name, mode, ready_deadline, &shm, &size);
+    if (!opened.ok()) return opened;
+    opened = CheckOwner(shm.get_mapping_handle().handle, where, object_name, allow_other_owner);
+    if (!opened.ok()) return opened;
+    if (size == 0) {
+      return {Error::kProducerNotReady,
+              where + " (/dev/shm/" + object_name + ") is still empty (0 bytes) after " +
+                  std::to_string(kNotReadyWait) +
+                  " s: a producer is creating it, or died while creating it; retry, or "
+                  "restart the producer"};
+    }
     if (size < static_cast<bip::offset_t>(sizeof(Segment))) {
       SegmentHeader empty{};
       return CheckHeader(empty, static_cast<uint64_t>(std::max<bip::offset_t>(size, 0)),
                          segment_name);
     }
     mapped = std::make_unique<bip::mapped_region>(shm, mode, 0, sizeof(Segment));
+    kept = KeepDescriptor(shm.get_mapping_handle().handle);
+    if (kept < 0) return {Error::kSystem, where + " (/dev/shm/" + object_name + "): dup failed"};
   } catch (const bip::interprocess_exception& e) {
     return {Error::kSystem, where + " (/dev/shm/" + object_name + "): " + e.what()};
   }
+  struct Closer {
+    int* fd;
+    ~Closer() { CloseDescriptor(fd); }
+  } closer{&kept};
   const auto* segment = static_cast<const Segment*>(mapped->get_address());
   const SegmentHeader& h = segment->header;
 
-  // a producer still writing its header gets a moment
-  const int64_t ready_deadline = MonotonicNs() + SecondsToNs(kNotReadyWait);
-  while (StillCreating(h) && MonotonicNs() < ready_deadline) {
-    std::this_thread::sleep_for(std::chrono::duration<double>(kNotReadyPoll));
-  }
+  // a producer still writing its header gets the rest of the moment
+  while (StillCreating(h) && MonotonicNs() < ready_deadline) Pause();
 
   // identity and layout, then the producer's life
   Status check = CheckHeader(h, sizeof(Segment), segment_name);
@@ -99,6 +175,8 @@ Status AttachSegment(const std::string& segment_name, bool writable,
   check = CheckHeaderValues(*checked, segment_name);
   if (!check.ok()) return check;
   *region = std::move(mapped);
+  *fd = kept;
+  kept = -1;
   return Status::Ok();
 }
 

@@ -39,8 +39,25 @@ const char* ErrorName(Error e) {
       return "invalid config";
     case Error::kSystem:
       return "system error";
+    case Error::kForeignOwner:
+      return "segment owned by another user";
   }
   return "unknown error";
+}
+
+const char* SegmentFaultText(SegmentFault f) {
+  switch (f) {
+    case SegmentFault::kNone:
+      return "the segment is intact";
+    case SegmentFault::kWakeUpWords:
+      return "the segment's wake-up words were overwritten by another process";
+    case SegmentFault::kHeader:
+      return "the segment's header (magic, producer pid or state) was overwritten by another "
+             "process";
+    case SegmentFault::kTruncated:
+      return "the segment's file was truncated by another process (its memory is gone)";
+  }
+  return "the segment is corrupted";
 }
 
 const char* ReadResultName(ReadResult r) {
@@ -60,6 +77,9 @@ const char* ReadResultName(ReadResult r) {
     case ReadResult::kSyncCorrupted:
       return "the segment's wake-up words are corrupted (another process wrote into the "
              "segment)";
+    case ReadResult::kSegmentCorrupted:
+      return "the segment's file was truncated or its header overwritten (another process "
+             "wrote into the segment)";
   }
   return "unknown";
 }

@@ -61,6 +61,7 @@ int Code(ReadResult r) {
     case ReadResult::kNotOpen: return OHRP_NOT_OPEN;
     case ReadResult::kDropped: return OHRP_DROPPED;
     case ReadResult::kSyncCorrupted: return OHRP_SYNC_CORRUPTED;
+    case ReadResult::kSegmentCorrupted: return OHRP_SEGMENT_CORRUPTED;
   }
   return OHRP_NOT_OPEN;
 }
@@ -393,6 +394,7 @@ const char* ohrp_result_name(int result) {
     case OHRP_DROPPED: return "dropped";
     case OHRP_NOT_CONTROLLER: return "not_controller";
     case OHRP_SYNC_CORRUPTED: return "sync_corrupted";
+    case OHRP_SEGMENT_CORRUPTED: return "segment_corrupted";
   }
   return "unknown";
 }

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "attach.h"
+#include "segment_guard.h"
 #include "shm_bridge/checks.h"
 #include "sync.h"
 
@@ -37,8 +38,13 @@ Status Observer::open(const std::string& segment_name, const ObserverOptions& op
   }
   std::unique_ptr<bip::mapped_region> region;
   SegmentHeader copy{};
-  const Status check = internal::AttachSegment(segment_name, /*writable=*/false, &region, &copy);
+  int fd = -1;
+  const Status check = internal::AttachSegment(segment_name, /*writable=*/false,
+                                               options.allow_other_owner, &region, &copy, &fd);
   if (!check.ok()) return check;
+  fd_ = fd;
+  watch_ = internal::WatchMapping(region->get_address(), region->get_size(), false);
+  fault_ = SegmentFault::kNone;
   header_ = SanitizedHeader(copy);
   segment_name_ = segment_name;
   options_ = options;
@@ -54,7 +60,18 @@ ReadResult Observer::read(SensorBlock* out, double timeout) {
   std::atomic_ref<uint64_t> seq(Mutable(&segment_->sensors)->seq);
   const int64_t deadline = MonotonicNs() + internal::SecondsToNs(timeout);
   const timespec pause = internal::ToTimespec(std::max<int64_t>(internal::SecondsToNs(options_.poll), 1000));
+  const auto faulty = [this] {
+    if (fault_ == SegmentFault::kNone) {
+      fault_ = internal::CheckSegment(*segment_, header_.producer_pid, fd_, watch_);
+    }
+    return fault_ != SegmentFault::kNone;
+  };
+  const auto fault_result = [this] {
+    return fault_ == SegmentFault::kWakeUpWords ? ReadResult::kSyncCorrupted
+                                                : ReadResult::kSegmentCorrupted;
+  };
   for (;;) {
+    if (faulty()) return fault_result();
     const bool ended = internal::IsEnded(internal::LoadState(h));
     const uint64_t now_seq = seq.load(std::memory_order_acquire);
     if (now_seq != 0 && now_seq != last_seq_) {
@@ -65,6 +82,7 @@ ReadResult Observer::read(SensorBlock* out, double timeout) {
       switch (internal::SeqlockCopy(Mutable(&segment_->sensors), out, copy,
                                     header_.producer_pid, deadline)) {
         case internal::CopyResult::kOk:
+          if (faulty()) return fault_result();  // e.g. a copy of zero pages
           if (out->seq != last_seq_) {
             last_seq_ = out->seq;
             return ReadResult::kOk;
@@ -109,6 +127,7 @@ bool Observer::request_images(uint32_t cameras) {
                                           sizeof(ImageArea::requests));
       requests_region_ = page;
       requests_ = static_cast<ImageRequest*>(page->get_address());
+      requests_watch_ = internal::WatchMapping(page->get_address(), page->get_size(), true);
     } catch (const bip::interprocess_exception&) {
       return false;
     }
@@ -134,6 +153,10 @@ ProducerState Observer::producer_state() const {
 void Observer::close() {
   if (segment_ == nullptr) return;
   if (requests_ != nullptr) RequestImages(requests_, getpid(), 0);  // withdraw our request
+  internal::UnwatchMapping(requests_watch_);
+  internal::UnwatchMapping(watch_);
+  requests_watch_ = watch_ = -1;
+  internal::CloseDescriptor(&fd_);
   delete static_cast<bip::mapped_region*>(requests_region_);
   requests_region_ = nullptr;
   requests_ = nullptr;

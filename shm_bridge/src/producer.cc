@@ -14,6 +14,7 @@
 #include <string>
 
 #include "shm_bridge/bridge.h"
+#include "segment_guard.h"
 #include "shm_bridge/checks.h"
 #include "signal_word.h"
 #include "sync.h"
@@ -167,6 +168,14 @@ std::unique_ptr<Producer> Producer::Create(const ProducerConfig& config, Status*
       }
     }
     created = true;
+    // from here on every way out of this process removes the object (segment_guard.h)
+    struct Registered {
+      int slot;
+      bool keep = false;
+      ~Registered() {
+        if (!keep) internal::RemoveCreated(slot);
+      }
+    } registered{internal::RegisterCreated(object_name, shm.get_mapping_handle().handle)};
     shm.truncate(sizeof(Segment));
     auto region = std::make_unique<bip::mapped_region>(shm, bip::read_write, 0, sizeof(Segment));
     auto* segment = static_cast<Segment*>(region->get_address());
@@ -190,6 +199,11 @@ std::unique_ptr<Producer> Producer::Create(const ProducerConfig& config, Status*
     std::unique_ptr<Producer> producer(new Producer());
     producer->segment_ = segment;
     producer->object_name_ = object_name;
+    producer->creator_ = getpid();
+    producer->fd_ = internal::KeepDescriptor(shm.get_mapping_handle().handle);
+    producer->watch_ = internal::WatchMapping(region->get_address(), region->get_size(), true);
+    producer->created_ = registered.slot;
+    registered.keep = true;
     producer->region_ = region.release();
     st = Status::Ok();
     st.message = std::move(note);
@@ -204,20 +218,35 @@ std::unique_ptr<Producer> Producer::Create(const ProducerConfig& config, Status*
 
 Producer::~Producer() {
   if (segment_ == nullptr) return;
-  // only the creating process tears down (a forked child's copy just unmaps)
-  if (segment_->header.producer_pid == getpid()) {
-    std::atomic_ref<uint32_t> state(segment_->header.state);
-    if (state.load(std::memory_order_acquire) != static_cast<uint32_t>(ProducerState::kFailed)) {
-      state.store(static_cast<uint32_t>(ProducerState::kStopped), std::memory_order_release);
-    }
+  // only the creating process tears down (a forked child's copy just unmaps); the creator is
+  // this object's record, not the header's pid, which another process may have overwritten
+  if (creator_ == getpid()) {
+    SetState(ProducerState::kStopped);  // kFailed stays, a faulty segment becomes kFailed
     internal::Post(&segment_->sync.sensors_ready);  // a blocked read wakes, sees the state
     internal::WakeAll(&segment_->sync.sensors_ready);
-    bip::shared_memory_object::remove(object_name_.c_str());
+    if (created_ >= 0) {
+      internal::RemoveCreated(created_);  // only the object this process created
+    } else {
+      bip::shared_memory_object::remove(object_name_.c_str());
+    }
   }
+  internal::UnwatchMapping(watch_);
+  internal::CloseDescriptor(&fd_);
   delete static_cast<bip::mapped_region*>(region_);
   segment_ = nullptr;
   region_ = nullptr;
 }
+
+//---------------- the segment's health ----------------
+
+bool Producer::Healthy() const {
+  if (fault_ == SegmentFault::kNone) {
+    fault_ = internal::CheckSegment(*segment_, creator_, fd_, watch_);
+  }
+  return fault_ == SegmentFault::kNone;
+}
+
+bool Producer::sync_corrupted() const { return !Healthy(); }
 
 //---------------- cycle ----------------
 
@@ -232,13 +261,19 @@ void Producer::PublishSensors() {
   sensors_odd_seq_ = 0;
   published_cycle_ = segment_->sensors.cycle;
   published_ = true;
-  if (!internal::Post(&segment_->sync.sensors_ready)) sync_corrupted_ = true;
+  if (!internal::Post(&segment_->sync.sensors_ready) && Healthy()) {
+    fault_ = SegmentFault::kWakeUpWords;
+  }
+  Healthy();  // once a cycle: the segment's memory, the SIGBUS watch, the file's size
 }
 
 WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slice) {
   SegmentHeader& h = segment_->header;
-  if (sync_corrupted_) return WaitResult::kTimeout;  // never wait on an untrusted word
-  if (internal::LoadControllerPid(h) == 0) return WaitResult::kNoController;
+  if (fault_ != SegmentFault::kNone) return WaitResult::kTimeout;  // never wait on it
+  // a faulty segment reads as "no controller" too (a zero page): it is checked first
+  if (internal::LoadControllerPid(h) == 0) {
+    return Healthy() ? WaitResult::kNoController : WaitResult::kTimeout;
+  }
 
   const int64_t start = MonotonicNs();
   const int64_t deadline = start + internal::SecondsToNs(timeout);
@@ -248,7 +283,7 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
     const internal::SignalResult r =
         internal::Wait(&segment_->sync.commands_ready, until, &wait_typical_ns_);
     if (r == internal::SignalResult::kCorrupt) {
-      sync_corrupted_ = true;
+      if (Healthy()) fault_ = SegmentFault::kWakeUpWords;
       return WaitResult::kTimeout;
     }
     if (r == internal::SignalResult::kSignalled) {
@@ -263,13 +298,15 @@ WaitResult Producer::WaitCommands(double timeout, CommandBlock* out, double slic
       const pid_t writer = internal::LoadControllerPid(h);
       const auto copied =
           internal::SeqlockCopy(&block, out, internal::CopyCommands, writer, deadline);
+      if (!Healthy()) return WaitResult::kTimeout;  // e.g. commands copied from zero pages
       if (copied == internal::CopyResult::kOk) return WaitResult::kCommands;
       if (copied == internal::CopyResult::kTimeout) return WaitResult::kTimeout;
       pid_t dead = writer;
       internal::SwapControllerPid(h, &dead, 0);
       return WaitResult::kControllerDied;
     }
-    // the slice ended: check the controller, then the deadline
+    // the slice ended: check the segment, the controller, then the deadline
+    if (!Healthy()) return WaitResult::kTimeout;
     pid_t controller = internal::LoadControllerPid(h);
     if (controller == 0) return WaitResult::kNoController;  // it closed cleanly
     if (!ProcessAlive(controller)) {
@@ -288,8 +325,14 @@ bool Producer::DropController(pid_t pid) {
 }
 
 void Producer::SetState(ProducerState state) {
-  std::atomic_ref<uint32_t>(segment_->header.state)
-      .store(static_cast<uint32_t>(state), std::memory_order_release);
+  std::atomic_ref<uint32_t> word(segment_->header.state);
+  const bool ending = state == ProducerState::kStopped || state == ProducerState::kFailed;
+  if (ending && (word.load(std::memory_order_acquire) ==
+                     static_cast<uint32_t>(ProducerState::kFailed) ||
+                 !Healthy())) {
+    state = ProducerState::kFailed;  // final; and a faulty segment is no normal end
+  }
+  word.store(static_cast<uint32_t>(state), std::memory_order_release);
 }
 
 }  // namespace ohrp::shm

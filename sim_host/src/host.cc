@@ -247,7 +247,7 @@ int RunHost(const HostOptions& options) {
   auto segment_corrupted = [&] {
     if (!producer->sync_corrupted()) return false;
     st.outcome = "segment_corrupted";
-    st.detail = "the segment's wake-up words were overwritten by another process";
+    st.detail = shm::SegmentFaultText(producer->fault());
     std::fprintf(stderr, "sim_host: segment '%s': %s at t=%.3f s; ending the run\n",
                  o.segment.c_str(), st.detail.c_str(), d->time);
     exit_code = kExitControllerLost;

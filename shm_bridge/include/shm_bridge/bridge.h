@@ -8,6 +8,29 @@
 // Set-up calls (Producer::Create, RobotAdaptor::open) return a Status that names what failed.
 // The cycle calls (PublishSensors, WaitCommands, read, write) never allocate, throw or log:
 // they return a result code and the caller counts problems.
+//
+// What another process can do to the segment, and what each end then does (layout.h has the
+// protocol; src/segment_guard.h the mechanisms):
+//   - truncate its file (/dev/shm/ohrp_<name>): an access past the new end would raise SIGBUS
+//     and kill the process silently. Both ends watch their mapping: a SIGBUS inside it is
+//     answered with zero pages (the access completes) and a flag, and each end checks the
+//     flag and the file's size (one fstat) at least once a control cycle. The producer then
+//     reports SegmentFault::kTruncated (sync_corrupted(), fault()), the controller
+//     ReadResult::kSegmentCorrupted; both end their run with an error, never with the signal.
+//   - overwrite the header's magic, producer pid or state: SegmentFault::kHeader, the same ends.
+//   - overwrite a wake-up word: SegmentFault::kWakeUpWords (ReadResult::kSyncCorrupted).
+//   A producer that finds its segment faulty marks it kFailed (when the memory is still
+//   shared), and a controller that sees the producer end checks the segment first: a corrupted
+//   segment is never reported as a normal end on either side.
+//   - create the segment's name first (name squatting): a controller (and an observer) refuses
+//     a segment whose file belongs to another user than its effective uid (Error::kForeignOwner)
+//     unless told otherwise (AdaptorOptions::allow_other_owner, or the environment variable
+//     OHRP_ALLOW_FOREIGN_SEGMENT=1).
+//   - attach while the producer creates the segment (its file still 0 bytes, or the header not
+//     written): open waits up to 1 s for it, then answers kProducerNotReady (retried by the
+//     controllers' runner up to --attach-timeout).
+// The producer removes its segment on every way out of the process it can see: destructor,
+// exit(), the signals that end a process, an uncaught exception (SIGABRT); see segment_guard.h.
 #pragma once
 
 #include <sys/types.h>
@@ -37,7 +60,23 @@ enum class Error {
   kSegmentBusy,        // (producer) a live producer already owns a segment of that name
   kInvalidConfig,      // (producer) counts or names do not fit the layout
   kSystem,             // an operating-system call failed (errno text in the message)
+  kForeignOwner,       // the segment's file belongs to another user (a squatted name?)
 };
+
+// What a check of a mapped segment found wrong (the segment comment above).
+enum class SegmentFault {
+  kNone = 0,
+  kWakeUpWords,  // a wake-up word holds a value the bridge never writes
+  kHeader,       // the header's magic, producer pid or state was overwritten
+  kTruncated,    // the segment's file was truncated (its memory is gone)
+};
+
+// A sentence for `f`, e.g. "the segment's file was truncated by another process".
+const char* SegmentFaultText(SegmentFault f);
+
+// The environment variable that lets a controller or observer attach to a segment owned by
+// another user ("1"); see AdaptorOptions::allow_other_owner.
+inline constexpr const char* kAllowForeignSegmentEnv = "OHRP_ALLOW_FOREIGN_SEGMENT";
 
 // Outcome of a set-up call: a code and a sentence for the user (what failed, what to do).
 struct Status {
@@ -116,12 +155,18 @@ class Producer {
   // the last one published (a late answer) is consumed and ignored.
   // The wait spins for a bounded time before it sleeps (layout.h: handshake). Once the
   // segment's wake-up words are found corrupted, it returns kTimeout at once, every time, and
-  // sync_corrupted() is true: the caller ends its run with an error.
+  // sync_corrupted() is true: the caller ends its run with an error. The same once the
+  // segment is found faulty in any other way (fault(): truncated file, overwritten header);
+  // kNoController and kControllerDied are never answered for a faulty segment.
   WaitResult WaitCommands(double timeout, CommandBlock* out, double slice = 0.02);
 
-  // True once a wake-up word of the segment held a value the bridge never writes (another
-  // process scribbled on the segment): the handshake can no longer be trusted.
-  bool sync_corrupted() const { return sync_corrupted_; }
+  // True once the segment can no longer be trusted: a wake-up word held a value the bridge
+  // never writes, the header's identity or state was overwritten, or the file was truncated
+  // (another process wrote into or truncated the segment). Checks now (memory, the SIGBUS
+  // watch and one fstat: real-time safe) and remembers: call it once a cycle.
+  bool sync_corrupted() const;
+  // What was found (kNone while nothing was); SegmentFaultText says it in words.
+  SegmentFault fault() const { return fault_; }
 
   // The attached controller's pid, 0 if none.
   pid_t controller_pid() const;
@@ -132,7 +177,8 @@ class Producer {
   // the slot. Real-time safe.
   bool DropController(pid_t pid);
 
-  // Sets the producer state seen by controllers (kStopped / kFailed end their reads).
+  // Sets the producer state seen by controllers (kStopped / kFailed end their reads). kFailed
+  // is final: a later kStopped keeps kFailed; and a faulty segment (fault()) is marked kFailed.
   void SetState(ProducerState state);
 
   // Camera images (images.h). PublishImage: a frame of header camera `camera` (RGB8
@@ -148,13 +194,20 @@ class Producer {
 
  private:
   Producer() = default;
+  // looks at the segment once (CheckSegment) and remembers a fault; true while none
+  bool Healthy() const;
+
   Segment* segment_ = nullptr;
   std::string object_name_;
   void* region_ = nullptr;  // boost mapped_region, owned
+  pid_t creator_ = 0;       // the creating process (only it removes the segment)
+  int fd_ = -1;             // the segment's file, for fstat
+  int watch_ = -1;          // the mapping watch's slot (segment_guard.h)
+  int created_ = -1;        // the clean-up's slot (segment_guard.h)
+  mutable SegmentFault fault_ = SegmentFault::kNone;
   uint64_t sensors_odd_seq_ = 0;    // sensors.seq while BeginSensors' write is open (else 0)
   uint64_t published_cycle_ = 0;    // SensorBlock::cycle of the last PublishSensors
   bool published_ = false;          // PublishSensors was called at least once
-  bool sync_corrupted_ = false;     // a wake-up word was found corrupted
   int64_t wait_typical_ns_ = 0;     // what WaitCommands' waits took, smoothed (its spin budget)
 };
 
@@ -170,6 +223,8 @@ enum class ReadResult {
                      // timeout) and freed its slot (controller_loss.h); nothing more is written
   kSyncCorrupted,    // the segment's wake-up words hold values the bridge never writes
                      // (another process scribbled on the segment): the handshake is unusable
+  kSegmentCorrupted, // the segment's file was truncated or its header overwritten by another
+                     // process (RobotAdaptor::fault() says which): the segment is unusable
 };
 
 const char* ReadResultName(ReadResult r);
@@ -177,6 +232,10 @@ const char* ReadResultName(ReadResult r);
 struct AdaptorOptions {
   double read_timeout = 2.0;   // [s] how long read() waits for the next cycle
   double slice = 0.02;         // [s] how often a waiting read checks the producer's pid
+  // attach to a segment whose file belongs to another user (its uid is not this process's
+  // effective uid). Off by default: another user may have created the name first to feed this
+  // controller its sensors (name squatting); kAllowForeignSegmentEnv=1 turns it on too.
+  bool allow_other_owner = false;
 };
 
 class RobotAdaptor {
@@ -188,12 +247,19 @@ class RobotAdaptor {
 
   // Attaches to the segment by name: checks magic, layout version and hash, size, the header's
   // values (CheckHeaderValues in checks.h: counts within capacity, physical limits, gains and
-  // periods), that the producer is alive and running, and claims the controller slot (a slot
-  // held by a dead controller is taken over). On failure nothing stays attached and the Status message says
-  // which check failed and what to do.
+  // periods), that the producer is alive and running, that the segment's file belongs to this
+  // process's effective uid (else kForeignOwner, unless options.allow_other_owner or
+  // OHRP_ALLOW_FOREIGN_SEGMENT=1), and claims the controller slot (a slot held by a dead
+  // controller is taken over). A segment still being created (0 bytes, or its header not yet
+  // written) is waited for up to 1 s, then kProducerNotReady. On failure nothing stays
+  // attached and the Status message says which check failed and what to do.
   Status open(const std::string& segment_name, const AdaptorOptions& options = {});
 
   // Blocks until the sensors of the next cycle are published, then copies them into `*out`.
+  // Checks the segment first and whenever a wait slice ends (CheckSegment: memory, the SIGBUS
+  // watch, one fstat): a truncated file or overwritten header gives kSegmentCorrupted, a
+  // corrupted wake-up word kSyncCorrupted, now and on every later call, before any other result
+  // (a producer that ended its run over a corrupted segment is not a normal end).
   // Only the entries in use (njoint, nforce, nimu of header()) are copied; the rest of `*out`
   // is left as it was. A cycle published before open (and not yet answered) is returned first.
   // Returns kDropped, before anything else, once the producer has let this controller go
@@ -207,7 +273,8 @@ class RobotAdaptor {
   // `answers_cycle` of `commands` are ignored. Returns kDropped once the producer has let this
   // controller go, and kProducerStopped once the producer has ended its run, writing nothing;
   // kSyncCorrupted when the wake-up word was found corrupted (the commands are written, but
-  // the producer will not take them).
+  // the producer will not take them); kSegmentCorrupted when the segment's file was truncated
+  // or its header overwritten (a fault seen by read, or during this write).
   ReadResult write(const CommandBlock& commands);
 
   // Asks the producer for the images of the cameras in `cameras` (bit i: camera i of the
@@ -233,15 +300,23 @@ class RobotAdaptor {
   // The producer's state now (read from the segment, not the copy): after read() returned
   // kProducerStopped, kFailed tells a failed run (e.g. a diverged simulation) from a clean end.
   ProducerState producer_state() const;
+  // What was found wrong with the segment (kNone while nothing).
+  SegmentFault fault() const { return fault_; }
 
  private:
+  // `r`, unless the segment is faulty (checked now): then kSyncCorrupted or kSegmentCorrupted
+  ReadResult Checked(ReadResult r);
+  ReadResult FaultResult() const;
+
   Segment* segment_ = nullptr;
   void* region_ = nullptr;  // boost mapped_region, owned
+  int fd_ = -1;             // the segment's file, for fstat
+  int watch_ = -1;          // the mapping watch's slot (segment_guard.h)
+  SegmentFault fault_ = SegmentFault::kNone;
   SegmentHeader header_{};
   AdaptorOptions options_;
   uint64_t last_cycle_ = 0;
   bool have_cycle_ = false;
-  bool sync_corrupted_ = false;  // a wake-up word was found corrupted
   int64_t wait_typical_ns_ = 0;  // what read's waits took, smoothed (its spin budget)
 };
 

@@ -24,6 +24,7 @@ namespace ohrp::shm {
 
 struct ObserverOptions {
   double poll = 0.0005;  // [s] sleep between looks while waiting for the next cycle
+  bool allow_other_owner = false;  // as AdaptorOptions::allow_other_owner (bridge.h)
 };
 
 class Observer {
@@ -33,13 +34,15 @@ class Observer {
   Observer(const Observer&) = delete;
   Observer& operator=(const Observer&) = delete;
 
-  // Maps the segment read-only and checks it as RobotAdaptor::open does (identity, layout,
-  // producer alive and running, header values), without claiming anything.
+  // Maps the segment read-only and checks it as RobotAdaptor::open does (owner, identity,
+  // layout, producer alive and running, header values), without claiming anything.
   Status open(const std::string& segment_name, const ObserverOptions& options = {});
 
   // Waits up to `timeout` [s] for a sensor block newer than the last one this observer
   // returned (the first call returns the block published last, if any), and copies it into
-  // `*out` (the entries in use). kOk, kTimeout, kProducerGone, kProducerStopped or kNotOpen.
+  // `*out` (the entries in use). kOk, kTimeout, kProducerGone, kProducerStopped or kNotOpen;
+  // kSyncCorrupted or kSegmentCorrupted once the segment is found faulty (checked at each look,
+  // as RobotAdaptor::read does: a truncated file ends the observer with a result, no SIGBUS).
   // Once the producer has stopped, the last block it published is still returned once.
   ReadResult read(SensorBlock* out, double timeout);
 
@@ -74,6 +77,10 @@ class Observer {
   SegmentHeader header_{};
   ObserverOptions options_;
   uint64_t last_seq_ = 0;  // seqlock value of the last block returned (0: none yet)
+  int fd_ = -1;            // the segment's file, for fstat
+  int watch_ = -1;         // the mapping watch's slot of the segment (segment_guard.h)
+  int requests_watch_ = -1;  // and of the requests' page
+  SegmentFault fault_ = SegmentFault::kNone;
 };
 
 }  // namespace ohrp::shm
