@@ -11,6 +11,7 @@
 
 #include "controllers/self_collision_guard.h"
 #include "shm_bridge/bridge.h"
+#include "shm_bridge/realtime.h"
 
 namespace ohrp::controllers {
 namespace {
@@ -176,6 +177,15 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       << header.njoint << " joints, control period " << Fixed(header.control_period * 1e3, 3)
       << " ms, producer " << producer << std::endl;
   if (options.fall_watch) out << prog << ": " << watch.Summary() << std::endl;
+  if (options.rt_priority > 0) {
+    // the hardware chain's controller: SCHED_FIFO and locked memory where the system permits
+    // (shm_bridge/realtime.h); what it refuses is said, and the loop runs without it
+    rt::RtSettings rt_settings;
+    rt_settings.priority = options.rt_priority;
+    const rt::RtReport rt = rt::SetUpRealTime(rt_settings);
+    for (const std::string& w : rt.warnings) err << prog << ": " << w << "\n";
+    out << prog << ": real time: " << rt.Describe() << std::endl;
+  }
 
   //---------------- the cycle loop: no allocation, throwing or logging ----------------
   shm::SensorBlock sensors{};

@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/mount.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -75,6 +76,19 @@ std::string ScratchFolder(const std::string& tag) {
   const std::string p = ScratchPath(tag);
   fs::create_directory(p);
   return p;
+}
+
+ScratchTmpfs::ScratchTmpfs(const std::string& size) {
+  const std::string dir = ScratchFolder("tmpfs");
+  if (mount("ohrp_test", dir.c_str(), "tmpfs", 0, ("size=" + size).c_str()) == 0) {
+    dir_ = dir;
+  } else {
+    why_ = std::string("cannot mount a tmpfs here: ") + std::strerror(errno);
+  }
+}
+
+ScratchTmpfs::~ScratchTmpfs() {
+  if (!dir_.empty()) umount2(dir_.c_str(), MNT_DETACH);
 }
 
 std::string ReadFile(const std::string& path) {

@@ -26,6 +26,22 @@ std::string ScratchFile(const std::string& tag, const std::string& text,
 // A fresh, empty folder in the scratch folder.
 std::string ScratchFolder(const std::string& tag);
 
+// A small disk that fills up: a tmpfs of `size` ("64k") mounted on a fresh scratch folder,
+// unmounted when this goes. Mounting needs root: when it fails, dir() is "" and why() says why
+// (the caller skips). For the "disk full" cases of the logs and outputs.
+class ScratchTmpfs {
+ public:
+  explicit ScratchTmpfs(const std::string& size);
+  ~ScratchTmpfs();
+  ScratchTmpfs(const ScratchTmpfs&) = delete;
+  ScratchTmpfs& operator=(const ScratchTmpfs&) = delete;
+  const std::string& dir() const { return dir_; }
+  const std::string& why() const { return why_; }
+
+ private:
+  std::string dir_, why_;
+};
+
 // The whole text of the file at `path` (a program's output, a log, a report); "" when it cannot
 // be read.
 std::string ReadFile(const std::string& path);

@@ -2,7 +2,6 @@
 // --summary and --stats checked writable before anything runs (exit 2, path and reason), a full
 // disk under the log is exit 9 with the rows ON DISK reported (the issue: "4103 rows" said, 189 on
 // disk), and --log-max bounds the log.
-#include <sys/mount.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -50,14 +49,11 @@ TEST_F(HwDriverProcess, OutputsThatCannotBeWrittenAreRefusedBeforeTheRun) {
 }
 
 TEST_F(HwDriverProcess, AFullDiskUnderTheLogIsExit9WithTheRowsOnDisk) {
-  const std::string dir = ohrp::testing::ScratchFolder("tmpfs");
-  if (mount("ohrp_test", dir.c_str(), "tmpfs", 0, "size=32k") != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << "); "
-                 << "robot_model_recorder_test fails a write with a file size limit instead";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
-  } unmount{dir};
+  const ohrp::testing::ScratchTmpfs disk("32k");
+  if (disk.dir().empty())
+    GTEST_SKIP() << disk.why() << "; robot_model_recorder_test fails a write with a file size "
+                 << "limit instead";
+  const std::string& dir = disk.dir();
   const std::string log = dir + "/log.csv";
   Start({"--duration", "1", "--log", log});
   EXPECT_EQ(Wait(), 9) << Stderr();

@@ -118,7 +118,8 @@ class DriverEndToEnd : public ::testing::Test {
 
     // the controller, as against sim_host
     posture_ = readme_defaults_
-                   ? Exec({kBin + "/posture", "--segment", segment_}, Path("posture.out"))
+                   ? Exec({kBin + "/posture", "--segment", segment_, "--rt-priority", "70"},
+                          Path("posture.out"))
                    : Exec({kBin + "/posture", "--segment", segment_, "--ramp", "1.0"},
                           Path("posture.out"));
     if (during) during(port);
@@ -174,7 +175,7 @@ class DriverEndToEnd : public ::testing::Test {
   };
   std::vector<Row> rows_;
   nlohmann::json summary_;
-  bool readme_defaults_ = false;  // RunChain: hw_driver and posture with their defaults only
+  bool readme_defaults_ = false;  // RunChain: hw_driver and posture as the README runs them
   std::string segment_;
   fs::path dir_;
   pid_t emulator_ = -1, driver_ = -1, posture_ = -1;

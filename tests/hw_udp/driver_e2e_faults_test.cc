@@ -98,8 +98,12 @@ TEST_F(DriverEndToEnd, ImplausibleAndNanJointValuesFor200MsEndInASafeModeNamingB
     EXPECT_EQ(bad[0]["board"], c.board);
     EXPECT_EQ(bad[0]["joint"], c.joint);
     EXPECT_GT(bad[0]["time"].get<double>(), 1.9);
-    if (c.joint == 2) EXPECT_EQ(bad[0]["reading"].get<double>(), 1e300);
-    if (c.joint == 15) EXPECT_EQ(bad[0]["reading"], "nan");
+    if (c.joint == 2) {
+      EXPECT_EQ(bad[0]["reading"].get<double>(), 1e300);
+    }
+    if (c.joint == 15) {
+      EXPECT_EQ(bad[0]["reading"], "nan");
+    }
     for (const auto& e : Events(summary_, "safe_mode")) EXPECT_TRUE(e["value"] == 7 || e["value"] == 6);
     std::printf("[ figures  ] %s: event %s\n", c.value, bad[0].dump().c_str());
     fs::remove(Path("emu.csv"));

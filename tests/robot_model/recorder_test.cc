@@ -4,7 +4,6 @@
 // Also the output files' checks (robot_model/output_file.h) and --log-max's sizes.
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/mount.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -121,14 +120,10 @@ TEST(Recorder, AWriteStoppedByTheFileSizeLimitIsAFailureAndNoHalfRowStays) {
 
 // a small tmpfs filled by the log: ENOSPC, the "disk full" (root only: skipped without)
 TEST(Recorder, AFullDiskIsAFailureNamingItAndTheRowsOnDiskAreCounted) {
-  const std::string dir = ScratchFolder("tmpfs");
-  if (mount("ohrp_test", dir.c_str(), "tmpfs", 0, "size=64k") != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << "): the file size "
-                 << "limit test covers the failed write";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
-  } unmount{dir};
+  const ohrp::testing::ScratchTmpfs disk("64k");
+  if (disk.dir().empty())
+    GTEST_SKIP() << disk.why() << ": the file size limit test covers the failed write";
+  const std::string& dir = disk.dir();
   const std::string path = dir + "/log.csv";
   std::string error;
   auto r = Recorder::Open(path, kNames, &error, 4096);

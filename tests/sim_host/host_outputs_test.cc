@@ -2,7 +2,6 @@
 // writable before anything runs (exit 2 naming the path and the reason), a full disk under the
 // log is a failed run (exit 9, the file and the error named, the summary's log_rows = the rows
 // in the file, an event), and --log-max bounds the log and says what it left out.
-#include <sys/mount.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -73,14 +72,11 @@ TEST_F(SimHostProcess, TheSummarySaysRunningUntilTheEnd) {
 
 // the figures: with the disk full, sim_host wrote 161 of 2001 rows and said 2001, exit 0
 TEST_F(SimHostProcess, AFullDiskUnderTheLogIsAFailedRunWithTheRowsOnDiskCounted) {
-  const std::string dir = ohrp::testing::ScratchFolder("tmpfs");
-  if (mount("ohrp_test", dir.c_str(), "tmpfs", 0, "size=64k") != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << "); "
-                 << "robot_model_recorder_test fails a write with a file size limit instead";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
-  } unmount{dir};
+  const ohrp::testing::ScratchTmpfs disk("64k");
+  if (disk.dir().empty())
+    GTEST_SKIP() << disk.why() << "; robot_model_recorder_test fails a write with a file size "
+                 << "limit instead";
+  const std::string& dir = disk.dir();
   const std::string log = dir + "/log.csv";
   const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
   // paced to the wall clock: the tmpfs fills in about 1 s, and the run must end there, not at 20 s

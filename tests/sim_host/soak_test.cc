@@ -113,7 +113,7 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
   std::vector<std::string> args = {
       ct::Program("sim_host"), "--scene",
       std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", "--keyframe", "halfsit",
-      "--segment", segment, "--realtime", "--duration", "0", "--on-controller-loss", "wait",
+      "--segment", segment, "--realtime", "--duration", "0", "--on-controller-loss", "wait", "--on-fall", "continue",
       "--wait-controller", "60", "--log", log, "--summary", summary, "--progress", "0"};
   std::vector<double> push_t0;
   for (double t = 0.5 * kPushEvery; t < seconds; t += kPushEvery) {

@@ -25,7 +25,7 @@
 #include "hw_driver/driver.h"
 #include "hw_driver/lateness.h"
 #include "hw_driver/program.h"
-#include "hw_driver/rt.h"
+#include "shm_bridge/realtime.h"
 #include "hw_driver/wake.h"
 #include "shm_bridge/clock.h"
 
@@ -160,9 +160,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   // one policy for every loop: set here, on this thread, once
-  ohrp::hw::RtSettings rt;
+  ohrp::rt::RtSettings rt;
   rt.priority = priority;
-  const ohrp::hw::RtReport report = ohrp::hw::SetUpRealTime(rt);
+  const ohrp::rt::RtReport report = ohrp::rt::SetUpRealTime(rt);
   for (const auto& w : report.warnings) std::fprintf(stderr, "bench_rt: warning: %s\n", w.c_str());
 
   StubIo io;

@@ -35,6 +35,12 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
   app->add_flag_callback(
       "--no-fall-watch", [run] { run->fall_watch = false; },
       "do not end the run when the robot falls (exit 8): for experiments that expect a fall");
+  app->add_option("--rt-priority", run->rt_priority,
+                  "SCHED_FIFO priority of the cycle loop, with memory locked, where the system "
+                  "permits (root, CAP_SYS_NICE or ulimit -r; refused: said, and the loop runs "
+                  "without); 0: the normal scheduler. For the hardware chain (hw_driver/README.md): "
+                  "below the driver's 80, e.g. 70")
+      ->default_val(0)->check(cli::Plausible("priority"));
   app->footer(ExitCodeHelp());
 }
 

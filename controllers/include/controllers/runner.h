@@ -59,6 +59,8 @@ struct RunOptions {
   std::string self_collision;
   bool self_collision_is_default = false;
   bool fall_watch = true;              // false: falls are not detected (--no-fall-watch)
+  int rt_priority = 0;                 // > 0: the cycle loop runs SCHED_FIFO at this priority
+                                       // with locked memory, where permitted (--rt-priority)
 };
 
 // The self-collision file shipped for HRP-1S (mjcf/hrp1s/selfcollision.yaml of the source tree).

@@ -47,9 +47,9 @@ Driver::~Driver() { delete impl_; }
 
 void Driver::SetLog(model::Recorder* log) { impl_->log = log; }
 
-const RtReport& Driver::PrepareRealTime() {
+const rt::RtReport& Driver::PrepareRealTime() {
   if (!rt_prepared_) {
-    rt_ = SetUpRealTime(impl_->opt.rt);
+    rt_ = rt::SetUpRealTime(impl_->opt.rt);
     rt_prepared_ = true;
   }
   return rt_;

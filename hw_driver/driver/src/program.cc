@@ -280,7 +280,7 @@ int RunProgram(const ProgramOptions& o) {
   });
 
   //---------------- run ----------------
-  const RtReport& rt = driver.PrepareRealTime();  // after the reporter: it stays SCHED_OTHER
+  const rt::RtReport& rt = driver.PrepareRealTime();  // after the reporter: it stays SCHED_OTHER
   for (const std::string& w : rt.warnings) std::fprintf(stderr, "hw_driver: warning: %s\n", w.c_str());
   const int exit_code = driver.Run();
   reporter_stop.store(true);

@@ -137,6 +137,13 @@ std::string Num(double v) {
   return b;
 }
 
+// true when the sim_host summary at `path` says the run ended ("running" until its end)
+bool RanToAnEnd(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_object() && j.contains("outcome") && j["outcome"] != "running";
+}
+
 }  // namespace
 
 CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::json& sim,
@@ -286,9 +293,9 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     std::fprintf(stderr, "ohrp_run: %s: sim_host refused the scenario's settings (exit 2):%s\n",
                  s.file.c_str(), said.c_str());
     return kRunUsage;
-  } else {
+  } else if (!RanToAnEnd(out_abs + "/sim_summary.json")) {
     aborted = "sim_host ended before it created its segment (exit " + std::to_string(sim.exit_code) + ")";
-  }
+  }  // else it ran and ended before the segment was seen here (a robot that fell at once)
   int interrupted = 0;
   while (!sim.done) {
     if (g_signal.load() && !interrupted) {

@@ -87,7 +87,7 @@
 
 #include "hw_driver/lateness.h"
 #include "hw_driver/robot_io.h"
-#include "hw_driver/rt.h"
+#include "shm_bridge/realtime.h"
 #include "hw_driver/wake.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/controller_loss.h"
@@ -130,7 +130,7 @@ struct DriverOptions {
   // a lost controller: kEnd ends the run after the safe mode; kWait turns the servos off and
   // waits for a new controller (kContinue is not offered: the robot is not left without one)
   shm::ControllerLoss on_controller_loss = shm::ControllerLoss::kEnd;
-  RtSettings rt;
+  rt::RtSettings rt;
   WakeOptions wake;                // how each cycle waits for its start (wake.h)
   int log_every = 1;               // cycles between rows of the data log (Driver::SetLog)
   double tracking_time = 0.25;     // [s] a tracking error may last this long (board_checks.h)
@@ -213,7 +213,7 @@ struct DriverResult {
   std::vector<Event> events;
   uint64_t events_dropped = 0;
   std::vector<uint32_t> rejected_per_joint;
-  RtReport rt;
+  rt::RtReport rt;
 };
 
 // Asks a running driver to stop (servo-off sequence) or to stop at once (emergency stop).
@@ -236,7 +236,7 @@ class Driver {
 
   // Applies options.rt to the calling thread (SCHED_FIFO, mlockall, stack) once; Run calls it
   // when the caller did not. Call it first to print its warnings before the loop starts.
-  const RtReport& PrepareRealTime();
+  const rt::RtReport& PrepareRealTime();
 
   // The data log (robot_model/recorder.h, sim_host's format without the ground-truth base
   // columns): each published sensor block (every options.log_every cycles; not the closing
@@ -256,7 +256,7 @@ class Driver {
   Impl* impl_;
   LiveStats live_;
   DriverResult result_;
-  RtReport rt_;
+  rt::RtReport rt_;
   bool rt_prepared_ = false;
 };
 

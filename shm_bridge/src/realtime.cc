@@ -1,5 +1,5 @@
-// Real-time set-up (see rt.h).
-#include "hw_driver/rt.h"
+// Real-time set-up (see realtime.h).
+#include "shm_bridge/realtime.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace ohrp::hw {
+namespace ohrp::rt {
 namespace {
 
 // touches `kb` KiB of stack below the caller, one write per page, so those pages are mapped
@@ -67,4 +67,4 @@ RtReport SetUpRealTime(const RtSettings& settings) {
   return r;
 }
 
-}  // namespace ohrp::hw
+}  // namespace ohrp::rt

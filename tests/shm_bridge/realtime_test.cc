@@ -1,5 +1,5 @@
-// Tests the real-time set-up of the calling thread (rt.h): what it sets that needs no privilege.
-#include "hw_driver/rt.h"
+// Tests the real-time set-up of the calling thread (shm_bridge/realtime.h): what it sets that needs no privilege.
+#include "shm_bridge/realtime.h"
 
 #include <sys/prctl.h>
 
@@ -7,7 +7,7 @@
 
 #include <thread>
 
-namespace ohrp::hw {
+namespace ohrp::rt {
 namespace {
 
 TEST(SetUpRealTime, SetsTheThreadsTimerSlackSoItsSleepsEndWhenAsked) {
@@ -40,4 +40,4 @@ TEST(SetUpRealTime, LeavesTheTimerSlackWhenAskedTo) {
 }
 
 }  // namespace
-}  // namespace ohrp::hw
+}  // namespace ohrp::rt

@@ -1,11 +1,12 @@
-// Real-time set-up of the calling thread: SCHED_FIFO, locked memory, a pre-faulted stack and
+// Real-time set-up of the calling thread (hw_driver's loop, a controller with --rt-priority,
+// bench_rt): SCHED_FIFO, locked memory, a pre-faulted stack and
 // the smallest timer slack, where the system permits; what could not be done is reported as one warning line each.
 #pragma once
 
 #include <string>
 #include <vector>
 
-namespace ohrp::hw {
+namespace ohrp::rt {
 
 struct RtSettings {
   int priority = 80;           // SCHED_FIFO priority of the calling thread; 0: leave the policy
@@ -29,4 +30,4 @@ struct RtReport {
 // is listed in the report's warnings and the loop runs without it.
 RtReport SetUpRealTime(const RtSettings& settings);
 
-}  // namespace ohrp::hw
+}  // namespace ohrp::rt
