@@ -136,8 +136,10 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
     r.bad = runs.size() % 3 == 2;
     r.signal = runs.size() % 3 == 1 ? SIGTERM : SIGKILL;
     r.pid = r.bad ? BadController(segment)
+                  // no fall watch: each controller must live until it is ended (a pushed-over
+                  // robot would end it at once)
                   : ct::Spawn({ct::Program("posture"), "--segment", segment, "--ramp", "0.5",
-                               "--attach-timeout", "30"},
+                               "--attach-timeout", "30", "--no-fall-watch"},
                               ctl);
     runs.push_back(r);
     const auto started = Clock::now();
@@ -159,7 +161,10 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   kill(sim, SIGINT);
-  ASSERT_EQ(ct::WaitExit(sim, 30.0), 130) << ct::ReadFile(err);
+  // interrupted (130), or 6 when the pushes toppled the robot on the way (--on-fall continue
+  // ran on: this test is about leaks and rows, and a fall decides the exit code)
+  const int code = ct::WaitExit(sim, 30.0);
+  ASSERT_TRUE(code == 130 || code == 6) << code << ": " << ct::ReadFile(err);
   const nlohmann::json s = nlohmann::json::parse(ct::ReadFile(summary));
   std::printf("soak: %.0f s, %zu controllers, %zu pushes, %lu cycles, RSS %ld kB after the "
               "warm-up, at most %ld kB\n",
@@ -196,6 +201,7 @@ TEST(SimHostSoak, ControllersComeAndGoUnderPushesAndBadCommandsWithoutLeaksOrLos
   std::vector<nlohmann::json> controller_events, push_events;
   for (const auto& e : s["events"]) {
     const std::string kind = e["event"];
+    if (kind == "fall") continue;  // the pushes may topple the robot (above)
     (kind.rfind("push_", 0) == 0 ? push_events : controller_events).push_back(e);
   }
   EXPECT_EQ(s["events_dropped"].get<long>(), 0);
