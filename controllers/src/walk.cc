@@ -159,7 +159,9 @@ void WalkController::Remap() noexcept {
     s.yaw = Wrap(s.yaw + dyaw);
     const double yaw = s.yaw;
     const double moved = walking::FitStep(feet, &s, walk_options_.limits);
-    if (moved > 0 || s.yaw != yaw) {
+    // counted for the next step only: it is the one walked as fitted (the later ones are moved
+    // again when it begins)
+    if (n == 0 && (moved > 0 || s.yaw != yaw)) {
       ++walk_stats_.steps_fitted;
       walk_stats_.max_fit = std::max(walk_stats_.max_fit, moved);
       walk_stats_.max_fit_yaw = std::max(walk_stats_.max_fit_yaw, std::abs(Wrap(s.yaw - yaw)));

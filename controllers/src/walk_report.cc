@@ -105,9 +105,9 @@ void WalkController::report(std::ostream& out) const {
   out << buf;
   if (w.steps_fitted > 0) {
     std::snprintf(buf, sizeof buf,
-                  "walk: the plan frame's correction moved a step out of the step limits against "
-                  "its stance foot %d time(s); each was set back within them, by up to %.1f mm "
-                  "and %.1f deg\n",
+                  "walk: the plan frame's correction moved %d step(s) out of the step limits "
+                  "against the stance foot; each was set back within them before it began, by up "
+                  "to %.1f mm and %.1f deg\n",
                   w.steps_fitted, w.max_fit * 1e3, w.max_fit_yaw * 180 / M_PI);
     out << buf;
   }

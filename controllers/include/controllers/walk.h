@@ -99,8 +99,9 @@ struct WalkStats {
   double max_com_error = 0;     // max |CoM estimated - planned| (plan frame, horizontal) [m]
   double max_zmp_error = 0;     // max |ZMP measured - desired| while walking [m]
   double max_frame_drift = 0;   // largest correction of the plan frame [m]
-  int steps_fitted = 0;         // times a step that the frame's correction had moved out of
-                                // the step limits was set back within them (walking::FitStep)
+  int steps_fitted = 0;         // steps that the frame's correction had moved out of the step
+                                // limits, set back within them before they began
+                                // (walking::FitStep; the next step of each remap)
   double max_fit = 0;           // the most such a step's sole was moved back [m]
   double max_fit_yaw = 0;       // and turned back [rad]
   bool stopped = false;         // SIGUSR1 stopped a walk
