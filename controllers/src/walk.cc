@@ -146,13 +146,28 @@ void WalkController::Remap() noexcept {
   if (first >= static_cast<int>(original.size())) return;
   const double dyaw = Wrap(frame_yaw_ - frame0_yaw_);
   const Eigen::Matrix3d R = Rz(dyaw);
+  // each moved step is kept within the step limits against the feet it steps from: the step
+  // under way was moved by the frame of an earlier remap, so a frame that turned since (a stance
+  // sole that twisted) can put the next step onto that sole; it is set back to the nearest place
+  // the limits allow (walking::FitStep), and counted
+  walking::FeetPose feet = gait.FeetAfter(std::max(k, chunk_first_ - 1));
   remap_.resize(original.size() - first);
   for (size_t n = 0; n < remap_.size(); ++n) {
     walking::Footstep s = original[first + n];
     const Eigen::Vector3d p = R * (s.p - frame0_p_) + frame_p_;
     s.p.head<2>() = p.head<2>();
     s.yaw = Wrap(s.yaw + dyaw);
+    const double yaw = s.yaw;
+    const double moved = walking::FitStep(feet, &s, walk_options_.limits);
+    // counted for the next step only: it is the one walked as fitted (the later ones are moved
+    // again when it begins)
+    if (n == 0 && (moved > 0 || s.yaw != yaw)) {
+      ++walk_stats_.steps_fitted;
+      walk_stats_.max_fit = std::max(walk_stats_.max_fit, moved);
+      walk_stats_.max_fit_yaw = std::max(walk_stats_.max_fit_yaw, std::abs(Wrap(s.yaw - yaw)));
+    }
     remap_[n] = s;
+    feet = walking::After(feet, s);
   }
   gen_.Replace(remap_);
 }

@@ -103,6 +103,14 @@ void WalkController::report(std::ostream& out) const {
                 w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
                 static_cast<unsigned long long>(w.ik_failures));
   out << buf;
+  if (w.steps_fitted > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "walk: the plan frame's correction moved %d step(s) out of the step limits "
+                  "against the stance foot; each was set back within them before it began, by up "
+                  "to %.1f mm and %.1f deg\n",
+                  w.steps_fitted, w.max_fit * 1e3, w.max_fit_yaw * 180 / M_PI);
+    out << buf;
+  }
   if (w.ik_failures > 0) {
     static const char* what[] = {"the left leg cannot reach its sole's target",
                                  "the right leg cannot reach its sole's target",

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "stances.h"
@@ -140,6 +141,97 @@ TEST(SoleGap, MatchesClosedForms) {
   // corner to corner along the diagonal: the distance between the nearest corners
   const Eigen::Vector3d diag(2 * hx + 0.03, 2 * hy + 0.04, 0);
   EXPECT_NEAR(SoleGap(diag, 0, o, 0, l), 0.05, 1e-12);
+}
+
+// FitStep: a step within the limits is left as it is; one beyond a limit comes back onto it, the
+// least move (checked against CheckStep and the sole gap's closed form)
+TEST(FitStep, LeavesAStepWithinTheLimitsAlone) {
+  const StepLimits l;
+  for (int foot : {kLeft, kRight}) {
+    for (const Footstep& s : {Landing(foot, 0.1, l.width, 0, l),
+                              Landing(foot, l.max_forward, l.width + l.max_side, l.max_turn, l)}) {
+      ASSERT_EQ(CheckStep(Stance(l.width), s, l), "");
+      Footstep fitted = s;
+      EXPECT_EQ(FitStep(Stance(l.width), &fitted, l), 0.0);
+      EXPECT_EQ(fitted.p, s.p);
+      EXPECT_EQ(fitted.yaw, s.yaw);
+    }
+  }
+}
+
+TEST(FitStep, ClampsForwardBackwardTurnAndWidth) {
+  const StepLimits l;
+  const FeetPose feet = Stance(l.width);
+  for (int foot : {kLeft, kRight}) {
+    const double out = foot == kLeft ? 1 : -1;
+    Footstep s = Landing(foot, l.max_forward + 0.05, l.width, 0, l);
+    EXPECT_NEAR(FitStep(feet, &s, l), 0.05, 1e-12);
+    EXPECT_NEAR(s.p.x(), l.max_forward, 1e-12);
+    s = Landing(foot, -l.max_backward - 0.03, l.width, 0, l);
+    EXPECT_NEAR(FitStep(feet, &s, l), 0.03, 1e-12);
+    EXPECT_NEAR(s.p.x(), -l.max_backward, 1e-12);
+    s = Landing(foot, 0, l.width + l.max_side + 0.04, 0, l);
+    EXPECT_NEAR(FitStep(feet, &s, l), 0.04, 1e-12);
+    EXPECT_NEAR(out * (s.p.y() - feet.p[1 - foot].y()), l.width + l.max_side, 1e-12);
+    // toes in beyond max_turn_in (well apart: only the turn is out of the limits)
+    s = Landing(foot, 0, l.width + 0.05, -l.max_turn_in - 0.1, l);
+    EXPECT_NEAR(FitStep(feet, &s, l), 0.0, 1e-12);  // the sole did not move, it turned
+    EXPECT_NEAR(out * s.yaw, -l.max_turn_in, 1e-12);
+    EXPECT_EQ(CheckStep(feet, s, l), "") << SideName(foot);
+  }
+}
+
+TEST(FitStep, SetsASoleOnTheStanceSoleOutByTheLeastShift) {
+  // the closing step of the walk on the 5 deg slope (HRP-1S: soles 0.25 x 0.14 m, width 0.18 m)
+  // as its plan frame's correction put it: 138 mm beside the right sole, toes in 3.5 deg, the
+  // soles overlapping by 9 mm
+  StepLimits l;
+  l.width = 0.18;
+  l.sole_half_size = Eigen::Vector2d(0.125, 0.07);
+  FeetPose feet = Stance(l.width);
+  feet.p[kRight] = Eigen::Vector3d(5.16237, 0.208331, 0);
+  feet.yaw[kRight] = 0.0381;
+  Footstep s;
+  s.foot = kLeft;
+  s.p = Eigen::Vector3d(5.15069, 0.346431, 0.01);
+  s.yaw = -0.0223;
+  const double before = SoleGap(s.p, s.yaw, feet.p[kRight], feet.yaw[kRight], l);
+  EXPECT_NEAR(before, -0.009, 0.0005);
+  EXPECT_NE(CheckStep(feet, s, l).find("clearance"), std::string::npos);
+  const Footstep planned = s;
+  const double moved = FitStep(feet, &s, l);
+  EXPECT_EQ(CheckStep(feet, s, l), "");
+  // the least shift: the gap is the clearance; only sideways (in the stance sole's frame), the
+  // yaw and the height kept
+  EXPECT_NEAR(SoleGap(s.p, s.yaw, feet.p[kRight], feet.yaw[kRight], l), l.clearance, 1e-6);
+  const Eigen::Vector2d d0 = Eigen::Rotation2Dd(-feet.yaw[kRight]) * (planned.p - feet.p[kRight]).head<2>();
+  const Eigen::Vector2d d1 = Eigen::Rotation2Dd(-feet.yaw[kRight]) * (s.p - feet.p[kRight]).head<2>();
+  EXPECT_NEAR(d1.x(), d0.x(), 1e-9);
+  EXPECT_GT(d1.y(), d0.y());
+  EXPECT_NEAR(moved, d1.y() - d0.y(), 1e-9);
+  EXPECT_NEAR(moved, (s.p - planned.p).norm(), 1e-9);
+  EXPECT_GT(moved, 0.015);  // at least the overlap and the clearance, less the turn's share
+  EXPECT_LT(moved, 0.025);
+  EXPECT_EQ(s.yaw, planned.yaw);
+  EXPECT_EQ(s.p.z(), planned.p.z());
+}
+
+TEST(FitStep, TurnsTheSoleParallelWhenNoLateralPlaceClearsIt) {
+  // the soles side by side at exactly their width plus the clearance, no side step: a sole
+  // turned toes in ahead of the stance sole touches it wherever it goes sideways
+  StepLimits l;
+  l.width = 2 * l.sole_half_size.y() + l.clearance;
+  l.max_side = 0;
+  for (int foot : {kLeft, kRight}) {
+    const double out = foot == kLeft ? 1 : -1;
+    const FeetPose feet = Stance(l.width);
+    Footstep s = Landing(foot, 0.1, l.width, -l.max_turn_in, l);
+    ASSERT_NE(CheckStep(feet, s, l).find("clearance"), std::string::npos);
+    FitStep(feet, &s, l);
+    EXPECT_EQ(s.yaw, feet.yaw[1 - foot]) << SideName(foot);
+    EXPECT_NEAR(out * (s.p.y() - feet.p[1 - foot].y()), l.width, 1e-9);
+    EXPECT_EQ(CheckStep(feet, s, l), "") << SideName(foot);
+  }
 }
 
 TEST(MidFrame, AveragesTheYawOnTheCircle) {

@@ -99,6 +99,11 @@ struct WalkStats {
   double max_com_error = 0;     // max |CoM estimated - planned| (plan frame, horizontal) [m]
   double max_zmp_error = 0;     // max |ZMP measured - desired| while walking [m]
   double max_frame_drift = 0;   // largest correction of the plan frame [m]
+  int steps_fitted = 0;         // steps that the frame's correction had moved out of the step
+                                // limits, set back within them before they began
+                                // (walking::FitStep; the next step of each remap)
+  double max_fit = 0;           // the most such a step's sole was moved back [m]
+  double max_fit_yaw = 0;       // and turned back [rad]
   bool stopped = false;         // SIGUSR1 stopped a walk
   double walk_start = -1;       // producer time the generator started [s]
 };
@@ -151,7 +156,8 @@ class WalkController : public BalanceController {
   void StartWalking(const shm::SensorBlock& s) noexcept;
   void WalkCycle(const shm::SensorBlock& s, double dt) noexcept;
   void NextCommand(double now) noexcept;
-  // the command's steps not yet begun, corrected by the plan frame's drift since the start
+  // the command's steps not yet begun, corrected by the plan frame's drift since the start and
+  // kept within the step limits against the feet each steps from (walking::FitStep)
   void Remap() noexcept;
   void Stop() noexcept;
   // the estimate's frame onto the plan's, from the supporting feet

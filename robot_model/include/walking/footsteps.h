@@ -107,6 +107,17 @@ std::string CheckStep(const FeetPose& feet, const Footstep& step, const StepLimi
 std::string CheckSteps(const FeetPose& start, const std::vector<Footstep>& steps,
                        const StepLimits& limits);
 
+// `step` moved the least into the planar limits of CheckStep against the stance of `feet`
+// (used where a step planned earlier is moved at run time, e.g. by a correction of the walk's
+// frame, and may have come too close to the stance sole): its turn clamped to max_turn_in ..
+// max_turn, its position in the stance foot's frame clamped to min_width .. width + max_side
+// beside it and max_backward .. max_forward ahead, then set out sideways by the least amount
+// (2 mm scan, then bisection) that keeps the clearance between the soles, turned parallel to
+// the stance sole if no lateral place within width + max_side does. Height, tilt, duration and
+// apex are kept. Returns how far the sole's centre moved [m] (0: it kept the limits; the yaw
+// change is in step->yaw). Allocates nothing (a real-time path may call it).
+double FitStep(const FeetPose& feet, Footstep* step, const StepLimits& limits);
+
 // Go to a goal (x, y, yaw) given in the start's mid frame [m, m, rad] (a yaw beyond +-pi is
 // taken the short way round): the fewest steps within the limits that this walk finds (the mid
 // frame moves by per-step increments in its own frame, each foot taking its share: the outward

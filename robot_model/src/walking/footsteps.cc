@@ -12,6 +12,7 @@ namespace ohrp::walking {
 namespace {
 
 constexpr double kTol = 1e-9;  // [m or rad] allowed beyond a limit (rounding of planned steps)
+constexpr double kShiftStep = 0.002;  // [m] FitStep's scan of the outward shift that clears the soles
 
 // a number for a message, with 3 decimals
 std::string Fmt(double v) {
@@ -225,6 +226,54 @@ std::string CheckStepLimit(const FeetPose& feet, const Footstep& step, const Ste
                       "turn it less)");
   *which = Limit::kNone;
   return "";
+}
+
+double FitStep(const FeetPose& feet, Footstep* step, const StepLimits& l) {
+  if ((step->foot != kLeft && step->foot != kRight) || !step->p.allFinite() ||
+      !std::isfinite(step->yaw))
+    return 0;
+  const int s = 1 - step->foot;
+  const double out = step->foot == kLeft ? 1 : -1;  // outward, in the stance foot's frame
+  const Eigen::Rotation2Dd R(feet.yaw[s]);
+  const Eigen::Vector2d from = step->p.head<2>();
+  // turn, then the place in the stance foot's frame, clamped to the limits
+  const double turn0 = out * WrapAngle(step->yaw - feet.yaw[s]);
+  const double turn = std::clamp(turn0, -l.max_turn_in, l.max_turn);
+  Eigen::Vector2d d = InFrame(step->p, feet.p[s], feet.yaw[s]);
+  const double lateral0 = out * d.y();
+  double lateral = std::clamp(lateral0, l.min_width, l.width + l.max_side);
+  const double forward0 = d.x();
+  d.x() = std::clamp(d.x(), -l.max_backward, l.max_forward);
+  // a step within the limits (CheckStep's tolerance) stays as it is
+  const bool inside = std::abs(turn - turn0) <= kTol && std::abs(lateral - lateral0) <= kTol &&
+                      std::abs(d.x() - forward0) <= kTol &&
+                      SoleGap(step->p, step->yaw, feet.p[s], feet.yaw[s], l) >= l.clearance - kTol;
+  if (inside) return 0;
+  double yaw = WrapAngle(feet.yaw[s] + out * turn);
+  auto place = [&](double lat) {
+    const Eigen::Vector2d xy = feet.p[s].head<2>() + R * Eigen::Vector2d(d.x(), out * lat);
+    return Eigen::Vector3d(xy.x(), xy.y(), step->p.z());
+  };
+  auto clear = [&](double lat, double y) {
+    return SoleGap(place(lat), y, feet.p[s], feet.yaw[s], l) >= l.clearance;
+  };
+  // set out sideways by the least amount that clears the soles; parallel to the stance sole if
+  // no lateral place does (side by side at `width` the soles always clear: CheckLimits)
+  const double widest = l.width + l.max_side;
+  if (!clear(lateral, yaw)) {
+    if (!clear(widest, yaw)) yaw = feet.yaw[s];
+    double lo = lateral, hi = lateral;
+    while (!clear(hi, yaw) && hi < widest) {
+      lo = hi;
+      hi = std::min(widest, hi + kShiftStep);
+    }
+    for (int i = 0; i < 30 && hi - lo > 1e-9; ++i) (clear(0.5 * (lo + hi), yaw) ? hi : lo) = 0.5 * (lo + hi);
+    lateral = hi;
+  }
+  const Eigen::Vector3d p = place(lateral);
+  step->p.head<2>() = p.head<2>();
+  step->yaw = yaw;
+  return (step->p.head<2>() - from).norm();
 }
 
 std::string CheckSteps(const FeetPose& start, const std::vector<Footstep>& steps,
