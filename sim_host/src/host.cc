@@ -255,11 +255,12 @@ int RunHost(const HostOptions& options) {
   };
   while (!g_signal.load()) {
     if (o.duration > 0 && d->time >= o.duration - 0.5 * dt) break;
-    if (segment_corrupted()) break;
     if (recorder && recorder->failed()) break;  // the log is incomplete: a failed run (below)
 
-    // commands for the cycle just published
+    // commands for the cycle just published; the segment checked after this first read of it
+    // (a truncated file reads as zeros: "detached" would be no answer)
     const bool attached = producer->controller_pid() != 0;
+    if (segment_corrupted()) break;
     if (republish) {
       republish = false;
       publish(0, false);
