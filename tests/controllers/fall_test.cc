@@ -39,22 +39,14 @@ TEST(FallWatch, QuietWhileStandingFiresWhenLimpWithTheCause) {
   FallWatch watch;
   EXPECT_EQ(watch.Configure(robot->header(), DefaultFallLimits()), "");
   // the keyframe's pose held: 2 s standing, never a fall; the feet carry the weight (armed)
-  const int n = robot->header().njoint;
-  shm::CommandBlock hold{};
-  hold.njoint = n;
-  for (int j = 0; j < n; ++j) {
-    hold.joint[j].mode = shm::JointMode::kPosition;
-    hold.joint[j].q_ref = robot->sensors().q[j];
-    hold.joint[j].kp = robot->header().default_kp[j];
-    hold.joint[j].kd = robot->header().default_kd[j];
-  }
+  shm::CommandBlock hold = HoldWhereItIs(*robot);
   while (robot->sensors().time < 2.0) {
     ASSERT_FALSE(watch.Update(robot->sensors(), Controller::kNoTilt)) << watch.Describe();
     robot->Cycle(hold);
   }
   EXPECT_TRUE(watch.armed());
   // limp: the robot collapses; the watch fires within 3 s, after the limits' persistence
-  for (int j = 0; j < n; ++j) hold.joint[j].kp = hold.joint[j].kd = 0;
+  for (int j = 0; j < hold.njoint; ++j) hold.joint[j].kp = hold.joint[j].kd = 0;
   const double limp = robot->sensors().time;
   while (!watch.Update(robot->sensors(), Controller::kNoTilt) && robot->sensors().time < limp + 3)
     robot->Cycle(hold);

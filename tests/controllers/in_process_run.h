@@ -43,6 +43,20 @@ struct InProcessResult {
   double base_z = 0;        // truth at the end [m]
 };
 
+// A command block holding every joint where `robot` measures it now, on the header's gains.
+inline shm::CommandBlock HoldWhereItIs(const sim::InProcessRobot& robot) {
+  const int n = static_cast<int>(robot.header().njoint);
+  shm::CommandBlock hold{};
+  hold.njoint = n;
+  for (int j = 0; j < n; ++j) {
+    hold.joint[j].mode = shm::JointMode::kPosition;
+    hold.joint[j].q_ref = robot.sensors().q[j];
+    hold.joint[j].kp = robot.header().default_kp[j];
+    hold.joint[j].kd = robot.header().default_kd[j];
+  }
+  return hold;
+}
+
 inline InProcessResult RunInProcess(const std::string& tag, const InProcessRun& spec) {
   InProcessResult out;
   std::string error;
@@ -59,15 +73,7 @@ inline InProcessResult RunInProcess(const std::string& tag, const InProcessRun& 
   EXPECT_TRUE(producer) << status.message;
   if (!producer) return out;
   // before the program answers, the joints hold the keyframe's pose
-  const int n = static_cast<int>(robot->header().njoint);
-  shm::CommandBlock hold{};
-  hold.njoint = n;
-  for (int j = 0; j < n; ++j) {
-    hold.joint[j].mode = shm::JointMode::kPosition;
-    hold.joint[j].q_ref = robot->sensors().q[j];
-    hold.joint[j].kp = robot->header().default_kp[j];
-    hold.joint[j].kd = robot->header().default_kd[j];
-  }
+  const shm::CommandBlock hold = HoldWhereItIs(*robot);
   std::vector<std::string> args = spec.args;
   args.insert(args.begin() + 1, {"--segment", segment});
   const std::string log = TempPath(tag);
