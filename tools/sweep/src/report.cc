@@ -1,15 +1,11 @@
 // The sweep's report: sweep.csv, table.md and the plots (see sweep.h, docs/sweep.md).
-#include <fcntl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
 
 #include "sweep/sweep.h"
+#include "tool_process/run_command.h"
 
 namespace fs = std::filesystem;
 
@@ -60,31 +56,6 @@ std::string Slug(const std::string& s) {
   std::string out;
   for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' ? c : '_';
   return out;
-}
-
-// runs a program with its arguments, stdout and stderr into `output`; its exit code (127: it
-// could not run)
-int RunToFile(const std::vector<std::string>& argv, const std::string& output) {
-  std::vector<std::string> copy = argv;  // made before the fork: the child allocates nothing
-  std::vector<char*> args;
-  for (auto& a : copy) args.push_back(a.data());
-  args.push_back(nullptr);
-  const int fd = ::open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (fd >= 0) {
-      dup2(fd, 1);
-      dup2(fd, 2);
-    }
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  if (fd >= 0) ::close(fd);
-  if (pid < 0) return -1;
-  int st = 0;
-  while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
-  }
-  return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
 }
 
 }  // namespace
@@ -187,8 +158,12 @@ bool WriteReport(const SweepSpec& spec, const std::vector<VariantResult>& result
     const std::string file = (fs::path(out_dir) / ("plot_" + Slug(p.check) + "_vs_" + Slug(p.against) + ".png")).string();
     argv.insert(argv.end(), {"--plot", p.check, p.against, file, log_scale ? "log" : "linear"});
   }
-  if (RunToFile(argv, out_dir + "/plot.stderr") != 0) {
-    *error = "the plots could not be made (see " + out_dir + "/plot.stderr)";
+  // an argument vector, no shell (tool_process/run_command.h); the file is the last attempt's
+  const std::string plot_stderr = out_dir + "/plot.stderr";
+  fs::remove(plot_stderr);
+  std::string why;
+  if (ohrp::tool::RunCommand(argv, plot_stderr, &why) != 0) {
+    *error = "the plots could not be made (" + (why.empty() ? "see " + plot_stderr : why) + ")";
     return false;
   }
   return true;
