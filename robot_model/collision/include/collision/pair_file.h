@@ -31,11 +31,29 @@ struct SafeRange {
   std::vector<LinkPair> pairs;  // the pairs it prunes (checked online when the joint leaves it)
 };
 
+// What a joint can do, for the online guard's braking check (controllers/self_collision_guard.h):
+// written by ohrp_selfcollision from the model (collision/joint_dynamics.h), by segment joint id.
+// The torque limit is not here: the guard takes the producer's (SegmentHeader::tau_max).
+struct JointDynamics {
+  double inertia_max = 0;   // [kg m^2] upper bound of the inertia the joint's torque drives, in
+                            // any posture: reflected rotor inertia (armature) plus the larger of
+                            // the links beyond the joint and the rest of the robot about its axis
+  double inertia_min = 0;   // [kg m^2] lower bound of the same (at least the armature)
+  double gravity_max = 0;   // [N m] bound of the gravity torque about the joint, any posture
+  double damping = 0;       // [N m s/rad] the joint's passive damping
+  double velocity_max = 0;  // [rad/s] the joint's speed limit where the model or robot profile
+                            // states one, else 0 (none known)
+};
+
 struct SelfCollisionFile {
   RobotGeometry robot;
   double margin = 0.01;  // [m]
   std::vector<LinkPair> online, structural, never;
+  // per structural pair (same order): the signed distance it must keep [m] (built-in overlap at
+  // the zero or reference posture, less a tolerance); empty in a file without floors
+  std::vector<double> structural_floor;
   std::vector<SafeRange> ranges;
+  std::vector<JointDynamics> dynamics;  // by segment joint id; empty in a file without them
 };
 
 // Writes `file` to `path` as YAML. False with `*error` when it cannot be written.
