@@ -60,15 +60,22 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   check_ = std::make_unique<collision::IncrementalCheck>(checker_.get(), every_);
   list_.reserve(every_.size());
   on_list_.assign(every_.size(), 0);
-  q_.assign(njoint_, 0.0);
-  q_ahead_.assign(njoint_, 0.0);
-  last_q_.assign(njoint_, std::nan(""));  // matches no posture
-  safe_.assign(njoint_, 0.0);
+  // postures: the actuated joints, then the passive ones (measured: sensors.passive_q)
+  const int nq = collision::NumJoints(file_.robot);
+  if (nq - njoint_ != header.npassive)
+    return path + ": has " + std::to_string(nq - njoint_) + " passive joints, the segment " +
+           std::to_string(header.npassive);
+  q_.assign(nq, 0.0);
+  q_ahead_.assign(nq, 0.0);
+  last_q_.assign(nq, std::nan(""));  // matches no posture
+  safe_.assign(nq, 0.0);
   return "";
 }
 
 void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
   for (int j = 0; j < njoint_; ++j) safe_[j] = std::isfinite(sensors.q[j]) ? sensors.q[j] : 0.0;
+  for (size_t k = njoint_; k < safe_.size(); ++k)  // passive joints, as measured
+    safe_[k] = std::isfinite(sensors.passive_q[k - njoint_]) ? sensors.passive_q[k - njoint_] : 0.0;
   safe_distance_ = Closest(safe_).min_distance;
 }
 
@@ -97,6 +104,11 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     q_[j] = position ? jc.q_ref : sensors.q[j];
     const double v = position && std::isfinite(jc.dq_ref) ? jc.dq_ref : sensors.dq[j];
     q_ahead_[j] = q_[j] + (std::isfinite(v) ? v : 0.0) * period_;
+  }
+  for (size_t k = njoint_; k < q_.size(); ++k) {  // passive joints: measured, never commanded
+    const double v = sensors.passive_dq[k - njoint_];
+    q_[k] = sensors.passive_q[k - njoint_];
+    q_ahead_[k] = q_[k] + (std::isfinite(v) ? v : 0.0) * period_;
   }
   // the same posture as the last cycle's (a held pose): the same answer, no check; a posture
   // that does not move within the period (no velocity): one check, not two

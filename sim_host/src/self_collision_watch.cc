@@ -41,16 +41,17 @@ std::unique_ptr<SelfCollisionWatch> SelfCollisionWatch::Create(const mjModel* m,
   }
   const std::vector<collision::LinkPair> all = collision::NonAdjacentPairs(g);
   w->all_pairs_ = static_cast<int>(all.size());
-  w->q_.assign(robot.joints.size(), 0.0);
+  w->q_.assign(collision::NumJoints(g), 0.0);  // actuated, then passive joints
   if (file.empty()) {
     w->source_ = "all non-adjacent pairs";
     w->pairs_ = all;
-    // parts built into each other: in contact at the zero posture or in a keyframe
+    // parts built into each other: in contact at the model's zero posture (qpos0, as built) or
+    // in a keyframe
+    collision::PostureFromQpos(robot, m->qpos0, w->q_);
     w->checker_->SetPose(w->q_);
     w->ExcludeTouching("the zero posture");
     for (int k = 0; k < m->nkey; ++k) {
-      for (size_t i = 0; i < robot.joints.size(); ++i)
-        w->q_[i] = m->key_qpos[k * m->nq + robot.joints[i].qpos_adr];
+      collision::PostureFromQpos(robot, m->key_qpos + k * m->nq, w->q_);
       w->checker_->SetPose(w->q_);
       const char* n = mj_id2name(m, mjOBJ_KEY, k);
       w->ExcludeTouching(std::string("keyframe ") + (n ? n : std::to_string(k)));
@@ -118,7 +119,7 @@ void SelfCollisionWatch::TrackPairs() {
 }
 
 void SelfCollisionWatch::ReadPose(const mjData* d) {
-  for (size_t i = 0; i < q_.size(); ++i) q_[i] = d->qpos[robot_->joints[i].qpos_adr];
+  collision::PostureFromQpos(*robot_, d->qpos, q_);
   checker_->SetPose(q_);
 }
 
@@ -132,7 +133,7 @@ void SelfCollisionWatch::Start(const mjData* d) {
 
 void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
   const double t0 = ThreadCpuSeconds();
-  for (size_t j = 0; j < q_.size(); ++j) q_[j] = d->qpos[robot_->joints[j].qpos_adr];
+  collision::PostureFromQpos(*robot_, d->qpos, q_);  // the simulated passive joints too
   check_->MoveTo(q_);
   const uint64_t before = check_->measured();
   check_->CheckAll(0.0);
@@ -172,6 +173,11 @@ std::string SelfCollisionWatch::Describe() const {
     if (!excluded_.empty())
       s += " less " + std::to_string(excluded_.size()) + " in contact at the zero posture, a keyframe or the start";
     s += ")";
+  }
+  const auto& unchecked = checker_->robot().unchecked;
+  if (!unchecked.empty()) {
+    s += "; not in the geometry, never checked:";
+    for (size_t i = 0; i < unchecked.size(); ++i) s += (i ? "; " : " ") + unchecked[i];
   }
   return s;
 }

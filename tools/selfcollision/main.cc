@@ -28,10 +28,18 @@ std::string Report(const PruneResult& r, double seconds) {
                 r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
                 seconds);
   s += line;
+  if (!f.robot.passive_names.empty()) {
+    s += "passive joints (no actuator: the segment's passive_q, never commanded, moving within "
+         "their limits; an unlimited hinge over -pi..pi):";
+    for (const auto& n : f.robot.passive_names) s += " " + n;
+    s += "\n\n";
+  }
+  for (const auto& u : f.robot.unchecked) s += "not in the geometry, never checked: " + u + "\n";
+  if (!f.robot.unchecked.empty()) s += "\n";
   s += "## safe ranges [rad, m for slides] (the full range in brackets)\n\n";
   for (const auto& g : f.ranges) {
     std::snprintf(line, sizeof(line), "- %s: %.4f .. %.4f  [%.4f .. %.4f], %zu pairs\n",
-                  f.robot.joint_names[g.joint].c_str(), g.lo, g.hi, f.robot.q_min[g.joint],
+                  ohrp::collision::JointName(f.robot, g.joint).c_str(), g.lo, g.hi, f.robot.q_min[g.joint],
                   f.robot.q_max[g.joint], g.pairs.size());
     s += line;
   }
@@ -119,13 +127,13 @@ int main(int argc, char** argv) {
 
   // the joints named for safe ranges
   for (const std::string& name : range_joints) {
-    const auto it = std::find(geometry.joint_names.begin(), geometry.joint_names.end(), name);
-    if (it == geometry.joint_names.end()) {
+    const int id = ohrp::collision::FindJoint(geometry, name);
+    if (id < 0) {
       std::fprintf(stderr, "ohrp_selfcollision: --range-joints: no joint '%s' in %s\n",
                    name.c_str(), model.c_str());
       return 2;
     }
-    o.range_joints.push_back(static_cast<int>(it - geometry.joint_names.begin()));
+    o.range_joints.push_back(id);
   }
 
   // the reference posture: a keyframe's joint angles
@@ -136,12 +144,17 @@ int main(int argc, char** argv) {
                    reference.c_str(), model.c_str());
       return 2;
     }
-    for (const auto& j : robot.joints) {
-      o.reference.push_back(scene->m()->key_qpos[key * scene->m()->nq + j.qpos_adr]);
+    // actuated and passive joints
+    o.reference.assign(ohrp::collision::NumJoints(geometry), 0.0);
+    ohrp::collision::PostureFromQpos(robot, scene->m()->key_qpos + key * scene->m()->nq, o.reference);
+    const size_t na = robot.joints.size();
+    for (size_t k = 0; k < o.reference.size(); ++k) {
       // a number of the model: the scans find its cell by division
-      if (scene->m()->jnt_type[j.joint_id] != mjJNT_HINGE) continue;
+      const int jid = k < na ? robot.joints[k].joint_id : robot.passive[k - na].joint_id;
+      if (scene->m()->jnt_type[jid] != mjJNT_HINGE) continue;
       const std::string e = ohrp::cli::CheckPlausible(
-          "angle", o.reference.back(), model + ": keyframe " + reference + ": joint " + j.name);
+          "angle", o.reference[k],
+          model + ": keyframe " + reference + ": joint " + ohrp::collision::JointName(geometry, static_cast<int>(k)));
       if (!e.empty()) {
         std::fprintf(stderr, "ohrp_selfcollision: %s\n", e.c_str());
         return 2;

@@ -41,12 +41,13 @@ bool GeomShape(const mjModel* m, int g, Shape* s, std::string* error) {
     case mjGEOM_CAPSULE: s->type = ShapeType::kCapsule; s->size = {size[0], size[1], 0}; break;
     case mjGEOM_CYLINDER: s->type = ShapeType::kCylinder; s->size = {size[0], size[1], 0}; break;
     case mjGEOM_BOX: s->type = ShapeType::kBox; s->size = Vec(size); break;
+    case mjGEOM_ELLIPSOID: s->type = ShapeType::kEllipsoid; s->size = Vec(size); break;
     case mjGEOM_MESH:
       s->type = ShapeType::kConvex;
       if (!MeshHull(m, m->geom_dataid[g], s, error)) return false;
       break;
     default:
-      *error = "is a plane, height field or ellipsoid: use a box, sphere, capsule, cylinder or mesh";
+      *error = "is a plane or height field: use a box, sphere, capsule, cylinder, ellipsoid or mesh";
       return false;
   }
   s->p_LS = Vec(m->geom_pos + 3 * g);
@@ -59,7 +60,55 @@ const char* Name(const mjModel* m, mjtObj type, int id) {
   return n ? n : "(unnamed)";
 }
 
+// the limits of joint `j` for the geometry [rad or m]: an unlimited hinge turns all the way
+// round (every orientation is within [-pi, pi]); false with `*error` for a slide without a range
+// (its travel bounds how far the links below it move)
+bool Limits(const mjModel* m, int j, const std::string& name, double lo, double hi,
+            RobotGeometry* out, std::string* error) {
+  const bool unlimited = lo <= -model::kNoLimit || hi >= model::kNoLimit;
+  if (m->jnt_type[j] == mjJNT_SLIDE) {
+    if (unlimited) {
+      *error = "joint '" + name +
+               "' is a slide without a range: give it one (range=\"lo hi\" limited=\"true\")";
+      return false;
+    }
+    out->q_min.push_back(lo);
+    out->q_max.push_back(hi);
+    return true;
+  }
+  out->q_min.push_back(lo <= -model::kNoLimit ? -M_PI : lo);
+  out->q_max.push_back(hi >= model::kNoLimit ? M_PI : hi);
+  return true;
+}
+
+// a joint's pose offset: MuJoCo turns (slides) a body by q - ref (qpos0), the geometry by q, so
+// the body's pose in its parent becomes the one at q = 0: turned by -ref about the hinge's axis
+// through its anchor (which that turn leaves in place), or slid by -ref along the slide's axis
+void RebaseToZero(const mjModel* m, int j, Link* l) {
+  const double ref = m->qpos0[m->jnt_qposadr[j]];
+  if (ref == 0) return;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translate(l->p_PL);
+  X.rotate(l->q_PL.toRotationMatrix());
+  if (l->slide) {
+    X.translate(-ref * l->axis_L);
+  } else {
+    X.translate(l->anchor_L);
+    X.rotate(Eigen::AngleAxisd(-ref, l->axis_L));
+    X.translate(-l->anchor_L);
+  }
+  l->p_PL = X.translation();
+  l->q_PL = Eigen::Quaterniond(X.linear()).normalized();
+}
+
 }  // namespace
+
+void PostureFromQpos(const model::RobotMap& robot, const mjtNum* qpos, std::span<double> q) {
+  const size_t na = robot.joints.size();
+  for (size_t j = 0; j < na && j < q.size(); ++j) q[j] = qpos[robot.joints[j].qpos_adr];
+  for (size_t k = 0; k < robot.passive.size() && na + k < q.size(); ++k)
+    q[na + k] = qpos[robot.passive[k].qpos_adr];
+}
 
 bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeometry* out,
                        std::string* error) {
@@ -68,29 +117,42 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
   out->model_hash = model::ModelHash(m, robot);
   for (const auto& j : robot.joints) {
     out->joint_names.push_back(j.name);
-    const bool unlimited = j.q_min <= -model::kNoLimit || j.q_max >= model::kNoLimit;
-    if (m->jnt_type[j.joint_id] == mjJNT_SLIDE) {
-      // a slide's travel bounds how far the links below it move: it needs its limits
-      if (unlimited) {
-        *error = "joint '" + j.name +
-                 "' is a slide without a range: give it one (range=\"lo hi\" limited=\"true\")";
-        return false;
-      }
-      out->q_min.push_back(j.q_min);
-      out->q_max.push_back(j.q_max);
-      continue;
-    }
-    // an unlimited hinge turns all the way round
-    out->q_min.push_back(j.q_min <= -model::kNoLimit ? -M_PI : j.q_min);
-    out->q_max.push_back(j.q_max >= model::kNoLimit ? M_PI : j.q_max);
+    if (!Limits(m, j.joint_id, j.name, j.q_min, j.q_max, out, error)) return false;
   }
-  // the segment's joint id of each MuJoCo joint
+  // the passive joints (no actuator: read-only in the segment) come after the actuated ones
+  for (const auto& p : robot.passive) {
+    out->passive_names.push_back(p.name);
+    const bool limited = m->jnt_limited[p.joint_id];
+    const mjtNum* range = m->jnt_range + 2 * p.joint_id;
+    if (!Limits(m, p.joint_id, p.name, limited ? range[0] : -model::kNoLimit,
+                limited ? range[1] : model::kNoLimit, out, error))
+      return false;
+  }
+  // the joint id of each MuJoCo joint: actuated, then passive
   std::map<int, int> segment_id;
   for (size_t i = 0; i < robot.joints.size(); ++i) segment_id[robot.joints[i].joint_id] = static_cast<int>(i);
+  for (size_t k = 0; k < robot.passive.size(); ++k)
+    segment_id[robot.passive[k].joint_id] = static_cast<int>(robot.joints.size() + k);
   std::map<int, int> link_of;  // MuJoCo body id -> link index (its last link)
+  std::map<int, bool> left_out;  // bodies below a ball joint (and their subtrees)
   for (int b : model::RobotBodies(m, robot)) {
     const std::string body = Name(m, mjOBJ_BODY, b);
     const std::string where = "body '" + body + "'";
+    if (left_out.count(m->body_parentid[b])) {
+      left_out[b] = true;
+      out->unchecked.push_back(body + ": below '" + Name(m, mjOBJ_BODY, m->body_parentid[b]) + "'");
+      continue;
+    }
+    // a ball joint below the base: its orientation is not in the segment (only hinges and
+    // slides are), so the body cannot be placed: left out, and said so
+    const int nb = b == robot.base_body ? 0 : m->body_jntnum[b];
+    bool ball = false;
+    for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + nb; ++j) ball = ball || m->jnt_type[j] == mjJNT_BALL;
+    if (ball) {
+      left_out[b] = true;
+      out->unchecked.push_back(body + ": a ball joint (its orientation is not in the segment)");
+      continue;
+    }
     const auto parent = link_of.find(m->body_parentid[b]);
     // the link being filled hangs from the body's parent at the body's pose; the base (a root)
     // is the frame of reference: it stays at the origin
@@ -108,17 +170,13 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
     for (int j = j0; j < j0 + nj; ++j) {
       const std::string jw = where + ": joint '" + Name(m, mjOBJ_JOINT, j) + "'";
       if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
-        *error = jw + " is a ball or free joint (below the base only hinges and slides are "
-                      "supported)";
+        *error = jw + " is a free joint (below the base only hinges, slides and ball joints, "
+                      "left out, are taken)";
         return false;
       }
       const auto id = segment_id.find(j);
       if (id == segment_id.end()) {
-        *error = jw + " has no motor, so it is not in the segment's joints";
-        return false;
-      }
-      if (m->qpos0[m->jnt_qposadr[j]] != 0) {
-        *error = jw + " has a reference position (ref) that is not zero";
+        *error = jw + " is neither one of the segment's joints nor one of its passive joints";
         return false;
       }
       if (j > j0) {  // the previous hinge's link is complete; this one hangs from it unmoved
@@ -133,6 +191,7 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
       l.axis_L = Vec(m->jnt_axis + 3 * j).normalized();
       // a slide's anchor does not move anything
       l.anchor_L = l.slide ? Eigen::Vector3d::Zero() : Vec(m->jnt_pos + 3 * j);
+      RebaseToZero(m, j, &l);
     }
     l.name = body;
     // its geoms

@@ -13,19 +13,31 @@ const char* ShapeName(ShapeType type) {
     case ShapeType::kCylinder: return "cylinder";
     case ShapeType::kBox: return "box";
     case ShapeType::kConvex: return "convex";
+    case ShapeType::kEllipsoid: return "ellipsoid";
   }
   return "?";
 }
 
 bool ParseShape(const std::string& name, ShapeType* type) {
   for (ShapeType t : {ShapeType::kSphere, ShapeType::kCapsule, ShapeType::kCylinder,
-                      ShapeType::kBox, ShapeType::kConvex}) {
+                      ShapeType::kBox, ShapeType::kConvex, ShapeType::kEllipsoid}) {
     if (name == ShapeName(t)) {
       *type = t;
       return true;
     }
   }
   return false;
+}
+
+const std::string& JointName(const RobotGeometry& r, int j) {
+  const int n = static_cast<int>(r.joint_names.size());
+  return j < n ? r.joint_names[j] : r.passive_names[j - n];
+}
+
+int FindJoint(const RobotGeometry& r, const std::string& name) {
+  for (int j = 0; j < NumJoints(r); ++j)
+    if (JointName(r, j) == name) return j;
+  return -1;
 }
 
 int BodyParent(const RobotGeometry& robot, int link) {
@@ -56,10 +68,13 @@ int FindLink(const RobotGeometry& robot, const std::string& name) {
 
 std::string Validate(const RobotGeometry& robot) {
   std::ostringstream e;
-  const int njoint = static_cast<int>(robot.joint_names.size());
-  if (robot.q_min.size() != robot.joint_names.size() ||
-      robot.q_max.size() != robot.joint_names.size())
-    return "the joint limits do not match the joint names (one min and max per joint)";
+  const int njoint = NumJoints(robot);
+  if (static_cast<int>(robot.q_min.size()) != njoint || static_cast<int>(robot.q_max.size()) != njoint)
+    return "the joint limits do not match the joint names (one min and max per joint, actuated "
+           "then passive)";
+  for (int j = 0; j < njoint; ++j)
+    if (!(robot.q_min[j] <= robot.q_max[j]))
+      return "joint '" + JointName(robot, j) + "': its min exceeds its max";
   for (size_t i = 0; i < robot.links.size(); ++i) {
     const Link& l = robot.links[i];
     const std::string where = "link " + std::to_string(i) + " '" + l.name + "': ";
@@ -76,14 +91,15 @@ std::string Validate(const RobotGeometry& robot) {
     if (l.slide && l.joint < 0) return where + "a slide needs a joint";
     // a slide's travel bounds how far its link moves (LinkReach)
     if (l.slide && !(std::isfinite(robot.q_min[l.joint]) && std::isfinite(robot.q_max[l.joint])))
-      return where + "its slide joint '" + robot.joint_names[l.joint] +
+      return where + "its slide joint '" + JointName(robot, l.joint) +
              "' has no finite limits: give it a range";
     if (std::abs(l.q_PL.norm() - 1) > 1e-6 || !l.p_PL.allFinite())
       return where + "its pose in the parent is not finite with a unit quaternion";
     // the shapes: positive sizes, vertices for a convex hull
     for (size_t s = 0; s < l.shapes.size(); ++s) {
       const Shape& sh = l.shapes[s];
-      const int nsize = sh.type == ShapeType::kBox ? 3 : sh.type == ShapeType::kSphere ? 1
+      const int nsize = sh.type == ShapeType::kBox || sh.type == ShapeType::kEllipsoid ? 3
+                        : sh.type == ShapeType::kSphere ? 1
                         : sh.type == ShapeType::kConvex ? 0 : 2;
       for (int k = 0; k < nsize; ++k)
         if (!(sh.size[k] > 0) || !std::isfinite(sh.size[k]))

@@ -16,6 +16,7 @@ double ShapeReach(const Shape& s) {
     case ShapeType::kCapsule: r = s.size[0] + s.size[1]; break;
     case ShapeType::kCylinder: r = std::hypot(s.size[0], s.size[1]); break;
     case ShapeType::kBox: r = s.size.norm(); break;
+    case ShapeType::kEllipsoid: r = s.size.maxCoeff(); break;
     case ShapeType::kConvex:
       for (const auto& v : s.vertices) r = std::max(r, v.norm());
       break;
@@ -57,7 +58,7 @@ std::vector<std::vector<std::pair<int, double>>> LinkReach(const RobotGeometry& 
 
 IncrementalCheck::IncrementalCheck(SelfCollision* checker, std::vector<LinkPair> pairs)
     : checker_(checker), pairs_(std::move(pairs)), reach_(LinkReach(checker->robot())) {
-  const size_t njoint = checker->robot().joint_names.size();
+  const size_t njoint = NumJoints(checker->robot());
   const size_t n = pairs_.size();
   q_.assign(njoint, 0.0);
   q_last_.assign(njoint, std::nan(""));

@@ -86,9 +86,9 @@ Eigen::Quaterniond Quat(const YAML::Node& n, const std::string& key) {
 
 int JointId(const RobotGeometry& r, const YAML::Node& n, const std::string& key) {
   const std::string name = Str(n, key);
-  for (size_t i = 0; i < r.joint_names.size(); ++i)
-    if (r.joint_names[i] == name) return static_cast<int>(i);
-  throw Bad{LineOf(n), key + ": no joint '" + name + "' in joints:"};
+  const int j = FindJoint(r, name);
+  if (j < 0) throw Bad{LineOf(n), key + ": no joint '" + name + "' in joints: or passive_joints:"};
+  return j;
 }
 
 std::vector<LinkPair> Pairs(const RobotGeometry& r, const YAML::Node& n, const std::string& key) {
@@ -111,7 +111,8 @@ Shape ReadShape(const YAML::Node& n) {
   Shape s;
   const std::string type = Str(Need(n, "type"), "type");
   if (!ParseShape(type, &s.type))
-    throw Bad{LineOf(n), "type: '" + type + "' is not box, sphere, capsule, cylinder or convex"};
+    throw Bad{LineOf(n), "type: '" + type +
+                             "' is not box, sphere, capsule, cylinder, ellipsoid or convex"};
   if (s.type != ShapeType::kConvex) s.size = Vec(Need(n, "size"), "size");
   s.p_LS = Vec(Need(n, "pos"), "pos");
   s.q_LS = Quat(Need(n, "quat"), "quat");
@@ -135,6 +136,16 @@ void ReadRobot(const YAML::Node& root, RobotGeometry* r) {
     r->q_min.push_back(Num(Need(j, "min"), "min"));
     r->q_max.push_back(Num(Need(j, "max"), "max"));
   }
+  // passive joints (optional): joint ids after the actuated ones
+  if (const YAML::Node passive = root["passive_joints"]) {
+    for (const auto& j : passive) {
+      r->passive_names.push_back(Str(Need(j, "name"), "name"));
+      r->q_min.push_back(Num(Need(j, "min"), "min"));
+      r->q_max.push_back(Num(Need(j, "max"), "max"));
+    }
+  }
+  if (const YAML::Node unchecked = root["unchecked"])
+    for (const auto& u : unchecked) r->unchecked.push_back(Str(u, "unchecked"));
   for (const auto& l : Need(root, "links")) {
     Link link;
     link.name = Str(Need(l, "name"), "name");
@@ -168,11 +179,22 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
   for (size_t i = 0; i < r.joint_names.size(); ++i)
     o << "  - {name: " << r.joint_names[i] << ", min: " << r.q_min[i] << ", max: " << r.q_max[i]
       << "}\n";
+  const size_t na = r.joint_names.size();
+  if (!r.passive_names.empty()) {
+    o << "passive_joints:  # no actuator: read from the segment's passive_q, never commanded\n";
+    for (size_t k = 0; k < r.passive_names.size(); ++k)
+      o << "  - {name: " << r.passive_names[k] << ", min: " << r.q_min[na + k]
+        << ", max: " << r.q_max[na + k] << "}\n";
+  }
+  if (!r.unchecked.empty()) {
+    o << "unchecked:  # parts of the robot left out of the geometry: never checked\n";
+    for (const std::string& u : r.unchecked) o << "  - \"" << u << "\"\n";
+  }
   o << "links:\n";
   for (const Link& l : r.links) {
     o << "  - name: " << l.name << "\n    parent: " << l.parent << "\n    pos: " << V(l.p_PL)
       << "\n    quat: " << Q(l.q_PL) << "\n    joint: "
-      << (l.joint < 0 ? std::string("-1") : r.joint_names[l.joint]) << "\n    axis: "
+      << (l.joint < 0 ? std::string("-1") : JointName(r, l.joint)) << "\n    axis: "
       << V(l.axis_L) << "\n    anchor: " << V(l.anchor_L) << "\n";
     if (l.slide) o << "    slide: true  # the joint translates along the axis [m]\n";
     if (l.joint_only) o << "    joint_only: true  # a joint of the body below\n";
@@ -193,7 +215,7 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
   o << "online: " << PairList(r, f.online) << "\n";
   o << "safe_ranges:\n";
   for (const SafeRange& s : f.ranges)
-    o << "  - {joint: " << r.joint_names[s.joint] << ", min: " << s.lo << ", max: " << s.hi
+    o << "  - {joint: " << JointName(r, s.joint) << ", min: " << s.lo << ", max: " << s.hi
       << ", pairs: " << PairList(r, s.pairs) << "}\n";
   if (f.ranges.empty()) o << "  []\n";
   o << "structural: " << PairList(r, f.structural) << "\n";

@@ -151,7 +151,7 @@ PruneResult Prune(const RobotGeometry& robot, const PruneOptions& o) {
   r.pairs = NonAdjacentPairs(robot);
   r.all = r.pairs.size();
   r.reasons.assign(r.all, "");
-  const size_t njoint = robot.joint_names.size();
+  const size_t njoint = NumJoints(robot);  // actuated and passive
 
   // 2. structural: touching at the zero posture (clamped into the limits)
   std::vector<double> q0(njoint);
@@ -241,15 +241,15 @@ PruneResult Prune(const RobotGeometry& robot, const PruneOptions& o) {
     sampler.lo()[best] = best_lo;
     sampler.hi()[best] = best_hi;
     // the pair relies on every restricted joint between its links
-    std::string why = "safe range: " + robot.joint_names[best];
+    std::string why = "safe range: " + JointName(robot, best);
     for (int j : joints) {
       const bool restricted = sampler.lo()[j] > robot.q_min[j] || sampler.hi()[j] < robot.q_max[j];
       if (!restricted) continue;
       pruned_by[j].push_back(p);
-      if (j != best) why += " + " + robot.joint_names[j];
+      if (j != best) why += " + " + JointName(robot, j);
     }
     // safe in the whole of every range: it cannot collide while the others keep to theirs
-    if (why.find(robot.joint_names[best]) != std::string::npos &&
+    if (why.find(JointName(robot, best)) != std::string::npos &&
         sampler.lo()[best] == robot.q_min[best] && sampler.hi()[best] == robot.q_max[best] &&
         why.find(" + ") == std::string::npos) {
       r.file.never.push_back(p);

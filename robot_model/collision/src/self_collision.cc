@@ -39,7 +39,7 @@ SelfCollision::SelfCollision(const RobotGeometry& robot) : robot_(robot) {
     for (const auto& s : shapes)
       sphere_r_[l] = std::max(sphere_r_[l], (s.X_LS.translation() - sphere_c_L_[l]).norm() + s.radius);
   }
-  std::vector<double> zero(robot_.joint_names.size(), 0.0);
+  std::vector<double> zero(NumJoints(robot_), 0.0);
   SetPose(zero);
 }
 

@@ -17,6 +17,7 @@ std::shared_ptr<fcl::CollisionGeometryd> MakeFcl(const Shape& s) {
     case ShapeType::kCapsule: return std::make_shared<fcl::Capsuled>(s.size.x(), 2 * s.size.y());
     case ShapeType::kCylinder: return std::make_shared<fcl::Cylinderd>(s.size.x(), 2 * s.size.y());
     case ShapeType::kBox: return std::make_shared<fcl::Boxd>(2 * s.size);
+    case ShapeType::kEllipsoid: return std::make_shared<fcl::Ellipsoidd>(s.size);
     case ShapeType::kConvex: {
       auto verts = std::make_shared<std::vector<Eigen::Vector3d>>(s.vertices);
       auto faces = std::make_shared<std::vector<int>>(s.faces);
@@ -35,6 +36,7 @@ double BoundingRadius(const Shape& s) {
     case ShapeType::kCapsule: return s.size.x() + s.size.y();
     case ShapeType::kCylinder: return std::hypot(s.size.x(), s.size.y());
     case ShapeType::kBox: return s.size.norm();
+    case ShapeType::kEllipsoid: return s.size.maxCoeff();
     case ShapeType::kConvex: {
       double r = 0;
       for (const auto& v : s.vertices) r = std::max(r, v.norm());
@@ -53,6 +55,7 @@ auto Visit(const PreparedShape& s, F&& f) {
     case ShapeType::kCapsule: return f(*static_cast<const fcl::Capsuled*>(g));
     case ShapeType::kCylinder: return f(*static_cast<const fcl::Cylinderd*>(g));
     case ShapeType::kBox: return f(*static_cast<const fcl::Boxd*>(g));
+    case ShapeType::kEllipsoid: return f(*static_cast<const fcl::Ellipsoidd*>(g));
     case ShapeType::kConvex: break;
   }
   return f(*static_cast<const fcl::Convexd*>(g));
@@ -99,6 +102,8 @@ double Support(const PreparedShape& s, const Eigen::Isometry3d& X_WS, const Eige
     case ShapeType::kCylinder:
       return c + h.y() * std::abs(n_S.z()) + h.x() * std::hypot(n_S.x(), n_S.y());
     case ShapeType::kBox: return c + h.dot(n_S.cwiseAbs());
+    // max of n.x over x^T diag(h)^-2 x <= 1: |diag(h) n| (exact)
+    case ShapeType::kEllipsoid: return c + h.cwiseProduct(n_S).norm();
     case ShapeType::kConvex: {
       double m = -INFINITY;
       for (const auto& v : s.spec->vertices) m = std::max(m, n_S.dot(v));

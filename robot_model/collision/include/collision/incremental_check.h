@@ -24,7 +24,8 @@ namespace ohrp::collision {
 
 // Per link, each joint between the base and the link with its reach: for a hinge a bound of the
 // distance of any point of the link's shapes from the hinge's axis in any posture [m], for a
-// slide 1 (a point moves as far as the slide): (segment joint id, reach).
+// slide 1 (a point moves as far as the slide): (joint id, reach). A passive joint counts as
+// any other: the guard cannot command it, but it moves the links below it.
 std::vector<std::vector<std::pair<int, double>>> LinkReach(const RobotGeometry& robot);
 
 class IncrementalCheck {
@@ -35,7 +36,8 @@ class IncrementalCheck {
 
   const std::vector<LinkPair>& pairs() const { return pairs_; }
 
-  // The robot moves to `q` (one angle per segment joint id) from the last posture, along any
+  // The robot moves to `q` (one per joint id, passive joints included: NumJoints) from the last
+  // posture, along any
   // path whose travel the joint differences bound. The first posture, or any angle that is not
   // finite (here or in the last posture), makes every pair's next Check measure it.
   void MoveTo(std::span<const double> q);

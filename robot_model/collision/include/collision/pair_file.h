@@ -5,9 +5,13 @@
 //   model_hash: "0x1234abcd..."   # a controller refuses a file of another robot
 //   margin: 0.01                  # [m] pairs closer than this stop the motion
 //   joints: [{name: WAIST_P, min: -0.5236, max: 1.0472}, ...]        # segment order [rad]
+//   passive_joints: [{name: left-shin, min: -0.349, max: 0.349}, ...]  # optional: joints no
+//                                 # actuator drives (segment's passive order), ids after joints:
+//   unchecked: ["left-achilles-rod: a ball joint ..."]   # optional: bodies left out, never checked
 //   links: [{name: WAIST, parent: -1, pos: [x,y,z], quat: [w,x,y,z], joint: -1,
 //            axis: [x,y,z], anchor: [x,y,z],
 //            shapes: [{type: box, size: [hx,hy,hz], pos: [..], quat: [..]}]}, ...]
+//            (types: box, sphere, capsule, cylinder, ellipsoid (size: semi-axes), convex)
 //   online: [[LLEG_KNEE, RLEG_KNEE], ...]     # the reduced list: checked every cycle
 //   safe_ranges:                              # while each joint keeps to its range, its
 //     - {joint: LARM_SHOULDER_R, min: .., max: .., pairs: [[A, B], ...]}   # pairs need no check
@@ -26,7 +30,7 @@ namespace ohrp::collision {
 
 // a joint range inside which some pairs cannot collide
 struct SafeRange {
-  int joint = -1;            // segment joint id
+  int joint = -1;            // joint id (actuated, or passive: RobotGeometry)
   double lo = 0, hi = 0;     // [rad]
   std::vector<LinkPair> pairs;  // the pairs it prunes (checked online when the joint leaves it)
 };

@@ -42,8 +42,8 @@ class SelfCollision {
 
   const RobotGeometry& robot() const { return robot_; }
 
-  // Places every link for the joint angles `q` (one per segment joint id, [rad]). Non-finite
-  // angles are taken as zero.
+  // Places every link for the joint positions `q` (one per joint id: the actuated joints, then
+  // the passive ones, NumJoints; [rad], [m] for slides). Non-finite angles are taken as zero.
   void SetPose(std::span<const double> q);
 
   // The signed distance of links a and b at the pose of the last SetPose [m]: the gap between
