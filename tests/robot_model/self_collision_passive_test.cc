@@ -180,6 +180,7 @@ TEST(SelfCollisionPassive, TheFileListsThePassiveJointsAndWhatIsLeftOut) {
   f.robot = l.g;
   f.online = NonAdjacentPairs(l.g);
   f.ranges.push_back({FindJoint(l.g, "swing"), -0.5, 0.5, {f.online[0]}});
+  f.robot.unchecked.push_back("a \"quoted\" body: a back\\slash");  // escaped in the YAML
   const std::string path = ohrp::testing::ScratchPath("passive", ".yaml");
   std::string error;
   ASSERT_TRUE(WriteSelfCollisionFile(path, f, &error)) << error;
@@ -187,7 +188,7 @@ TEST(SelfCollisionPassive, TheFileListsThePassiveJointsAndWhatIsLeftOut) {
   EXPECT_EQ(back.robot.passive_names, l.g.passive_names);
   EXPECT_EQ(back.robot.q_min, l.g.q_min);
   EXPECT_EQ(back.robot.q_max, l.g.q_max);
-  EXPECT_EQ(back.robot.unchecked, l.g.unchecked);
+  EXPECT_EQ(back.robot.unchecked, f.robot.unchecked);
   ASSERT_EQ(back.ranges.size(), 1u);
   EXPECT_EQ(back.ranges[0].joint, 1);
   EXPECT_EQ(back.robot.links[FindLink(back.robot, "arm")].joint, 1);

@@ -188,7 +188,11 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
   }
   if (!r.unchecked.empty()) {
     o << "unchecked:  # parts of the robot left out of the geometry: never checked\n";
-    for (const std::string& u : r.unchecked) o << "  - \"" << u << "\"\n";
+    for (const std::string& u : r.unchecked) {
+      std::string quoted;  // a YAML double-quoted scalar: \ and " escaped
+      for (char ch : u) quoted += ch == '"' || ch == '\\' ? std::string("\\") + ch : std::string(1, ch);
+      o << "  - \"" << quoted << "\"\n";
+    }
   }
   o << "links:\n";
   for (const Link& l : r.links) {
