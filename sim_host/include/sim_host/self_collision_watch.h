@@ -8,14 +8,14 @@
 // conaffinity say: HRP-1S's links do not collide in MuJoCo (only its soles do), so the effect
 // reports where they pass through each other. The pairs:
 //   - no file: every pair of links that are not parent and child (collision::NonAdjacentPairs)
-//     less those in contact in the model's zero posture, in any keyframe of the scene or in the
+//     less those in contact in the model's zero posture (qpos0, as built), in any keyframe of the scene or in the
 //     run's initial state (parts built into each other, e.g. HRP-1S's thighs in its waist box at
 //     half-sitting): those would be "in contact" all run long;
 //   - a file of ohrp_selfcollision (`sim_host --self-collision FILE`): its online pairs and the
 //     pairs of its safe ranges (all of them, every cycle: the simulation does not assume the
 //     ranges hold), by link name; the file must be for this robot (model hash).
 // A pair is in contact when its signed distance is negative (penetration). Per cycle, Check
-// reads the joint angles from mjData and checks the pairs with collision::IncrementalCheck, as
+// reads the joint angles from mjData (actuated and passive joints: collision::PostureFromQpos) and checks the pairs with collision::IncrementalCheck, as
 // the controllers' guard does: a pair whose last measured distance exceeds what its two links
 // can have moved since is still apart and is not measured again; the others are measured with
 // the checker (whose broad phase skips pairs whose bounding spheres are apart). It allocates,
