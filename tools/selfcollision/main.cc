@@ -65,7 +65,9 @@ int main(int argc, char** argv) {
       "zero posture (structural), the pairs that never come within margin + clearance in sampled "
       "postures, and, joint by joint at a coarse then a fine resolution, safe ranges that prune "
       "more pairs; the pairs left are checked online. Writes the YAML file the controllers load "
-      "(--self-collision) and a report of every pair and why it was pruned.\n"
+      "(--self-collision) and a report of every pair and why it was pruned. Passive joints (no "
+      "actuator) are sampled within their limits (an unlimited hinge over -pi..pi) and listed in "
+      "the file; bodies below a ball joint are left out and listed as unchecked.\n"
       "Example: ohrp_selfcollision --out mjcf/hrp1s/selfcollision.yaml --report report.md"};
   app.add_option("--model", model, "the robot's MJCF")->check(CLI::ExistingFile);
   app.add_option("--out", out, "the self-collision file to write (YAML)")->required();
