@@ -44,10 +44,12 @@ MOTIONS = {
          "LARM_ELBOW": -1.5708},
         {"RARM_SHOULDER_Y": 1.2, "LARM_SHOULDER_Y": -1.2}),
     "waist_into_thighs": (
-        "the arms straightened down along the body, then the waist pitched forward 1.0 rad, the "
-        "hands and forearms down into the thighs",
-        {"RARM_SHOULDER_P": 0.0, "RARM_ELBOW": 0.0, "LARM_SHOULDER_P": 0.0, "LARM_ELBOW": 0.0},
-        {"WAIST_P": 1.0}),
+        "the arms straightened and rolled inwards to their limits, then the waist pitched "
+        "forward 1.0 rad while the shoulders pitch back to their limits (the arms point down "
+        "and back), the hands down into the thighs",
+        {"RARM_ELBOW": 0.0, "LARM_ELBOW": 0.0, "RARM_SHOULDER_R": 0.261799,
+         "LARM_SHOULDER_R": -0.261799},
+        {"WAIST_P": 1.0, "RARM_SHOULDER_P": 1.5708, "LARM_SHOULDER_P": 1.5708}),
 }
 
 
