@@ -132,7 +132,8 @@ struct Driver::Impl {
     producer->PublishSensors();
     // the data log, as sim_host's: the block just published and the references the servos held
     // over the interval it ends (written in the previous cycle); a copy into the log's ring
-    if (record && log && k % static_cast<uint64_t>(opt.log_every) == 0) log->Push(s, guard.references());
+    if (record && log && k % static_cast<uint64_t>(opt.log_every) == 0)
+      log->Push(s, guard.references(), cmd.guard.holding);  // the last accepted block's guard
   }
 
   void Write() noexcept {

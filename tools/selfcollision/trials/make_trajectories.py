@@ -6,8 +6,10 @@ and the arm pose of the posture trials into scenarios/params/selfcollision_forea
 Each motion starts at the halfsit keyframe, holds it 0.5 s, moves through a safe preparation
 (joints at a constant 0.5 rad/s, all of them together, in straight lines), then drives the
 joints of one group at a constant 0.5 rad/s into the body (the posture at the end of each
-motion is deep inside another link: without a guard the links pass through each other) and
-holds the end 1 s. Speeds are playback's --time-scale (0.5x .. 4x: 0.25 .. 2 rad/s).
+motion is deep inside another link: without a guard the links pass through each other),
+holds it 1 s, goes back to halfsit the same way (a guard that holds at the body and lets the
+arm go back lets the motion complete) and holds halfsit 1 s. arm_jump_past_thigh instead holds the prepared pose 1 s and jumps (one row)
+to an end pose clear of the body whose straight path goes through the thigh. Speeds are playback's --time-scale (0.5x .. 4x: 0.25 .. 2 rad/s).
 The format is playback's (arm_into_leg.dat): time [s] then the 29 joints in joint-id order.
 
   python3 tools/selfcollision/trials/make_trajectories.py   (from the source tree's root)
@@ -50,13 +52,21 @@ MOTIONS = {
         {"RARM_ELBOW": 0.0, "LARM_ELBOW": 0.0, "RARM_SHOULDER_R": 0.261799,
          "LARM_SHOULDER_R": -0.261799},
         {"WAIST_P": 1.0, "RARM_SHOULDER_P": 1.5708, "LARM_SHOULDER_P": 1.5708}),
+    "arm_jump_past_thigh": (
+        "the right arm, straight, swung back 1.0 rad and rolled inwards to its limit (the hand "
+        "behind the thigh, clear of it), then commanded in one row (a jump: 0.05 s) to 1.0 rad "
+        "forward (in front of the thigh, clear of it): the straight path between the two goes "
+        "through the thigh",
+        {"RARM_SHOULDER_P": 1.0, "RARM_ELBOW": 0.0, "RARM_SHOULDER_R": 0.261799},
+        {"RARM_SHOULDER_P": -1.0}),
 }
+JUMPS = {"arm_jump_past_thigh"}  # the collision phase in one row
 
 
-def ramp(start, target, t0):
+def ramp(start, target, t0, jump=False):
     """Rows from `start` (t0) to `target` with the fastest joint at SPEED; returns (rows, end)."""
     span = max(abs(target.get(j, start[j]) - start[j]) for j in JOINTS)
-    duration = max(STEP, round(span / SPEED / STEP) * STEP)
+    duration = STEP if jump else max(STEP, round(span / SPEED / STEP) * STEP)
     rows = []
     n = round(duration / STEP)
     for k in range(1, n + 1):
@@ -68,13 +78,26 @@ def ramp(start, target, t0):
     return rows, t0 + duration, end
 
 
-def motion_rows(prep, collide):
+def motion_rows(prep, collide, jump=False):
     q = {j: HALFSIT.get(j, 0.0) for j in JOINTS}
     rows = [(k * STEP, dict(q)) for k in range(round(HOLD_START / STEP) + 1)]
     t = HOLD_START
-    for target in (prep, collide):
-        more, t, q = ramp(q, target, t)
+    more, t, q = ramp(q, prep, t)
+    rows += more
+    if jump:  # hold the prepared pose a while: the arm settles before the jump
+        rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
+        t += HOLD_END
+    more, t, q = ramp(q, collide, t, jump)
+    rows += more
+    if not jump:  # hold, then back out the same way to halfsit: a guard that let the links
+        # part again lets the motion complete (playback ends with exit 0)
+        rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
+        t += HOLD_END
+        end = q
+        more, t, q = ramp(q, {j: HALFSIT.get(j, 0.0) for j in JOINTS}, t)
         rows += more
+        rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
+        return rows, end
     rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
     return rows, q
 
@@ -93,7 +116,7 @@ def write(path, what, rows):
 def main():
     root = os.getcwd()
     for name, (what, prep, collide) in MOTIONS.items():
-        rows, end = motion_rows(prep, collide)
+        rows, end = motion_rows(prep, collide, name in JUMPS)
         write(os.path.join(root, "scenarios/trajectories/selfcollision_%s.dat" % name), what, rows)
         if name == "forearm_into_waist":
             # the posture trials: the same end pose, reached by posture's own ramp or a jump

@@ -27,7 +27,7 @@ import os
 import subprocess
 import sys
 
-MOTIONS = ["forearm_into_waist", "hands_together", "waist_into_thighs"]
+MOTIONS = ["forearm_into_waist", "hands_together", "waist_into_thighs", "arm_jump_past_thigh"]
 POSTURES = {"posture_ramp": [], "posture_jump": ["--ramp", "0"]}  # posture's default ramp: 2 s
 POSE = "scenarios/params/selfcollision_forearm_pose.yaml"
 GUARD_FILE = "mjcf/hrp1s/selfcollision.yaml"
