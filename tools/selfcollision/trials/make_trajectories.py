@@ -9,8 +9,7 @@ joints of one group at a constant 0.5 rad/s into the body (the posture at the en
 motion is deep inside another link: without a guard the links pass through each other),
 holds it 1 s, goes back to halfsit the same way (a guard that holds at the body and lets the
 arm go back lets the motion complete) and holds halfsit 1 s. arm_jump_past_thigh instead holds the prepared pose 1 s and jumps (one row)
-to an end pose clear of the body whose straight path goes through the thigh. Speeds are playback's --time-scale (0.5x .. 4x: 0.25 .. 2 rad/s).
-The format is playback's (arm_into_leg.dat): time [s] then the 29 joints in joint-id order.
+to an end pose clear of the body whose straight path goes through the thigh. The format is playback's (arm_into_leg.dat): time [s] then the 29 joints in joint-id order.
 
   python3 tools/selfcollision/trials/make_trajectories.py   (from the source tree's root)
 """
@@ -46,12 +45,13 @@ MOTIONS = {
          "LARM_ELBOW": -1.5708},
         {"RARM_SHOULDER_Y": 1.2, "LARM_SHOULDER_Y": -1.2}),
     "waist_into_thighs": (
-        "the arms straightened and rolled inwards to their limits, then the waist pitched "
-        "forward 1.0 rad while the shoulders pitch back to their limits (the arms point down "
-        "and back), the hands down into the thighs",
-        {"RARM_ELBOW": 0.0, "LARM_ELBOW": 0.0, "RARM_SHOULDER_R": 0.261799,
-         "LARM_SHOULDER_R": -0.261799},
-        {"WAIST_P": 1.0, "RARM_SHOULDER_P": 1.5708, "LARM_SHOULDER_P": 1.5708}),
+        "the arms straightened, then the waist pitched forward 1.0 rad while the shoulders "
+        "pitch back as much (the arms keep hanging down) and roll inwards to their limits (the "
+        "hands over the thighs): the hands come down between the thighs into each other (the "
+        "wrists meet; from 4x the robot falls forward)",
+        {"RARM_ELBOW": 0.0, "LARM_ELBOW": 0.0},
+        {"WAIST_P": 1.0, "RARM_SHOULDER_P": 1.174533, "LARM_SHOULDER_P": 1.174533,
+         "RARM_SHOULDER_R": 0.261799, "LARM_SHOULDER_R": -0.261799}),
     "arm_jump_past_thigh": (
         "the right arm, straight, swung back 1.0 rad and rolled inwards to its limit (the hand "
         "behind the thigh, clear of it), then commanded in one row (a jump: 0.05 s) to 1.0 rad "
@@ -63,22 +63,26 @@ MOTIONS = {
 JUMPS = {"arm_jump_past_thigh"}  # the collision phase in one row
 
 
-def ramp(start, target, t0, jump=False):
-    """Rows from `start` (t0) to `target` with the fastest joint at SPEED; returns (rows, end)."""
+def ramp(start, target, t0, jump=False, factor=1.0):
+    """Rows from `start` (t0) to `target` with the fastest joint at `factor` x SPEED; returns
+    (rows, end time, end posture)."""
     span = max(abs(target.get(j, start[j]) - start[j]) for j in JOINTS)
-    duration = STEP if jump else max(STEP, round(span / SPEED / STEP) * STEP)
+    step = STEP / 5 if factor > 1 else STEP
+    duration = STEP if jump else max(step, round(span / (SPEED * factor) / step) * step)
+    if not jump:
+        step = duration / max(1, round(duration / step))
     rows = []
-    n = round(duration / STEP)
+    n = 1 if jump else round(duration / step)
     for k in range(1, n + 1):
         s = k / n
-        rows.append((t0 + k * STEP, {j: start[j] + s * (target.get(j, start[j]) - start[j])
+        rows.append((t0 + k * duration / n, {j: start[j] + s * (target.get(j, start[j]) - start[j])
                                      for j in JOINTS}))
     end = dict(start)
     end.update(target)
     return rows, t0 + duration, end
 
 
-def motion_rows(prep, collide, jump=False):
+def motion_rows(prep, collide, jump=False, factor=1.0):
     q = {j: HALFSIT.get(j, 0.0) for j in JOINTS}
     rows = [(k * STEP, dict(q)) for k in range(round(HOLD_START / STEP) + 1)]
     t = HOLD_START
@@ -87,7 +91,7 @@ def motion_rows(prep, collide, jump=False):
     if jump:  # hold the prepared pose a while: the arm settles before the jump
         rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
         t += HOLD_END
-    more, t, q = ramp(q, collide, t, jump)
+    more, t, q = ramp(q, collide, t, jump, factor)
     rows += more
     if not jump:  # hold, then back out the same way to halfsit: a guard that let the links
         # part again lets the motion complete (playback ends with exit 0)
@@ -106,23 +110,31 @@ def write(path, what, rows):
     with open(path, "w") as f:
         f.write("# Written by tools/selfcollision/trials/make_trajectories.py (issue 29's trials of\n"
                 "# the self-collision guard, docs/selfcollision.md): " + what + ".\n"
-                "# Halfsit until %.1f s, then the joints at %.2f rad/s at 1x (playback --time-scale).\n"
-                % (HOLD_START, SPEED) +
+                "# Halfsit until %.1f s, then the joints at %.2f rad/s.\n" % (HOLD_START, SPEED) +
                 "# Columns: time [s], then the 29 joints of HRP-1S in joint-id order [rad].\n")
         for t, q in rows:
             f.write("%.2f " % t + " ".join("%.6f" % q[j] for j in JOINTS) + "\n")
 
 
+SPEEDS = [0.5, 1, 2, 4, 8]  # factors on SPEED of the collision phase (the rest at SPEED)
+
+
 def main():
     root = os.getcwd()
     for name, (what, prep, collide) in MOTIONS.items():
-        rows, end = motion_rows(prep, collide, name in JUMPS)
-        write(os.path.join(root, "scenarios/trajectories/selfcollision_%s.dat" % name), what, rows)
+        jump = name in JUMPS
+        for v in [1] if jump else SPEEDS:
+            rows, end = motion_rows(prep, collide, jump, v)
+            suffix = "" if jump else "_%gx" % v
+            speed = "" if jump else " The collision phase at %g rad/s (%gx)." % (SPEED * v, v)
+            write(os.path.join(root, "scenarios/trajectories/selfcollision_%s%s.dat" % (name, suffix)),
+                  what + "." + speed, rows)
         if name == "forearm_into_waist":
+            rows, end = motion_rows(prep, collide)
             # the posture trials: the same end pose, reached by posture's own ramp or a jump
             with open(os.path.join(root, "scenarios/params/selfcollision_forearm_pose.yaml"), "w") as f:
                 f.write("# Written by tools/selfcollision/trials/make_trajectories.py: the end pose\n"
-                        "# of selfcollision_forearm_into_waist.dat (the right forearm inside the\n"
+                        "# of selfcollision_forearm_into_waist_*.dat (the right forearm inside the\n"
                         "# waist column), for posture --pose [rad]; the joints not named hold\n"
                         "# where they are (halfsit)\n"
                         "description: the right forearm swung across into the waist column\n"

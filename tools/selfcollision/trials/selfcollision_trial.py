@@ -8,7 +8,9 @@ docs/selfcollision.md, "Judging the guard").
 
 Runs HRP-1S in lock-step (sim_host + playback or posture, from the halfsit keyframe) through
 colliding motions of each joint group (scenarios/trajectories/selfcollision_*.dat, written by
-make_trajectories.py) at increasing speeds (playback --time-scale), and posture into the
+make_trajectories.py) at increasing speeds of the colliding joints (--speeds: the files'
+factors on 0.5 rad/s, 0.5x .. 8x; the preparation always at 0.5 rad/s), a jump whose end
+points are clear and whose path goes through the thigh, and posture into the
 forearm pose with its default 2 s ramp and with --ramp 0 (a jump), each with the controller's
 guard on and off. Each run is a scenario of ohrp_run (written into OUT_DIR/<trial>/) whose
 `self_collisions` check switches on sim_host's self_collision effect over every non-adjacent
@@ -36,6 +38,7 @@ TOLERANCE_MM = 0.5
 # chest, above WAIST_P: the waist pitched 1.0 rad reads as a fall (base tilt 51 deg) while the
 # simulated base stays upright. sim_host's own fall watch (the simulated bodies) stays on.
 NO_CONTROLLER_FALL_WATCH = {"waist_into_thighs"}
+JUMPS = {"arm_jump_past_thigh"}  # one trajectory (a jump), no speeds
 
 
 def trajectory_duration(path):
@@ -84,17 +87,21 @@ def trials(root, motions, speeds, guards):
                 ramp = 0.0 if POSTURES[m] else 2.0
                 out.append(("%s_%s" % (m, g), m, "-", g, "posture", args, ramp + 1.5))
             continue
-        dat = "scenarios/trajectories/selfcollision_%s.dat" % m
-        length = trajectory_duration(os.path.join(root, dat))
-        for v in speeds:
+        for v in [1.0] if m in JUMPS else speeds:
+            suffix = "" if m in JUMPS else "_%gx" % v
+            dat = "scenarios/trajectories/selfcollision_%s%s.dat" % (m, suffix)
+            if not os.path.exists(os.path.join(root, dat)):
+                raise SystemExit("selfcollision_trial: no %s (make_trajectories.py writes the "
+                                 "speeds %s)" % (dat, "0.5, 1, 2, 4, 8"))
+            length = trajectory_duration(os.path.join(root, dat))
             for g in guards:
-                args = ["--angles", dat, "--ramp", "0.5", "--time-scale", "%g" % v]
+                args = ["--angles", dat, "--ramp", "0.5"]
                 if m in NO_CONTROLLER_FALL_WATCH:
                     args.append("--no-fall-watch")
                 if g == "off":
                     args.append("--no-self-collision")
-                out.append(("%s_%gx_%s" % (m, v, g), m, "%gx" % v, g, "playback", args,
-                            0.5 + length / v + 0.3))
+                out.append(("%s%s_%s" % (m, suffix, g), m, "jump" if m in JUMPS else "%gx" % v,
+                            g, "playback", args, 0.5 + length + 0.3))
     return out
 
 
