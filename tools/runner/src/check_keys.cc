@@ -131,7 +131,7 @@ const std::vector<CheckType>& CheckTypes() {
       {"self_collisions",
        {Num("max", "cycles, 0", 0, kBig, false, false, 0),
         {"pair", KeyKind::kText, false, "LINK_A/LINK_B, optional"},
-        Num("min_distance_mm", "mm, optional", -kBig, kBig, false, false, 0)},
+        Num("min_distance_mm", "mm, optional; 0", -kBig, kBig, false, false, 0)},
        "sim_host's `self_collision` effect (switched on by this check; docs/selfcollision.md): "
        "the control cycles in which two of the robot's links penetrate are at most `max`; with "
        "`pair`, instead, that pair of links (either order) was in contact; with "
