@@ -73,8 +73,10 @@ struct SelfCollisionSummary {
 class SelfCollisionWatch {
  public:
   // distances at or below this are measured exactly each cycle, for the closest approach [m]
-  // (a reporting range, not a threshold: the margins of self-collision files lie well below)
-  static constexpr double kClosestRange = 0.05;
+  // (a reporting range, not a threshold: the margins of self-collision files lie well below).
+  // Its cost: pairs within it are measured every cycle (HRP-1S's arm swung into the leg: 27 us
+  // a check at 20 mm, 75 us at 50 mm, 10 us for contacts only)
+  static constexpr double kClosestRange = 0.02;
 
   // Builds the checker from `m` (as loaded) and the pair list (above). `file` empty: every
   // non-adjacent pair less those in contact at the zero posture and in the scene's keyframes

@@ -5,11 +5,14 @@ and the arm pose of the posture trials into scenarios/params/selfcollision_forea
 
 Each motion starts at the halfsit keyframe, holds it 0.5 s, moves through a safe preparation
 (joints at a constant 0.5 rad/s, all of them together, in straight lines), then drives the
-joints of one group at a constant 0.5 rad/s into the body (the posture at the end of each
-motion is deep inside another link: without a guard the links pass through each other),
-holds it 1 s, goes back to halfsit the same way (a guard that holds at the body and lets the
-arm go back lets the motion complete) and holds halfsit 1 s. arm_jump_past_thigh instead holds the prepared pose 1 s and jumps (one row)
-to an end pose clear of the body whose straight path goes through the thigh. The format is playback's (arm_into_leg.dat): time [s] then the 29 joints in joint-id order.
+joints of one group into the body at the file's speed (the posture at the end of each motion
+is deep inside another link: without a guard the links pass through each other), holds it 1 s,
+goes back to halfsit the same way at 0.5 rad/s (a guard that holds at the body and lets the
+arm go back lets the motion complete) and holds halfsit 1 s: one file per speed of the
+collision phase, selfcollision_<motion>_<factor>x.dat (0.5x .. 8x of 0.5 rad/s).
+arm_jump_past_thigh instead holds the prepared pose 1 s, jumps (one row) to an end pose clear
+of the body whose straight path goes through the thigh, holds it 1 s and jumps back (one file).
+The format is playback's (arm_into_leg.dat): time [s], then the 29 joints in joint-id order.
 
   python3 tools/selfcollision/trials/make_trajectories.py   (from the source tree's root)
 """
@@ -88,6 +91,7 @@ def motion_rows(prep, collide, jump=False, factor=1.0):
     t = HOLD_START
     more, t, q = ramp(q, prep, t)
     rows += more
+    prepared = dict(q)
     if jump:  # hold the prepared pose a while: the arm settles before the jump
         rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
         t += HOLD_END
@@ -98,10 +102,19 @@ def motion_rows(prep, collide, jump=False, factor=1.0):
         rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
         t += HOLD_END
         end = q
-        more, t, q = ramp(q, {j: HALFSIT.get(j, 0.0) for j in JOINTS}, t)
-        rows += more
+        # the way it came: the collision phase backwards (at 0.5 rad/s), then the preparation
+        for target in (prepared, {j: HALFSIT.get(j, 0.0) for j in JOINTS}):
+            more, t, q = ramp(q, target, t)
+            rows += more
         rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
         return rows, end
+    # a jump: hold the far pose, jump back to the prepared pose (a guard that held there sees
+    # its held pose commanded again and lets the motion complete)
+    end = q
+    rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
+    t += HOLD_END
+    more, t, q = ramp(q, prepared, t, True)
+    rows += more
     rows += [(t + k * STEP, dict(q)) for k in range(1, round(HOLD_END / STEP) + 1)]
     return rows, q
 

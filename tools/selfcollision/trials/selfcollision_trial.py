@@ -17,7 +17,8 @@ guard on and off. Each run is a scenario of ohrp_run (written into OUT_DIR/<tria
 pair of links (not the guard's pruned list): the figure of a trial is the closest approach of
 the SIMULATED links over the run (the summary's self_collision.closest_mm, the smallest signed
 distance of any pair: negative means the links overlap), independent of what the guard
-predicted. Also given: the guard's hold episodes as sim_host recorded them, and the outcome.
+predicted. Also given: the guard's hold episodes as sim_host recorded them, the controller's
+exit code (9: its motion was not completed, the guard held to the end) and sim_host's outcome.
 
 --require: exit 1 unless every guard-on trial kept the links at or above the margin of the
 guard's file (mjcf/hrp1s/selfcollision.yaml) less 0.5 mm. A trial that could not run (no
@@ -123,6 +124,12 @@ def run(runner, root, out_dir, t):
     except (OSError, ValueError) as e:
         row["error"] = "no summary: %s" % e
         return row
+    try:  # the controller's exit code: 9 when its motion was not completed (a hold to the end)
+        with open(os.path.join(folder, "run", "summary.json")) as f:
+            row["controller_exit"] = [p["exit_code"] for p in json.load(f)["processes"]
+                                      if p.get("name") != "sim_host"][0]
+    except (OSError, ValueError, KeyError, IndexError):
+        row["controller_exit"] = "?"
     sc = s.get("self_collision") or {}
     g = s.get("self_collision_guard") or {}
     row.update({"closest_mm": sc.get("closest_mm"), "exact": sc.get("closest_exact", False),
@@ -133,17 +140,17 @@ def run(runner, root, out_dir, t):
 
 def table(rows, margin):
     lines = ["| motion | speed | guard | closest approach of the simulated links [mm] | pair | "
-             "t [s] | guard holds | sim_host outcome |",
-             "|---|---|---|---|---|---|---|---|"]
+             "t [s] | guard holds | controller exit | sim_host outcome |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "error" in r:
-            lines.append("| %s | %s | %s | (failed: %s) | | | | |" % (r["motion"], r["speed"],
+            lines.append("| %s | %s | %s | (failed: %s) | | | | | |" % (r["motion"], r["speed"],
                                                                    r["guard"], r["error"]))
             continue
         d = ("%.1f" % r["closest_mm"]) if r["exact"] else ("> %.0f" % r["closest_mm"])
-        lines.append("| %s | %s | %s | %s | %s | %.3f | %d | %s |" % (
+        lines.append("| %s | %s | %s | %s | %s | %.3f | %d | %s | %s |" % (
             r["motion"], r["speed"], r["guard"], d, r["pair"], r["t"] or 0.0, r["holds"],
-            r["outcome"]))
+            r["controller_exit"], r["outcome"]))
     lines.append("")
     lines.append("margin of the guard's file: %.1f mm; a guard-on trial passes at >= %.1f mm"
                  % (margin, margin - TOLERANCE_MM))
