@@ -59,6 +59,24 @@ shm::Status Attach(shm::RobotAdaptor* adaptor, const RunOptions& options, bool* 
   }
 }
 
+// the guard's state this cycle into the segment's record (shm::GuardRecord): what a producer
+// logs and reports; no allocation
+void RecordGuard(const SelfCollisionGuard& guard, shm::GuardRecord* r) {
+  *r = shm::GuardRecord{};
+  r->holding = guard.holding() ? 1u : 0u;
+  r->holds = guard.holds();
+  if (!guard.holding()) return;
+  r->distance = guard.hold_distance();
+  const collision::LinkPair p = guard.hold_pair();
+  const auto& links = guard.file().robot.links;
+  const auto copy = [&](int link, char* out) {
+    if (link < 0 || link >= static_cast<int>(links.size())) return;
+    links[link].name.copy(out, shm::kNameLen - 1);
+  };
+  copy(p.a, r->link_a);
+  copy(p.b, r->link_b);
+}
+
 }  // namespace
 
 const char* ExitCodeHelp() {
@@ -220,7 +238,10 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       }
     }
     controller.update(sensors, &commands);
-    if (guarded) guard.Filter(sensors, &commands);
+    if (guarded) {
+      guard.Filter(sensors, &commands);
+      RecordGuard(guard, &commands.guard);
+    }
     if (options.fall_watch && watch.Update(sensors, controller.base_tilt(), controller.com_height())) {
       fell = true;  // the producer holds the last commands
       break;
@@ -284,9 +305,17 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
        << seg << " released\n";
   controller.report(out);
   if (guarded) guard.Report(prog, out);
-  // the controller's own verdict, unless the run already failed for a reason of its own
+  // the controller's own verdict, unless the run already failed for a reason of its own; a
+  // motion the self-collision guard still held at the end was not completed
   if (rep.exit_code == kExitOk || rep.exit_code == kExitFell) {
     rep.failure = controller.failure();
+    if (rep.failure.empty() && guarded && guard.holding()) {
+      shm::GuardRecord g;
+      RecordGuard(guard, &g);
+      rep.failure = std::string("the self-collision guard was still holding the motion at the "
+                                "end of the run (") + g.link_a + "/" + g.link_b + " at " +
+                    Fixed(1e3 * g.distance, 1) + " mm): the commanded motion was not completed";
+    }
     if (!rep.failure.empty()) {
       err << prog << ": FAILED: " << rep.failure << "\n";
       if (rep.exit_code == kExitOk) rep.exit_code = kExitFailed;

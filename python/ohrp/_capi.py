@@ -84,6 +84,8 @@ for _n in ("ohrp_get_q", "ohrp_get_dq", "ohrp_get_tau", "ohrp_get_force", "ohrp_
 _sig("ohrp_get_sim_truth", ctypes.c_int, _robot, _dp)
 _sig("ohrp_write", ctypes.c_int, _robot, _ip, _dp, _dp, _dp, _dp, _dp)
 _sig("ohrp_last_commands", ctypes.c_int, _robot, _ip, _dp, _dp, _dp, _dp, _dp)
+_sig("ohrp_last_guard", ctypes.c_int, _robot, _ip, ctypes.POINTER(ctypes.c_uint64), _dp,
+     ctypes.c_char_p, ctypes.c_char_p)
 _sig("ohrp_result_name", _cp, ctypes.c_int)
 # camera images
 _sig("ohrp_ncamera", ctypes.c_int, _robot)

@@ -266,6 +266,20 @@ class Robot:
         out["mode"] = np.array(mode[:n], dtype=np.int32)
         return out
 
+    def last_guard(self):
+        """The controller's self-collision guard in its last commands (the segment's guard
+        record) as a dict: holding (bool, it held the motion that cycle), holds (episodes
+        begun), distance (the held pair's predicted distance [m]), pair ("LINK_A/LINK_B", "" when
+        not holding); None when no commands were written yet."""
+        holding, holds, distance = ctypes.c_int32(), ctypes.c_uint64(), ctypes.c_double()
+        a, b = ctypes.create_string_buffer(32), ctypes.create_string_buffer(32)
+        if not _lib.ohrp_last_guard(self._handle(), ctypes.byref(holding), ctypes.byref(holds),
+                                    ctypes.byref(distance), a, b):
+            return None
+        pair = "%s/%s" % (a.value.decode(), b.value.decode()) if a.value else ""
+        return {"holding": bool(holding.value), "holds": holds.value,
+                "distance": distance.value, "pair": pair}
+
     def producer_failed(self):
         """True when the producer ended its run after failing (e.g. a diverged simulation)."""
         return bool(_lib.ohrp_producer_failed(self._handle()))

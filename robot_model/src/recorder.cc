@@ -62,7 +62,7 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
   r->njoint_ = channels.joints ? static_cast<int>(names.joints.size()) : 0;
   r->nforce_ = channels.force_torque ? static_cast<int>(names.forces.size()) : 0;
   r->nimu_ = channels.imu ? static_cast<int>(names.imus.size()) : 0;
-  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + 6 * r->nforce_ + 10 * r->nimu_ + 2;
+  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + 6 * r->nforce_ + 10 * r->nimu_ + 3;
   r->capacity_ = capacity;
   r->max_bytes_ = max_bytes;
   r->ring_.assign(r->width_ * capacity, 0.0);
@@ -83,7 +83,7 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
   for (int u = 0; u < r->nimu_; ++u)
     for (const char* c : {"_gx", "_gy", "_gz", "_ax", "_ay", "_az", "_qw", "_qx", "_qy", "_qz"})
       column(names.imus[u], c);
-  h += ",status,rejected\n";
+  h += ",status,rejected,guard_holding\n";
   const uint64_t longest_row = r->width_ * (kFormatG9Max + 1);
   if (max_bytes > 0 && max_bytes < h.size() + longest_row) {
     *error = "the log's size bound of " + std::to_string(max_bytes) + " bytes cannot hold its " +
@@ -116,7 +116,8 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
 
 Recorder::~Recorder() { Close(); }
 
-bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs) {
+bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs,
+                    uint32_t guard_holding) {
   const uint64_t head = head_.load(std::memory_order_relaxed);
   if (head - tail_.load(std::memory_order_acquire) >= capacity_) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
@@ -145,6 +146,7 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs) {
   }
   row[k++] = s.status;
   row[k++] = static_cast<double>(s.rejected_commands);
+  row[k++] = guard_holding;
   head_.store(head + 1, std::memory_order_release);
   return true;
 }

@@ -47,6 +47,7 @@ enum {
 };
 
 /* joint modes of ohrp_write (as the segment's JointMode) */
+enum { OHRP_NAME_LEN = 32 }; /* bytes of a name field in the segment (ohrp::shm::kNameLen) */
 enum { OHRP_MODE_OFF = 0, OHRP_MODE_POSITION = 1, OHRP_MODE_VELOCITY = 2, OHRP_MODE_TORQUE = 3 };
 
 /* producer kinds (ohrp_producer_kind) */
@@ -124,6 +125,13 @@ int ohrp_write(ohrp_robot* r, const int32_t* mode, const double* q_ref, const do
  * any, 0 otherwise. */
 int ohrp_last_commands(const ohrp_robot* r, int32_t* mode, double* q_ref, double* dq_ref,
                        double* tau_ff, double* kp, double* kd);
+/* Observer: the controller's self-collision guard in its last commands (the command block's
+ * guard record, ohrp::shm::GuardRecord): *holding 1 when it held the motion that cycle, *holds
+ * the hold episodes begun, *distance the held pair's predicted distance [m]; link_a / link_b
+ * (each OHRP_NAME_LEN bytes, NUL-terminated; NULL skipped) the pair. 1 when there were
+ * commands, 0 otherwise (a controller without the guard writes zeros). */
+int ohrp_last_guard(const ohrp_robot* r, int32_t* holding, uint64_t* holds, double* distance,
+                    char* link_a, char* link_b);
 
 /* ---- camera images (shm_bridge/images.h) ---- */
 

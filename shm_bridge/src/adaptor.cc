@@ -175,6 +175,9 @@ ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   const int njoint = std::clamp(commands.njoint, 0, kMaxJoints);
   block.njoint = njoint;
   block.pad0 = 0;
+  block.guard = commands.guard;
+  block.guard.pad0 = 0;
+  block.guard.link_a[kNameLen - 1] = block.guard.link_b[kNameLen - 1] = '\0';
   internal::CopyElements<JointCommand>(&commands, &block, offsetof(CommandBlock, joint), njoint);
   std::atomic_ref<uint64_t>(block.answers_cycle).store(last_cycle_, std::memory_order_relaxed);
   internal::SeqlockEnd(&block, odd);

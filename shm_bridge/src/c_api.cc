@@ -307,6 +307,28 @@ int ohrp_last_commands(const ohrp_robot* r, int32_t* mode, double* q_ref, double
   return 1;
 }
 
+int ohrp_last_guard(const ohrp_robot* r, int32_t* holding, uint64_t* holds, double* distance,
+                    char* link_a, char* link_b) {
+  static_assert(OHRP_NAME_LEN == ohrp::shm::kNameLen);
+  if (!Valid(r)) return 0;
+  CommandBlock block{};
+  const CommandBlock* c = &r->commands;
+  if (r->observer) {
+    if (!r->observer->commands(&block)) return 0;
+    c = &block;
+  } else if (c->njoint == 0) {
+    return 0;
+  }
+  const ohrp::shm::GuardRecord& g = c->guard;
+  if (holding) *holding = static_cast<int32_t>(g.holding);
+  if (holds) *holds = g.holds;
+  if (distance) *distance = g.distance;
+  // the bridge terminates the names within kNameLen
+  if (link_a) std::memcpy(link_a, g.link_a, OHRP_NAME_LEN);
+  if (link_b) std::memcpy(link_b, g.link_b, OHRP_NAME_LEN);
+  return 1;
+}
+
 int ohrp_ncamera(const ohrp_robot* r) { return Count(r, &SegmentHeader::ncamera); }
 
 const char* ohrp_camera_name(const ohrp_robot* r, int i) {

@@ -122,7 +122,8 @@ inline void CopyElements(const Block* src, Block* dst, std::size_t offset, int n
               sizeof(Element) * static_cast<std::size_t>(n));
 }
 
-// the command block up to its first `njoint` joints (njoint read from the block, clamped)
+// the command block up to its first `njoint` joints (njoint read from the block, clamped); the
+// guard record lies before the joints and is copied with the head
 inline void CopyCommands(const CommandBlock* src, CommandBlock* dst) {
   constexpr std::size_t kHead = offsetof(CommandBlock, joint);
   std::memcpy(static_cast<void*>(dst), static_cast<const void*>(src), kHead);

@@ -194,6 +194,7 @@ int RunHost(const HostOptions& options) {
   }
   watch.Start(m, d);
   shm::CommandBlock cmd{};
+  GuardWatch guard;  // the hold episodes of the controller's self-collision guard
   int exit_code = kExitOk;
 
   bool republish = false;
@@ -211,7 +212,7 @@ int RunHost(const HostOptions& options) {
                 robot.joints.size() * sizeof(uint32_t));
     producer->PublishSensors();
     if (record && recorder && st.cycles % static_cast<uint64_t>(o.log_every) == 0)
-      recorder->Push(s, &servo.reference(0));
+      recorder->Push(s, &servo.reference(0), cmd.guard.holding);
   };
   publish(0);
 
@@ -314,6 +315,9 @@ int RunHost(const HostOptions& options) {
           }
           extra_status &= ~(shm::status::kHolding | shm::status::kCommandLate |
                             shm::status::kCommandRejected);
+          // the controller's self-collision guard: a hold's begin and end are events
+          if (int64_t hold = 0; const int change = guard.Update(cmd.guard, d->time, st.cycles, &hold))
+            st.Record(d->time, change > 0 ? "guard_hold_begin" : "guard_hold_end", hold);
           if (const int rejected = servo.Accept(cmd); rejected > 0) {
             extra_status |= shm::status::kCommandRejected;
             if (!rejecting) st.Record(d->time, "commands_rejected", rejected);
@@ -446,6 +450,7 @@ int RunHost(const HostOptions& options) {
   }
   st.warnings = WarningCount() - warnings_at_start;
   if (self_collision) st.self_collision = self_collision->Summary();
+  st.guard = guard.Summary();
   if (!o.quiet) PrintReport(st);
   if (!o.quiet && cameras.frames() > 0)
     std::fprintf(stderr, "sim_host: cameras: %lu images rendered, %.2f ms each\n",

@@ -98,13 +98,36 @@ void PrintReport(const RunStats& st) {
                     h.deepest_time, static_cast<unsigned long>(h.cycles));
       pairs += b;
     }
+    char closest[160];
+    if (sc.closest_exact)
+      std::snprintf(closest, sizeof(closest), "closest approach %.1f mm (%s at %.3f s)",
+                    1e3 * sc.closest, sc.closest_pair.c_str(), sc.closest_time);
+    else
+      std::snprintf(closest, sizeof(closest), "closest approach above %.0f mm", 1e3 * sc.closest);
     std::fprintf(stderr,
                  "sim_host: self-collision: %lu of %lu cycles with links in contact (%d pairs "
-                 "checked, %.1f us per check)%s%s\n",
+                 "checked, %.1f us per check), %s%s%s\n",
                  static_cast<unsigned long>(sc.cycles_in_contact),
                  static_cast<unsigned long>(sc.checks), sc.pairs_checked,
-                 sc.checks ? 1e6 * sc.check_seconds / sc.checks : 0.0, pairs.empty() ? "" : ": ",
-                 pairs.c_str());
+                 sc.checks ? 1e6 * sc.check_seconds / sc.checks : 0.0, closest,
+                 pairs.empty() ? "" : ": ", pairs.c_str());
+  }
+  // the controller's self-collision guard: its holds, the first and the closest
+  if (st.guard.episodes > 0) {
+    const GuardSummary& g = st.guard;
+    std::string what;
+    if (!g.holds.empty()) {
+      const GuardHold& f = g.holds.front();
+      const GuardHold& c = g.holds[g.closest];
+      char b[320];
+      std::snprintf(b, sizeof(b), ": first %s at %.1f mm (t=%.3f s), closest %s at %.1f mm (t=%.3f s)%s",
+                    f.pair, 1e3 * f.distance, f.begin, c.pair, 1e3 * c.closest, c.begin,
+                    g.holding_at_end ? "; still holding at the end" : "");
+      what = b;
+    }
+    std::fprintf(stderr, "sim_host: self-collision guard: %lu holds, %lu command blocks held%s\n",
+                 static_cast<unsigned long>(g.episodes), static_cast<unsigned long>(g.held_cycles),
+                 what.c_str());
   }
   // the actuators that could not give the servo's torque
   if (st.clamped > 0) {
@@ -118,6 +141,32 @@ void PrintReport(const RunStats& st) {
                  static_cast<unsigned long>(st.clamped), joints.c_str());
   }
 }
+
+namespace {
+
+// the summary's "self_collision_guard" (report.h)
+nlohmann::json GuardJson(const GuardSummary& g) {
+  nlohmann::json holds = nlohmann::json::array();
+  for (const GuardHold& h : g.holds)
+    holds.push_back({{"begin", h.begin}, {"begin_cycle", h.begin_cycle}, {"end", h.end},
+                     {"end_cycle", h.end_cycle}, {"pair", h.pair},
+                     {"distance_mm", 1e3 * h.distance}, {"closest_mm", 1e3 * h.closest},
+                     {"cycles", h.cycles}});
+  auto at = [&](const GuardHold& h, double distance) -> nlohmann::json {
+    return {{"pair", h.pair}, {"distance_mm", 1e3 * distance}, {"time", h.begin},
+            {"cycle", h.begin_cycle}};
+  };
+  nlohmann::json first = nullptr, closest = nullptr;
+  if (!g.holds.empty()) {
+    first = at(g.holds.front(), g.holds.front().distance);
+    closest = at(g.holds[g.closest], g.holds[g.closest].closest);
+  }
+  return {{"hold_episodes", g.episodes}, {"held_cycles", g.held_cycles},
+          {"controller_holds", g.controller_holds}, {"holding_at_end", g.holding_at_end},
+          {"first", first}, {"closest", closest}, {"holds", holds}};
+}
+
+}  // namespace
 
 bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,
@@ -164,8 +213,15 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
   for (const HostEvent& e : st.events) {
     events.push_back({{"time", e.time}, {"cycle", e.cycle}, {"event", e.kind}, {"value", e.value}});
     if (std::string(e.kind) == "fall") events.back()["cause"] = st.fall.cause;
+    if (std::string(e.kind).rfind("guard_hold_", 0) == 0 && e.value >= 0 &&
+        e.value < static_cast<int64_t>(st.guard.holds.size())) {
+      const GuardHold& h = st.guard.holds[e.value];
+      events.back()["pair"] = h.pair;
+      events.back()["distance_mm"] = 1e3 * h.distance;
+    }
   }
   j["events"] = events;
+  j["self_collision_guard"] = GuardJson(st.guard);
   j["fall_watch"] = {{"on", st.fall.on}, {"text", st.fall.watch},
                      {"start_height", st.fall.start_height}, {"min_height", st.fall.min_height},
                      {"max_tilt_deg", st.fall.max_tilt}, {"on_fall", OnFallName(o.fall.on_fall)},
@@ -231,7 +287,10 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap&
                            {"checks", sc.checks}, {"measured", sc.measured},
                            {"cycles_in_contact", sc.cycles_in_contact},
                            {"check_mean_s", sc.checks ? sc.check_seconds / sc.checks : 0.0},
-                           {"check_max_s", sc.check_max}, {"pairs", pairs}};
+                           {"check_max_s", sc.check_max}, {"pairs", pairs},
+                           {"closest_mm", 1e3 * sc.closest}, {"closest_exact", sc.closest_exact},
+                           {"closest_pair", sc.closest_pair}, {"closest_t", sc.closest_time},
+                           {"closest_cycle", sc.closest_cycle}};
   }
   std::string error;
   if (model::WriteWholeFile(path, j.dump(2) + "\n", &error)) return true;

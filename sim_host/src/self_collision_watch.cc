@@ -136,12 +136,18 @@ void SelfCollisionWatch::Check(const mjData* d, double time, uint64_t cycle) {
   collision::PostureFromQpos(*robot_, d->qpos, q_);  // the simulated passive joints too
   check_->MoveTo(q_);
   const uint64_t before = check_->measured();
-  check_->CheckAll(0.0);
+  check_->CheckAll(kClosestRange);
   measured_ += check_->measured() - before;
   in_contact_.clear();
   for (size_t i = 0; i < pairs_.size(); ++i) {
-    // a pair not measured carries a lower bound above 0
+    // a pair not measured carries a lower bound above kClosestRange
     const double x = check_->distance(static_cast<int>(i));
+    if (x < closest_) {
+      closest_ = x;
+      closest_time_ = time;
+      closest_cycle_ = cycle;
+      closest_pair_ = x <= kClosestRange ? static_cast<int>(i) : -1;
+    }
     if (!(x < 0)) continue;
     in_contact_.push_back(static_cast<int>(i));
     if (first_time_[i] < 0) {
@@ -194,6 +200,11 @@ SelfCollisionSummary SelfCollisionWatch::Summary() const {
   s.cycles_in_contact = cycles_in_contact_;
   s.check_seconds = check_seconds_;
   s.check_max = check_max_;
+  s.closest = closest_pair_ >= 0 ? closest_ : std::max(closest_, kClosestRange);
+  s.closest_exact = closest_pair_ >= 0;
+  if (s.closest_exact) s.closest_pair = PairName(pairs_[closest_pair_]);
+  s.closest_time = closest_time_;
+  s.closest_cycle = closest_cycle_;
   for (int i : order_) {
     SelfCollisionHit h;
     h.pair = PairName(pairs_[i]);

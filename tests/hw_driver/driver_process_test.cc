@@ -91,6 +91,37 @@ TEST_F(HwDriverProcess, NanCommandsAreRejectedCountedAndTheJointHolds) {
   EXPECT_TRUE(reached);
 }
 
+// the controller's self-collision guard (issue 29): a held block begins a hold, an event with
+// the guard's count and the pair's predicted distance; the data log's guard_holding says 1
+TEST_F(HwDriverProcess, AGuardHoldIsAnEventAndALogColumn) {
+  Start({"--duration", "120", "--watchdog-cycles", "1000000", "--servo-off-time", "0.05",
+         "--log", Path("log.csv")});
+  ASSERT_TRUE(WaitSegment()) << Stderr();
+  Peek peek(segment_);
+  shm::CommandBlock held = Hold(0.2, 0.1);
+  held.guard.holding = 1;
+  held.guard.holds = 1;
+  held.guard.distance = 0.0015;
+  child_ = Controller(held);
+  EXPECT_TRUE(WaitUntil([&] { return peek.get().sensors.last_command_cycle > 50; }));
+  kill(pid_, SIGINT);
+  EXPECT_EQ(Wait(), 130) << Stderr();
+  EXPECT_EQ(WaitExit(&child_), 0);
+  const auto s = Summary();
+  int begins = 0;
+  for (const auto& e : s["events"]) {
+    if (e["event"] != "guard_hold_begin") continue;
+    ++begins;
+    EXPECT_EQ(e["value"].get<long>(), 1) << e.dump();
+    EXPECT_DOUBLE_EQ(e["reading"].get<double>(), 0.0015) << e.dump();
+  }
+  EXPECT_EQ(begins, 1) << s["events"].dump();
+  const std::string log = Read("log.csv");
+  const std::string header = log.substr(0, log.find('\n'));
+  EXPECT_EQ(header.substr(header.rfind(',') + 1), "guard_holding") << header;
+  EXPECT_NE(log.find(",1\n"), std::string::npos);  // rows held by the guard
+}
+
 //---------------- lateness readable while it runs ----------------
 
 TEST_F(HwDriverProcess, LatenessIsReadableWhileItRunsFromTheStatsFileAndSigusr1) {

@@ -192,5 +192,45 @@ TEST(Checks, SelfCollisionsReadSimHostsReport) {
   EXPECT_NE(r.detail.find("did not check self-collisions"), std::string::npos) << r.detail;
 }
 
+// the closest approach (issue 29): `min_distance_mm` against the summary's closest_mm, which
+// is negative when links overlap; a closest approach beyond the watch's range is a lower bound
+TEST(Checks, SelfCollisionsMinDistanceReadsTheClosestApproach) {
+  nlohmann::json sim = kSim;
+  sim["self_collision"] = {{"pairs_checked", 397}, {"checks", 900}, {"cycles_in_contact", 3},
+                           {"pairs", nlohmann::json::array()}, {"closest_mm", -1.5},
+                           {"closest_exact", true}, {"closest_pair", "WAIST_R/RARM_WRIST_R"},
+                           {"closest_t", 5.845}};
+  auto r = Evaluate(Spec("self_collisions", {{"min_distance_mm", "1.5"}}), StandingLog(), sim);
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.value, -1.5);
+  EXPECT_EQ(r.unit, "mm");
+  EXPECT_NE(r.detail.find("closest approach -1.5 mm (WAIST_R/RARM_WRIST_R at 5.845 s)"),
+            std::string::npos) << r.detail;
+  EXPECT_TRUE(Evaluate(Spec("self_collisions", {{"min_distance_mm", "-1.5"}}), StandingLog(), sim).passed);
+  sim["self_collision"]["closest_mm"] = 50.0;
+  sim["self_collision"]["closest_exact"] = false;
+  r = Evaluate(Spec("self_collisions", {{"min_distance_mm", "1.5"}}), StandingLog(), sim);
+  EXPECT_TRUE(r.passed);
+  EXPECT_NE(r.detail.find("closest approach above 50 mm"), std::string::npos) << r.detail;
+}
+
+// the guard's holds as sim_host recorded them (its summary's "self_collision_guard")
+TEST(Checks, SelfCollisionHoldsCountsTheGuardsHoldEpisodes) {
+  nlohmann::json sim = kSim;
+  const nlohmann::json first = {{"pair", "WAIST_R/RARM_WRIST_R"}, {"distance_mm", 1.7}, {"time", 5.785}};
+  sim["self_collision_guard"] = {{"hold_episodes", 2}, {"held_cycles", 323},
+                                 {"holding_at_end", true}, {"first", first}, {"closest", first}};
+  auto r = Evaluate(Spec("self_collision_holds", {{"max", "1"}}), StandingLog(), sim);
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.value, 2);
+  EXPECT_NE(r.detail.find("first WAIST_R/RARM_WRIST_R at 1.7 mm (t=5.785 s)"), std::string::npos) << r.detail;
+  EXPECT_NE(r.detail.find("still holding at the end"), std::string::npos) << r.detail;
+  EXPECT_TRUE(Evaluate(Spec("self_collision_holds", {{"max", "2"}}), StandingLog(), sim).passed);
+  EXPECT_FALSE(Evaluate(Spec("self_collision_holds", {}), StandingLog(), sim).passed);  // max 0
+  r = Evaluate(Spec("self_collision_holds", {}), StandingLog(), kSim);  // no record at all
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.detail.find("no self_collision_guard"), std::string::npos) << r.detail;
+}
+
 }  // namespace
 }  // namespace ohrp::runner

@@ -2,7 +2,8 @@
 // (scenarios/selfcollision_arm_{on,off}.yaml, run by ohrp_run in its own processes: sim_host and
 // playback). The data log's joint angles are measured with the checker and the shipped file:
 // with the online check on the arm stops short of the leg and playback reports the held
-// cycles naming the pair; with it off the hand goes into the thigh. sim_host's self_collision
+// cycles naming the pair, and ends with exit 9 (the swing was not completed: issue 29), which
+// fails the scenario with playback's reason; with it off the hand goes into the thigh. sim_host's self_collision
 // effect (switched on by the scenarios' self_collisions checks) reports the same: the arm/leg
 // pair named with its first time and depth when off, no pair when on.
 #include <gtest/gtest.h>
@@ -13,6 +14,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include <sys/wait.h>
 
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
@@ -26,12 +29,17 @@ std::string Src(const std::string& p) { return std::string(OHRP_SOURCE_DIR) + "/
 
 using ohrp::testing::ReadFile;
 
-// runs a scenario into a fresh folder; returns the folder
-std::string RunScenario(const std::string& scenario) {
+constexpr int kRunFailed = 1;  // ohrp_run: a check failed (runner/runner.h)
+
+// runs a scenario into a fresh folder; returns the folder. `passes`: ohrp_run's verdict is
+// pass (exit 0), else fail (exit kRunFailed)
+std::string RunScenario(const std::string& scenario, bool passes = true) {
   const std::string out = runner::TempDir();
   const std::string cmd = "cd " + std::string(OHRP_SOURCE_DIR) + " && " + OHRP_BIN_DIR +
                           "/ohrp_run " + scenario + " --out " + out + " --quiet --no-plot";
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const int status = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status)) << cmd;
+  EXPECT_EQ(WEXITSTATUS(status), passes ? 0 : kRunFailed) << cmd;
   return out;
 }
 
@@ -100,7 +108,26 @@ TEST(SelfCollisionScenario, WithoutTheCheckTheArmGoesIntoTheLeg) {
 }
 
 TEST(SelfCollisionScenario, TheCheckStopsTheArmBeforeTheLeg) {
-  const std::string out = RunScenario("scenarios/selfcollision_arm_on.yaml");
+  // the guard holds the arm to the end: the swing was not completed, so playback ends with
+  // exit 9 and the scenario fails on that alone, with playback's reason (issue 29)
+  const std::string out = RunScenario("scenarios/selfcollision_arm_on.yaml", false);
+  const nlohmann::json run = nlohmann::json::parse(ReadFile(out + "/summary.json"));
+  for (const auto& c : run.at("checks")) {
+    const std::string name = c.value("name", std::string());
+    EXPECT_EQ(c.value("passed", false), name != "playback_exited_cleanly") << c.dump();
+    if (name == "playback_exited_cleanly") {
+      EXPECT_EQ(c.value("value", 0.0), 9.0) << c.dump();
+      EXPECT_NE(c.value("detail", std::string()).find("self-collision guard was still holding"),
+                std::string::npos) << c.dump();
+    }
+  }
+  // sim_host recorded the hold: one episode, begun when the swing approaches the leg
+  const nlohmann::json sim = nlohmann::json::parse(ReadFile(out + "/sim_summary.json"));
+  const nlohmann::json& g = sim.at("self_collision_guard");
+  EXPECT_EQ(g.value("hold_episodes", 0), 1) << g.dump();
+  EXPECT_TRUE(g.value("holding_at_end", false)) << g.dump();
+  EXPECT_GT(g.at("first").value("time", 0.0), 1.0) << g.dump();  // the swing starts at 1 s
+  EXPECT_NE(g.at("first").value("pair", std::string()).find("RARM_"), std::string::npos) << g.dump();
   // stopped before contact: the servo lags the held reference by little
   EXPECT_GT(ArmLegDistance(out + "/log.csv"), 0.0);
   const std::string said = ReadFile(out + "/playback.stderr");

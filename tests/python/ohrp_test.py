@@ -104,6 +104,9 @@ class LiveSegment(unittest.TestCase):
                     last = watcher.last_commands()
                     self.assertEqual(last["q_ref"][knee], 0.5)
                     self.assertEqual(last["kp"][knee], robot.default_kp[knee])
+                    # a Python controller has no self-collision guard: its record is zero
+                    self.assertEqual(watcher.last_guard(), {"holding": False, "holds": 0,
+                                                            "distance": 0.0, "pair": ""})
                     with self.assertRaisesRegex(ohrp.SegmentError, "observer cannot write"):
                         watcher.write(q_ref=target)
                     with self.assertRaisesRegex(ValueError, "29 values expected"):

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "common/scratch.h"
 #include "robot_model/output_file.h"
@@ -84,6 +85,32 @@ TEST(Recorder, ACompleteLogCountsEveryRowOnDisk) {
   EXPECT_EQ(r->rows_on_disk(), 3000u);
   EXPECT_EQ(r->lost(), 0u);
   ExpectFileMatchesCounts(*r, path);
+}
+
+// the last column is the controller's guard record (issue 29): 1 in the rows whose commands
+// the self-collision guard held, 0 elsewhere (and by default)
+TEST(Recorder, TheLastColumnSaysWhetherTheGuardHeld) {
+  const std::string path = ScratchPath("guard", ".csv");
+  std::string error;
+  auto r = Recorder::Open(path, kNames, &error, 16);
+  ASSERT_TRUE(r) << error;
+  shm::JointCommand refs[3] = {};
+  EXPECT_TRUE(r->Push(Row(0, refs), refs));
+  EXPECT_TRUE(r->Push(Row(1, refs), refs, 1));
+  EXPECT_TRUE(r->Push(Row(2, refs), refs, 0));
+  EXPECT_TRUE(r->Close());
+  const std::string text = ReadFile(path);
+  std::vector<std::string> lines;
+  for (size_t a = 0, b; (b = text.find('\n', a)) != std::string::npos; a = b + 1)
+    lines.push_back(text.substr(a, b - a));
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0].substr(lines[0].rfind(',')), ",guard_holding") << lines[0];
+  const auto last = [](const std::string& l) { return l.substr(l.rfind(',') + 1); };
+  EXPECT_EQ(last(lines[1]), "0");
+  EXPECT_EQ(last(lines[2]), "1");
+  EXPECT_EQ(last(lines[3]), "0");
+  // as many numbers in a row as names in the header
+  EXPECT_EQ(std::count(lines[0].begin(), lines[0].end(), ','), std::count(lines[2].begin(), lines[2].end(), ','));
 }
 
 // RLIMIT_FSIZE (SIGXFSZ ignored, as sim_host and hw_driver do): write(2) writes up to the limit,

@@ -53,6 +53,45 @@ TEST(CApiTest, ACControllerAndACObserverFollowTheLockStep) {
   EXPECT_EQ(WaitExit(observer), 0);
 }
 
+// the controller's guard record (issue 29) as a C observer reads it
+TEST(CApiTest, AnObserverReadsTheGuardRecordFromC) {
+  const std::string name = testing::UniqueSegment("capi_guard");
+  testing::RemoveSegment(name);
+  Status status;
+  auto producer = Producer::Create(testing::SmallConfig(name), &status);
+  ASSERT_TRUE(status.ok()) << status.message;
+  RobotAdaptor controller;
+  ASSERT_TRUE(controller.open(name).ok());
+  char err[512];
+  ohrp_robot* o = ohrp_observe(name.c_str(), 2.0, err, sizeof err);
+  ASSERT_NE(o, nullptr) << err;
+  int32_t holding = -1;
+  EXPECT_EQ(ohrp_last_guard(o, &holding, nullptr, nullptr, nullptr, nullptr), 0);  // none yet
+  SensorBlock& s = producer->BeginSensors();
+  s.cycle = 3;
+  producer->PublishSensors();
+  SensorBlock in{};
+  ASSERT_EQ(controller.read(&in), ReadResult::kOk);
+  CommandBlock c{};
+  c.njoint = 3;
+  c.guard.holding = 1;
+  c.guard.holds = 2;
+  c.guard.distance = -0.0015;
+  std::strcpy(c.guard.link_a, "WAIST_R");
+  std::strcpy(c.guard.link_b, "RARM_WRIST_R");
+  ASSERT_EQ(controller.write(c), ReadResult::kOk);
+  uint64_t holds = 0;
+  double distance = 0;
+  char a[OHRP_NAME_LEN], b[OHRP_NAME_LEN];
+  ASSERT_EQ(ohrp_last_guard(o, &holding, &holds, &distance, a, b), 1);
+  EXPECT_EQ(holding, 1);
+  EXPECT_EQ(holds, 2u);
+  EXPECT_EQ(distance, -0.0015);
+  EXPECT_STREQ(a, "WAIST_R");
+  EXPECT_STREQ(b, "RARM_WRIST_R");
+  ohrp_close(o);
+}
+
 TEST(CApiTest, ImagesAreAskedForAndReadFromC) {
   const std::string name = testing::UniqueSegment("capi_images");
   testing::RemoveSegment(name);

@@ -51,8 +51,8 @@ TEST(LayoutHash, IsDeterministicAndNotTrivial) {
 // the layout changed: bump kLayoutVersion (which changes the hash again) and update the value,
 // so that old controllers are refused by new producers.
 TEST(LayoutHash, MatchesTheRecordedLayout) {
-  EXPECT_EQ(kLayoutVersion, 5u);
-  EXPECT_EQ(LayoutHash(), 0x7c3684be70ce3861ull) << std::hex << "LayoutHash() = 0x" << LayoutHash();
+  EXPECT_EQ(kLayoutVersion, 6u);
+  EXPECT_EQ(LayoutHash(), 0xa48c1670e30d37bbull) << std::hex << "LayoutHash() = 0x" << LayoutHash();
 }
 
 TEST(Layout, BlocksAreTriviallyCopyableAndAligned) {

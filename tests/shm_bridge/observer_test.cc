@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -152,6 +153,34 @@ TEST_F(ObserverTest, SeesTheControllersLastCommands) {
   EXPECT_EQ(seen.njoint, 3);
   EXPECT_EQ(seen.joint[1].q_ref, -0.5);
   EXPECT_EQ(seen.joint[1].kp, 250.0);
+}
+
+// the controller's guard record (issue 29) travels with the commands (copied with the block's
+// head, as the producer's WaitCommands copies it); a name filling its whole field arrives cut
+// and terminated
+TEST_F(ObserverTest, SeesTheGuardRecordWithTheCommands) {
+  Observer o;
+  ASSERT_TRUE(o.open(name_).ok());
+  RobotAdaptor controller;
+  ASSERT_TRUE(controller.open(name_).ok());
+  Publish(2);
+  SensorBlock s{};
+  ASSERT_EQ(controller.read(&s), ReadResult::kOk);
+  CommandBlock c{};
+  c.njoint = 3;
+  c.guard.holding = 1;
+  c.guard.holds = 3;
+  c.guard.distance = 0.0017;
+  std::snprintf(c.guard.link_a, kNameLen, "%s", "WAIST_R");
+  std::memset(c.guard.link_b, 'X', kNameLen);  // no terminator
+  ASSERT_EQ(controller.write(c), ReadResult::kOk);
+  CommandBlock seen{};
+  ASSERT_TRUE(o.commands(&seen));
+  EXPECT_EQ(seen.guard.holding, 1u);
+  EXPECT_EQ(seen.guard.holds, 3u);
+  EXPECT_EQ(seen.guard.distance, 0.0017);
+  EXPECT_STREQ(seen.guard.link_a, "WAIST_R");
+  EXPECT_EQ(std::string(seen.guard.link_b), std::string(kNameLen - 1, 'X'));
 }
 
 TEST_F(ObserverTest, ReportsTheProducersEnd) {

@@ -251,6 +251,67 @@ TEST(SelfCollisionWatch, SkippingPairsThatCannotHaveMovedMissesNothing) {
   EXPECT_LT(s.measured, kChecks * w->pairs().size());  // and skips some
 }
 
+// the run's closest approach (issue 29): the smallest signed distance any pair had at any check,
+// its pair and time, equal to a full check's (every pair measured every time) on a random walk
+// from half-sitting (steps up to 0.05 rad a joint) that goes into contact
+TEST(SelfCollisionWatch, TheClosestApproachIsTheFullChecksSmallestDistance) {
+  Hrp1s h;
+  std::string error;
+  auto w = SelfCollisionWatch::Create(h.scene->m(), h.robot, "", &error);
+  ASSERT_TRUE(w) << error;
+  ASSERT_TRUE(h.scene->Reset("halfsit", &error)) << error;
+  mjData* d = h.scene->d();
+  w->Start(d);
+  auto full = collision::SelfCollision::Create(w->geometry(), &error);
+  ASSERT_TRUE(full) << error;
+  const auto& g = w->geometry();
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const size_t nj = h.robot.joints.size();
+  std::vector<double> q(nj), all(w->pairs().size());
+  for (size_t j = 0; j < nj; ++j) q[j] = d->qpos[h.robot.joints[j].qpos_adr];
+  double closest = 1e9, closest_time = -1;
+  int closest_pair = -1;
+  for (int k = 0; k < 400; ++k) {
+    for (size_t j = 0; j < nj; ++j) {
+      q[j] = std::clamp(q[j] + 0.05 * u(rng), g.q_min[j], g.q_max[j]);
+      d->qpos[h.robot.joints[j].qpos_adr] = q[j];
+    }
+    w->Check(d, 0.005 * k, k);
+    full->SetPose(q);
+    full->Check(w->pairs(), 1.0, all);  // every pair within 1 m measured
+    for (size_t i = 0; i < all.size(); ++i) {
+      if (all[i] < closest) {
+        closest = all[i];
+        closest_time = 0.005 * k;
+        closest_pair = static_cast<int>(i);
+      }
+    }
+  }
+  const SelfCollisionSummary s = w->Summary();
+  ASSERT_LT(closest, SelfCollisionWatch::kClosestRange);
+  EXPECT_TRUE(s.closest_exact);
+  EXPECT_NEAR(s.closest, closest, 1e-9);
+  EXPECT_EQ(s.closest_time, closest_time);
+  const auto& links = g.links;
+  EXPECT_EQ(s.closest_pair, links[w->pairs()[closest_pair].a].name + "/" + links[w->pairs()[closest_pair].b].name);
+  std::printf("closest approach %.1f mm (%s at %.3f s)\n", 1e3 * s.closest, s.closest_pair.c_str(),
+              s.closest_time);
+
+  // standing still at halfsit: the closest pair (the ankles, 40 mm apart) is beyond the range,
+  // so the summary gives a lower bound, no pair, and says so
+  auto still = SelfCollisionWatch::Create(h.scene->m(), h.robot, "", &error);
+  ASSERT_TRUE(still) << error;
+  ASSERT_TRUE(h.scene->Reset("halfsit", &error)) << error;
+  still->Start(h.scene->d());
+  still->Check(h.scene->d(), 0, 0);
+  const SelfCollisionSummary t = still->Summary();
+  EXPECT_FALSE(t.closest_exact);
+  EXPECT_TRUE(t.closest_pair.empty());
+  EXPECT_GE(t.closest, SelfCollisionWatch::kClosestRange);
+  EXPECT_LE(t.closest, 0.040 + 1e-4);  // a lower bound of the ankles' 40 mm
+}
+
 TEST(SelfCollisionWatch, CheckAllocatesNothing) {
 #ifndef OHRP_CAN_COUNT
   GTEST_SKIP() << "allocations are counted in the normal build (glibc, no sanitizers)";

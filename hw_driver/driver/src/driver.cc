@@ -391,6 +391,7 @@ int Driver::Run() {
             d.rejected_flag = 0;
             silent_controller = 0;
             answered = true;
+            d.NoteGuard();
             if (d.guard.Accept(d.cmd) > 0) d.rejected_flag = shm::status::kCommandRejected;
             live_.rejected.store(d.guard.rejected_total(), std::memory_order_relaxed);
             live_.clamped.store(d.guard.clamped_total(), std::memory_order_relaxed);

@@ -86,6 +86,7 @@ struct Driver::Impl {
   double imu_reference[4] = {1, 0, 0, 0};   // the IMU's orientation at servo-on (the fall check)
   bool have_imu_reference = false;
   shm::CommandBlock cmd{};
+  bool guard_holding = false;  // the controller's guard held the last accepted block
   std::vector<Event> events;
   uint64_t events_dropped = 0;
 
@@ -107,6 +108,16 @@ struct Driver::Impl {
     } else {
       ++events_dropped;
     }
+  }
+
+  // the controller's self-collision guard in the block just accepted: a hold's begin and end
+  // are events (the held pair is in the controller's report and the data log's guard_holding)
+  void NoteGuard() noexcept {
+    const bool holding = cmd.guard.holding != 0;
+    if (holding == guard_holding) return;
+    guard_holding = holding;
+    Record(holding ? EventKind::kGuardHoldBegin : EventKind::kGuardHoldEnd,
+           static_cast<int64_t>(cmd.guard.holds), -1, -1, cmd.guard.distance);
   }
 
   void Publish(uint32_t flags, const LiveStats& live, bool record = true) noexcept {
@@ -132,7 +143,8 @@ struct Driver::Impl {
     producer->PublishSensors();
     // the data log, as sim_host's: the block just published and the references the servos held
     // over the interval it ends (written in the previous cycle); a copy into the log's ring
-    if (record && log && k % static_cast<uint64_t>(opt.log_every) == 0) log->Push(s, guard.references());
+    if (record && log && k % static_cast<uint64_t>(opt.log_every) == 0)
+      log->Push(s, guard.references(), cmd.guard.holding);  // the last accepted block's guard
   }
 
   void Write() noexcept {

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::IsMember({"spin-tail", "sleep"}));
   app.add_option("--log", o.log_path,
                  "CSV data log in sim_host's format (same column names, no ground-truth base_* "
-                 "columns): time, q_/qref_/tau_<joint>, F/T, IMU, status, rejected; written by a "
+                 "columns): time, q_/qref_/tau_<joint>, F/T, IMU, status, rejected, guard_holding; written by a "
                  "thread off the servo loop, flushed at the end (also after SIGINT/SIGTERM)");
   app.add_option("--log-every", d.log_every, "cycles between rows of --log")
       ->capture_default_str()->check(ohrp::cli::Positive());

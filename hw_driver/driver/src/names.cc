@@ -47,6 +47,8 @@ const char* EventName(EventKind k) {
     case EventKind::kSafeModeRefused: return "safe_mode_refused";
     case EventKind::kResetHold: return "reset_hold";
     case EventKind::kResetRamped: return "reset_ramped";
+    case EventKind::kGuardHoldBegin: return "guard_hold_begin";
+    case EventKind::kGuardHoldEnd: return "guard_hold_end";
     case EventKind::kFall: return "fall";
   }
   return "?";

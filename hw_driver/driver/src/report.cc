@@ -69,7 +69,8 @@ bool WriteStats(const std::string& path, const ProgramOptions& o, const shm::Pro
         if (e.joint < static_cast<int>(robot.joint_names.size()))
           ev["joint_name"] = robot.joint_names[e.joint];
       }
-      if (e.reading != 0 || e.joint >= 0 || e.kind == EventKind::kFall) {
+      if (e.reading != 0 || e.joint >= 0 || e.kind == EventKind::kFall ||
+          e.kind == EventKind::kGuardHoldBegin || e.kind == EventKind::kGuardHoldEnd) {
         if (std::isfinite(e.reading)) {
           ev["reading"] = e.reading;
         } else {

@@ -11,11 +11,13 @@
 //   <ft>_fx, <ft>_fy, <ft>_fz, <ft>_tx, <ft>_ty, <ft>_tz ...             (segment convention)
 //   <imu>_gx, <imu>_gy, <imu>_gz, <imu>_ax, <imu>_ay, <imu>_az,
 //   <imu>_qw, <imu>_qx, <imu>_qy, <imu>_qz ...
-//   status, rejected
+//   status, rejected, guard_holding
 // The channels (base, joints, F/T, IMU) can be left out (RecorderChannels, the log_* effects of
 // sim_host/effects.h); time, status and rejected are always there. hw_driver has no ground
 // truth: its logs have no base_* columns (base = false), the sensor channels are the same.
-// qref_ is the reference the servos held over the interval that ends at the row's time.
+// qref_ is the reference the servos held over the interval that ends at the row's time;
+// guard_holding is 1 when the commands that acted over it were held by the controller's
+// self-collision guard (shm::GuardRecord::holding), else 0.
 #pragma once
 
 #include <atomic>
@@ -79,7 +81,7 @@ class Recorder {
 
   // Queues one row (copies the values; no allocation, no lock). Returns false and counts a drop
   // when the ring is full (the writer fell behind).
-  bool Push(const shm::SensorBlock& s, const shm::JointCommand* refs);
+  bool Push(const shm::SensorBlock& s, const shm::JointCommand* refs, uint32_t guard_holding = 0);
 
   // Writes out everything queued so far (not real-time safe).
   void Flush();

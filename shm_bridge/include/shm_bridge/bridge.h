@@ -269,7 +269,7 @@ class RobotAdaptor {
   ReadResult read(SensorBlock* out);
 
   // Writes the commands answering the last cycle read (answers_cycle is set here) and posts
-  // commands_ready. Copies commands.njoint (clamped to kMaxJoints) joints; `seq` and
+  // commands_ready. Copies the guard record and commands.njoint (clamped to kMaxJoints) joints; `seq` and
   // `answers_cycle` of `commands` are ignored. Returns kDropped once the producer has let this
   // controller go, and kProducerStopped once the producer has ended its run, writing nothing;
   // kSyncCorrupted when the wake-up word was found corrupted (the commands are written, but

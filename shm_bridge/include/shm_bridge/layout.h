@@ -51,10 +51,11 @@ namespace ohrp::shm {
 //---------------- capacities and identification ----------------
 
 inline constexpr char kMagic[8] = {'O', 'H', 'R', 'P', 'S', 'E', 'G', '1'};
-inline constexpr uint32_t kLayoutVersion = 5;  // 2: the robot model's identity (model_hash...);
+inline constexpr uint32_t kLayoutVersion = 6;  // 2: the robot model's identity (model_hash...);
                                                // 3: futex wake-up words instead of sem_t;
                                                // 4: passive joints (npassive, passive_q...);
-                                               // 5: camera images (ImageArea)
+                                               // 5: camera images (ImageArea);
+                                               // 6: the guard record (CommandBlock::guard)
 inline constexpr int kMaxJoints = 64;   // actuated joints
 inline constexpr int kMaxPassiveJoints = 32;  // joints no actuator drives, published read-only
 inline constexpr int kMaxForceSensors = 4;  // 6-axis force/torque sensors
@@ -219,11 +220,25 @@ struct JointCommand {
   double kd;       // velocity gain [N m s/rad]
 };
 
+// What the controller's self-collision guard did this cycle (controllers/self_collision_guard.h),
+// so that a hold is a result the producer records (sim_host: an event when a hold begins and
+// ends, the summary's "self_collision_guard", the data log's guard_holding) and not only a line
+// of the controller's report. All zero from a controller without the guard.
+struct GuardRecord {
+  uint32_t holding;          // 1: the guard braked or held the motion this cycle, else 0
+  uint32_t pad0;
+  uint64_t holds;            // hold episodes begun since the controller started
+  double distance;           // the held pair's predicted distance [m] (0 when not holding)
+  char link_a[kNameLen];     // the held pair's links (NUL-terminated; empty when not holding)
+  char link_b[kNameLen];
+};
+
 struct CommandBlock {
   uint64_t seq;                     // seqlock counter, odd while written (atomic access)
   uint64_t answers_cycle;           // the sensor cycle k these commands answer
   int32_t njoint;                   // joints filled, must equal header njoint
   int32_t pad0;
+  GuardRecord guard;                // the controller's self-collision guard this cycle
   JointCommand joint[kMaxJoints];   // (njoint), joint-id order
 };
 

@@ -13,6 +13,7 @@
 #include "sim_host/host.h"
 #include "sim_host/model.h"
 #include "sim_host/recorder.h"
+#include "sim_host/guard_watch.h"
 #include "sim_host/self_collision_watch.h"
 
 namespace ohrp::sim {
@@ -25,10 +26,12 @@ struct HostEvent {
   uint64_t cycle = 0;
   const char* kind = "";   // controller_attached | controller_died | controller_detached |
                            // controller_silent | commands_rejected | push_start | push_end |
-                           // fall
+                           // fall | guard_hold_begin | guard_hold_end
   int64_t value = 0;       // controller_*: its pid; commands_rejected: joints rejected in that
                            // block; push_*: the push's index in the order given; fall: the body
-                           // that touched the ground (-1: height or tilt; the summary's "cause")
+                           // that touched the ground (-1: height or tilt; the summary's "cause");
+                           // guard_hold_*: the episode's index in the summary's
+                           // "self_collision_guard" "holds" (its pair and distance are added)
 };
 
 inline constexpr size_t kMaxHostEvents = 4096;  // events kept per run; more are counted
@@ -80,6 +83,7 @@ struct RunStats {
   Diagnosis divergence;                 // the divergence watch's diagnostic (kind none: none)
   SelfCollisionSummary self_collision;  // the self_collision effect (on: false when off)
   FallSummary fall;                     // the fall watch and the robot's fall (sim_host/fall.h)
+  GuardSummary guard;                   // the controller's self-collision guard (guard_watch.h)
 };
 
 const char* IntegratorName(int integrator);
@@ -132,7 +136,14 @@ std::string ProvisionalSummary(const HostOptions& o);
 // `effects` (may be null) adds each effect, on or off, and why. With the self_collision effect
 // on, "self_collision": {"source", "links", "pairs_checked", "excluded", "checks",
 // "cycles_in_contact", "check_mean_s", "check_max_s", "pairs": [{"pair", "first_time",
-// "first_cycle", "deepest" [m], "deepest_time", "cycles"}]}.
+// "first_cycle", "deepest" [m], "deepest_time", "cycles"}], "closest_mm" (the smallest signed
+// distance of any checked pair over the run [mm], negative when penetrating; a lower bound when
+// "closest_exact" is false: no pair came within SelfCollisionWatch::kClosestRange),
+// "closest_pair", "closest_t" [s], "closest_cycle"}.
+// The controller's self-collision guard (sim_host/guard_watch.h), always: "self_collision_guard":
+// {"hold_episodes", "held_cycles", "controller_holds", "holding_at_end", "first" and "closest"
+// (null, or {"pair", "distance_mm", "time", "cycle"}), "holds": [{"begin", "begin_cycle",
+// "end" (-1: held to the end), "end_cycle", "pair", "distance_mm", "closest_mm", "cycles"}]}.
 // False (and said on stderr, with the reason) when the file could not be written whole.
 bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 constexpr int kExitOk = 0, kExitUsage = 2;
 
 // columns that are no measurement
-bool Bookkeeping(const std::string& n) { return n == "time" || n == "status" || n == "rejected"; }
+bool Bookkeeping(const std::string& n) { return n == "time" || n == "status" || n == "rejected" || n == "guard_holding"; }
 
 std::string Join(const std::vector<std::string>& v, size_t most = 12) {
   std::string s;

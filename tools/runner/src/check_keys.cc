@@ -130,11 +130,19 @@ const std::vector<CheckType>& CheckTypes() {
        "sim_host's simulated time over its wall time while simulating (waits for a controller left out) is at least `min`"},
       {"self_collisions",
        {Num("max", "cycles, 0", 0, kBig, false, false, 0),
-        {"pair", KeyKind::kText, false, "LINK_A/LINK_B, optional"}},
+        {"pair", KeyKind::kText, false, "LINK_A/LINK_B, optional"},
+        Num("min_distance_mm", "mm, optional; 0", -kBig, kBig, false, false, 0)},
        "sim_host's `self_collision` effect (switched on by this check; docs/selfcollision.md): "
        "the control cycles in which two of the robot's links penetrate are at most `max`; with "
-       "`pair`, instead, that pair of links (either order) was in contact; the detail names each "
-       "pair with its first time and deepest penetration"},
+       "`pair`, instead, that pair of links (either order) was in contact; with "
+       "`min_distance_mm`, instead, the closest approach of any checked pair over the run (its "
+       "smallest signed distance, negative when penetrating) is at least that; the detail names "
+       "each pair with its first time and deepest penetration, and the closest approach"},
+      {"self_collision_holds",
+       {Num("max", "holds, 0", 0, kBig, false, false, 0)},
+       "the controller's self-collision guard began at most `max` hold episodes (sim_host's "
+       "summary \"self_collision_guard\", from the segment's guard record); the detail names "
+       "the first and the closest pair with the guard's predicted distance"},
   };
   return types;
 }

@@ -254,6 +254,21 @@ CheckResult SelfCollisions(const CheckSpec& s, const nlohmann::json& sim) {
   }
   const std::string checked = Fmt(sc.value("pairs_checked", 0.0)) + " link pairs checked in " +
                               Fmt(sc.value("checks", 0.0)) + " cycles";
+  if (s.Has("min_distance_mm")) {
+    // the closest approach of the simulated links over the run (negative: penetration)
+    const double limit = s.Number("min_distance_mm", 0);
+    const bool exact = sc.value("closest_exact", false);
+    r.unit = "mm";
+    r.value = sc.value("closest_mm", -1e9);
+    r.passed = r.value >= limit;
+    r.limit = ">= " + Fmt(limit) + " mm";
+    r.detail = checked + "; closest approach " +
+               (exact ? Fmt(r.value) + " mm (" + sc.value("closest_pair", std::string()) +
+                            " at " + Fmt(sc.value("closest_t", 0.0)) + " s)"
+                      : "above " + Fmt(r.value) + " mm") +
+               "; in contact: " + (pairs.empty() ? "none" : pairs);
+    return r;
+  }
   if (!want.empty()) {
     r.value = expected_cycles;
     r.passed = expected_seen;
@@ -265,6 +280,30 @@ CheckResult SelfCollisions(const CheckSpec& s, const nlohmann::json& sim) {
   r.passed = r.value <= s.Number("max");
   r.limit = "<= " + Fmt(s.Number("max"));
   r.detail = checked + "; in contact: " + (pairs.empty() ? "none" : pairs);
+  return r;
+}
+
+// the controller's self-collision guard as sim_host recorded it (sim_host/guard_watch.h): its
+// summary's "self_collision_guard" {hold_episodes, held_cycles, holding_at_end, first, closest}
+CheckResult SelfCollisionHolds(const CheckSpec& s, const nlohmann::json& sim) {
+  CheckResult r{"self_collision_holds", false, 0, "holds", "", ""};
+  const auto it = sim.find("self_collision_guard");
+  if (it == sim.end() || !it->is_object())
+    return Fail(r, "sim_host's summary has no self_collision_guard (a sim_host older than the "
+                   "segment's guard record?)");
+  const nlohmann::json& g = *it;
+  const auto pair = [](const nlohmann::json& x) {
+    if (!x.is_object()) return std::string("none");
+    return x.value("pair", std::string()) + " at " + Fmt(x.value("distance_mm", 0.0)) +
+           " mm (t=" + Fmt(x.value("time", 0.0)) + " s)";
+  };
+  r.value = g.value("hold_episodes", 0.0);
+  r.passed = r.value <= s.Number("max");
+  r.limit = "<= " + Fmt(s.Number("max"));
+  r.detail = Fmt(g.value("held_cycles", 0.0)) + " command blocks held; first " +
+             pair(g.value("first", nlohmann::json())) + ", closest " +
+             pair(g.value("closest", nlohmann::json())) +
+             (g.value("holding_at_end", false) ? "; still holding at the end" : "");
   return r;
 }
 
@@ -330,6 +369,7 @@ CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::js
     if (spec.type == "max_rejected") return MaxRejected(spec, sim);
     if (spec.type == "real_time_factor") return RealTimeFactor(spec, sim);
     if (spec.type == "self_collisions") return SelfCollisions(spec, sim);
+    if (spec.type == "self_collision_holds") return SelfCollisionHolds(spec, sim);
     if (log.Column("time") < 0 || log.Column("base_z") < 0)
       return Fail({spec.type, false, 0, "", "", ""}, "the data log has no time/base columns");
     if (spec.type == "base_height") return BaseHeight(spec, log);

@@ -189,6 +189,18 @@ std::string ControllerFall(const std::string& label, int exit_code, const std::s
   return "controller '" + label + "' saw the robot fall: " + said;
 }
 
+// the reason a controller gave for exit 9 (kExitFailed): its "FAILED: ..." line, e.g. a motion
+// the self-collision guard stopped; "" for another exit code or no such line
+std::string ControllerFailure(int exit_code, const std::string& output) {
+  if (exit_code != kControllerExitFailed) return "";
+  std::string said;
+  std::ifstream in(output);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("FAILED: ") != std::string::npos) said = line;
+  }
+  return said;
+}
+
 std::map<std::string, std::string> OutputFiles(const std::string& out_dir) {
   std::map<std::string, std::string> files = {
       {"log", "log.csv"}, {"plot", "plot.png"}, {"sim_summary", "sim_summary.json"}};
@@ -346,9 +358,10 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
   for (auto& c : ctl) {
     // a controller that saw the fall a scenario expects ended as it should
     const bool clean = c.exit_code == 0 || (s.expect_fall && c.exit_code == kControllerExitFell);
+    const std::string failed = ControllerFailure(c.exit_code, c.output);
     results.push_back({c.label + "_exited_cleanly", clean, static_cast<double>(c.exit_code),
                        "exit code", s.expect_fall ? "== 0 or 8 (a fall)" : "== 0",
-                       "see " + c.label + ".stderr"});
+                       failed.empty() ? "see " + c.label + ".stderr" : failed});
   }
   Table log;
   const bool have_log = log.Load(out_abs + "/log.csv", &error);

@@ -158,6 +158,10 @@ enum class EventKind {
   kResetHold,             // a board reset: its joints re-armed, the others hold (value: mask)
   kResetRamped,           // the reset board's joints are back at their references
   kFall,                  // the IMU's tilt passed --fall-tilt (reading: the tilt [rad])
+  // the controller's self-collision guard (the command block's guard record, shm::GuardRecord)
+  kGuardHoldBegin,        // it began to hold the motion (value: its hold episodes begun so
+                          // far; reading: the held pair's predicted distance [m])
+  kGuardHoldEnd,          // it let the motion go again (value, reading: as at the begin)
 };
 const char* EventName(EventKind k);
 

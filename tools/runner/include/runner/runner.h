@@ -57,6 +57,10 @@ CheckResult SimHostCompleted(const Scenario& s, int exit_code, const nlohmann::j
 
 // The controllers' exit code for "the robot fell" (controllers/runner.h, kExitFell).
 inline constexpr int kControllerExitFell = 8;
+// ... and for "the controller could not do what it was asked" (kExitFailed; e.g. a motion its
+// self-collision guard stopped): the scenario's <label>_exited_cleanly check then gives the
+// controller's own "FAILED: ..." line as its detail.
+inline constexpr int kControllerExitFailed = 9;
 
 // "" unless the controller `label` ended with kControllerExitFell; then a sentence with its own
 // words on the fall (the last "the robot fell ..." line of its output file `output`).
