@@ -5,6 +5,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <ostream>
 #include <thread>
@@ -132,14 +133,21 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     controller.close();
     return rep.exit_code = kExitConfig;
   }
-  // the self-collision check: a default file for another robot turns it off
+  // the self-collision check. A default file for another robot (by name) means this robot has
+  // none: said once on stderr. A file for this robot's name that does not fit (another model
+  // hash: a changed model) is refused below, exit 3: protection is never silently off.
   SelfCollisionGuard guard;
   bool guarded = !options.self_collision.empty();
-  if (guarded && options.self_collision_is_default &&
-      !SelfCollisionGuard::FileMatches(options.self_collision, header)) {
-    out << prog << ": self-collision check off: the default file " << options.self_collision
-        << " is not for this robot (give --self-collision FILE from ohrp_selfcollision)\n";
-    guarded = false;
+  if (guarded && options.self_collision_is_default) {
+    const std::string robot = SelfCollisionGuard::FileRobot(options.self_collision);
+    const std::string here(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
+    if (!robot.empty() && robot != here) {
+      err << prog << ": WARNING: no self-collision check: there is no self-collision file for "
+          << "robot " << here << " (the default " << options.self_collision << " is for " << robot
+          << "; make one with ohrp_selfcollision --model MJCF --out FILE and give "
+          << "--self-collision FILE)\n";
+      guarded = false;
+    }
   }
   if (guarded) {
     const std::string problem = guard.Configure(options.self_collision, header);
@@ -287,6 +295,15 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
   // the controller's own verdict, unless the run already failed for a reason of its own
   if (rep.exit_code == kExitOk || rep.exit_code == kExitFell) {
     rep.failure = controller.failure();
+    // a hold is a result: the motion the controller was asked for was stopped; where its own
+    // verification does not confirm its goal (or its motion is the trajectory, playback), the
+    // run failed, naming the pair
+    if (guarded && guard.holds() > 0) {
+      if (!rep.failure.empty())
+        rep.failure += "; " + guard.HoldSummary();
+      else if (controller.hold_is_failure())
+        rep.failure = "the motion was not completed: " + guard.HoldSummary();
+    }
     if (!rep.failure.empty()) {
       err << prog << ": FAILED: " << rep.failure << "\n";
       if (rep.exit_code == kExitOk) rep.exit_code = kExitFailed;
