@@ -133,18 +133,20 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     controller.close();
     return rep.exit_code = kExitConfig;
   }
-  // the self-collision check. A default file for another robot (by name) means this robot has
-  // none: said once on stderr. A file for this robot's name that does not fit (another model
-  // hash: a changed model) is refused below, exit 3: protection is never silently off.
+  // the self-collision check. A default file for another robot (another name and other joint
+  // names) means this robot has none: said once on stderr. A file for this robot (its name or
+  // its joints) with another model hash (a changed model) is refused below, exit 3: protection
+  // is never silently off.
   SelfCollisionGuard guard;
   bool guarded = !options.self_collision.empty();
   if (guarded && options.self_collision_is_default) {
-    const std::string robot = SelfCollisionGuard::FileRobot(options.self_collision);
-    const std::string here(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
-    if (!robot.empty() && robot != here) {
+    std::string robot;
+    const auto owner = SelfCollisionGuard::FileOwner(options.self_collision, header, &robot);
+    if (owner == SelfCollisionGuard::Owner::kAnotherRobot) {
+      const std::string here(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
       err << prog << ": WARNING: no self-collision check: there is no self-collision file for "
           << "robot " << here << " (the default " << options.self_collision << " is for " << robot
-          << "; make one with ohrp_selfcollision --model MJCF --out FILE and give "
+          << ", other joints; make one with ohrp_selfcollision --model MJCF --out FILE and give "
           << "--self-collision FILE)\n";
       guarded = false;
     }

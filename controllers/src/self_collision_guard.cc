@@ -34,10 +34,21 @@ double Servo(const shm::JointCommand& c, double q, double dq) {
 
 }  // namespace
 
-std::string SelfCollisionGuard::FileRobot(const std::string& path) {
+SelfCollisionGuard::Owner SelfCollisionGuard::FileOwner(const std::string& path,
+                                                        const shm::SegmentHeader& header,
+                                                        std::string* robot) {
   collision::SelfCollisionFile f;
   std::string error;
-  return collision::ReadSelfCollisionFile(path, &f, &error) ? f.robot.name : std::string();
+  robot->clear();
+  if (!collision::ReadSelfCollisionFile(path, &f, &error)) return Owner::kUnreadable;
+  *robot = f.robot.name;
+  if (f.robot.model_hash == header.model_hash) return Owner::kThisModel;
+  const int n = std::clamp(header.njoint, 0, shm::kMaxJoints);
+  bool same_joints = static_cast<int>(f.robot.joint_names.size()) == n;
+  for (int j = 0; same_joints && j < n; ++j)
+    same_joints = f.robot.joint_names[j] == std::string(header.joint_names[j], strnlen(header.joint_names[j], shm::kNameLen));
+  const std::string name(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
+  return same_joints || f.robot.name == name ? Owner::kThisRobot : Owner::kAnotherRobot;
 }
 
 std::string SelfCollisionGuard::Configure(const std::string& path,
@@ -146,6 +157,9 @@ void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
   for (size_t i = 0; i < every_.size(); ++i)
     limit_[i] = std::min(base_limit_[i], check_->distance(static_cast<int>(i)) - tolerance_);
   braking_ = false;
+  // the load's first estimate: the measured torque, the joints taken as not accelerating
+  for (int j = 0; j < njoint_; ++j) last_dq_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
+  have_last_ = true;
 }
 
 void SelfCollisionGuard::Excursion(double v, double a_lo, double a_hi, double horizon,
@@ -183,7 +197,8 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     // the load on the joint (gravity, the other joints' motion, contacts) seen over the last
     // period: the servo's torque less what accelerated the joint, within the inertia bounds;
     // it may change by the gravity bound times the angle turned over the horizon. Without a
-    // last cycle: the gravity bound either way.
+    // last cycle (a measurement was not finite): the gravity bound either way. At activation
+    // the joints are taken as not accelerating.
     double load_lo = -d.gravity_max, load_hi = d.gravity_max;
     const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
     if (std::isfinite(a_last) && std::isfinite(sensors.tau[j])) {
@@ -243,6 +258,14 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     d = checker_->Distance(p.a, p.b, limit + travel);
     if (d - travel >= limit) return true;
   }
+  // the box's far corner (each joint at its end farther from the measured angle: where the
+  // command and the brake lead) below the limit: a predicted approach, no bisection needed
+  for (int j = 0; j < njoint_; ++j)
+    centre_[j] = box_hi_[j] - q_[j] >= q_[j] - box_lo_[j] ? box_hi_[j] : box_lo_[j];
+  checker_->SetPose(centre_);
+  --budget_;
+  *bound = checker_->Distance(p.a, p.b, limit);
+  if (*bound < limit) return false;
   // bisect the box: each part is clear when its centre's distance less the travel to its
   // corners stays at or above the limit
   const size_t w = 2 * static_cast<size_t>(njoint_);
@@ -252,7 +275,6 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
   int depth[kMaxDepth + 2];
   depth[0] = 0;
   ++top;
-  *bound = INFINITY;
   while (top > 0) {
     --top;
     double* lo = &stack_[top * w];

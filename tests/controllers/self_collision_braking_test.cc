@@ -107,6 +107,24 @@ TEST(SelfCollisionBraking, TheArmStopsShortOfTheThighAtEverySpeed) {
   }
 }
 
+// standing still (the half-sitting keyframe held): never braked
+TEST(SelfCollisionBraking, StandingStillIsNeverBraked) {
+  std::string error;
+  auto robot = sim::InProcessRobot::Create(testing::Hrp1sStanding(), &error);
+  ASSERT_TRUE(robot) << error;
+  SelfCollisionGuard guard;
+  ASSERT_EQ(guard.Configure(kFile, robot->header()), "");
+  guard.Activate(robot->sensors());
+  const shm::CommandBlock hold = testing::HoldWhereItIs(*robot);
+  for (int k = 0; k < 200; ++k) {
+    shm::CommandBlock c = hold;
+    EXPECT_FALSE(guard.Filter(robot->sensors(), &c)) << "cycle " << k;
+    robot->Cycle(c);
+  }
+  EXPECT_EQ(guard.holds(), 0u);
+  EXPECT_EQ(guard.violations(), 0);
+}
+
 TEST(SelfCollisionBraking, FromTheHoldMovingAwayIsLetThrough) {
   const Outcome held = RunMotion(1.0, true);
   const Outcome away = RunMotion(1.0, true, 1.0);  // the same, then back out after 1 s

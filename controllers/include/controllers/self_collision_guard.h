@@ -49,8 +49,13 @@ class SelfCollisionGuard {
   // ready, else why not (the file's own message with file:line, or the robot it is for).
   std::string Configure(const std::string& path, const shm::SegmentHeader& header);
 
-  // The robot's name in the file at `path` ("" when it cannot be read).
-  static std::string FileRobot(const std::string& path);
+  // Whose file `path` is, for a default file: kThisModel (the header's model hash), kThisRobot
+  // (another hash, but the robot's name or its joint names are the header's: the model
+  // changed, the file must be regenerated), kAnotherRobot (another name and other joints), or
+  // kUnreadable. `*robot` gets the file's robot name.
+  enum class Owner { kThisModel, kThisRobot, kAnotherRobot, kUnreadable };
+  static Owner FileOwner(const std::string& path, const shm::SegmentHeader& header,
+                         std::string* robot);
 
   // Starts from the measured posture (each pair's limit from its distance there).
   void Activate(const shm::SensorBlock& sensors);
