@@ -121,6 +121,13 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
     kd_default_[j] = header.default_kd[j];
     decel_[j] = Deceleration(j, INFINITY);
   }
+  // each joint's support sensor, by the header's force sensor names (-1: none)
+  support_.assign(njoint_, -1);
+  for (int j = 0; j < njoint_; ++j)
+    for (int f = 0; f < std::clamp(header.nforce, 0, shm::kMaxForceSensors); ++f)
+      if (!file_.dynamics[j].support_sensor.empty() &&
+          file_.dynamics[j].support_sensor == std::string(header.force_names[f], strnlen(header.force_names[f], shm::kNameLen)))
+        support_[j] = f;
   q_.assign(njoint_, 0.0);
   box_lo_.assign(njoint_, 0.0);
   box_hi_.assign(njoint_, 0.0);
@@ -135,13 +142,17 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
 }
 
 double SelfCollisionGuard::Deceleration(int j, double tau_measured) const {
+  return Decelerate(j, tau_measured, file_.dynamics[j].inertia_max);
+}
+
+double SelfCollisionGuard::Decelerate(int j, double tau_measured, double inertia) const {
   // the torque left for braking: the limit less what holding needs (the gravity bound, or the
   // measured load when less), at least a tenth of the limit
   // (a joint whose holding takes all of it still brakes, slowly, on the prediction's side)
   const collision::JointDynamics& d = file_.dynamics[j];
   const double hold = std::isfinite(tau_measured) ? std::min(d.gravity_max, tau_measured)
                                                   : d.gravity_max;
-  return std::max(tau_max_[j] - hold, 0.1 * tau_max_[j]) / d.inertia_max;
+  return std::max(tau_max_[j] - hold, 0.1 * tau_max_[j]) / inertia;
 }
 
 void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
@@ -194,18 +205,26 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
       return false;
     }
     const collision::JointDynamics& d = file_.dynamics[j];
-    // the load on the joint (gravity, the other joints' motion, contacts) seen over the last
-    // period: the servo's torque less what accelerated the joint, within the inertia bounds;
-    // it may change by the gravity bound times the angle turned over the horizon. Without a
-    // last cycle (a measurement was not finite): the gravity bound either way. At activation
-    // the joints are taken as not accelerating.
-    double load_lo = -d.gravity_max, load_hi = d.gravity_max;
-    const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
-    if (std::isfinite(a_last) && std::isfinite(sensors.tau[j])) {
-      const double slack = d.gravity_max * std::min(1.0, 3 * speed * period_) + d.damping * std::abs(v);
-      load_lo = sensors.tau[j] - std::max(d.inertia_min * a_last, d.inertia_max * a_last) - slack;
-      load_hi = sensors.tau[j] - std::min(d.inertia_min * a_last, d.inertia_max * a_last) + slack;
+    // the inertia the joint drives: the links beyond alone while their force sensor says they
+    // carry no weight, else the bound under any contact
+    const int fs = support_[j];
+    double inertia = d.inertia_max;
+    if (fs >= 0) {
+      const double* f = sensors.force[fs].force;
+      const double load = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      if (std::isfinite(load) && load < d.support_force) inertia = d.inertia_free;
     }
+    // the joint's acceleration over the last period and the servo's torque that made it: the
+    // next acceleration is that one plus the change of torque over the (unknown, common)
+    // inertia, the load changing by at most the gravity bound times the angle turned over the
+    // horizon. Without a last period (a measurement was not finite): the load is anywhere
+    // within the gravity bound. At activation the joints are taken as not accelerating.
+    const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
+    const bool observed = std::isfinite(a_last) && std::isfinite(sensors.tau[j]);
+    const double slack = observed ? d.gravity_max * std::min(1.0, 3 * speed * period_) + d.damping * std::abs(v)
+                                  : d.gravity_max;
+    const double base = observed ? sensors.tau[j] : 0.0;  // the torque the acceleration answers
+    const double a0 = observed ? a_last : 0.0;
     // the servo's torque along the period (at the start and where the velocity carries the
     // joint), clamped to the limit; a command that cannot be told gives the whole range
     const double t0 = Servo(c.joint[j], q, v), t1 = Servo(c.joint[j], q + v * horizon, v);
@@ -215,11 +234,14 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
       tau_hi = std::clamp(std::max(t0, t1), -tau_max_[j], tau_max_[j]);
     }
     if (!std::isfinite(tau_lo) || !std::isfinite(tau_hi)) return false;  // no limit, no command
-    const double f_lo = tau_lo - load_hi, f_hi = tau_hi - load_lo;
-    const double a_lo = std::min(f_lo / d.inertia_min, f_lo / d.inertia_max);
-    const double a_hi = std::max(f_hi / d.inertia_min, f_hi / d.inertia_max);
-    // braking: the limit less the largest load, over the largest inertia
-    decel_[j] = Deceleration(j, std::max(std::abs(load_lo), std::abs(load_hi)));
+    const double f_lo = tau_lo - base - slack, f_hi = tau_hi - base + slack;
+    const double a_lo = a0 + std::min(f_lo / d.inertia_min, f_lo / inertia);
+    const double a_hi = a0 + std::max(f_hi / d.inertia_min, f_hi / inertia);
+    // braking: the limit less the largest load (the torque less what accelerated the joint),
+    // over the inertia
+    const double load = observed ? std::max(std::abs(base - d.inertia_min * a0), std::abs(base - inertia * a0)) + slack
+                                 : d.gravity_max;
+    decel_[j] = Decelerate(j, load, inertia);
     double lo = 0, hi = 0;
     Excursion(v, a_lo, a_hi, horizon, d.velocity_max, decel_[j], &lo, &hi);
     q_[j] = q;

@@ -3,10 +3,12 @@
 //
 //   predict   per joint, the motion this cycle's command can cause: the servo law of the
 //             command (tau = kp (q_ref - q) + kd (dq_ref - dq) + tau_ff, clamped to the
-//             header's tau_max) against the load seen over the last period (the measured
-//             torque less what accelerated the joint, within the inertia bounds of the file's
-//             `dynamics:`, widened by the gravity bound times the angle turned; without a last
-//             period, the gravity bound), acting for two periods (this one and one of latency before a brake
+//             header's tau_max): the last period's measured acceleration plus the change of
+//             servo torque over the inertia (within the file's `dynamics:` bounds: the links
+//             beyond alone while their support force sensor reads less than a tenth of the
+//             weight, else the bound under any contact), the load changing by the gravity bound
+//             times the angle turned; without a last period, the load anywhere within the
+//             gravity bound; acting for two periods (this one and one of latency before a brake
 //             can act), then a brake at the joint's deceleration (tau_max less what holding
 //             needs: the measured torque, at most the gravity bound; over inertia_max) within
 //             its speed limit where known: an interval of
@@ -89,6 +91,8 @@ class SelfCollisionGuard {
   // (>= 0, its magnitude; NaN: unknown): (tau_max - min(gravity_max, load)) / inertia_max, at
   // least a tenth of tau_max / inertia_max
   double Deceleration(int j, double tau_measured) const;
+  // the same with the inertia given [kg m^2]
+  double Decelerate(int j, double tau_measured, double inertia) const;
 
  private:
   // each joint's interval of motion for `c` from the measured state into box_lo_/box_hi_
@@ -122,11 +126,12 @@ class SelfCollisionGuard {
   std::vector<double> brake_q_, brake_v_, brake_decel_;  // the brake's references and rate
   std::vector<double> last_dq_;  // the last cycle's measured velocities
   bool have_last_ = false;
+  std::vector<int> support_;  // per joint, the header's index of its support force sensor, -1
   // the bisection's work: a stack of boxes (lo, hi per joint) and its bounds
   std::vector<double> stack_;
   std::vector<double> centre_;
   int budget_ = 0;  // distance evaluations left this cycle
-  static constexpr int kMaxDepth = 24, kBudget = 64;
+  static constexpr int kMaxDepth = 24, kBudget = 256;
 
   bool braking_ = false;
   uint64_t holds_ = 0;

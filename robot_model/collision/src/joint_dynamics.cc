@@ -111,16 +111,28 @@ std::vector<JointDynamics> JointDynamicsFromModel(const mjModel* m, const model:
       (below ? beyond : rest).Add(m, b, r);
       carries = carries || (below && support[b]);
     }
+    // the force sensor beyond the joint, where the links beyond stand
+    std::string sensor;
+    for (const auto& f : robot.forces) {
+      int up = m->site_bodyid[f.site_id];
+      while (up > 0 && up != jb) up = m->body_parentid[up];
+      if (up == jb && sensor.empty()) sensor = f.name;
+    }
     if (!carries) rest = Side();
     JointDynamics d;
+    d.inertia_free = m->dof_armature[dof] + (slide ? beyond.mass : beyond.inertia);
+    if (carries && !sensor.empty()) {
+      d.support_sensor = sensor;
+      d.support_force = 0.1 * g * robot.total_mass;
+    }
     const double armature = m->dof_armature[dof];
     if (slide) {
       d.inertia_max = armature + std::max(beyond.mass, rest.mass);
-      d.inertia_min = armature > 0 ? armature : beyond.mass;
+      d.inertia_min = armature > 0 ? armature : std::min(beyond.mass, d.inertia_free);
       d.gravity_max = g * std::max(beyond.mass, rest.mass);
     } else {
       d.inertia_max = armature + std::max(beyond.inertia, rest.inertia);
-      d.inertia_min = armature > 0 ? armature : beyond.inertia_min;
+      d.inertia_min = armature > 0 ? armature : std::min(beyond.inertia_min, d.inertia_free);
       d.gravity_max = g * std::max(beyond.moment, rest.moment);
     }
     d.damping = m->dof_damping[dof];

@@ -41,7 +41,11 @@ void WriteDynamics(const SelfCollisionFile& f, std::ostream& o) {
     const JointDynamics& d = f.dynamics[j];
     o << "  - {joint: " << f.robot.joint_names[j] << ", inertia_max: " << d.inertia_max
       << ", inertia_min: " << d.inertia_min << ", gravity_max: " << d.gravity_max
-      << ", damping: " << d.damping << ", velocity_max: " << d.velocity_max << "}\n";
+      << ", damping: " << d.damping << ", velocity_max: " << d.velocity_max
+      << ", inertia_free: " << d.inertia_free;
+    if (!d.support_sensor.empty())
+      o << ", support_sensor: " << d.support_sensor << ", support_force: " << d.support_force;
+    o << "}\n";
   }
 }
 
@@ -184,8 +188,13 @@ void ReadDynamics(const YAML::Node& root, SelfCollisionFile* f) {
     d.gravity_max = Num(Need(e, "gravity_max"), "gravity_max");
     d.damping = Num(Need(e, "damping"), "damping");
     d.velocity_max = Num(Need(e, "velocity_max"), "velocity_max");
-    if (!(d.inertia_min > 0 && d.inertia_min <= d.inertia_max))
-      throw Bad{LineOf(e), "dynamics: needs 0 < inertia_min <= inertia_max [kg m^2]"};
+    d.inertia_free = e["inertia_free"] ? Num(e["inertia_free"], "inertia_free") : d.inertia_max;
+    if (e["support_sensor"]) {
+      d.support_sensor = Str(e["support_sensor"], "support_sensor");
+      d.support_force = Num(Need(e, "support_force"), "support_force");
+    }
+    if (!(d.inertia_min > 0 && d.inertia_min <= d.inertia_free && d.inertia_free <= d.inertia_max))
+      throw Bad{LineOf(e), "dynamics: needs 0 < inertia_min <= inertia_free <= inertia_max [kg m^2]"};
     if (d.gravity_max < 0 || d.damping < 0 || d.velocity_max < 0)
       throw Bad{LineOf(e), "dynamics: gravity_max, damping and velocity_max must be >= 0"};
     f->dynamics.push_back(d);

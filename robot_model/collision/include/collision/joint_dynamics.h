@@ -30,7 +30,10 @@ namespace ohrp::collision {
 // any contact: M >= armature e_j e_j^T), or, for a joint without armature, the sum of the
 // smallest principal inertias of the links beyond (a lower bound of qM's diagonal);
 // gravity_max the larger gravity bound above; damping = dof_damping; velocity_max = 0 (MJCF
-// states no speed limit).
+// states no speed limit); inertia_free = armature + the bound of the links beyond alone; for a
+// joint whose links beyond include a support and a force sensor (robot.forces), that sensor and
+// a tenth of the robot's weight: while it reads less, the links beyond carry no weight and the
+// joint drives them alone.
 std::vector<JointDynamics> JointDynamicsFromModel(const mjModel* m, const model::RobotMap& robot);
 
 // By MuJoCo body id: 1 for the robot's bodies whose geoms' bounding spheres reach into the lowest
