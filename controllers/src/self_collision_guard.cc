@@ -100,6 +100,7 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
           static_cast<int>(std::find(every_.begin(), every_.end(), p) - every_.begin()));
   }
   limit_ = base_limit_;
+  check_cutoff_ = *std::max_element(base_limit_.begin(), base_limit_.end());
   // per pair and joint, how far the pair's two links move per unit of the joint
   const auto reach = collision::LinkReach(file_.robot);
   coef_.assign(every_.size() * njoint_, 0.0);
@@ -137,7 +138,7 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   last_dq_.assign(njoint_, 0.0);
   have_last_ = false;
   centre_.assign(njoint_, 0.0);
-  stack_.assign(static_cast<size_t>(kMaxDepth + 2) * 2 * njoint_, 0.0);
+  for (auto* v : {&v0_, &a_mid_, &v1_, &q1_, &stop_, &speed_, &envelope_}) v->assign(njoint_, 0.0);
   return "";
 }
 
@@ -247,7 +248,23 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     q_[j] = q;
     box_lo_[j] = q + lo;
     box_hi_[j] = q + hi;
+    // the nominal motion (the middle acceleration, then the brake) and how far the motion
+    // within the bounds can be from it at any time: the acceleration's spread over the
+    // horizon, and the brake's stopping point from the extreme velocities (two brakes at one
+    // rate from v and v' differ by at most their stopping points' difference at any time)
+    const double a_mid = 0.5 * (a_lo + a_hi), v1 = v + a_mid * horizon;
+    const auto stop = [&](double u) { return u * std::abs(u) / (2 * decel_[j]); };
+    v0_[j] = v;
+    a_mid_[j] = a_mid;
+    v1_[j] = v1;
+    q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
+    stop_[j] = std::abs(v1) / decel_[j];
+    speed_[j] = std::max(std::abs(v), std::abs(v1));
+    envelope_[j] = 0.25 * (a_hi - a_lo) * horizon * horizon +
+                   std::max(std::abs(stop(v + a_hi * horizon) - stop(v1)),
+                            std::abs(stop(v + a_lo * horizon) - stop(v1)));
   }
+  horizon_end_ = horizon + *std::max_element(stop_.begin(), stop_.end());
   for (int j = 0; j < njoint_; ++j) last_dq_[j] = sensors.dq[j];
   have_last_ = true;
   return true;
@@ -265,70 +282,73 @@ void SelfCollisionGuard::ListPairs() {
   }
 }
 
+void SelfCollisionGuard::Nominal(double t) {
+  const double horizon = 2 * period_;
+  for (int j = 0; j < njoint_; ++j) {
+    if (t <= horizon) {
+      centre_[j] = q_[j] + v0_[j] * t + 0.5 * a_mid_[j] * t * t;
+    } else {
+      const double u = std::min(t - horizon, stop_[j]);
+      centre_[j] = q1_[j] + v1_[j] * u - 0.5 * (v1_[j] > 0 ? 1 : -1) * decel_[j] * u * u;
+    }
+  }
+}
+
 bool SelfCollisionGuard::Certify(int i, double* bound) {
   const double* c = &coef_[static_cast<size_t>(i) * njoint_];
   const double limit = limit_[i];
   const collision::LinkPair p = every_[i];
-  // from the measured posture to any point of the box
-  double travel = 0;
+  const double horizon = 2 * period_;
+  // how far the pair's links can be from the nominal motion's
+  double envelope = 0;
   for (int j = 0; j < njoint_; ++j)
-    if (c[j] > 0) travel += c[j] * std::max(box_hi_[j] - q_[j], q_[j] - box_lo_[j]);
-  double d = check_->distance(i);
-  if (d - travel >= limit) return true;
-  if (!check_->measured_now(i)) {  // a lower bound only: measure it
-    checker_->SetPose(q_);
-    d = checker_->Distance(p.a, p.b, limit + travel);
-    if (d - travel >= limit) return true;
-  }
-  // the box's far corner (each joint at its end farther from the measured angle: where the
-  // command and the brake lead) below the limit: a predicted approach, no bisection needed
-  for (int j = 0; j < njoint_; ++j)
-    centre_[j] = box_hi_[j] - q_[j] >= q_[j] - box_lo_[j] ? box_hi_[j] : box_lo_[j];
-  checker_->SetPose(centre_);
-  --budget_;
-  *bound = checker_->Distance(p.a, p.b, limit);
-  if (*bound < limit) return false;
-  // bisect the box: each part is clear when its centre's distance less the travel to its
-  // corners stays at or above the limit
-  const size_t w = 2 * static_cast<size_t>(njoint_);
-  size_t top = 0;
-  std::copy(box_lo_.begin(), box_lo_.end(), stack_.begin());
-  std::copy(box_hi_.begin(), box_hi_.end(), stack_.begin() + njoint_);
-  int depth[kMaxDepth + 2];
-  depth[0] = 0;
-  ++top;
-  while (top > 0) {
-    --top;
-    double* lo = &stack_[top * w];
-    double* hi = lo + njoint_;
-    const int level = depth[top];
-    double half = 0, widest = 0;
-    int split = -1;
+    if (c[j] > 0) envelope += c[j] * envelope_[j];
+  // from time t on: the links' speed bound (each joint's speed does not grow once it brakes)
+  // and the length of the rest of their nominal paths
+  const auto speed_at = [&](double t, double* rest) {
+    double speed = 0;
+    *rest = 0;
     for (int j = 0; j < njoint_; ++j) {
-      centre_[j] = 0.5 * (lo[j] + hi[j]);
-      const double m = 0.5 * (hi[j] - lo[j]) * c[j];
-      half += m;
-      if (m > widest) widest = m, split = j;
+      if (c[j] <= 0) continue;
+      if (t < horizon) {
+        speed += c[j] * speed_[j];
+        *rest += c[j] * (speed_[j] * (horizon - t) + v1_[j] * v1_[j] / (2 * decel_[j]));
+      } else {
+        const double s = std::max(0.0, std::abs(v1_[j]) - decel_[j] * (t - horizon));
+        speed += c[j] * s;
+        *rest += c[j] * s * s / (2 * decel_[j]);
+      }
     }
-    if (budget_ <= 0) return false;  // out of work this cycle: not certified
-    --budget_;
-    checker_->SetPose(centre_);
-    const double dc = checker_->Distance(p.a, p.b, limit + half);
-    if (dc - half >= limit) continue;
-    *bound = std::min(*bound, dc - half);
-    if (dc < limit || level >= kMaxDepth || split < 0) {
-      *bound = std::min(*bound, dc);
-      return false;  // a point of the box below the limit, or no finer part to try
-    }
-    // two halves along the joint that moves the pair most: the upper one, then the lower
-    double* lo2 = &stack_[(top + 1) * w];
-    std::copy(lo, lo + w, lo2);
-    lo2[njoint_ + split] = centre_[split];   // [lo, mid] at top + 1
-    lo[split] = centre_[split];              // [mid, hi] at top
-    depth[top] = depth[top + 1] = level + 1;
-    top += 2;
+    return speed;
+  };
+  // conservative advancement along the nominal motion from the measured posture: at time t
+  // the distance less the envelope less what the links can travel until the next time stays
+  // at or above the limit; the next time is as far as that allows
+  double rest = 0;
+  double speed = speed_at(0, &rest);
+  double d = check_->distance(i);
+  if (d - envelope - rest >= limit) return true;  // the whole motion at once
+  if (!check_->measured_now(i) || d > check_cutoff_) {
+    // a lower bound only (skipped, or farther than the check's cutoff): measure it with this
+    // pair's own
+    checker_->SetPose(q_);
+    d = checker_->Distance(p.a, p.b, limit + envelope + rest);
   }
-  return true;
+  double t = 0;
+  *bound = d - envelope;
+  while (true) {
+    const double room = d - envelope - limit;
+    *bound = std::min(*bound, d - envelope);
+    if (room < 0) return false;       // the motion may come closer than the limit
+    if (rest <= room) return true;    // the rest of it cannot
+    if (budget_ <= 0) return false;   // out of work this cycle: not certified
+    t += std::max(room / speed, 1e-6 * horizon_end_);
+    speed = speed_at(t, &rest);
+    Nominal(t);
+    checker_->SetPose(centre_);
+    --budget_;
+    d = checker_->Distance(p.a, p.b, limit + envelope + rest);
+  }
 }
 
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
@@ -359,7 +379,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     // (a close pair may leave, not creep closer); one below its limit is counted
     check_->MoveTo(q_);
     ListPairs();
-    check_->Check(list_, *std::max_element(base_limit_.begin(), base_limit_.end()));
+    check_->Check(list_, check_cutoff_);
     for (int i : list_) {
       const double d = check_->distance(i);
       if (d < limit_[i] - 1e-6) {

@@ -14,12 +14,14 @@
 //             its speed limit where known: an interval of
 //             positions per joint around the measured one, the box the motion stays in.
 //   certify   each pair of the reduced list (online, the pairs of every safe range the box
-//             leaves, structural pairs with the file's floors) is clear over the whole box by
-//             conservative advancement: its distance at the box's centre less the two links'
-//             travel to any corner (collision::LinkReach: sum_j half-width_j (r_ja + r_jb)) stays
-//             at or above its limit; otherwise the box is bisected along the joint that moves
-//             the pair most, within a bounded number of distance evaluations a cycle
-//             (uncertified: brake, the safe side). A pair's limit is the margin (a structural
+//             leaves, structural pairs with the file's floors) stays clear along the motion by
+//             conservative advancement: from the measured posture along the nominal motion
+//             (the middle acceleration for the horizon, then each joint braked at its rate),
+//             the distance less the envelope (how far the motion within the bounds can be from
+//             the nominal one, times the links' reach: collision::LinkReach, r_ja + r_jb) less
+//             what the links can travel until the next sample stays at or above the limit;
+//             the next sample is as far as that allows, within a bounded number of distance
+//             evaluations a cycle (uncertified: brake, the safe side). A pair's limit is the margin (a structural
 //             pair's floor), or, for a pair already closer, the largest distance it had since,
 //             less a tolerance: moving away is allowed, creeping closer is not.
 //   brake     a command that is not certified is replaced by the braking trajectory from the
@@ -101,7 +103,10 @@ class SelfCollisionGuard {
   // this cycle's pairs: the online ones, the structural ones with floors, the pairs of every
   // safe range the box leaves
   void ListPairs();
-  // pair i (index into every_) is clear over the box; false with its predicted lower bound
+  // the nominal motion's posture at time t [s] into centre_
+  void Nominal(double t);
+  // pair i (index into every_) stays clear along the motion; false with its predicted lower
+  // bound
   bool Certify(int i, double* bound);
   // the braking trajectory's next reference into `c`
   void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
@@ -111,6 +116,7 @@ class SelfCollisionGuard {
   std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
   int njoint_ = 0;
   double period_ = 0;     // [s]
+  double check_cutoff_ = 0;  // [m] the incremental check's: answers above it are lower bounds
   double tolerance_ = 0;  // [m] a close pair may come this much closer than its farthest since
   std::vector<collision::LinkPair> every_;   // online, then structural with floors, then ranges'
   std::vector<double> base_limit_;           // per pair: margin, or a structural pair's floor
@@ -127,11 +133,14 @@ class SelfCollisionGuard {
   std::vector<double> last_dq_;  // the last cycle's measured velocities
   bool have_last_ = false;
   std::vector<int> support_;  // per joint, the header's index of its support force sensor, -1
-  // the bisection's work: a stack of boxes (lo, hi per joint) and its bounds
-  std::vector<double> stack_;
-  std::vector<double> centre_;
+  // the nominal motion per joint: the measured velocity, the middle acceleration over the
+  // horizon, the velocity and position where the brake begins, its duration, the largest
+  // speed, and how far the motion within the bounds can be from the nominal one
+  std::vector<double> v0_, a_mid_, v1_, q1_, stop_, speed_, envelope_;
+  double horizon_end_ = 0;   // [s] when the last joint has stopped
+  std::vector<double> centre_;  // a posture of the nominal motion
   int budget_ = 0;  // distance evaluations left this cycle
-  static constexpr int kMaxDepth = 24, kBudget = 256;
+  static constexpr int kBudget = 256;
 
   bool braking_ = false;
   uint64_t holds_ = 0;
