@@ -331,6 +331,8 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
   if (!check_->measured_now(i) || d > check_cutoff_) {
     // a lower bound only (skipped, or farther than the check's cutoff): measure it with this
     // pair's own
+    if (budget_ <= 0) return false;  // out of work this cycle: not certified
+    --budget_;
     checker_->SetPose(q_);
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
   }

@@ -140,7 +140,7 @@ class SelfCollisionGuard {
   double horizon_end_ = 0;   // [s] when the last joint has stopped
   std::vector<double> centre_;  // a posture of the nominal motion
   int budget_ = 0;  // distance evaluations left this cycle
-  static constexpr int kBudget = 256;
+  static constexpr int kBudget = 80;
 
   bool braking_ = false;
   uint64_t holds_ = 0;
