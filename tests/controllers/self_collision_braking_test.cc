@@ -132,5 +132,23 @@ TEST(SelfCollisionBraking, FromTheHoldMovingAwayIsLetThrough) {
       << "held at " << held.final_shoulder << " rad, after backing out " << away.final_shoulder;
 }
 
+// the runner: a hold is a result. playback's arm into the leg (issue 15's trajectory) ends with
+// exit 9 naming the pair; with the check off the same run ends 0
+TEST(SelfCollisionBraking, PlaybackHeldIsNotCompleted) {
+  testing::InProcessRun run;
+  run.io = testing::Hrp1sStanding();
+  run.t_end = 3.5;
+  const std::string angles = std::string(OHRP_SOURCE_DIR) + "/scenarios/trajectories/arm_into_leg.dat";
+  run.args = {testing::Program("playback"), "--angles", angles, "--ramp", "0.5", "--time-scale", "2"};
+  const testing::InProcessResult held = testing::RunInProcess("guard_playback", run);
+  EXPECT_EQ(held.exit_code, 9) << held.output;
+  EXPECT_NE(held.output.find("FAILED: the motion was not completed: self-collision guard braked "
+                             "and held"), std::string::npos) << held.output;
+  EXPECT_NE(held.output.find("RARM_"), std::string::npos) << held.output;
+  run.args.push_back("--no-self-collision");
+  const testing::InProcessResult off = testing::RunInProcess("guard_playback_off", run);
+  EXPECT_EQ(off.exit_code, 0) << off.output;
+}
+
 }  // namespace
 }  // namespace ohrp::controllers
