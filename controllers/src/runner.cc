@@ -5,6 +5,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <ostream>
 #include <thread>
@@ -150,14 +151,23 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     controller.close();
     return rep.exit_code = kExitConfig;
   }
-  // the self-collision check: a default file for another robot turns it off
+  // the self-collision check. A default file for another robot (another name and other joint
+  // names) means this robot has none: said once on stderr. A file for this robot (its name or
+  // its joints) with another model hash (a changed model) is refused below, exit 3: protection
+  // is never silently off.
   SelfCollisionGuard guard;
   bool guarded = !options.self_collision.empty();
-  if (guarded && options.self_collision_is_default &&
-      !SelfCollisionGuard::FileMatches(options.self_collision, header)) {
-    out << prog << ": self-collision check off: the default file " << options.self_collision
-        << " is not for this robot (give --self-collision FILE from ohrp_selfcollision)\n";
-    guarded = false;
+  if (guarded && options.self_collision_is_default) {
+    std::string robot;
+    const auto owner = SelfCollisionGuard::FileOwner(options.self_collision, header, &robot);
+    if (owner == SelfCollisionGuard::Owner::kAnotherRobot) {
+      const std::string here(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
+      err << prog << ": WARNING: no self-collision check: there is no self-collision file for "
+          << "robot " << here << " (the default " << options.self_collision << " is for " << robot
+          << ", other joints; make one with ohrp_selfcollision --model MJCF --out FILE and give "
+          << "--self-collision FILE)\n";
+      guarded = false;
+    }
   }
   if (guarded) {
     const std::string problem = guard.Configure(options.self_collision, header);
@@ -309,12 +319,21 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
   // motion the self-collision guard still held at the end was not completed
   if (rep.exit_code == kExitOk || rep.exit_code == kExitFell) {
     rep.failure = controller.failure();
-    if (rep.failure.empty() && guarded && guard.holding()) {
-      shm::GuardRecord g;
-      RecordGuard(guard, &g);
-      rep.failure = std::string("the self-collision guard was still holding the motion at the "
-                                "end of the run (") + g.link_a + "/" + g.link_b + " at " +
-                    Fixed(1e3 * g.distance, 1) + " mm): the commanded motion was not completed";
+    // a hold is a result: the motion the controller was asked for was stopped; where its own
+    // verification does not confirm its goal (or its motion is the trajectory, playback), or
+    // the guard still held at the end, the run failed, naming the pair
+    if (guarded && guard.holds() > 0) {
+      if (!rep.failure.empty()) {
+        rep.failure += "; " + guard.HoldSummary();
+      } else if (controller.hold_is_failure()) {
+        rep.failure = "the motion was not completed: " + guard.HoldSummary();
+      } else if (guard.holding()) {
+        shm::GuardRecord g;
+        RecordGuard(guard, &g);
+        rep.failure = std::string("the self-collision guard was still holding the motion at the "
+                                  "end of the run (") + g.link_a + "/" + g.link_b + " at " +
+                      Fixed(1e3 * g.distance, 1) + " mm): the commanded motion was not completed";
+      }
     }
     if (!rep.failure.empty()) {
       err << prog << ": FAILED: " << rep.failure << "\n";

@@ -1,4 +1,5 @@
-// The online self-collision check: the file against the header, then one Filter per cycle.
+// The online self-collision check: the file against the header, then one Filter per cycle:
+// predict the box of motion, certify every pair over it, or brake.
 #include "controllers/self_collision_guard.h"
 
 #include <algorithm>
@@ -16,13 +17,38 @@ std::string Hex(uint64_t v) {
   return b;
 }
 
+// a torque limit the guard can use: the header's, or none (infinite) when it states none
+double Limit(double tau_max) {
+  return std::isfinite(tau_max) && tau_max > 0 && tau_max < 1e9 ? tau_max : INFINITY;
+}
+
+// the servo's torque for the command at (q, dq), unclamped; NaN when it cannot be told
+double Servo(const shm::JointCommand& c, double q, double dq) {
+  switch (c.mode) {
+    case shm::JointMode::kPosition: return c.kp * (c.q_ref - q) + c.kd * (c.dq_ref - dq) + c.tau_ff;
+    case shm::JointMode::kVelocity: return c.kd * (c.dq_ref - dq) + c.tau_ff;
+    case shm::JointMode::kTorque: return c.tau_ff;
+    default: return 0.0;
+  }
+}
+
 }  // namespace
 
-bool SelfCollisionGuard::FileMatches(const std::string& path, const shm::SegmentHeader& header) {
+SelfCollisionGuard::Owner SelfCollisionGuard::FileOwner(const std::string& path,
+                                                        const shm::SegmentHeader& header,
+                                                        std::string* robot) {
   collision::SelfCollisionFile f;
   std::string error;
-  return collision::ReadSelfCollisionFile(path, &f, &error) &&
-         f.robot.model_hash == header.model_hash;
+  robot->clear();
+  if (!collision::ReadSelfCollisionFile(path, &f, &error)) return Owner::kUnreadable;
+  *robot = f.robot.name;
+  if (f.robot.model_hash == header.model_hash) return Owner::kThisModel;
+  const int n = std::clamp(header.njoint, 0, shm::kMaxJoints);
+  bool same_joints = static_cast<int>(f.robot.joint_names.size()) == n;
+  for (int j = 0; same_joints && j < n; ++j)
+    same_joints = f.robot.joint_names[j] == std::string(header.joint_names[j], strnlen(header.joint_names[j], shm::kNameLen));
+  const std::string name(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
+  return same_joints || f.robot.name == name ? Owner::kThisRobot : Owner::kAnotherRobot;
 }
 
 std::string SelfCollisionGuard::Configure(const std::string& path,
@@ -42,14 +68,35 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
     if (file_.robot.joint_names[j] != std::string(header.joint_names[j], strnlen(header.joint_names[j], shm::kNameLen)))
       return path + ": joint " + std::to_string(j) + " is " + file_.robot.joint_names[j] +
              ", the segment's is " + header.joint_names[j];
+  // the braking check needs what the joints can do: never guessed
+  if (static_cast<int>(file_.dynamics.size()) != njoint_)
+    return path + ": has no dynamics: section (the joints' inertia and gravity bounds the "
+                  "braking check needs): regenerate it with ohrp_selfcollision --model ... "
+                  "(docs/selfcollision.md)";
+  // postures: the actuated joints, then the passive ones (measured: sensors.passive_q)
+  nq_ = collision::NumJoints(file_.robot);
+  if (nq_ - njoint_ != header.npassive)
+    return path + ": has " + std::to_string(nq_ - njoint_) + " passive joints, the segment " +
+           std::to_string(header.npassive);
   checker_ = collision::SelfCollision::Create(file_.robot, &error);
   if (!checker_) return path + ": " + error;
   period_ = header.control_period;
-  // every pair the check may need, allocated once
+  tolerance_ = std::max(0.5 * file_.margin, 1e-3);
+  // every pair the check may need, allocated once: online, structural with floors, ranges'
   every_ = file_.online;
+  base_limit_.assign(every_.size(), file_.margin);
+  const bool floors = file_.structural_floor.size() == file_.structural.size();
+  for (size_t k = 0; floors && k < file_.structural.size(); ++k) {
+    every_.push_back(file_.structural[k]);
+    base_limit_.push_back(file_.structural_floor[k]);
+  }
+  always_ = every_.size();
   for (const auto& r : file_.ranges)
     for (const auto& p : r.pairs)
-      if (std::find(every_.begin(), every_.end(), p) == every_.end()) every_.push_back(p);
+      if (std::find(every_.begin(), every_.end(), p) == every_.end()) {
+        every_.push_back(p);
+        base_limit_.push_back(file_.margin);
+      }
   range_pairs_.clear();
   for (const auto& r : file_.ranges) {
     range_pairs_.emplace_back();
@@ -57,112 +104,387 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
       range_pairs_.back().push_back(
           static_cast<int>(std::find(every_.begin(), every_.end(), p) - every_.begin()));
   }
+  limit_ = base_limit_;
+  check_cutoff_ = *std::max_element(base_limit_.begin(), base_limit_.end());
+  // per pair and joint, how far the pair's two links move per unit of the joint
+  const auto reach = collision::LinkReach(file_.robot);
+  coef_.assign(every_.size() * nq_, 0.0);
+  for (size_t i = 0; i < every_.size(); ++i)
+    for (int l : {every_[i].a, every_[i].b})
+      for (const auto& [joint, r] : reach[l]) coef_[i * nq_ + joint] += r;
   check_ = std::make_unique<collision::IncrementalCheck>(checker_.get(), every_);
   list_.reserve(every_.size());
   on_list_.assign(every_.size(), 0);
-  // postures: the actuated joints, then the passive ones (measured: sensors.passive_q)
-  const int nq = collision::NumJoints(file_.robot);
-  if (nq - njoint_ != header.npassive)
-    return path + ": has " + std::to_string(nq - njoint_) + " passive joints, the segment " +
-           std::to_string(header.npassive);
-  q_.assign(nq, 0.0);
-  q_ahead_.assign(nq, 0.0);
-  last_q_.assign(nq, std::nan(""));  // matches no posture
-  safe_.assign(nq, 0.0);
+  // per joint: the torque limit, the servo's default gains; the braking deceleration is set
+  // each cycle from the measured torque (Predict)
+  tau_max_.assign(njoint_, 0.0);
+  kp_default_.assign(njoint_, 0.0);
+  kd_default_.assign(njoint_, 0.0);
+  decel_.assign(nq_, 1.0);  // passive joints: never braked (their stop_ is 0)
+  for (int j = 0; j < njoint_; ++j) {
+    tau_max_[j] = Limit(header.tau_max[j]);
+    kp_default_[j] = header.default_kp[j];
+    kd_default_[j] = header.default_kd[j];
+    decel_[j] = Deceleration(j, INFINITY);
+  }
+  // each joint's support sensor, by the header's force sensor names (-1: none)
+  support_.assign(njoint_, -1);
+  for (int j = 0; j < njoint_; ++j)
+    for (int f = 0; f < std::clamp(header.nforce, 0, shm::kMaxForceSensors); ++f)
+      if (!file_.dynamics[j].support_sensor.empty() &&
+          file_.dynamics[j].support_sensor == std::string(header.force_names[f], strnlen(header.force_names[f], shm::kNameLen)))
+        support_[j] = f;
+  q_.assign(nq_, 0.0);
+  box_lo_.assign(nq_, 0.0);
+  box_hi_.assign(nq_, 0.0);
+  brake_q_.assign(njoint_, 0.0);
+  brake_v_.assign(njoint_, 0.0);
+  brake_decel_.assign(decel_.begin(), decel_.begin() + njoint_);
+  last_dq_.assign(njoint_, 0.0);
+  have_last_ = false;
+  centre_.assign(nq_, 0.0);
+  for (auto* v : {&v0_, &a_mid_, &v1_, &q1_, &stop_, &speed_, &envelope_}) v->assign(nq_, 0.0);
   return "";
 }
 
-void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
-  for (int j = 0; j < njoint_; ++j) safe_[j] = std::isfinite(sensors.q[j]) ? sensors.q[j] : 0.0;
-  for (size_t k = njoint_; k < safe_.size(); ++k)  // passive joints, as measured
-    safe_[k] = std::isfinite(sensors.passive_q[k - njoint_]) ? sensors.passive_q[k - njoint_] : 0.0;
-  safe_distance_ = Closest(safe_).min_distance;
+double SelfCollisionGuard::Deceleration(int j, double tau_measured) const {
+  return Decelerate(j, tau_measured, file_.dynamics[j].inertia_max);
 }
 
-collision::CheckResult SelfCollisionGuard::Closest(const std::vector<double>& q) {
-  // the online pairs, plus the pairs of every safe range q leaves (each once)
+double SelfCollisionGuard::Decelerate(int j, double tau_measured, double inertia) const {
+  // the torque left for braking: the limit less what holding needs (the gravity bound, or the
+  // measured load when less), at least a tenth of the limit
+  // (a joint whose holding takes all of it still brakes, slowly, on the prediction's side)
+  const collision::JointDynamics& d = file_.dynamics[j];
+  const double hold = std::isfinite(tau_measured) ? std::min(d.gravity_max, tau_measured)
+                                                  : d.gravity_max;
+  return std::max(tau_max_[j] - hold, 0.1 * tau_max_[j]) / inertia;
+}
+
+void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
+  for (int j = 0; j < njoint_; ++j) {
+    q_[j] = std::isfinite(sensors.q[j]) ? sensors.q[j] : 0.0;
+    brake_q_[j] = q_[j];
+    brake_v_[j] = 0.0;
+  }
+  for (int k = njoint_; k < nq_; ++k)  // passive joints, as measured
+    q_[k] = std::isfinite(sensors.passive_q[k - njoint_]) ? sensors.passive_q[k - njoint_] : 0.0;
+  // each pair's limit: the margin, or less than its distance now by the tolerance
+  check_->MoveTo(q_);
+  const double cutoff = *std::max_element(base_limit_.begin(), base_limit_.end());
+  check_->CheckAll(cutoff);
+  for (size_t i = 0; i < every_.size(); ++i)
+    limit_[i] = std::min(base_limit_[i], check_->distance(static_cast<int>(i)) - tolerance_);
+  braking_ = false;
+  // the load's first estimate: the measured torque, the joints taken as not accelerating
+  for (int j = 0; j < njoint_; ++j) last_dq_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
+  have_last_ = true;
+}
+
+void SelfCollisionGuard::Excursion(double v, double a_lo, double a_hi, double horizon,
+                                   double v_max, double decel, double* lo, double* hi) {
+  const double t = horizon;
+  // free motion: position extremes of v t + a t^2 / 2 over [0, t] for a in [a_lo, a_hi]
+  double up = std::max(0.0, v * t + 0.5 * (v >= 0 ? std::max(a_hi, 0.0) : a_hi) * t * t);
+  double down = std::min(0.0, v * t + 0.5 * (v <= 0 ? std::min(a_lo, 0.0) : a_lo) * t * t);
+  double v_up = v + a_hi * t, v_down = v + a_lo * t;
+  if (v_max > 0) {  // the actuator's speed limit
+    up = std::min(up, std::max(v, v_max) * t);
+    down = std::max(down, std::min(v, -v_max) * t);
+    v_up = std::min(v_up, std::max(v, v_max));
+    v_down = std::max(v_down, std::min(v, -v_max));
+  }
+  // then the brake to rest
+  if (v_up > 0) up += v_up * v_up / (2 * decel);
+  if (v_down < 0) down -= v_down * v_down / (2 * decel);
+  *lo = down;
+  *hi = up;
+}
+
+bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c) {
+  const double horizon = 2 * period_;  // this command's period and one of latency
+  // the fastest joint: how much the load can change over the horizon (below)
+  double speed = 0;
+  for (int j = 0; j < njoint_; ++j) speed = std::max(speed, std::abs(sensors.dq[j]));
+  for (int j = 0; j < njoint_; ++j) {
+    const double q = sensors.q[j], v = sensors.dq[j];
+    if (!std::isfinite(q) || !std::isfinite(v)) {
+      have_last_ = false;
+      return false;
+    }
+    const collision::JointDynamics& d = file_.dynamics[j];
+    // the inertia the joint drives: the links beyond alone while their force sensor says they
+    // carry no weight, else the bound under any contact
+    const int fs = support_[j];
+    double inertia = d.inertia_max;
+    if (fs >= 0) {
+      const double* f = sensors.force[fs].force;
+      const double load = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      if (std::isfinite(load) && load < d.support_force) inertia = d.inertia_free;
+    }
+    // the joint's acceleration over the last period and the servo's torque that made it: the
+    // next acceleration is that one plus the change of torque over the (unknown, common)
+    // inertia, the load changing by at most the gravity bound times the angle turned over the
+    // horizon. Without a last period (a measurement was not finite): the load is anywhere
+    // within the gravity bound. At activation the joints are taken as not accelerating.
+    const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
+    const bool observed = std::isfinite(a_last) && std::isfinite(sensors.tau[j]);
+    const double slack = observed ? d.gravity_max * std::min(1.0, 3 * speed * period_) + d.damping * std::abs(v)
+                                  : d.gravity_max;
+    const double base = observed ? sensors.tau[j] : 0.0;  // the torque the acceleration answers
+    const double a0 = observed ? a_last : 0.0;
+    // the servo's torque along the period (at the start and where the velocity carries the
+    // joint), clamped to the limit; a command that cannot be told gives the whole range
+    const double t0 = Servo(c.joint[j], q, v), t1 = Servo(c.joint[j], q + v * horizon, v);
+    double tau_lo = -tau_max_[j], tau_hi = tau_max_[j];
+    if (std::isfinite(t0) && std::isfinite(t1)) {
+      tau_lo = std::clamp(std::min(t0, t1), -tau_max_[j], tau_max_[j]);
+      tau_hi = std::clamp(std::max(t0, t1), -tau_max_[j], tau_max_[j]);
+    }
+    if (!std::isfinite(tau_lo) || !std::isfinite(tau_hi)) return false;  // no limit, no command
+    const double f_lo = tau_lo - base - slack, f_hi = tau_hi - base + slack;
+    const double a_lo = a0 + std::min(f_lo / d.inertia_min, f_lo / inertia);
+    const double a_hi = a0 + std::max(f_hi / d.inertia_min, f_hi / inertia);
+    // braking: the limit less the largest load (the torque less what accelerated the joint),
+    // over the inertia
+    const double load = observed ? std::max(std::abs(base - d.inertia_min * a0), std::abs(base - inertia * a0)) + slack
+                                 : d.gravity_max;
+    decel_[j] = Decelerate(j, load, inertia);
+    double lo = 0, hi = 0;
+    Excursion(v, a_lo, a_hi, horizon, d.velocity_max, decel_[j], &lo, &hi);
+    q_[j] = q;
+    box_lo_[j] = q + lo;
+    box_hi_[j] = q + hi;
+    // the nominal motion (the middle acceleration, then the brake) and how far the motion
+    // within the bounds can be from it at any time: the acceleration's spread over the
+    // horizon, and the brake's stopping point from the extreme velocities (two brakes at one
+    // rate from v and v' differ by at most their stopping points' difference at any time)
+    const double a_mid = 0.5 * (a_lo + a_hi), v1 = v + a_mid * horizon;
+    const auto stop = [&](double u) { return u * std::abs(u) / (2 * decel_[j]); };
+    v0_[j] = v;
+    a_mid_[j] = a_mid;
+    v1_[j] = v1;
+    q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
+    stop_[j] = std::abs(v1) / decel_[j];
+    speed_[j] = std::max(std::abs(v), std::abs(v1));
+    envelope_[j] = 0.25 * (a_hi - a_lo) * horizon * horizon +
+                   std::max(std::abs(stop(v + a_hi * horizon) - stop(v1)),
+                            std::abs(stop(v + a_lo * horizon) - stop(v1)));
+  }
+  horizon_end_ = horizon + *std::max_element(stop_.begin(), stop_.end());
+  // passive joints: measured, never commanded nor braked; taken to keep their measured speed
+  // over the whole motion (their deviation from standing still is all envelope)
+  for (int k = njoint_; k < nq_; ++k) {
+    const double q = sensors.passive_q[k - njoint_], v = sensors.passive_dq[k - njoint_];
+    if (!std::isfinite(q) || !std::isfinite(v)) {
+      have_last_ = false;
+      return false;
+    }
+    q_[k] = q1_[k] = q;
+    envelope_[k] = std::abs(v) * horizon_end_;
+    box_lo_[k] = q - envelope_[k];
+    box_hi_[k] = q + envelope_[k];
+  }
+  for (int j = 0; j < njoint_; ++j) last_dq_[j] = sensors.dq[j];
+  have_last_ = true;
+  return true;
+}
+
+void SelfCollisionGuard::ListPairs() {
   list_.clear();
   std::fill(on_list_.begin(), on_list_.end(), 0);
-  const size_t online = file_.online.size();
-  for (size_t i = 0; i < online; ++i) list_.push_back(static_cast<int>(i)), on_list_[i] = 1;
+  for (size_t i = 0; i < always_; ++i) list_.push_back(static_cast<int>(i)), on_list_[i] = 1;
   for (size_t ri = 0; ri < file_.ranges.size(); ++ri) {
     const auto& r = file_.ranges[ri];
-    if (q[r.joint] >= r.lo && q[r.joint] <= r.hi) continue;
+    if (box_lo_[r.joint] >= r.lo && box_hi_[r.joint] <= r.hi) continue;  // the box keeps to it
     for (int k : range_pairs_[ri])
       if (!on_list_[k]) list_.push_back(k), on_list_[k] = 1;
   }
-  // the pairs that cannot have come within the margin since they were measured are skipped
-  check_->MoveTo(q);
-  return check_->Check(list_, file_.margin);
+}
+
+void SelfCollisionGuard::Nominal(double t) {
+  const double horizon = 2 * period_;
+  for (int k = njoint_; k < nq_; ++k) centre_[k] = q_[k];  // passive: as measured
+  for (int j = 0; j < njoint_; ++j) {
+    if (t <= horizon) {
+      centre_[j] = q_[j] + v0_[j] * t + 0.5 * a_mid_[j] * t * t;
+    } else {
+      const double u = std::min(t - horizon, stop_[j]);
+      centre_[j] = q1_[j] + v1_[j] * u - 0.5 * (v1_[j] > 0 ? 1 : -1) * decel_[j] * u * u;
+    }
+  }
+}
+
+bool SelfCollisionGuard::Certify(int i, double* bound) {
+  const double* c = &coef_[static_cast<size_t>(i) * nq_];
+  const double limit = limit_[i];
+  const collision::LinkPair p = every_[i];
+  const double horizon = 2 * period_;
+  // how far the pair's links can be from the nominal motion's
+  double envelope = 0;
+  for (int j = 0; j < nq_; ++j)
+    if (c[j] > 0) envelope += c[j] * envelope_[j];
+  // from time t on: the links' speed bound (each joint's speed does not grow once it brakes)
+  // and the length of the rest of their nominal paths
+  const auto speed_at = [&](double t, double* rest) {
+    double speed = 0;
+    *rest = 0;
+    for (int j = 0; j < njoint_; ++j) {
+      if (c[j] <= 0) continue;
+      if (t < horizon) {
+        speed += c[j] * speed_[j];
+        *rest += c[j] * (speed_[j] * (horizon - t) + v1_[j] * v1_[j] / (2 * decel_[j]));
+      } else {
+        const double s = std::max(0.0, std::abs(v1_[j]) - decel_[j] * (t - horizon));
+        speed += c[j] * s;
+        *rest += c[j] * s * s / (2 * decel_[j]);
+      }
+    }
+    return speed;
+  };
+  // conservative advancement along the nominal motion from the measured posture: at time t
+  // the distance less the envelope less what the links can travel until the next time stays
+  // at or above the limit; the next time is as far as that allows
+  double rest = 0;
+  double speed = speed_at(0, &rest);
+  double d = check_->distance(i);
+  if (d - envelope - rest >= limit) return true;  // the whole motion at once
+  if (!check_->measured_now(i) || d > check_cutoff_) {
+    // a lower bound only (skipped, or farther than the check's cutoff): measure it with this
+    // pair's own
+    if (budget_ <= 0) return false;  // out of work this cycle: not certified
+    --budget_;
+    checker_->SetPose(q_);
+    d = checker_->Distance(p.a, p.b, limit + envelope + rest);
+  }
+  double t = 0;
+  *bound = d - envelope;
+  while (true) {
+    const double room = d - envelope - limit;
+    *bound = std::min(*bound, d - envelope);
+    if (room < 0) return false;       // the motion may come closer than the limit
+    if (rest <= room) return true;    // the rest of it cannot
+    if (budget_ <= 0) return false;   // out of work this cycle: not certified
+    t += std::max(room / speed, 1e-6 * horizon_end_);
+    speed = speed_at(t, &rest);
+    Nominal(t);
+    checker_->SetPose(centre_);
+    --budget_;
+    d = checker_->Distance(p.a, p.b, limit + envelope + rest);
+  }
+}
+
+void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
+  (void)sensors;
+  for (int j = 0; j < njoint_; ++j) {
+    const double v0 = brake_v_[j], dv = brake_decel_[j] * period_;
+    const double v1 = v0 > 0 ? std::max(0.0, v0 - dv) : std::min(0.0, v0 + dv);
+    brake_q_[j] += 0.5 * (v0 + v1) * period_;
+    brake_v_[j] = v1;
+    shm::JointCommand& jc = c->joint[j];
+    if (jc.mode != shm::JointMode::kPosition || !(jc.kp > 0)) {
+      jc.mode = shm::JointMode::kPosition;
+      jc.kp = kp_default_[j];
+      jc.kd = kd_default_[j];
+      jc.tau_ff = 0.0;
+    }
+    jc.q_ref = brake_q_[j];
+    jc.dq_ref = v1;
+  }
 }
 
 bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
-  // the commanded posture, and the one a period ahead
-  for (int j = 0; j < njoint_; ++j) {
-    const shm::JointCommand& jc = c->joint[j];
-    const bool position = jc.mode == shm::JointMode::kPosition && std::isfinite(jc.q_ref);
-    q_[j] = position ? jc.q_ref : sensors.q[j];
-    const double v = position && std::isfinite(jc.dq_ref) ? jc.dq_ref : sensors.dq[j];
-    q_ahead_[j] = q_[j] + (std::isfinite(v) ? v : 0.0) * period_;
-  }
-  for (size_t k = njoint_; k < q_.size(); ++k) {  // passive joints: measured, never commanded
-    const double v = sensors.passive_dq[k - njoint_];
-    q_[k] = sensors.passive_q[k - njoint_];
-    q_ahead_[k] = q_[k] + (std::isfinite(v) ? v : 0.0) * period_;
-  }
-  // the same posture as the last cycle's (a held pose): the same answer, no check; a posture
-  // that does not move within the period (no velocity): one check, not two
-  if (q_ != last_q_) {
-    last_q_ = q_;  // same size: no allocation
-    last_now_ = Closest(q_);
-  }
-  const collision::CheckResult now = last_now_;
-  const collision::CheckResult ahead = q_ahead_ == q_ ? now : Closest(q_ahead_);
-  const collision::CheckResult& worst = ahead.min_distance < now.min_distance ? ahead : now;
-  // while holding, only a command near the held references may resume: a far one could jump
-  // through a link (a hand through a thigh is deep, then apart again on the other side)
-  double jump = 0;
-  for (int j = 0; j < njoint_; ++j) jump = std::max(jump, std::abs(q_[j] - safe_[j]));
-  const bool far = holding_ && jump > kResumeStep;
-  // close, and penetrating or closer than the last safe references: hold them
-  const bool close = worst.closest >= 0 && worst.min_distance < file_.margin &&
-                     (worst.min_distance <= 0 || worst.min_distance < safe_distance_);
-  if (far || close) {
-    holding_ = true;
-    ++held_cycles_;
-    if (first_time_ < 0 && close) {
-      first_time_ = sensors.time;
-      first_pair_ = every_[worst.closest];
-      first_distance_ = worst.min_distance;
+  bool clear = Predict(sensors, *c);
+  int worst = -1;
+  double predicted = INFINITY;
+  if (clear) {
+    // the measured posture's distances: each pair's limit follows its farthest distance since
+    // (a close pair may leave, not creep closer); one below its limit is counted
+    check_->MoveTo(q_);
+    ListPairs();
+    check_->Check(list_, check_cutoff_);
+    for (int i : list_) {
+      const double d = check_->distance(i);
+      if (d < limit_[i] - 1e-6) {
+        ++violations_;
+        limit_[i] = d - tolerance_;
+      } else {
+        limit_[i] = std::min(base_limit_[i], std::max(limit_[i], d - tolerance_));
+      }
     }
-    if (close && worst.min_distance < closest_distance_) {
-      closest_distance_ = worst.min_distance;
-      closest_pair_ = every_[worst.closest];
+    budget_ = kBudget;
+    for (int i : list_) {
+      double b = INFINITY;
+      if (Certify(i, &b)) continue;
+      clear = false;
+      worst = i;
+      predicted = b;
+      if (budget_ <= 0) ++uncertified_cycles_;
+      break;
     }
+  } else {
+    ++uncertified_cycles_;  // a measured value that is not finite: nothing to predict from
+  }
+  if (clear) {
+    braking_ = false;
+    return false;
+  }
+  // brake: from the measured state when the hold begins, then along the ramp
+  if (!braking_) {
+    ++holds_;
     for (int j = 0; j < njoint_; ++j) {
-      c->joint[j].q_ref = safe_[j];
-      c->joint[j].dq_ref = 0.0;
+      if (std::isfinite(sensors.q[j])) brake_q_[j] = sensors.q[j];
+      brake_v_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
+      brake_decel_[j] = decel_[j];  // the prediction's
     }
-    return true;
   }
-  holding_ = false;
-  safe_ = q_;
-  safe_distance_ = now.min_distance;
-  return false;
+  braking_ = true;
+  ++held_cycles_;
+  if (worst >= 0) {
+    if (first_time_ < 0) {
+      first_time_ = sensors.time;
+      first_pair_ = every_[worst];
+      first_distance_ = predicted;
+    }
+    if (predicted < closest_distance_ || closest_pair_.a < 0) {
+      closest_distance_ = std::isfinite(predicted) ? predicted : closest_distance_;
+      closest_pair_ = every_[worst];
+    }
+  }
+  Brake(sensors, c);
+  return true;
+}
+
+std::string SelfCollisionGuard::HoldSummary() const {
+  if (holds_ == 0) return "";
+  char b[400];
+  const auto name = [&](collision::LinkPair p) {
+    return p.a < 0 ? std::string("(none: a measurement was not finite)")
+                   : file_.robot.links[p.a].name + " / " + file_.robot.links[p.b].name;
+  };
+  std::snprintf(b, sizeof(b), "self-collision guard braked and held %llu time(s), closest pair %s "
+                "at %.1f mm (predicted lower bound; margin %.1f mm)",
+                static_cast<unsigned long long>(holds_), name(closest_pair_).c_str(),
+                1e3 * closest_distance_, 1e3 * file_.margin);
+  return b;
 }
 
 void SelfCollisionGuard::Report(const std::string& program, std::ostream& out) const {
-  if (held_cycles_ == 0) return;
+  if (held_cycles_ == 0 && violations_ == 0) return;
   const auto name = [&](collision::LinkPair p) {
-    return file_.robot.links[p.a].name + " / " + file_.robot.links[p.b].name;
+    return p.a < 0 ? std::string("(none)")
+                   : file_.robot.links[p.a].name + " / " + file_.robot.links[p.b].name;
   };
-  char b[512];
+  char b[768];
   std::snprintf(b, sizeof(b),
-                "%s: self-collision: held the last safe references in %ld cycles; first at "
-                "%.3f s, pair %s at %.1f mm; closest commanded %s at %.1f mm (margin %.1f mm)\n",
-                program.c_str(), held_cycles_, first_time_, name(first_pair_).c_str(),
-                1e3 * first_distance_, name(closest_pair_).c_str(), 1e3 * closest_distance_,
-                1e3 * file_.margin);
+                "%s: self-collision: braked and held in %ld cycles (%llu holds); first at %.3f "
+                "s, pair %s at %.1f mm predicted; closest %s at %.1f mm predicted (margin %.1f "
+                "mm); %ld cycles not certified within the work bound, %ld measured distances "
+                "below their limit\n",
+                program.c_str(), held_cycles_, static_cast<unsigned long long>(holds_),
+                first_time_, name(first_pair_).c_str(), 1e3 * first_distance_,
+                name(closest_pair_).c_str(), 1e3 * closest_distance_, 1e3 * file_.margin,
+                uncertified_cycles_, violations_);
   out << b;
 }
 

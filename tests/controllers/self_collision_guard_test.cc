@@ -1,7 +1,8 @@
 // The online self-collision check (controllers/self_collision_guard.h) with HRP-1S's shipped
-// file: a command that brings the right arm into the leg is held at the last safe references,
-// one moving away is let through, the held cycles are reported with the pair, a file for
-// another robot is refused, and a cycle allocates nothing.
+// file: the braking distance of one joint against closed forms, an arm swinging fast into the
+// leg braked along a ramp (the pair reported), one moving away let through, a file for another
+// robot or without dynamics refused, and a cycle allocates nothing. The simulated proof is
+// self_collision_braking_test.cc.
 #include "controllers/self_collision_guard.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <sstream>
 
 #include "../robot_model/count_allocations.h"
+#include "common/scratch.h"
 
 namespace ohrp::controllers {
 namespace {
@@ -17,14 +19,19 @@ namespace {
 const std::string kFile = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml";
 constexpr int kRarmShoulderR = 7, kRarmElbow = 9;
 
-// the header of HRP-1S as the file describes it
+// the header of HRP-1S as the file describes it; every joint's torque limit 200 N m
 shm::SegmentHeader Header(const collision::SelfCollisionFile& f) {
   shm::SegmentHeader h{};
   h.njoint = static_cast<int>(f.robot.joint_names.size());
   h.model_hash = f.robot.model_hash;
   h.control_period = 0.005;
-  for (int j = 0; j < h.njoint; ++j)
+  std::strncpy(h.robot_name, f.robot.name.c_str(), sizeof(h.robot_name) - 1);
+  for (int j = 0; j < h.njoint; ++j) {
     std::strncpy(h.joint_names[j], f.robot.joint_names[j].c_str(), shm::kNameLen - 1);
+    h.tau_max[j] = 200;
+    h.default_kp[j] = 100;
+    h.default_kd[j] = 1;
+  }
   return h;
 }
 
@@ -42,7 +49,7 @@ class GuardTest : public ::testing::Test {
     header_ = Header(file_);
     ASSERT_EQ(guard_.Configure(kFile, header_), "");
     sensors_ = shm::SensorBlock{};
-    guard_.Activate(sensors_);  // the zero posture: arms hanging
+    guard_.Activate(sensors_);  // the zero posture: arms hanging beside the thighs
   }
   collision::SelfCollisionFile file_;
   shm::SegmentHeader header_;
@@ -51,20 +58,63 @@ class GuardTest : public ::testing::Test {
   SelfCollisionGuard guard_;
 };
 
-TEST_F(GuardTest, HoldsTheArmSwungIntoTheLegAndNamesThePair) {
+// the motion interval of one joint against closed forms: coasting for the horizon, then
+// v^2 / (2 a) to rest; the speed limit caps both
+TEST(GuardExcursion, BrakingDistanceOfOneJoint) {
+  double lo = 0, hi = 0;
+  // 1.2 rad/s, no acceleration, 10 ms (a period and one of latency), 3 rad/s^2 of braking
+  SelfCollisionGuard::Excursion(1.2, 0, 0, 0.01, 0, 3.0, &lo, &hi);
+  EXPECT_NEAR(hi, 1.2 * 0.01 + 1.2 * 1.2 / (2 * 3.0), 1e-12);
+  EXPECT_EQ(lo, 0);
+  // accelerating at up to 2 rad/s^2 (down to -1) for 10 ms: v t + a t^2 / 2, then from 0.52
+  SelfCollisionGuard::Excursion(0.5, -1, 2, 0.01, 0, 3.0, &lo, &hi);
+  EXPECT_NEAR(hi, 0.5 * 0.01 + 0.5 * 2 * 1e-4 + 0.52 * 0.52 / 6, 1e-12);
+  EXPECT_EQ(lo, 0);
+  // the same at its speed limit 0.5 rad/s: no faster
+  SelfCollisionGuard::Excursion(0.5, -1, 2, 0.01, 0.5, 3.0, &lo, &hi);
+  EXPECT_NEAR(hi, 0.5 * 0.01 + 0.25 / 6, 1e-12);
+  // moving the other way, mirrored
+  SelfCollisionGuard::Excursion(-1.2, 0, 0, 0.01, 0, 3.0, &lo, &hi);
+  EXPECT_NEAR(lo, -(1.2 * 0.01 + 1.2 * 1.2 / 6), 1e-12);
+  EXPECT_EQ(hi, 0);
+}
+
+// the deceleration: the torque limit less the load, over the largest inertia
+TEST_F(GuardTest, DecelerationFromTheFile) {
+  const collision::JointDynamics& d = file_.dynamics[kRarmShoulderR];
+  EXPECT_NEAR(guard_.Deceleration(kRarmShoulderR, 0.0), 200 / d.inertia_max, 1e-12);
+  EXPECT_NEAR(guard_.Deceleration(kRarmShoulderR, NAN), (200 - d.gravity_max) / d.inertia_max, 1e-12);
+  EXPECT_NEAR(guard_.Deceleration(kRarmShoulderR, 1e6), (200 - d.gravity_max) / d.inertia_max, 1e-12);
+}
+
+TEST_F(GuardTest, BrakesAnArmMovingFastIntoTheLegAlongARamp) {
   double q[shm::kMaxJoints] = {};
-  // the right arm rolled inwards to its limit: the hand is in the thigh
-  q[kRarmShoulderR] = 0.2618;
-  q[kRarmElbow] = 0.0;
-  Command(q, header_.njoint, &commands_);
+  Command(q, header_.njoint, &commands_);  // the command holds the zero posture...
+  sensors_.dq[kRarmShoulderR] = 2.0;       // ...but the arm swings inwards at 2 rad/s
+  guard_.Activate(sensors_);               // (steadily: not accelerating)
   EXPECT_TRUE(guard_.Filter(sensors_, &commands_));
-  EXPECT_EQ(commands_.joint[kRarmShoulderR].q_ref, 0.0);  // the last safe reference
-  EXPECT_EQ(guard_.held_cycles(), 1);
+  EXPECT_TRUE(guard_.holding());
+  EXPECT_EQ(guard_.holds(), 1u);
+  // not a frozen reference: the velocity ramped down by one period's braking, the position
+  // advanced consistently
+  const double v1 = commands_.joint[kRarmShoulderR].dq_ref;
+  EXPECT_GT(v1, 0.0);
+  EXPECT_LT(v1, 2.0);
+  EXPECT_NEAR(commands_.joint[kRarmShoulderR].q_ref, 0.5 * (2.0 + v1) * 0.005, 1e-12);
+  EXPECT_GT(guard_.hold_pair().a, -1);
   std::ostringstream out;
   guard_.Report("test", out);
-  EXPECT_NE(out.str().find("held the last safe references in 1 cycles"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("braked and held in 1 cycles (1 holds)"), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("RARM_"), std::string::npos) << out.str();
-  EXPECT_NE(out.str().find("RLEG_"), std::string::npos) << out.str();
+  // the same swing outwards, away from the leg: let through
+  SelfCollisionGuard g;
+  ASSERT_EQ(g.Configure(kFile, header_), "");
+  sensors_.dq[kRarmShoulderR] = -2.0;
+  g.Activate(sensors_);
+  q[kRarmShoulderR] = -0.5;
+  Command(q, header_.njoint, &commands_);
+  EXPECT_FALSE(g.Filter(sensors_, &commands_));
+  EXPECT_EQ(g.holds(), 0u);
 }
 
 TEST_F(GuardTest, LetsSafeMotionAndMovingAwayThrough) {
@@ -84,11 +134,33 @@ TEST_F(GuardTest, RefusesAFileForAnotherRobot) {
   other.model_hash ^= 1;
   SelfCollisionGuard g;
   EXPECT_NE(g.Configure(kFile, other).find("regenerate it with ohrp_selfcollision"), std::string::npos);
-  EXPECT_FALSE(SelfCollisionGuard::FileMatches(kFile, other));
+  std::string robot;
+  // another hash, the same joints: this robot's model changed (regenerate); other joints and
+  // another name: another robot
+  EXPECT_EQ(SelfCollisionGuard::FileOwner(kFile, other, &robot), SelfCollisionGuard::Owner::kThisRobot);
+  EXPECT_EQ(robot, "hrp1s");
+  std::strcpy(other.robot_name, "elsewhere");
+  EXPECT_EQ(SelfCollisionGuard::FileOwner(kFile, other, &robot), SelfCollisionGuard::Owner::kThisRobot);
+  std::strcpy(other.joint_names[0], "ELSEWHERE");
+  EXPECT_EQ(SelfCollisionGuard::FileOwner(kFile, other, &robot), SelfCollisionGuard::Owner::kAnotherRobot);
+  std::strcpy(other.robot_name, "hrp1s");
+  EXPECT_EQ(SelfCollisionGuard::FileOwner(kFile, other, &robot), SelfCollisionGuard::Owner::kThisRobot);
+  EXPECT_EQ(SelfCollisionGuard::FileOwner(kFile, header_, &robot), SelfCollisionGuard::Owner::kThisModel);
   other = header_;
   std::strcpy(other.joint_names[3], "ELSEWHERE");
   EXPECT_NE(g.Configure(kFile, other).find("joint 3 is RLEG_KNEE, the segment's is ELSEWHERE"),
             std::string::npos);
+}
+
+// a file without the joints' dynamics: refused, never guessed
+TEST_F(GuardTest, RefusesAFileWithoutDynamics) {
+  collision::SelfCollisionFile f = file_;
+  f.dynamics.clear();
+  const std::string path = ohrp::testing::ScratchFile("no_dynamics", collision::SelfCollisionYaml(f), ".yaml");
+  SelfCollisionGuard g;
+  const std::string problem = g.Configure(path, header_);
+  EXPECT_NE(problem.find("has no dynamics: section"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("regenerate it with ohrp_selfcollision"), std::string::npos) << problem;
 }
 
 #ifdef OHRP_CAN_COUNT
@@ -97,7 +169,10 @@ TEST_F(GuardTest, ACycleAllocatesNothing) {
   q[kRarmShoulderR] = 0.2618;
   q[0] = 0.7;  // a leg out of nothing's way, the arm into the leg: both paths of the check
   Command(q, header_.njoint, &commands_);
+  sensors_.dq[kRarmShoulderR] = 2.0;  // fast into the leg: the bisection and the brake
   EXPECT_EQ(ohrp::testing::Allocations([&] { guard_.Filter(sensors_, &commands_); }), 0);
+  EXPECT_TRUE(guard_.holding());
+  sensors_.dq[kRarmShoulderR] = 0.0;
   q[kRarmShoulderR] = -0.3;
   Command(q, header_.njoint, &commands_);
   EXPECT_EQ(ohrp::testing::Allocations([&] { guard_.Filter(sensors_, &commands_); }), 0);

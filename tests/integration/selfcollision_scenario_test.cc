@@ -108,7 +108,7 @@ TEST(SelfCollisionScenario, WithoutTheCheckTheArmGoesIntoTheLeg) {
 }
 
 TEST(SelfCollisionScenario, TheCheckStopsTheArmBeforeTheLeg) {
-  // the guard holds the arm to the end: the swing was not completed, so playback ends with
+  // the hold is a result: playback's trajectory was not completed, so playback ends with
   // exit 9 and the scenario fails on that alone, with playback's reason (issue 29)
   const std::string out = RunScenario("scenarios/selfcollision_arm_on.yaml", false);
   const nlohmann::json run = nlohmann::json::parse(ReadFile(out + "/summary.json"));
@@ -117,21 +117,23 @@ TEST(SelfCollisionScenario, TheCheckStopsTheArmBeforeTheLeg) {
     EXPECT_EQ(c.value("passed", false), name != "playback_exited_cleanly") << c.dump();
     if (name == "playback_exited_cleanly") {
       EXPECT_EQ(c.value("value", 0.0), 9.0) << c.dump();
-      EXPECT_NE(c.value("detail", std::string()).find("self-collision guard was still holding"),
+      EXPECT_NE(c.value("detail", std::string()).find("self-collision guard"),
                 std::string::npos) << c.dump();
     }
   }
-  // sim_host recorded the hold: one episode, begun when the swing approaches the leg
+  // sim_host recorded the hold, begun when the swing approaches the leg
   const nlohmann::json sim = nlohmann::json::parse(ReadFile(out + "/sim_summary.json"));
   const nlohmann::json& g = sim.at("self_collision_guard");
-  EXPECT_EQ(g.value("hold_episodes", 0), 1) << g.dump();
-  EXPECT_TRUE(g.value("holding_at_end", false)) << g.dump();
+  EXPECT_GE(g.value("hold_episodes", 0), 1) << g.dump();
   EXPECT_GT(g.at("first").value("time", 0.0), 1.0) << g.dump();  // the swing starts at 1 s
   EXPECT_NE(g.at("first").value("pair", std::string()).find("RARM_"), std::string::npos) << g.dump();
-  // stopped before contact: the servo lags the held reference by little
-  EXPECT_GT(ArmLegDistance(out + "/log.csv"), 0.0);
+  // stopped at the margin (the file's 2 mm), not only before contact: the guard brakes from
+  // the measured state
+  EXPECT_GT(ArmLegDistance(out + "/log.csv"), 0.002 - 1e-4);
   const std::string said = ReadFile(out + "/playback.stderr");
-  EXPECT_NE(said.find("self-collision: held the last safe references"), std::string::npos) << said;
+  EXPECT_NE(said.find("self-collision: braked and held"), std::string::npos) << said;
+  EXPECT_NE(said.find("FAILED: the motion was not completed: self-collision guard braked and held"),
+            std::string::npos) << said;
   EXPECT_NE(said.find("RARM_"), std::string::npos) << said;
   // sim_host checked every cycle and found no two links in contact
   const nlohmann::json sc = SimSelfCollision(out);

@@ -3,6 +3,7 @@
 // (the file's online pairs plus the pairs of each safe range the posture leaves), beside the
 // 5 ms control period. Postures are random within the joint limits, the safe ranges kept (the
 // regime the reduced list is for). The paper's figures are printed for reference.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,7 +15,9 @@
 #include "collision/incremental_check.h"
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
+#include "controllers/self_collision_guard.h"
 #include "controllers/trajectory.h"
+#include "robot_model/model.h"
 #include "quantile.h"
 #include "shm_bridge/clock.h"
 
@@ -24,13 +27,17 @@ int main(int argc, char** argv) {
   using namespace ohrp::collision;
   std::string path = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml";
   std::string walk = std::string(OHRP_SOURCE_DIR) + "/../shared/external/openhrp3-sample/SamplePD/angle.dat";
+  std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
   int postures = 20000;
   double period = 0.005;
   CLI::App app{
       "bench_selfcollision: the self-collision check per posture of HRP-1S: all non-adjacent "
       "pairs, and the reduced list of the self-collision file, median and p99, beside the "
       "control period (targets: all pairs under 50 us median and 150 us p99, the reduced list "
-      "under 10 us median). Ends with 'ratio: X (reduced-list median / control period)'."};
+      "under 10 us median); then the online guard's whole cycle (SelfCollisionGuard::Filter: the "
+      "braking check, its certification and the brake) along the walk, or along ramps between "
+      "random postures without it. Ends with 'ratio: X (the guard's median cycle / control "
+      "period)', target under 0.2."};
   app.add_option("--file", path, "self-collision file (ohrp_selfcollision)")
       ->check(CLI::ExistingFile)->capture_default_str();
   // every number within its plausible range (cli/plausible.h), checked before anything runs
@@ -43,6 +50,9 @@ int main(int argc, char** argv) {
                  "cycles): the guard's two checks a cycle (the posture and the next), in full and "
                  "incrementally; '' to skip")
       ->capture_default_str();
+  app.add_option("--model", model, "the file's robot (MJCF): the torque limits and gains of the "
+                 "segment header the guard checks against")
+      ->check(CLI::ExistingFile)->capture_default_str();
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
 
   SelfCollisionFile file;
@@ -135,12 +145,78 @@ int main(int argc, char** argv) {
     std::printf("| the same, incremental (what the guard runs) | %zu | %.1f | %.1f | %ld answers differ |\n",
                 file.online.size(), Quantile(t_inc, 0.5) * 1e6, Quantile(t_inc, 0.99) * 1e6, differ);
   }
+  // the guard's whole cycle: sensors moving along the rows (velocities from their differences,
+  // the torque zero: the load is what accelerates the joints), the next row commanded
+  std::vector<std::vector<double>> rows;
+  if (!walk.empty()) {
+    for (size_t r = 0; r < traj.rows(); ++r) rows.emplace_back(traj.row(r), traj.row(r) + traj.njoint);
+  } else {
+    // ramps at up to 1 rad/s between 20 random postures
+    for (int k = 0; k + 1 < 20; ++k) {
+      const auto& a = qs[k];
+      const auto& b = qs[k + 1];
+      double far = 0;
+      for (size_t j = 0; j < a.size(); ++j) far = std::max(far, std::abs(b[j] - a[j]));
+      const int n = std::max(1, static_cast<int>(far / (1.0 * period)));
+      for (int i = 0; i < n; ++i) {
+        rows.push_back(a);
+        for (size_t j = 0; j < a.size(); ++j) rows.back()[j] += (b[j] - a[j]) * i / n;
+      }
+    }
+  }
+  std::string merror;
+  auto scene = ohrp::model::Scene::Load(model, &merror);
+  ohrp::model::RobotMap robot;
+  if (!scene || !ohrp::model::MapRobot(scene->m(), &robot, &merror) ||
+      robot.joints.size() != g.joint_names.size()) {
+    std::fprintf(stderr, "bench_selfcollision: --model %s: %s\n", model.c_str(),
+                 merror.empty() ? "not the file's robot" : merror.c_str());
+    return 2;
+  }
+  ohrp::shm::SegmentHeader header{};
+  header.njoint = static_cast<int>(g.joint_names.size());
+  header.model_hash = g.model_hash;
+  header.control_period = period;
+  for (int j = 0; j < header.njoint; ++j) {
+    std::snprintf(header.joint_names[j], ohrp::shm::kNameLen, "%s", g.joint_names[j].c_str());
+    header.tau_max[j] = robot.joints[j].tau_max;
+    header.default_kp[j] = robot.joints[j].default_kp;
+    header.default_kd[j] = robot.joints[j].default_kd;
+  }
+  ohrp::controllers::SelfCollisionGuard guard;
+  if (const std::string problem = guard.Configure(path, header); !problem.empty()) {
+    std::fprintf(stderr, "bench_selfcollision: %s\n", problem.c_str());
+    return 2;
+  }
+  ohrp::shm::SensorBlock sensors{};
+  ohrp::shm::CommandBlock commands{};
+  std::vector<double> t_guard;
+  long braked = 0;
+  for (size_t r = 0; r + 1 < rows.size(); ++r) {
+    for (int j = 0; j < header.njoint; ++j) {
+      sensors.q[j] = rows[r][j];
+      sensors.dq[j] = r > 0 ? (rows[r][j] - rows[r - 1][j]) / period : 0.0;
+      sensors.tau[j] = 0.0;
+      commands.joint[j] = {ohrp::shm::JointMode::kPosition, 0, rows[r + 1][j],
+                           (rows[r + 1][j] - rows[r][j]) / period, 0.0, header.default_kp[j],
+                           header.default_kd[j]};
+    }
+    if (r == 0) guard.Activate(sensors);
+    const double t0 = ohrp::MonotonicSeconds();
+    braked += guard.Filter(sensors, &commands);
+    t_guard.push_back(ohrp::MonotonicSeconds() - t0);
+  }
+  const double med_guard = Quantile(t_guard, 0.5), p99_guard = Quantile(t_guard, 0.99);
+  const double max_guard = *std::max_element(t_guard.begin(), t_guard.end());
+  std::printf("| the guard's cycle (Filter: braking check, certification, brake) along the %s | %zu | %.1f | %.1f (max %.1f) | %ld of %zu cycles braked, %ld not certified |\n",
+              walk.empty() ? "ramps" : "walk", guard.file().online.size(), med_guard * 1e6,
+              p99_guard * 1e6, max_guard * 1e6, braked, t_guard.size(), guard.uncertified_cycles());
   std::printf("| paper: HRP-1S, 933 MHz Pentium III, ~10,000 polygons | 350 | ~10000 (mean) | - | - |\n");
   std::printf("| paper: reduced list while walking | 36 | ~1000 (35 pairs/ms) | - | - |\n");
   std::printf("| control period | - | %.0f | - | - |\n", period * 1e6);
-  std::printf("targets: all pairs median < 50 us (%s), p99 < 150 us (%s); reduced median < 10 us (%s)\n",
+  std::printf("targets: all pairs median < 50 us (%s), p99 < 150 us (%s); reduced median < 10 us (%s); the guard's cycle < 20 %% of the period (%s)\n",
               med_all < 50e-6 ? "met" : "missed", p99_all < 150e-6 ? "met" : "missed",
-              med_red < 10e-6 ? "met" : "missed");
-  std::printf("ratio: %.4f (%.2f us / %.0f us)\n", med_red / period, med_red * 1e6, period * 1e6);
+              med_red < 10e-6 ? "met" : "missed", med_guard < 0.2 * period ? "met" : "missed");
+  std::printf("ratio: %.4f (%.2f us / %.0f us)\n", med_guard / period, med_guard * 1e6, period * 1e6);
   return 0;
 }

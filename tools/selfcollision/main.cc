@@ -7,6 +7,7 @@
 
 #include "cli/command_line.h"
 #include "collision/from_mjcf.h"
+#include "collision/joint_dynamics.h"
 #include "collision/prune.h"
 
 namespace {
@@ -167,7 +168,8 @@ int main(int argc, char** argv) {
   // the pre-processing, with progress on stderr
   if (!quiet) o.progress = [](const std::string& s) { std::fprintf(stderr, "\r%-78s%s", s.c_str(), s.empty() ? "\r" : ""); };
   const auto t0 = std::chrono::steady_clock::now();
-  const PruneResult r = ohrp::collision::Prune(geometry, o);
+  PruneResult r = ohrp::collision::Prune(geometry, o);
+  r.file.dynamics = ohrp::collision::JointDynamicsFromModel(scene->m(), robot);  // the guard's braking
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // the file and the report

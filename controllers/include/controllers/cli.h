@@ -26,8 +26,10 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
            run->self_collision = path;
            run->self_collision_is_default = false;
          },
-         "self-collision file (ohrp_selfcollision): commands that bring a pair of links closer "
-         "than its margin are held (default: HRP-1S's file, off for another robot)")
+         "self-collision file (ohrp_selfcollision, with the joints' dynamics): a command whose "
+         "motion, with a brake after it, could bring a pair of links closer than its margin is "
+         "replaced by that brake, then a hold (default: HRP-1S's file; for another robot: no "
+         "check, said on stderr; a file for this robot's name but another model: exit 3)")
       ->check(CLI::ExistingFile);
   app->add_flag_callback(
       "--no-self-collision", [run] { run->self_collision.clear(); },

@@ -91,6 +91,10 @@ class Controller {
   // asked as far as it can verify from its measurements, else what went wrong (the runner exits
   // kExitFailed with it). The default: nothing to verify.
   virtual std::string failure() const { return std::string(); }
+  // A hold of the self-collision guard leaves the controller's motion not done (playback: the
+  // motion is the trajectory): the runner then exits kExitFailed naming the pair. The default:
+  // no, the controller's failure() judges whether its goal was reached.
+  virtual bool hold_is_failure() const { return false; }
 
   // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
   // the header), valid from kInactive on: the runner asks the producer for them after

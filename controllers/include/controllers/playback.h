@@ -40,6 +40,8 @@ class PlaybackController : public Controller {
   const Trajectory& angles() const { return angles_; }
   // producer time [s] after activation at which the trajectory's last row is reached
   double end_offset() const { return options_.ramp + angles_.duration() / options_.time_scale; }
+  // the trajectory is the motion: a hold of the self-collision guard leaves it not done
+  bool hold_is_failure() const override { return true; }
 
  protected:
   ConfigStatus on_configure(const shm::SegmentHeader& header) override;

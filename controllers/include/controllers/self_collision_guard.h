@@ -1,20 +1,40 @@
-// The online self-collision check of every controller (the paper's section 4.1, step 3): before
-// a cycle's commands are written, the commanded posture and the one a cycle ahead (the
-// commanded velocities over one control period) are checked against the reduced pair list of a
-// self-collision file (ohrp_selfcollision; docs/selfcollision.md), plus the pairs of each safe
-// range the posture leaves. A pair closer than the file's margin that is closer than in the
-// last safe references (or penetrating) stops the motion: every joint holds the last safe
-// references (velocity 0), the cycle is counted, and the report after the run names the pair.
-// Moving away from a close pair is allowed; once holding, only a command within kResumeStep of
-// the held references resumes (a far one could pass through a link).
+// The online self-collision check of every controller (the paper's section 4.1, step 3), on the
+// MEASURED state and what the robot can do (docs/selfcollision.md, "The online check"):
+//
+//   predict   per joint, the motion this cycle's command can cause: the servo law of the
+//             command (tau = kp (q_ref - q) + kd (dq_ref - dq) + tau_ff, clamped to the
+//             header's tau_max): the last period's measured acceleration plus the change of
+//             servo torque over the inertia (within the file's `dynamics:` bounds: the links
+//             beyond alone while their support force sensor reads less than a tenth of the
+//             weight, else the bound under any contact), the load changing by the gravity bound
+//             times the angle turned; without a last period, the load anywhere within the
+//             gravity bound; acting for two periods (this one and one of latency before a brake
+//             can act), then a brake at the joint's deceleration (tau_max less what holding
+//             needs: the measured torque, at most the gravity bound; over inertia_max) within
+//             its speed limit where known: an interval of
+//             positions per joint around the measured one, the box the motion stays in.
+//   certify   each pair of the reduced list (online, the pairs of every safe range the box
+//             leaves, structural pairs with the file's floors) stays clear along the motion by
+//             conservative advancement: from the measured posture along the nominal motion
+//             (the middle acceleration for the horizon, then each joint braked at its rate),
+//             the distance less the envelope (how far the motion within the bounds can be from
+//             the nominal one, times the links' reach: collision::LinkReach, r_ja + r_jb) less
+//             what the links can travel until the next sample stays at or above the limit;
+//             the next sample is as far as that allows, within a bounded number of distance
+//             evaluations a cycle (uncertified: brake, the safe side). A pair's limit is the margin (a structural
+//             pair's floor), or, for a pair already closer, the largest distance it had since,
+//             less a tolerance: moving away is allowed, creeping closer is not.
+//   brake     a command that is not certified is replaced by the braking trajectory from the
+//             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
+//             and dq_ref consistent), then a hold where it stopped; any later command the check
+//             certifies resumes.
 //
 // Configure reads the file and checks it against the segment's header (model hash, joint
-// names); Filter runs every cycle and allocates, throws and logs nothing. No MuJoCo: the file
-// carries the links' geometry. A pair whose last measured distance exceeds the margin by more
-// than its two links can have moved since is not measured again (collision::IncrementalCheck):
-// the answer within the margin is the full check's, at a fraction of its cost while moving.
+// names, a `dynamics:` section); Filter runs every cycle and allocates, throws and logs
+// nothing. No MuJoCo: the file carries the links' geometry and the joints' dynamics.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -33,52 +53,99 @@ class SelfCollisionGuard {
   // ready, else why not (the file's own message with file:line, or the robot it is for).
   std::string Configure(const std::string& path, const shm::SegmentHeader& header);
 
-  // The robot the file describes matches the header's model (for a default file that may not
-  // be meant for this robot: the caller then turns the check off).
-  static bool FileMatches(const std::string& path, const shm::SegmentHeader& header);
+  // Whose file `path` is, for a default file: kThisModel (the header's model hash), kThisRobot
+  // (another hash, but the robot's name or its joint names are the header's: the model
+  // changed, the file must be regenerated), kAnotherRobot (another name and other joints), or
+  // kUnreadable. `*robot` gets the file's robot name.
+  enum class Owner { kThisModel, kThisRobot, kAnotherRobot, kUnreadable };
+  static Owner FileOwner(const std::string& path, const shm::SegmentHeader& header,
+                         std::string* robot);
 
-  // Starts from the measured posture (the first safe references).
+  // Starts from the measured posture (each pair's limit from its distance there).
   void Activate(const shm::SensorBlock& sensors);
 
-  // Checks `commands` (position references of position-mode joints, measured angles of the
-  // others) and, one period ahead, with the velocity references; holds the last safe
-  // references when a pair comes closer than the margin. Returns true when it held.
+  // Checks that the motion `commands` can cause from the measured state, and a brake after
+  // it, stays clear; otherwise replaces the commands by the brake (then the hold). Returns true
+  // when it replaced them (braking or holding this cycle).
   bool Filter(const shm::SensorBlock& sensors, shm::CommandBlock* commands);
 
-  // The counts and the first and closest pairs, one paragraph; nothing when nothing happened.
+  // The counts, the first and closest pairs, one paragraph; nothing when nothing happened.
   void Report(const std::string& program, std::ostream& out) const;
+  // "pair A / B at X mm (predicted), N hold(s)" of the closest hold, for failure messages
+  std::string HoldSummary() const;
 
-  long held_cycles() const { return held_cycles_; }
-  // [judge, issue 29: minimal stand-ins from today's members, for the segment's guard record;
-  // the guard's rework replaces them] holding: the last Filter held; holds: hold episodes
-  // begun (not counted by today's Filter: 0); the pair and its predicted distance [m]
-  bool holding() const { return holding_; }
-  uint64_t holds() const { return 0; }
-  collision::LinkPair hold_pair() const { return closest_pair_; }
-  double hold_distance() const { return closest_distance_; }
-  // [end judge]
+  bool holding() const { return braking_; }          // braking or holding this cycle
+  uint64_t holds() const { return holds_; }          // hold episodes begun
+  long held_cycles() const { return held_cycles_; }  // cycles braking or holding
+  collision::LinkPair hold_pair() const { return closest_pair_; }  // the closest hold's pair
+  double hold_distance() const { return closest_distance_; }  // [m] its predicted lower bound
+  long uncertified_cycles() const { return uncertified_cycles_; }  // work bound reached
+  long violations() const { return violations_; }  // a measured distance below its limit
   const collision::SelfCollisionFile& file() const { return file_; }
 
+  // The motion interval of one joint [rad or m], relative to its measured position: where it
+  // can be during `horizon` [s] under a constant acceleration in [a_lo, a_hi] from velocity v
+  // (capped at v_max when > 0), then a brake at `decel` to rest. Exposed for tests.
+  static void Excursion(double v, double a_lo, double a_hi, double horizon, double v_max,
+                        double decel, double* lo, double* hi);
+
+  // joint j's braking deceleration [rad/s^2 or m/s^2] with a load of `tau_measured` [N m]
+  // (>= 0, its magnitude; NaN: unknown): (tau_max - min(gravity_max, load)) / inertia_max, at
+  // least a tenth of tau_max / inertia_max
+  double Deceleration(int j, double tau_measured) const;
+  // the same with the inertia given [kg m^2]
+  double Decelerate(int j, double tau_measured, double inertia) const;
+
  private:
-  // the closest pair of the reduced list at posture q (-1: none within the margin)
-  collision::CheckResult Closest(const std::vector<double>& q);
+  // each joint's interval of motion for `c` from the measured state into box_lo_/box_hi_
+  // (absolute positions); false when a measured value is not finite
+  bool Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c);
+  // this cycle's pairs: the online ones, the structural ones with floors, the pairs of every
+  // safe range the box leaves
+  void ListPairs();
+  // the nominal motion's posture at time t [s] into centre_
+  void Nominal(double t);
+  // pair i (index into every_) stays clear along the motion; false with its predicted lower
+  // bound
+  bool Certify(int i, double* bound);
+  // the braking trajectory's next reference into `c`
+  void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
 
   collision::SelfCollisionFile file_;
   std::unique_ptr<collision::SelfCollision> checker_;
-  int njoint_ = 0;
-  double period_ = 0;                        // [s]
   std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
-  std::vector<int> list_;                    // this cycle's pairs, indices into every_
+  int njoint_ = 0;
+  int nq_ = 0;  // posture size: the actuated joints, then the passive ones
+  double period_ = 0;     // [s]
+  double check_cutoff_ = 0;  // [m] the incremental check's: answers above it are lower bounds
+  double tolerance_ = 0;  // [m] a close pair may come this much closer than its farthest since
+  std::vector<collision::LinkPair> every_;   // online, then structural with floors, then ranges'
+  std::vector<double> base_limit_;           // per pair: margin, or a structural pair's floor
+  std::vector<double> limit_;                // per pair: this cycle's limit [m]
+  std::vector<double> coef_;                 // per pair and joint: r_ja + r_jb [m/rad]
   std::vector<std::vector<int>> range_pairs_;  // per safe range, its pairs' indices in every_
-  std::vector<char> on_list_;                // per online-or-pruned pair index, this cycle
-  std::vector<collision::LinkPair> every_;   // the online pairs then each range's pairs
-  std::vector<double> q_, q_ahead_, safe_;   // [rad]
-  std::vector<double> last_q_;               // the posture checked last cycle [rad]
-  collision::CheckResult last_now_;          // and its answer
-  double safe_distance_ = 0;                 // [m] of the last safe references
-  bool holding_ = false;                     // the last cycle held
-  static constexpr double kResumeStep = 0.05;  // [rad] a held command resumes within this
-  long held_cycles_ = 0;
+  size_t always_ = 0;                        // every_[0, always_) is checked every cycle
+  std::vector<int> list_;
+  std::vector<char> on_list_;
+  // per joint
+  std::vector<double> tau_max_, kp_default_, kd_default_, decel_;  // decel_ [rad/s^2]
+  std::vector<double> q_, box_lo_, box_hi_;                          // [rad]
+  std::vector<double> brake_q_, brake_v_, brake_decel_;  // the brake's references and rate
+  std::vector<double> last_dq_;  // the last cycle's measured velocities
+  bool have_last_ = false;
+  std::vector<int> support_;  // per joint, the header's index of its support force sensor, -1
+  // the nominal motion per joint: the measured velocity, the middle acceleration over the
+  // horizon, the velocity and position where the brake begins, its duration, the largest
+  // speed, and how far the motion within the bounds can be from the nominal one
+  std::vector<double> v0_, a_mid_, v1_, q1_, stop_, speed_, envelope_;
+  double horizon_end_ = 0;   // [s] when the last joint has stopped
+  std::vector<double> centre_;  // a posture of the nominal motion
+  int budget_ = 0;  // distance evaluations left this cycle
+  static constexpr int kBudget = 80;
+
+  bool braking_ = false;
+  uint64_t holds_ = 0;
+  long held_cycles_ = 0, uncertified_cycles_ = 0, violations_ = 0;
   double first_time_ = -1, closest_distance_ = 1e9, first_distance_ = 0;  // [s], [m]
   collision::LinkPair first_pair_, closest_pair_;
 };

@@ -33,6 +33,22 @@ std::string PairList(const RobotGeometry& r, const std::vector<LinkPair>& pairs)
   return s + "]";
 }
 
+// the `dynamics:` section (JointDynamics per joint, segment order); nothing when there is none
+void WriteDynamics(const SelfCollisionFile& f, std::ostream& o) {
+  if (f.dynamics.empty()) return;
+  o << "dynamics:  # per joint: inertia [kg m^2], gravity torque [N m], damping, speed [rad/s]\n";
+  for (size_t j = 0; j < f.dynamics.size(); ++j) {
+    const JointDynamics& d = f.dynamics[j];
+    o << "  - {joint: " << f.robot.joint_names[j] << ", inertia_max: " << d.inertia_max
+      << ", inertia_min: " << d.inertia_min << ", gravity_max: " << d.gravity_max
+      << ", damping: " << d.damping << ", velocity_max: " << d.velocity_max
+      << ", inertia_free: " << d.inertia_free;
+    if (!d.support_sensor.empty())
+      o << ", support_sensor: " << d.support_sensor << ", support_force: " << d.support_force;
+    o << "}\n";
+  }
+}
+
 //---------------- reading ----------------
 
 // a mistake in the file: where and what
@@ -165,6 +181,37 @@ void ReadRobot(const YAML::Node& root, RobotGeometry* r) {
   if (!problem.empty()) throw Bad{LineOf(root["links"]), "links: " + problem};
 }
 
+// the optional `dynamics:` section: one entry per joint, in the joints' order
+void ReadDynamics(const YAML::Node& root, SelfCollisionFile* f) {
+  const YAML::Node n = root["dynamics"];
+  if (!n) return;
+  const RobotGeometry& r = f->robot;
+  if (!n.IsSequence() || n.size() != r.joint_names.size())
+    throw Bad{LineOf(n), "dynamics: must list every joint once, in the joints' order (" +
+                             std::to_string(r.joint_names.size()) + " entries)"};
+  for (size_t j = 0; j < n.size(); ++j) {
+    const YAML::Node e = n[j];
+    if (JointId(r, Need(e, "joint"), "joint") != static_cast<int>(j))
+      throw Bad{LineOf(e), "dynamics: entry " + std::to_string(j) + " must be joint " + r.joint_names[j]};
+    JointDynamics d;
+    d.inertia_max = Num(Need(e, "inertia_max"), "inertia_max");
+    d.inertia_min = Num(Need(e, "inertia_min"), "inertia_min");
+    d.gravity_max = Num(Need(e, "gravity_max"), "gravity_max");
+    d.damping = Num(Need(e, "damping"), "damping");
+    d.velocity_max = Num(Need(e, "velocity_max"), "velocity_max");
+    d.inertia_free = e["inertia_free"] ? Num(e["inertia_free"], "inertia_free") : d.inertia_max;
+    if (e["support_sensor"]) {
+      d.support_sensor = Str(e["support_sensor"], "support_sensor");
+      d.support_force = Num(Need(e, "support_force"), "support_force");
+    }
+    if (!(d.inertia_min > 0 && d.inertia_min <= d.inertia_free && d.inertia_free <= d.inertia_max))
+      throw Bad{LineOf(e), "dynamics: needs 0 < inertia_min <= inertia_free <= inertia_max [kg m^2]"};
+    if (d.gravity_max < 0 || d.damping < 0 || d.velocity_max < 0)
+      throw Bad{LineOf(e), "dynamics: gravity_max, damping and velocity_max must be >= 0"};
+    f->dynamics.push_back(d);
+  }
+}
+
 }  // namespace
 
 std::string SelfCollisionYaml(const SelfCollisionFile& f) {
@@ -224,6 +271,7 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
   if (f.ranges.empty()) o << "  []\n";
   o << "structural: " << PairList(r, f.structural) << "\n";
   o << "never: " << PairList(r, f.never) << "\n";
+  WriteDynamics(f, o);
   return o.str();
 }
 
@@ -258,6 +306,7 @@ bool ReadSelfCollisionFile(const std::string& path, SelfCollisionFile* file, std
       range.pairs = Pairs(file->robot, Need(s, "pairs"), "pairs");
       file->ranges.push_back(std::move(range));
     }
+    ReadDynamics(root, file);
   } catch (const Bad& b) {
     *error = path + ":" + std::to_string(b.line) + ": " + b.what;
     return false;

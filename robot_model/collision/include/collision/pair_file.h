@@ -47,6 +47,11 @@ struct JointDynamics {
   double damping = 0;       // [N m s/rad] the joint's passive damping
   double velocity_max = 0;  // [rad/s] the joint's speed limit where the model or robot profile
                             // states one, else 0 (none known)
+  double inertia_free = 0;  // [kg m^2] the same bound for the links beyond alone (armature
+                            // included): what the joint drives while they carry no weight
+  std::string support_sensor;  // the force sensor beyond the joint that tells when the links
+                               // beyond stand on something ("" none: inertia_max always)
+  double support_force = 0;    // [N] above this force on it, they do (a tenth of the weight)
 };
 
 struct SelfCollisionFile {
