@@ -167,6 +167,11 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
           << ", other joints; make one with ohrp_selfcollision --model MJCF --out FILE and give "
           << "--self-collision FILE)\n";
       guarded = false;
+    } else if (owner == SelfCollisionGuard::Owner::kUnpublished) {
+      err << prog << ": WARNING: no self-collision check: the producer publishes no model hash, "
+          << "so no self-collision file can be checked against its robot (give "
+          << "--no-self-collision to say so, or run a producer that publishes its model)\n";
+      guarded = false;
     }
   }
   if (guarded) {

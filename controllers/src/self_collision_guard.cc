@@ -43,6 +43,8 @@ SelfCollisionGuard::Owner SelfCollisionGuard::FileOwner(const std::string& path,
   if (!collision::ReadSelfCollisionFile(path, &f, &error)) return Owner::kUnreadable;
   *robot = f.robot.name;
   if (f.robot.model_hash == header.model_hash) return Owner::kThisModel;
+  // a producer that publishes no model identity (hash 0): no file can be verified for it
+  if (header.model_hash == 0) return Owner::kUnpublished;
   const int n = std::clamp(header.njoint, 0, shm::kMaxJoints);
   bool same_joints = static_cast<int>(f.robot.joint_names.size()) == n;
   for (int j = 0; same_joints && j < n; ++j)

@@ -57,7 +57,8 @@ class SelfCollisionGuard {
   // (another hash, but the robot's name or its joint names are the header's: the model
   // changed, the file must be regenerated), kAnotherRobot (another name and other joints), or
   // kUnreadable. `*robot` gets the file's robot name.
-  enum class Owner { kThisModel, kThisRobot, kAnotherRobot, kUnreadable };
+  // kUnpublished: the producer publishes no model hash (0), so no file can be checked against it.
+  enum class Owner { kThisModel, kThisRobot, kAnotherRobot, kUnreadable, kUnpublished };
   static Owner FileOwner(const std::string& path, const shm::SegmentHeader& header,
                          std::string* robot);
 
