@@ -1,0 +1,160 @@
+// The guard's prediction (controllers/self_collision_guard.h, "predict"): what a command can do
+// from the measured state, per joint: the interval it can reach, the nominal motion (the
+// command's middle acceleration for two periods, then the brake) and its envelope.
+#include <algorithm>
+#include <cmath>
+
+#include "controllers/self_collision_guard.h"
+
+namespace ohrp::controllers {
+namespace {
+
+// the servo's torque for the command at (q, dq), unclamped; NaN when it cannot be told
+double Servo(const shm::JointCommand& c, double q, double dq) {
+  switch (c.mode) {
+    case shm::JointMode::kPosition: return c.kp * (c.q_ref - q) + c.kd * (c.dq_ref - dq) + c.tau_ff;
+    case shm::JointMode::kVelocity: return c.kd * (c.dq_ref - dq) + c.tau_ff;
+    case shm::JointMode::kTorque: return c.tau_ff;
+    default: return 0.0;
+  }
+}
+
+}  // namespace
+
+double SelfCollisionGuard::Deceleration(int j, double tau_measured) const {
+  return Decelerate(j, tau_measured, file_.dynamics[j].inertia_max);
+}
+
+double SelfCollisionGuard::Decelerate(int j, double tau_measured, double inertia) const {
+  // the torque left for braking: the limit less what holding needs (the gravity bound, or the
+  // measured load when less), at least a tenth of the limit
+  // (a joint whose holding takes all of it still brakes, slowly, on the prediction's side)
+  const collision::JointDynamics& d = file_.dynamics[j];
+  const double hold = std::isfinite(tau_measured) ? std::min(d.gravity_max, tau_measured)
+                                                  : d.gravity_max;
+  return std::max(tau_max_[j] - hold, 0.1 * tau_max_[j]) / inertia;
+}
+
+void SelfCollisionGuard::Excursion(double v, double a_lo, double a_hi, double horizon,
+                                   double v_max, double decel, double* lo, double* hi) {
+  const double t = horizon;
+  // free motion: position extremes of v t + a t^2 / 2 over [0, t] for a in [a_lo, a_hi]
+  double up = std::max(0.0, v * t + 0.5 * (v >= 0 ? std::max(a_hi, 0.0) : a_hi) * t * t);
+  double down = std::min(0.0, v * t + 0.5 * (v <= 0 ? std::min(a_lo, 0.0) : a_lo) * t * t);
+  double v_up = v + a_hi * t, v_down = v + a_lo * t;
+  if (v_max > 0) {  // the actuator's speed limit
+    up = std::min(up, std::max(v, v_max) * t);
+    down = std::max(down, std::min(v, -v_max) * t);
+    v_up = std::min(v_up, std::max(v, v_max));
+    v_down = std::max(v_down, std::min(v, -v_max));
+  }
+  // then the brake to rest
+  if (v_up > 0) up += v_up * v_up / (2 * decel);
+  if (v_down < 0) down -= v_down * v_down / (2 * decel);
+  *lo = down;
+  *hi = up;
+}
+
+bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c) {
+  const double horizon = 2 * period_;  // this command's period and one of latency
+  // the fastest joint: how much the load can change over the horizon (below)
+  double speed = 0;
+  for (int j = 0; j < njoint_; ++j) speed = std::max(speed, std::abs(sensors.dq[j]));
+  for (int j = 0; j < njoint_; ++j) {
+    const double q = sensors.q[j], v = sensors.dq[j];
+    if (!std::isfinite(q) || !std::isfinite(v)) {
+      have_last_ = false;
+      return false;
+    }
+    const collision::JointDynamics& d = file_.dynamics[j];
+    // the inertia the joint drives: the links beyond alone while their force sensor says they
+    // carry no weight, else the bound under any contact
+    const int fs = support_[j];
+    double inertia = d.inertia_max;
+    if (fs >= 0) {
+      const double* f = sensors.force[fs].force;
+      const double load = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      if (std::isfinite(load) && load < d.support_force) inertia = d.inertia_free;
+    }
+    // the joint's acceleration over the last period and the servo's torque that made it: the
+    // next acceleration is that one plus the change of torque over the (unknown, common)
+    // inertia, the load changing by at most the gravity bound times the angle turned over the
+    // horizon. Without a last period (a measurement was not finite): the load is anywhere
+    // within the gravity bound. At activation the joints are taken as not accelerating.
+    const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
+    const bool observed = std::isfinite(a_last) && std::isfinite(sensors.tau[j]);
+    const double slack = observed ? d.gravity_max * std::min(1.0, 3 * speed * period_) + d.damping * std::abs(v)
+                                  : d.gravity_max;
+    const double base = observed ? sensors.tau[j] : 0.0;  // the torque the acceleration answers
+    const double a0 = observed ? a_last : 0.0;
+    // the servo's torque along the period (at the start and where the velocity carries the
+    // joint), clamped to the limit; a command that cannot be told gives the whole range
+    const double t0 = Servo(c.joint[j], q, v), t1 = Servo(c.joint[j], q + v * horizon, v);
+    double tau_lo = -tau_max_[j], tau_hi = tau_max_[j];
+    if (std::isfinite(t0) && std::isfinite(t1)) {
+      tau_lo = std::clamp(std::min(t0, t1), -tau_max_[j], tau_max_[j]);
+      tau_hi = std::clamp(std::max(t0, t1), -tau_max_[j], tau_max_[j]);
+    }
+    if (!std::isfinite(tau_lo) || !std::isfinite(tau_hi)) return false;  // no limit, no command
+    const double f_lo = tau_lo - base - slack, f_hi = tau_hi - base + slack;
+    const double a_lo = a0 + std::min(f_lo / d.inertia_min, f_lo / inertia);
+    const double a_hi = a0 + std::max(f_hi / d.inertia_min, f_hi / inertia);
+    // braking: the limit less the largest load (the torque less what accelerated the joint),
+    // over the inertia
+    const double load = observed ? std::max(std::abs(base - d.inertia_min * a0), std::abs(base - inertia * a0)) + slack
+                                 : d.gravity_max;
+    decel_[j] = Decelerate(j, load, inertia);
+    double lo = 0, hi = 0;
+    Excursion(v, a_lo, a_hi, horizon, d.velocity_max, decel_[j], &lo, &hi);
+    q_[j] = q;
+    box_lo_[j] = q + lo;
+    box_hi_[j] = q + hi;
+    // the nominal motion (the middle acceleration, then the brake) and how far the motion
+    // within the bounds can be from it at any time: the acceleration's spread over the
+    // horizon, and the brake's stopping point from the extreme velocities (two brakes at one
+    // rate from v and v' differ by at most their stopping points' difference at any time)
+    const double a_mid = 0.5 * (a_lo + a_hi), v1 = v + a_mid * horizon;
+    const auto stop = [&](double u) { return u * std::abs(u) / (2 * decel_[j]); };
+    v0_[j] = v;
+    a_mid_[j] = a_mid;
+    v1_[j] = v1;
+    q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
+    stop_[j] = std::abs(v1) / decel_[j];
+    speed_[j] = std::max(std::abs(v), std::abs(v1));
+    envelope_[j] = 0.25 * (a_hi - a_lo) * horizon * horizon +
+                   std::max(std::abs(stop(v + a_hi * horizon) - stop(v1)),
+                            std::abs(stop(v + a_lo * horizon) - stop(v1)));
+  }
+  horizon_end_ = horizon + *std::max_element(stop_.begin(), stop_.end());
+  // passive joints: measured, never commanded nor braked; taken to keep their measured speed
+  // over the whole motion (their deviation from standing still is all envelope)
+  for (int k = njoint_; k < nq_; ++k) {
+    const double q = sensors.passive_q[k - njoint_], v = sensors.passive_dq[k - njoint_];
+    if (!std::isfinite(q) || !std::isfinite(v)) {
+      have_last_ = false;
+      return false;
+    }
+    q_[k] = q1_[k] = q;
+    envelope_[k] = std::abs(v) * horizon_end_;
+    box_lo_[k] = q - envelope_[k];
+    box_hi_[k] = q + envelope_[k];
+  }
+  for (int j = 0; j < njoint_; ++j) last_dq_[j] = sensors.dq[j];
+  have_last_ = true;
+  return true;
+}
+
+void SelfCollisionGuard::Nominal(double t) {
+  const double horizon = 2 * period_;
+  for (int k = njoint_; k < nq_; ++k) centre_[k] = q_[k];  // passive: as measured
+  for (int j = 0; j < njoint_; ++j) {
+    if (t <= horizon) {
+      centre_[j] = q_[j] + v0_[j] * t + 0.5 * a_mid_[j] * t * t;
+    } else {
+      const double u = std::min(t - horizon, stop_[j]);
+      centre_[j] = q1_[j] + v1_[j] * u - 0.5 * (v1_[j] > 0 ? 1 : -1) * decel_[j] * u * u;
+    }
+  }
+}
+
+}  // namespace ohrp::controllers
