@@ -28,7 +28,12 @@ std::string Report(const PruneResult& r, double seconds) {
                 r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
                 seconds);
   s += line;
-  s += "## safe ranges [rad, m for slides] (the full range in brackets)\n\n";
+  s += "time per step:";
+  for (const auto& [name, t] : r.stage_seconds) {
+    std::snprintf(line, sizeof(line), " %s %.1f s;", name.c_str(), t);
+    s += line;
+  }
+  s += "\n\n## safe ranges [rad, m for slides] (the full range in brackets)\n\n";
   for (const auto& g : f.ranges) {
     std::snprintf(line, sizeof(line), "- %s: %.4f .. %.4f  [%.4f .. %.4f], %zu pairs\n",
                   f.robot.joint_names[g.joint].c_str(), g.lo, g.hi, f.robot.q_min[g.joint],
@@ -54,9 +59,11 @@ int main(int argc, char** argv) {
   CLI::App app{
       "ohrp_selfcollision: the offline pre-processing of the self-collision checker (paper "
       "section 4.1). From the model's links and joint limits it finds the pairs that touch at the "
-      "zero posture (structural), the pairs that never come within margin + clearance in sampled "
-      "postures, and, joint by joint at a coarse then a fine resolution, safe ranges that prune "
-      "more pairs; the pairs left are checked online. Writes the YAML file the controllers load "
+      "zero posture (structural, each with a floor the online check keeps), the pairs proven "
+      "never to come within margin + clearance anywhere in the joint limits, and safe ranges "
+      "(candidates from sampled cells, a coarse then a fine resolution) over which more pairs are "
+      "proven clear: a pair is pruned only on a proof (branch and bound with a certified bound "
+      "of the links' motion), never on samples alone; the pairs left are checked online. Writes the YAML file the controllers load "
       "(--self-collision) and a report of every pair and why it was pruned.\n"
       "Example: ohrp_selfcollision --out mjcf/hrp1s/selfcollision.yaml --report report.md"};
   app.add_option("--model", model, "the robot's MJCF")->check(CLI::ExistingFile);
@@ -78,8 +85,18 @@ int main(int argc, char** argv) {
       ->check(Plausible("count"))->check(InRange(1, 1000));
   app.add_option("--cell-samples", o.cell_samples, "postures per cell")
       ->check(Plausible("count"))->check(InRange(2, 1000000));
-  app.add_option("--verify", o.verify, "postures of the final verification (0: none)")
+  app.add_option("--verify", o.verify,
+                 "postures of the independent check of the proofs, within the final ranges (0: "
+                 "none)")
       ->check(Plausible("count"))->check(InRange(0, 100000000));
+  app.add_option("--proof-budget", o.proof_budget,
+                 "boxes one proof may measure (branch and bound); a pair not proven within it "
+                 "stays online")
+      ->check(Plausible("count"))->check(InRange(1, 100000000));
+  app.add_option("--range-cuts", o.range_cuts,
+                 "proofs of one candidate safe range, each cut at the previous proof's "
+                 "counterexample")
+      ->check(Plausible("count"))->check(InRange(1, 1000));
   app.add_option("--min-range-share", o.min_range_share,
                  "smallest share of a joint's range a safe range may keep")
       ->check(Plausible("fraction"));
