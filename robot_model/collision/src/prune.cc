@@ -25,7 +25,7 @@ struct Run {
   Run(const RobotGeometry& g, const PruneOptions& opt, SelfCollision& checker, PruneResult& result)
       : robot(g), o(opt), c(checker), prover(&checker), sampler(opt, g.q_min, g.q_max),
         keep(opt.margin + opt.clearance), r(result), relies(result.all), pruned(result.all, 0),
-        closest(result.all, INFINITY), near(result.all) {}
+        closest(result.all, INFINITY), near(result.all), witnesses(result.all) {}
 
   const RobotGeometry& robot;
   const PruneOptions& o;
@@ -38,6 +38,7 @@ struct Run {
   std::vector<char> pruned;              // per pair: never or by ranges (proven)
   std::vector<double> closest;           // per pair, the closest sampled distance [m]
   std::vector<std::vector<std::pair<double, std::vector<double>>>> near;  // closest samples
+  std::vector<std::vector<std::vector<double>>> witnesses;  // per pair, postures within keep
 
   void Say(const std::string& s) const { if (o.progress) o.progress(s); }
   std::string Name(size_t i) const {
@@ -100,6 +101,7 @@ void SampleLimits(Run& run) {
       if (!run.r.reasons[i].empty()) continue;
       const double d = run.c.Distance(run.r.pairs[i].a, run.r.pairs[i].b, band);
       run.closest[i] = std::min(run.closest[i], d);
+      if (d <= run.keep && run.witnesses[i].size() < 32) run.witnesses[i].push_back(q);
       if (d > band) continue;
       auto& n = run.near[i];
       if (n.size() < 4 || d < n.back().first) {
@@ -143,72 +145,106 @@ std::vector<int> Restricted(const Run& run, size_t i) {
   return out;
 }
 
-// pair i proven clear over the box of the current ranges: it relies on the restricted joints
-void Accept(Run& run, size_t i, const ProofResult& p) {
+// pair i proven clear over the box of the current ranges (`how`): it relies on the restricted
+// joints
+void Accept(Run& run, size_t i, const std::string& how) {
   run.pruned[i] = 1;
   run.relies[i] = Restricted(run, i);
   std::string why = "safe ranges:";
   for (int j : run.relies[i]) why += " " + run.robot.joint_names[j];
-  run.r.reasons[i] = why + "; proven farther than " + Mm(run.keep) + " over the box of the ranges (" +
-                     Proof(p) + ")";
+  run.r.reasons[i] = why + "; proven farther than " + Mm(run.keep) + " " + how;
 }
 
-// the proof of pair i with joint j kept to [lo, hi] (the other joints to their current ranges):
-// a counterexample cuts the range at the witness's angle, on the side away from the reference,
-// and the proof is tried again; true when proven (the range is then j's)
-bool ProveRange(Run& run, size_t i, int j, double lo, double hi, double ref) {
-  const double full = run.robot.q_max[j] - run.robot.q_min[j];
-  for (int attempt = 0; attempt < run.o.range_cuts; ++attempt) {
-    if (hi - lo < run.o.min_range_share * full || !(lo <= ref && ref <= hi)) return false;
-    std::vector<double> blo = run.sampler.lo(), bhi = run.sampler.hi();
-    blo[j] = lo;
-    bhi[j] = hi;
-    const ProofResult p = run.prover.Prove(run.r.pairs[i], blo, bhi, run.keep, run.o.proof_budget);
-    if (p.proven) {
-      run.sampler.lo()[j] = lo;
-      run.sampler.hi()[j] = hi;
-      Accept(run, i, p);
-      return true;
-    }
-    if (!p.counterexample) return false;  // the budget ran out: not proven
-    const double w = p.witness[j], step = 1e-3 * full;
-    if (w >= ref) hi = w - step;
-    else lo = w + step;
+// a posture known to bring pair i within keep (a sample or a proof's counterexample) with joint
+// j in [x0, x1] and every other joint within its current range: that cell is not safe
+bool KnownUnsafe(const Run& run, size_t i, int j, double x0, double x1) {
+  for (const auto& w : run.witnesses[i]) {
+    if (w[j] < x0 || w[j] > x1) continue;
+    bool inside = true;
+    for (size_t k = 0; k < w.size() && inside; ++k)
+      inside = static_cast<int>(k) == j ||
+               (w[k] >= run.sampler.lo()[k] && w[k] <= run.sampler.hi()[k]);
+    if (inside) return true;
   }
   return false;
 }
 
+// pair i proven clear with joint j in [x0, x1] and the other joints in their current ranges:
+// first the known counterexamples and a few cheap samples, then the proof (a tenth of the budget)
+bool CellProven(Run& run, size_t i, int j, double x0, double x1, int* boxes) {
+  if (KnownUnsafe(run, i, j, x0, x1)) return false;
+  const LinkPair p = run.r.pairs[i];
+  std::vector<double> lo = run.sampler.lo(), hi = run.sampler.hi(), q;
+  lo[j] = x0;
+  hi[j] = x1;
+  for (int k = 0; k < run.o.cell_samples; ++k) {
+    run.sampler.SampleIn(lo, hi, &q);
+    run.c.SetPose(q);
+    if (run.c.Distance(p.a, p.b, run.keep) <= run.keep) {
+      run.witnesses[i].push_back(q);
+      return false;
+    }
+  }
+  const ProofResult r = run.prover.Prove(p, lo, hi, run.keep, std::max(1, run.o.proof_budget / 10));
+  *boxes += r.boxes;
+  if (r.counterexample) run.witnesses[i].push_back(r.witness);
+  return r.proven;
+}
+
+// the widest range of joint j around the reference over which pair i is proven clear (the other
+// joints in their current ranges): proven cells outwards from the reference's (coarse), then
+// proven sub-cells of the first unproven ones (fine); the range is a union of proven boxes, so it
+// is proven. False when the reference's cell is not.
+bool ProvenRangeOf(Run& run, size_t i, int j, double* lo, double* hi, int* boxes) {
+  const double a = run.sampler.lo()[j], b = run.sampler.hi()[j], w = (b - a) / run.o.coarse;
+  if (!(w > 0)) return false;
+  const double ref = std::clamp(
+      static_cast<size_t>(j) < run.o.reference.size() ? run.o.reference[j] : 0.0, a, b);
+  const int c0 = std::min(run.o.coarse - 1, static_cast<int>((ref - a) / w));
+  auto cell = [&](double x0, double x1) { return CellProven(run, i, j, x0, x1, boxes); };
+  if (!cell(a + c0 * w, a + (c0 + 1) * w)) return false;
+  int first = c0, last = c0;
+  while (first > 0 && cell(a + (first - 1) * w, a + first * w)) --first;
+  while (last < run.o.coarse - 1 && cell(a + (last + 1) * w, a + (last + 2) * w)) ++last;
+  *lo = first == 0 ? a : a + first * w;
+  *hi = last == run.o.coarse - 1 ? b : a + (last + 1) * w;
+  const double f = w / run.o.fine;
+  if (first > 0)
+    for (int k = 0; k < run.o.fine && cell(*lo - f, *lo); ++k) *lo -= f;
+  if (last < run.o.coarse - 1)
+    for (int k = 0; k < run.o.fine && cell(*hi, *hi + f); ++k) *hi += f;
+  return true;
+}
+
 // pair i: proven over the box of the ranges found so far, or over a new range of one of its
-// joints (candidates from sampled cells, widest first); true when pruned
+// joints (the widest proven); true when pruned
 bool TryRanges(Run& run, size_t i) {
   const RobotGeometry& g = run.robot;
   const LinkPair p = run.r.pairs[i];
   if (!Restricted(run, i).empty()) {
     const ProofResult pr = run.prover.Prove(p, run.sampler.lo(), run.sampler.hi(), run.keep,
                                             run.o.proof_budget);
+    if (pr.counterexample) run.witnesses[i].push_back(pr.witness);
     if (pr.proven) {
-      Accept(run, i, pr);
+      Accept(run, i, "over the box of the ranges (" + Proof(pr) + ")");
       return true;
     }
   }
-  const std::vector<int> joints = JointsBetween(g, p.a, p.b);
-  std::vector<std::tuple<double, int, double, double>> candidates;  // share, joint, lo, hi
-  for (int j : joints) {
+  int best = -1, boxes = 0;
+  double best_share = 0, best_lo = 0, best_hi = 0;
+  for (int j : JointsBetween(g, p.a, p.b)) {
     const auto& allowed = run.o.range_joints;
     if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), j) == allowed.end()) continue;
     double lo, hi;
-    if (!prune_search::SafeRangeOf(run.c, run.sampler, run.o, p, joints, j, run.keep, &lo, &hi))
-      continue;
+    if (!ProvenRangeOf(run, i, j, &lo, &hi, &boxes)) continue;
     const double share = (hi - lo) / (g.q_max[j] - g.q_min[j]);
-    if (share >= run.o.min_range_share) candidates.emplace_back(share, j, lo, hi);
+    if (share > best_share) best = j, best_share = share, best_lo = lo, best_hi = hi;
   }
-  std::sort(candidates.rbegin(), candidates.rend());
-  for (const auto& [share, j, lo, hi] : candidates) {
-    const double ref = std::clamp(
-        static_cast<size_t>(j) < run.o.reference.size() ? run.o.reference[j] : 0.0, lo, hi);
-    if (ProveRange(run, i, j, lo, hi, ref)) return true;
-  }
-  return false;
+  if (best < 0 || best_share < run.o.min_range_share) return false;
+  run.sampler.lo()[best] = best_lo;
+  run.sampler.hi()[best] = best_hi;
+  Accept(run, i, "cell by cell over the box of the ranges (" + std::to_string(boxes) + " boxes)");
+  return true;
 }
 
 // 5. safe ranges, pair by pair, in passes; the joints' ranges only shrink, so every proof made

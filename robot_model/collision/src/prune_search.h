@@ -35,6 +35,15 @@ class Sampler {
       else (*q)[j] = lo_[j] + uniform_(rng_) * (hi_[j] - lo_[j]);
     }
   }
+  // a posture within [lo, hi] (by joint id), a share of joints at a bound
+  void SampleIn(const std::vector<double>& lo, const std::vector<double>& hi, std::vector<double>* q) {
+    q->resize(lo.size());
+    for (size_t j = 0; j < lo.size(); ++j) {
+      const double u = uniform_(rng_);
+      if (u < o_.limit_share) (*q)[j] = u < 0.5 * o_.limit_share ? lo[j] : hi[j];
+      else (*q)[j] = lo[j] + uniform_(rng_) * (hi[j] - lo[j]);
+    }
+  }
   double Uniform(double a, double b) { return a + uniform_(rng_) * (b - a); }
 
  private:
@@ -48,10 +57,5 @@ class Sampler {
 // distance found (stops once at or below keep).
 double Descend(SelfCollision& c, LinkPair p, const std::vector<int>& joints, std::vector<double> q,
                const std::vector<double>& lo, const std::vector<double>& hi, double keep);
-
-// A candidate safe range of joint j around the reference for pair p, by sampled cells (coarse,
-// then fine); false when the reference's cell is not clear in the samples.
-bool SafeRangeOf(SelfCollision& c, Sampler& s, const PruneOptions& o, LinkPair p,
-                 const std::vector<int>& joints, int j, double keep, double* lo, double* hi);
 
 }  // namespace ohrp::collision::prune_search
