@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
       ->check(Plausible("count"))->check(InRange(2, 1000));
   app.add_option("--fine", o.fine, "sub-cells of a boundary cell in the fine scan")
       ->check(Plausible("count"))->check(InRange(1, 1000));
-  app.add_option("--cell-samples", o.cell_samples, "postures per cell")
+  app.add_option("--cell-samples", o.cell_samples, "cheap samples per cell of a safe-range scan before its proof")
       ->check(Plausible("count"))->check(InRange(2, 1000000));
   app.add_option("--verify", o.verify,
                  "postures of the independent check of the proofs, within the final ranges (0: "
@@ -93,10 +93,6 @@ int main(int argc, char** argv) {
                  "boxes one proof may measure (branch and bound); a pair not proven within it "
                  "stays online")
       ->check(Plausible("count"))->check(InRange(1, 100000000));
-  app.add_option("--range-cuts", o.range_cuts,
-                 "proofs of one candidate safe range, each cut at the previous proof's "
-                 "counterexample")
-      ->check(Plausible("count"))->check(InRange(1, 1000));
   app.add_option("--min-range-share", o.min_range_share,
                  "smallest share of a joint's range a safe range may keep")
       ->check(Plausible("fraction"));

@@ -13,11 +13,12 @@
 //  4. never: the others, proven clear over the box of the joint limits (the joints between the
 //     pair's links);
 //  5. safe ranges: for each remaining pair, a proof over the box of the ranges found so far;
-//     else candidates, one joint at a time, from sampled cells of its range (coarse, then fine,
-//     around the reference posture), widest first, each proven over the product of the joints'
-//     ranges; a counterexample of the proof cuts the candidate at its angle and the proof runs
-//     again (up to range_cuts times, while it keeps min_range_share of the joint's range). A
-//     proven range is the joint's; ranges only shrink, so every proof made stays valid;
+//     else, joint by joint, cells of its current range proven one by one outwards from the
+//     reference posture's (coarse, then sub-cells: fine), each with the other joints in their
+//     current ranges (known counterexamples and cell_samples cheap samples reject a cell before
+//     its proof, which gets a tenth of proof_budget); the run of proven cells, a union of proven
+//     boxes, is the joint's candidate and the widest (at least min_range_share) becomes its
+//     range; ranges only shrink, so every proof made stays valid;
 //  6. a range covering its joint's whole range restricts nothing: its pairs do not rely on it,
 //     and a pair left relying on no range is a never pair;
 //  7. an independent check by samples within the final ranges (a pruned pair within margin +
@@ -41,10 +42,9 @@ struct PruneOptions {
   int samples = 20000;       // postures sampled within the limits for step 3
   int coarse = 12;           // cells of a joint's range in the coarse scan
   int fine = 8;              // sub-cells of a boundary cell in the fine scan
-  int cell_samples = 64;     // postures per cell
+  int cell_samples = 64;     // cheap samples per cell before its proof
   int verify = 2000;         // postures of the independent check of the proofs (step 7)
   int proof_budget = 20000;  // boxes one proof may measure before giving up (then not pruned)
-  int range_cuts = 6;        // proofs of one candidate range, each cut at its counterexample
   double descent_band = 0.05;  // [m] samples closer than keep + this start local descents
   double limit_share = 0.3;  // chance that a sampled joint sits at one of its limits
   double min_range_share = 0.25;  // a safe range must keep this share of the joint's range
