@@ -62,6 +62,24 @@ bool HasFreeJoint(const mjModel* m, int body) {
   return false;
 }
 
+// body b's geoms: their count, and each one's type, size, pose in the body and, for a mesh, its
+// vertices (not colours, contact parameters or groups: the same shapes with another friction
+// hash the same)
+void HashGeoms(const mjModel* m, int b, Hasher* h) {
+  h->Int(m->body_geomnum[b]);
+  for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    h->Int(m->geom_type[g]);
+    h->Reals(m->geom_size + 3 * g, 3);
+    h->Reals(m->geom_pos + 3 * g, 3);
+    h->Reals(m->geom_quat + 4 * g, 4);
+    if (m->geom_type[g] != mjGEOM_MESH || m->geom_dataid[g] < 0) continue;
+    const int mesh = m->geom_dataid[g];
+    h->Int(m->mesh_vertnum[mesh]);
+    const float* v = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
+    for (int i = 0; i < 3 * m->mesh_vertnum[mesh]; ++i) h->Real(v[i]);
+  }
+}
+
 //---------------- message helpers ----------------
 
 std::string Hex(uint64_t v) {
@@ -195,6 +213,8 @@ uint64_t ModelHash(const mjModel* m, const RobotMap& robot) {
       }
     }
   }
+  // the collision geometry the self-collision checker takes from every body (collision/from_mjcf.h)
+  for (int b : bodies) HashGeoms(m, b, &h);
   // the segment's joint order
   h.Int(static_cast<int64_t>(robot.joints.size()));
   for (const JointMap& j : robot.joints) h.Name(j.name.c_str());

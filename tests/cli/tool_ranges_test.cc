@@ -164,6 +164,7 @@ INSTANTIATE_TEST_SUITE_P(
         OptionCase{"ohrp_selfcollision", kOut, "--fine", "4", "count", 1, 1000},
         OptionCase{"ohrp_selfcollision", kOut, "--cell-samples", "16", "count", 2, 1000000},
         OptionCase{"ohrp_selfcollision", kOut, "--verify", "1000", "count", 0, 100000000},
+        OptionCase{"ohrp_selfcollision", kOut, "--proof-budget", "5000", "count", 1, 100000000},
         OptionCase{"ohrp_selfcollision", kOut, "--min-range-share", "0.3", "fraction"},
         OptionCase{"ohrp_selfcollision", kOut, "--seed", "7", "", 0, 18446744073709551615.0}),
     [](const ::testing::TestParamInfo<OptionCase>& info) {

@@ -29,6 +29,12 @@ std::string Report(const PruneResult& r, double seconds) {
                 r.all - f.structural.size() - f.never.size() - f.online.size(), f.online.size(),
                 seconds);
   s += line;
+  s += "time per step:";
+  for (const auto& [name, t] : r.stage_seconds) {
+    std::snprintf(line, sizeof(line), " %s %.1f s;", name.c_str(), t);
+    s += line;
+  }
+  s += "\n\n";
   if (!f.robot.passive_names.empty()) {
     s += "passive joints (no actuator: the segment's passive_q, never commanded, moving within "
          "their limits; an unlimited hinge over -pi..pi):";
@@ -63,11 +69,13 @@ int main(int argc, char** argv) {
   CLI::App app{
       "ohrp_selfcollision: the offline pre-processing of the self-collision checker (paper "
       "section 4.1). From the model's links and joint limits it finds the pairs that touch at the "
-      "zero posture (structural), the pairs that never come within margin + clearance in sampled "
-      "postures, and, joint by joint at a coarse then a fine resolution, safe ranges that prune "
-      "more pairs; the pairs left are checked online. Writes the YAML file the controllers load "
+      "zero posture (structural, each with a floor the online check keeps), the pairs proven "
+      "never to come within margin + clearance anywhere in the joint limits, and safe ranges "
+      "(candidates from sampled cells, a coarse then a fine resolution) over which more pairs are "
+      "proven clear: a pair is pruned only on a proof (branch and bound with a certified bound "
+      "of the links' motion), never on samples alone; the pairs left are checked online. Writes the YAML file the controllers load "
       "(--self-collision) and a report of every pair and why it was pruned. Passive joints (no "
-      "actuator) are sampled within their limits (an unlimited hinge over -pi..pi) and listed in "
+      "actuator) are taken within their limits (an unlimited hinge over -pi..pi) and listed in "
       "the file; bodies below a ball joint are left out and listed as unchecked.\n"
       "Example: ohrp_selfcollision --out mjcf/hrp1s/selfcollision.yaml --report report.md"};
   app.add_option("--model", model, "the robot's MJCF")->check(CLI::ExistingFile);
@@ -87,10 +95,16 @@ int main(int argc, char** argv) {
       ->check(Plausible("count"))->check(InRange(2, 1000));
   app.add_option("--fine", o.fine, "sub-cells of a boundary cell in the fine scan")
       ->check(Plausible("count"))->check(InRange(1, 1000));
-  app.add_option("--cell-samples", o.cell_samples, "postures per cell")
+  app.add_option("--cell-samples", o.cell_samples, "cheap samples per cell of a safe-range scan before its proof")
       ->check(Plausible("count"))->check(InRange(2, 1000000));
-  app.add_option("--verify", o.verify, "postures of the final verification (0: none)")
+  app.add_option("--verify", o.verify,
+                 "postures of the independent check of the proofs, within the final ranges (0: "
+                 "none)")
       ->check(Plausible("count"))->check(InRange(0, 100000000));
+  app.add_option("--proof-budget", o.proof_budget,
+                 "boxes one proof may measure (branch and bound); a pair not proven within it "
+                 "stays online")
+      ->check(Plausible("count"))->check(InRange(1, 100000000));
   app.add_option("--min-range-share", o.min_range_share,
                  "smallest share of a joint's range a safe range may keep")
       ->check(Plausible("fraction"));

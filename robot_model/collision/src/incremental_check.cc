@@ -9,24 +9,27 @@ namespace ohrp::collision {
 namespace {
 
 // the largest distance of a point of `s` from its link's origin [m]
-double ShapeReach(const Shape& s) {
-  double r = 0;
-  switch (s.type) {
-    case ShapeType::kSphere: r = s.size[0]; break;
-    case ShapeType::kCapsule: r = s.size[0] + s.size[1]; break;
-    case ShapeType::kCylinder: r = std::hypot(s.size[0], s.size[1]); break;
-    case ShapeType::kBox: r = s.size.norm(); break;
-    case ShapeType::kEllipsoid: r = s.size.maxCoeff(); break;
-    case ShapeType::kConvex:
-      for (const auto& v : s.vertices) r = std::max(r, v.norm());
-      break;
-  }
-  return s.p_LS.norm() + r;
-}
+double ShapeReach(const Shape& s) { return s.p_LS.norm() + ShapeRadius(s); }
 
 constexpr double kTolerance = 1e-6;  // [m] GJK's certification tolerance
 
 }  // namespace
+
+double ShapeRadius(const Shape& s) {
+  switch (s.type) {
+    case ShapeType::kSphere: return s.size[0];
+    case ShapeType::kCapsule: return s.size[0] + s.size[1];
+    case ShapeType::kCylinder: return std::hypot(s.size[0], s.size[1]);
+    case ShapeType::kBox: return s.size.norm();
+    case ShapeType::kEllipsoid: return s.size.maxCoeff();
+    case ShapeType::kConvex: {
+      double r = 0;
+      for (const auto& v : s.vertices) r = std::max(r, v.norm());
+      return r;
+    }
+  }
+  return 0;
+}
 
 // A hinge: from its anchor to its link's origin, then down the chain, then the link's own
 // shapes. A slide moves every point below it by exactly its own travel: 1 m per metre. Down the

@@ -49,6 +49,19 @@ void WriteDynamics(const SelfCollisionFile& f, std::ostream& o) {
   }
 }
 
+// the floors of the structural pairs, when the file has them
+std::string StructuralFloors(const SelfCollisionFile& f) {
+  if (f.structural_floor.empty()) return "";
+  std::ostringstream o;
+  o << std::setprecision(17) << "structural_floor: [";
+  for (size_t i = 0; i < f.structural_floor.size(); ++i) o << (i ? ", " : "") << f.structural_floor[i];
+  o << "]  # [m] per structural pair: the signed distance the online check keeps\n";
+  return o.str();
+}
+
+// the text and its checksum line
+std::string Signed(const std::string& body) { return body + ChecksumLine(body); }
+
 //---------------- reading ----------------
 
 // a mistake in the file: where and what
@@ -212,6 +225,39 @@ void ReadDynamics(const YAML::Node& root, SelfCollisionFile* f) {
   }
 }
 
+// the whole text of a file; false when it cannot be read
+bool ReadText(const std::string& path, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::stringstream s;
+  s << in.rdbuf();
+  *text = s.str();
+  return !in.bad();
+}
+
+void ReadFloors(const YAML::Node& root, SelfCollisionFile* file) {
+  const YAML::Node n = root["structural_floor"];
+  if (!n) return;
+  if (!n.IsSequence()) throw Bad{LineOf(n), "structural_floor: must be a list of numbers [m]"};
+  for (const auto& x : n) file->structural_floor.push_back(Num(x, "structural_floor"));
+}
+
+// the lists' consistency (ValidateSelfCollisionFile), then the checksum of the text
+void CheckFile(const YAML::Node& root, const std::string& text, const SelfCollisionFile& file) {
+  FileProblem problem;
+  if (!ValidateSelfCollisionFile(file, &problem)) {
+    const YAML::Node list = root[problem.key];
+    int line = list ? LineOf(list) : 1;
+    if (list && list.IsSequence() && problem.item >= 0 &&
+        static_cast<size_t>(problem.item) < list.size())
+      line = LineOf(list[problem.item]);
+    throw Bad{line, problem.key + ": " + problem.what};
+  }
+  int line = 1;
+  std::string what;
+  if (!ChecksumMatches(text, &line, &what)) throw Bad{line, what};
+}
+
 }  // namespace
 
 std::string SelfCollisionYaml(const SelfCollisionFile& f) {
@@ -270,9 +316,10 @@ std::string SelfCollisionYaml(const SelfCollisionFile& f) {
       << ", pairs: " << PairList(r, s.pairs) << "}\n";
   if (f.ranges.empty()) o << "  []\n";
   o << "structural: " << PairList(r, f.structural) << "\n";
+  o << StructuralFloors(f);
   o << "never: " << PairList(r, f.never) << "\n";
   WriteDynamics(f, o);
-  return o.str();
+  return Signed(o.str());
 }
 
 bool WriteSelfCollisionFile(const std::string& path, const SelfCollisionFile& file,
@@ -288,8 +335,13 @@ bool WriteSelfCollisionFile(const std::string& path, const SelfCollisionFile& fi
 
 bool ReadSelfCollisionFile(const std::string& path, SelfCollisionFile* file, std::string* error) {
   *file = SelfCollisionFile();
+  std::string text;
+  if (!ReadText(path, &text)) {
+    *error = path + ": cannot open (is the path right? the tool ohrp_selfcollision writes it)";
+    return false;
+  }
   try {
-    const YAML::Node root = YAML::LoadFile(path);
+    const YAML::Node root = YAML::Load(text);
     if (!root.IsMap()) throw Bad{1, "the file must be a mapping (robot:, links:, online: ...)"};
     ReadRobot(root, &file->robot);
     file->margin = Num(Need(root, "margin"), "margin");
@@ -307,6 +359,8 @@ bool ReadSelfCollisionFile(const std::string& path, SelfCollisionFile* file, std
       file->ranges.push_back(std::move(range));
     }
     ReadDynamics(root, file);
+    ReadFloors(root, file);
+    CheckFile(root, text, *file);
   } catch (const Bad& b) {
     *error = path + ":" + std::to_string(b.line) + ": " + b.what;
     return false;

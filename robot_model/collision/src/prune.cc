@@ -1,122 +1,339 @@
 // The offline pre-processing: structural, never-colliding and safe-range pairs, and the online
-// list (collision/prune.h says how).
+// list (collision/prune.h says how). Sampling finds candidates (prune_search.h); a pair is pruned
+// only on a proof over the box of postures it relies on (prune_bound.h).
 #include "collision/prune.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <map>
-#include <random>
+#include <tuple>
 
+#include "collision/prune_bound.h"
 #include "collision/self_collision.h"
+#include "prune_search.h"
 
 namespace ohrp::collision {
 namespace {
 
-std::string Mm(double d) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.1f mm", 1e3 * d);
-  return b;
-}
+using prune_search::Descend;
+using prune_search::Mm;
+using prune_search::Sampler;
 
-// postures within joint ranges: uniform, or at a limit with probability limit_share
-class Sampler {
- public:
-  Sampler(const PruneOptions& o, std::vector<double> lo, std::vector<double> hi)
-      : o_(o), lo_(std::move(lo)), hi_(std::move(hi)), rng_(o.seed) {}
-  std::vector<double>& lo() { return lo_; }
-  std::vector<double>& hi() { return hi_; }
+// what the stages share
+struct Run {
+  Run(const RobotGeometry& g, const PruneOptions& opt, SelfCollision& checker, PruneResult& result)
+      : robot(g), o(opt), c(checker), prover(&checker), sampler(opt, g.q_min, g.q_max),
+        keep(opt.margin + opt.clearance), r(result), relies(result.all), pruned(result.all, 0),
+        closest(result.all, INFINITY), near(result.all), witnesses(result.all) {}
 
-  void Sample(std::vector<double>* q) {
-    q->resize(lo_.size());
-    for (size_t j = 0; j < lo_.size(); ++j) {
-      const double u = uniform_(rng_);
-      if (u < o_.limit_share) (*q)[j] = u < 0.5 * o_.limit_share ? lo_[j] : hi_[j];
-      else (*q)[j] = lo_[j] + uniform_(rng_) * (hi_[j] - lo_[j]);
-    }
+  const RobotGeometry& robot;
+  const PruneOptions& o;
+  SelfCollision& c;
+  PairProver prover;
+  Sampler sampler;        // its lo/hi are the joints' current safe ranges (else their limits)
+  double keep;            // margin + clearance [m]
+  PruneResult& r;
+  std::vector<std::vector<int>> relies;  // per pair, the joints whose ranges it relies on
+  std::vector<char> pruned;              // per pair: never or by ranges (proven)
+  std::vector<double> closest;           // per pair, the closest sampled distance [m]
+  std::vector<std::vector<std::pair<double, std::vector<double>>>> near;  // closest samples
+  std::vector<std::vector<std::vector<double>>> witnesses;  // per pair, postures within keep
+
+  void Say(const std::string& s) const { if (o.progress) o.progress(s); }
+  std::string Name(size_t i) const {
+    return robot.links[r.pairs[i].a].name + " / " + robot.links[r.pairs[i].b].name;
   }
-  double Uniform(double a, double b) { return a + uniform_(rng_) * (b - a); }
-
- private:
-  const PruneOptions& o_;
-  std::vector<double> lo_, hi_;
-  std::mt19937_64 rng_;
-  std::uniform_real_distribution<double> uniform_{0.0, 1.0};
 };
 
-// a local descent of a pair's distance from posture q, over `joints` within [lo, hi]: the
-// closest approach near a sampled posture, which random samples alone miss in many dimensions
-double Descend(SelfCollision& c, LinkPair p, const std::vector<int>& joints, std::vector<double> q,
-               const std::vector<double>& lo, const std::vector<double>& hi, double keep) {
-  c.SetPose(q);
-  double best = c.Distance(p.a, p.b, INFINITY);
-  for (double step = 0.2; step >= 0.004 && best > keep; step *= 0.5) {
-    for (bool improved = true; improved && best > keep;) {
-      improved = false;
-      for (int j : joints) {
-        for (double sign : {1.0, -1.0}) {
-          const double old = q[j];
-          q[j] = std::clamp(old + sign * step, lo[j], hi[j]);
-          if (q[j] == old) continue;
-          c.SetPose(q);
-          const double d = c.Distance(p.a, p.b, INFINITY);
-          if (d < best) best = d, improved = true;
-          else q[j] = old;
-        }
+std::string Proof(const ProofResult& p) {
+  return "certified " + Mm(p.certified) + ", " + std::to_string(p.boxes) + " boxes";
+}
+
+// 2. structural pairs: touching at the zero posture (clamped into the limits), or within the
+// margin at the reference posture; each keeps a floor: the smaller of its distances at the two
+// postures, less the margin
+void FindStructural(Run& run) {
+  const RobotGeometry& g = run.robot;
+  const size_t njoint = static_cast<size_t>(NumJoints(g));  // actuated and passive
+  std::vector<double> q0(njoint);
+  for (size_t j = 0; j < njoint; ++j) q0[j] = std::clamp(0.0, g.q_min[j], g.q_max[j]);
+  const bool has_ref = run.o.reference.size() == njoint;
+  for (size_t i = 0; i < run.r.all; ++i) {
+    const LinkPair p = run.r.pairs[i];
+    run.c.SetPose(q0);
+    const double d0 = run.c.Distance(p.a, p.b, 1e-6);
+    double dref = INFINITY;
+    if (has_ref) {
+      run.c.SetPose(run.o.reference);
+      dref = run.c.Distance(p.a, p.b, run.o.margin);
+    }
+    if (d0 > 1e-6 && dref > run.o.margin) continue;
+    // the floor needs both distances measured, not bounded by a cutoff
+    run.c.SetPose(q0);
+    const double e0 = run.c.Distance(p.a, p.b, INFINITY);
+    double eref = INFINITY;
+    if (has_ref) {
+      run.c.SetPose(run.o.reference);
+      eref = run.c.Distance(p.a, p.b, INFINITY);
+    }
+    const double floor = std::min(e0, eref) - run.o.margin;
+    run.r.file.structural.push_back(p);
+    run.r.file.structural_floor.push_back(floor);
+    run.r.reasons[i] = (d0 <= 1e-6 ? "structural: touching at the zero posture (" + Mm(e0) + ")"
+                                   : "structural: within the margin at the reference posture (" +
+                                         Mm(eref) + ")") +
+                       ", checked online against its floor " + Mm(floor);
+  }
+}
+
+// 3. samples within the limits: each pair's closest distance and closest postures (candidates
+// for the proofs, and starts for descents)
+void SampleLimits(Run& run) {
+  std::vector<double> q;
+  const double band = run.keep + run.o.descent_band;
+  for (int s = 0; s < run.o.samples; ++s) {
+    if (s % 5000 == 0)
+      run.Say("sampling the limits: " + std::to_string(s) + "/" + std::to_string(run.o.samples));
+    run.sampler.Sample(&q);
+    run.c.SetPose(q);
+    for (size_t i = 0; i < run.r.all; ++i) {
+      if (!run.r.reasons[i].empty()) continue;
+      const double d = run.c.Distance(run.r.pairs[i].a, run.r.pairs[i].b, band);
+      run.closest[i] = std::min(run.closest[i], d);
+      if (d <= run.keep && run.witnesses[i].size() < 32) run.witnesses[i].push_back(q);
+      if (d > band) continue;
+      auto& n = run.near[i];
+      if (n.size() < 4 || d < n.back().first) {
+        if (n.size() == 4) n.pop_back();
+        n.emplace_back(d, q);
+        std::sort(n.begin(), n.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
       }
     }
   }
-  return best;
-}
-
-// a pair stays beyond `keep` in cell_samples postures with joint j in [a, b] (the cell's ends
-// first), the other joints sampled in their current ranges, and in descents from the closest
-// two of them
-bool CellSafe(SelfCollision& c, Sampler& s, const PruneOptions& o, LinkPair p,
-              const std::vector<int>& joints, int j, double a, double b, double keep) {
-  std::vector<double> q, lo = s.lo(), hi = s.hi();
-  lo[j] = a;
-  hi[j] = b;
-  std::vector<std::pair<double, std::vector<double>>> closest;  // the closest two postures
-  for (int k = 0; k < o.cell_samples; ++k) {
-    s.Sample(&q);
-    q[j] = k == 0 ? a : k == 1 ? b : s.Uniform(a, b);
-    c.SetPose(q);
-    const double d = c.Distance(p.a, p.b, keep + o.descent_band);
-    if (d <= keep) return false;
-    if (d > keep + o.descent_band) continue;
-    closest.emplace_back(d, q);
-    std::sort(closest.begin(), closest.end());
-    if (closest.size() > 2) closest.pop_back();
+  // descents from the closest samples of the pairs the samples left clear
+  for (size_t i = 0; i < run.r.all; ++i) {
+    if (!run.r.reasons[i].empty() || run.closest[i] <= run.keep) continue;
+    const std::vector<int> joints = JointsBetween(run.robot, run.r.pairs[i].a, run.r.pairs[i].b);
+    for (const auto& start : run.near[i])
+      run.closest[i] = std::min(run.closest[i], Descend(run.c, run.r.pairs[i], joints, start.second,
+                                                        run.robot.q_min, run.robot.q_max, run.keep));
   }
-  for (const auto& [d, start] : closest)
-    if (Descend(c, p, joints, start, lo, hi, keep) <= keep) return false;
+}
+
+// 4. never: proven clear over the joint limits
+void ProveNever(Run& run) {
+  for (size_t i = 0; i < run.r.all; ++i) {
+    if (!run.r.reasons[i].empty() || run.closest[i] <= run.keep) continue;
+    run.Say("proving never: " + run.Name(i));
+    const ProofResult p = run.prover.Prove(run.r.pairs[i], run.robot.q_min, run.robot.q_max,
+                                           run.keep, run.o.proof_budget);
+    if (!p.proven) continue;
+    run.pruned[i] = 1;
+    run.r.reasons[i] = "never: proven farther than " + Mm(run.keep) + " over the joint limits (" +
+                       Proof(p) + ")";
+  }
+}
+
+// the restricted joints between pair i's links: those it relies on
+std::vector<int> Restricted(const Run& run, size_t i) {
+  std::vector<int> out;
+  for (int j : JointsBetween(run.robot, run.r.pairs[i].a, run.r.pairs[i].b))
+    if (run.sampler.lo()[j] > run.robot.q_min[j] || run.sampler.hi()[j] < run.robot.q_max[j])
+      out.push_back(j);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// pair i proven clear over the box of the current ranges (`how`): it relies on the restricted
+// joints
+void Accept(Run& run, size_t i, const std::string& how) {
+  run.pruned[i] = 1;
+  run.relies[i] = Restricted(run, i);
+  std::string why = "safe ranges:";
+  for (int j : run.relies[i]) why += " " + JointName(run.robot, j);
+  run.r.reasons[i] = why + "; proven farther than " + Mm(run.keep) + " " + how;
+}
+
+// a posture known to bring pair i within keep (a sample or a proof's counterexample) with joint
+// j in [x0, x1] and every other joint within its current range: that cell is not safe
+bool KnownUnsafe(const Run& run, size_t i, int j, double x0, double x1) {
+  for (const auto& w : run.witnesses[i]) {
+    if (w[j] < x0 || w[j] > x1) continue;
+    bool inside = true;
+    for (size_t k = 0; k < w.size() && inside; ++k)
+      inside = static_cast<int>(k) == j ||
+               (w[k] >= run.sampler.lo()[k] && w[k] <= run.sampler.hi()[k]);
+    if (inside) return true;
+  }
+  return false;
+}
+
+// pair i proven clear with joint j in [x0, x1] and the other joints in their current ranges:
+// first the known counterexamples and a few cheap samples, then the proof (a tenth of the budget)
+bool CellProven(Run& run, size_t i, int j, double x0, double x1, int* boxes) {
+  if (KnownUnsafe(run, i, j, x0, x1)) return false;
+  const LinkPair p = run.r.pairs[i];
+  std::vector<double> lo = run.sampler.lo(), hi = run.sampler.hi(), q;
+  lo[j] = x0;
+  hi[j] = x1;
+  for (int k = 0; k < run.o.cell_samples; ++k) {
+    run.sampler.SampleIn(lo, hi, &q);
+    run.c.SetPose(q);
+    if (run.c.Distance(p.a, p.b, run.keep) <= run.keep) {
+      run.witnesses[i].push_back(q);
+      return false;
+    }
+  }
+  const ProofResult r = run.prover.Prove(p, lo, hi, run.keep, std::max(1, run.o.proof_budget / 10));
+  *boxes += r.boxes;
+  if (r.counterexample) run.witnesses[i].push_back(r.witness);
+  return r.proven;
+}
+
+// the widest range of joint j around the reference over which pair i is proven clear (the other
+// joints in their current ranges): proven cells outwards from the reference's (coarse), then
+// proven sub-cells of the first unproven ones (fine); the range is a union of proven boxes, so it
+// is proven. False when the reference's cell is not.
+bool ProvenRangeOf(Run& run, size_t i, int j, double* lo, double* hi, int* boxes) {
+  const double a = run.sampler.lo()[j], b = run.sampler.hi()[j], w = (b - a) / run.o.coarse;
+  if (!(w > 0)) return false;
+  const double ref = std::clamp(
+      static_cast<size_t>(j) < run.o.reference.size() ? run.o.reference[j] : 0.0, a, b);
+  const int c0 = std::min(run.o.coarse - 1, static_cast<int>((ref - a) / w));
+  auto cell = [&](double x0, double x1) { return CellProven(run, i, j, x0, x1, boxes); };
+  if (!cell(a + c0 * w, a + (c0 + 1) * w)) return false;
+  int first = c0, last = c0;
+  while (first > 0 && cell(a + (first - 1) * w, a + first * w)) --first;
+  while (last < run.o.coarse - 1 && cell(a + (last + 1) * w, a + (last + 2) * w)) ++last;
+  *lo = first == 0 ? a : a + first * w;
+  *hi = last == run.o.coarse - 1 ? b : a + (last + 1) * w;
+  const double f = w / run.o.fine;
+  if (first > 0)
+    for (int k = 0; k < run.o.fine && cell(*lo - f, *lo); ++k) *lo -= f;
+  if (last < run.o.coarse - 1)
+    for (int k = 0; k < run.o.fine && cell(*hi, *hi + f); ++k) *hi += f;
   return true;
 }
 
-// the widest safe range of joint j around its zero posture for pair p, coarse then fine;
-// false when the cell of the zero posture is not safe
-bool SafeRangeOf(SelfCollision& c, Sampler& s, const PruneOptions& o, LinkPair p,
-                 const std::vector<int>& joints, int j, double keep, double* lo, double* hi) {
-  const double a = s.lo()[j], b = s.hi()[j], w = (b - a) / o.coarse;
-  if (!(w > 0)) return false;
-  const double ref = std::clamp(static_cast<size_t>(j) < o.reference.size() ? o.reference[j] : 0.0, a, b);
-  const int c0 = std::min(o.coarse - 1, static_cast<int>((ref - a) / w));
-  if (!CellSafe(c, s, o, p, joints, j, a + c0 * w, a + (c0 + 1) * w, keep)) return false;
-  // coarse: whole cells outwards while safe
-  int first = c0, last = c0;
-  while (first > 0 && CellSafe(c, s, o, p, joints, j, a + (first - 1) * w, a + first * w, keep)) --first;
-  while (last < o.coarse - 1 && CellSafe(c, s, o, p, joints, j, a + (last + 1) * w, a + (last + 2) * w, keep))
-    ++last;
-  *lo = a + first * w;
-  *hi = a + (last + 1) * w;
-  // fine: sub-cells of the unsafe neighbours, from the safe side outwards
-  const double f = w / o.fine;
-  if (first > 0)
-    for (int k = 0; k < o.fine && CellSafe(c, s, o, p, joints, j, *lo - f, *lo, keep); ++k) *lo -= f;
-  if (last < o.coarse - 1)
-    for (int k = 0; k < o.fine && CellSafe(c, s, o, p, joints, j, *hi, *hi + f, keep); ++k) *hi += f;
+// pair i: proven over the box of the ranges found so far, or over a new range of one of its
+// joints (the widest proven); true when pruned
+bool TryRanges(Run& run, size_t i) {
+  const RobotGeometry& g = run.robot;
+  const LinkPair p = run.r.pairs[i];
+  if (!Restricted(run, i).empty()) {
+    const ProofResult pr = run.prover.Prove(p, run.sampler.lo(), run.sampler.hi(), run.keep,
+                                            run.o.proof_budget);
+    if (pr.counterexample) run.witnesses[i].push_back(pr.witness);
+    if (pr.proven) {
+      Accept(run, i, "over the box of the ranges (" + Proof(pr) + ")");
+      return true;
+    }
+  }
+  int best = -1, boxes = 0;
+  double best_share = 0, best_lo = 0, best_hi = 0;
+  for (int j : JointsBetween(g, p.a, p.b)) {
+    const auto& allowed = run.o.range_joints;
+    if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), j) == allowed.end()) continue;
+    double lo, hi;
+    if (!ProvenRangeOf(run, i, j, &lo, &hi, &boxes)) continue;
+    const double share = (hi - lo) / (g.q_max[j] - g.q_min[j]);
+    if (share > best_share) best = j, best_share = share, best_lo = lo, best_hi = hi;
+  }
+  if (best < 0 || best_share < run.o.min_range_share) return false;
+  run.sampler.lo()[best] = best_lo;
+  run.sampler.hi()[best] = best_hi;
+  Accept(run, i, "cell by cell over the box of the ranges (" + std::to_string(boxes) + " boxes)");
   return true;
+}
+
+// 5. safe ranges, pair by pair, in passes; the joints' ranges only shrink, so every proof made
+// stays valid. A pair is tried again on a later pass only when the range of one of its joints
+// changed since its last attempt.
+void FindRanges(Run& run) {
+  const RobotGeometry& g = run.robot;
+  std::vector<int> version(static_cast<size_t>(NumJoints(g)), 0), tried(run.r.all, -1);
+  auto state = [&](LinkPair p) {
+    int v = 0;
+    for (int j : JointsBetween(g, p.a, p.b)) v += version[j];
+    return v;
+  };
+  bool changed = true;
+  for (int pass = 0; pass < 3 && changed; ++pass) {
+    changed = false;
+    for (size_t i = 0; i < run.r.all; ++i) {
+      if (!run.r.reasons[i].empty() || tried[i] == state(run.r.pairs[i])) continue;
+      run.Say("safe ranges, pass " + std::to_string(pass + 1) + ": " + run.Name(i));
+      tried[i] = state(run.r.pairs[i]);
+      const std::vector<double> lo = run.sampler.lo(), hi = run.sampler.hi();
+      if (!TryRanges(run, i)) continue;
+      changed = true;
+      for (size_t j = 0; j < version.size(); ++j)
+        if (run.sampler.lo()[j] != lo[j] || run.sampler.hi()[j] != hi[j]) ++version[j];
+    }
+  }
+}
+
+// 6. a range that covers its joint's whole range restricts nothing: its pairs do not rely on it,
+// and a pair left relying on nothing is a never pair (its proof covered the whole limits)
+void DropWholeRanges(Run& run) {
+  const RobotGeometry& g = run.robot;
+  for (size_t i = 0; i < run.r.all; ++i) {
+    if (!run.pruned[i] || run.relies[i].empty()) continue;
+    auto& rel = run.relies[i];
+    rel.erase(std::remove_if(rel.begin(), rel.end(), [&](int j) {
+                return run.sampler.lo()[j] <= g.q_min[j] && run.sampler.hi()[j] >= g.q_max[j];
+              }), rel.end());
+    if (rel.empty())
+      run.r.reasons[i] = "never (its ranges cover their joints' whole ranges): " + run.r.reasons[i];
+  }
+}
+
+// 7. an independent check of the proofs by samples within the final ranges; a pruned pair within
+// keep in one would be a bug of the bound: it goes back online, said so in the report
+void CheckProofs(Run& run) {
+  std::vector<double> q;
+  for (int s = 0; s < run.o.verify; ++s) {
+    if (s % 5000 == 0)
+      run.Say("checking the proofs: " + std::to_string(s) + "/" + std::to_string(run.o.verify));
+    run.sampler.Sample(&q);
+    run.c.SetPose(q);
+    for (size_t i = 0; i < run.r.all; ++i) {
+      if (!run.pruned[i]) continue;
+      const double d = run.c.Distance(run.r.pairs[i].a, run.r.pairs[i].b, run.keep);
+      if (d > run.keep) continue;
+      run.pruned[i] = 0;
+      run.relies[i].clear();
+      run.r.reasons[i] = "online: a sample came within " + Mm(run.keep) + " (" + Mm(d) +
+                         ") despite its proof (a bug of the bound: report it)";
+    }
+  }
+}
+
+// 8. the file: never pairs, ranges with their pairs, the online list
+void WriteLists(Run& run) {
+  const size_t njoint = static_cast<size_t>(NumJoints(run.robot));
+  std::vector<std::vector<LinkPair>> by_joint(njoint);
+  for (size_t i = 0; i < run.r.all; ++i) {
+    if (!run.pruned[i]) continue;
+    if (run.relies[i].empty()) run.r.file.never.push_back(run.r.pairs[i]);
+    for (int j : run.relies[i]) by_joint[j].push_back(run.r.pairs[i]);
+  }
+  for (size_t j = 0; j < njoint; ++j)
+    if (!by_joint[j].empty())
+      run.r.file.ranges.push_back({static_cast<int>(j),
+                                   std::max(run.sampler.lo()[j], run.robot.q_min[j]),
+                                   std::min(run.sampler.hi()[j], run.robot.q_max[j]), by_joint[j]});
+  for (size_t i = 0; i < run.r.all; ++i) {
+    if (run.pruned[i] || run.r.reasons[i].rfind("structural", 0) == 0) continue;
+    run.r.file.online.push_back(run.r.pairs[i]);
+    if (run.r.reasons[i].empty())
+      run.r.reasons[i] = run.closest[i] <= run.keep
+                             ? "online: came within " + Mm(run.keep) + " in the samples (" +
+                                   Mm(run.closest[i]) + "), no proven safe range"
+                             : "online: closest " + Mm(run.closest[i]) +
+                                   " in the samples, not proven clear within the budget";
+  }
 }
 
 }  // namespace
@@ -143,183 +360,24 @@ PruneResult Prune(const RobotGeometry& robot, const PruneOptions& o) {
   std::string error;
   auto checker = SelfCollision::Create(robot, &error);
   if (!checker) return r;
-  SelfCollision& c = *checker;
-  const double keep = o.margin + o.clearance;
-  auto say = [&](const std::string& s) { if (o.progress) o.progress(s); };
-
   // 1. every non-adjacent pair
   r.pairs = NonAdjacentPairs(robot);
   r.all = r.pairs.size();
   r.reasons.assign(r.all, "");
-  const size_t njoint = NumJoints(robot);  // actuated and passive
-
-  // 2. structural: touching at the zero posture (clamped into the limits)
-  std::vector<double> q0(njoint);
-  for (size_t j = 0; j < njoint; ++j) q0[j] = std::clamp(0.0, robot.q_min[j], robot.q_max[j]);
-  c.SetPose(q0);
-  for (size_t i = 0; i < r.all; ++i) {
-    const double d = c.Distance(r.pairs[i].a, r.pairs[i].b, 1e-6);
-    if (d <= 1e-6) {
-      r.file.structural.push_back(r.pairs[i]);
-      r.reasons[i] = "structural: touching at the zero posture (" + Mm(d) + ")";
-    }
+  Run run(robot, o, *checker, r);
+  // the stages, each timed for the report
+  const std::pair<const char*, void (*)(Run&)> stages[] = {
+      {"structural", FindStructural},   {"samples of the limits", SampleLimits},
+      {"never proofs", ProveNever},     {"safe ranges", FindRanges},
+      {"whole ranges", DropWholeRanges}, {"check of the proofs", CheckProofs},
+      {"lists", WriteLists}};
+  for (const auto& [name, stage] : stages) {
+    const auto t0 = std::chrono::steady_clock::now();
+    stage(run);
+    r.stage_seconds.emplace_back(
+        name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  // and within the margin at the reference posture (the online check would hold the robot
-  // there: the thighs' tops enter the waist's box when the hips bend)
-  if (o.reference.size() == njoint) {
-    c.SetPose(o.reference);
-    for (size_t i = 0; i < r.all; ++i) {
-      if (!r.reasons[i].empty()) continue;
-      const double d = c.Distance(r.pairs[i].a, r.pairs[i].b, o.margin);
-      if (d > o.margin) continue;
-      r.file.structural.push_back(r.pairs[i]);
-      r.reasons[i] = "structural: within the margin at the reference posture (" + Mm(d) + ")";
-    }
-  }
-
-  // 3. never: apart in every sample within the limits
-  Sampler sampler(o, robot.q_min, robot.q_max);
-  std::vector<double> closest(r.all, INFINITY), q;
-  std::vector<std::vector<std::pair<double, std::vector<double>>>> near(r.all);
-  for (int s = 0; s < o.samples; ++s) {
-    if (s % 5000 == 0) say("sampling the limits: " + std::to_string(s) + "/" + std::to_string(o.samples));
-    sampler.Sample(&q);
-    c.SetPose(q);
-    for (size_t i = 0; i < r.all; ++i) {
-      if (!r.reasons[i].empty()) continue;
-      const double d = c.Distance(r.pairs[i].a, r.pairs[i].b, keep + o.descent_band);
-      closest[i] = std::min(closest[i], d);
-      // the closest four postures of each pair, for the descents
-      if (d > keep + o.descent_band) continue;
-      auto& n = near[i];
-      if (n.size() < 4 || d < n.back().first) {
-        if (n.size() == 4) n.pop_back();
-        n.emplace_back(d, q);
-        std::sort(n.begin(), n.end());
-      }
-    }
-  }
-  for (size_t i = 0; i < r.all; ++i) {
-    if (!r.reasons[i].empty() || closest[i] <= keep) continue;
-    // near enough to doubt: descend from the closest samples
-    if (closest[i] <= keep + o.descent_band) {
-      const std::vector<int> joints = JointsBetween(robot, r.pairs[i].a, r.pairs[i].b);
-      for (const auto& start : near[i])
-        closest[i] = std::min(closest[i], Descend(c, r.pairs[i], joints, start.second,
-                                                  robot.q_min, robot.q_max, keep));
-      if (closest[i] <= keep) continue;
-    }
-    r.file.never.push_back(r.pairs[i]);
-    r.reasons[i] = "never: farther than " + Mm(keep) + " in " + std::to_string(o.samples) +
-                   " postures within the limits";
-  }
-
-  // 4. safe ranges, pair by pair; the joints' ranges only shrink
-  std::vector<std::vector<LinkPair>> pruned_by(njoint);
-  // passes: a range found for one pair narrows the samples of the next, so a pair left over may
-  // be pruned on a later pass
-  bool changed = true;
-  for (int pass = 0; pass < 3 && changed; ++pass) {
-  changed = false;
-  for (size_t i = 0; i < r.all; ++i) {
-    if (!r.reasons[i].empty()) continue;
-    const LinkPair p = r.pairs[i];
-    say("safe ranges: " + robot.links[p.a].name + " / " + robot.links[p.b].name);
-    int best = -1;
-    double best_share = 0, best_lo = 0, best_hi = 0;
-    const std::vector<int> joints = JointsBetween(robot, p.a, p.b);
-    for (int j : joints) {
-      const auto& allowed = o.range_joints;
-      if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), j) == allowed.end()) continue;
-      double lo, hi;
-      if (!SafeRangeOf(c, sampler, o, p, joints, j, keep, &lo, &hi)) continue;
-      const double share = (hi - lo) / (robot.q_max[j] - robot.q_min[j]);
-      if (share > best_share) best = j, best_share = share, best_lo = lo, best_hi = hi;
-    }
-    if (best < 0 || best_share < o.min_range_share) continue;
-    changed = true;
-    sampler.lo()[best] = best_lo;
-    sampler.hi()[best] = best_hi;
-    // the pair relies on every restricted joint between its links
-    std::string why = "safe range: " + JointName(robot, best);
-    for (int j : joints) {
-      const bool restricted = sampler.lo()[j] > robot.q_min[j] || sampler.hi()[j] < robot.q_max[j];
-      if (!restricted) continue;
-      pruned_by[j].push_back(p);
-      if (j != best) why += " + " + JointName(robot, j);
-    }
-    // safe in the whole of every range: it cannot collide while the others keep to theirs
-    if (why.find(JointName(robot, best)) != std::string::npos &&
-        sampler.lo()[best] == robot.q_min[best] && sampler.hi()[best] == robot.q_max[best] &&
-        why.find(" + ") == std::string::npos) {
-      r.file.never.push_back(p);
-      why = "never: farther than " + Mm(keep) + " in every cell of the scans";
-    }
-    r.reasons[i] = why;
-  }
-  }
-  // 5. verification: postures within the final ranges (each range kept or left at random); a
-  // pruned pair that is uncovered (every range it relies on kept, or it is a never pair) and
-  // comes within keep, in a sample or a descent from a near one, goes back online
-  std::vector<std::vector<int>> relies(r.all);  // the joints each pruned pair relies on
-  std::map<std::pair<int, int>, int> index;
-  for (size_t i = 0; i < r.all; ++i) index[{r.pairs[i].a, r.pairs[i].b}] = static_cast<int>(i);
-  for (size_t j = 0; j < njoint; ++j)
-    for (const LinkPair& p : pruned_by[j]) relies[index[{p.a, p.b}]].push_back(static_cast<int>(j));
-  std::vector<bool> pruned(r.all, false), back(r.all, false);
-  std::vector<int> descents(r.all, 0);
-  for (size_t i = 0; i < r.all; ++i)
-    pruned[i] = !r.reasons[i].empty() && r.reasons[i].rfind("structural", 0) != 0;
-  const std::vector<double> range_lo = sampler.lo(), range_hi = sampler.hi();
-  std::mt19937_64 coin(o.seed + 1);
-  for (int s = 0; s < o.verify; ++s) {
-    if (s % 5000 == 0) say("verifying: " + std::to_string(s) + "/" + std::to_string(o.verify));
-    // each restricted joint keeps its range with probability 1/2
-    for (size_t j = 0; j < njoint; ++j) {
-      const bool keep_range = coin() & 1;
-      sampler.lo()[j] = keep_range ? range_lo[j] : robot.q_min[j];
-      sampler.hi()[j] = keep_range ? range_hi[j] : robot.q_max[j];
-    }
-    sampler.Sample(&q);
-    c.SetPose(q);
-    for (size_t i = 0; i < r.all; ++i) {
-      if (!pruned[i] || back[i]) continue;
-      bool covered = false;  // a range it relies on is left: the online check takes it
-      for (int j : relies[i]) covered = covered || q[j] < range_lo[j] || q[j] > range_hi[j];
-      if (covered) continue;
-      const double d = c.Distance(r.pairs[i].a, r.pairs[i].b, keep + o.descent_band);
-      if (d > keep + o.descent_band) continue;
-      // descend within the ranges it relies on (or the limits)
-      std::vector<double> lo = robot.q_min, hi = robot.q_max;
-      for (int j : relies[i]) lo[j] = range_lo[j], hi[j] = range_hi[j];
-      const std::vector<int> joints = JointsBetween(robot, r.pairs[i].a, r.pairs[i].b);
-      if (d <= keep) back[i] = true;
-      else if (descents[i]++ < o.max_descents && Descend(c, r.pairs[i], joints, q, lo, hi, keep) <= keep)
-        back[i] = true;
-      c.SetPose(q);
-    }
-  }
-  for (size_t i = 0; i < r.all; ++i) {
-    if (!back[i]) continue;
-    r.reasons[i] = "";  // online below
-    auto drop = [&](std::vector<LinkPair>& v) {
-      v.erase(std::remove(v.begin(), v.end(), r.pairs[i]), v.end());
-    };
-    drop(r.file.never);
-    for (auto& list : pruned_by) drop(list);
-  }
-  for (size_t j = 0; j < njoint; ++j) {
-    if (pruned_by[j].empty()) continue;
-    r.file.ranges.push_back({static_cast<int>(j), sampler.lo()[j], sampler.hi()[j], pruned_by[j]});
-  }
-  // 6. the pairs left are checked online
-  for (size_t i = 0; i < r.all; ++i) {
-    if (!r.reasons[i].empty()) continue;
-    r.file.online.push_back(r.pairs[i]);
-    r.reasons[i] = back[i] ? "online: came within " + Mm(keep) + " in the verification"
-                           : "online: closest " + Mm(closest[i]) + " in the samples, no safe range";
-  }
-  say("");
+  run.Say("");
   return r;
 }
 

@@ -7,11 +7,14 @@
 // (depth first), its parent (as an index among the robot's bodies, -1 for the root), its pose in
 // the parent (pos, quat; skipped for a body with a free joint: that is an initial condition, not
 // part of the robot), its mass, diagonal inertia and inertial frame (ipos, iquat), and each of its
-// joints (type, name, axis, pos, limited and range, armature and damping of each dof); then the
-// segment's joint order (the names, in joint-id order). Integers are fed as 8 little-endian
+// joints (type, name, axis, pos, limited and range, armature and damping of each dof); then, body
+// by body, its geoms, which the self-collision checker takes as the links' shapes
+// (collision/from_mjcf.h): their count and each one's type, size, pos, quat and, for a mesh, its
+// vertex count and vertices (so a self-collision file made for other shapes no longer fits);
+// then the segment's joint order (the names, in joint-id order). Integers are fed as 8 little-endian
 // bytes, doubles as their bits after -0.0 is made 0.0, names as their length then their bytes.
-// Geometry, colours, contact parameters, sensors, the floor and the simulation options are not
-// part of it: the same robot on another floor, or with other sole contact parameters, has the
+// Colours, contact parameters (friction, contype, margins), sensors, the floor and the simulation
+// options are not part of it: the same robot on another floor, or with other sole contact parameters, has the
 // same hash.
 #pragma once
 

@@ -22,6 +22,9 @@
 
 namespace ohrp::collision {
 
+// The largest distance of a point of shape `s` from the shape's centre (p_LS) [m].
+double ShapeRadius(const Shape& s);
+
 // Per link, each joint between the base and the link with its reach: for a hinge a bound of the
 // distance of any point of the link's shapes from the hinge's axis in any posture [m], for a
 // slide 1 (a point moves as far as the slide): (joint id, reach). A passive joint counts as

@@ -16,7 +16,9 @@
 //   safe_ranges:                              # while each joint keeps to its range, its
 //     - {joint: LARM_SHOULDER_R, min: .., max: .., pairs: [[A, B], ...]}   # pairs need no check
 //   structural: [[A, B], ...]                 # touching in the model's zero posture: skipped
+//   structural_floor: [-0.012, ...]           # [m] per structural pair, the distance it keeps
 //   never: [[A, B], ...]                      # apart anywhere in the limits: skipped
+//   checksum: "0x..."                         # FNV-1a 64 of the text above: the last line
 //
 // Convex shapes carry `vertices: [[x,y,z], ...]` and `faces: [n, i, j, k, ...]` (FCL's).
 #pragma once
@@ -65,16 +67,40 @@ struct SelfCollisionFile {
   std::vector<JointDynamics> dynamics;  // by segment joint id; empty in a file without them
 };
 
+// What is wrong with a file's lists (ValidateSelfCollisionFile): the key, the item of its list
+// (-1: the key itself) and what, with what would work.
+struct FileProblem {
+  std::string key;
+  int item = -1;
+  std::string what;
+};
+
+// The lists of a file against its own geometry: every non-adjacent pair (NonAdjacentPairs) in
+// exactly one of online, structural and never, or in the pairs of one or more safe ranges; no
+// pair twice in a list, none that is not a non-adjacent pair; each safe range's joint between
+// its pairs' links, the range inside the joint's limits and narrower than them (a range covering
+// the whole joint restricts nothing: its pairs are never pairs), one range per joint; a floor for
+// each structural pair when floors are given. False with `*problem` at the first mistake.
+bool ValidateSelfCollisionFile(const SelfCollisionFile& file, FileProblem* problem);
+
+// The checksum line the writer appends to the text `body` ("checksum: \"0x...\"\n", FNV-1a 64
+// of `body`), and the check of a whole text: true when its last line is the checksum of the
+// text before it; else false with `*what` (missing, or the text was edited) and `*line`.
+std::string ChecksumLine(const std::string& body);
+bool ChecksumMatches(const std::string& text, int* line, std::string* what);
+
 // Writes `file` to `path` as YAML. False with `*error` when it cannot be written.
 bool WriteSelfCollisionFile(const std::string& path, const SelfCollisionFile& file,
                             std::string* error);
 
-// The YAML text of `file` (what WriteSelfCollisionFile writes).
+// The YAML text of `file` (what WriteSelfCollisionFile writes), its checksum line last.
 std::string SelfCollisionYaml(const SelfCollisionFile& file);
 
 // Reads a file written by WriteSelfCollisionFile. False with `*error` as
 // "path:line: key: what is wrong (what would work)" on any mistake: a missing or unknown key, a
-// value of the wrong kind, an unknown link or joint name, a geometry that Validate refuses.
+// value of the wrong kind, an unknown link or joint name, a geometry that Validate refuses, lists
+// that ValidateSelfCollisionFile refuses, a checksum that is missing or does not match the text
+// (edited by hand).
 bool ReadSelfCollisionFile(const std::string& path, SelfCollisionFile* file, std::string* error);
 
 }  // namespace ohrp::collision

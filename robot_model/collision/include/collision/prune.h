@@ -1,30 +1,35 @@
 // The offline pre-processing of the paper's section 4.1: which pairs of links need checking
-// online. Steps, each reported:
+// online. Sampling finds candidates; a pair is pruned only on a proof (collision/prune_bound.h:
+// branch and bound with a certified motion bound) that it stays farther than margin + clearance
+// in every posture of the box it relies on. Steps, each reported:
 //  1. all pairs of links that are not parent and child;
 //  2. structural pairs: touching or overlapping at the zero posture (parts built into each
 //     other, as WAIST and WAIST_R of HRP-1S), or within the margin at the reference posture
-//     (HRP-1S's thighs enter the waist's box at half-sitting): skipped, the online check would
-//     hold the robot where it stands;
-//  3. never: pairs that stay farther than margin + clearance in every sampled posture within
-//     the joint limits (uniform samples, a share of joints at their limits) and in local
-//     descents of their distance from the closest samples;
-//  4. safe ranges: for each remaining pair, each joint between its two links is scanned at a
-//     coarse resolution (cells of its range, sampled postures in each cell and descents from
-//     the closest); the run of safe
-//     cells around the reference posture, widened at a fine resolution into the neighbouring cells,
-//     is the joint's safe range for that pair; the widest (at least `min_range_share` of the
-//     joint's range) wins and the pair is pruned while the joint keeps to it. A joint's ranges
-//     only shrink, so earlier pairs stay safe;
-//  5. verification: postures sampled with each safe range kept or left at random; a pruned
-//     pair that no left range covers and that comes within margin + clearance (in a sample or
-//     a descent from a near one) goes back online;
-//  6. online: the pairs left.
-// It is sampling: the brute-force test checks it against MuJoCo on postures it did not see.
+//     (HRP-1S's thighs enter the waist's box at half-sitting): each gets a floor, the smaller of
+//     its distances at the two postures less the margin, which the online check keeps;
+//  3. samples within the joint limits (a share of joints at their limits) and local descents
+//     from the closest: each pair's closest distance (a pair that came within margin + clearance
+//     cannot be a never pair);
+//  4. never: the others, proven clear over the box of the joint limits (the joints between the
+//     pair's links);
+//  5. safe ranges: for each remaining pair, a proof over the box of the ranges found so far;
+//     else, joint by joint, cells of its current range proven one by one outwards from the
+//     reference posture's (coarse, then sub-cells: fine), each with the other joints in their
+//     current ranges (known counterexamples and cell_samples cheap samples reject a cell before
+//     its proof, which gets a tenth of proof_budget); the run of proven cells, a union of proven
+//     boxes, is the joint's candidate and the widest (at least min_range_share) becomes its
+//     range; ranges only shrink, so every proof made stays valid;
+//  6. a range covering its joint's whole range restricts nothing: its pairs do not rely on it,
+//     and a pair left relying on no range is a never pair;
+//  7. an independent check by samples within the final ranges (a pruned pair within margin +
+//     clearance there would be a bug of the bound: it goes back online, said so in the report);
+//  8. online: the pairs left (no proof within the budget is the safe side).
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "collision/pair_file.h"
@@ -37,9 +42,9 @@ struct PruneOptions {
   int samples = 20000;       // postures sampled within the limits for step 3
   int coarse = 12;           // cells of a joint's range in the coarse scan
   int fine = 8;              // sub-cells of a boundary cell in the fine scan
-  int cell_samples = 64;     // postures per cell
-  int verify = 100000;       // postures of the final verification (step 5)
-  int max_descents = 64;     // descents per pair in the verification
+  int cell_samples = 64;     // cheap samples per cell before its proof
+  int verify = 2000;         // postures of the independent check of the proofs (step 7)
+  int proof_budget = 20000;  // boxes one proof may measure before giving up (then not pruned)
   double descent_band = 0.05;  // [m] samples closer than keep + this start local descents
   double limit_share = 0.3;  // chance that a sampled joint sits at one of its limits
   double min_range_share = 0.25;  // a safe range must keep this share of the joint's range
@@ -53,12 +58,14 @@ struct PruneOptions {
 struct PruneResult {
   SelfCollisionFile file;   // ready to write
   size_t all = 0;           // pairs in step 1
-  // per pair of step 1: why it was pruned, or "online"; in NonAdjacentPairs order
+  // per pair of step 1: why it was pruned and what proved it, or why it is online; in
+  // NonAdjacentPairs order
   std::vector<std::string> reasons;
   std::vector<LinkPair> pairs;  // the pairs of step 1
+  std::vector<std::pair<std::string, double>> stage_seconds;  // each step's wall time [s]
 };
 
-// Runs steps 1-5 on `robot` (which must pass Validate).
+// Runs steps 1-8 on `robot` (which must pass Validate).
 PruneResult Prune(const RobotGeometry& robot, const PruneOptions& options);
 
 // The joints whose angles move link b relative to link a (those between them in the tree).
