@@ -182,6 +182,11 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       controller.close();
       return rep.exit_code = kExitConfig;
     }
+    if (!controller.guard_may_brake()) {
+      guard.set_monitor_only(true);
+      out << prog << ": self-collision check: monitoring only (a brake mid-motion would topple "
+          << "the robot); links measured closer than their limit fail the run\n";
+    }
   }
   // the images the controller wants: asked for now, read each cycle into one buffer
   const uint32_t cameras = controller.cameras();
@@ -327,6 +332,10 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     // a hold is a result: the motion the controller was asked for was stopped; where its own
     // verification does not confirm its goal (or its motion is the trajectory, playback), or
     // the guard still held at the end, the run failed, naming the pair
+    if (guarded && guard.monitor_only() && guard.violations() > 0) {
+      const std::string v = guard.ViolationSummary();
+      rep.failure += (rep.failure.empty() ? "" : "; ") + v;
+    }
     if (guarded && guard.holds() > 0) {
       if (!rep.failure.empty()) {
         rep.failure += "; " + guard.HoldSummary();

@@ -78,7 +78,12 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   // every pair the check may need, allocated once: online, structural with floors, ranges'
   every_ = file_.online;
   base_limit_.assign(every_.size(), file_.margin);
-  const bool floors = file_.structural_floor.size() == file_.structural.size();
+  // Structural pairs are not checked yet: their floors come from the zero and reference
+  // postures only, and HRP-1S's knee/ankle boxes overlap deeper with any knee bend past
+  // half-sitting (walking, balancing), so the floor stopped ordinary motion (issue 29: the
+  // floors need the postures the robot's motions use, not two)
+  const bool floors = kCheckStructuralFloors &&
+                      file_.structural_floor.size() == file_.structural.size();
   for (size_t k = 0; floors && k < file_.structural.size(); ++k) {
     every_.push_back(file_.structural[k]);
     base_limit_.push_back(file_.structural_floor[k]);
@@ -264,6 +269,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       const double d = check_->distance(i);
       if (d < limit_[i] - 1e-6) {
         ++violations_;
+        if (d < violation_distance_) violation_distance_ = d, violation_pair_ = every_[i];
         limit_[i] = d - tolerance_;
       } else {
         limit_[i] = std::min(base_limit_[i], std::max(limit_[i], d - tolerance_));
@@ -283,6 +289,12 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     ++uncertified_cycles_;  // a measured value that is not finite: nothing to predict from
   }
   if (clear) {
+    braking_ = false;
+    return false;
+  }
+  if (monitor_only_) {  // counted, the commands left alone
+    ++warned_cycles_;
+    if (worst >= 0 && predicted < warned_distance_) warned_distance_ = predicted, warned_pair_ = every_[worst];
     braking_ = false;
     return false;
   }
@@ -326,7 +338,26 @@ std::string SelfCollisionGuard::HoldSummary() const {
   return b;
 }
 
+std::string SelfCollisionGuard::ViolationSummary() const {
+  if (violations_ == 0 || violation_pair_.a < 0) return "";
+  char b[400];
+  std::snprintf(b, sizeof(b), "links measured closer than their limit %ld time(s), closest %s / %s "
+                "at %.1f mm (margin %.1f mm)", violations_,
+                file_.robot.links[violation_pair_.a].name.c_str(),
+                file_.robot.links[violation_pair_.b].name.c_str(), 1e3 * violation_distance_,
+                1e3 * file_.margin);
+  return b;
+}
+
 void SelfCollisionGuard::Report(const std::string& program, std::ostream& out) const {
+  if (monitor_only_ && warned_cycles_ > 0 && warned_pair_.a >= 0) {
+    char w[400];
+    std::snprintf(w, sizeof(w), "%s: self-collision (monitoring only): the braking check would "
+                  "have braked in %ld cycles, closest %s / %s at %.1f mm predicted\n",
+                  program.c_str(), warned_cycles_, file_.robot.links[warned_pair_.a].name.c_str(),
+                  file_.robot.links[warned_pair_.b].name.c_str(), 1e3 * warned_distance_);
+    out << w;
+  }
   if (held_cycles_ == 0 && violations_ == 0) return;
   const auto name = [&](collision::LinkPair p) {
     return p.a < 0 ? std::string("(none)")

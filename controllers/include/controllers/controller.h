@@ -95,6 +95,10 @@ class Controller {
   // motion is the trajectory): the runner then exits kExitFailed naming the pair. The default:
   // no, the controller's failure() judges whether its goal was reached.
   virtual bool hold_is_failure() const { return false; }
+  // The self-collision guard may replace this controller's commands by its brake. False (walk):
+  // the guard only monitors (SelfCollisionGuard::set_monitor_only), and links measured closer
+  // than their limit fail the run instead.
+  virtual bool guard_may_brake() const { return true; }
 
   // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
   // the header), valid from kInactive on: the runner asks the producer for them after

@@ -82,6 +82,15 @@ class SelfCollisionGuard {
   double hold_distance() const { return closest_distance_; }  // [m] its predicted lower bound
   long uncertified_cycles() const { return uncertified_cycles_; }  // work bound reached
   long violations() const { return violations_; }  // a measured distance below its limit
+  // "links measured closer than their limit N time(s), closest A / B at X mm": "" when none
+  std::string ViolationSummary() const;
+  // Monitoring only: the check runs and counts the cycles it would have braked, but the
+  // commands are left alone; measured distances below their limit are still counted. For
+  // controllers whose motion a brake would make unsafe (walk: a stance leg braked mid-step
+  // topples the robot; Controller::guard_may_brake).
+  void set_monitor_only(bool on) { monitor_only_ = on; }
+  bool monitor_only() const { return monitor_only_; }
+  long warned_cycles() const { return warned_cycles_; }
   const collision::SelfCollisionFile& file() const { return file_; }
 
   // The motion interval of one joint [rad or m], relative to its measured position: where it
@@ -116,6 +125,13 @@ class SelfCollisionGuard {
   std::unique_ptr<collision::SelfCollision> checker_;
   std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
   int njoint_ = 0;
+  static constexpr bool kCheckStructuralFloors = false;  // (Configure says why)
+  bool monitor_only_ = false;
+  long warned_cycles_ = 0;                   // monitoring only: cycles it would have braked
+  double warned_distance_ = 1e9;             // [m] their closest predicted pair
+  collision::LinkPair warned_pair_;
+  double violation_distance_ = 1e9;          // [m] the closest measured distance below a limit
+  collision::LinkPair violation_pair_;
   int nq_ = 0;  // posture size: the actuated joints, then the passive ones
   double period_ = 0;     // [s]
   double check_cutoff_ = 0;  // [m] the incremental check's: answers above it are lower bounds
