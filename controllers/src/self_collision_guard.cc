@@ -110,6 +110,12 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   for (size_t i = 0; i < every_.size(); ++i)
     for (int l : {every_[i].a, every_[i].b})
       for (const auto& [joint, r] : reach[l]) coef_[i * nq_ + joint] += r;
+  // a pair the brake can act on: some actuated joint that moves it carries no support (a leg
+  // with a foot is not braked: braking a stance leg topples the robot; its pairs are monitored)
+  brakeable_.assign(every_.size(), 0);
+  for (size_t i = 0; i < every_.size(); ++i)
+    for (int j = 0; j < njoint_; ++j)
+      if (coef_[i * nq_ + j] > 0 && !Supports(j)) brakeable_[i] = 1;
   check_ = std::make_unique<collision::IncrementalCheck>(checker_.get(), every_);
   list_.reserve(every_.size());
   on_list_.assign(every_.size(), 0);
@@ -239,6 +245,7 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
   (void)sensors;
   for (int j = 0; j < njoint_; ++j) {
+    if (Supports(j)) continue;  // a leg with a foot keeps the controller's command
     const double v0 = brake_v_[j], dv = brake_decel_[j] * period_;
     const double v1 = v0 > 0 ? std::max(0.0, v0 - dv) : std::min(0.0, v0 + dv);
     brake_q_[j] += 0.5 * (v0 + v1) * period_;
@@ -276,14 +283,30 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       }
     }
     budget_ = kBudget;
-    for (int i : list_) {
-      double b = INFINITY;
-      if (Certify(i, &b)) continue;
-      clear = false;
-      worst = i;
-      predicted = b;
-      if (budget_ <= 0) ++uncertified_cycles_;
-      break;
+    // the pairs the brake acts on first (the work bound is theirs), then those moved by support
+    // legs only: monitored, never braked
+    int unbrakeable = -1;
+    double unbrakeable_bound = INFINITY;
+    for (int pass = 0; pass < 2 && clear && unbrakeable < 0; ++pass) {
+      for (int i : list_) {
+        if (brakeable_[i] != (pass == 0)) continue;
+        double b = INFINITY;
+        if (Certify(i, &b)) continue;
+        if (pass == 1) {
+          unbrakeable = i, unbrakeable_bound = b;
+          break;
+        }
+        clear = false;
+        worst = i;
+        predicted = b;
+        if (budget_ <= 0) ++uncertified_cycles_;
+        break;
+      }
+    }
+    if (clear && unbrakeable >= 0) {
+      ++warned_cycles_;
+      if (unbrakeable_bound < warned_distance_)
+        warned_distance_ = unbrakeable_bound, warned_pair_ = every_[unbrakeable];
     }
   } else {
     ++uncertified_cycles_;  // a measured value that is not finite: nothing to predict from
@@ -350,11 +373,12 @@ std::string SelfCollisionGuard::ViolationSummary() const {
 }
 
 void SelfCollisionGuard::Report(const std::string& program, std::ostream& out) const {
-  if (monitor_only_ && warned_cycles_ > 0 && warned_pair_.a >= 0) {
+  if (warned_cycles_ > 0 && warned_pair_.a >= 0) {
     char w[400];
-    std::snprintf(w, sizeof(w), "%s: self-collision (monitoring only): the braking check would "
-                  "have braked in %ld cycles, closest %s / %s at %.1f mm predicted\n",
-                  program.c_str(), warned_cycles_, file_.robot.links[warned_pair_.a].name.c_str(),
+    std::snprintf(w, sizeof(w), "%s: self-collision: not certified but not braked in %ld cycles "
+                  "(%s), closest %s / %s at %.1f mm predicted\n",
+                  program.c_str(), warned_cycles_,
+                  monitor_only_ ? "monitoring only" : "a pair moved by support legs only", file_.robot.links[warned_pair_.a].name.c_str(),
                   file_.robot.links[warned_pair_.b].name.c_str(), 1e3 * warned_distance_);
     out << w;
   }

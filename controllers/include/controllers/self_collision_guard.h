@@ -126,6 +126,9 @@ class SelfCollisionGuard {
   std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
   int njoint_ = 0;
   static constexpr bool kCheckStructuralFloors = false;  // (Configure says why)
+  // joint j carries a support (a foot beyond it, by the file's dynamics): never braked
+  bool Supports(int j) const { return !file_.dynamics[j].support_sensor.empty(); }
+  std::vector<char> brakeable_;              // per pair of every_: some non-support joint moves it
   bool monitor_only_ = false;
   long warned_cycles_ = 0;                   // monitoring only: cycles it would have braked
   double warned_distance_ = 1e9;             // [m] their closest predicted pair

@@ -119,9 +119,6 @@ class WalkController : public BalanceController {
   bool walking() const { return started_ && gen_.walking(); }
   // all commands walked and the ZMP back between the feet
   bool done() const;
-  // The braking guard's prediction of a stance leg is too uncertain: it braked mid-step and
-  // toppled the robot (issue 29); walking is monitored, measured self-collisions fail the run
-  bool guard_may_brake() const override { return false; }
   // done(), and verified from the measurements at the end: every step landed (measured), both
   // feet carrying load and the base upright; "" then, else what is missing
   std::string Unverified() const;

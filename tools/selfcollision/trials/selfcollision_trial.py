@@ -138,7 +138,7 @@ def run(runner, root, out_dir, t):
     return row
 
 
-def table(rows, margin):
+def table(rows, margin, tolerance_mm=TOLERANCE_MM):
     lines = ["| motion | speed | guard | closest approach of the simulated links [mm] | pair | "
              "t [s] | guard holds | controller exit | sim_host outcome |",
              "|---|---|---|---|---|---|---|---|---|"]
@@ -153,7 +153,7 @@ def table(rows, margin):
             r["controller_exit"], r["outcome"]))
     lines.append("")
     lines.append("margin of the guard's file: %.1f mm; a guard-on trial passes at >= %.1f mm"
-                 % (margin, margin - TOLERANCE_MM))
+                 % (margin, margin - tolerance_mm))
     return "\n".join(lines) + "\n"
 
 
@@ -168,6 +168,9 @@ def main():
     p.add_argument("--guard", default="on,off")
     p.add_argument("--table", default=None)
     p.add_argument("--require", action="store_true")
+    p.add_argument("--tolerance-mm", type=float, default=TOLERANCE_MM,
+                   help="--require passes a guard-on trial at >= margin less this [mm] (default "
+                        "%.1f; the margin itself: the links apart)" % TOLERANCE_MM)
     a = p.parse_args()
     root = os.path.abspath(a.source)
     runner = a.runner or os.path.join(root, "build/bin/ohrp_run")
@@ -181,6 +184,8 @@ def main():
     guards = [g for g in a.guard.split(",") if g]
     if any(g not in ("on", "off") for g in guards):
         p.error("--guard: on, off or both")
+    if not 0 <= a.tolerance_mm <= 50:
+        p.error("--tolerance-mm: in [0, 50] mm")
     margin = margin_mm(root)
     os.makedirs(a.out_dir, exist_ok=True)
     rows = []
@@ -189,7 +194,7 @@ def main():
         r = rows[-1]
         print("%-34s %s" % (r["trial"], r.get("error") or "closest %.1f mm (%s), %d holds, %s" % (
             r["closest_mm"], r["pair"], r["holds"], r["outcome"])), flush=True)
-    text = table(rows, margin)
+    text = table(rows, margin, a.tolerance_mm)
     if a.table:
         with open(a.table, "w") as f:
             f.write(text)
@@ -197,11 +202,11 @@ def main():
     failed = [r for r in rows if "error" in r]
     if a.require:
         failed += [r for r in rows if r["guard"] == "on" and "error" not in r and
-                   r["closest_mm"] < margin - TOLERANCE_MM]
+                   r["closest_mm"] < margin - a.tolerance_mm]
     for r in failed:
         print("selfcollision_trial: FAILED: %s: %s" % (r["trial"], r.get("error") or
               "closest approach %.1f mm (%s at %.3f s) below %.1f mm" % (
-                  r["closest_mm"], r["pair"], r["t"], margin - TOLERANCE_MM)), file=sys.stderr)
+                  r["closest_mm"], r["pair"], r["t"], margin - a.tolerance_mm)), file=sys.stderr)
     return 1 if failed else 0
 
 
