@@ -264,6 +264,15 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
 
 bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
   bool clear = Predict(sensors, *c);
+  if (!clear) {
+    // a measurement is not finite: nothing to predict from, so nothing is judged (the
+    // controller's own non-finite handling holds); a brake under way goes on (it needs none)
+    ++unjudged_cycles_;
+    if (!braking_) return false;
+    ++held_cycles_;
+    Brake(sensors, c);
+    return true;
+  }
   int worst = -1;
   double predicted = INFINITY;
   if (clear) {
@@ -308,8 +317,6 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       if (unbrakeable_bound < warned_distance_)
         warned_distance_ = unbrakeable_bound, warned_pair_ = every_[unbrakeable];
     }
-  } else {
-    ++uncertified_cycles_;  // a measured value that is not finite: nothing to predict from
   }
   if (clear) {
     braking_ = false;
@@ -373,6 +380,9 @@ std::string SelfCollisionGuard::ViolationSummary() const {
 }
 
 void SelfCollisionGuard::Report(const std::string& program, std::ostream& out) const {
+  if (unjudged_cycles_ > 0)
+    out << program << ": self-collision: not judged in " << unjudged_cycles_
+        << " cycles (a measurement was not finite: no prediction; the commands left alone)\n";
   if (warned_cycles_ > 0 && warned_pair_.a >= 0) {
     char w[400];
     std::snprintf(w, sizeof(w), "%s: self-collision: not certified but not braked in %ld cycles "

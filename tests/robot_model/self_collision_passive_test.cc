@@ -179,7 +179,9 @@ TEST(SelfCollisionPassive, TheFileListsThePassiveJointsAndWhatIsLeftOut) {
   SelfCollisionFile f, back;
   f.robot = l.g;
   f.online = NonAdjacentPairs(l.g);
+  // the first pair pruned by swing's range instead of online (a file lists each pair once)
   f.ranges.push_back({FindJoint(l.g, "swing"), -0.5, 0.5, {f.online[0]}});
+  f.online.erase(f.online.begin());
   f.robot.unchecked.push_back("a \"quoted\" body: a back\\slash");  // escaped in the YAML
   const std::string path = ohrp::testing::ScratchPath("passive", ".yaml");
   std::string error;

@@ -130,7 +130,8 @@ class SelfCollisionGuard {
   bool Supports(int j) const { return !file_.dynamics[j].support_sensor.empty(); }
   std::vector<char> brakeable_;              // per pair of every_: some non-support joint moves it
   bool monitor_only_ = false;
-  long warned_cycles_ = 0;                   // monitoring only: cycles it would have braked
+  long warned_cycles_ = 0;
+  long unjudged_cycles_ = 0;                 // a measurement not finite: nothing predicted                   // monitoring only: cycles it would have braked
   double warned_distance_ = 1e9;             // [m] their closest predicted pair
   collision::LinkPair warned_pair_;
   double violation_distance_ = 1e9;          // [m] the closest measured distance below a limit
