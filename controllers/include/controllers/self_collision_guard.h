@@ -162,7 +162,7 @@ class SelfCollisionGuard {
   double horizon_end_ = 0;   // [s] when the last joint has stopped
   std::vector<double> centre_;  // a posture of the nominal motion
   int budget_ = 0;  // distance evaluations left this cycle
-  static constexpr int kBudget = 80;
+  static constexpr int kBudget = 160;
 
   bool braking_ = false;
   uint64_t holds_ = 0;
