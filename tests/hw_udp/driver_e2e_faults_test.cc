@@ -196,6 +196,13 @@ TEST_F(DriverEndToEnd, APushThatTopplesTheRobotIsAFallWithItsTimeAndTilt) {
 // where permitted, posture with its 2 s ramp. It holds the robot standing, ends exit 0, and no
 // board check fires on a healthy chain. (The other tests loosen these for a loaded machine.)
 TEST_F(DriverEndToEnd, TheReadmesChainWithItsDefaultsStandsTheRobot) {
+#ifdef OHRP_SANITIZE
+  // the README's defaults are real time at 1 kHz with a 20-cycle watchdog; built with
+  // AddressSanitizer at -O1 the controller's self-collision guard (its braking check, a few
+  // hundred us a cycle there) misses 20 cycles in a row and the driver drops it. The same chain
+  // with loosened timing runs in the tests above.
+  GTEST_SKIP() << "the README's 1 kHz timing is not met by a sanitizer build";
+#endif
   readme_defaults_ = true;
   const int code = RunChain({}, {"--duration", "5"});
   ASSERT_EQ(code, 0) << ReadFile(Path("driver.out"));

@@ -163,6 +163,7 @@ class SelfCollisionGuard {
   std::vector<double> centre_;  // a posture of the nominal motion
   int budget_ = 0;  // distance evaluations left this cycle
   static constexpr int kBudget = 160;
+  static constexpr int kMonitorBudget = 16;  // of it, for the pairs only support legs move
 
   bool braking_ = false;
   uint64_t holds_ = 0;
