@@ -60,6 +60,12 @@ std::array<double, 3> ExpectUpright(const Chain& c, double t_end) {
 
 // `goal 1 0 0`: the base ends about 1 m ahead of where it stood, on the same line and heading
 TEST_F(WalkHw, WalksOneMetreForwardThroughHwDriverAndUdp) {
+#ifdef OHRP_SANITIZE
+  // walk's cycle plus the self-collision guard's braking check take too long at -O1 with ASan
+  // for the driver's real-time cycle: late commands, then "a board did not do what it was
+  // commanded" (issue 29's guard; the lock-step walk tests run in the sanitizer build)
+  GTEST_SKIP() << "walk through hw_driver is not real time in a sanitizer build";
+#endif
   const Chain c = RunChain("walk_hw", {"walk", "--ramp", "1.0", "--command", "goal 1 0 0"}, {},
                            kStraightDuration);
   ExpectCleanRun(c);
@@ -79,6 +85,12 @@ TEST_F(WalkHw, WalksOneMetreForwardThroughHwDriverAndUdp) {
 
 // `goal 0 0 90`: a quarter turn on the spot
 TEST_F(WalkHw, TurnsNinetyDegreesThroughHwDriverAndUdp) {
+#ifdef OHRP_SANITIZE
+  // walk's cycle plus the self-collision guard's braking check take too long at -O1 with ASan
+  // for the driver's real-time cycle: late commands, then "a board did not do what it was
+  // commanded" (issue 29's guard; the lock-step walk tests run in the sanitizer build)
+  GTEST_SKIP() << "walk through hw_driver is not real time in a sanitizer build";
+#endif
   const Chain c = RunChain("walk_hw_turn", {"walk", "--ramp", "1.0", "--command", "goal 0 0 90"},
                            {}, kTurnDuration);
   ExpectCleanRun(c);
