@@ -3,6 +3,7 @@
 #include "shapes.h"
 
 #include "box_distance.h"
+#include "collision/incremental_check.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,23 +28,6 @@ std::shared_ptr<fcl::CollisionGeometryd> MakeFcl(const Shape& s) {
     }
   }
   return nullptr;
-}
-
-// the bounding radius of a shape about its frame's origin [m]
-double BoundingRadius(const Shape& s) {
-  switch (s.type) {
-    case ShapeType::kSphere: return s.size.x();
-    case ShapeType::kCapsule: return s.size.x() + s.size.y();
-    case ShapeType::kCylinder: return std::hypot(s.size.x(), s.size.y());
-    case ShapeType::kBox: return s.size.norm();
-    case ShapeType::kEllipsoid: return s.size.maxCoeff();
-    case ShapeType::kConvex: {
-      double r = 0;
-      for (const auto& v : s.vertices) r = std::max(r, v.norm());
-      return r;
-    }
-  }
-  return 0;
 }
 
 // calls f with the concrete FCL type of a prepared shape
@@ -85,7 +69,7 @@ ShapeSet::ShapeSet(const RobotGeometry& robot) {
       p.X_LS.setIdentity();
       p.X_LS.translate(s.p_LS);
       p.X_LS.rotate(s.q_LS.normalized().toRotationMatrix());
-      p.radius = BoundingRadius(s);
+      p.radius = ShapeRadius(s);  // collision/incremental_check.h
       links_[l].push_back(std::move(p));
     }
   }
