@@ -172,8 +172,9 @@ TEST_F(SignalWordTest, ASleepingWaiterInAnotherProcessIsWokenByAPost) {
 }
 
 // Two processes pinned to one CPU play ping-pong: a waiter must hand the CPU to its peer, not
-// spin against it (a spin that cannot see the post would make every round trip last its budget,
-// up to 2 * kMaxSpinNs).
+// spin against it (a spin that cannot see the post would burn its whole budget, at least
+// kMinSpinNs of CPU, every round). Judged on this thread's CPU time, not the wall clock: a third
+// process sharing the CPU (a busy CI machine) lengthens the round trips but not the CPU spent.
 TEST_F(SignalWordTest, TwoProcessesOnOneCpuDoNotSpinAgainstEachOther) {
   const std::vector<int> cpus = AllowedCpus();
   ASSERT_FALSE(cpus.empty());
@@ -197,17 +198,17 @@ TEST_F(SignalWordTest, TwoProcessesOnOneCpuDoNotSpinAgainstEachOther) {
   std::vector<double> us;
   int64_t typical = 0;
   for (int k = 0; k < kRounds; ++k) {
-    const int64_t t0 = MonotonicNs();
+    const int64_t t0 = ThreadCpuNs();
     ASSERT_TRUE(Post(&sync_->sensors_ready));
     ASSERT_EQ(Wait(&sync_->commands_ready, MonotonicNs() + 5000000000, &typical),
               SignalResult::kSignalled);
-    us.push_back(1e-3 * static_cast<double>(MonotonicNs() - t0));
+    us.push_back(1e-3 * static_cast<double>(ThreadCpuNs() - t0));
   }
   sched_setaffinity(0, sizeof(original), &original);
   EXPECT_EQ(WaitExit(child, 5.0), 0);
   std::sort(us.begin(), us.end());
-  // a hand-over costs a few microseconds; a spin against the peer at least kMinSpinNs
-  EXPECT_LT(us[us.size() / 2], 0.5e-3 * kMinSpinNs) << "median round trip [us]";
+  // a hand-over costs a few system calls; a spin against the peer at least kMinSpinNs
+  EXPECT_LT(us[us.size() / 2], 0.5e-3 * kMinSpinNs) << "median CPU time of a round trip [us]";
 }
 
 // On two CPUs the waiters spin instead of sleeping: a round trip takes microseconds, not the
