@@ -257,6 +257,7 @@ class Driver {
 
  private:
   struct Impl;
+  friend class DriverLoop;  // the loop of one run (driver_loop.h)
   Impl* impl_;
   LiveStats live_;
   DriverResult result_;
