@@ -115,9 +115,14 @@ inline std::string PlausibleNumber(double v) {
 
 // "the plausible range [LO, HI] UNIT (WHY)" of `r`, for messages
 inline std::string PlausibleRangeText(const PlausibleRange& r) {
-  std::string range = "[" + detail::PlausibleNumber(r.lo) + ", " + detail::PlausibleNumber(r.hi) + "]";
-  if (r.unit[0]) range += std::string(" ") + r.unit;
-  return "the plausible range " + range + " (" + r.why + ")";
+  // appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "literal" + temporary string
+  std::string text = "the plausible range [";
+  text += detail::PlausibleNumber(r.lo);
+  text += ", ";
+  text += detail::PlausibleNumber(r.hi);
+  text += "]";
+  if (r.unit[0]) (text += " ") += r.unit;
+  return (((text += " (") += r.why) += ")");
 }
 
 // true when `value` is finite and within `r` (bounds inclusive)

@@ -1,0 +1,152 @@
+// sim_host's set-up (host_run.h): the scene and its robot, the effects and the soles, the
+// watches, the data log and the segment; every refusal before anything runs.
+#include <cstdio>
+
+#include "cli/plausible.h"
+#include "host_run.h"
+#include "sim_host/host_text.h"
+#include "sim_host/period.h"
+
+namespace ohrp::sim {
+namespace {
+
+bool ApplyOverrides(const HostOptions& o, mjModel* m, std::string* error) {
+  if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
+  // the step, the scene's or ours, is plausible (cli/plausible.h): 1e308 or 1e-300 never runs
+  *error = cli::CheckPlausible("physics_dt", m->opt.timestep,
+                               o.physics_dt > 0 ? "--physics-dt" : o.scene + ": <option timestep>");
+  if (!error->empty()) return false;
+  if (!o.integrator.empty()) {
+    if (o.integrator == "euler") m->opt.integrator = mjINT_EULER;
+    else if (o.integrator == "rk4") m->opt.integrator = mjINT_RK4;
+    else if (o.integrator == "implicit") m->opt.integrator = mjINT_IMPLICIT;
+    else {
+      *error = "unknown integrator '" + o.integrator + "' (use euler, rk4 or implicit)";
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+HostRun::HostRun(const HostOptions& options, const std::atomic<int>* sig, char* object,
+                 size_t object_size)
+    : o(options), given(options), signal(sig), segment_object(object),
+      segment_object_size(object_size) {}
+
+HostRun::~HostRun() {
+  if (filter_set) ClearContactFilter();  // before the model it filters goes
+}
+
+int HostRun::SetUp(bool* ran_enough) {
+  *ran_enough = false;
+  if (!LoadScene(&error) || !SetUpWatches(&error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  const HostText text{o, robot, effects, self_collision.get(), soft.get(), m, steps_per_cycle,
+                      given.control_period <= 0, contact_model};
+  if (o.explain) {
+    PrintExplain(text);
+    std::printf("%s\n", fall->Describe().c_str());
+    *ran_enough = true;
+    return kExitOk;
+  }
+  if (!OpenLog(&error)) {
+    std::fprintf(stderr, "sim_host: --log: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  selection = SelectSensors(effects);
+  if (effects.on(Effect::kNoise)) noise = std::make_unique<SensorNoise>(effects.noise, selection);
+  if (!CreateSegment(&error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  // the summary, before the run: a provisional one (outcome "running") until the end
+  if (!o.summary_path.empty() &&
+      !model::PrepareOutputFile(o.summary_path, ProvisionalSummary(o), &error)) {
+    std::fprintf(stderr, "sim_host: --summary: %s\n", error.c_str());
+    return kExitUsage;  // the segment is removed on the way out
+  }
+  cameras = std::make_unique<Cameras>(robot, o.cameras, effects.on(Effect::kCameras));
+  servo = std::make_unique<Servo>(robot);
+  servo->HoldCurrent(d);
+  if (!o.quiet) PrintStart(text);
+  if (!o.quiet) std::fprintf(stderr, "sim_host: %s\n", fall->Describe().c_str());
+  return kExitOk;
+}
+
+// the scene, its robot, the effects and the soles, the initial state, the control period
+bool HostRun::LoadScene(std::string* why) {
+  scene = Scene::Load(o.scene, why);
+  if (!scene) return false;
+  m = scene->m();
+  d = scene->d();
+  if (!MapRobot(m, &robot, why)) {
+    why->insert(0, o.scene + ": ");
+    return false;
+  }
+  if (!o.pushes.empty() && robot.base_body < 0) {
+    *why = o.scene + ": --push acts on the robot's free-floating base, and this model has none "
+                     "(no free joint)";
+    return false;
+  }
+  contact_model = o.feet.model;
+  // the effects are decided on the scene as loaded, applied once the soles are set up
+  if (!ApplyOverrides(o, m, why) ||
+      !ResolveEffects(m, robot, o.feet, !o.log_path.empty(), o.effects, &effects, why) ||
+      !SetUpFeet(m, o.feet, robot.total_mass, &soft, why, &contact_model)) {
+    return false;
+  }
+  ApplyEffects(effects, robot, m);
+  filter_set = true;
+  if (!scene->Reset(o.keyframe, why)) return false;
+  // the control period: the scene's step times n (period.h)
+  dt = m->opt.timestep;
+  return ChooseControlPeriod(dt, given.control_period, &o.control_period, &steps_per_cycle, why);
+}
+
+// the fall watch on the initial state (fall.h); the self_collision effect: the controllers'
+// checker on the robot's links, once a cycle
+bool HostRun::SetUpWatches(std::string* why) {
+  fall = FallWatch::Create(m, d, robot, o.feet.soles, o.fall, why);
+  if (!fall) return false;
+  if (!effects.on(Effect::kSelfCollision)) return true;
+  self_collision = SelfCollisionWatch::Create(m, robot, o.self_collision_file, why);
+  if (!self_collision) return false;
+  self_collision->Start(d);
+  return true;
+}
+
+// the data log, before anything runs (its header written: a file that takes none is refused)
+bool HostRun::OpenLog(std::string* why) {
+  if (!effects.on(Effect::kLog)) return true;
+  RecorderChannels channels;
+  channels.base = effects.on(Effect::kLogBase);
+  channels.joints = effects.on(Effect::kLogJoints);
+  channels.force_torque = effects.on(Effect::kLogForceTorque);
+  channels.imu = effects.on(Effect::kLogImu);
+  recorder = Recorder::Open(o.log_path, robot, why, 8192, channels, o.log_max);
+  return recorder != nullptr;
+}
+
+bool HostRun::CreateSegment(std::string* why) {
+  shm::Status status;
+  shm::ProducerConfig pc = MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
+  pc.read_timeout_hint = o.controller_timeout;
+  for (shm::CameraInfo& c : pc.cameras) {
+    c.width = o.cameras.width;
+    c.height = o.cameras.height;
+  }
+  producer = shm::Producer::Create(pc, &status);
+  if (!producer) {
+    *why = status.message;
+    return false;
+  }
+  if (!status.message.empty()) std::fprintf(stderr, "sim_host: %s\n", status.message.c_str());
+  std::snprintf(segment_object, segment_object_size, "%s", producer->object_name().c_str());
+  return true;
+}
+
+}  // namespace ohrp::sim
