@@ -19,6 +19,49 @@ namespace {
 // (roll) in the reference configuration
 constexpr double kAxisAlignment = 0.95;  // |cos| between the joint axis and the base axis [-]
 
+// Everything balance needs of the robot and the stance pose that `k` and `pose` lack, each with
+// what would satisfy it (empty: nothing missing). The soles' sensors and leg chains are checked
+// only when the soles are there; the F/T requirement is listed either way.
+std::vector<std::string> MissingRequirements(const model::Kinematics& k, const Pose& pose) {
+  std::vector<std::string> missing;
+  if (!k.floating()) missing.push_back("a floating base: a free joint on the robot's root body");
+  const bool soles = k.left_sole() >= 0 && k.right_sole() >= 0;
+  if (!soles) {
+    std::string found;
+    for (const model::SoleMap& s : k.soles()) found += (found.empty() ? "" : ", ") + s.name;
+    missing.push_back("two soles: a box geom whose name ends in _SOLE under each foot, its bottom "
+                      "face the sole rectangle (the support polygon and the soft contact); found " +
+                      std::to_string(k.soles().size()) + (found.empty() ? "" : " (" + found + ")"));
+    missing.push_back("a force/torque sensor in each foot: a <force> and a <torque> sensor on one "
+                      "site of the foot's body or between the ankle and the sole");
+  } else {
+    for (int side : {k.left_sole(), k.right_sole()}) {
+      const model::SoleMap& s = k.soles()[side];
+      if (s.force_sensor < 0)
+        missing.push_back("a force/torque sensor above sole " + s.name + ": a <force> and a "
+                          "<torque> sensor on one site of its body or of a body between it and "
+                          "the base");
+      if (k.floating()) {
+        try {
+          model::LimbIk::ForSole(k, k.robot().base_body, side);
+        } catch (const std::exception& e) {
+          missing.push_back("a leg from the base to sole " + s.name + " (" + e.what() + ")");
+        }
+      }
+    }
+  }
+  if (k.robot().imus.empty())
+    missing.push_back("an IMU: a <gyro> and an <accelerometer> sensor on one site (on the base or "
+                      "the torso)");
+  std::vector<std::string> names;
+  for (const model::JointMap& j : k.robot().joints) names.push_back(j.name);
+  std::vector<double> q;
+  if (ConfigStatus s = ResolvePose(pose, names, &q); !s.ok())
+    missing.push_back("a stance pose for this robot's joints (--pose FILE; the default is "
+                      "HRP-1S's): " + s.message);
+  return missing;
+}
+
 ConfigStatus CheckOptions(const BalanceOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
   if (!(std::isfinite(o.ramp) && o.ramp >= 0)) return bad("--ramp must be a finite time >= 0 s");
@@ -66,6 +109,7 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
   if (ConfigStatus s = CheckOptions(options); !s.ok()) return s;
   BalanceOptions& o = *filled;
   o = options;
+  o.program = program;
   if (o.model.empty()) o.model = DefaultModelFile();
   if (o.pose_file.empty()) o.pose_file = DefaultPoseFile();
   if (ConfigStatus s = LoadPoseFile(o.pose_file, pose); !s.ok()) return s;
@@ -73,24 +117,15 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
   *kin_est = model::Kinematics::Load(o.model, &error);
   *kin_ik = *kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
   if (!*kin_est || !*kin_ik) return ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
-  // what balance needs of the robot
+  // what balance needs of the robot: every missing requirement at once
   const model::Kinematics& k = **kin_est;
-  std::string missing;
-  if (!k.floating()) missing += " a floating base (a free joint);";
-  if (k.left_sole() < 0 || k.right_sole() < 0) {
-    missing += " two soles (box geoms named *_SOLE);";
-  } else {
-    for (int side : {k.left_sole(), k.right_sole()}) {
-      if (k.soles()[side].force_sensor < 0)
-        missing += " a force/torque sensor above sole " + k.soles()[side].name + ";";
-    }
-  }
-  if (k.robot().imus.empty()) missing += " an IMU (gyro + accelerometer on one site);";
+  const std::vector<std::string> missing = MissingRequirements(k, *pose);
   if (!missing.empty()) {
-    missing.pop_back();
-    return ConfigStatus::Fail(ConfigError::kMismatch, std::string(program) + " needs" + missing +
-                                                          ", and the robot of " + o.model +
-                                                          " has not");
+    std::string message = "cannot run on the robot of " + o.model + ": " +
+                          std::to_string(missing.size()) + " requirement" +
+                          (missing.size() > 1 ? "s" : "") + " missing (all listed):";
+    for (const std::string& m : missing) message += "\n  - " + m;
+    return ConfigStatus::Fail(ConfigError::kMismatch, message);
   }
   // the support margin against this robot's soles: the desired ZMP kept that far inside a sole
   // must leave some of it (less than its smallest half size)
@@ -193,9 +228,15 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
   StanceShift centre, side[2];
   if (options_.centre_com &&
       !SolveShiftOver(0.5 * (p_BS_nominal_[0] + p_BS_nominal_[1]).head<2>(), &centre)) {
+    // only balance has --no-centre-com; walk always starts centred
+    const std::string remedy = options_.program == "balance"
+                                   ? "use --no-centre-com, or a stance pose (--pose) from which "
+                                     "they can"
+                                   : options_.program + " starts with the CoM centred: give a "
+                                     "stance pose (--pose) from which they can";
     return ConfigStatus::Fail(ConfigError::kLimits,
                               "the legs cannot move the CoM over the middle of the soles from "
-                              "this stance pose (use --no-centre-com)");
+                              "this stance pose (" + remedy + ")");
   }
   for (int side_i : options_.one_leg.sides) {
     if (side_i != 0 && side_i != 1) {

@@ -88,6 +88,16 @@ double ActuatorLaw::TorqueLimit(double unlimited) const noexcept {
   return std::fabs(gear) * std::max(std::fabs(lo), std::fabs(hi));
 }
 
+double ActuatorLaw::Stiffness() const noexcept {
+  // a position servo: ctrl is the target of the actuator length (gain = -b1)
+  const bool servo = bias[1] < 0 && std::fabs(gain + bias[1]) <= 1e-9 * gain;
+  return servo ? -gear * gear * bias[1] : 0.0;
+}
+
+double ActuatorLaw::Damping() const noexcept {
+  return bias[2] < 0 ? -gear * gear * bias[2] : 0.0;
+}
+
 std::string ActuatorLaw::Describe() const {
   char buf[384];
   int n = 0;

@@ -16,6 +16,22 @@ namespace {
 constexpr double kServoFrequency = 6.0;  // [Hz]
 constexpr double kServoDamping = 1.0;    // damping ratio [-]
 
+// The servo gains suggested to controllers (default_kp, default_kd in the segment's header).
+// A position servo the author built into the actuator (<position kp kv>) is the servo the
+// robot was tuned with: its stiffness, and its damping (else critical damping of that
+// stiffness on the joint's inertia). Otherwise (a <motor>): a critically damped joint closing
+// at kServoFrequency on its own inertia at qpos0.
+void SuggestGains(const ActuatorLaw& law, double inertia, double* kp, double* kd) {
+  const double w = 2.0 * M_PI * kServoFrequency;
+  *kp = inertia * w * w;
+  *kd = 2.0 * kServoDamping * inertia * w;
+  const double stiffness = law.Stiffness();
+  if (stiffness > 0) {
+    *kp = stiffness;
+    *kd = law.Damping() > 0 ? law.Damping() : 2.0 * kServoDamping * std::sqrt(stiffness * inertia);
+  }
+}
+
 void (*g_on_fatal)(const char*) = nullptr;
 std::atomic<long> g_warnings{0};
 char g_last_warning[512] = "";
@@ -153,9 +169,7 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     }
     jm.tau_max = jm.law.TorqueLimit(kNoLimit);
     const double inertia = M[static_cast<size_t>(jm.dof_adr) * m->nv + jm.dof_adr];
-    const double w = 2.0 * M_PI * kServoFrequency;
-    jm.default_kp = inertia * w * w;
-    jm.default_kd = 2.0 * kServoDamping * inertia * w;
+    SuggestGains(jm.law, inertia, &jm.default_kp, &jm.default_kd);
     robot->joints.push_back(jm);
   }
   if (robot->joints.empty()) {

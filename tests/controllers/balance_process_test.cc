@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -200,7 +201,7 @@ TEST(BalanceProcess, RefusesARobotWithoutAnkleSensorsOrImu) {
   });
   std::string out;
   EXPECT_EQ(RunAlone({"--model", no_ft}, &out), 3) << out;
-  EXPECT_NE(out.find("balance needs a force/torque sensor above sole LLEG_SOLE"),
+  EXPECT_NE(out.find("1 requirement missing (all listed):\n  - a force/torque sensor above sole LLEG_SOLE"),
             std::string::npos) << out;
   std::printf("[ figures  ] no left ankle F/T: %s", out.c_str());
 
@@ -208,9 +209,34 @@ TEST(BalanceProcess, RefusesARobotWithoutAnkleSensorsOrImu) {
     ASSERT_EQ(RemoveLines(text, "site=\"imu\"/>"), 2);
   });
   EXPECT_EQ(RunAlone({"--model", no_imu}, &out), 3) << out;
-  EXPECT_NE(out.find("balance needs an IMU"), std::string::npos) << out;
+  EXPECT_NE(out.find("1 requirement missing (all listed):\n  - an IMU"), std::string::npos) << out;
   std::printf("[ figures  ] no IMU: %s", out.c_str());
   for (const auto& f : {no_ft, no_imu}) fs::remove_all(fs::path(f).parent_path());
+}
+
+// 4b. a robot lacking several things (issue 31: no *_SOLE boxes, no IMU, a pose of another
+// robot): every requirement in one refusal, each with what would satisfy it, the F/T sensors
+// included although there are no soles to put them above
+TEST(BalanceProcess, ListsEveryMissingRequirementAtOnce) {
+  const std::string bare = EditedRobot("bal_bare", [](std::string* text) {
+    ASSERT_EQ(RemoveLines(text, "site=\"imu\"/>"), 2);
+    for (const char* sole : {"LLEG_SOLE", "RLEG_SOLE"}) {
+      const std::size_t at = text->find(sole);
+      ASSERT_NE(at, std::string::npos);
+      text->replace(at, std::strlen(sole), std::string(sole, 4) + "_FOOT");
+    }
+  });
+  const std::string pose = fs::path(bare).parent_path().string() + "/other_robot.yaml";
+  WriteText(pose, "joints:\n  left_knee_joint: 0.3\n");
+  std::string out;
+  EXPECT_EQ(RunAlone({"--model", bare, "--pose", pose}, &out), 3) << out;
+  for (const char* item : {"4 requirements missing (all listed):", "\n  - two soles: a box geom whose name ends in _SOLE",
+                           "\n  - a force/torque sensor in each foot: a <force> and a <torque>",
+                           "\n  - an IMU: a <gyro> and an <accelerometer>",
+                           "\n  - a stance pose for this robot's joints (--pose FILE", "no joint left_knee_joint"})
+    EXPECT_NE(out.find(item), std::string::npos) << item << " not in:\n" << out;
+  std::printf("[ figures  ] bare robot: %s", out.c_str());
+  fs::remove_all(fs::path(bare).parent_path());
 }
 
 // 6. bad options: exit 2 naming the option; a missing --model file too, naming it

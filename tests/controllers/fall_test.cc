@@ -172,6 +172,28 @@ TEST(FallPrograms, BalanceWithPersistentLegIkFailuresDoesNotSayStood) {
   std::printf("[ figures  ] %s", r.output.substr(r.output.find("balance: did NOT")).c_str());
 }
 
+// issue 31: walk starts with the CoM centred and has no --no-centre-com; when the legs cannot
+// centre it from the stance pose (knees straight), walk's refusal must not suggest that option
+// (balance's still does)
+TEST(FallPrograms, WalkRefusalDoesNotSuggestBalancesOption) {
+  const std::string pose = ohrp::testing::ScratchFile(
+      "straight_walk", "joints:\n  RLEG_KNEE: 0\n  LLEG_KNEE: 0\n", ".yaml");
+  for (const char* program : {"walk", "balance"}) {
+    InProcessRun run;
+    run.io = Hrp1sStanding();
+    run.args = {Program(program), "--pose", pose, "--no-self-collision"};
+    run.t_end = 1.0;
+    const InProcessResult r = RunInProcess(std::string("centre_") + program, run);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("cannot move the CoM over the middle of the soles"), std::string::npos)
+        << program << ": " << r.output;
+    EXPECT_EQ(r.output.find("--no-centre-com") != std::string::npos,
+              std::string(program) == "balance")
+        << program << ": " << r.output;
+    std::printf("[ figures  ] %s: %s", program, r.output.c_str());
+  }
+}
+
 // a robot that starts on the floor, on its side (the base turned 90 deg about x, 0.2 m up):
 // posture (the IMU's orientation, the default 45 deg) says so within a second
 TEST(FallPrograms, ARobotStartingOnItsSideIsAFall) {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -182,6 +183,34 @@ TEST(RobotMap, RefusesTwoActuatorsOnOneJoint) {
   std::string error;
   EXPECT_FALSE(MapRobot(l->m, &robot, &error));
   EXPECT_NE(error.find("one actuator per joint"), std::string::npos) << error;
+}
+
+// The suggested gains (the segment's default_kp/kd): a position servo the author built into
+// the actuator is the servo the robot was tuned with (G1's kp 500 stands it; 6 Hz on its ankle's
+// own inertia gave 18 N m/rad and it fell); a <motor> closes at 6 Hz on the joint's inertia.
+TEST(RobotMap, SuggestedGainsAreTheAuthorsPositionServoElseSixHertzOnTheInertia) {
+  struct Expect {
+    const char* actuator;
+    double kp, kd;  // < 0: from the joint's inertia (below)
+  };
+  const Expect cases[] = {
+      {R"(<general joint="j" gaintype="fixed" biastype="affine" gainprm="500" biasprm="0 -500 -40"/>)", 500, 40},
+      {R"(<position joint="j" kp="300" gear="2"/>)", 1200, -1},  // kd: critical on the inertia
+      {R"(<motor joint="j" gear="25"/>)", -1, -1},
+      {R"(<velocity joint="j" kv="7"/>)", -1, -1},  // no stiffness of its own: not a position servo
+  };
+  for (const Expect& e : cases) {
+    auto l = Load(OneJoint(e.actuator));
+    RobotMap robot;
+    std::string error;
+    ASSERT_TRUE(MapRobot(l->m, &robot, &error)) << error;
+    const double inertia = l->m->dof_M0[0];
+    const double w = 2 * M_PI * 6.0;
+    const double kp = e.kp > 0 ? e.kp : inertia * w * w;
+    const double kd = e.kd > 0 ? e.kd : (e.kp > 0 ? 2 * std::sqrt(kp * inertia) : 2 * inertia * w);
+    EXPECT_NEAR(robot.joints[0].default_kp, kp, 1e-9 * kp) << e.actuator;
+    EXPECT_NEAR(robot.joints[0].default_kd, kd, 1e-9 * kd) << e.actuator;
+  }
 }
 
 TEST(Servo, PdTorqueReachesAGearedJointAndAPositionActuatorAlike) {

@@ -56,6 +56,7 @@ struct BalanceOptions {
   double ramp = 2.0;        // [s] from the measured pose to the stance pose
   double settle = 0.5;      // [s] of quiet standing before c_ref is taken
   bool centre_com = true;   // move the CoM over the middle of the soles once standing
+  std::string program = "balance";  // the program the options came from (its messages' remedies)
   double centre_time = 1.0; // [s] that move takes (minimum jerk)
   OneLegOptions one_leg;    // standing on one foot in turn after that (stance_plan.h)
   StabilizerGains gains;

@@ -52,6 +52,13 @@ struct ActuatorLaw {
   // ctrlrange when the force does not depend on the state, from forcerange, else `unlimited`.
   double TorqueLimit(double unlimited) const noexcept;
 
+  // The joint stiffness and damping of the servo the author built into the actuator:
+  // -gear^2 b1 [N m/rad] when it is a position servo (gain = -b1: ctrl is a target, a
+  // <position kp> or its <general> equivalent), else 0; -gear^2 b2 [N m s/rad] when b2 < 0
+  // (a <position kv>, a <velocity kv>), else 0.
+  double Stiffness() const noexcept;
+  double Damping() const noexcept;
+
   // One line for `sim_host --explain`: the type, gear, gain and bias, the ranges, and the
   // mapping used (e.g. "position kp=100 gear=1: ctrl = (tau/1 + 100 q)/100").
   std::string Describe() const;
