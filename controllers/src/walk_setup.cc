@@ -173,6 +173,7 @@ ConfigStatus WalkController::FitStance(const double* q) {
   lim.width = (p[0] - p[1]).head<2>().norm();
   const model::SoleMap& sole = kin_ik_->soles()[soles[0]];
   lim.sole_half_size = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
+  walk_options_.gait.sole_half_length = sole.half_size[0];
   lim.min_width = std::min(lim.min_width, lim.width);
   if (const std::string e = walking::CheckLimits(lim); !e.empty())
     return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);

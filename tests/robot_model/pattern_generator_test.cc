@@ -310,6 +310,27 @@ TEST(Gait, StepDownLowersTheCoMAsFarAsTheLandingLegNeeds) {
   g.At(t_fall, &st);
   EXPECT_NEAR(st.feet.p[kRight].z(), o.step_height, 1e-9);
   EXPECT_NEAR(st.feet.p[kRight].x(), 0.32, 1e-3);
+  EXPECT_NEAR(st.feet.pitch[kRight], 0.0, 1e-3);  // level again over the lower stair
+
+  // with the sole's size known the foot leaving the upper stair lifts its heel first: toes down
+  // (at most asin(apex / half length)), the toe never below the upper stair while over it
+  o.sole_half_length = 0.125;
+  Gait h;
+  h.Start(0, Stance(), o);
+  h.Replace(0, {s});
+  const double swing = (1 - o.double_support_ratio) * o.step_time;
+  double most = 0;
+  for (double ph = 0; ph <= 1; ph += 0.01) {
+    h.At(t_lift + ph * swing, &st);
+    const double pitch = st.feet.pitch[kRight];
+    most = std::max(most, pitch);
+    EXPECT_LE(pitch, std::asin(o.step_height / o.sole_half_length) + 1e-9);
+    const double toe_z = st.feet.p[kRight].z() - o.sole_half_length * std::sin(pitch);
+    if (st.feet.p[kRight].x() + o.sole_half_length < 0.2) EXPECT_GE(toe_z, -1e-9) << ph;
+  }
+  EXPECT_GT(most, 0.5 * std::asin(o.step_height / o.sole_half_length));
+  h.At(t_lift + swing - 1e-6, &st);
+  EXPECT_NEAR(st.feet.pitch[kRight], 0.0, 1e-6);
 }
 
 }  // namespace

@@ -47,6 +47,10 @@ struct GaitOptions {
   // at most `leg_reach` from the sole (StepDownDrop)
   double leg_reach = 0.0;             // [m] hip joint to sole, the most a leg may stretch
   double hip_height = 0.0;            // [m] hip joint above the ground at the walking CoM height
+  // the sole's half length (0: not known): a foot leaving an upper stair lifts its heel first
+  // (toes down, as far as its toe stays above the stair: asin(apex / half length)), the trailing
+  // ankle otherwise bends past its range under a CoM already over the lower stair
+  double sole_half_length = 0.0;      // [m]
 };
 // how far the ground under the CoM goes below the stance sole over a step whose landing lies
 // `depth` [m] below the stance sole and `reach_xy` [m] from it horizontally: the landing leg's
@@ -99,6 +103,8 @@ class Gait {
   const GaitOptions& options() const { return options_; }
 
  private:
+  // the toes-down pitch [rad] of a foot leaving an upper stair at its top (0 when not `down`)
+  double HeelLift(bool down, double apex) const;
   struct Phase {
     Footstep step;
     double t0, t_lift, t_land;

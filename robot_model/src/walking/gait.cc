@@ -140,6 +140,12 @@ Eigen::Vector3d Gait::Zmp(double t) const {
   return s.zmp;
 }
 
+double Gait::HeelLift(bool down, double apex) const {
+  if (!down || !(options_.sole_half_length > 0)) return 0;
+  // as far as the toe stays above the stair at the apex, with a fifth to spare
+  return 0.8 * std::asin(std::clamp(apex / options_.sole_half_length, 0.0, 1.0));
+}
+
 void Gait::At(double t, GaitState* s) const {
   const int k = PhaseAt(t);
   s->dz_ground = s->ddz_ground = 0;
@@ -201,6 +207,7 @@ void Gait::At(double t, GaitState* s) const {
   s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
   s->feet.roll[sw] = p.before.roll[sw] + f * (p.step.roll - p.before.roll[sw]);
   s->feet.pitch[sw] = p.before.pitch[sw] + f * (p.step.pitch - p.before.pitch[sw]);
+  const double f_travel = f;
   const double top = std::max(a.z(), b.z()) + p.height;
   // up to the top by mid-swing, down from it after mid-swing (off a step: once over the lower
   // stair)
@@ -208,6 +215,11 @@ void Gait::At(double t, GaitState* s) const {
   if (phase < rise_end) {
     MinJerk(phase / rise_end, &f, &df, &ddf);
     s->feet.p[sw].z() = a.z() + f * (top - a.z());
+    // off a step: the heel first (toes down with the lift, level again over the lower stair)
+    s->feet.pitch[sw] += HeelLift(down, p.height) * std::min(f, 1 - f_travel);
+  } else if (down && phase < fall_start) {
+    s->feet.p[sw].z() = top;
+    s->feet.pitch[sw] += HeelLift(down, p.height) * (1 - f_travel);
   } else if (phase < fall_start) {
     s->feet.p[sw].z() = top;
   } else {
