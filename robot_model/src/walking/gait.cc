@@ -197,11 +197,13 @@ void Gait::At(double t, GaitState* s) const {
   // before it moves over it. Off a step it stays at the top until past the nose and comes down
   // vertically for longer, but leaves the upper stair with the short vertical share: the
   // trailing foot goes forward at once (held back, its ankle ran out of range under a CoM
-  // already over the lower stair)
-  const bool up = b.z() - a.z() > kStepEdge, down = a.z() - b.z() > kStepEdge;
+  // already over the lower stair). A step down no deeper than the swing's apex (a stone, a
+  // slope) keeps the symmetric profile of a step: no stair to leave
+  const bool edge = std::abs(b.z() - a.z()) > kStepEdge;
+  const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
   const double vf = options_.vertical_fraction;
-  const double vf_land = up || down ? std::max(vf, kStepVerticalFraction) : vf;
-  const double vf_lift = up ? vf_land : vf;
+  const double vf_land = edge ? std::max(vf, kStepVerticalFraction) : vf;
+  const double vf_lift = edge && !down ? vf_land : vf;
   MinJerk((phase - vf_lift) / std::max(1 - vf_lift - vf_land, 1e-9), &f, &df, &ddf);
   s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>();
   s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
