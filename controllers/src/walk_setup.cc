@@ -123,7 +123,7 @@ ConfigStatus WalkController::LoadTerrain() {
   return ConfigStatus::Ok();
 }
 
-double WalkController::LegLength() const {
+double WalkController::LegLength(Eigen::Vector3d* hip) const {
   // hip joint to sole along the left leg's joints: the distances between successive joint
   // anchors (each on its joint's axis, so the same in every posture) and on to the sole's centre
   const model::Kinematics& k = *kin_ik_;
@@ -140,6 +140,7 @@ double WalkController::LegLength() const {
                                                             m->jnt_pos[3 * jid + 1],
                                                             m->jnt_pos[3 * jid + 2]);
     if (!first) length += (anchor - last).norm();
+    if (first && hip) *hip = anchor;
     first = false;
     last = anchor;
   }
@@ -167,14 +168,22 @@ ConfigStatus WalkController::FitStance(const double* q) {
     nominal_.yaw[i] = sole_yaw_B_[i];
   }
   zc_ = kin_ik_->p_WCoM().z() - mid.z() - walk_options_.com_lower;
+  Eigen::Vector3d hip = mid;
   walking::StepLimits& lim = walk_options_.limits;
   lim.width = (p[0] - p[1]).head<2>().norm();
   const model::SoleMap& sole = kin_ik_->soles()[soles[0]];
   lim.sole_half_size = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
+  walk_options_.gait.sole_half_length = sole.half_size[0];
   lim.min_width = std::min(lim.min_width, lim.width);
   if (const std::string e = walking::CheckLimits(lim); !e.empty())
     return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);
-  return FitPhysics(LegLength());
+  const double leg = LegLength(&hip);
+  // the legs' reach for steps down (walking::StepDownDrop): a leg stretched to kLegReach of its
+  // length (the knee still bent, away from its singularity), the hip joint at the walking height
+  constexpr double kLegReach = 0.95;
+  walk_options_.gait.leg_reach = kLegReach * leg;
+  walk_options_.gait.hip_height = hip.z() - mid.z() - walk_options_.com_lower;
+  return FitPhysics(leg);
 }
 
 ConfigStatus WalkController::FitPhysics(double leg) {

@@ -141,17 +141,17 @@ TEST(PatternGenerator, SwingFeetLandWherePlanned) {
     ASSERT_EQ(s.swing, steps[k].foot);
     EXPECT_LT((s.feet.p[s.swing] - steps[k].p).norm(), 1e-3);
     EXPECT_NEAR(s.feet.yaw[s.swing], steps[k].yaw, 1e-3);
-    // vertical take-off and landing: before `vertical_fraction` of the swing (0.3 onto or off a
-    // step of 1 cm or more) the foot has not moved horizontally from its lift-off spot, and
-    // after the same before landing it is over its landing spot
-    const double vf = std::abs(steps[k].p.z() - gait.FeetAfter(k - 1).p[steps[k].foot].z()) > 0.01
-                          ? 0.3
-                          : gait.options().vertical_fraction;
+    // vertical take-off and landing: before `vertical_fraction` of the swing (0.3 onto a step
+    // of 1 cm or more) the foot has not moved horizontally from its lift-off spot, and after
+    // the same before landing (0.3 onto or off a step) it is over its landing spot
+    const double rise = steps[k].p.z() - gait.FeetAfter(k - 1).p[steps[k].foot].z();
+    const double vf_land = std::abs(rise) > 0.01 ? 0.3 : gait.options().vertical_fraction;
+    const double vf_lift = rise > 0.01 ? 0.3 : gait.options().vertical_fraction;
     const double swing = gait.step_land(k) - gait.step_lift(k);
-    gait.At(gait.step_lift(k) + 0.5 * vf * swing, &s);
+    gait.At(gait.step_lift(k) + 0.5 * vf_lift * swing, &s);
     EXPECT_LT((s.feet.p[s.swing] - gait.FeetAfter(k - 1).p[s.swing]).head<2>().norm(), 1e-9);
     EXPECT_GT(s.feet.p[s.swing].z(), gait.FeetAfter(k - 1).p[s.swing].z());  // it rose
-    gait.At(gait.step_land(k) - 0.5 * vf * swing, &s);
+    gait.At(gait.step_land(k) - 0.5 * vf_land * swing, &s);
     EXPECT_LT((s.feet.p[s.swing] - steps[k].p).head<2>().norm(), 1e-9);
     // and the apex is above the higher end by the step height
     gait.At(0.5 * (gait.step_lift(k) + gait.step_land(k)), &s);
@@ -267,6 +267,70 @@ TEST(WalkIk, LegsReproduceThePlannedFeetAndCoM) {
   EXPECT_EQ(fails, 0);
   EXPECT_LT(max_foot, 1e-4);
   EXPECT_LT(max_com, 1e-4);
+}
+
+}  // namespace
+}  // namespace ohrp::walking
+
+namespace ohrp::walking {
+namespace {
+
+// a step down lowers the ground under the CoM by the closed form of the landing leg's reach:
+// hip `h` above the stance sole, landing `depth` below it and `reach_xy` ahead, the hip midway:
+// (h - drop + depth)^2 + (reach_xy / 2)^2 = leg_reach^2; nothing for a step up or on the flat
+TEST(Gait, StepDownLowersTheCoMAsFarAsTheLandingLegNeeds) {
+  GaitOptions o;
+  o.leg_reach = 0.70;
+  o.hip_height = 0.60;
+  const double depth = 0.15, reach_xy = 0.32;
+  const double drop = StepDownDrop(o, depth, reach_xy);
+  EXPECT_NEAR(drop, 0.60 + 0.15 - std::sqrt(0.70 * 0.70 - 0.16 * 0.16), 1e-12);
+  EXPECT_NEAR(std::hypot(o.hip_height - drop + depth, reach_xy / 2), o.leg_reach, 1e-12);
+  EXPECT_EQ(StepDownDrop(o, -0.15, reach_xy), 0.0);        // up
+  EXPECT_EQ(StepDownDrop(o, 0.0, reach_xy), 0.0);          // flat
+  EXPECT_EQ(StepDownDrop(o, 0.02, 0.1), 0.0);              // a small step down: within reach
+  EXPECT_NEAR(StepDownDrop(o, 0.5, 2.0), 0.5, 1e-12);      // never more than the step's depth
+  o.leg_reach = 0;                                         // reach unknown: no lowering
+  EXPECT_EQ(StepDownDrop(o, depth, reach_xy), 0.0);
+
+  // in the timeline: the CoM's ground at the landing of a step down is that far below the stance
+  Gait g;
+  o.leg_reach = 0.70;
+  g.Start(0, Stance(), o);
+  Footstep s;
+  s.foot = kRight;
+  s.p = Eigen::Vector3d(0.32, -0.08, -depth);
+  g.Replace(0, {s});
+  GaitState st;
+  g.At(o.start_delay + o.start_time + (1 - o.double_support_ratio) * o.step_time - 1e-6, &st);
+  EXPECT_NEAR(st.zmp.z(), -StepDownDrop(o, depth, std::hypot(0.32, 0.16)), 1e-6);
+  // off the step the swing foot stays at the top past the nose, then comes down vertically
+  const double t_lift = o.start_delay + o.start_time;
+  const double t_fall = t_lift + 0.69 * (1 - o.double_support_ratio) * o.step_time;
+  g.At(t_fall, &st);
+  EXPECT_NEAR(st.feet.p[kRight].z(), o.step_height, 1e-9);
+  EXPECT_NEAR(st.feet.p[kRight].x(), 0.32, 1e-3);
+  EXPECT_NEAR(st.feet.pitch[kRight], 0.0, 1e-3);  // level again over the lower stair
+
+  // with the sole's size known the foot leaving the upper stair lifts its heel first: toes down
+  // (at most asin(apex / half length)), the toe never below the upper stair while over it
+  o.sole_half_length = 0.125;
+  Gait h;
+  h.Start(0, Stance(), o);
+  h.Replace(0, {s});
+  const double swing = (1 - o.double_support_ratio) * o.step_time;
+  double most = 0;
+  for (double ph = 0; ph <= 1; ph += 0.01) {
+    h.At(t_lift + ph * swing, &st);
+    const double pitch = st.feet.pitch[kRight];
+    most = std::max(most, pitch);
+    EXPECT_LE(pitch, std::asin(o.step_height / o.sole_half_length) + 1e-9);
+    const double toe_z = st.feet.p[kRight].z() - o.sole_half_length * std::sin(pitch);
+    if (st.feet.p[kRight].x() + o.sole_half_length < 0.2) EXPECT_GE(toe_z, -1e-9) << ph;
+  }
+  EXPECT_GT(most, 0.5 * std::asin(o.step_height / o.sole_half_length));
+  h.At(t_lift + swing - 1e-6, &st);
+  EXPECT_NEAR(st.feet.pitch[kRight], 0.0, 1e-6);
 }
 
 }  // namespace

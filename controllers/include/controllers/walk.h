@@ -150,8 +150,9 @@ class WalkController : public BalanceController {
   ConfigStatus FitStance(const double* q);
   ConfigStatus FitPhysics(double leg_length);
   ConfigStatus LoadTerrain();
-  // hip joint to sole along the left leg (the model) [m]; 0 when no chain is found
-  double LegLength() const;
+  // hip joint to sole along the left leg (the model) [m]; 0 when no chain is found; `*hip`:
+  // the hip joint (the chain's first anchor) in the model's current pose
+  double LegLength(Eigen::Vector3d* hip = nullptr) const;
   // the switch from standing to walking: the plan frame, the generator's start
   void StartWalking(const shm::SensorBlock& s) noexcept;
   void WalkCycle(const shm::SensorBlock& s, double dt) noexcept;

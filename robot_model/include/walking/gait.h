@@ -42,7 +42,21 @@ struct GaitOptions {
   double start_time = 0.8;            // [s] first double support (from standing)
   double end_time = 0.8;              // [s] final double support (to standing)
   double zmp_forward = 0.0;           // [m] ZMP ahead of the stance sole's centre, along the sole
+  // the legs' reach, from the robot (0: not known, no step-down lowering): a step down lowers
+  // the CoM over that step by as much as the landing leg needs to reach its foot with the hip
+  // at most `leg_reach` from the sole (StepDownDrop)
+  double leg_reach = 0.0;             // [m] hip joint to sole, the most a leg may stretch
+  double hip_height = 0.0;            // [m] hip joint above the ground at the walking CoM height
+  // the sole's half length (0: not known): a foot leaving an upper stair lifts its heel first
+  // (toes down, as far as its toe stays above the stair: asin(apex / half length)), the trailing
+  // ankle otherwise bends past its range under a CoM already over the lower stair
+  double sole_half_length = 0.0;      // [m]
 };
+// how far the ground under the CoM goes below the stance sole over a step whose landing lies
+// `depth` [m] below the stance sole and `reach_xy` [m] from it horizontally: the landing leg's
+// hip (about midway between the soles, `hip_height` above the stance sole less the drop) must
+// be within `leg_reach` of the landing sole; 0 for a step that is not down, at most `depth`
+double StepDownDrop(const GaitOptions& o, double depth, double reach_xy);
 // "" when usable, else which option and why
 std::string CheckGaitOptions(const GaitOptions& o);
 
@@ -89,6 +103,8 @@ class Gait {
   const GaitOptions& options() const { return options_; }
 
  private:
+  // the toes-down pitch [rad] of a foot leaving an upper stair at its top (0 when not `down`)
+  double HeelLift(bool down, double apex) const;
   struct Phase {
     Footstep step;
     double t0, t_lift, t_land;

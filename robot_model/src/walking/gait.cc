@@ -48,6 +48,14 @@ std::string CheckGaitOptions(const GaitOptions& o) {
   return "";
 }
 
+double StepDownDrop(const GaitOptions& o, double depth, double reach_xy) {
+  if (!(depth > 0) || !(o.leg_reach > 0) || !(o.hip_height > 0)) return 0;
+  // the hip midway between the soles at landing: horizontally half the step from the landing sole
+  const double d = 0.5 * reach_xy;
+  const double vertical = std::sqrt(std::max(o.leg_reach * o.leg_reach - d * d, 0.0));
+  return std::clamp(o.hip_height + depth - vertical, 0.0, depth);
+}
+
 void Gait::Start(double t, const FeetPose& feet, const GaitOptions& options) {
   options_ = options;
   t_start_ = t;
@@ -116,6 +124,10 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
       const Eigen::Vector2d& d = last->contact_centre;
       p.zmp_to.head<2>() = last->p.head<2>() + Eigen::Vector2d(c * d.x() - sn * d.y(), sn * d.x() + c * d.y());
     }
+    // a step down: the CoM comes down over the step as far as the landing leg needs to reach
+    // the lower sole (the stance knee bends), the rest over the next step
+    p.zmp_to.z() -= StepDownDrop(options_, p.zmp_to.z() - s.p.z(),
+                                 (s.p - p.before.p[1 - s.foot]).head<2>().norm());
     p.height = s.height >= 0 ? s.height : options_.step_height;
     steps_.push_back(p);
   }
@@ -126,6 +138,12 @@ Eigen::Vector3d Gait::Zmp(double t) const {
   GaitState s;
   At(t, &s);
   return s.zmp;
+}
+
+double Gait::HeelLift(bool down, double apex) const {
+  if (!down || !(options_.sole_half_length > 0)) return 0;
+  // as far as the toe stays above the stair at the apex, with a fifth to spare
+  return 0.8 * std::asin(std::clamp(apex / options_.sole_half_length, 0.0, 1.0));
 }
 
 void Gait::At(double t, GaitState* s) const {
@@ -175,22 +193,39 @@ void Gait::At(double t, GaitState* s) const {
   const Eigen::Vector3d& a = p.before.p[sw];
   const Eigen::Vector3d& b = p.step.p;
   double f, df, ddf;
-  // onto or off a step, the foot rises (and comes down) vertically for longer: its toe clears
-  // the edge before it moves over it
-  const double vf = std::abs(b.z() - a.z()) > kStepEdge ? std::max(options_.vertical_fraction,
-                                                                    kStepVerticalFraction)
-                                                        : options_.vertical_fraction;
-  MinJerk((phase - vf) / (1 - 2 * vf), &f, &df, &ddf);
+  // onto a step the foot rises (and comes down) vertically for longer: its toe clears the riser
+  // before it moves over it. Off a step it stays at the top until past the nose and comes down
+  // vertically for longer, but leaves the upper stair with the short vertical share: the
+  // trailing foot goes forward at once (held back, its ankle ran out of range under a CoM
+  // already over the lower stair). A step down no deeper than the swing's apex (a stone, a
+  // slope) keeps the symmetric profile of a step: no stair to leave
+  const bool edge = std::abs(b.z() - a.z()) > kStepEdge;
+  const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
+  const double vf = options_.vertical_fraction;
+  const double vf_land = edge ? std::max(vf, kStepVerticalFraction) : vf;
+  const double vf_lift = edge && !down ? vf_land : vf;
+  MinJerk((phase - vf_lift) / std::max(1 - vf_lift - vf_land, 1e-9), &f, &df, &ddf);
   s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>();
   s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
   s->feet.roll[sw] = p.before.roll[sw] + f * (p.step.roll - p.before.roll[sw]);
   s->feet.pitch[sw] = p.before.pitch[sw] + f * (p.step.pitch - p.before.pitch[sw]);
+  const double f_travel = f;
   const double top = std::max(a.z(), b.z()) + p.height;
-  if (phase < 0.5) {
-    MinJerk(phase / 0.5, &f, &df, &ddf);
+  // up to the top by mid-swing, down from it after mid-swing (off a step: once over the lower
+  // stair)
+  const double rise_end = 0.5, fall_start = down ? 1 - vf_land : 0.5;
+  if (phase < rise_end) {
+    MinJerk(phase / rise_end, &f, &df, &ddf);
     s->feet.p[sw].z() = a.z() + f * (top - a.z());
+    // off a step: the heel first (toes down with the lift, level again over the lower stair)
+    s->feet.pitch[sw] += HeelLift(down, p.height) * std::min(f, 1 - f_travel);
+  } else if (down && phase < fall_start) {
+    s->feet.p[sw].z() = top;
+    s->feet.pitch[sw] += HeelLift(down, p.height) * (1 - f_travel);
+  } else if (phase < fall_start) {
+    s->feet.p[sw].z() = top;
   } else {
-    MinJerk((phase - 0.5) / 0.5, &f, &df, &ddf);
+    MinJerk((phase - fall_start) / (1 - fall_start), &f, &df, &ddf);
     s->feet.p[sw].z() = top + f * (b.z() - top);
   }
 }
