@@ -326,7 +326,9 @@ TEST(Gait, StepDownLowersTheCoMAsFarAsTheLandingLegNeeds) {
     most = std::max(most, pitch);
     EXPECT_LE(pitch, std::asin(o.step_height / o.sole_half_length) + 1e-9);
     const double toe_z = st.feet.p[kRight].z() - o.sole_half_length * std::sin(pitch);
-    if (st.feet.p[kRight].x() + o.sole_half_length < 0.2) EXPECT_GE(toe_z, -1e-9) << ph;
+    if (st.feet.p[kRight].x() + o.sole_half_length < 0.2) {
+      EXPECT_GE(toe_z, -1e-9) << ph;
+    }
   }
   EXPECT_GT(most, 0.5 * std::asin(o.step_height / o.sole_half_length));
   h.At(t_lift + swing - 1e-6, &st);
