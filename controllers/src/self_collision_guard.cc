@@ -224,7 +224,6 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     --budget_, ++last_evaluations_;
     checker_->SetPoseOf(q_, p.a, p.b);  // this pair's links only
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
-    check_->Record(i, d);  // next cycles bound it from this (less the links' travel)
   }
   double t = 0;
   *bound = d - envelope;
@@ -241,19 +240,6 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     --budget_, ++last_evaluations_;
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
   }
-}
-
-bool SelfCollisionGuard::BrakeHelps(int i) const {
-  if (!brakeable_[i]) return false;
-  // how far the joints the brake acts on can move the pair's links along this cycle's motion
-  // (their path to rest and its envelope): below the tolerance a close pair is allowed anyway,
-  // the brake cannot change the pair's approach, which the support legs make
-  const double* c = &coef_[static_cast<size_t>(i) * nq_];
-  double share = 0;
-  for (int j = 0; j < njoint_; ++j)
-    if (c[j] > 0 && !Supports(j))
-      share += c[j] * (speed_[j] * 2 * period_ + v1_[j] * v1_[j] / (2 * decel_[j]) + envelope_[j]);
-  return share >= tolerance_;
 }
 
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
@@ -316,7 +302,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       // uncertified by it is not reported
       if (pass == 1) budget_ = std::min(budget_, kMonitorBudget);
       for (int i : list_) {
-        if (BrakeHelps(i) != (pass == 0)) continue;
+        if (brakeable_[i] != (pass == 0)) continue;
         double b = INFINITY;
         if (Certify(i, &b)) continue;
         if (pass == 1) {

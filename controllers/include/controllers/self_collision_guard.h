@@ -123,10 +123,6 @@ class SelfCollisionGuard {
   // pair i (index into every_) stays clear along the motion; false with its predicted lower
   // bound
   bool Certify(int i, double* bound);
-  // pair i is brakeable (some joint the brake acts on moves it) and those joints' motion this
-  // cycle can move its links by the tolerance or more: else braking cannot change its approach
-  // (made by the support legs): it is monitored this cycle, not braked
-  bool BrakeHelps(int i) const;
   // the braking trajectory's next reference into `c`
   void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
 
