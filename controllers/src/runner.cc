@@ -259,7 +259,7 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     }
     controller.update(sensors, &commands);
     if (guarded) {
-      if (guard.Filter(sensors, &commands)) controller.on_guard_hold(sensors.time);
+      guard.Filter(sensors, &commands);
       RecordGuard(guard, &commands.guard);
     }
     if (options.fall_watch && watch.Update(sensors, controller.base_tilt(), controller.com_height())) {

@@ -172,13 +172,6 @@ void WalkController::Remap() noexcept {
   gen_.Replace(remap_);
 }
 
-void WalkController::on_guard_hold(double time) noexcept {
-  // a walk the guard holds parts of is not the walk planned: it stops safely, once
-  if (walk_stats_.guard_stop >= 0 || !walking()) return;
-  walk_stats_.guard_stop = time;
-  guard_stop_request_ = true;
-}
-
 void WalkController::Stop() noexcept {
   // the last step that has begun lands; the other foot closes beside it; no further command
   walk_stats_.stopped = true;
@@ -249,9 +242,8 @@ Eigen::Vector3d WalkController::ToPlan(const Eigen::Vector3d& p_est) const {
 //---------------- the cycle ----------------
 
 void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
-  if (g_walk_stop || guard_stop_request_) {
+  if (g_walk_stop) {
     g_walk_stop = 0;
-    guard_stop_request_ = false;
     Stop();
   }
   NextCommand(s.time);

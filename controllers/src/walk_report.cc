@@ -40,13 +40,6 @@ std::string WalkController::Unverified() const {
                   w.first_missed_due, w.first_missed_load, land_load_);
     return buf;
   }
-  if (w.guard_stop >= 0) {
-    std::snprintf(buf, sizeof buf,
-                  "stopped at t = %.3f s because the self-collision guard braked (the step in the "
-                  "air landed, the feet closed); %d of %d planned steps landed",
-                  w.guard_stop, w.steps_done, w.steps_planned);
-    return buf;
-  }
   if (!done()) {
     std::snprintf(buf, sizeof buf, "still walking when the run ended (%d of %d commands begun)",
                   w.commands_done, static_cast<int>(chunks_.size()));
@@ -105,7 +98,7 @@ void WalkController::report(std::ostream& out) const {
                 "plan frame corrections up to %.1f mm; %llu cycles whose leg IK did not "
                 "converge\n",
                 what.c_str(), w.commands_done, static_cast<int>(chunks_.size()), w.steps_done,
-                w.steps_planned, w.guard_stop >= 0 ? " (stopped by the self-collision guard)" : w.stopped ? " (stopped by SIGUSR1)" : "",
+                w.steps_planned, w.stopped ? " (stopped by SIGUSR1)" : "",
                 w.walk_cycles * header().control_period, w.max_com_error * 1e3,
                 w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
                 static_cast<unsigned long long>(w.ik_failures));

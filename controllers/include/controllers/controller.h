@@ -99,12 +99,6 @@ class Controller {
   // the guard only monitors (SelfCollisionGuard::set_monitor_only), and links measured closer
   // than their limit fail the run instead.
   virtual bool guard_may_brake() const { return true; }
-  // The runner calls this after `update` in every cycle the self-collision guard brakes this
-  // controller's commands (it replaced them by its brake): a controller whose motion cannot go
-  // on with some joints held stops it safely (walk: the step in the air lands, the feet close,
-  // it stands, and failure() says so). The default: nothing (the guard's hold is reported).
-  // Real-time: no allocation, throw or log.
-  virtual void on_guard_hold(double time) noexcept { (void)time; }
 
   // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
   // the header), valid from kInactive on: the runner asks the producer for them after

@@ -105,8 +105,6 @@ struct WalkStats {
   double max_fit = 0;           // the most such a step's sole was moved back [m]
   double max_fit_yaw = 0;       // and turned back [rad]
   bool stopped = false;         // SIGUSR1 stopped a walk
-  double guard_stop = -1;       // producer time the self-collision guard's hold stopped the
-                                // walk [s] (-1: it did not)
   double walk_start = -1;       // producer time the generator started [s]
 };
 
@@ -136,8 +134,6 @@ class WalkController : public BalanceController {
   ConfigStatus on_configure(const shm::SegmentHeader& header) override;
   void Stand(const shm::SensorBlock& s, double dt) noexcept override;
   void on_close() override;
-  // the guard brakes the arms or the torso while walking: the walk stops (Stop) at its next cycle
-  void on_guard_hold(double time) noexcept override;
 
  private:
   WalkController(const WalkOptions& options, const BalanceOptions& filled, Pose pose,
@@ -195,7 +191,6 @@ class WalkController : public BalanceController {
   double z_lower_ = 0;                         // [m] lowering still to do at the start
   double zc_ = 0;                              // [m] walking CoM height over the soles
   bool started_ = false;
-  bool guard_stop_request_ = false;  // on_guard_hold: Stop at the next cycle
   int next_command_ = 0;
   double ready_time_ = 0;                      // a wait ends [s]
   double walk_t0_ = 0;
