@@ -142,6 +142,7 @@ void BalanceController::FillStabilizerInput(const shm::SensorBlock& s, double t,
   input_.c = e.p_WCoM;
   input_.dc = e.v_WCoM;
   input_.mass = k.mass();
+  input_.heading = R_yaw.angle();
 
   // the ankle wrenches in W, the soles' tilt and the support
   double ground = 0;

@@ -182,8 +182,9 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   const double w0 = g.hip_return;
   double acc[2] = {0, 0};
   if (g.hip_strategy && g.torso_inertia > 0) {
-    acc[0] = g.hip_gain * in.mass * kGravity * excess.x() / g.torso_inertia;
-    acc[1] = -g.hip_gain * in.mass * kGravity * excess.y() / g.torso_inertia;
+    const Eigen::Vector2d e_T = Eigen::Rotation2Dd(-in.heading) * excess;  // the torso's axes
+    acc[0] = g.hip_gain * in.mass * kGravity * e_T.x() / g.torso_inertia;
+    acc[1] = -g.hip_gain * in.mass * kGravity * e_T.y() / g.torso_inertia;
   }
   double* angle[2] = {&out_.torso_pitch, &out_.torso_roll};
   for (int k = 0; k < 2; ++k) {

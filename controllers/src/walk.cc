@@ -342,6 +342,7 @@ void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::Wal
   input_.ddc_ref = w.ddcom.head<2>();
   c_ref_ = input_.c_ref;
   input_.mass = k.mass();
+  input_.heading = Wrap(frame_yaw_ + YawOf(e.quat_WB.toRotationMatrix()));
   double ground = 0;
   int n = 0;
   for (int i = 0; i < 2; ++i) {
@@ -393,8 +394,10 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
   // forward lean and land it early; its target is turned back about the stance sole by that tilt
   if (w.gait.swing >= 0 && walk_options_.swing_tilt_compensation > 0) {
     const int sw = w.gait.swing, st = 1 - sw;
-    const Eigen::Matrix3d R_WB = estimator_->estimate().quat_WB.toRotationMatrix();
-    const Eigen::Matrix3d R_tilt = Rz(-YawOf(R_WB)) * R_WB;
+    // the tilt about the plan's axes (the base's orientation in the plan frame, its yaw taken
+    // off on the right): the feet's offsets below are in the plan frame at any heading
+    const Eigen::Matrix3d R_PB = Rz(frame_yaw_) * estimator_->estimate().quat_WB.toRotationMatrix();
+    const Eigen::Matrix3d R_tilt = R_PB * Rz(-YawOf(R_PB));
     const Eigen::AngleAxisd aa(R_tilt.transpose());
     const Eigen::Matrix3d R_back(Eigen::AngleAxisd(walk_options_.swing_tilt_compensation * aa.angle(), aa.axis()));
     p[sw] = p[st] + R_back * (p[sw] - p[st]);

@@ -97,6 +97,29 @@ TEST(GoalReached, ASideStepIsAlongTheInitialY) {
   EXPECT_FALSE(Evaluate(Spec("goal_reached", {{"y", "-1"}}), log, {}).passed);
 }
 
+// a settling shift before the walk (0.07 m forward while turned 90 deg), then a closed path
+// back to where the walk began: judged from `from`, the path closes; from the start, it does not
+TEST(GoalReached, FromJudgesThePoseFromThatTimeInItsHeading) {
+  const Table log = Log(10, [](double t) {
+    const double shift = 0.07 * std::min(t, 1.0);
+    const double h = t < 2 ? 90 * kDeg : t < 8 ? 90 * kDeg + (t - 2) / 6 * 2 * M_PI : 450 * kDeg;
+    return Pose{0, shift, h};
+  });
+  RelativePose p;
+  std::string error;
+  ASSERT_TRUE(FinalRelativePose(log, &p, &error, 1.5)) << error;
+  EXPECT_NEAR(p.x, 0, 1e-9);
+  EXPECT_NEAR(p.y, 0, 1e-9);
+  EXPECT_NEAR(p.yaw, 2 * M_PI, 1e-9);
+  auto r = Evaluate(Spec("goal_reached", {{"yaw_deg", "360"}, {"tolerance", "0.01"}, {"from", "1.5"}}), log, {});
+  EXPECT_TRUE(r.passed) << r.detail;
+  r = Evaluate(Spec("goal_reached", {{"yaw_deg", "360"}, {"tolerance", "0.01"}}), log, {});
+  EXPECT_FALSE(r.passed) << r.detail;
+  EXPECT_NEAR(r.value, 0.07, 1e-9);
+  EXPECT_FALSE(FinalRelativePose(log, &p, &error, 11.0));
+  EXPECT_NE(error.find("ends before"), std::string::npos) << error;
+}
+
 // a turn on the spot from 170 deg, through the +-180 deg seam of the quaternion's heading
 TEST(GoalReached, ATurnIsUnwrappedOverTheRun) {
   const auto turn = [](double by_deg) {

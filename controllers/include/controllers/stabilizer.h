@@ -102,6 +102,9 @@ struct StabilizerInput {
   Eigen::Vector2d sole_tilt[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
   Support support;
   double mass = 0;                               // robot mass [kg]
+  // the torso's heading in W (yaw) [rad]: the hip strategy's torso pitch and roll are joint
+  // offsets about the torso's own axes, so a ZMP excess along W is turned into them
+  double heading = 0;
 };
 
 struct StabilizerOutput {

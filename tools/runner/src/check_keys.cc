@@ -75,8 +75,8 @@ const std::vector<CheckType>& CheckTypes() {
       {"goal_reached",
        {Num("x", "m, 0", -kBig, kBig, false, false, 0), Num("y", "m, 0", -kBig, kBig, false, false, 0),
         Num("yaw_deg", "deg, 0", -kBig, kBig, false, false, 0), Positive("tolerance", "m, 0.2", 0.2),
-        Positive("tolerance_deg", "deg, 5", 5)},
-       "the base's final pose relative to its initial one, in the initial heading frame (x "
+        Positive("tolerance_deg", "deg, 5", 5), Time("from", false, "s, 0")},
+       "the base's final pose relative to its pose at `from` (the start), in that heading's frame (x "
        "forward, y left, yaw unwrapped over the run: 360 is a full turn), lies within "
        "`tolerance` of (x, y) and `tolerance_deg` of `yaw_deg` (below); the value is the "
        "distance to (x, y)"},

@@ -55,22 +55,31 @@ std::vector<double> UnwrappedYaw(const Table& log) {
   return yaw;
 }
 
-bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error) {
+bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error, double from) {
   const auto c = BaseColumns(log);
   if (c.empty() || log.rows() == 0) {
     *error = c.empty() ? "the data log has no base pose (base_x, base_y, base_q*)"
                        : "the data log has no rows";
     return false;
   }
+  size_t first = 0;
+  const int tc = log.Column("time");
+  if (tc >= 0) {
+    while (first < log.rows() && log.col(tc)[first] < from) ++first;
+    if (first == log.rows()) {
+      *error = "the data log ends before `from` (" + Fmt(from) + " s)";
+      return false;
+    }
+  }
   const std::vector<double> yaw = UnwrappedYaw(log);
   const size_t last = log.rows() - 1;
-  const double dx = log.col(c[0])[last] - log.col(c[0])[0];
-  const double dy = log.col(c[1])[last] - log.col(c[1])[0];
+  const double dx = log.col(c[0])[last] - log.col(c[0])[first];
+  const double dy = log.col(c[1])[last] - log.col(c[1])[first];
   // the world displacement seen in the initial heading frame
-  const double cs = std::cos(yaw[0]), sn = std::sin(yaw[0]);
+  const double cs = std::cos(yaw[first]), sn = std::sin(yaw[first]);
   out->x = cs * dx + sn * dy;
   out->y = -sn * dx + cs * dy;
-  out->yaw = yaw[last] - yaw[0];
+  out->yaw = yaw[last] - yaw[first];
   return true;
 }
 
@@ -104,7 +113,8 @@ CheckResult GoalReached(const CheckSpec& s, const Table& log) {
   CheckResult r{"goal_reached", false, 0, "m", "", ""};
   RelativePose p;
   std::string error;
-  if (!FinalRelativePose(log, &p, &error)) return Fail(r, error);
+  const double from = s.Number("from", 0);
+  if (!FinalRelativePose(log, &p, &error, from)) return Fail(r, error);
   const double gx = s.Number("x"), gy = s.Number("y"), gyaw = s.Number("yaw_deg");
   const double tol = s.Number("tolerance"), tol_deg = s.Number("tolerance_deg");
   const double yaw_error = std::fabs(p.yaw / kDeg - gyaw);
@@ -113,7 +123,7 @@ CheckResult GoalReached(const CheckSpec& s, const Table& log) {
   r.limit = "<= " + Fmt(tol) + " m and " + Fmt(tol_deg) + " deg from (" + Fmt(gx) + " m, " +
             Fmt(gy) + " m, " + Fmt(gyaw) + " deg)";
   r.detail = "the base ended at x " + Fmt(p.x) + " m, y " + Fmt(p.y) + " m, yaw " +
-             Fmt(p.yaw / kDeg) + " deg from its start (initial heading frame): " +
+             Fmt(p.yaw / kDeg) + " deg from its pose at " + Fmt(from) + " s (that heading's frame): " +
              Fmt(r.value) + " m and " + Fmt(yaw_error) + " deg off";
   return r;
 }

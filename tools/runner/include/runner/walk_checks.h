@@ -28,9 +28,10 @@ struct RelativePose {
   double yaw = 0;  // [rad] heading change, unwrapped over the run
 };
 
-// The base's final pose relative to its initial one; false with `*error` when the log has no
-// rows or lacks the base columns.
-bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error);
+// The base's final pose relative to its pose at the first row at or after `from` [s] (the first
+// row when the log has no time column); false with `*error` when no row is left or the log
+// lacks the base columns.
+bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error, double from = 0);
 
 // When the base moved: the first time it is `threshold` [m] from its start (horizontally) and,
 // from then on, the first time it is within `threshold` of its final position.
