@@ -29,6 +29,9 @@ const char* WalkCommandHelp() {
          "                            then close the feet\n"
          "  steps FILE                follow a footstep file (docs/footsteps.md: YAML or CSV)\n"
          "  wait T                    stand for T [s]\n"
+         "  random N SEED             N steps drawn at random within the step limits (turns both\n"
+         "                            ways, back and side steps, stops; the same SEED, the same\n"
+         "                            steps), then close the feet\n"
          "SIGUSR1 stops the walk under way (the feet close; later commands are dropped).\n";
 }
 
@@ -87,7 +90,19 @@ bool ParseWalkCommand(const std::string& text, WalkCommand* c, std::string* erro
     }
     return true;
   }
-  *error = "unknown walk command \"" + text + "\": use goal, velocity, steps or wait";
+  if (verb == "random") {
+    c->kind = WalkCommand::Kind::kRandom;
+    if (!numbers(2, v) || !(v[0] >= 1 && v[0] <= 10000) || v[0] != std::floor(v[0]) ||
+        !(v[1] >= 0 && v[1] <= 4294967295.0) || v[1] != std::floor(v[1])) {
+      *error = "\"" + text + "\": random takes STEPS SEED (whole numbers, STEPS in [1, 10000], "
+               "SEED in [0, 4294967295], e.g. random 20 7)";
+      return false;
+    }
+    c->count = static_cast<int>(v[0]);
+    c->seed = static_cast<unsigned>(v[1]);
+    return true;
+  }
+  *error = "unknown walk command \"" + text + "\": use goal, velocity, steps, wait or random";
   return false;
 }
 

@@ -12,6 +12,8 @@
 namespace ohrp::controllers {
 namespace {
 
+constexpr double kRandomStopShare = 0.15;  // the share of a random walk's steps that are stops
+
 double YawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
 ConfigStatus CheckWalkOptions(const WalkOptions& o) {
@@ -174,6 +176,8 @@ ConfigStatus WalkController::FitStance(const double* q) {
   const model::SoleMap& sole = kin_ik_->soles()[soles[0]];
   lim.sole_half_size = Eigen::Vector2d(sole.half_size[0], sole.half_size[1]);
   walk_options_.gait.sole_half_length = sole.half_size[0];
+  walk_options_.gait.sole_half_width = sole.half_size[1];
+  walk_options_.gait.swing_clearance = lim.clearance;
   lim.min_width = std::min(lim.min_width, lim.width);
   if (const std::string e = walking::CheckLimits(lim); !e.empty())
     return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);
@@ -249,6 +253,9 @@ ConfigStatus WalkController::PlanCommands() {
           return ConfigStatus::Fail(ConfigError::kOption, error);
         break;
       }
+      case WalkCommand::Kind::kRandom:
+        steps = walking::PlanRandom(feet, c.count, c.seed, lim, kRandomStopShare, &error);
+        break;
       case WalkCommand::Kind::kWait:
         break;
     }

@@ -51,7 +51,7 @@ TEST(WalkCommand, RefusesWhatCannotBeWalked) {
   ParseWalkCommand("goal 1 0", &c, &error);
   EXPECT_NE(error.find("X Y YAW_DEG"), std::string::npos) << error;  // what would work
   ParseWalkCommand("run 1 0 0", &c, &error);
-  EXPECT_NE(error.find("goal, velocity, steps or wait"), std::string::npos) << error;
+  EXPECT_NE(error.find("goal, velocity, steps, wait or random"), std::string::npos) << error;
 }
 
 TEST(WalkParams, ReadsTheParameters) {

@@ -198,7 +198,7 @@ TEST(ScenarioStrict, BadWalkChecksAreRefused) {
       {Variant(8, "  - {type: average_speed, min: 0}"), "average_speed): min: must be > 0, not 0"},
       {Variant(8, "  - {type: average_speed, min: 0.2, threshold: -1}"), "threshold: must be > 0"},
       {Variant(8, "  - {type: goal_reached, yaw: 90}"),
-       "checks[0] (goal_reached): unknown key 'yaw' (known: tolerance, tolerance_deg, type, x, y, yaw_deg)"},
+       "checks[0] (goal_reached): unknown key 'yaw' (known: from, tolerance, tolerance_deg, type, x, y, yaw_deg)"},
       {Variant(8, "  - {type: goal_reached, x: far}"), "goal_reached): x: must be a number, not 'far'"},
       {Variant(8, "  - {type: goal_reached, x: 1, tolerance: 0}"), "tolerance: must be > 0, not 0"},
   });

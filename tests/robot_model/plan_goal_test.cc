@@ -51,8 +51,16 @@ TEST(PlanToGoal, TenMetresStraightTakeDistanceOverMaxForwardPlusAClosingStep) {
   ExpectWalkTo(start, steps, 10, 0, 0, l);
 }
 
+// the default limits with the soles' clearance set (the closed forms of these tests are worked
+// out for it)
+StepLimits Clearance(double c) {
+  StepLimits l;
+  l.clearance = c;
+  return l;
+}
+
 TEST(PlanToGoal, OneMetreSidewaysLeadsWithTheLeftFoot) {
-  const StepLimits l;
+  const StepLimits l = Clearance(0.01);  // the counts below are for a 1 cm gap
   const FeetPose start = Stance(l.width);
   const auto steps = PlanToGoal(start, 0, 1, 0, l);
   // the left (outward) foot gains max_side = 0.10 per step, the right (inward) foot what min_width
@@ -66,7 +74,7 @@ TEST(PlanToGoal, OneMetreSidewaysLeadsWithTheLeftFoot) {
 }
 
 TEST(PlanToGoal, OneMetreToTheRightLeadsWithTheRightFoot) {
-  const StepLimits l;
+  const StepLimits l = Clearance(0.01);  // the counts below are for a 1 cm gap
   const FeetPose start = Stance(l.width);
   const auto steps = PlanToGoal(start, 0, -1, 0, l);
   EXPECT_EQ(steps.size(), 18u);
@@ -75,7 +83,7 @@ TEST(PlanToGoal, OneMetreToTheRightLeadsWithTheRightFoot) {
 }
 
 TEST(PlanToGoal, HalfTurnOnTheSpotTakesTheTurnLimitsOfBothFeet) {
-  const StepLimits l;
+  const StepLimits l = Clearance(0.01);  // the counts below are for a 1 cm gap
   const FeetPose start = Stance(l.width);
   const auto steps = PlanToGoal(start, 0, 0, M_PI, l);
   // the left foot turns out by max_turn, the right foot in by max_turn_in: pi needs 13, + 1 closing
@@ -96,7 +104,7 @@ TEST(PlanToGoal, QuarterTurnToTheRightLeadsWithTheRightFoot) {
 }
 
 TEST(PlanToGoal, DiagonalGoalWithATurnIsBoundByTheTurn) {
-  const StepLimits l;
+  const StepLimits l = Clearance(0.01);  // the counts below are for a 1 cm gap
   const FeetPose start = Stance(l.width);
   // (0.5, 0.5, 90 deg): a quarter circle of radius 0.5 m, 0.79 m long: 4 steps of max_forward
   // would do; the turn needs 7 (3 pairs of 0.35 + 0.15 rad = 1.5 < pi/2), + 1 closing

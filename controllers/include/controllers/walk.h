@@ -44,14 +44,17 @@
 namespace ohrp::controllers {
 
 struct WalkCommand {
-  enum class Kind { kGoal, kVelocity, kSteps, kWait };
+  enum class Kind { kGoal, kVelocity, kSteps, kWait, kRandom };
   Kind kind = Kind::kGoal;
   double x = 0, y = 0, yaw = 0;  // goal [m, m, rad] or velocity [m/s, m/s, rad/s]
   double time = 0;               // velocity's duration or wait [s]
+  int count = 0;                 // random: steps
+  unsigned seed = 0;             // random: the generator's seed
   std::string file;              // steps
   std::string text;              // as given
 };
-// "goal 1 0 0", "velocity 0.2 0 0 10", "steps FILE", "wait 2" (angles in degrees); false with
+// "goal 1 0 0", "velocity 0.2 0 0 10", "steps FILE", "wait 2", "random 20 7" (angles in
+// degrees); false with
 // `*error` saying what would work
 bool ParseWalkCommand(const std::string& text, WalkCommand* command, std::string* error);
 // the command lines' help

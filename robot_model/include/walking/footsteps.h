@@ -75,7 +75,7 @@ struct StepLimits {
   double max_turn_in = 0.15;   // [rad] when the landing foot turns towards the stance foot
                                // (toes in), where the soles would collide
   Eigen::Vector2d sole_half_size{0.11, 0.065};  // [m] for the no-overlap check (x along the sole)
-  double clearance = 0.01;                      // [m] least gap between the two soles' rectangles
+  double clearance = 0.02;                      // [m] least gap between the two soles' rectangles
   // the physics of one step (the walk derives them from its robot: docs/footsteps.md); the
   // defaults check nothing. A step's own height and duration (when it gives them, >= 0) and its
   // height change against the stance sole are checked.
@@ -147,6 +147,19 @@ std::vector<Footstep> PlanToGoal(const FeetPose& start, double x, double y, doub
 std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, double wz,
                                    double time, double step_time, const StepLimits& limits,
                                    std::string* note = nullptr);
+
+// `count` steps drawn at random (seeded: the same seed gives the same steps) within the planar
+// limits, alternating feet from a random first foot: each landing drawn uniformly in the stance
+// sole's frame over max_backward .. max_forward ahead, min_width .. width + max_side beside it and
+// -max_turn_in .. max_turn turned, set out sideways where the soles would come closer than the
+// clearance (FitStep) and drawn again (up to 100 times) if it still breaks a limit. With
+// probability `stop_share` a step is instead a stop (the other foot closes beside the last, as
+// PlanStop). Ends with the feet side by side. Every step passes CheckStep; steps are at the stance
+// sole's height with default height and duration. Empty with `*error` for a count outside
+// [0, 10000], a share outside [0, 1], unusable limits or a start stance that breaks them.
+std::vector<Footstep> PlanRandom(const FeetPose& start, int count, unsigned seed,
+                                 const StepLimits& limits, double stop_share = 0.15,
+                                 std::string* error = nullptr);
 
 // The step(s) that bring the feet side by side from `feet` when the last step was by `last_foot`
 // (stopping a velocity walk: the other foot closes, at `limits.width` beside the last foot and

@@ -51,6 +51,12 @@ struct GaitOptions {
   // (toes down, as far as its toe stays above the stair: asin(apex / half length)), the trailing
   // ankle otherwise bends past its range under a CoM already over the lower stair
   double sole_half_length = 0.0;      // [m]
+  // the sole's half width (0: not known) and the least gap the swinging sole keeps to the stance
+  // sole in the air: where the straight path from lift-off to landing would come closer (a foot
+  // turned in, or stepping past the other's toe or heel), it bends outward by d sin(pi f)
+  // (f the travel, 0 at both ends), d the least in 5 mm steps that keeps the gap (SwingDetour)
+  double sole_half_width = 0.0;       // [m]
+  double swing_clearance = 0.01;      // [m]
 };
 // how far the ground under the CoM goes below the stance sole over a step whose landing lies
 // `depth` [m] below the stance sole and `reach_xy` [m] from it horizontally: the landing leg's
@@ -112,7 +118,11 @@ class Gait {
     Eigen::Vector3d zmp_from;  // where the double support starts (and its ground height)
     Eigen::Vector3d zmp_to;    // the stance point
     double height;             // swing apex above the higher end [m]
+    Eigen::Vector2d detour = Eigen::Vector2d::Zero();  // the swing's bend at mid-travel [m]
   };
+  // the swing's outward bend for `step` from `before` (zero when the straight path keeps the
+  // gap, or the sole's size is not known)
+  Eigen::Vector2d SwingDetour(const FeetPose& before, const Footstep& step) const;
   // the last of the first `before` steps made by `foot` (null: none, it stands where it started)
   const Footstep* LastStepOf(int foot, int before) const;
   // index of the last phase with t0 <= t, -1 if none

@@ -1,6 +1,7 @@
 // The walk's timeline: ZMP reference, ground height and feet as functions of time (gait.h).
 #include "walking/gait.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -11,6 +12,9 @@ double WrapAngle(double a) { return std::remainder(a, 2 * M_PI); }
 
 constexpr double kStepEdge = 0.01;              // [m] a height change this large is a step
 constexpr double kStepVerticalFraction = 0.3;   // [-] of the single support, up and down
+constexpr int kDetourSamples = 9;               // points of the swing path checked (ends out)
+constexpr double kDetourStep = 0.005;           // [m] the detour's increments
+constexpr double kMaxDetour = 0.1;              // [m] at most
 
 }  // namespace
 
@@ -129,9 +133,38 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     p.zmp_to.z() -= StepDownDrop(options_, p.zmp_to.z() - s.p.z(),
                                  (s.p - p.before.p[1 - s.foot]).head<2>().norm());
     p.height = s.height >= 0 ? s.height : options_.step_height;
+    p.detour = SwingDetour(p.before, s);
     steps_.push_back(p);
   }
   return kept;
+}
+
+Eigen::Vector2d Gait::SwingDetour(const FeetPose& before, const Footstep& step) const {
+  if (!(options_.sole_half_length > 0) || !(options_.sole_half_width > 0)) return Eigen::Vector2d::Zero();
+  StepLimits soles;
+  soles.sole_half_size = Eigen::Vector2d(options_.sole_half_length, options_.sole_half_width);
+  const int sw = step.foot, st = 1 - sw;
+  const Eigen::Vector3d& a = before.p[sw];
+  const Eigen::Vector3d& q = before.p[st];
+  const double turn = WrapAngle(step.yaw - before.yaw[sw]);
+  // outward: from the stance sole towards the swinging foot's side, in the stance sole's frame
+  const Eigen::Vector2d n =
+      Eigen::Rotation2Dd(before.yaw[st]) * Eigen::Vector2d(0, sw == kLeft ? 1.0 : -1.0);
+  // the gap kept: the clearance, or what the ends have if they have less
+  const double at_ends = std::min(SoleGap(a, before.yaw[sw], q, before.yaw[st], soles),
+                                  SoleGap(step.p, step.yaw, q, before.yaw[st], soles));
+  const double need = std::min(options_.swing_clearance, at_ends);
+  for (double d = 0; d <= kMaxDetour + 1e-12; d += kDetourStep) {
+    bool clear = true;
+    for (int i = 1; i < kDetourSamples + 1 && clear; ++i) {
+      const double f = static_cast<double>(i) / (kDetourSamples + 1);
+      Eigen::Vector3d p = a + f * (step.p - a);
+      p.head<2>() += std::sin(M_PI * f) * d * n;
+      clear = SoleGap(p, before.yaw[sw] + f * turn, q, before.yaw[st], soles) >= need;
+    }
+    if (clear) return d * n;
+  }
+  return kMaxDetour * n;
 }
 
 Eigen::Vector3d Gait::Zmp(double t) const {
@@ -205,7 +238,7 @@ void Gait::At(double t, GaitState* s) const {
   const double vf_land = edge ? std::max(vf, kStepVerticalFraction) : vf;
   const double vf_lift = edge && !down ? vf_land : vf;
   MinJerk((phase - vf_lift) / std::max(1 - vf_lift - vf_land, 1e-9), &f, &df, &ddf);
-  s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>();
+  s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>() + std::sin(M_PI * f) * p.detour;
   s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
   s->feet.roll[sw] = p.before.roll[sw] + f * (p.step.roll - p.before.roll[sw]);
   s->feet.pitch[sw] = p.before.pitch[sw] + f * (p.step.pitch - p.before.pitch[sw]);
