@@ -12,7 +12,7 @@ double WrapAngle(double a) { return std::remainder(a, 2 * M_PI); }
 
 constexpr double kStepEdge = 0.01;              // [m] a height change this large is a step
 constexpr double kStepVerticalFraction = 0.3;   // [-] of the single support, up and down
-constexpr int kDetourSamples = 9;               // points of the swing path checked (ends out)
+constexpr int kDetourSamples = 19;               // points of the swing path checked (ends out)
 constexpr double kDetourStep = 0.005;           // [m] the detour's increments
 constexpr double kMaxDetour = 0.1;              // [m] at most
 
