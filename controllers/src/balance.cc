@@ -62,8 +62,8 @@ void BalanceController::StartRamp(double time) noexcept {
   const model::BaseEstimate& e = estimator_->estimate();
   for (int i = 0; i < 2; ++i) {
     if (!e.contact[i]) continue;
-    const Eigen::Vector2d tilt = SoleTilt(i).cwiseMax(-options_.gains.max_foot_rotation)
-                                     .cwiseMin(options_.gains.max_foot_rotation);
+    const Eigen::Vector2d tilt = SoleTilt(i).cwiseMax(-options_.gains.max_ground_tilt)
+                                     .cwiseMin(options_.gains.max_ground_tilt);
     const Eigen::Matrix3d R = Rx(tilt.x()) * Ry(tilt.y()) * R_BS_nominal_[i];
     std::array<double, shm::kMaxJoints> trial = ramp_target_;
     if (leg_ik_[i]->Solve(*kin_ik_, p_BS_nominal_[i], R, trial.data()).status ==

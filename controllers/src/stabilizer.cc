@@ -43,14 +43,14 @@ void Stabilizer::Reset() {
 void Stabilizer::Reset(const Eigen::Vector2d ground_tilt[2]) {
   Reset();
   for (int i = 0; i < 2; ++i) {
-    out_.foot_roll[i] = out_.rest_roll[i] = Clamp(ground_tilt[i].x(), gains_.max_foot_rotation);
-    out_.foot_pitch[i] = out_.rest_pitch[i] = Clamp(ground_tilt[i].y(), gains_.max_foot_rotation);
+    out_.foot_roll[i] = out_.rest_roll[i] = Clamp(ground_tilt[i].x(), gains_.max_ground_tilt);
+    out_.foot_pitch[i] = out_.rest_pitch[i] = Clamp(ground_tilt[i].y(), gains_.max_ground_tilt);
   }
 }
 
 void Stabilizer::SetFootTilt(int i, double roll, double pitch) {
-  out_.foot_roll[i] = out_.rest_roll[i] = Clamp(roll, gains_.max_foot_rotation);
-  out_.foot_pitch[i] = out_.rest_pitch[i] = Clamp(pitch, gains_.max_foot_rotation);
+  out_.foot_roll[i] = out_.rest_roll[i] = Clamp(roll, gains_.max_ground_tilt);
+  out_.foot_pitch[i] = out_.rest_pitch[i] = Clamp(pitch, gains_.max_ground_tilt);
 }
 
 const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt) noexcept {
@@ -140,8 +140,9 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
     const double ny_d = dzs * w.f_W.x() - (cop_x - w.p_WS.x()) * fz_d;
     roll[i] += dt * (w.n_W.x() - nx_d) / g.ankle_damping - back * (roll[i] - out_.rest_roll[i]);
     pitch[i] += dt * (w.n_W.y() - ny_d) / g.ankle_damping - back * (pitch[i] - out_.rest_pitch[i]);
-    roll[i] = Clamp(roll[i], g.max_foot_rotation);
-    pitch[i] = Clamp(pitch[i], g.max_foot_rotation);
+    // the offsets about the rest (the ground's tilt: a 10 deg slope is beyond the offsets' clamp)
+    roll[i] = out_.rest_roll[i] + Clamp(roll[i] - out_.rest_roll[i], g.max_foot_rotation);
+    pitch[i] = out_.rest_pitch[i] + Clamp(pitch[i] - out_.rest_pitch[i], g.max_foot_rotation);
 
     // ground adaptation: while this sole's own CoP stays well inside it, it stands flat, and
     // its measured tilt is the ground's
@@ -154,8 +155,8 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
         const double k = dt / g.ground_adaptation;
         out_.rest_roll[i] += k * (in.sole_tilt[i].x() - out_.rest_roll[i]);
         out_.rest_pitch[i] += k * (in.sole_tilt[i].y() - out_.rest_pitch[i]);
-        out_.rest_roll[i] = Clamp(out_.rest_roll[i], g.max_foot_rotation);
-        out_.rest_pitch[i] = Clamp(out_.rest_pitch[i], g.max_foot_rotation);
+        out_.rest_roll[i] = Clamp(out_.rest_roll[i], g.max_ground_tilt);
+        out_.rest_pitch[i] = Clamp(out_.rest_pitch[i], g.max_ground_tilt);
       }
     }
   }

@@ -133,7 +133,8 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
       {"swing_tilt_compensation", &o->swing_tilt_compensation},
       {"inertia_feedforward", &o->inertia_feedforward}, {"max_forward", &l.max_forward},
       {"max_backward", &l.max_backward}, {"max_side", &l.max_side}, {"min_width", &l.min_width},
-      {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance}};
+      {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance},
+      {"max_stride_change", &l.max_stride_change}};
   // the quantity of each key with a row in the plausible-range table
   static const std::map<std::string, const char*> kQuantity = {
       {"step_time", "step_time"},       {"double_support_ratio", "fraction"},
@@ -143,7 +144,8 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
       {"lower_time", "time_constant"},  {"step_search", "distance"},
       {"max_forward", "stride"},        {"max_backward", "stride"},
       {"max_side", "stride"},           {"min_width", "stride"},
-      {"clearance", "distance"},        {"preview_time", "duration"},
+      {"clearance", "distance"},        {"max_stride_change", "stride"},
+      {"preview_time", "duration"},
       {"swing_tilt_compensation", "fraction"}, {"inertia_feedforward", "gain_scale"}};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();

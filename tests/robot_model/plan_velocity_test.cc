@@ -2,6 +2,7 @@
 // steps keep the limits, cover the commanded motion within one step, and end side by side.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -51,6 +52,38 @@ TEST(PlanVelocity, ATooFastCommandIsReducedToTheLimitsAndSaysSo) {
   EXPECT_EQ(CheckSteps(start, steps, l), "");
   // 8 steps of max_forward, then the closing step
   EXPECT_NEAR(MidFrame(Apply(start, steps)).p.x(), 8 * l.max_forward, kTight);
+}
+
+TEST(PlanVelocity, TheStrideGrowsAndShrinksByAtMostMaxStrideChange) {
+  // 0.3 m strides (0.5 m/s at 0.6 s steps) from standing, by 5 cm a step: the mid frame's forward
+  // increments are 0.05, 0.10, ... 0.30, ... 0.05; a foot lands the last two increments ahead of
+  // where it stood (the first: the first increment), so its advance grows by at most 0.1 a step
+  StepLimits l;
+  l.max_forward = 0.3;
+  l.max_stride_change = 0.05;
+  const FeetPose start = Stance(l.width);
+  std::string note;
+  const double t = 0.6;
+  const auto steps = PlanVelocity(start, 0.5, 0, 0, 12, t, l, &note);  // 20 steps and a closing one
+  ASSERT_EQ(steps.size(), 21u);
+  EXPECT_NE(note.find("max_stride_change"), std::string::npos) << note;
+  EXPECT_EQ(CheckSteps(start, steps, l), "");
+  auto advances = [](FeetPose feet, const std::vector<Footstep>& s) {
+    std::vector<double> a;
+    for (const Footstep& step : s) {
+      a.push_back(step.p.x() - feet.p[step.foot].x());
+      feet = After(feet, step);
+    }
+    return a;
+  };
+  const std::vector<double> a = advances(start, steps);
+  EXPECT_NEAR(a[0], 0.05, 1e-9);
+  for (size_t k = 1; k < a.size(); ++k) EXPECT_LE(std::abs(a[k] - a[k - 1]), 0.1 + 1e-9) << "step " << k;
+  EXPECT_NEAR(*std::max_element(a.begin(), a.end()), 0.6, 1e-9);  // the full stride, both feet
+  EXPECT_NEAR(a[19], 0.15, 1e-9);                                   // slowed down before the stop
+  // without the limit the first foot goes the full stride at once
+  l.max_stride_change = INFINITY;
+  EXPECT_NEAR(advances(start, PlanVelocity(start, 0.5, 0, 0, 12, t, l, &note))[0], 0.3, 1e-9);
 }
 
 TEST(PlanVelocity, AnyVelocityGivesStepsWithinTheLimits) {

@@ -57,7 +57,10 @@ struct StabilizerGains {
   double support_margin = 0.015; // keep the desired ZMP this far inside the soles [m]
   double ankle_damping = 300.0;  // D of the foot rotation damping control [N m s/rad]
   double ankle_recovery = 2.0;   // T: foot rotation offsets decay with this time constant [s]
-  double max_foot_rotation = 0.15;  // clamp of the foot rotation offsets [rad]
+  double max_foot_rotation = 0.15;  // clamp of the foot rotation offsets about the rest [rad]
+  // clamp of the rest orientation itself: the ground's tilt the soles follow (a slope, learnt or
+  // from a known terrain) [rad]
+  double max_ground_tilt = 0.35;
   double ground_adaptation = 1.0;   // time constant with which the feet's rest orientation
                                     // follows the measured tilt of the sole while it stands
                                     // flat [s] (0: off; the offsets then return to zero)

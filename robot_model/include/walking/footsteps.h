@@ -74,6 +74,9 @@ struct StepLimits {
   double max_turn = 0.35;      // [rad] yaw change of the landing foot against the stance foot
   double max_turn_in = 0.15;   // [rad] when the landing foot turns towards the stance foot
                                // (toes in), where the soles would collide
+  // [m] the most a velocity walk's forward stride changes from one step to the next (from and
+  // to standing: the first steps lengthen, the last shorten); infinite: at once
+  double max_stride_change = INFINITY;
   Eigen::Vector2d sole_half_size{0.11, 0.065};  // [m] for the no-overlap check (x along the sole)
   double clearance = 0.02;                      // [m] least gap between the two soles' rectangles
   // the physics of one step (the walk derives them from its robot: docs/footsteps.md); the
@@ -142,7 +145,9 @@ std::vector<Footstep> PlanToGoal(const FeetPose& start, double x, double y, doub
 // foot on the side of the motion taking the larger share): after the walk it has covered the
 // commanded displacement within one step. Where turning and walking together would break a limit
 // (the soles' clearance), the whole walk is slowed by steps of 10 % until it keeps them (said
-// through `*note`). Empty, with `*note`, when the numbers are not finite, step_time <= 0, time <
+// through `*note`). With a finite `limits.max_stride_change` the forward stride grows from
+// standing and shrinks to the closing step by at most that per step (said through `*note`; the
+// walk then covers less than vx * time). Empty, with `*note`, when the numbers are not finite, step_time <= 0, time <
 // 0, the limits are unusable or the start stance breaks them; empty without a note for time 0.
 std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, double wz,
                                    double time, double step_time, const StepLimits& limits,

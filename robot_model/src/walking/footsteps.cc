@@ -92,6 +92,8 @@ std::string CheckLimits(const StepLimits& l) {
                          {"clearance", l.clearance}})
     if (!std::isfinite(n.v) || n.v < 0)
       return std::string("step limit ") + n.name + " must be a finite number >= 0, not " + Fmt(n.v);
+  if (!(l.max_stride_change > 0))  // infinite: no limit
+    return "step limit max_stride_change must be > 0 (infinite: none), not " + Fmt(l.max_stride_change);
   if (l.sole_half_size.x() <= 0 || l.sole_half_size.y() <= 0)
     return "step limit sole_half_size must be positive";
   if (l.min_width > l.width)

@@ -65,6 +65,20 @@ std::vector<Footstep> PlanVelocity(const FeetPose& start, double vx, double vy, 
     inc[k].p = Eigen::Vector2d(vx * t, std::copysign(ds, vy));
     inc[k].yaw = std::copysign(dt, wz);
   }
+  // from and to standing, the stride changes by at most max_stride_change a step
+  if (std::isfinite(l.max_stride_change) && std::abs(vx) * t > l.max_stride_change) {
+    int ramped = 0;
+    for (int k = 0; k < n; ++k) {
+      const double most = l.max_stride_change * std::min(k + 1, n - k);
+      if (std::abs(inc[k].p.x()) > most) {
+        inc[k].p.x() = std::copysign(most, vx);
+        ++ramped;
+      }
+    }
+    std::snprintf(b, sizeof(b), "the stride changes by at most max_stride_change %.3f m a step: "
+                  "%d step(s) shorter at the start and end", l.max_stride_change, ramped);
+    say(b);
+  }
   // walked; where the soles' clearance and the turn together break a limit, slower
   std::vector<Footstep> steps;
   std::string why = Walk(start, inc, first, l, &steps);
