@@ -77,6 +77,12 @@ TEST(Options, BadValuesAreNamed) {
   b.scene = "no/such/scene.xml";
   refused(b, "scene");
   b = o;
+  b.controllers = {"/bin/true --command 'velocity 0.2 0 0 6"};  // the quote not closed
+  refused(b, "quote");
+  b = o;
+  b.controllers = {"/bin/true --command 'velocity 0.2 0 0 6'"};  // one quoted argument
+  EXPECT_TRUE(ValidateOptions(b, &error)) << error;
+  b = o;
   b.controllers = {"  "};
   refused(b, "empty");
 }

@@ -1,5 +1,7 @@
 // One push trial: a headless run through the runner library, then the standing and settling
 // measures on its log (see push/push.h).
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,13 +20,34 @@ namespace fs = std::filesystem;
 namespace ohrp::push {
 namespace {
 
-// "balance --foo 1" -> program balance, args [--foo, 1]
+// "balance --foo 1" -> program balance, args [--foo, 1]; a word in single or double quotes
+// keeps its spaces ("walk --command 'velocity 0.2 0 0 20'": one argument); no shell is involved
 runner::ControllerSpec ParseCommand(const std::string& command) {
   runner::ControllerSpec spec;
-  std::stringstream ss(command);
-  for (std::string word; ss >> word;) {
-    if (spec.program.empty()) spec.program = word;
-    else spec.args.push_back(word);
+  std::vector<std::string> words;
+  std::string word;
+  bool in_word = false;
+  char quote = 0;
+  for (char c : command) {
+    if (quote) {
+      if (c == quote) quote = 0;
+      else word += c;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+      in_word = true;
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      if (in_word) words.push_back(word);
+      word.clear();
+      in_word = false;
+    } else {
+      word += c;
+      in_word = true;
+    }
+  }
+  if (in_word) words.push_back(word);
+  for (const std::string& w : words) {
+    if (spec.program.empty()) spec.program = w;
+    else spec.args.push_back(w);
   }
   return spec;
 }
@@ -44,8 +67,11 @@ bool ValidateOptions(const PushOptions& o, std::string* error) {
     return false;
   };
   if (o.controllers.empty()) return bad("give at least one --controller");
-  for (const auto& c : o.controllers)
+  for (const auto& c : o.controllers) {
     if (ParseCommand(c).program.empty()) return bad("--controller '" + c + "' is empty");
+    if (std::count(c.begin(), c.end(), '\'') % 2 || std::count(c.begin(), c.end(), '"') % 2)
+      return bad("--controller '" + c + "' has a quote that is not closed");
+  }
   if (o.directions.empty()) return bad("give at least one direction");
   for (double d : o.directions)
     if (!std::isfinite(d)) return bad("directions must be finite numbers of degrees");
@@ -142,6 +168,18 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
     t.standing = false;
     t.detail = "controller '" + fell_by + "' detected a fall (exit 8; see " + t.dir + ")";
     return t;
+  }
+  // a controller that could not do what it was asked (exit 9: e.g. a walk whose steps did not
+  // land, or whose arms the push threw into the body) did not survive the push either, standing
+  // or not
+  for (const auto& proc : summary["processes"]) {
+    if (proc["name"] != "sim_host" && proc["exit_code"] == 9 && outcome == "completed") {
+      t.ok = true;
+      t.standing = false;
+      t.detail = "controller '" + proc["name"].get<std::string>() +
+                 "' did not complete its task (exit 9; see " + t.dir + ")";
+      return t;
+    }
   }
   const bool fell = sim.contains("fall") && sim["fall"].is_object();
   const bool diverged = outcome == "diverged" || fell;
