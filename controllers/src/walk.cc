@@ -249,6 +249,7 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   NextCommand(s.time);
   UpdateFrame(dt, false);
   Remap();
+  AdjustStep();
   const walking::WalkSample& w = gen_.Advance();
   ++walk_stats_.walk_cycles;
   FillWalkInput(s, w);

@@ -111,6 +111,13 @@ void WalkController::report(std::ostream& out) const {
                   w.steps_fitted, w.max_fit * 1e3, w.max_fit_yaw * 180 / M_PI);
     out << buf;
   }
+  if (w.steps_adjusted > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "walk: stepping strategy: %d landing(s) moved where the measured DCM needed them "
+                  "(beyond what the stance ankle takes back), by up to %.1f mm\n",
+                  w.steps_adjusted, w.max_adjust * 1e3);
+    out << buf;
+  }
   if (w.ik_failures > 0) {
     static const char* what[] = {"the left leg cannot reach its sole's target",
                                  "the right leg cannot reach its sole's target",

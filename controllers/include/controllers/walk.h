@@ -67,6 +67,8 @@ struct WalkOptions {
   walking::StepLimits limits;    // `width` from the stance
   double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
   double lower_time = 1.0;       // [s] to lower it
+  bool stepping = true;          // the stepping strategy (AdjustStep): a swing foot lands
+                                 // where the measured DCM needs it
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
@@ -107,6 +109,8 @@ struct WalkStats {
                                 // (walking::FitStep; the next step of each remap)
   double max_fit = 0;           // the most such a step's sole was moved back [m]
   double max_fit_yaw = 0;       // and turned back [rad]
+  int steps_adjusted = 0;       // steps the stepping strategy moved (the DCM beyond the ankle)
+  double max_adjust = 0;        // the most a landing was moved [m]
   bool stopped = false;         // SIGUSR1 stopped a walk
   double walk_start = -1;       // producer time the generator started [s]
 };
@@ -164,6 +168,10 @@ class WalkController : public BalanceController {
   // kept within the step limits against the feet each steps from (walking::FitStep)
   void Remap() noexcept;
   void Stop() noexcept;
+  // the stepping strategy (walk_step_adjust.cc): in a single support, the DCM error the stance
+  // ankle cannot take back, predicted to the landing, moves the swing foot's landing by as much
+  // (within the step limits against the stance sole)
+  void AdjustStep() noexcept;
   // the estimate's frame onto the plan's, from the supporting feet
   void UpdateFrame(double dt, bool first) noexcept;
   Eigen::Vector3d ToPlan(const Eigen::Vector3d& p_est) const;
@@ -216,6 +224,8 @@ class WalkController : public BalanceController {
                                // the robot's weight)
   double end_load_[2] = {0, 0};  // both feet's loads at the last walk cycle [N]
   double end_tilt_ = -1;       // the base's tilt then [rad] (-1: never walked)
+  int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
+  walking::Footstep adjust_planned_;  // its landing as planned
 };
 
 }  // namespace ohrp::controllers

@@ -80,13 +80,23 @@ struct GaitState {
 class Gait {
  public:
   // room for `n` steps, so that Replace does not allocate for up to that many
-  void Reserve(int n) { steps_.reserve(n); }
+  void Reserve(int n) {
+    steps_.reserve(n);
+    pending_.reserve(n);
+  }
   // standing on `feet` from time `t` (no step)
   void Start(double t, const FeetPose& feet, const GaitOptions& options);
   // replaces the steps that have not started at `now` (a step has started once its double
   // support has begun) by `steps`; they follow the last started one (or start at `now` when
   // standing). Returns the index of the first new step.
   int Replace(double now, const std::vector<Footstep>& steps);
+
+  // moves the landing of step k, in its single support at `now`, to `xy` [m] (a stepping
+  // strategy): the swing foot goes on from where it is at `now` to the new place over the rest
+  // of its travel (its position continuous, no detour), the steps after it keep their places
+  // and the ZMP reference follows the new stance. False (nothing changed) when step k is not in
+  // single support at `now`. Allocates nothing up to Reserve's count.
+  bool AdjustLanding(int k, const Eigen::Vector2d& xy, double now);
 
   // the state at `t` (any t, also in the past or after the end)
   void At(double t, GaitState* s) const;
@@ -119,7 +129,15 @@ class Gait {
     Eigen::Vector3d zmp_to;    // the stance point
     double height;             // swing apex above the higher end [m]
     Eigen::Vector2d detour = Eigen::Vector2d::Zero();  // the swing's bend at mid-travel [m]
+    // a landing moved during the swing (AdjustLanding): from where the foot was then, and its
+    // travel then (the swing goes on from there); travel_from < 0: not moved
+    Eigen::Vector2d moved_from = Eigen::Vector2d::Zero();
+    double travel_from = -1;
   };
+  // the swing's travel (0 at lift-off, 1 at landing) of phase p at t, and its landing's
+  // vertical shares
+  double Travel(const Phase& p, double t) const;
+  double LandingShare(const Phase& p) const;
   // the swing's outward bend for `step` from `before` (zero when the straight path keeps the
   // gap, or the sole's size is not known)
   Eigen::Vector2d SwingDetour(const FeetPose& before, const Footstep& step) const;
@@ -129,12 +147,12 @@ class Gait {
   int PhaseAt(double t) const;
   Eigen::Vector3d StancePoint(const FeetPose& feet, int foot) const;
   Eigen::Vector3d MidPoint(const FeetPose& feet) const;
-  void Rebuild(int from);
 
   GaitOptions options_;
   double t_start_ = 0;
   FeetPose start_;
   std::vector<Phase> steps_;
+  std::vector<Footstep> pending_;  // AdjustLanding's copy of the later steps (reserved)
 };
 
 // minimum-jerk blend 0 -> 1 over s in [0, 1] (clamped), with its first and second derivatives

@@ -40,6 +40,12 @@ class PatternGenerator {
   void Reserve(int n) { gait_.Reserve(n); }
   // replaces the steps not yet started by `steps` (gait.h); returns the first new index
   int Replace(const std::vector<Footstep>& steps);
+  // moves the landing of step k, under way in its single support, to `xy` (Gait::AdjustLanding
+  // at the generator's time); false when it is not in single support. No allocation.
+  bool AdjustLanding(int k, const Eigen::Vector2d& xy) { return gait_.AdjustLanding(k, xy, t_); }
+  // the planned CoM moved by `dc` [m] and its velocity by `dv` [m/s] (horizontal; e.g. onto a
+  // measured state after a push): the preview servo plans on from there. No allocation.
+  void ShiftCoM(const Eigen::Vector2d& dc, const Eigen::Vector2d& dv);
   // one control period ahead; no allocation
   const WalkSample& Advance();
 

@@ -63,6 +63,9 @@ class PreviewAxis {
   void Reset(const PreviewGains& gains, const Eigen::Vector3d& state, double p_ref_now);
   // one step: `p_ref` holds N + 1 samples, p_ref[0] the reference now (time k), p_ref[j] at k + j
   void Step(const PreviewGains& gains, const double* p_ref);
+  // the state moved by `dx` (x, dx, ddx), the error integral kept: the servo's feedback takes the
+  // new state on towards the reference from the next step (a plan re-based on a measured state)
+  void Shift(const Eigen::Vector3d& dx) { x_ += dx; }
 
   const Eigen::Vector3d& state() const { return x_; }  // x, dx, ddx after the last step
   double zmp(const PreviewGains& gains) const { return gains.C() * x_; }  // of the state

@@ -179,6 +179,49 @@ double Gait::HeelLift(bool down, double apex) const {
   return 0.8 * std::asin(std::clamp(apex / options_.sole_half_length, 0.0, 1.0));
 }
 
+double Gait::LandingShare(const Phase& p) const {
+  const Eigen::Vector3d& a = p.before.p[p.step.foot];
+  const double vf = options_.vertical_fraction;
+  return std::abs(p.step.p.z() - a.z()) > kStepEdge ? std::max(vf, kStepVerticalFraction) : vf;
+}
+
+double Gait::Travel(const Phase& p, double t) const {
+  // onto a step the foot rises (and comes down) vertically for longer: its toe clears the riser
+  // before it moves over it. Off a step it stays at the top until past the nose and comes down
+  // vertically for longer, but leaves the upper stair with the short vertical share: the
+  // trailing foot goes forward at once (held back, its ankle ran out of range under a CoM
+  // already over the lower stair). A step down no deeper than the swing's apex (a stone, a
+  // slope) keeps the symmetric profile of a step: no stair to leave
+  const Eigen::Vector3d& a = p.before.p[p.step.foot];
+  const Eigen::Vector3d& b = p.step.p;
+  const bool edge = std::abs(b.z() - a.z()) > kStepEdge;
+  const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
+  const double vf = options_.vertical_fraction;
+  const double vf_land = LandingShare(p);
+  const double vf_lift = edge && !down ? vf_land : vf;
+  const double phase = (t - p.t_lift) / std::max(p.t_land - p.t_lift, 1e-9);
+  double f, df, ddf;
+  MinJerk((phase - vf_lift) / std::max(1 - vf_lift - vf_land, 1e-9), &f, &df, &ddf);
+  return f;
+}
+
+bool Gait::AdjustLanding(int k, const Eigen::Vector2d& xy, double now) {
+  if (k < 0 || k >= static_cast<int>(steps_.size())) return false;
+  Phase& p = steps_[k];
+  if (now < p.t_lift || now >= p.t_land) return false;
+  GaitState s;
+  At(now, &s);
+  p.moved_from = s.feet.p[p.step.foot].head<2>();
+  p.travel_from = Travel(p, now);
+  p.step.p.head<2>() = xy;
+  p.detour.setZero();
+  // the later steps again, from the new stance (Replace keeps this one: it has begun)
+  pending_.clear();
+  for (size_t j = k + 1; j < steps_.size(); ++j) pending_.push_back(steps_[j].step);
+  Replace(now, pending_);
+  return true;
+}
+
 void Gait::At(double t, GaitState* s) const {
   const int k = PhaseAt(t);
   s->dz_ground = s->ddz_ground = 0;
@@ -226,19 +269,17 @@ void Gait::At(double t, GaitState* s) const {
   const Eigen::Vector3d& a = p.before.p[sw];
   const Eigen::Vector3d& b = p.step.p;
   double f, df, ddf;
-  // onto a step the foot rises (and comes down) vertically for longer: its toe clears the riser
-  // before it moves over it. Off a step it stays at the top until past the nose and comes down
-  // vertically for longer, but leaves the upper stair with the short vertical share: the
-  // trailing foot goes forward at once (held back, its ankle ran out of range under a CoM
-  // already over the lower stair). A step down no deeper than the swing's apex (a stone, a
-  // slope) keeps the symmetric profile of a step: no stair to leave
-  const bool edge = std::abs(b.z() - a.z()) > kStepEdge;
+  // the travel's profile: Travel (onto, off and over steps)
   const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
-  const double vf = options_.vertical_fraction;
-  const double vf_land = edge ? std::max(vf, kStepVerticalFraction) : vf;
-  const double vf_lift = edge && !down ? vf_land : vf;
-  MinJerk((phase - vf_lift) / std::max(1 - vf_lift - vf_land, 1e-9), &f, &df, &ddf);
-  s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>() + std::sin(M_PI * f) * p.detour;
+  const double vf_land = LandingShare(p);
+  f = Travel(p, t);
+  if (p.travel_from >= 0 && f > p.travel_from) {
+    // moved during the swing: on from where the foot was then
+    const double r = (f - p.travel_from) / std::max(1 - p.travel_from, 1e-9);
+    s->feet.p[sw].head<2>() = p.moved_from + r * (b.head<2>() - p.moved_from);
+  } else {
+    s->feet.p[sw].head<2>() = a.head<2>() + f * (b - a).head<2>() + std::sin(M_PI * f) * p.detour;
+  }
   s->feet.yaw[sw] = p.before.yaw[sw] + f * WrapAngle(p.step.yaw - p.before.yaw[sw]);
   s->feet.roll[sw] = p.before.roll[sw] + f * (p.step.roll - p.before.roll[sw]);
   s->feet.pitch[sw] = p.before.pitch[sw] + f * (p.step.pitch - p.before.pitch[sw]);

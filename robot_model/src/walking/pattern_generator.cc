@@ -46,6 +46,11 @@ bool PatternGenerator::Start(double t, const FeetPose& feet, const Eigen::Vector
 
 int PatternGenerator::Replace(const std::vector<Footstep>& steps) { return gait_.Replace(t_, steps); }
 
+void PatternGenerator::ShiftCoM(const Eigen::Vector2d& dc, const Eigen::Vector2d& dv) {
+  for (int a = 0; a < 2; ++a) axis_[a].Shift(Eigen::Vector3d(dc[a], dv[a], 0));
+  Sample();
+}
+
 const WalkSample& PatternGenerator::Advance() {
   const double dt = gains_.options().dt;
   const int n = gains_.horizon();

@@ -169,18 +169,13 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
     t.detail = "controller '" + fell_by + "' detected a fall (exit 8; see " + t.dir + ")";
     return t;
   }
-  // a controller that could not do what it was asked (exit 9: e.g. a walk whose steps did not
-  // land, or whose arms the push threw into the body) did not survive the push either, standing
-  // or not
-  for (const auto& proc : summary["processes"]) {
-    if (proc["name"] != "sim_host" && proc["exit_code"] == 9 && outcome == "completed") {
-      t.ok = true;
-      t.standing = false;
-      t.detail = "controller '" + proc["name"].get<std::string>() +
-                 "' did not complete its task (exit 9; see " + t.dir + ")";
-      return t;
-    }
-  }
+  // a controller that could not complete its task (exit 9: e.g. a walk whose arms the push threw
+  // into the body) is judged like the others, by standing; its reason is kept in the detail
+  std::string unfinished;
+  for (const auto& proc : summary["processes"])
+    if (proc["name"] != "sim_host" && proc["exit_code"] == 9)
+      unfinished = "; controller '" + proc["name"].get<std::string>() +
+                   "' did not complete its task (exit 9, see " + t.dir + ")";
   const bool fell = sim.contains("fall") && sim["fall"].is_object();
   const bool diverged = outcome == "diverged" || fell;
   if (outcome != "completed" && !diverged) {
@@ -188,7 +183,7 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
     return t;
   }
   for (const auto& proc : summary["processes"]) {
-    if (!diverged && proc["name"] != "sim_host" && proc["exit_code"] != 0) {
+    if (!diverged && proc["name"] != "sim_host" && proc["exit_code"] != 0 && proc["exit_code"] != 9) {
       t.detail = "controller '" + proc["name"].get<std::string>() + "' exited with " +
                  std::to_string(proc["exit_code"].get<int>()) + " (see " + t.dir + ")";
       return t;
@@ -220,6 +215,7 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
              : diverged ? "sim_host stopped at t=" + std::to_string(sim.value("sim_time", 0.0)) +
                               " s: " + sim.value("detail", std::string()).substr(0, 60) + "..."
                         : sr.why;
+  t.detail += unfinished;
   t.lowest_height = sr.lowest_height;
   t.stance_height = sr.stance_height;
   t.largest_tilt = sr.largest_tilt;
