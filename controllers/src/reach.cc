@@ -23,7 +23,9 @@ std::string Fmt(const char* format, double a, double b = 0, double c = 0, double
 // the options' own ranges (the goals are checked against the file)
 ConfigStatus CheckReachOptions(const ReachOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
-  if (o.goal_joints.empty()) return bad("no goal: give --goal-joints NAME=VALUE,... [rad]");
+  if (o.goal_joints.empty() == !o.hand_goal)
+    return bad("give one goal: --goal-joints NAME=VALUE,... [rad], or --group and --goal-pose");
+  if (o.hand_goal && o.group.empty()) return bad("--goal-pose needs --group (the joints it moves)");
   if (!(o.clearance >= 0 && o.clearance <= 0.2)) return bad("--clearance must be in [0, 0.2] m");
   if (!(o.start >= 0 && o.start <= 3600)) return bad("--start must be in [0, 3600] s");
   if (!(o.hold >= 0 && o.hold <= 3600)) return bad("--hold must be in [0, 3600] s");
@@ -57,15 +59,19 @@ std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& opt
     *status = ConfigStatus::Fail(ConfigError::kFile, error);
     return nullptr;
   }
-  // the group and its goal, against the file's joints and limits
-  std::vector<std::string> names;
-  for (const auto& [name, value] : o.goal_joints) {
-    names.push_back(name);
-    r->goal_.push_back(value);
+  // the group and its goal, against the file's joints and limits (a hand pose: after IK below)
+  std::vector<std::string> names = o.group;
+  if (!o.hand_goal) {
+    names.clear();
+    for (const auto& [name, value] : o.goal_joints) {
+      names.push_back(name);
+      r->goal_.push_back(value);
+    }
   }
+  const char* option = o.hand_goal ? "--group" : "--goal-joints";
   if (!planning::MakeJointGroup(r->file_.robot, names, &r->group_, &error) ||
-      !(error = planning::OutsideLimits(r->group_, r->goal_)).empty()) {
-    *status = ConfigStatus::Fail(ConfigError::kOption, "--goal-joints: " + error);
+      (!o.hand_goal && !(error = planning::OutsideLimits(r->group_, r->goal_)).empty())) {
+    *status = ConfigStatus::Fail(ConfigError::kOption, std::string(option) + ": " + error);
     return nullptr;
   }
   r->check_ = planning::PostureCheck::Create(r->file_, {}, r->group_, o.clearance, &error);
@@ -80,11 +86,19 @@ std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& opt
     return nullptr;
   }
   stance.resize(collision::NumJoints(r->file_.robot), 0.0);
+  if (o.hand_goal) {
+    if (r->kin_ik_->robot().joints.size() != r->file_.robot.joint_names.size()) {
+      *status = ConfigStatus::Fail(ConfigError::kMismatch, "--model and --collision-file are not the same robot");
+      return nullptr;
+    }
+    *status = GoalFromHandPose(*r->kin_ik_, r->group_, o.hand, stance, &r->goal_);
+    if (!status->ok()) return nullptr;
+  }
   planning::SetGroupValues(r->group_, r->goal_, stance);
   const planning::Verdict v = r->check_->Evaluate(stance);
   if (!v.valid) {
     *status = ConfigStatus::Fail(ConfigError::kOption,
-                                 "--goal-joints: the goal is in collision in the stance pose: " +
+                                 std::string(option) + ": the goal is in collision in the stance pose: " +
                                      r->check_->Describe(v));
     return nullptr;
   }
@@ -126,6 +140,7 @@ ConfigStatus ReachController::on_configure(const shm::SegmentHeader& header) {
   sample_q_.assign(n, 0.0);
   sample_dq_.assign(n, 0.0);
   final_error_.assign(n, NAN);
+  final_q_.assign(header.njoint, 0.0);
   log_capacity_ = static_cast<size_t>(kLogSeconds / header.control_period) + 1;
   log_.assign(log_capacity_ * nq, 0.0);
   thread_ = std::thread(&ReachController::PlannerThread, this);
@@ -204,6 +219,7 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
     case Phase::kHolding:
       if (s.time - hold_start_ >= reach_.hold) {
         for (int i = 0; i < n; ++i) final_error_[i] = s.q[group_.ids[i]] - goal_[i];
+        for (int j = 0; j < njoint(); ++j) final_q_[j] = s.q[j];
         motion_end_ = s.time;
         phase_reach_ = Phase::kDone;
       }
@@ -222,6 +238,19 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
     dq_ref_[j] = sample_dq_[i];
   }
   if (phase_reach_ != Phase::kDone) Record(s);
+}
+
+double ReachController::HandError() const {
+  // the base frame: the base at the origin, upright (as the goal was given)
+  const int site = kin_ik_->SiteId(reach_.hand.site);
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(final_q_.data());
+  kin_ik_->UpdatePositions();
+  const mjModel* m = kin_ik_->m();
+  const int body = m->site_bodyid[site];
+  const Eigen::Vector3d p_TipT(m->site_pos[3 * site], m->site_pos[3 * site + 1], m->site_pos[3 * site + 2]);
+  const Eigen::Vector3d p = kin_ik_->p_WBody(body) + kin_ik_->R_WBody(body) * p_TipT;
+  return (p - reach_.hand.p_B).norm();
 }
 
 const planning::Verdict& ReachController::MeasuredClearance() const {
@@ -275,6 +304,10 @@ void ReachController::report(std::ostream& out) const {
       if (std::abs(final_error_[i]) > worst) worst = std::abs(final_error_[i]), at = i;
     out << "reach: final tracking error " << Fmt("%.4f rad", worst) << " (" << group_.names[at]
         << ") after " << Fmt("%.2f s of hold (tolerance %.3f rad)\n", reach_.hold, reach_.tolerance);
+    if (reach_.hand_goal)
+      out << "reach: the hand (" << reach_.hand.site << ") measured "
+          << Fmt("%.1f mm from its goal (%.3f, %.3f, %.3f) m in the base frame, by the model's kinematics\n",
+                 1e3 * HandError(), reach_.hand.p_B.x(), reach_.hand.p_B.y(), reach_.hand.p_B.z());
   }
 }
 

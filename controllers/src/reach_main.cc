@@ -35,6 +35,35 @@ bool ParseGoals(const std::vector<std::string>& items,
   }
   return true;
 }
+
+// "SITE,X,Y,Z[,ROLL,PITCH,YAW]" (split at the commas); false with `*error`
+bool ParseHandPose(const std::vector<std::string>& items, ohrp::controllers::HandGoal* hand,
+                   std::string* error) {
+  if (items.size() != 4 && items.size() != 7) {
+    *error = "--goal-pose: give SITE,X,Y,Z or SITE,X,Y,Z,ROLL,PITCH,YAW (metres, radians)";
+    return false;
+  }
+  hand->site = items[0];
+  double v[6] = {0, 0, 0, 0, 0, 0};
+  for (size_t i = 1; i < items.size(); ++i) {
+    std::istringstream in(items[i]);
+    std::string rest;
+    if (!(in >> v[i - 1]) || (in >> rest) || !std::isfinite(v[i - 1])) {
+      *error = "--goal-pose: '" + items[i] + "' is not a finite number";
+      return false;
+    }
+    const char* quantity = i <= 3 ? "height" : "angle";  // within 10 m; within a turn
+    if (const std::string why = ohrp::cli::CheckPlausible(quantity, v[i - 1], "--goal-pose");
+        !why.empty()) {
+      *error = why;
+      return false;
+    }
+  }
+  hand->p_B = Eigen::Vector3d(v[0], v[1], v[2]);
+  hand->orientation = items.size() == 7;
+  hand->rpy = Eigen::Vector3d(v[3], v[4], v[5]);
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,8 +99,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> goal_items;
   app.add_option("--goal-joints", goal_items,
                  "the goal: NAME=VALUE,... [rad]; the named joints are the group the plan moves")
+      ->delimiter(',');
+  app.add_option("--group", o.group,
+                 "with --goal-pose: the joints the plan moves, the chain to the site, root outwards")
+      ->delimiter(',');
+  std::vector<std::string> pose_items;
+  app.add_option("--goal-pose", pose_items,
+                 "the goal as a hand pose: SITE,X,Y,Z[,ROLL,PITCH,YAW] in the base frame [m, rad] "
+                 "(the group's joints by the shared limb IK from the stance pose)")
       ->delimiter(',')
-      ->required();
+      ->excludes("--goal-joints");
   app.add_option("--clearance", o.clearance, "[m] kept between links beyond the file's margin")
       ->default_val(o.clearance)->check(ohrp::cli::Plausible("clearance"));
   app.add_option("--start", o.start, "[s] after the stance begins, when the plan is made")
@@ -91,10 +128,12 @@ int main(int argc, char** argv) {
   AddRunOptions(&app, &run);
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   std::string error;
-  if (!ParseGoals(goal_items, &o.goal_joints, &error)) {
+  if (!ParseGoals(goal_items, &o.goal_joints, &error) ||
+      (!pose_items.empty() && !ParseHandPose(pose_items, &o.hand, &error))) {
     std::cerr << "reach: " << error << "\n";
     return kExitUsage;
   }
+  o.hand_goal = !pose_items.empty();
 
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;

@@ -3,7 +3,8 @@
 // section 4.3, application 3; robot_model/planning, docs/planning.md).
 //
 //   set-up    the self-collision file (--collision-file: the online guard's pairs, margin and
-//             safe ranges, the links' geometry) gives the group's joints and limits; goals are
+//             safe ranges, the links' geometry) gives the group's joints and limits; goals (joint
+//             values, or a hand pose turned into joint values by the shared limb IK) are
 //             checked against them and, with the stance pose's other joints, against the
 //             checker before anything attaches (bad input: exit 2).
 //   stand     balance's stance (BalanceController: ramp, centre the CoM, stabilizer); the
@@ -36,10 +37,31 @@
 
 namespace ohrp::controllers {
 
+// a goal for a hand: a site of the robot at a position (and, if given, an orientation) in the
+// base frame
+struct HandGoal {
+  std::string site;
+  Eigen::Vector3d p_B = Eigen::Vector3d::Zero();  // [m]
+  bool orientation = false;                       // false: the position only
+  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();  // roll, pitch, yaw about the base's x, y, z [rad]
+};
+
+// The group's goal for a hand pose: the shared limb IK (robot_model/ik.h) of the chain from the
+// group's first joint to the site, started from `stance` (joint-id order). The chain's joints
+// must all be in the group; the group's other joints keep their stance values. kOption with the reason: an unknown site, a chain that is not the
+// group, a pose out of reach (by how far the closest pose found stays from it).
+ConfigStatus GoalFromHandPose(model::Kinematics& kin, const planning::JointGroup& group,
+                              const HandGoal& hand, const std::vector<double>& stance,
+                              std::vector<double>* goal);
+
 struct ReachOptions {
   BalanceOptions balance;
   std::string collision_file;  // the self-collision file; empty: DefaultSelfCollisionFile()
   std::vector<std::pair<std::string, double>> goal_joints;  // the group and its goal [rad]
+  // or: the group by name and a hand pose, the goal by IK (hand_goal true)
+  std::vector<std::string> group;
+  bool hand_goal = false;
+  HandGoal hand;
   double clearance = 0.01;     // [m] kept beyond the file's margin
   double start = 1.5;          // [s] after the stance begins (the CoM centred first)
   double hold = 1.5;           // [s] at the goal before the tracking error is taken
@@ -71,6 +93,8 @@ class ReachController : public BalanceController {
                   std::unique_ptr<model::Kinematics> kin_ik);
   void PlannerThread();
   void Record(const shm::SensorBlock& s) noexcept;
+  // a hand goal: the site's distance from its target at the final measured posture [m]
+  double HandError() const;
   // the smallest clearance of the recorded motion (computed once, after the run)
   const planning::Verdict& MeasuredClearance() const;
 
@@ -92,6 +116,7 @@ class ReachController : public BalanceController {
   double motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;
   std::vector<double> sample_q_, sample_dq_;  // group
   std::vector<double> final_error_;           // group: measured - goal at the end of the hold
+  std::vector<double> final_q_;               // njoint: the measured posture then
   // measured postures of the motion and the hold, one per cycle (preallocated)
   std::vector<double> log_;
   size_t log_rows_ = 0, log_capacity_ = 0;
