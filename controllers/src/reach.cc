@@ -74,7 +74,7 @@ std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& opt
     *status = ConfigStatus::Fail(ConfigError::kOption, std::string(option) + ": " + error);
     return nullptr;
   }
-  r->check_ = planning::PostureCheck::Create(r->file_, {}, r->group_, o.clearance, &error);
+  r->check_ = planning::PostureCheck::Create(r->file_, o.boxes, r->group_, o.clearance, &error);
   if (!r->check_) {
     *status = ConfigStatus::Fail(ConfigError::kFile, o.collision_file + ": " + error);
     return nullptr;

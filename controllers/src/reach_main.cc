@@ -64,6 +64,36 @@ bool ParseHandPose(const std::vector<std::string>& items, ohrp::controllers::Han
   hand->rpy = Eigen::Vector3d(v[3], v[4], v[5]);
   return true;
 }
+
+// "NAME,CX,CY,CZ,HX,HY,HZ": a box in the base frame; false with `*error`
+bool ParseBox(const std::string& text, ohrp::planning::SceneBox* box, std::string* error) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+  if (items.size() != 7 || items[0].empty()) {
+    *error = "--box '" + text + "': give NAME,CX,CY,CZ,HX,HY,HZ (metres, base frame)";
+    return false;
+  }
+  double v[6];
+  for (int i = 0; i < 6; ++i) {
+    std::istringstream number(items[i + 1]);
+    std::string rest;
+    if (!(number >> v[i]) || (number >> rest) || !std::isfinite(v[i]) || (i >= 3 && !(v[i] > 0))) {
+      *error = "--box '" + text + "': '" + items[i + 1] + "' is not a " +
+               (i < 3 ? "finite number" : "positive half size");
+      return false;
+    }
+    if (const std::string why = ohrp::cli::CheckPlausible(i < 3 ? "height" : "distance", v[i], "--box");
+        !why.empty()) {
+      *error = why;
+      return false;
+    }
+  }
+  box->name = items[0];
+  box->X_BO.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  box->half_size = Eigen::Vector3d(v[3], v[4], v[5]);
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,9 +104,10 @@ int main(int argc, char** argv) {
 
   CLI::App app{
       "reach: attach to a robot segment (sim_host or hw_driver), stand as balance does, then\n"
-      "move a joint group (the joints named in --goal-joints) from its measured posture to the\n"
-      "goal along a path planned clear of the robot's own links (the self-collision file's\n"
-      "online pairs, margin and safe ranges, plus --clearance) by OMPL's RRTConnect with path\n"
+      "move a joint group (the joints named in --goal-joints, or --group with a hand pose\n"
+      "--goal-pose solved by the shared limb IK) from its measured posture to the goal along a\n"
+      "path planned clear of the robot's own links (the self-collision file's online pairs,\n"
+      "margin and safe ranges, plus --clearance) and of --box obstacles by OMPL's RRTConnect with path\n"
       "simplification, timed within --max-speed and --max-accel; hold it, and report the\n"
       "planning time, the path length, the smallest clearance of the executed motion (from the\n"
       "measured joint angles) and the final tracking error. Exit 9 when no path is found, the\n"
@@ -109,6 +140,11 @@ int main(int argc, char** argv) {
                  "(the group's joints by the shared limb IK from the stance pose)")
       ->delimiter(',')
       ->excludes("--goal-joints");
+  std::vector<std::string> box_items;
+  app.add_option("--box", box_items,
+                 "a static box to keep clear of: NAME,CX,CY,CZ,HX,HY,HZ (centre and half sizes in "
+                 "the base frame, as the robot stands) [m]; repeat for more")
+      ->take_all()->allow_extra_args(false);
   app.add_option("--clearance", o.clearance, "[m] kept between links beyond the file's margin")
       ->default_val(o.clearance)->check(ohrp::cli::Plausible("clearance"));
   app.add_option("--start", o.start, "[s] after the stance begins, when the plan is made")
@@ -134,6 +170,14 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   o.hand_goal = !pose_items.empty();
+  for (const std::string& b : box_items) {
+    ohrp::planning::SceneBox box;
+    if (!ParseBox(b, &box, &error)) {
+      std::cerr << "reach: " << error << "\n";
+      return kExitUsage;
+    }
+    o.boxes.push_back(box);
+  }
 
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;

@@ -162,9 +162,11 @@ TEST(PlannerHrp1sTest, SceneBoxKeptClearOfTheArm) {
   const PlanResult r = PlanJoints(*check, h.zero, goal, o);
   ASSERT_TRUE(r.solved) << r.reason;
   EXPECT_GE(r.closest.distance, check->required());
-  std::printf("round the box: plan %.1f ms + %.1f ms, length %.3f rad (straight 1.500), clearance "
-              "%.1f mm (%s / %s)\n", 1e3 * r.plan_time, 1e3 * r.simplify_time, r.length,
-              1e3 * r.closest.distance, r.closest.a.c_str(), r.closest.b.c_str());
+  std::printf("round the box at (%.3f, %.3f, %.3f): plan %.1f ms + %.1f ms, length %.3f rad "
+              "(straight 1.500), clearance %.1f mm (%s / %s)\n", box.X_BO.translation().x(),
+              box.X_BO.translation().y(), box.X_BO.translation().z(), 1e3 * r.plan_time,
+              1e3 * r.simplify_time, r.length, 1e3 * r.closest.distance, r.closest.a.c_str(),
+              r.closest.b.c_str());
 }
 
 }  // namespace

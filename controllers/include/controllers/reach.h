@@ -62,6 +62,8 @@ struct ReachOptions {
   std::vector<std::string> group;
   bool hand_goal = false;
   HandGoal hand;
+  // static boxes to keep clear of, in the base frame (the waist, as the robot stands)
+  std::vector<planning::SceneBox> boxes;
   double clearance = 0.01;     // [m] kept beyond the file's margin
   double start = 1.5;          // [s] after the stance begins (the CoM centred first)
   double hold = 1.5;           // [s] at the goal before the tracking error is taken
