@@ -200,6 +200,7 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
           request_[j] = static_cast<int>(j) < na ? s.q[j] : s.passive_q[j - na];
         plan_state_.store(kRequested, std::memory_order_release);
         phase_reach_ = Phase::kPlanning;
+        request_time_ = s.time;
       }
       return;
     case Phase::kPlanning: {
@@ -292,6 +293,9 @@ void ReachController::report(std::ostream& out) const {
       << " (" << p.closest.a << " / " << p.closest.b << ")\n";
   out << "reach: the straight joint-space line would " << (straight_.valid ? "keep " : "come to ")
       << Fmt("%.1f mm", 1e3 * straight_.distance) << " (" << straight_.a << " / " << straight_.b << ")\n";
+  if (phase_reach_ != Phase::kPlanning)
+    out << "reach: the motion began " << Fmt("%.3f s (producer time) after the plan was asked at %.3f s", motion_start_ - request_time_, request_time_)
+        << " (the robot stands meanwhile; a simulation faster than real time runs on while the plan is made)\n";
   const planning::Verdict& c = MeasuredClearance();
   if (log_rows_ > 0)
     out << "reach: measured clearance along the executed motion " << Fmt("%.1f mm", 1e3 * c.distance)

@@ -115,7 +115,7 @@ class ReachController : public BalanceController {
   std::atomic<int> plan_state_{kIdle};
   std::thread thread_;
   Phase phase_reach_ = Phase::kWait;
-  double motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;
+  double request_time_ = 0, motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;  // [s]
   std::vector<double> sample_q_, sample_dq_;  // group
   std::vector<double> final_error_;           // group: measured - goal at the end of the hold
   std::vector<double> final_q_;               // njoint: the measured posture then
