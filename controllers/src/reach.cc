@@ -149,16 +149,15 @@ ConfigStatus ReachController::on_configure(const shm::SegmentHeader& header) {
 
 void ReachController::on_close() {
   if (thread_.joinable()) {
-    plan_state_.store(kQuit);
+    quit_.store(true);
     thread_.join();
   }
 }
 
 void ReachController::PlannerThread() {
   for (;;) {
-    const int state = plan_state_.load(std::memory_order_acquire);
-    if (state == kQuit) return;
-    if (state != kRequested) {
+    if (quit_.load()) return;
+    if (plan_state_.load(std::memory_order_acquire) != kRequested) {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
       continue;
     }

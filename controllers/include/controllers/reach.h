@@ -101,7 +101,7 @@ class ReachController : public BalanceController {
   const planning::Verdict& MeasuredClearance() const;
 
   enum class Phase { kWait, kPlanning, kMoving, kHolding, kDone, kFailed };
-  enum PlanState : int { kIdle, kRequested, kSolved, kUnsolved, kQuit };
+  enum PlanState : int { kIdle, kRequested, kSolved, kUnsolved };
   ReachOptions reach_;
   collision::SelfCollisionFile file_;
   planning::JointGroup group_;
@@ -113,6 +113,7 @@ class ReachController : public BalanceController {
   planning::TimedPath path_;
   planning::Verdict straight_;          // the straight line's closest pair (planner thread)
   std::atomic<int> plan_state_{kIdle};
+  std::atomic<bool> quit_{false};      // the planning thread ends
   std::thread thread_;
   Phase phase_reach_ = Phase::kWait;
   double request_time_ = 0, motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;  // [s]

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -139,8 +140,10 @@ PlanResult PlanJoints(PostureCheck& check, std::span<const double> posture,
   const ob::PlannerStatus status = setup.solve(options.time_limit);
   result.plan_time = Seconds(t0);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) {
-    result.reason = "no collision-free path found in " + std::to_string(options.time_limit) +
-                    " s (" + status.asString() + ")";
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", options.time_limit);
+    result.reason = std::string("no collision-free path found in ") + limit + " s (OMPL: " +
+                    status.asString() + ")";
     result.evaluations = check.evaluations() - evaluations0;
     return result;
   }
