@@ -8,6 +8,7 @@
 #include <ostream>
 
 #include "controllers/runner.h"
+#include "robot_model/output_file.h"
 
 namespace ohrp::controllers {
 namespace {
@@ -52,9 +53,13 @@ std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& opt
   o.balance.one_leg.sides.clear();
   *status = LoadParts(o.balance, "reach", &filled, &pose, &kin_est, &kin_ik);
   if (!status->ok()) return nullptr;
+  std::string error;
+  if (!o.plan_log.empty() && !model::PrepareOutputFile(o.plan_log, "# reach: the run is under way\n", &error)) {
+    *status = ConfigStatus::Fail(ConfigError::kFile, "--plan-log: " + error);
+    return nullptr;
+  }
   std::unique_ptr<ReachController> r(
       new ReachController(o, filled, std::move(pose), std::move(kin_est), std::move(kin_ik)));
-  std::string error;
   if (!collision::ReadSelfCollisionFile(o.collision_file, &r->file_, &error)) {
     *status = ConfigStatus::Fail(ConfigError::kFile, error);
     return nullptr;
@@ -141,6 +146,7 @@ ConfigStatus ReachController::on_configure(const shm::SegmentHeader& header) {
   sample_dq_.assign(n, 0.0);
   final_error_.assign(n, NAN);
   final_q_.assign(header.njoint, 0.0);
+  period_ = header.control_period;
   log_capacity_ = static_cast<size_t>(kLogSeconds / header.control_period) + 1;
   log_.assign(log_capacity_ * nq, 0.0);
   thread_ = std::thread(&ReachController::PlannerThread, this);
@@ -151,7 +157,47 @@ void ReachController::on_close() {
   if (thread_.joinable()) {
     quit_.store(true);
     thread_.join();
+    if (!reach_.plan_log.empty()) model::WriteWholeFile(reach_.plan_log, PlanLog(), &log_error_);
   }
+}
+
+std::string ReachController::PlanLog() const {
+  // kind,t,JOINT...: the waypoints at their times, the timed path every 10 ms, the measured
+  // group joints every control cycle from the motion's start (t from the motion's start [s])
+  std::string text = "# reach plan: " + (result_.solved ? std::string("solved") : "not solved: " + result_.reason) + "\n";
+  text += "kind,t";
+  for (const auto& n : group_.names) text += "," + n;
+  text += "\n";
+  auto row = [&](const char* kind, double t, const double* v, int stride) {
+    text += kind + Fmt(",%.4f", t);
+    for (int i = 0; i < group_.size(); ++i) text += Fmt(",%.6f", v[i * stride]);
+    text += "\n";
+  };
+  if (result_.solved) {
+    std::vector<double> q(group_.size());
+    double t = 0;
+    for (size_t k = 0; k < result_.waypoints.size(); ++k) {
+      // each waypoint is reached at rest: find its time on the path by sampling
+      row("waypoint", t, result_.waypoints[k].data(), 1);
+      if (k + 1 < result_.waypoints.size()) {
+        planning::TimedPath one;
+        std::string ignored;
+        one.Build({result_.waypoints[k], result_.waypoints[k + 1]}, v_max_, a_max_, &ignored);
+        t += one.duration();
+      }
+    }
+    for (double s = 0; s <= path_.duration() + 1e-9; s += 0.01) {
+      path_.Sample(s, q.data(), nullptr, nullptr);
+      row("planned", s, q.data(), 1);
+    }
+  }
+  const size_t nq = request_.size();
+  std::vector<double> g(group_.size());
+  for (size_t r = 0; r < log_rows_; ++r) {
+    for (int i = 0; i < group_.size(); ++i) g[i] = log_[r * nq + group_.ids[i]];
+    row("measured", r * period_, g.data(), 1);
+  }
+  return text;
 }
 
 void ReachController::PlannerThread() {
@@ -280,6 +326,8 @@ void ReachController::report(std::ostream& out) const {
         << ")\n";
     return;
   }
+  if (!reach_.plan_log.empty())
+    out << "reach: plan log " << reach_.plan_log << (log_error_.empty() ? "" : " NOT written: " + log_error_) << "\n";
   const planning::PlanResult& p = result_;
   if (!p.solved) {
     out << "reach: planning failed: " << p.reason << " (" << p.evaluations << " posture checks, "
@@ -316,6 +364,7 @@ void ReachController::report(std::ostream& out) const {
 
 std::string ReachController::failure() const {
   if (std::string f = BalanceController::failure(); !f.empty()) return f;
+  if (!log_error_.empty()) return "--plan-log: " + log_error_;
   const int state = plan_state_.load();
   if (state == kUnsolved) return "planning failed: " + result_.reason;
   if (phase_reach_ != Phase::kDone)

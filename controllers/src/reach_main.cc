@@ -157,6 +157,9 @@ int main(int argc, char** argv) {
       ->default_val(o.max_accel)->check(ohrp::cli::InRange(1e-3, 200.0));
   app.add_option("--tolerance", o.tolerance, "[rad] largest final tracking error accepted")
       ->default_val(o.tolerance)->check(ohrp::cli::InRange(1e-4, 1.0));
+  app.add_option("--plan-log", o.plan_log,
+                 "CSV written after the run: the plan's waypoints, the timed path every 10 ms and "
+                 "the measured group joints every cycle (kind,t,JOINT...)");
   app.add_option("--plan-time", o.plan.time_limit, "[s] the planner's time limit")
       ->default_val(o.plan.time_limit)->check(ohrp::cli::InRange(1e-3, 600.0));
   app.add_option("--seed", o.plan.seed, "the planner's random seed (the same seed, the same path)")

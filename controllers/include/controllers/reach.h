@@ -70,6 +70,8 @@ struct ReachOptions {
   double max_speed = 0.8;      // [rad/s] per joint (the file's speed limit where lower)
   double max_accel = 2.0;      // [rad/s^2] per joint (half what the torque allows where lower)
   double tolerance = 0.1;      // [rad] largest final tracking error accepted
+  std::string plan_log;        // CSV of the plan (waypoints, timed samples) and the measured
+                               // motion, written after the run; "" none
   planning::PlanOptions plan;
 };
 
@@ -95,6 +97,8 @@ class ReachController : public BalanceController {
                   std::unique_ptr<model::Kinematics> kin_ik);
   void PlannerThread();
   void Record(const shm::SensorBlock& s) noexcept;
+  // the plan log's text (ReachOptions::plan_log)
+  std::string PlanLog() const;
   // a hand goal: the site's distance from its target at the final measured posture [m]
   double HandError() const;
   // the smallest clearance of the recorded motion (computed once, after the run)
@@ -124,6 +128,8 @@ class ReachController : public BalanceController {
   std::vector<double> log_;
   size_t log_rows_ = 0, log_capacity_ = 0;
   long log_dropped_ = 0;
+  std::string log_error_;  // the plan log could not be written: why
+  double period_ = 0;      // [s] the producer's control period
   mutable bool clearance_done_ = false;
   mutable planning::Verdict clearance_;
 };
