@@ -1,0 +1,137 @@
+// Reach: stand as balance does and move a joint group (an arm, both arms) to goal joint values
+// along a collision-free path planned on the robot's self-collision geometry (the paper's
+// section 4.3, application 3; robot_model/planning, docs/planning.md).
+//
+//   set-up    the self-collision file (--collision-file: the online guard's pairs, margin and
+//             safe ranges, the links' geometry) gives the group's joints and limits; goals (joint
+//             values, or a hand pose turned into joint values by the shared limb IK) are
+//             checked against them and, with the stance pose's other joints, against the
+//             checker before anything attaches (bad input: exit 2).
+//   stand     balance's stance (BalanceController: ramp, centre the CoM, stabilizer); the
+//             group's joints follow the stance pose until `start` seconds after the stance.
+//   plan      the measured posture is handed to a planning thread (OMPL's RRTConnect, path
+//             simplification, rest-to-rest synchronised trapezoids within the speed and
+//             acceleration limits); the control loop keeps standing and never waits for it.
+//   move      the group's references follow the timed path (position and velocity), the rest of
+//             the robot balance's; then the goal is held.
+//   report    planning time, path length, the smallest clearance of the motion computed from
+//             the MEASURED joint angles (recorded every cycle of the motion and hold, checked
+//             after the run through the same checker) and the tracking error at the end of the
+//             hold. failure(): no path (the reason), the run ended before the hold did, or a
+//             final tracking error above the tolerance.
+// The per-cycle path allocates nothing, throws nothing and logs nothing.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "collision/pair_file.h"
+#include "controllers/balance.h"
+#include "planning/arm_planner.h"
+#include "planning/timed_path.h"
+
+namespace ohrp::controllers {
+
+// a goal for a hand: a site of the robot at a position (and, if given, an orientation) in the
+// base frame
+struct HandGoal {
+  std::string site;
+  Eigen::Vector3d p_B = Eigen::Vector3d::Zero();  // [m]
+  bool orientation = false;                       // false: the position only
+  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();  // roll, pitch, yaw about the base's x, y, z [rad]
+};
+
+// The group's goal for a hand pose: the shared limb IK (robot_model/ik.h) of the chain from the
+// group's first joint to the site, started from `stance` (joint-id order). The chain's joints
+// must all be in the group; the group's other joints keep their stance values. kOption with the reason: an unknown site, a chain that is not the
+// group, a pose out of reach (by how far the closest pose found stays from it).
+ConfigStatus GoalFromHandPose(model::Kinematics& kin, const planning::JointGroup& group,
+                              const HandGoal& hand, const std::vector<double>& stance,
+                              std::vector<double>* goal);
+
+struct ReachOptions {
+  BalanceOptions balance;
+  std::string collision_file;  // the self-collision file; empty: DefaultSelfCollisionFile()
+  std::vector<std::pair<std::string, double>> goal_joints;  // the group and its goal [rad]
+  // or: the group by name and a hand pose, the goal by IK (hand_goal true)
+  std::vector<std::string> group;
+  bool hand_goal = false;
+  HandGoal hand;
+  // static boxes to keep clear of, in the base frame (the waist, as the robot stands)
+  std::vector<planning::SceneBox> boxes;
+  double clearance = 0.01;     // [m] kept beyond the file's margin
+  double start = 1.5;          // [s] after the stance begins (the CoM centred first)
+  double hold = 1.5;           // [s] at the goal before the tracking error is taken
+  double max_speed = 0.8;      // [rad/s] per joint (the file's speed limit where lower)
+  double max_accel = 2.0;      // [rad/s^2] per joint (half what the torque allows where lower)
+  double tolerance = 0.1;      // [rad] largest final tracking error accepted
+  std::string plan_log;        // CSV of the plan (waypoints, timed samples) and the measured
+                               // motion, written after the run; "" none
+  planning::PlanOptions plan;
+};
+
+class ReachController : public BalanceController {
+ public:
+  // Checks the options, loads the model, the pose and the self-collision file; checks the goals
+  // (known joints, within limits, clear of the body in the stance pose). Null with `*status`
+  // (kOption: bad goals; kFile: a file) on failure.
+  static std::unique_ptr<ReachController> Create(const ReachOptions& options, ConfigStatus* status);
+  ~ReachController() override;
+
+  void report(std::ostream& out) const override;
+  std::string failure() const override;
+
+ protected:
+  ConfigStatus on_configure(const shm::SegmentHeader& header) override;
+  void on_close() override;
+  void Stand(const shm::SensorBlock& s, double dt) noexcept override;
+
+ private:
+  ReachController(const ReachOptions& options, const BalanceOptions& filled, Pose pose,
+                  std::unique_ptr<model::Kinematics> kin_est,
+                  std::unique_ptr<model::Kinematics> kin_ik);
+  void PlannerThread();
+  void Record(const shm::SensorBlock& s) noexcept;
+  // the plan log's text (ReachOptions::plan_log)
+  std::string PlanLog() const;
+  // a hand goal: the site's distance from its target at the final measured posture [m]
+  double HandError() const;
+  // the smallest clearance of the recorded motion (computed once, after the run)
+  const planning::Verdict& MeasuredClearance() const;
+
+  enum class Phase { kWait, kPlanning, kMoving, kHolding, kDone, kFailed };
+  enum PlanState : int { kIdle, kRequested, kSolved, kUnsolved };
+  ReachOptions reach_;
+  collision::SelfCollisionFile file_;
+  planning::JointGroup group_;
+  std::unique_ptr<planning::PostureCheck> check_;
+  std::vector<double> goal_;            // group values
+  std::vector<double> v_max_, a_max_;   // per group joint
+  std::vector<double> request_;         // the measured posture handed to the planner
+  planning::PlanResult result_;         // written by the planner thread before kSolved/kUnsolved
+  planning::TimedPath path_;
+  planning::Verdict straight_;          // the straight line's closest pair (planner thread)
+  std::atomic<int> plan_state_{kIdle};
+  std::atomic<bool> quit_{false};      // the planning thread ends
+  std::thread thread_;
+  Phase phase_reach_ = Phase::kWait;
+  double request_time_ = 0, motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;  // [s]
+  std::vector<double> sample_q_, sample_dq_;  // group
+  std::vector<double> final_error_;           // group: measured - goal at the end of the hold
+  std::vector<double> final_q_;               // njoint: the measured posture then
+  // measured postures of the motion and the hold, one per cycle (preallocated)
+  std::vector<double> log_;
+  size_t log_rows_ = 0, log_capacity_ = 0;
+  long log_dropped_ = 0;
+  std::string log_error_;  // the plan log could not be written: why
+  double period_ = 0;      // [s] the producer's control period
+  mutable bool clearance_done_ = false;
+  mutable planning::Verdict clearance_;
+};
+
+}  // namespace ohrp::controllers

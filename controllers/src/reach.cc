@@ -1,0 +1,379 @@
+// Reach: balance's stance, a planning thread, the timed path on the group's joints.
+#include "controllers/reach.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+
+#include "controllers/runner.h"
+#include "robot_model/output_file.h"
+
+namespace ohrp::controllers {
+namespace {
+
+constexpr double kLogSeconds = 120;  // the motion and hold recorded, at most this long
+
+std::string Fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, a, b, c, d);
+  return text;
+}
+
+// the options' own ranges (the goals are checked against the file)
+ConfigStatus CheckReachOptions(const ReachOptions& o) {
+  auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
+  if (o.goal_joints.empty() == !o.hand_goal)
+    return bad("give one goal: --goal-joints NAME=VALUE,... [rad], or --group and --goal-pose");
+  if (o.hand_goal && o.group.empty()) return bad("--goal-pose needs --group (the joints it moves)");
+  if (!(o.clearance >= 0 && o.clearance <= 0.2)) return bad("--clearance must be in [0, 0.2] m");
+  if (!(o.start >= 0 && o.start <= 3600)) return bad("--start must be in [0, 3600] s");
+  if (!(o.hold >= 0 && o.hold <= 3600)) return bad("--hold must be in [0, 3600] s");
+  if (!(o.max_speed > 0 && o.max_speed <= 20)) return bad("--max-speed must be in (0, 20] rad/s");
+  if (!(o.max_accel > 0 && o.max_accel <= 200)) return bad("--max-accel must be in (0, 200] rad/s^2");
+  if (!(o.tolerance > 0 && o.tolerance <= 1)) return bad("--tolerance must be in (0, 1] rad");
+  if (!(o.plan.time_limit > 0 && o.plan.time_limit <= 600))
+    return bad("--plan-time must be in (0, 600] s");
+  return ConfigStatus::Ok();
+}
+
+}  // namespace
+
+std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& options,
+                                                         ConfigStatus* status) {
+  ReachOptions o = options;
+  if (o.collision_file.empty()) o.collision_file = DefaultSelfCollisionFile();
+  *status = CheckReachOptions(o);
+  if (!status->ok()) return nullptr;
+  BalanceOptions filled;
+  Pose pose;
+  std::unique_ptr<model::Kinematics> kin_est, kin_ik;
+  o.balance.program = "reach";
+  o.balance.one_leg.sides.clear();
+  *status = LoadParts(o.balance, "reach", &filled, &pose, &kin_est, &kin_ik);
+  if (!status->ok()) return nullptr;
+  std::string error;
+  if (!o.plan_log.empty() && !model::PrepareOutputFile(o.plan_log, "# reach: the run is under way\n", &error)) {
+    *status = ConfigStatus::Fail(ConfigError::kFile, "--plan-log: " + error);
+    return nullptr;
+  }
+  std::unique_ptr<ReachController> r(
+      new ReachController(o, filled, std::move(pose), std::move(kin_est), std::move(kin_ik)));
+  if (!collision::ReadSelfCollisionFile(o.collision_file, &r->file_, &error)) {
+    *status = ConfigStatus::Fail(ConfigError::kFile, error);
+    return nullptr;
+  }
+  // the group and its goal, against the file's joints and limits (a hand pose: after IK below)
+  std::vector<std::string> names = o.group;
+  if (!o.hand_goal) {
+    names.clear();
+    for (const auto& [name, value] : o.goal_joints) {
+      names.push_back(name);
+      r->goal_.push_back(value);
+    }
+  }
+  const char* option = o.hand_goal ? "--group" : "--goal-joints";
+  if (!planning::MakeJointGroup(r->file_.robot, names, &r->group_, &error) ||
+      (!o.hand_goal && !(error = planning::OutsideLimits(r->group_, r->goal_)).empty())) {
+    *status = ConfigStatus::Fail(ConfigError::kOption, std::string(option) + ": " + error);
+    return nullptr;
+  }
+  r->check_ = planning::PostureCheck::Create(r->file_, o.boxes, r->group_, o.clearance, &error);
+  if (!r->check_) {
+    *status = ConfigStatus::Fail(ConfigError::kFile, o.collision_file + ": " + error);
+    return nullptr;
+  }
+  // the goal with the stance pose's other joints: a goal in collision is refused now
+  std::vector<double> stance;
+  if (ConfigStatus s = ResolvePose(r->pose_, r->file_.robot.joint_names, &stance); !s.ok()) {
+    *status = s;
+    return nullptr;
+  }
+  stance.resize(collision::NumJoints(r->file_.robot), 0.0);
+  if (o.hand_goal) {
+    if (r->kin_ik_->robot().joints.size() != r->file_.robot.joint_names.size()) {
+      *status = ConfigStatus::Fail(ConfigError::kMismatch, "--model and --collision-file are not the same robot");
+      return nullptr;
+    }
+    *status = GoalFromHandPose(*r->kin_ik_, r->group_, o.hand, stance, &r->goal_);
+    if (!status->ok()) return nullptr;
+  }
+  planning::SetGroupValues(r->group_, r->goal_, stance);
+  const planning::Verdict v = r->check_->Evaluate(stance);
+  if (!v.valid) {
+    *status = ConfigStatus::Fail(ConfigError::kOption,
+                                 std::string(option) + ": the goal is in collision in the stance pose: " +
+                                     r->check_->Describe(v));
+    return nullptr;
+  }
+  return r;
+}
+
+ReachController::ReachController(const ReachOptions& options, const BalanceOptions& filled,
+                                 Pose pose, std::unique_ptr<model::Kinematics> kin_est,
+                                 std::unique_ptr<model::Kinematics> kin_ik)
+    : BalanceController(filled, std::move(pose), std::move(kin_est), std::move(kin_ik)),
+      reach_(options) {}
+
+ReachController::~ReachController() { on_close(); }
+
+ConfigStatus ReachController::on_configure(const shm::SegmentHeader& header) {
+  if (ConfigStatus s = BalanceController::on_configure(header); !s.ok()) return s;
+  if (file_.robot.model_hash != header.model_hash || file_.robot.joint_names != joint_names())
+    return ConfigStatus::Fail(ConfigError::kMismatch,
+                              reach_.collision_file + " is not the segment's robot's "
+                              "self-collision file (another model hash or other joints)");
+  // each joint's limits: the asked speed (the file's where lower and known) and acceleration
+  // (half of what the torque leaves over the gravity load, on the largest inertia, where lower)
+  const int n = group_.size();
+  for (int i = 0; i < n; ++i) {
+    const int j = group_.ids[i];
+    double v = reach_.max_speed, a = reach_.max_accel;
+    if (j < static_cast<int>(file_.dynamics.size())) {
+      const collision::JointDynamics& d = file_.dynamics[j];
+      if (d.velocity_max > 0) v = std::min(v, d.velocity_max);
+      if (d.inertia_max > 0 && header.tau_max[j] > 0)
+        a = std::min(a, 0.5 * std::max(0.1 * header.tau_max[j], header.tau_max[j] - d.gravity_max) /
+                            d.inertia_max);
+    }
+    v_max_.push_back(v);
+    a_max_.push_back(a);
+  }
+  const int nq = collision::NumJoints(file_.robot);
+  request_.assign(nq, 0.0);
+  sample_q_.assign(n, 0.0);
+  sample_dq_.assign(n, 0.0);
+  final_error_.assign(n, NAN);
+  final_q_.assign(header.njoint, 0.0);
+  period_ = header.control_period;
+  log_capacity_ = static_cast<size_t>(kLogSeconds / header.control_period) + 1;
+  log_.assign(log_capacity_ * nq, 0.0);
+  thread_ = std::thread(&ReachController::PlannerThread, this);
+  return ConfigStatus::Ok();
+}
+
+void ReachController::on_close() {
+  if (thread_.joinable()) {
+    quit_.store(true);
+    thread_.join();
+    if (!reach_.plan_log.empty()) model::WriteWholeFile(reach_.plan_log, PlanLog(), &log_error_);
+  }
+}
+
+std::string ReachController::PlanLog() const {
+  // kind,t,JOINT...: the waypoints at their times, the timed path every 10 ms, the measured
+  // group joints every control cycle from the motion's start (t from the motion's start [s])
+  std::string text = "# reach plan: " + (result_.solved ? std::string("solved") : "not solved: " + result_.reason) + "\n";
+  text += "kind,t";
+  for (const auto& n : group_.names) text += "," + n;
+  text += "\n";
+  auto row = [&](const char* kind, double t, const double* v, int stride) {
+    text += kind + Fmt(",%.4f", t);
+    for (int i = 0; i < group_.size(); ++i) text += Fmt(",%.6f", v[i * stride]);
+    text += "\n";
+  };
+  if (result_.solved) {
+    std::vector<double> q(group_.size());
+    double t = 0;
+    for (size_t k = 0; k < result_.waypoints.size(); ++k) {
+      // each waypoint is reached at rest: find its time on the path by sampling
+      row("waypoint", t, result_.waypoints[k].data(), 1);
+      if (k + 1 < result_.waypoints.size()) {
+        planning::TimedPath one;
+        std::string ignored;
+        one.Build({result_.waypoints[k], result_.waypoints[k + 1]}, v_max_, a_max_, &ignored);
+        t += one.duration();
+      }
+    }
+    for (double s = 0; s <= path_.duration() + 1e-9; s += 0.01) {
+      path_.Sample(s, q.data(), nullptr, nullptr);
+      row("planned", s, q.data(), 1);
+    }
+  }
+  const size_t nq = request_.size();
+  std::vector<double> g(group_.size());
+  for (size_t r = 0; r < log_rows_; ++r) {
+    for (int i = 0; i < group_.size(); ++i) g[i] = log_[r * nq + group_.ids[i]];
+    row("measured", r * period_, g.data(), 1);
+  }
+  return text;
+}
+
+void ReachController::PlannerThread() {
+  for (;;) {
+    if (quit_.load()) return;
+    if (plan_state_.load(std::memory_order_acquire) != kRequested) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      continue;
+    }
+    result_ = planning::PlanJoints(*check_, request_, goal_, reach_.plan);
+    // the straight joint-space line, for comparison (what the plan avoided)
+    std::vector<double> start(goal_.size());
+    planning::GroupValues(group_, request_, start);
+    straight_ = planning::ClosestAlong(*check_, request_, {start, goal_}, reach_.plan.resolution);
+    std::string error;
+    if (result_.solved && !path_.Build(result_.waypoints, v_max_, a_max_, &error)) {
+      result_.solved = false;
+      result_.reason = "timing: " + error;
+    }
+    int expected = kRequested;
+    plan_state_.compare_exchange_strong(expected, result_.solved ? kSolved : kUnsolved,
+                                        std::memory_order_acq_rel);
+  }
+}
+
+void ReachController::Record(const shm::SensorBlock& s) noexcept {
+  if (log_rows_ >= log_capacity_) {
+    ++log_dropped_;
+    return;
+  }
+  const int na = njoint(), nq = static_cast<int>(request_.size());
+  double* row = log_.data() + log_rows_ * nq;
+  for (int j = 0; j < nq; ++j) row[j] = j < na ? s.q[j] : s.passive_q[j - na];
+  ++log_rows_;
+}
+
+void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
+  BalanceController::Stand(s, dt);
+  const int n = group_.size();
+  switch (phase_reach_) {
+    case Phase::kWait:
+      if (s.time - stand_time_ >= reach_.start) {
+        const int na = njoint();
+        for (size_t j = 0; j < request_.size(); ++j)
+          request_[j] = static_cast<int>(j) < na ? s.q[j] : s.passive_q[j - na];
+        plan_state_.store(kRequested, std::memory_order_release);
+        phase_reach_ = Phase::kPlanning;
+        request_time_ = s.time;
+      }
+      return;
+    case Phase::kPlanning: {
+      const int state = plan_state_.load(std::memory_order_acquire);
+      if (state == kUnsolved) phase_reach_ = Phase::kFailed;
+      if (state != kSolved) return;
+      phase_reach_ = Phase::kMoving;
+      motion_start_ = s.time;
+      break;
+    }
+    case Phase::kMoving:
+      if (s.time - motion_start_ >= path_.duration()) {
+        phase_reach_ = Phase::kHolding;
+        hold_start_ = s.time;
+      }
+      break;
+    case Phase::kHolding:
+      if (s.time - hold_start_ >= reach_.hold) {
+        for (int i = 0; i < n; ++i) final_error_[i] = s.q[group_.ids[i]] - goal_[i];
+        for (int j = 0; j < njoint(); ++j) final_q_[j] = s.q[j];
+        motion_end_ = s.time;
+        phase_reach_ = Phase::kDone;
+      }
+      break;
+    case Phase::kDone:
+    case Phase::kFailed:
+      break;
+  }
+  if (phase_reach_ == Phase::kFailed || phase_reach_ == Phase::kWait) return;
+  // the group's references: the timed path (its end while holding)
+  path_.Sample(s.time - motion_start_, sample_q_.data(), sample_dq_.data(), nullptr);
+  for (int i = 0; i < n; ++i) {
+    const int j = group_.ids[i];
+    if (j >= njoint()) continue;  // a passive joint moves with the others
+    q_ref_[j] = q_ik_[j] = sample_q_[i];
+    dq_ref_[j] = sample_dq_[i];
+  }
+  if (phase_reach_ != Phase::kDone) Record(s);
+}
+
+double ReachController::HandError() const {
+  // the base frame: the base at the origin, upright (as the goal was given)
+  const int site = kin_ik_->SiteId(reach_.hand.site);
+  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  kin_ik_->SetJointPositions(final_q_.data());
+  kin_ik_->UpdatePositions();
+  const mjModel* m = kin_ik_->m();
+  const int body = m->site_bodyid[site];
+  const Eigen::Vector3d p_TipT(m->site_pos[3 * site], m->site_pos[3 * site + 1], m->site_pos[3 * site + 2]);
+  const Eigen::Vector3d p = kin_ik_->p_WBody(body) + kin_ik_->R_WBody(body) * p_TipT;
+  return (p - reach_.hand.p_B).norm();
+}
+
+const planning::Verdict& ReachController::MeasuredClearance() const {
+  if (!clearance_done_) {
+    clearance_done_ = true;
+    clearance_ = planning::Verdict();
+    clearance_.distance = INFINITY;
+    clearance_.valid = true;
+    const size_t nq = request_.size();
+    for (size_t r = 0; r < log_rows_; ++r) {
+      const planning::Verdict v =
+          check_->Evaluate(std::span<const double>(log_.data() + r * nq, nq));
+      if (v.distance < clearance_.distance) clearance_ = v;
+    }
+  }
+  return clearance_;
+}
+
+void ReachController::report(std::ostream& out) const {
+  BalanceController::report(out);
+  const int state = plan_state_.load();
+  out << "reach: group";
+  for (const auto& n : group_.names) out << " " << n;
+  out << "\n";
+  if (state == kIdle || state == kRequested) {
+    out << "reach: no plan made (the run ended " << (state == kIdle ? "before the start" : "while planning")
+        << ")\n";
+    return;
+  }
+  if (!reach_.plan_log.empty())
+    out << "reach: plan log " << reach_.plan_log << (log_error_.empty() ? "" : " NOT written: " + log_error_) << "\n";
+  const planning::PlanResult& p = result_;
+  if (!p.solved) {
+    out << "reach: planning failed: " << p.reason << " (" << p.evaluations << " posture checks, "
+        << Fmt("%.1f ms)\n", 1e3 * p.plan_time);
+    return;
+  }
+  out << "reach: planned in " << Fmt("%.1f ms (RRTConnect) + %.1f ms (simplification), ", 1e3 * p.plan_time, 1e3 * p.simplify_time)
+      << p.evaluations << " posture checks; path " << Fmt("%.3f rad (raw %.3f), ", p.length, p.raw_length)
+      << p.waypoints.size() << " waypoints, " << Fmt("%.2f s; planned clearance %.1f mm", path_.duration(), 1e3 * p.closest.distance)
+      << " (" << p.closest.a << " / " << p.closest.b << ")\n";
+  out << "reach: the straight joint-space line would " << (straight_.valid ? "keep " : "come to ")
+      << Fmt("%.1f mm", 1e3 * straight_.distance) << " (" << straight_.a << " / " << straight_.b << ")\n";
+  if (phase_reach_ != Phase::kPlanning)
+    out << "reach: the motion began " << Fmt("%.3f s (producer time) after the plan was asked at %.3f s", motion_start_ - request_time_, request_time_)
+        << " (the robot stands meanwhile; a simulation faster than real time runs on while the plan is made)\n";
+  const planning::Verdict& c = MeasuredClearance();
+  if (log_rows_ > 0)
+    out << "reach: measured clearance along the executed motion " << Fmt("%.1f mm", 1e3 * c.distance)
+        << " (" << c.a << " / " << c.b << ", " << log_rows_ << " measured postures"
+        << (log_dropped_ ? ", some not recorded" : "") << Fmt("; the planner keeps %.1f mm)\n", 1e3 * check_->required());
+  if (phase_reach_ == Phase::kDone) {
+    double worst = 0;
+    int at = 0;
+    for (int i = 0; i < group_.size(); ++i)
+      if (std::abs(final_error_[i]) > worst) worst = std::abs(final_error_[i]), at = i;
+    out << "reach: final tracking error " << Fmt("%.4f rad", worst) << " (" << group_.names[at]
+        << ") after " << Fmt("%.2f s of hold (tolerance %.3f rad)\n", reach_.hold, reach_.tolerance);
+    if (reach_.hand_goal)
+      out << "reach: the hand (" << reach_.hand.site << ") measured "
+          << Fmt("%.1f mm from its goal (%.3f, %.3f, %.3f) m in the base frame, by the model's kinematics\n",
+                 1e3 * HandError(), reach_.hand.p_B.x(), reach_.hand.p_B.y(), reach_.hand.p_B.z());
+  }
+}
+
+std::string ReachController::failure() const {
+  if (std::string f = BalanceController::failure(); !f.empty()) return f;
+  if (!log_error_.empty()) return "--plan-log: " + log_error_;
+  const int state = plan_state_.load();
+  if (state == kUnsolved) return "planning failed: " + result_.reason;
+  if (phase_reach_ != Phase::kDone)
+    return "the run ended before the motion and its hold were done (give the run more time)";
+  double worst = 0;
+  for (double e : final_error_) worst = std::max(worst, std::abs(e));
+  if (!(worst <= reach_.tolerance))
+    return "final tracking error " + Fmt("%.4f rad", worst) + " exceeds --tolerance";
+  return "";
+}
+
+}  // namespace ohrp::controllers

@@ -1,0 +1,194 @@
+// reach: attach to a robot segment, stand as balance does, plan a collision-free motion of a
+// joint group to goal joint values and execute it. See controllers/reach.h, docs/planning.md.
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "cli/command_line.h"
+#include "controllers/cli.h"
+#include "controllers/posture.h"
+#include "controllers/reach.h"
+#include "controllers/runner.h"
+#include "robot_model/model.h"
+
+namespace {
+[[noreturn]] void OnMujocoFatal(const char*) { std::_Exit(ohrp::controllers::kExitConfig); }
+
+// "NAME=VALUE,NAME=VALUE" (already split at the commas) into pairs; false with `*error`
+bool ParseGoals(const std::vector<std::string>& items,
+                std::vector<std::pair<std::string, double>>* goals, std::string* error) {
+  for (const std::string& item : items) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) {
+      *error = "--goal-joints: '" + item + "' is not NAME=VALUE (a joint name and radians)";
+      return false;
+    }
+    std::istringstream in(item.substr(eq + 1));
+    double v = NAN;
+    std::string rest;
+    if (!(in >> v) || (in >> rest) || !std::isfinite(v)) {
+      *error = "--goal-joints: '" + item + "': the value is not a finite number of radians";
+      return false;
+    }
+    goals->emplace_back(item.substr(0, eq), v);
+  }
+  return true;
+}
+
+// "SITE,X,Y,Z[,ROLL,PITCH,YAW]" (split at the commas); false with `*error`
+bool ParseHandPose(const std::vector<std::string>& items, ohrp::controllers::HandGoal* hand,
+                   std::string* error) {
+  if (items.size() != 4 && items.size() != 7) {
+    *error = "--goal-pose: give SITE,X,Y,Z or SITE,X,Y,Z,ROLL,PITCH,YAW (metres, radians)";
+    return false;
+  }
+  hand->site = items[0];
+  double v[6] = {0, 0, 0, 0, 0, 0};
+  for (size_t i = 1; i < items.size(); ++i) {
+    std::istringstream in(items[i]);
+    std::string rest;
+    if (!(in >> v[i - 1]) || (in >> rest) || !std::isfinite(v[i - 1])) {
+      *error = "--goal-pose: '" + items[i] + "' is not a finite number";
+      return false;
+    }
+    const char* quantity = i <= 3 ? "height" : "angle";  // within 10 m; within a turn
+    if (const std::string why = ohrp::cli::CheckPlausible(quantity, v[i - 1], "--goal-pose");
+        !why.empty()) {
+      *error = why;
+      return false;
+    }
+  }
+  hand->p_B = Eigen::Vector3d(v[0], v[1], v[2]);
+  hand->orientation = items.size() == 7;
+  hand->rpy = Eigen::Vector3d(v[3], v[4], v[5]);
+  return true;
+}
+
+// "NAME,CX,CY,CZ,HX,HY,HZ": a box in the base frame; false with `*error`
+bool ParseBox(const std::string& text, ohrp::planning::SceneBox* box, std::string* error) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+  if (items.size() != 7 || items[0].empty()) {
+    *error = "--box '" + text + "': give NAME,CX,CY,CZ,HX,HY,HZ (metres, base frame)";
+    return false;
+  }
+  double v[6];
+  for (int i = 0; i < 6; ++i) {
+    std::istringstream number(items[i + 1]);
+    std::string rest;
+    if (!(number >> v[i]) || (number >> rest) || !std::isfinite(v[i]) || (i >= 3 && !(v[i] > 0))) {
+      *error = "--box '" + text + "': '" + items[i + 1] + "' is not a " +
+               (i < 3 ? "finite number" : "positive half size");
+      return false;
+    }
+    if (const std::string why = ohrp::cli::CheckPlausible(i < 3 ? "height" : "distance", v[i], "--box");
+        !why.empty()) {
+      *error = why;
+      return false;
+    }
+  }
+  box->name = items[0];
+  box->X_BO.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  box->half_size = Eigen::Vector3d(v[3], v[4], v[5]);
+  return true;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ohrp::controllers;
+  ReachOptions o;
+  RunOptions run;
+  run.program = "reach";
+
+  CLI::App app{
+      "reach: attach to a robot segment (sim_host or hw_driver), stand as balance does, then\n"
+      "move a joint group (the joints named in --goal-joints, or --group with a hand pose\n"
+      "--goal-pose solved by the shared limb IK) from its measured posture to the goal along a\n"
+      "path planned clear of the robot's own links (the self-collision file's online pairs,\n"
+      "margin and safe ranges, plus --clearance) and of --box obstacles by OMPL's RRTConnect with path\n"
+      "simplification, timed within --max-speed and --max-accel; hold it, and report the\n"
+      "planning time, the path length, the smallest clearance of the executed motion (from the\n"
+      "measured joint angles) and the final tracking error. Exit 9 when no path is found, the\n"
+      "run ends before the hold is over, or the final error exceeds --tolerance.",
+      "reach"};
+  app.add_option("--model", o.balance.model, "MJCF (or OpenHRP VRML .wrl) of the robot")
+      ->default_val(DefaultModelFile())
+      ->check(CLI::ExistingFile);
+  app.add_option("--pose", o.balance.pose_file, "stance pose, YAML by joint name [rad]")
+      ->default_val(DefaultPoseFile())
+      ->check(CLI::ExistingFile);
+  app.add_option("--ramp", o.balance.ramp, "[s] ramp from the measured pose to the stance pose")
+      ->default_val(o.balance.ramp)->check(ohrp::cli::Plausible("ramp_time"));
+  app.add_option("--settle", o.balance.settle, "[s] of quiet standing before the CoM reference is taken")
+      ->default_val(o.balance.settle)->check(ohrp::cli::Plausible("wait"));
+  app.add_option("--collision-file", o.collision_file,
+                 "the robot's self-collision file (ohrp_selfcollision): geometry, pairs, margin")
+      ->default_val(DefaultSelfCollisionFile())
+      ->check(CLI::ExistingFile);
+  std::vector<std::string> goal_items;
+  app.add_option("--goal-joints", goal_items,
+                 "the goal: NAME=VALUE,... [rad]; the named joints are the group the plan moves")
+      ->delimiter(',');
+  app.add_option("--group", o.group,
+                 "with --goal-pose: the joints the plan moves, the chain to the site, root outwards")
+      ->delimiter(',');
+  std::vector<std::string> pose_items;
+  app.add_option("--goal-pose", pose_items,
+                 "the goal as a hand pose: SITE,X,Y,Z[,ROLL,PITCH,YAW] in the base frame [m, rad] "
+                 "(the group's joints by the shared limb IK from the stance pose)")
+      ->delimiter(',')
+      ->excludes("--goal-joints");
+  std::vector<std::string> box_items;
+  app.add_option("--box", box_items,
+                 "a static box to keep clear of: NAME,CX,CY,CZ,HX,HY,HZ (centre and half sizes in "
+                 "the base frame, as the robot stands) [m]; repeat for more")
+      ->take_all()->allow_extra_args(false);
+  app.add_option("--clearance", o.clearance, "[m] kept between links beyond the file's margin")
+      ->default_val(o.clearance)->check(ohrp::cli::Plausible("clearance"));
+  app.add_option("--start", o.start, "[s] after the stance begins, when the plan is made")
+      ->default_val(o.start)->check(ohrp::cli::Plausible("wait"));
+  app.add_option("--hold", o.hold, "[s] at the goal before the tracking error is measured")
+      ->default_val(o.hold)->check(ohrp::cli::Plausible("wait"));
+  app.add_option("--max-speed", o.max_speed, "[rad/s] per joint")
+      ->default_val(o.max_speed)->check(ohrp::cli::InRange(1e-3, 20.0));
+  app.add_option("--max-accel", o.max_accel, "[rad/s^2] per joint (lower where the torque allows less)")
+      ->default_val(o.max_accel)->check(ohrp::cli::InRange(1e-3, 200.0));
+  app.add_option("--tolerance", o.tolerance, "[rad] largest final tracking error accepted")
+      ->default_val(o.tolerance)->check(ohrp::cli::InRange(1e-4, 1.0));
+  app.add_option("--plan-log", o.plan_log,
+                 "CSV written after the run: the plan's waypoints, the timed path every 10 ms and "
+                 "the measured group joints every cycle (kind,t,JOINT...)");
+  app.add_option("--plan-time", o.plan.time_limit, "[s] the planner's time limit")
+      ->default_val(o.plan.time_limit)->check(ohrp::cli::InRange(1e-3, 600.0));
+  app.add_option("--seed", o.plan.seed, "the planner's random seed (the same seed, the same path)")
+      ->default_val(o.plan.seed)->check(CLI::Range(1u, 4000000000u));
+  AddRunOptions(&app, &run);
+  if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  std::string error;
+  if (!ParseGoals(goal_items, &o.goal_joints, &error) ||
+      (!pose_items.empty() && !ParseHandPose(pose_items, &o.hand, &error))) {
+    std::cerr << "reach: " << error << "\n";
+    return kExitUsage;
+  }
+  o.hand_goal = !pose_items.empty();
+  for (const std::string& b : box_items) {
+    ohrp::planning::SceneBox box;
+    if (!ParseBox(b, &box, &error)) {
+      std::cerr << "reach: " << error << "\n";
+      return kExitUsage;
+    }
+    o.boxes.push_back(box);
+  }
+
+  ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
+  ConfigStatus status;
+  auto controller = ReachController::Create(o, &status);
+  if (!controller) {
+    std::cerr << "reach: " << status.message << "\n";
+    return status.code == ConfigError::kOption ? kExitUsage : kExitConfig;
+  }
+  InstallStopSignalHandlers();
+  return RunController(*controller, run, std::cout, std::cerr);
+}
