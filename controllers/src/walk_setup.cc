@@ -187,6 +187,17 @@ ConfigStatus WalkController::FitStance(const double* q) {
   constexpr double kLegReach = 0.95;
   walk_options_.gait.leg_reach = kLegReach * leg;
   walk_options_.gait.hip_height = hip.z() - mid.z() - walk_options_.com_lower;
+  // a recovery step (the stepping strategy) may go as far as that leg reaches from the hip at
+  // the walking height, beyond the planner's limits: r = sqrt(reach^2 - hip height^2) ahead,
+  // behind, or beside the hip (half the width beside the stance sole)
+  const double r2 = std::pow(walk_options_.gait.leg_reach, 2) - std::pow(walk_options_.gait.hip_height, 2);
+  recovery_limits_ = lim;
+  if (r2 > 0) {
+    const double r = std::sqrt(r2);
+    recovery_limits_.max_forward = std::max(lim.max_forward, r);
+    recovery_limits_.max_backward = std::max(lim.max_backward, r);
+    recovery_limits_.max_side = std::max(lim.max_side, r - 0.5 * lim.width);
+  }
   return FitPhysics(leg);
 }
 

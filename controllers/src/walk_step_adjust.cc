@@ -44,11 +44,12 @@ void WalkController::AdjustStep() noexcept {
     beyond[a] = std::copysign(std::max(std::abs(e[a]) - reach[a], 0.0), e[a]);
   if (beyond.isZero()) return;
   const Eigen::Vector2d shift = R * (beyond * std::exp(omega * remaining));
-  // the landing moved by that, kept within the step limits against the stance sole
+  // the landing moved by that, kept within the recovery limits (a leg's reach) against the
+  // stance sole
   walking::Footstep target = gait.step(k);
   target.p.head<2>() += shift;
   const walking::FeetPose feet = gait.FeetAfter(k - 1);
-  walking::FitStep(feet, &target, walk_options_.limits);
+  walking::FitStep(feet, &target, recovery_limits_);
   const Eigen::Vector2d now = gait.step(k).p.head<2>();
   if ((target.p.head<2>() - now).norm() < kMinMove) return;
   if (!gen_.AdjustLanding(k, target.p.head<2>())) return;

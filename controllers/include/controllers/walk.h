@@ -224,6 +224,7 @@ class WalkController : public BalanceController {
                                // the robot's weight)
   double end_load_[2] = {0, 0};  // both feet's loads at the last walk cycle [N]
   double end_tilt_ = -1;       // the base's tilt then [rad] (-1: never walked)
+  walking::StepLimits recovery_limits_;  // the stepping strategy's: as far as a leg reaches
   int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
   walking::Footstep adjust_planned_;  // its landing as planned
 };

@@ -273,7 +273,7 @@ void Gait::At(double t, GaitState* s) const {
   const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
   const double vf_land = LandingShare(p);
   f = Travel(p, t);
-  if (p.travel_from >= 0 && f > p.travel_from) {
+  if (p.travel_from >= 0 && f >= p.travel_from) {
     // moved during the swing: on from where the foot was then
     const double r = (f - p.travel_from) / std::max(1 - p.travel_from, 1e-9);
     s->feet.p[sw].head<2>() = p.moved_from + r * (b.head<2>() - p.moved_from);

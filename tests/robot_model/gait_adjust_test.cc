@@ -1,0 +1,68 @@
+// Tests of a landing moved during the swing (Gait::AdjustLanding, the walk's stepping strategy):
+// the swing foot's path stays continuous, lands at the new place, and the later steps' stance
+// and the ZMP reference follow it; outside the single support nothing moves.
+#include <gtest/gtest.h>
+
+#include "stances.h"
+#include "walking/footsteps.h"
+#include "walking/gait.h"
+
+namespace ohrp::walking {
+namespace {
+
+Footstep Step(int foot, double x, double y) {
+  Footstep s;
+  s.foot = foot;
+  s.p = Eigen::Vector3d(x, y, 0);
+  return s;
+}
+
+TEST(AdjustLanding, TheSwingGoesOnFromWhereItIsToTheNewLanding) {
+  const double w = 0.18;
+  Gait g;
+  GaitOptions o;
+  g.Start(0, Stance(w), o);
+  g.Reserve(8);
+  g.Replace(0, {Step(kLeft, 0.2, 0.09), Step(kRight, 0.4, -0.09), Step(kLeft, 0.4, 0.09)});
+  const double lift = g.step_lift(0), land = g.step_land(0);
+  const double now = lift + 0.4 * (land - lift);
+  GaitState before, after;
+  g.At(now, &before);
+  ASSERT_EQ(before.swing, kLeft);
+  const Eigen::Vector2d moved(0.25, 0.19);  // 5 cm ahead and 10 cm out
+  ASSERT_TRUE(g.AdjustLanding(0, moved, now));
+  g.At(now, &after);
+  // continuous where it is now, and a little later close by
+  EXPECT_NEAR((after.feet.p[kLeft] - before.feet.p[kLeft]).norm(), 0, 1e-12);
+  GaitState next;
+  g.At(now + 0.005, &next);
+  EXPECT_LT((next.feet.p[kLeft] - after.feet.p[kLeft]).head<2>().norm(), 0.01);
+  // it lands at the new place; the next step stands on it and its ZMP reference goes there
+  GaitState landed;
+  g.At(land, &landed);
+  EXPECT_NEAR((landed.feet.p[kLeft].head<2>() - moved).norm(), 0, 1e-9);
+  EXPECT_NEAR((g.FeetAfter(0).p[kLeft].head<2>() - moved).norm(), 0, 1e-9);
+  GaitState single;
+  g.At(0.5 * (g.step_lift(1) + g.step_land(1)), &single);  // the right foot swings, on the left
+  EXPECT_NEAR((single.zmp.head<2>() - moved).norm(), 0, 1e-9);
+  // the later steps keep their places
+  EXPECT_NEAR((g.step(1).p - Eigen::Vector3d(0.4, -0.09, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((g.step(2).p - Eigen::Vector3d(0.4, 0.09, 0)).norm(), 0, 1e-12);
+  EXPECT_EQ(g.step_count(), 3);
+}
+
+TEST(AdjustLanding, OutsideTheSingleSupportNothingMoves) {
+  Gait g;
+  GaitOptions o;
+  g.Start(0, Stance(0.18), o);
+  g.Reserve(8);
+  g.Replace(0, {Step(kLeft, 0.2, 0.09), Step(kRight, 0.4, -0.09)});
+  const Eigen::Vector2d moved(0.3, 0.2);
+  EXPECT_FALSE(g.AdjustLanding(0, moved, g.step_begin(0)));          // in the double support
+  EXPECT_FALSE(g.AdjustLanding(0, moved, g.step_land(0) + 0.01));    // landed
+  EXPECT_FALSE(g.AdjustLanding(5, moved, g.step_lift(0) + 0.1));     // no such step
+  EXPECT_NEAR((g.step(0).p - Eigen::Vector3d(0.2, 0.09, 0)).norm(), 0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ohrp::walking
