@@ -70,14 +70,15 @@ int main(int argc, char** argv) {
       ->check(ohrp::cli::InRange(0.0, 50.0));
   app.add_option("--k-dcm", b.gains.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(b.gains.k_dcm)->check(ohrp::cli::Plausible("rate"));
-  bool no_stepping = false;
-  app.add_flag("--no-stepping", no_stepping,
-               "do not move a landing where the measured capture point needs it (the stepping "
-               "strategy against pushes: docs/walking.md)");
+  bool stepping = false;
+  app.add_flag("--stepping", stepping,
+               "experimental: move a swing foot's landing where the measured capture point needs "
+               "it (a stepping strategy against pushes; not better than without it yet: "
+               "docs/walking.md)");
   AddRunOptions(&app, &run);
   app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  o.stepping = !no_stepping;
+  o.stepping = stepping;
   for (const std::string& text : commands) {
     WalkCommand c;
     std::string error;

@@ -67,8 +67,9 @@ struct WalkOptions {
   walking::StepLimits limits;    // `width` from the stance
   double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
   double lower_time = 1.0;       // [s] to lower it
-  bool stepping = true;          // the stepping strategy (AdjustStep): a swing foot lands
-                                 // where the measured DCM needs it
+  bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
+                                 // push tables it is not better yet): a swing foot lands where
+                                 // the measured DCM needs it
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
