@@ -18,7 +18,7 @@ deb="${debs[0]}"
 echo "package: $(basename "$deb"), $(du -k "$deb" | cut -f1) kB"
 
 LAYOUT="$(sed -n 's/^#define OHRP_LAYOUT_VERSION \([0-9]*\)$/\1/p' "$BUILD/include/ohrp/version.h")"
-dpkg-deb -c "$deb" | awk '{print $NF}' >"$TMP/contents"
+dpkg-deb -c "$deb" | awk '{print $6}' >"$TMP/contents"
 for pattern in '^\./usr/bin/sim_host$' '^\./usr/bin/ohrp_run$' \
                '^\./usr/lib/.*cmake/ohrp/ohrpConfig\.cmake$' \
                '^\./usr/lib/.*cmake/ohrp/ohrpConfigVersion\.cmake$' \
