@@ -52,7 +52,15 @@ TEST(DataDir, EmptyEnvironmentIsUnset) {
 TEST(DataDir, BesideTheProgram) {
   DataDirEnv unset(nullptr);
   const fs::path exe = fs::canonical("/proc/self/exe");
-  EXPECT_EQ(ohrp::cli::DataDir(), (exe.parent_path().parent_path() / "share" / "ohrp").string());
+  EXPECT_TRUE(fs::equivalent(ohrp::cli::DataDir(), exe.parent_path().parent_path() / "share" / "ohrp"));
+}
+
+// the link resolved: a scenario's "../shared/..." (the runner joins and normalizes lexically)
+// names the folder beside the checkout, as it did when the checkout's path was compiled in
+TEST(DataDir, ParentIsTheCheckoutsParent) {
+  DataDirEnv unset(nullptr);
+  EXPECT_EQ((fs::path(ohrp::cli::DataDir()) / "..").lexically_normal(),
+            (fs::canonical(OHRP_SOURCE_DIR) / "..").lexically_normal());
 }
 
 TEST(DataDir, BuildTreeReadsTheCheckout) {

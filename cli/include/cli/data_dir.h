@@ -31,16 +31,20 @@ inline std::string ProgramDir() {
   return ec ? std::string() : exe.parent_path().string();
 }
 
-// The data root (see the top of this file); without a trailing slash.
+// The data root (see the top of this file); without a trailing slash, symbolic links resolved.
 inline std::string DataDir() {
   if (const char* env = std::getenv("OHRP_DATA_DIR"); env != nullptr && env[0] != '\0') {
     return env;
   }
   const std::string bin = ProgramDir();
-  // lexically_normal: "<prefix>/bin/../share/ohrp" -> "<prefix>/share/ohrp" (messages stay short)
-  return (std::filesystem::path(bin.empty() ? "." : bin) / ".." / "share" / "ohrp")
-      .lexically_normal()
-      .string();
+  // the links resolved: "<prefix>/bin/../share/ohrp" -> "<prefix>/share/ohrp", and in the build
+  // tree the checkout itself, so that a path joined to it and normalized lexically (a scenario's
+  // "../shared/..." beside the checkout) is the file the system would open
+  const std::filesystem::path dir =
+      std::filesystem::path(bin.empty() ? "." : bin) / ".." / "share" / "ohrp";
+  std::error_code ec;
+  const std::filesystem::path resolved = std::filesystem::weakly_canonical(dir, ec);
+  return (ec ? dir.lexically_normal() : resolved).string();
 }
 
 // `relative` (a path inside the data root, e.g. "mjcf/hrp1s/hrp1s.xml") as a full path.
