@@ -52,8 +52,10 @@ grep -q "ohrp_DIR:PATH=$PREFIX/lib/cmake/ohrp" "$TMP/example/CMakeCache.txt" \
   || fail "find_package(ohrp) did not take the installed package: $(grep ohrp_DIR "$TMP/example/CMakeCache.txt")"
 cmake --build "$TMP/example" -j 2 >"$TMP/build.log" 2>&1 \
   || { cat "$TMP/build.log" >&2; fail "the example does not build against $PREFIX"; }
-if grep -q -F "$SOURCE/" "$TMP/example/compile_commands.json" 2>/dev/null \
-   || grep -r -q -F -- "-I$SOURCE" "$TMP/example/CMakeFiles" 2>/dev/null; then
+# its include flags (imported targets' folders come as -isystem) name the prefix, not the checkout
+flags="$TMP/example/CMakeFiles/stand_controller.dir/flags.make"
+grep -q -F -- "-isystem $PREFIX/include" "$flags" || fail "the example does not include $PREFIX/include"
+if grep -E -- "(-I|-isystem ?)$SOURCE/" "$flags"; then
   fail "the example's build reads headers from the checkout"
 fi
 
