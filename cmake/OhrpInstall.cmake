@@ -8,23 +8,45 @@ include(CMakePackageConfigHelpers)
 set(OHRP_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/ohrp)
 set(OHRP_PLUGIN_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/ohrp)
 
-# the programs of build/bin (the benchmarks stay in the build tree: they read the checkout)
-set(OHRP_INSTALLED_PROGRAMS
-  sim_host hw_driver hw_emulator
-  ohrp_controllers_posture ohrp_controllers_track_ball ohrp_controllers_playback
-  ohrp_controllers_balance ohrp_controllers_walk
-  ohrp_run ohrp_sweep ohrp_push ohrp_identify ohrp_compare_logs ohrp_view ohrp_video
-  ohrp_vrml2mjcf ohrp_selfcollision)
+# every executable and plugin module of the program folders (not tests/), so that a new program
+# is installed without a list to keep; the benchmarks (bench_*) stay in the build tree: they read
+# the checkout
+function(ohrp_collect_targets dir type out)
+  get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
+  get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
+  set(found "")
+  foreach(t IN LISTS targets)
+    get_target_property(t_type ${t} TYPE)
+    if(t_type STREQUAL type AND NOT t MATCHES "^bench_")
+      list(APPEND found ${t})
+    endif()
+  endforeach()
+  foreach(sub IN LISTS subdirs)
+    if(NOT sub MATCHES "/tests$")
+      ohrp_collect_targets(${sub} ${type} sub_found)
+      list(APPEND found ${sub_found})
+    endif()
+  endforeach()
+  set(${out} ${found} PARENT_SCOPE)
+endfunction()
+ohrp_collect_targets(${CMAKE_SOURCE_DIR} EXECUTABLE OHRP_INSTALLED_PROGRAMS)
 install(TARGETS ${OHRP_INSTALLED_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         COMPONENT programs)
 # hw_driver's IO plugins (hw_driver --io <prefix>/lib/ohrp/libohrp_io_udp.so)
-install(TARGETS ohrp_io_udp ohrp_io_replay LIBRARY DESTINATION ${OHRP_PLUGIN_INSTALL_DIR}
+ohrp_collect_targets(${CMAKE_SOURCE_DIR} MODULE_LIBRARY OHRP_INSTALLED_PLUGINS)
+install(TARGETS ${OHRP_INSTALLED_PLUGINS} LIBRARY DESTINATION ${OHRP_PLUGIN_INSTALL_DIR}
         COMPONENT programs)
 
 # the libraries with their link dependencies (a static library exports its private ones too)
 set(OHRP_EXPORTED_LIBRARIES
   ohrp_cli ohrp_shm_bridge ohrp_shm_c ohrp_vrml ohrp_robot_model ohrp_walking ohrp_collision
   ohrp_robot_io ohrp_controllers ohrp_balance ohrp_walk)
+# the arm planner and the reach controller (issue 34), where the tree has them
+foreach(lib ohrp_planning ohrp_reach)
+  if(TARGET ${lib})
+    list(APPEND OHRP_EXPORTED_LIBRARIES ${lib})
+  endif()
+endforeach()
 foreach(lib IN LISTS OHRP_EXPORTED_LIBRARIES)
   string(REGEX REPLACE "^ohrp_" "" export_name ${lib})
   set_target_properties(${lib} PROPERTIES EXPORT_NAME ${export_name})
@@ -39,6 +61,9 @@ install(EXPORT ohrpTargets NAMESPACE ohrp:: DESTINATION ${OHRP_CMAKE_INSTALL_DIR
 set(OHRP_PUBLIC_HEADER_DIRS
   cli/include shm_bridge/include robot_model/include robot_model/collision/include
   hw_driver/include controllers/include)
+if(TARGET ohrp_planning)
+  list(APPEND OHRP_PUBLIC_HEADER_DIRS robot_model/planning/include)
+endif()
 foreach(dir IN LISTS OHRP_PUBLIC_HEADER_DIRS)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           COMPONENT dev)
