@@ -18,4 +18,7 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, libjs-three, libjs-chart.js")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS
     "cmake, g++, libmujoco-dev, libeigen3-dev, libfcl-dev, libyaml-cpp-dev, libcli11-dev, libboost-dev, python3-numpy, python3-matplotlib, ffmpeg")
+if(TARGET ohrp_planning)  # exported ohrp::planning links OMPL (issue 34)
+  string(APPEND CPACK_DEBIAN_PACKAGE_RECOMMENDS ", libompl-dev")
+endif()
 include(CPack)
