@@ -6,11 +6,8 @@
 
 #include "controllers/balance.h"
 #include "controllers/posture.h"
+#include "cli/data_dir.h"
 #include "robot_model/model_hash.h"
-
-#ifndef OHRP_SOURCE_DIR
-#error "OHRP_SOURCE_DIR must be defined by the build"
-#endif
 
 namespace ohrp::controllers {
 namespace {
@@ -98,7 +95,7 @@ int FindTorsoJoint(const model::Kinematics& kin, const std::vector<int>& chain,
 
 }  // namespace
 
-std::string DefaultModelFile() { return std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml"; }
+std::string DefaultModelFile() { return cli::DataPath("mjcf/hrp1s/hrp1s.xml"); }
 
 //---------------- set-up ----------------
 

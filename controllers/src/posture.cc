@@ -4,15 +4,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cli/data_dir.h"
 #include "controllers/ramp.h"
-
-#ifndef OHRP_CONTROLLERS_POSE_DIR
-#error "OHRP_CONTROLLERS_POSE_DIR must be defined by the build"
-#endif
 
 namespace ohrp::controllers {
 
-std::string DefaultPoseFile() { return std::string(OHRP_CONTROLLERS_POSE_DIR) + "/hrp1s_halfsit.yaml"; }
+std::string DefaultPoseFile() { return cli::DataPath("controllers/poses/hrp1s_halfsit.yaml"); }
 
 ConfigStatus CheckWithinLimits(const shm::SegmentHeader& header, const double* q,
                                const std::string& what, const std::vector<bool>* only) {

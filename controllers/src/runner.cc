@@ -10,6 +10,7 @@
 #include <ostream>
 #include <thread>
 
+#include "cli/data_dir.h"
 #include "controllers/self_collision_guard.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/realtime.h"
@@ -99,7 +100,7 @@ const char* ExitCodeHelp() {
          "     walk: a step that did not land; balance: leg IK failing persistently)\n";
 }
 
-const char* DefaultSelfCollisionFile() { return OHRP_SELF_COLLISION_FILE; }
+std::string DefaultSelfCollisionFile() { return cli::DataPath("mjcf/hrp1s/selfcollision.yaml"); }
 
 void InstallStopSignalHandlers() {
   struct sigaction action {};

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include "collision/from_mjcf.h"
 #include "collision/joint_dynamics.h"
 #include "collision/prune.h"
@@ -60,7 +61,7 @@ std::string Report(const PruneResult& r, double seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string model = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/hrp1s.xml";
+  std::string model = ohrp::cli::DataPath("mjcf/hrp1s/hrp1s.xml");
   std::string out, report;
   std::vector<std::string> range_joints;
   std::string reference;

@@ -47,7 +47,7 @@
 
 namespace ohrp::controllers {
 
-// mjcf/hrp1s/hrp1s.xml in the source tree this library was built from
+// mjcf/hrp1s/hrp1s.xml of the data folder (cli/data_dir.h: <bin>/../share/ohrp)
 std::string DefaultModelFile();
 
 struct BalanceOptions {

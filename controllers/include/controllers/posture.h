@@ -17,7 +17,7 @@
 
 namespace ohrp::controllers {
 
-// controllers/poses/hrp1s_halfsit.yaml in the source tree this library was built from
+// controllers/poses/hrp1s_halfsit.yaml of the data folder (cli/data_dir.h: <bin>/../share/ohrp)
 std::string DefaultPoseFile();
 
 struct PostureOptions {

@@ -63,8 +63,9 @@ struct RunOptions {
                                        // with locked memory, where permitted (--rt-priority)
 };
 
-// The self-collision file shipped for HRP-1S (mjcf/hrp1s/selfcollision.yaml of the source tree).
-const char* DefaultSelfCollisionFile();
+// The self-collision file shipped for HRP-1S (mjcf/hrp1s/selfcollision.yaml of the data folder,
+// cli/data_dir.h).
+std::string DefaultSelfCollisionFile();
 
 // What happened, for tests and callers that want more than the exit code.
 struct RunReport {

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include "compare/compare.h"
 #include "tool_process/run_command.h"
 
@@ -128,7 +129,7 @@ int main(int argc, char** argv) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string png = (fs::path(out_dir) / "compare.png").string();
     std::string why;  // an argument vector, no shell (tool_process/run_command.h)
-    if (ohrp::tool::RunCommand({python, std::string(OHRP_SOURCE_DIR) + "/tools/scripts/plot_compare.py",
+    if (ohrp::tool::RunCommand({python, ohrp::cli::DataPath("tools/scripts/plot_compare.py"),
                           json_path, png},
                          (fs::path(out_dir) / "plot.stderr").string(), &why) != 0) {
       std::fprintf(stderr, "ohrp_compare_logs: the plot could not be made (see %s/plot.stderr)\n",

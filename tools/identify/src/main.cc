@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include "identify/identify.h"
 #include "sweep/executor_options.h"
 #include "tool_process/run_command.h"
@@ -13,7 +14,7 @@
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
   ohrp::identify::IdentifyOptions o;
-  o.source_dir = OHRP_SOURCE_DIR;
+  o.source_dir = ohrp::cli::DataDir();
   o.scenario = o.source_dir + "/scenarios/rocking_fig12.yaml";
   o.out_dir = "identify";
   CLI::App app{

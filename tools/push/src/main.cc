@@ -1,6 +1,7 @@
 // ohrp_push: the largest push survived per direction, or the settling after a push, for one or
 // more controllers side by side (see push/push.h and docs/scenarios.md).
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -60,7 +61,7 @@ int main(int argc, char** argv) {
   if (!controllers.empty()) o.controllers = controllers;
   if (!directions.empty()) o.directions = directions;
   o.plot = !no_plot;
-  o.source_dir = OHRP_SOURCE_DIR;
+  o.source_dir = ohrp::cli::DataDir();
   o.bin_dir = std::filesystem::canonical("/proc/self/exe").parent_path().string();
   if (o.out_dir.empty()) {
     char b[32];

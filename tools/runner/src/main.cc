@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include "runner/runner.h"
 #include "runner/scenario.h"
 
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.plot = !no_plot;
   o.echo = !quiet;
-  o.source_dir = OHRP_SOURCE_DIR;
+  o.source_dir = ohrp::cli::DataDir();
   o.bin_dir = std::filesystem::canonical("/proc/self/exe").parent_path().string();
 
   ohrp::runner::Scenario s;

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include "sweep/executor_options.h"
 #include "sweep/sweep.h"
 
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
       "not run (the report says which, with its logs), or the report or the job could not be made,\n"
       "2 bad option or sweep file, 130 interrupted.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  ctx.source_dir = OHRP_SOURCE_DIR;
+  ctx.source_dir = ohrp::cli::DataDir();
   ctx.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
   ex.progress = !quiet;
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cli/command_line.h"
+#include "cli/data_dir.h"
 #include "robot_model/model.h"
 #include "view/server.h"
 
@@ -27,7 +28,7 @@ bool IsDir(const std::string& p) {
 int main(int argc, char** argv) {
   std::string target, scene;
   ohrp::view::ServerOptions server;
-  server.web_dir = OHRP_VIEW_WEB_DIR;
+  server.web_dir = ohrp::cli::DataPath("tools/view/web");
   server.three_js = "/usr/share/javascript/three/three.min.js";
   server.chart_js = "/usr/share/javascript/chart.js/chart.min.js";
   double rate = 30, image_rate = 10, attach_timeout = 0;
@@ -72,7 +73,7 @@ int main(int argc, char** argv) {
     error = "no run folder '" + target + "' (a folder written by './ohrp run SCENARIO --out DIR'; a "
             "segment name has no '/')";
   } else {
-    if (scene.empty()) scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+    if (scene.empty()) scene = ohrp::cli::DataPath("mjcf/hrp1s/scene_flat.xml");
     source = ohrp::view::LiveSource::Open(target, scene, rate, image_rate, attach_timeout, &error);
   }
   if (!source) {

@@ -28,7 +28,7 @@ namespace ohrp::identify {
 struct IdentifyOptions {
   std::string recording;          // the robot's data log (hw_driver --log)
   std::string scenario;           // the experiment (scenarios/rocking_fig12.yaml)
-  std::string source_dir;         // repository root: the scenario's scene is relative to it
+  std::string source_dir;         // data folder (cli::DataDir()): the scene is relative to it
   std::string bin_dir;            // ohrp_run, sim_host, the controllers (and ohrp_sweep for Slurm)
   sweep::Executor executor;       // how each stage's simulations run (local: in parallel)
   std::string channel = "rfsensor_ty,lfsensor_ty";  // the oscillating channel measured (a

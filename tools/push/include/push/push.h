@@ -48,7 +48,7 @@ struct PushOptions {
   double settle_within = 1.0;  // [s]
   int jobs = 0;                // parallel trials; 0: the number of cores
   std::string out_dir;         // output folder
-  std::string source_dir;      // repository root (scene paths)
+  std::string source_dir;      // data folder, cli::DataDir() (scene paths)
   std::string bin_dir;         // sim_host and the controllers
   bool plot = true;
 };

@@ -22,7 +22,7 @@ namespace ohrp::runner {
 
 struct RunOptions {
   std::string out_dir;      // empty: runs/<name>-<date>-<time> under the current directory
-  std::string source_dir;   // repository root: relative paths of the scenario start here
+  std::string source_dir;   // data folder (cli::DataDir()): a scenario's relative paths start here
   std::string bin_dir;      // where sim_host and the controllers are
   std::string segment;      // empty: run_<name>_<pid>
   bool plot = true;

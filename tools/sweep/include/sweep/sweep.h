@@ -102,7 +102,7 @@ std::string NumberText(double v);
 
 // Where the programs are, and what the runs get.
 struct RunContext {
-  std::string source_dir;  // repository root (ohrp_run runs there)
+  std::string source_dir;  // data folder, cli::DataDir() (ohrp_run runs there)
   std::string bin_dir;     // ohrp_run, sim_host, the controllers, ohrp_sweep
   bool run_plots = false;  // each run's plot.png (ohrp_run without --no-plot)
 };

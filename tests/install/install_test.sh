@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# install_out_of_tree (tests/install/CMakeLists.txt): install BUILD into a temporary prefix, build
+# the out-of-tree example EXAMPLE against it with find_package(ohrp), and stand the robot with it
+# under the installed ohrp_run/sim_host and the installed model and scenario.
+#   install_test.sh BUILD EXAMPLE
+set -euo pipefail
+BUILD="$(realpath "$1")"
+EXAMPLE="$(realpath "$2")"
+SOURCE="$(realpath "$EXAMPLE/../..")"
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+PREFIX="$TMP/prefix"
+fail() { echo "install_test: FAIL: $*" >&2; exit 1; }
+
+echo "== cmake --install $BUILD --prefix $PREFIX"
+cmake --install "$BUILD" --prefix "$PREFIX" >"$TMP/install.log" 2>&1 \
+  || { cat "$TMP/install.log" >&2; fail "cmake --install failed"; }
+
+# the layout a user of the package relies on
+LAYOUT="$(sed -n 's/^#define OHRP_LAYOUT_VERSION \([0-9]*\)$/\1/p' "$BUILD/include/ohrp/version.h")"
+[ -n "$LAYOUT" ] || fail "no OHRP_LAYOUT_VERSION in $BUILD/include/ohrp/version.h"
+for f in bin/sim_host bin/ohrp_run bin/hw_driver bin/posture bin/ohrp_view \
+         lib/cmake/ohrp/ohrpConfig.cmake lib/cmake/ohrp/ohrpConfigVersion.cmake \
+         lib/cmake/ohrp/ohrpTargets.cmake include/ohrp/version.h include/ohrp_shm.h \
+         include/controllers/runner.h include/shm_bridge/layout.h include/cli/data_dir.h \
+         "lib/libohrp_shm_c.so.$LAYOUT" lib/ohrp/libohrp_io_udp.so \
+         share/ohrp/mjcf/hrp1s/hrp1s.xml share/ohrp/mjcf/hrp1s/selfcollision.yaml \
+         share/ohrp/scenarios/stand.yaml share/ohrp/controllers/poses/hrp1s_halfsit.yaml \
+         share/ohrp/tools/view/web/index.html share/ohrp/tools/scripts/plot_run.py; do
+  [ -e "$PREFIX/$f" ] || fail "not installed: $f"
+done
+[ "$(readlink "$PREFIX/lib/libohrp_shm_c.so")" = "libohrp_shm_c.so.$LAYOUT" ] \
+  || fail "lib/libohrp_shm_c.so does not link to the SOVERSION $LAYOUT library"
+echo "installed: $(find "$PREFIX" -type f | wc -l) files; libohrp_shm_c.so -> libohrp_shm_c.so.$LAYOUT"
+
+# nothing compiled into the installed programs and shared libraries names the checkout or the
+# build folder (the data is found relative to the program: cli/data_dir.h)
+for dir in "$SOURCE" "$BUILD"; do
+  if hits="$(grep -l -F "$dir" "$PREFIX"/bin/* "$PREFIX"/lib/*.so* "$PREFIX"/lib/ohrp/*.so \
+             "$PREFIX"/lib/cmake/ohrp/*.cmake 2>/dev/null)"; then
+    fail "installed files name $dir: $hits"
+  fi
+done
+
+echo "== the example against the prefix: find_package(ohrp)"
+LAUNCHER=()
+command -v ccache >/dev/null && LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S "$EXAMPLE" -B "$TMP/example" -DCMAKE_PREFIX_PATH="$PREFIX" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF "${LAUNCHER[@]}" >"$TMP/configure.log" 2>&1 \
+  || { cat "$TMP/configure.log" >&2; fail "the example does not configure against $PREFIX"; }
+grep -q "ohrp_DIR:PATH=$PREFIX/lib/cmake/ohrp" "$TMP/example/CMakeCache.txt" \
+  || fail "find_package(ohrp) did not take the installed package: $(grep ohrp_DIR "$TMP/example/CMakeCache.txt")"
+cmake --build "$TMP/example" -j 2 >"$TMP/build.log" 2>&1 \
+  || { cat "$TMP/build.log" >&2; fail "the example does not build against $PREFIX"; }
+# its include flags (imported targets' folders come as -isystem) name the prefix, not the checkout
+flags="$TMP/example/CMakeFiles/stand_controller.dir/flags.make"
+grep -q -F -- "-isystem $PREFIX/include" "$flags" || fail "the example does not include $PREFIX/include"
+if grep -E -- "(-I|-isystem ?)$SOURCE/" "$flags"; then
+  fail "the example's build reads headers from the checkout"
+fi
+
+echo "== the installed ohrp_run: stand.yaml with the example as the controller"
+# the installed scenario, its controller replaced by the example (the same checks: standing,
+# half-sitting height, feet carrying the weight, no creep, nothing rejected)
+sed "s#^  - program: posture\$#  - program: $TMP/example/stand_controller#" \
+  "$PREFIX/share/ohrp/scenarios/stand.yaml" >"$TMP/stand_example.yaml"
+grep -q "program: $TMP/example/stand_controller" "$TMP/stand_example.yaml" \
+  || fail "share/ohrp/scenarios/stand.yaml has no '  - program: posture' line to replace"
+cd "$TMP"  # not in the checkout: only the prefix can be found
+set +e
+env -u OHRP_DATA_DIR "$PREFIX/bin/ohrp_run" "$TMP/stand_example.yaml" --out "$TMP/run" --no-plot \
+  >"$TMP/run.log" 2>&1
+code=$?
+set -e
+cat "$TMP/run.log"
+[ "$code" -eq 0 ] || fail "ohrp_run exited $code (0 expected: the robot stands)"
+grep -q "stand_controller: ohrp " "$TMP/run.log" || fail "the example's banner is not in the run's output"
+echo "install_test: PASS"
