@@ -221,8 +221,8 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     // a lower bound only (skipped, or farther than the check's cutoff): measure it with this
     // pair's own
     if (budget_ <= 0) return false;  // out of work this cycle: not certified
-    --budget_;
-    checker_->SetPose(q_);
+    --budget_, ++last_evaluations_;
+    checker_->SetPoseOf(q_, p.a, p.b);  // this pair's links only
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
   }
   double t = 0;
@@ -236,8 +236,8 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     t += std::max(room / speed, 1e-6 * horizon_end_);
     speed = speed_at(t, &rest);
     Nominal(t);
-    checker_->SetPose(centre_);
-    --budget_;
+    checker_->SetPoseOf(centre_, p.a, p.b);
+    --budget_, ++last_evaluations_;
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
   }
 }
@@ -292,6 +292,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       }
     }
     budget_ = kBudget;
+    last_evaluations_ = 0;
     // the pairs the brake acts on first (the work bound is theirs), then those moved by support
     // legs only: monitored, never braked
     int unbrakeable = -1;

@@ -106,6 +106,11 @@ class SelfCollisionGuard {
   // the same with the inertia given [kg m^2]
   double Decelerate(int j, double tau_measured, double inertia) const;
 
+  // the certification's distance evaluations in the last Filter (at most kWorkBound; the
+  // measured posture's incremental check comes on top): what bounds the guard's cycle
+  int last_evaluations() const { return last_evaluations_; }
+  static constexpr int kWorkBound = 160;
+
  private:
   // each joint's interval of motion for `c` from the measured state into box_lo_/box_hi_
   // (absolute positions); false when a measured value is not finite
@@ -162,7 +167,8 @@ class SelfCollisionGuard {
   double horizon_end_ = 0;   // [s] when the last joint has stopped
   std::vector<double> centre_;  // a posture of the nominal motion
   int budget_ = 0;  // distance evaluations left this cycle
-  static constexpr int kBudget = 160;
+  int last_evaluations_ = 0;  // the certification's distance evaluations in the last Filter
+  static constexpr int kBudget = kWorkBound;
   static constexpr int kMonitorBudget = 16;  // of it, for the pairs only support legs move
 
   bool braking_ = false;
