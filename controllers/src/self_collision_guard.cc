@@ -144,6 +144,7 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   brake_q_.assign(njoint_, 0.0);
   brake_v_.assign(njoint_, 0.0);
   brake_decel_.assign(decel_.begin(), decel_.begin() + njoint_);
+  brake_ff_.assign(njoint_, 0.0);
   last_dq_.assign(njoint_, 0.0);
   have_last_ = false;
   centre_.assign(nq_, 0.0);
@@ -224,6 +225,7 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     --budget_, ++last_evaluations_;
     checker_->SetPoseOf(q_, p.a, p.b);  // this pair's links only
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
+    check_->Record(i, d);  // next cycles bound it from this (less the links' travel)
   }
   double t = 0;
   *bound = d - envelope;
@@ -242,6 +244,22 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
   }
 }
 
+bool SelfCollisionGuard::BrakeHelps(int i) const {
+  if (!brakeable_[i]) return false;
+  // a pair already within the tolerance of its limit is always braked: its approach this
+  // cycle, however small, would take it past the limit
+  if (check_->distance(i) < limit_[i] + tolerance_) return true;
+  // how far the joints the brake acts on can move the pair's links along this cycle's motion
+  // (their path to rest and its envelope): below the tolerance a close pair is allowed anyway,
+  // the brake cannot change the pair's approach, which the support legs make
+  const double* c = &coef_[static_cast<size_t>(i) * nq_];
+  double share = 0;
+  for (int j = 0; j < njoint_; ++j)
+    if (c[j] > 0 && !Supports(j))
+      share += c[j] * (speed_[j] * 2 * period_ + v1_[j] * v1_[j] / (2 * decel_[j]) + envelope_[j]);
+  return share >= tolerance_;
+}
+
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
   (void)sensors;
   for (int j = 0; j < njoint_; ++j) {
@@ -257,8 +275,17 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
       jc.kd = kd_default_[j];
       jc.tau_ff = 0.0;
     }
+    brake_ff_[j] = std::isfinite(jc.tau_ff) ? jc.tau_ff : 0.0;  // the controller's own
     jc.q_ref = brake_q_[j];
     jc.dq_ref = v1;
+    // the ramp's deceleration as a feed-forward torque (at the largest inertia: the torque the
+    // prediction's braking rate was derived from), so that the servo follows the ramp from its
+    // first cycle instead of building a tracking error first (which let the joint coast past
+    // the ramp's end: 0.044 rad at HRP-1S's shoulder after a jump)
+    if (v0 != 0)
+      jc.tau_ff = brake_ff_[j] + (v0 > 0 ? -1 : 1) * brake_decel_[j] * file_.dynamics[j].inertia_max;
+    else
+      jc.tau_ff = brake_ff_[j];
   }
 }
 
@@ -302,7 +329,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       // uncertified by it is not reported
       if (pass == 1) budget_ = std::min(budget_, kMonitorBudget);
       for (int i : list_) {
-        if (brakeable_[i] != (pass == 0)) continue;
+        if (BrakeHelps(i) != (pass == 0)) continue;
         double b = INFINITY;
         if (Certify(i, &b)) continue;
         if (pass == 1) {

@@ -123,6 +123,10 @@ class SelfCollisionGuard {
   // pair i (index into every_) stays clear along the motion; false with its predicted lower
   // bound
   bool Certify(int i, double* bound);
+  // pair i is brakeable (some joint the brake acts on moves it) and those joints' motion this
+  // cycle can move its links by the tolerance or more: else braking cannot change its approach
+  // (made by the support legs): it is monitored this cycle, not braked
+  bool BrakeHelps(int i) const;
   // the braking trajectory's next reference into `c`
   void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
 
@@ -157,6 +161,7 @@ class SelfCollisionGuard {
   std::vector<double> tau_max_, kp_default_, kd_default_, decel_;  // decel_ [rad/s^2]
   std::vector<double> q_, box_lo_, box_hi_;                          // [rad]
   std::vector<double> brake_q_, brake_v_, brake_decel_;  // the brake's references and rate
+  std::vector<double> brake_ff_;  // this cycle's controller feed-forward torque, kept under the brake
   std::vector<double> last_dq_;  // the last cycle's measured velocities
   bool have_last_ = false;
   std::vector<int> support_;  // per joint, the header's index of its support force sensor, -1
