@@ -103,7 +103,11 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
           static_cast<int>(std::find(every_.begin(), every_.end(), p) - every_.begin()));
   }
   limit_ = base_limit_;
-  check_cutoff_ = *std::max_element(base_limit_.begin(), base_limit_.end());
+  // the incremental check measures every pair that may be within the tolerance of its limit
+  // (BrakeHelps brakes those): a lower bound it keeps for a pair is then above limit + tolerance
+  // (with the margin alone, a pair's bound decaying with the support legs' travel to just
+  // above the margin read as 'near its limit' and braked the arms of every walk)
+  check_cutoff_ = *std::max_element(base_limit_.begin(), base_limit_.end()) + tolerance_;
   // per pair and joint, how far the pair's two links move per unit of the joint
   const auto reach = collision::LinkReach(file_.robot);
   coef_.assign(every_.size() * nq_, 0.0);
@@ -244,20 +248,33 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
   }
 }
 
-bool SelfCollisionGuard::BrakeHelps(int i) const {
+bool SelfCollisionGuard::BrakeHelps(int i) {
   if (!brakeable_[i]) return false;
-  // a pair already within the tolerance of its limit is always braked: its approach this
-  // cycle, however small, would take it past the limit
-  if (check_->distance(i) < limit_[i] + tolerance_) return true;
   // how far the joints the brake acts on can move the pair's links along this cycle's motion
-  // (their path to rest and its envelope): below the tolerance a close pair is allowed anyway,
-  // the brake cannot change the pair's approach, which the support legs make
+  // (the command for the horizon, then their path to rest, and its envelope): when that alone
+  // can bring the pair within the tolerance of its limit, the brake decides its approach and
+  // the pair is braked (a pair already within the tolerance of its limit always is); else what
+  // can still bring it there is the support legs' motion, which no brake changes: monitored.
+  // From one cycle to the next the motion stays within this bound (the horizon holds one
+  // period of latency), so a pair monitored now is braked in time by the brakeable joints.
   const double* c = &coef_[static_cast<size_t>(i) * nq_];
   double share = 0;
   for (int j = 0; j < njoint_; ++j)
     if (c[j] > 0 && !Supports(j))
       share += c[j] * (speed_[j] * 2 * period_ + v1_[j] * v1_[j] / (2 * decel_[j]) + envelope_[j]);
-  return share >= tolerance_;
+  const double reach = limit_[i] + tolerance_ + share;  // closer than this: braked
+  double d = check_->distance(i);
+  if (d >= reach) return false;
+  if (check_->measured_now(i) && d <= check_cutoff_) return true;  // measured: it is that close
+  // only a lower bound (the check skipped it): measure it before braking for it (walking: the
+  // bounds of pairs the legs move decay to just above the check's cutoff every few cycles)
+  if (budget_ <= 0) return true;  // out of work: braked, the safe side
+  --budget_, ++last_evaluations_;
+  const collision::LinkPair p = every_[i];
+  checker_->SetPoseOf(q_, p.a, p.b);
+  d = checker_->Distance(p.a, p.b, reach);
+  check_->Record(i, d);
+  return d < reach;
 }
 
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {

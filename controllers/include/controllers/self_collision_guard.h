@@ -124,9 +124,11 @@ class SelfCollisionGuard {
   // bound
   bool Certify(int i, double* bound);
   // pair i is brakeable (some joint the brake acts on moves it) and those joints' motion this
-  // cycle can move its links by the tolerance or more: else braking cannot change its approach
-  // (made by the support legs): it is monitored this cycle, not braked
-  bool BrakeHelps(int i) const;
+  // cycle (the command over the horizon, then to rest, and its envelope) can bring it within
+  // the tolerance of its limit: else the brake cannot decide its approach (made by the support
+  // legs): it is monitored this cycle, not braked. A pair the check only bounded is measured
+  // first (one evaluation of the work bound; none left: braked)
+  bool BrakeHelps(int i);
   // the braking trajectory's next reference into `c`
   void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
 
