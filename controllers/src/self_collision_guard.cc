@@ -103,7 +103,11 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
           static_cast<int>(std::find(every_.begin(), every_.end(), p) - every_.begin()));
   }
   limit_ = base_limit_;
-  check_cutoff_ = *std::max_element(base_limit_.begin(), base_limit_.end());
+  // the incremental check measures every pair that may be within the tolerance of its limit
+  // (BrakeHelps brakes those): a lower bound it keeps for a pair is then above limit + tolerance
+  // (with the margin alone, a pair's bound decaying with the support legs' travel to just
+  // above the margin read as 'near its limit' and braked the arms of every walk)
+  check_cutoff_ = *std::max_element(base_limit_.begin(), base_limit_.end()) + tolerance_;
   // per pair and joint, how far the pair's two links move per unit of the joint
   const auto reach = collision::LinkReach(file_.robot);
   coef_.assign(every_.size() * nq_, 0.0);
@@ -144,6 +148,7 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   brake_q_.assign(njoint_, 0.0);
   brake_v_.assign(njoint_, 0.0);
   brake_decel_.assign(decel_.begin(), decel_.begin() + njoint_);
+  brake_ff_.assign(njoint_, 0.0);
   last_dq_.assign(njoint_, 0.0);
   have_last_ = false;
   centre_.assign(nq_, 0.0);
@@ -221,9 +226,10 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     // a lower bound only (skipped, or farther than the check's cutoff): measure it with this
     // pair's own
     if (budget_ <= 0) return false;  // out of work this cycle: not certified
-    --budget_;
-    checker_->SetPose(q_);
+    --budget_, ++last_evaluations_;
+    checker_->SetPoseOf(q_, p.a, p.b);  // this pair's links only
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
+    check_->Record(i, d);  // next cycles bound it from this (less the links' travel)
   }
   double t = 0;
   *bound = d - envelope;
@@ -236,10 +242,39 @@ bool SelfCollisionGuard::Certify(int i, double* bound) {
     t += std::max(room / speed, 1e-6 * horizon_end_);
     speed = speed_at(t, &rest);
     Nominal(t);
-    checker_->SetPose(centre_);
-    --budget_;
+    checker_->SetPoseOf(centre_, p.a, p.b);
+    --budget_, ++last_evaluations_;
     d = checker_->Distance(p.a, p.b, limit + envelope + rest);
   }
+}
+
+bool SelfCollisionGuard::BrakeHelps(int i) {
+  if (!brakeable_[i]) return false;
+  // how far the joints the brake acts on can move the pair's links along this cycle's motion
+  // (the command for the horizon, then their path to rest, and its envelope): when that alone
+  // can bring the pair within the tolerance of its limit, the brake decides its approach and
+  // the pair is braked (a pair already within the tolerance of its limit always is); else what
+  // can still bring it there is the support legs' motion, which no brake changes: monitored.
+  // From one cycle to the next the motion stays within this bound (the horizon holds one
+  // period of latency), so a pair monitored now is braked in time by the brakeable joints.
+  const double* c = &coef_[static_cast<size_t>(i) * nq_];
+  double share = 0;
+  for (int j = 0; j < njoint_; ++j)
+    if (c[j] > 0 && !Supports(j))
+      share += c[j] * (speed_[j] * 2 * period_ + v1_[j] * v1_[j] / (2 * decel_[j]) + envelope_[j]);
+  const double reach = limit_[i] + tolerance_ + share;  // closer than this: braked
+  double d = check_->distance(i);
+  if (d >= reach) return false;
+  if (check_->measured_now(i) && d <= check_cutoff_) return true;  // measured: it is that close
+  // only a lower bound (the check skipped it): measure it before braking for it (walking: the
+  // bounds of pairs the legs move decay to just above the check's cutoff every few cycles)
+  if (budget_ <= 0) return true;  // out of work: braked, the safe side
+  --budget_, ++last_evaluations_;
+  const collision::LinkPair p = every_[i];
+  checker_->SetPoseOf(q_, p.a, p.b);
+  d = checker_->Distance(p.a, p.b, reach);
+  check_->Record(i, d);
+  return d < reach;
 }
 
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
@@ -257,8 +292,17 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
       jc.kd = kd_default_[j];
       jc.tau_ff = 0.0;
     }
+    brake_ff_[j] = std::isfinite(jc.tau_ff) ? jc.tau_ff : 0.0;  // the controller's own
     jc.q_ref = brake_q_[j];
     jc.dq_ref = v1;
+    // the ramp's deceleration as a feed-forward torque (at the largest inertia: the torque the
+    // prediction's braking rate was derived from), so that the servo follows the ramp from its
+    // first cycle instead of building a tracking error first (which let the joint coast past
+    // the ramp's end: 0.044 rad at HRP-1S's shoulder after a jump)
+    if (v0 != 0)
+      jc.tau_ff = brake_ff_[j] + (v0 > 0 ? -1 : 1) * brake_decel_[j] * file_.dynamics[j].inertia_max;
+    else
+      jc.tau_ff = brake_ff_[j];
   }
 }
 
@@ -292,6 +336,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       }
     }
     budget_ = kBudget;
+    last_evaluations_ = 0;
     // the pairs the brake acts on first (the work bound is theirs), then those moved by support
     // legs only: monitored, never braked
     int unbrakeable = -1;
@@ -301,7 +346,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
       // uncertified by it is not reported
       if (pass == 1) budget_ = std::min(budget_, kMonitorBudget);
       for (int i : list_) {
-        if (brakeable_[i] != (pass == 0)) continue;
+        if (BrakeHelps(i) != (pass == 0)) continue;
         double b = INFINITY;
         if (Certify(i, &b)) continue;
         if (pass == 1) {

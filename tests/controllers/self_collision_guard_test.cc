@@ -117,6 +117,25 @@ TEST_F(GuardTest, BrakesAnArmMovingFastIntoTheLegAlongARamp) {
   EXPECT_EQ(g.holds(), 0u);
 }
 
+// the brake commands its ramp's deceleration as a feed-forward torque on top of the
+// controller's own (at the joint's largest inertia, the one its braking rate comes from): a
+// servo that must first build a tracking error lets the joint coast past the ramp's end (the
+// arm_jump_past_thigh trial: 0.044 rad at the shoulder, the hand 0.4 mm from the thigh)
+TEST_F(GuardTest, TheBrakeFeedsItsDecelerationForward) {
+  double q[shm::kMaxJoints] = {};
+  Command(q, header_.njoint, &commands_);
+  for (int j = 0; j < header_.njoint; ++j) commands_.joint[j].tau_ff = 3.0;  // the controller's
+  sensors_.dq[kRarmShoulderR] = 2.0;  // swinging inwards, into the leg
+  guard_.Activate(sensors_);
+  ASSERT_TRUE(guard_.Filter(sensors_, &commands_));
+  const shm::JointCommand& c = commands_.joint[kRarmShoulderR];
+  const double decel = (2.0 - c.dq_ref) / 0.005;  // the ramp's, this period
+  ASSERT_GT(decel, 0.0);
+  const double inertia = file_.dynamics[kRarmShoulderR].inertia_max;
+  EXPECT_NEAR(c.tau_ff, 3.0 - decel * inertia, 1e-9);
+  EXPECT_EQ(commands_.joint[kRarmShoulderR + 1].tau_ff, 3.0);  // a joint at rest: its own
+}
+
 TEST_F(GuardTest, LetsSafeMotionAndMovingAwayThrough) {
   double q[shm::kMaxJoints] = {};
   q[kRarmShoulderR] = -0.5;  // outwards

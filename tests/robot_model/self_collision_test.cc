@@ -156,6 +156,40 @@ TEST(SelfCollisionModel, LinkPosesMatchMujoco) {
   mj_deleteModel(m);
 }
 
+// SetPoseOf (the guard's conservative advancement: one pair at many postures) places the
+// pair's links exactly as SetPose does, whatever posture the other links were left in
+TEST(SelfCollisionModel, SetPoseOfPlacesThePairAsSetPose) {
+  const RobotGeometry g = Hrp1s();
+  std::string error;
+  auto full = SelfCollision::Create(g, &error), part = SelfCollision::Create(g, &error);
+  ASSERT_TRUE(full && part) << error;
+  const std::vector<LinkPair> pairs = NonAdjacentPairs(g);
+  std::mt19937 rng(29);
+  const auto posture = [&] {
+    std::vector<double> q(g.joint_names.size());
+    for (size_t j = 0; j < q.size(); ++j)
+      q[j] = std::uniform_real_distribution<double>(g.q_min[j], g.q_max[j])(rng);
+    return q;
+  };
+  int moved = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const LinkPair p = pairs[rng() % pairs.size()];
+    part->SetPose(posture());  // the other links somewhere else
+    const std::vector<double> q = posture();
+    full->SetPose(q);
+    const Eigen::Vector3d before = part->LinkPose(p.a).translation();
+    part->SetPoseOf(q, p.a, p.b);
+    moved += (part->LinkPose(p.a).translation() - before).norm() > 1e-6;
+    for (int l : {p.a, p.b}) {
+      EXPECT_EQ((part->LinkPose(l).matrix() - full->LinkPose(l).matrix()).norm(), 0.0)
+          << g.links[l].name;
+    }
+    EXPECT_EQ(part->Distance(p.a, p.b, 1.0), full->Distance(p.a, p.b, 1.0))
+        << g.links[p.a].name << " / " << g.links[p.b].name;
+  }
+  EXPECT_GT(moved, 100);  // the postures differed: the test compared moved links
+}
+
 TEST(SelfCollisionCheck, FarPairsNeverReachGjk) {
   const RobotGeometry g = Hrp1s();
   std::string error;

@@ -18,6 +18,7 @@
 #include "controllers/self_collision_guard.h"
 #include "controllers/trajectory.h"
 #include "robot_model/model.h"
+#include "cycle_timing.h"
 #include "quantile.h"
 #include "shm_bridge/clock.h"
 
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
       "control period (targets: all pairs under 50 us median and 150 us p99, the reduced list "
       "under 10 us median); then the online guard's whole cycle (SelfCollisionGuard::Filter: the "
       "braking check, its certification and the brake) along the walk, or along ramps between "
-      "random postures without it. Ends with 'ratio: X (the guard's median cycle / control "
+      "random postures without it. Ends with 'ratio: X (the guard's p99 cycle / control "
       "period)', target under 0.2."};
   app.add_option("--file", path, "self-collision file (ohrp_selfcollision)")
       ->check(CLI::ExistingFile)->capture_default_str();
@@ -190,7 +191,9 @@ int main(int argc, char** argv) {
   }
   ohrp::shm::SensorBlock sensors{};
   ohrp::shm::CommandBlock commands{};
-  std::vector<double> t_guard;
+  ohrp::bench::CycleTimes t_guard;
+  std::vector<double> evaluations;  // the certification's distance evaluations per cycle
+  const double cpu_overhead = ohrp::bench::ThreadCpuOverhead();
   long braked = 0;
   for (size_t r = 0; r + 1 < rows.size(); ++r) {
     for (int j = 0; j < header.njoint; ++j) {
@@ -202,21 +205,27 @@ int main(int argc, char** argv) {
                            header.default_kd[j]};
     }
     if (r == 0) guard.Activate(sensors);
-    const double t0 = ohrp::MonotonicSeconds();
-    braked += guard.Filter(sensors, &commands);
-    t_guard.push_back(ohrp::MonotonicSeconds() - t0);
+    t_guard.Time([&] { braked += guard.Filter(sensors, &commands); });
+    evaluations.push_back(guard.last_evaluations());
   }
-  const double med_guard = Quantile(t_guard, 0.5), p99_guard = Quantile(t_guard, 0.99);
-  const double max_guard = *std::max_element(t_guard.begin(), t_guard.end());
+  const double med_guard = Quantile(t_guard.wall, 0.5), p99_guard = Quantile(t_guard.wall, 0.99);
+  const double max_guard = *std::max_element(t_guard.wall.begin(), t_guard.wall.end());
+  const double p99_cpu = Quantile(t_guard.cpu, 0.99) - cpu_overhead;
   std::printf("| the guard's cycle (Filter: braking check, certification, brake) along the %s | %zu | %.1f | %.1f (max %.1f) | %ld of %zu cycles braked, %ld not certified |\n",
               walk.empty() ? "ramps" : "walk", guard.file().online.size(), med_guard * 1e6,
-              p99_guard * 1e6, max_guard * 1e6, braked, t_guard.size(), guard.uncertified_cycles());
+              p99_guard * 1e6, max_guard * 1e6, braked, t_guard.wall.size(), guard.uncertified_cycles());
+  std::printf("| the same, the thread's CPU time (without preemption) | %zu | %.1f | %.1f | distance evaluations a cycle: median %.0f, p99 %.0f, max %.0f (bound %d) |\n",
+              guard.file().online.size(), (Quantile(t_guard.cpu, 0.5) - cpu_overhead) * 1e6,
+              p99_cpu * 1e6, Quantile(evaluations, 0.5), Quantile(evaluations, 0.99),
+              *std::max_element(evaluations.begin(), evaluations.end()),
+              ohrp::controllers::SelfCollisionGuard::kWorkBound);
   std::printf("| paper: HRP-1S, 933 MHz Pentium III, ~10,000 polygons | 350 | ~10000 (mean) | - | - |\n");
   std::printf("| paper: reduced list while walking | 36 | ~1000 (35 pairs/ms) | - | - |\n");
   std::printf("| control period | - | %.0f | - | - |\n", period * 1e6);
-  std::printf("targets: all pairs median < 50 us (%s), p99 < 150 us (%s); reduced median < 10 us (%s); the guard's cycle < 20 %% of the period (%s)\n",
+  std::printf("targets: all pairs median < 50 us (%s), p99 < 150 us (%s); reduced median < 10 us (%s); the guard's p99 cycle < 20 %% of the period (%s)\n",
               med_all < 50e-6 ? "met" : "missed", p99_all < 150e-6 ? "met" : "missed",
-              med_red < 10e-6 ? "met" : "missed", med_guard < 0.2 * period ? "met" : "missed");
-  std::printf("ratio: %.4f (%.2f us / %.0f us)\n", med_guard / period, med_guard * 1e6, period * 1e6);
+              med_red < 10e-6 ? "met" : "missed", p99_guard < 0.2 * period ? "met" : "missed");
+  std::printf("ratio: %.4f (%.2f us / %.0f us: the guard's p99 cycle / control period)\n",
+              p99_guard / period, p99_guard * 1e6, period * 1e6);
   return 0;
 }

@@ -106,6 +106,11 @@ class SelfCollisionGuard {
   // the same with the inertia given [kg m^2]
   double Decelerate(int j, double tau_measured, double inertia) const;
 
+  // the certification's distance evaluations in the last Filter (at most kWorkBound; the
+  // measured posture's incremental check comes on top): what bounds the guard's cycle
+  int last_evaluations() const { return last_evaluations_; }
+  static constexpr int kWorkBound = 160;
+
  private:
   // each joint's interval of motion for `c` from the measured state into box_lo_/box_hi_
   // (absolute positions); false when a measured value is not finite
@@ -118,6 +123,12 @@ class SelfCollisionGuard {
   // pair i (index into every_) stays clear along the motion; false with its predicted lower
   // bound
   bool Certify(int i, double* bound);
+  // pair i is brakeable (some joint the brake acts on moves it) and those joints' motion this
+  // cycle (the command over the horizon, then to rest, and its envelope) can bring it within
+  // the tolerance of its limit: else the brake cannot decide its approach (made by the support
+  // legs): it is monitored this cycle, not braked. A pair the check only bounded is measured
+  // first (one evaluation of the work bound; none left: braked)
+  bool BrakeHelps(int i);
   // the braking trajectory's next reference into `c`
   void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
 
@@ -152,6 +163,7 @@ class SelfCollisionGuard {
   std::vector<double> tau_max_, kp_default_, kd_default_, decel_;  // decel_ [rad/s^2]
   std::vector<double> q_, box_lo_, box_hi_;                          // [rad]
   std::vector<double> brake_q_, brake_v_, brake_decel_;  // the brake's references and rate
+  std::vector<double> brake_ff_;  // this cycle's controller feed-forward torque, kept under the brake
   std::vector<double> last_dq_;  // the last cycle's measured velocities
   bool have_last_ = false;
   std::vector<int> support_;  // per joint, the header's index of its support force sensor, -1
@@ -162,7 +174,8 @@ class SelfCollisionGuard {
   double horizon_end_ = 0;   // [s] when the last joint has stopped
   std::vector<double> centre_;  // a posture of the nominal motion
   int budget_ = 0;  // distance evaluations left this cycle
-  static constexpr int kBudget = 160;
+  int last_evaluations_ = 0;  // the certification's distance evaluations in the last Filter
+  static constexpr int kBudget = kWorkBound;
   static constexpr int kMonitorBudget = 16;  // of it, for the pairs only support legs move
 
   bool braking_ = false;

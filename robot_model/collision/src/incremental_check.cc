@@ -112,6 +112,13 @@ double IncrementalCheck::Visit(int i, double cutoff, bool* posed) {
   return value_[i] = measured_d_[i];
 }
 
+void IncrementalCheck::Record(int i, double d) {
+  const LinkPair& p = pairs_[i];
+  measured_d_[i] = value_[i] = d;
+  travel_a_[i] = travel_[p.a];
+  travel_b_[i] = travel_[p.b];
+}
+
 CheckResult IncrementalCheck::Check(std::span<const int> which, double cutoff) {
   CheckResult r;
   r.min_distance = INFINITY;

@@ -26,6 +26,13 @@ SelfCollision::SelfCollision(const RobotGeometry& robot) : robot_(robot) {
   sphere_c_L_.assign(n, Eigen::Vector3d::Zero());
   sphere_c_W_.assign(n, Eigen::Vector3d::Zero());
   sphere_r_.assign(n, 0.0);
+  on_path_.assign(n, 0);
+  // each link's fixed placement in its parent (the joint's motion comes after it)
+  X_PL0_.assign(n, Eigen::Isometry3d::Identity());
+  for (size_t l = 0; l < n; ++l) {
+    X_PL0_[l].translate(robot_.links[l].p_PL);
+    X_PL0_[l].rotate(robot_.links[l].q_PL.toRotationMatrix());
+  }
   // each link's bounding sphere: centred on the box around its shapes' spheres
   for (size_t l = 0; l < n; ++l) {
     const auto& shapes = shapes_->of(static_cast<int>(l));
@@ -45,27 +52,38 @@ SelfCollision::SelfCollision(const RobotGeometry& robot) : robot_(robot) {
 
 SelfCollision::~SelfCollision() = default;
 
+void SelfCollision::PlaceLink(size_t i, std::span<const double> q) {
+  const Link& l = robot_.links[i];
+  Eigen::Isometry3d X_PL = X_PL0_[i];
+  if (l.joint >= 0 && static_cast<size_t>(l.joint) < q.size()) {
+    const double v = std::isfinite(q[l.joint]) ? q[l.joint] : 0.0;
+    if (l.slide) {
+      X_PL.translate(v * l.axis_L);
+    } else {
+      // a hinge through anchor_L: translate to it, turn, translate back
+      X_PL.translate(l.anchor_L);
+      X_PL.rotate(Eigen::AngleAxisd(v, l.axis_L));
+      X_PL.translate(-l.anchor_L);
+    }
+  }
+  X_WL_[i] = l.parent < 0 ? X_PL : X_WL_[l.parent] * X_PL;
+  sphere_c_W_[i] = X_WL_[i] * sphere_c_L_[i];
+}
+
 void SelfCollision::SetPose(std::span<const double> q) {
   // forward kinematics down the tree (parents first); the base frame is the world
-  for (size_t i = 0; i < robot_.links.size(); ++i) {
-    const Link& l = robot_.links[i];
-    Eigen::Isometry3d X_PL = Eigen::Isometry3d::Identity();
-    X_PL.translate(l.p_PL);
-    X_PL.rotate(l.q_PL.toRotationMatrix());
-    if (l.joint >= 0 && static_cast<size_t>(l.joint) < q.size()) {
-      const double v = std::isfinite(q[l.joint]) ? q[l.joint] : 0.0;
-      if (l.slide) {
-        X_PL.translate(v * l.axis_L);
-      } else {
-        // a hinge through anchor_L: translate to it, turn, translate back
-        X_PL.translate(l.anchor_L);
-        X_PL.rotate(Eigen::AngleAxisd(v, l.axis_L));
-        X_PL.translate(-l.anchor_L);
-      }
-    }
-    X_WL_[i] = l.parent < 0 ? X_PL : X_WL_[l.parent] * X_PL;
-    sphere_c_W_[i] = X_WL_[i] * sphere_c_L_[i];
+  for (size_t i = 0; i < robot_.links.size(); ++i) PlaceLink(i, q);
+}
+
+void SelfCollision::SetPoseOf(std::span<const double> q, int a, int b) {
+  // the links from the root to a and to b (parents come before their children)
+  int last = 0;
+  for (int l : {a, b}) {
+    last = std::max(last, l);
+    for (int k = l; k >= 0 && !on_path_[k]; k = robot_.links[k].parent) on_path_[k] = 1;
   }
+  for (int i = 0; i <= last; ++i)
+    if (on_path_[i]) PlaceLink(static_cast<size_t>(i), q), on_path_[i] = 0;
 }
 
 double SelfCollision::ShapeDistance(int la, int sa, int lb, int sb, double cutoff) const {

@@ -53,6 +53,13 @@ class IncrementalCheck {
   CheckResult Check(std::span<const int> which, double cutoff);
   CheckResult CheckAll(double cutoff);
 
+  // Pair i was measured by the caller at the posture of the last MoveTo (SelfCollision's
+  // SetPose or SetPoseOf there, then Distance): `d`, a lower bound of its gap, becomes its last
+  // measurement, so later Checks bound it from d less the travel since (the guard's
+  // certification measures pairs this Check only bounded; without this it would measure them
+  // again every cycle).
+  void Record(int i, double d);
+
   double distance(int i) const { return value_[i]; }
   const std::vector<double>& distances() const { return value_; }
   bool measured_now(int i) const { return measured_now_[i] != 0; }  // by the last Check

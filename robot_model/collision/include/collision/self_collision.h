@@ -45,6 +45,11 @@ class SelfCollision {
   // Places every link for the joint positions `q` (one per joint id: the actuated joints, then
   // the passive ones, NumJoints; [rad], [m] for slides). Non-finite angles are taken as zero.
   void SetPose(std::span<const double> q);
+  // The same for links a and b only, and the links between them and the root (the same
+  // arithmetic, so their poses equal SetPose's); the other links keep their last poses, so
+  // only Distance(a, b, ...) is answered for q until the next SetPose. For the guard's
+  // conservative advancement, which measures one pair at many postures.
+  void SetPoseOf(std::span<const double> q, int a, int b);
 
   // The signed distance of links a and b at the pose of the last SetPose [m]: the gap between
   // their closest shapes, or minus the deepest penetration. When the pair is farther than
@@ -72,10 +77,14 @@ class SelfCollision {
 
  private:
   explicit SelfCollision(const RobotGeometry& robot);
+  // link i's pose from its parent's and q
+  void PlaceLink(size_t i, std::span<const double> q);
 
   RobotGeometry robot_;
   std::unique_ptr<ShapeSet> shapes_;
   std::vector<Eigen::Isometry3d> X_WL_;   // link poses [m]
+  std::vector<Eigen::Isometry3d> X_PL0_;  // each link in its parent at the joint's zero
+  std::vector<char> on_path_;             // SetPoseOf's marks (all zero between calls)
   std::vector<Eigen::Vector3d> sphere_c_L_;  // each link's bounding sphere centre in the link
   std::vector<double> sphere_r_;             // and its radius [m]
   std::vector<Eigen::Vector3d> sphere_c_W_;  // the centres after SetPose [m]
