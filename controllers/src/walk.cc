@@ -247,6 +247,7 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
     Stop();
   }
   NextCommand(s.time);
+  LiveCycle();
   UpdateFrame(dt, false);
   Remap();
   AdjustStep();

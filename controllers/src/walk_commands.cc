@@ -9,6 +9,7 @@
 
 #include "cli/plausible.h"
 #include "controllers/walk.h"
+#include "walking/footstep_file.h"
 
 namespace ohrp::controllers {
 namespace {
@@ -104,6 +105,42 @@ bool ParseWalkCommand(const std::string& text, WalkCommand* c, std::string* erro
   }
   *error = "unknown walk command \"" + text + "\": use goal, velocity, steps, wait or random";
   return false;
+}
+
+bool PlanWalkCommand(const WalkCommand& c, const walking::FeetPose& feet,
+                     const walking::StepLimits& lim, double step_time,
+                     std::vector<walking::Footstep>* steps, std::string* note, std::string* error) {
+  constexpr double kRandomStopShare = 0.15;  // the share of a random walk's steps that are stops
+  steps->clear();
+  std::string why;
+  switch (c.kind) {
+    case WalkCommand::Kind::kGoal:
+      *steps = walking::PlanToGoal(feet, c.x, c.y, c.yaw, lim, &why);
+      break;
+    case WalkCommand::Kind::kVelocity:
+      // the velocity is in the stance's mid frame; the generator's step time
+      *steps = walking::PlanVelocity(feet, c.x, c.y, c.yaw, c.time, step_time, lim, note);
+      break;
+    case WalkCommand::Kind::kSteps:
+      // a footstep file is input: out of the limits or the robot's physics, a bad command, with
+      // the file, line, key and range
+      if (!walking::ReadFootstepFile(c.file, feet, lim, steps, error)) return false;
+      break;
+    case WalkCommand::Kind::kRandom:
+      *steps = walking::PlanRandom(feet, c.count, c.seed, lim, kRandomStopShare, &why);
+      break;
+    case WalkCommand::Kind::kWait:
+      break;
+  }
+  if (!why.empty()) {
+    *error = "\"" + c.text + "\": " + why;
+    return false;
+  }
+  if (const std::string e = walking::CheckSteps(feet, *steps, lim); !e.empty()) {
+    *error = "\"" + c.text + "\" cannot be walked: " + e;
+    return false;
+  }
+  return true;
 }
 
 ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {

@@ -70,6 +70,14 @@ int main(int argc, char** argv) {
       ->check(ohrp::cli::InRange(0.0, 50.0));
   app.add_option("--k-dcm", b.gains.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(b.gains.k_dcm)->check(ohrp::cli::Plausible("rate"));
+  app.add_flag("--listen", o.listen,
+               "take live walk commands on stdin, one a line: a --command (goal, velocity, steps, "
+               "random; 'velocity VX VY WZ_DEG' without a duration walks until the next command) "
+               "or 'stop'; each replaces what is planned after the step under way; replies on "
+               "stderr (docs/walking.md)");
+  app.add_option("--socket", o.socket,
+                 "take the same live commands on a local stream socket at this path (one client at "
+                 "a time; one reply line per command: 'ok: ...' or 'error: ...')");
   bool stepping = false;
   app.add_flag("--stepping", stepping,
                "experimental: move a swing foot's landing where the measured capture point needs "

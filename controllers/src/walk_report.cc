@@ -10,6 +10,7 @@ namespace ohrp::controllers {
 //---------------- log and report ----------------
 
 void WalkController::on_close() {
+  if (channel_) channel_->Close();  // no more commands; its counts stay for the report
   if (walk_options_.log_file.empty()) return;
   FILE* f = std::fopen(walk_options_.log_file.c_str(), "w");
   if (!f) {
@@ -92,13 +93,21 @@ void WalkController::report(std::ostream& out) const {
   } else {
     what = "NOT done: " + unverified;
   }
+  char commands[160];
+  if (channel_) {
+    std::snprintf(commands, sizeof commands, "%d commands (live: %d received, %d refused)",
+                  w.commands_done, channel_->received(), channel_->refused());
+  } else {
+    std::snprintf(commands, sizeof commands, "%d of %d commands", w.commands_done,
+                  static_cast<int>(chunks_.size()));
+  }
   std::snprintf(buf, sizeof buf,
-                "walk: %s; %d of %d commands, %d of %d steps landed (measured)%s; walked %.2f s; "
+                "walk: %s; %s, %d of %d steps landed (measured)%s; walked %.2f s; "
                 "max |CoM estimated - planned| %.1f mm, max |ZMP measured - desired| %.1f mm, "
                 "plan frame corrections up to %.1f mm; %llu cycles whose leg IK did not "
                 "converge\n",
-                what.c_str(), w.commands_done, static_cast<int>(chunks_.size()), w.steps_done,
-                w.steps_planned, w.stopped ? " (stopped by SIGUSR1)" : "",
+                what.c_str(), commands, w.steps_done,
+                w.steps_planned, w.stopped ? (channel_ ? " (stopped)" : " (stopped by SIGUSR1)") : "",
                 w.walk_cycles * header().control_period, w.max_com_error * 1e3,
                 w.max_zmp_error * 1e3, w.max_frame_drift * 1e3,
                 static_cast<unsigned long long>(w.ik_failures));

@@ -12,8 +12,6 @@
 namespace ohrp::controllers {
 namespace {
 
-constexpr double kRandomStopShare = 0.15;  // the share of a random walk's steps that are stops
-
 double YawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
 ConfigStatus CheckWalkOptions(const WalkOptions& o) {
@@ -99,6 +97,7 @@ ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
   size_t longest = 0;
   for (const auto& c : chunks_) longest = std::max(longest, c.size());
   remap_.reserve(longest);
+  if (ConfigStatus s = OpenChannel(); !s.ok()) return s;
   if (!walk_options_.log_file.empty())
     log_.reserve(static_cast<size_t>(walk_options_.log_seconds / header.control_period) + 1);
   return ConfigStatus::Ok();
@@ -246,34 +245,9 @@ ConfigStatus WalkController::PlanCommands() {
   for (const WalkCommand& c : walk_options_.commands) {
     std::vector<walking::Footstep> steps;
     std::string error, note;
-    switch (c.kind) {
-      case WalkCommand::Kind::kGoal:
-        steps = walking::PlanToGoal(feet, c.x, c.y, c.yaw, lim, &error);
-        break;
-      case WalkCommand::Kind::kVelocity: {
-        // the velocity is in the stance's mid frame; the generator's step time
-        steps = walking::PlanVelocity(feet, c.x, c.y, c.yaw, c.time, walk_options_.gait.step_time,
-                                      lim, &note);
-        if (!note.empty()) notes_.push_back("\"" + c.text + "\": " + note);
-        break;
-      }
-      case WalkCommand::Kind::kSteps: {
-        // a footstep file is input: out of the limits or the robot's physics, a bad command
-        // (exit 2), with the file, line, key and range
-        if (!walking::ReadFootstepFile(c.file, feet, lim, &steps, &error))
-          return ConfigStatus::Fail(ConfigError::kOption, error);
-        break;
-      }
-      case WalkCommand::Kind::kRandom:
-        steps = walking::PlanRandom(feet, c.count, c.seed, lim, kRandomStopShare, &error);
-        break;
-      case WalkCommand::Kind::kWait:
-        break;
-    }
-    if (!error.empty())
-      return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\": " + error);
-    if (const std::string e = walking::CheckSteps(feet, steps, lim); !e.empty())
-      return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" cannot be walked: " + e);
+    if (!PlanWalkCommand(c, feet, lim, walk_options_.gait.step_time, &steps, &note, &error))
+      return ConfigStatus::Fail(ConfigError::kOption, error);
+    if (!note.empty()) notes_.push_back("\"" + c.text + "\": " + note);
     if (terrain_ && !terrain_->PlaceSteps(&steps, feet, lim, walk_options_.step_search, &error))
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
                                                           walk_options_.terrain + ": " + error);

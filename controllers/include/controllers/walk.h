@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "controllers/balance.h"
+#include "controllers/walk_channel.h"
 #include "walking/footsteps.h"
 #include "walking/pattern_generator.h"
 #include "walking/terrain.h"
@@ -59,6 +60,12 @@ struct WalkCommand {
 bool ParseWalkCommand(const std::string& text, WalkCommand* command, std::string* error);
 // the command lines' help
 const char* WalkCommandHelp();
+// the steps of command `c` from the stance `feet` (goal, velocity, steps, random; wait: none),
+// checked against the limits; false with `*error` naming the command, the step and the limit. A
+// velocity reduced to the limits says so in `*note`. Planning code: allocates.
+bool PlanWalkCommand(const WalkCommand& c, const walking::FeetPose& feet,
+                     const walking::StepLimits& limits, double step_time,
+                     std::vector<walking::Footstep>* steps, std::string* note, std::string* error);
 
 struct WalkOptions {
   BalanceOptions balance;        // stand-up, stabilizer gains, estimator
@@ -81,6 +88,8 @@ struct WalkOptions {
   std::string keyframe;          // the scene's keyframe the robot starts from (terrain only)
   double step_search = 0.05;     // [m] a step across an edge of the terrain moves this far at
                                  // most to rest on one plane (walking/terrain.h)
+  bool listen = false;           // live commands on stdin (walk_channel.h)
+  std::string socket;            // live commands on this local socket ("": none)
   std::string log_file;          // CSV log of the walk (plan frame), empty: none
   double log_seconds = 900;      // [s] of log kept in memory at most
 };
@@ -173,6 +182,11 @@ class WalkController : public BalanceController {
   // ankle cannot take back, predicted to the landing, moves the swing foot's landing by as much
   // (within the step limits against the stance sole)
   void AdjustStep() noexcept;
+  // live commands (walk_live.cc): the stance a new command starts from published to the
+  // channel, a plan made from it taken and walked (what was planned after the step under way
+  // replaced), or a stop
+  void LiveCycle() noexcept;
+  ConfigStatus OpenChannel();
   // the estimate's frame onto the plan's, from the supporting feet
   void UpdateFrame(double dt, bool first) noexcept;
   Eigen::Vector3d ToPlan(const Eigen::Vector3d& p_est) const;
@@ -225,6 +239,10 @@ class WalkController : public BalanceController {
                                // the robot's weight)
   double end_load_[2] = {0, 0};  // both feet's loads at the last walk cycle [N]
   double end_tilt_ = -1;       // the base's tilt then [rad] (-1: never walked)
+  std::unique_ptr<WalkChannel> channel_;       // live commands (null: none)
+  std::vector<walking::Footstep> live_steps_;  // swapped with the channel's plans
+  uint64_t live_version_ = 0;                  // of the stance a live command starts from
+  int live_started_ = -2;                      // the gait's step under way at the last publish
   walking::StepLimits recovery_limits_;  // the stepping strategy's: as far as a leg reaches
   int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
   walking::Footstep adjust_planned_;  // its landing as planned
