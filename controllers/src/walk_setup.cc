@@ -8,11 +8,10 @@
 #include "controllers/walk.h"
 #include "controllers/pose.h"
 #include "walking/footstep_file.h"
+#include "walk_geometry.h"
 
 namespace ohrp::controllers {
 namespace {
-
-double YawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
 ConfigStatus CheckWalkOptions(const WalkOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
@@ -38,6 +37,8 @@ ConfigStatus CheckWalkOptions(const WalkOptions& o) {
 }
 
 }  // namespace
+
+using walk_geometry::YawOf;
 
 std::unique_ptr<WalkController> WalkController::Create(const WalkOptions& options,
                                                        ConfigStatus* status) {
