@@ -182,7 +182,7 @@ TEST(FallPrograms, WalkRefusalDoesNotSuggestBalancesOption) {
     InProcessRun run;
     run.io = Hrp1sStanding();
     run.args = {Program(program), "--pose", pose, "--no-self-collision"};
-    run.t_end = 1.0;
+    run.t_end = 3.0;  // refused at once; room for a slow start
     const InProcessResult r = RunInProcess(std::string("centre_") + program, run);
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("cannot move the CoM over the middle of the soles"), std::string::npos)
