@@ -144,6 +144,10 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
         case internal::CopyResult::kOk:
           // a copy of zero pages (the file truncated during it) is no sensor block
           if (internal::MappingLost(watch_)) return Checked(ReadResult::kSegmentCorrupted);
+          // a post that came while this process was still copying the block it announced (the
+          // producer published twice before the copy) announces a block already returned: the
+          // same cycle is never returned twice, the wait goes on for the next
+          if (have_cycle_ && out->cycle == last_cycle_) continue;
           last_cycle_ = out->cycle;
           have_cycle_ = true;
           return ReadResult::kOk;

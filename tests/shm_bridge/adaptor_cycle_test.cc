@@ -251,5 +251,38 @@ TEST_F(AdaptorTest, ScribbledWakeUpWordsEndBothEndsWithAClearResult) {
             std::string::npos);
 }
 
+// the race of a controller one cycle behind: the producer publishes cycle k and posts, the
+// controller wakes, the producer publishes k+1 and posts again before the copy, the controller
+// copies k+1; the second post then announces a block already returned. Republishing the same
+// cycle makes that post without the race: the read must wait for the next cycle, not return
+// the same block twice (a controller would see its sensors' time stop: stale sensors)
+TEST_F(AdaptorTest, ACycleIsReturnedOnceEvenWhenItsWakeUpComesTwice) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  RobotAdaptor adaptor;
+  AdaptorOptions options;
+  options.read_timeout = 0.1;
+  options.slice = 0.02;
+  ASSERT_TRUE(adaptor.open(name_, options).ok());
+  const auto publish = [&](uint64_t cycle) {
+    SensorBlock& s = producer->BeginSensors();
+    s.cycle = cycle;
+    s.time = 0.001 * static_cast<double>(cycle);
+    producer->PublishSensors();
+  };
+  SensorBlock in{};
+  publish(5);
+  ASSERT_EQ(adaptor.read(&in), ReadResult::kOk);
+  EXPECT_EQ(in.cycle, 5u);
+  publish(5);  // the second wake-up for cycle 5
+  const double t0 = MonotonicSeconds();
+  EXPECT_EQ(adaptor.read(&in), ReadResult::kTimeout);
+  EXPECT_GE(MonotonicSeconds() - t0, 0.095);
+  publish(6);
+  ASSERT_EQ(adaptor.read(&in), ReadResult::kOk);
+  EXPECT_EQ(in.cycle, 6u);
+  EXPECT_DOUBLE_EQ(in.time, 0.006);
+}
+
 }  // namespace
 }  // namespace ohrp::shm

@@ -262,6 +262,8 @@ class RobotAdaptor {
   // (a producer that ended its run over a corrupted segment is not a normal end).
   // Only the entries in use (njoint, nforce, nimu of header()) are copied; the rest of `*out`
   // is left as it was. A cycle published before open (and not yet answered) is returned first.
+  // A cycle is returned once: a wake-up for the cycle already returned (the producer posted
+  // again before the copy) waits on for the next one.
   // Returns kDropped, before anything else, once the producer has let this controller go
   // (Producer::DropController): the slot is no longer this process's. The wait spins for a
   // bounded time before it sleeps (layout.h: handshake). Returns kSyncCorrupted, now and on
