@@ -18,6 +18,7 @@ LogNames LogNamesOf(const RobotMap& robot) {
   for (const auto& j : robot.joints) n.joints.push_back(j.name);
   for (const auto& f : robot.forces) n.forces.push_back(f.name);
   for (const auto& u : robot.imus) n.imus.push_back(u.name);
+  for (const auto& p : robot.passive) n.passive.push_back(p.name);
   return n;
 }
 
@@ -62,7 +63,9 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
   r->njoint_ = channels.joints ? static_cast<int>(names.joints.size()) : 0;
   r->nforce_ = channels.force_torque ? static_cast<int>(names.forces.size()) : 0;
   r->nimu_ = channels.imu ? static_cast<int>(names.imus.size()) : 0;
-  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + 6 * r->nforce_ + 10 * r->nimu_ + 3;
+  r->npassive_ = channels.joints ? static_cast<int>(names.passive.size()) : 0;
+  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + 2 * r->npassive_ + 6 * r->nforce_ +
+              10 * r->nimu_ + 3;
   r->capacity_ = capacity;
   r->max_bytes_ = max_bytes;
   r->ring_.assign(r->width_ * capacity, 0.0);
@@ -78,6 +81,8 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
   };
   for (const char* prefix : {"q_", "qref_", "tau_"})
     for (int i = 0; i < r->njoint_; ++i) column(prefix, names.joints[i].c_str());
+  for (const char* prefix : {"q_", "dq_"})
+    for (int i = 0; i < r->npassive_; ++i) column(prefix, names.passive[i].c_str());
   for (int f = 0; f < r->nforce_; ++f)
     for (const char* c : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) column(names.forces[f], c);
   for (int u = 0; u < r->nimu_; ++u)
@@ -135,6 +140,8 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs,
   for (int i = 0; i < njoint_; ++i) row[k++] = s.q[i];
   for (int i = 0; i < njoint_; ++i) row[k++] = refs[i].q_ref;
   for (int i = 0; i < njoint_; ++i) row[k++] = s.tau[i];
+  for (int i = 0; i < npassive_; ++i) row[k++] = s.passive_q[i];
+  for (int i = 0; i < npassive_; ++i) row[k++] = s.passive_dq[i];
   for (int f = 0; f < nforce_; ++f) {
     for (int i = 0; i < 3; ++i) row[k++] = s.force[f].force[i];
     for (int i = 0; i < 3; ++i) row[k++] = s.force[f].torque[i];

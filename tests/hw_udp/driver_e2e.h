@@ -75,7 +75,7 @@ class DriverEndToEnd : public ::testing::Test {
   // `during`, when given, runs once posture has started, with the boards' port.
   int RunChain(std::vector<std::string> emulator_args, std::vector<std::string> driver_args,
                double sigint_after = 0, const std::function<void(int)>& during = {}) {
-    std::vector<std::string> e = {kBin + "/hw_emulator", "--model", kScene, "--port", "0",
+    std::vector<std::string> e = {kBin + "/hw_emulator", "--model", scene_, "--port", "0",
                                   "--port-file", Path("port"), "--wait-driver", "60", "--log",
                                   Path("emu.csv"), "--log-every", "10"};
     e.insert(e.end(), emulator_args.begin(), emulator_args.end());
@@ -92,7 +92,7 @@ class DriverEndToEnd : public ::testing::Test {
     if (port == 0) return -1;
 
     std::vector<std::string> d = {
-        kBin + "/hw_driver", "--model", kScene, "--io", kBin + "/../lib/libohrp_io_udp.so",
+        kBin + "/hw_driver", "--model", scene_, "--io", kBin + "/../lib/libohrp_io_udp.so",
         "--io-arg", "port=" + std::to_string(port), "--segment", segment_, "--summary",
         Path("driver.json")};
     // loosened for a loaded machine, unless the README's defaults are what is tested
@@ -120,8 +120,7 @@ class DriverEndToEnd : public ::testing::Test {
     posture_ = readme_defaults_
                    ? Exec({kBin + "/posture", "--segment", segment_, "--rt-priority", "70"},
                           Path("posture.out"))
-                   : Exec({kBin + "/posture", "--segment", segment_, "--ramp", "1.0"},
-                          Path("posture.out"));
+                   : Exec(PostureArgs(), Path("posture.out"));
     if (during) during(port);
     if (sigint_after > 0 && WaitExit(&driver_, sigint_after) == -1) kill(driver_, SIGINT);
     const int code = WaitExit(&driver_, kMaxWall);
@@ -175,6 +174,14 @@ class DriverEndToEnd : public ::testing::Test {
   };
   std::vector<Row> rows_;
   nlohmann::json summary_;
+  // posture as the chain runs it (the README's way aside): a 1 s ramp, then posture_args_
+  std::vector<std::string> PostureArgs() const {
+    std::vector<std::string> p = {kBin + "/posture", "--segment", segment_, "--ramp", "1.0"};
+    p.insert(p.end(), posture_args_.begin(), posture_args_.end());
+    return p;
+  }
+  std::string scene_ = kScene;             // RunChain: the robot of the emulator and the driver
+  std::vector<std::string> posture_args_;  // RunChain: posture's further options
   bool readme_defaults_ = false;  // RunChain: hw_driver and posture as the README runs them
   std::string segment_;
   fs::path dir_;

@@ -121,6 +121,36 @@ TEST(Packets, SensorStateRoundTrips) {
   EXPECT_EQ(std::memcmp(&q.imu[0], &p.imu[0], sizeof(shm::Imu)), 0);
 }
 
+// version 3: the sensor board carries the passive joints' encoders (q, dq) after the IMUs,
+// their number in the header's ack field; the largest robot's state still fits a packet
+TEST(Packets, SensorStateCarriesThePassiveJoints) {
+  SensorStatePacket p{};
+  p.h.board = 2;
+  p.h.count = 2;
+  p.h.first = 1;
+  p.h.ack = 10;  // Cassie's ten
+  for (int i = 0; i < 10; ++i) {
+    p.passive_q[i] = 0.1 * i - 0.35;
+    p.passive_dq[i] = -2.5 + i;
+  }
+  p.imu[0].quat_WI[0] = 1;
+  uint8_t buf[kMaxPacketSize];
+  const size_t n = EncodeSensorState(p, buf);
+  ASSERT_EQ(n, kHeaderSize + 2 * kForceSize + kImuSize + 10 * kPassiveSize + kCrcSize);
+  SensorStatePacket q{};
+  ASSERT_EQ(DecodeSensorState(buf, n, &q), DecodeError::kOk);
+  EXPECT_EQ(q.h.ack, 10u);
+  EXPECT_EQ(std::memcmp(q.passive_q, p.passive_q, 10 * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(q.passive_dq, p.passive_dq, 10 * sizeof(double)), 0);
+  // the most the segment carries: 4 F/T, 2 IMUs, 32 passive joints
+  p.h.count = shm::kMaxForceSensors;
+  p.h.first = shm::kMaxImus;
+  p.h.ack = shm::kMaxPassiveJoints;
+  EXPECT_GT(EncodeSensorState(p, buf), 0u);
+  p.h.ack = shm::kMaxPassiveJoints + 1;  // more than a sensor block holds: not encoded
+  EXPECT_EQ(EncodeSensorState(p, buf), 0u);
+}
+
 TEST(Packets, EveryCorruptedByteIsDetected) {
   uint8_t buf[kMaxPacketSize];
   const size_t n = EncodeCommand(SampleCommand(), buf);

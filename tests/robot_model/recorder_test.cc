@@ -29,7 +29,7 @@ using ohrp::testing::ReadFile;
 using ohrp::testing::ScratchFolder;
 using ohrp::testing::ScratchPath;
 
-const LogNames kNames{{"HIP", "KNEE", "ANKLE"}, {"rfsensor"}, {"gsensor"}};
+const LogNames kNames{{"HIP", "KNEE", "ANKLE"}, {"rfsensor"}, {"gsensor"}, {}};
 
 // row k of a run: numbers of every length, as a real log has
 shm::SensorBlock Row(uint64_t k, shm::JointCommand* refs) {
@@ -111,6 +111,31 @@ TEST(Recorder, TheLastColumnSaysWhetherTheGuardHeld) {
   EXPECT_EQ(last(lines[3]), "0");
   // as many numbers in a row as names in the header
   EXPECT_EQ(std::count(lines[0].begin(), lines[0].end(), ','), std::count(lines[2].begin(), lines[2].end(), ','));
+}
+
+// the passive joints (issue 31: read-only, e.g. Cassie's shins) are logged as the driven ones
+// are: q_<passive>, then dq_<passive>, after the driven joints' columns, with the values of the
+// sensor block
+TEST(Recorder, PassiveJointsAreLoggedWithTheirPositionAndVelocity) {
+  const std::string path = ScratchPath("passive", ".csv");
+  const LogNames names{{"HIP"}, {}, {}, {"SHIN", "TARSUS"}};
+  std::string error;
+  auto r = Recorder::Open(path, names, &error, 16, RecorderChannels{false, true, true, true});
+  ASSERT_TRUE(r) << error;
+  shm::SensorBlock s{};
+  s.time = 0.25;
+  s.q[0] = 0.5;
+  s.passive_q[0] = -0.125;
+  s.passive_q[1] = 1.5;
+  s.passive_dq[0] = 2.0;
+  s.passive_dq[1] = -3.0;
+  shm::JointCommand refs[1] = {};
+  EXPECT_TRUE(r->Push(s, refs));
+  EXPECT_TRUE(r->Close());
+  const std::string text = ReadFile(path);
+  EXPECT_EQ(text,
+            "time,q_HIP,qref_HIP,tau_HIP,q_SHIN,q_TARSUS,dq_SHIN,dq_TARSUS,status,rejected,"
+            "guard_holding\n0.25,0.5,0,0,-0.125,1.5,2,-3,0,0,0\n");
 }
 
 // RLIMIT_FSIZE (SIGXFSZ ignored, as sim_host and hw_driver do): write(2) writes up to the limit,

@@ -59,6 +59,7 @@ struct Driver::Impl {
     njoint = static_cast<int>(r.joint_names.size());
     nforce = static_cast<int>(r.force_names.size());
     nimu = static_cast<int>(r.imu_names.size());
+    npassive = static_cast<int>(r.passive_names.size());
     events.reserve(kMaxEvents);
   }
 
@@ -71,7 +72,7 @@ struct Driver::Impl {
   Waker waker;  // sleeps (and spins) to each cycle's start
   SegmentImages images;
   uint32_t images_wanted = 0;  // the cameras some program asks for (polled every few cycles)
-  int njoint = 0, nforce = 0, nimu = 0, ncamera = 0;
+  int njoint = 0, nforce = 0, nimu = 0, npassive = 0, ncamera = 0;
 
   IoState in{};
   double last_valid_q[shm::kMaxJoints] = {};  // positions of the last valid read
@@ -139,6 +140,8 @@ struct Driver::Impl {
     std::memcpy(s.tau, in.tau, njoint * sizeof(double));
     std::memcpy(s.force, in.force, nforce * sizeof(shm::ForceTorque));
     std::memcpy(s.imu, in.imu, nimu * sizeof(shm::Imu));
+    std::memcpy(s.passive_q, in.passive_q, npassive * sizeof(double));
+    std::memcpy(s.passive_dq, in.passive_dq, npassive * sizeof(double));
     s.sim_truth = shm::SimTruth{};
     producer->PublishSensors();
     // the data log, as sim_host's: the block just published and the references the servos held

@@ -209,7 +209,9 @@ int RunProgram(const ProgramOptions& o) {
   if (!o.log_path.empty()) {
     model::RecorderChannels channels;
     channels.base = false;
-    log = model::Recorder::Open(o.log_path, {robot.joint_names, robot.force_names, robot.imu_names},
+    log = model::Recorder::Open(o.log_path,
+                                {robot.joint_names, robot.force_names, robot.imu_names,
+                                 robot.passive_names},
                                 &error, 16384, channels, o.log_max);
     if (!log) {
       std::fprintf(stderr, "hw_driver: %s (--log)\n", error.c_str());
@@ -226,6 +228,7 @@ int RunProgram(const ProgramOptions& o) {
   io_config.joint_names = robot.joint_names;
   io_config.force_names = robot.force_names;
   io_config.imu_names = robot.imu_names;
+  io_config.passive_names = robot.passive_names;
   io_config.cameras = robot.cameras;
   io_config.period = o.driver.period;
   io_config.args = o.io_args;

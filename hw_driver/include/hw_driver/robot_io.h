@@ -21,9 +21,11 @@
 
 namespace ohrp::hw {
 
-inline constexpr uint32_t kRobotIoAbiVersion = 4;  // 2: IoState::nonfinite_boards;
+inline constexpr uint32_t kRobotIoAbiVersion = 5;  // 2: IoState::nonfinite_boards;
                                                    // 3: cameras (IoConfig::cameras, images);
-                                                   // 4: IoState::reports and the boards' masks
+                                                   // 4: IoState::reports and the boards' masks;
+                                                   // 5: passive joints (IoConfig::passive_names,
+                                                   //    IoState::passive_q, passive_dq)
 inline constexpr const char* kRobotIoEntry = "ohrp_create_robot_io";
 
 // What the driver tells the boards at open: the robot (from its model) and the plugin's own
@@ -33,6 +35,7 @@ struct IoConfig {
   std::vector<std::string> joint_names;  // joint-id order
   std::vector<std::string> force_names;
   std::vector<std::string> imu_names;
+  std::vector<std::string> passive_names;  // joints no motor drives (measured only), model order
   std::vector<shm::CameraInfo> cameras;  // the robot's cameras, header order (name, size, fovy)
   double period = 0.001;                 // servo cycle of the driver [s]
   std::vector<std::string> args;         // "key=value" strings for the plugin
@@ -81,6 +84,9 @@ struct IoState {
   bool servo_on[shm::kMaxJoints] = {};   // what the motor boards report
   shm::ForceTorque force[shm::kMaxForceSensors] = {};
   shm::Imu imu[shm::kMaxImus] = {};
+  // the passive joints' encoders (IoConfig::passive_names order), read like the driven ones
+  double passive_q[shm::kMaxPassiveJoints] = {};   // [rad or m]
+  double passive_dq[shm::kMaxPassiveJoints] = {};  // [rad/s or m/s]
 };
 
 // What the driver sends the boards once per cycle: servo power and, per joint, the command

@@ -47,7 +47,8 @@ bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* 
   njoint_ = static_cast<int>(config.joint_names.size());
   nforce_ = static_cast<int>(config.force_names.size());
   nimu_ = static_cast<int>(config.imu_names.size());
-  width_ = 3 * njoint_ + 6 * nforce_ + 10 * nimu_;
+  npassive_ = static_cast<int>(config.passive_names.size());
+  width_ = 3 * njoint_ + 6 * nforce_ + 10 * nimu_ + 2 * npassive_;
   std::vector<int> source(width_, -1);
   auto find = [&](const std::string& name) {
     auto it = column.find(name);
@@ -71,6 +72,10 @@ bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* 
     for (const char* c : {"_gx", "_gy", "_gz", "_ax", "_ay", "_az", "_qw", "_qx", "_qy", "_qz"})
       source[k++] = find(u + c);
   }
+  // the passive joints: q_<passive>, dq_<passive> (both logged by sim_host and hw_driver);
+  // a log without them (an older one) reads 0
+  for (const std::string& p : config.passive_names) source[k++] = find("q_" + p);
+  for (const std::string& p : config.passive_names) source[k++] = find("dq_" + p);
   const int time_col = column["time"];
 
   // rows
@@ -108,6 +113,7 @@ bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* 
       if (source[q0] < 0) data_[data_.size() - width_ + q0] = 1.0;
     }
   }
+  const int passive0 = 3 * njoint_ + 6 * nforce_ + 10 * nimu_;
   if (time_.empty()) {
     *error = "replay log '" + path + "' has a header but no rows";
     return false;
@@ -120,6 +126,13 @@ bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* 
     for (int j = 0; j < njoint_; ++j) {
       data_[r * width_ + njoint_ + j] =
           b > a ? (data_[b * width_ + j] - data_[a * width_ + j]) / (time_[b] - time_[a]) : 0.0;
+    }
+    // a passive joint whose velocity was not logged: the same differences
+    for (int p = 0; p < npassive_; ++p) {
+      const int qc = passive0 + p, dqc = passive0 + npassive_ + p;
+      if (source[dqc] >= 0 || source[qc] < 0) continue;
+      data_[r * width_ + dqc] =
+          b > a ? (data_[b * width_ + qc] - data_[a * width_ + qc]) / (time_[b] - time_[a]) : 0.0;
     }
   }
   return true;
@@ -160,6 +173,8 @@ void CsvLog::Sample(double t, bool step, int* cursor, IoState* s) const {
       for (int i = 0; i < 4; ++i) s->imu[u].quat_WI[i] /= norm;
     }
   }
+  for (int p = 0; p < npassive_; ++p) s->passive_q[p] = at(k++);
+  for (int p = 0; p < npassive_; ++p) s->passive_dq[p] = at(k++);
 }
 
 }  // namespace ohrp::hw::replay

@@ -13,8 +13,9 @@ namespace ohrp::hw::replay {
 class CsvLog {
  public:
   // Reads `path` for the joints and sensors named in `config`. Every joint needs a q_<joint>
-  // column; tau_<joint>, the F/T (<ft>_fx..) and IMU (<imu>_gx..) columns are optional (zero,
-  // identity quaternion). Times must increase strictly. False with `*error` naming the file
+  // column; tau_<joint>, the F/T (<ft>_fx..), IMU (<imu>_gx..) and passive joint (q_<passive>,
+  // dq_<passive>) columns are optional (zero, identity quaternion; a passive joint's missing
+  // velocity by differences). Times must increase strictly. False with `*error` naming the file
   // (and the line) on failure.
   bool Load(const std::string& path, const IoConfig& config, std::string* error);
 
@@ -22,15 +23,16 @@ class CsvLog {
   double first_time() const { return time_.front(); }
   double last_time() const { return time_.back(); }
 
-  // Fills q, dq, tau, force, imu of `*state` at log time `t` (clamped to the log's span),
+  // Fills q, dq, tau, force, imu, passive_q, passive_dq of `*state` at log time `t` (clamped to the log's span),
   // interpolated linearly between rows (`step`: the last row at or before t). `cursor` is a
   // row hint kept by the caller for monotone playback. Never allocates.
   void Sample(double t, bool step, int* cursor, IoState* state) const;
 
  private:
-  int njoint_ = 0, nforce_ = 0, nimu_ = 0, width_ = 0;
+  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0, width_ = 0;
   std::vector<double> time_;
-  std::vector<double> data_;  // rows x width_: q, dq, tau (njoint each), F/T (6), IMU (10)
+  std::vector<double> data_;  // rows x width_: q, dq, tau (njoint each), F/T (6), IMU (10),
+                              // passive q, dq (npassive each)
 };
 
 }  // namespace ohrp::hw::replay

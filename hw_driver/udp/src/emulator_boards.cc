@@ -241,6 +241,7 @@ void Emulator::SendStates(double now) {
   sp.h.board = static_cast<uint8_t>(sb);
   sp.h.count = static_cast<uint8_t>(robot_.forces.size());
   sp.h.first = static_cast<uint8_t>(robot_.imus.size());
+  sp.h.ack = static_cast<uint32_t>(robot_.passive.size());  // the passive joints' encoders
   sp.h.seq = seq;
   sp.h.time_ns = t_ns;
   for (int i = 0; i < sp.h.count; ++i) {
@@ -273,6 +274,10 @@ void Emulator::SendStates(double now) {
       for (double& v : u.accel) v = Peg(v, kAccelRange);
     }
     sp.imu[i] = u;
+  }
+  for (uint32_t i = 0; i < sp.h.ack; ++i) {
+    sp.passive_q[i] = sensors_.passive_q[i];
+    sp.passive_dq[i] = sensors_.passive_dq[i];
   }
   if (sensor_reset_cycles_ > 0) --sensor_reset_cycles_;
   sp.h.flags = (sensor_reset_cycles_ > 0 ? board_flag::kReset : 0) |

@@ -93,7 +93,8 @@ size_t ExpectedSize(const Header& h) {
     case PacketType::kCommand: return kHeaderSize + h.count * kCommandJointSize + kCrcSize;
     case PacketType::kMotorState: return kHeaderSize + h.count * kStateJointSize + kCrcSize;
     case PacketType::kSensorState:
-      return kHeaderSize + h.count * kForceSize + h.first * kImuSize + kCrcSize;
+      return kHeaderSize + h.count * kForceSize + h.first * kImuSize +
+             static_cast<size_t>(h.ack) * kPassiveSize + kCrcSize;
   }
   return 0;
 }
@@ -173,7 +174,9 @@ size_t EncodeMotorState(const MotorStatePacket& p, uint8_t* out) {
 }
 
 size_t EncodeSensorState(const SensorStatePacket& p, uint8_t* out) {
-  if (p.h.count > shm::kMaxForceSensors || p.h.first > shm::kMaxImus) return 0;
+  if (p.h.count > shm::kMaxForceSensors || p.h.first > shm::kMaxImus ||
+      p.h.ack > static_cast<uint32_t>(shm::kMaxPassiveJoints))
+    return 0;
   Header h = p.h;
   h.type = static_cast<uint8_t>(PacketType::kSensorState);
   Writer w(out);
@@ -186,6 +189,10 @@ size_t EncodeSensorState(const SensorStatePacket& p, uint8_t* out) {
     for (double v : p.imu[i].gyro) w.F64(v);
     for (double v : p.imu[i].accel) w.F64(v);
     for (double v : p.imu[i].quat_WI) w.F64(v);
+  }
+  for (uint32_t i = 0; i < h.ack; ++i) {
+    w.F64(p.passive_q[i]);
+    w.F64(p.passive_dq[i]);
   }
   return Finish(out, &w);
 }
@@ -251,7 +258,8 @@ DecodeError DecodeMotorState(const uint8_t* data, size_t n, MotorStatePacket* p)
 DecodeError DecodeSensorState(const uint8_t* data, size_t n, SensorStatePacket* p) {
   const DecodeError e = CheckPayload(data, n, PacketType::kSensorState, &p->h);
   if (e != DecodeError::kOk) return e;
-  if (p->h.count > shm::kMaxForceSensors || p->h.first > shm::kMaxImus)
+  if (p->h.count > shm::kMaxForceSensors || p->h.first > shm::kMaxImus ||
+      p->h.ack > static_cast<uint32_t>(shm::kMaxPassiveJoints))
     return DecodeError::kBadLength;
   Reader r(data + kHeaderSize);
   for (int i = 0; i < p->h.count; ++i) {
@@ -262,6 +270,10 @@ DecodeError DecodeSensorState(const uint8_t* data, size_t n, SensorStatePacket* 
     for (double& v : p->imu[i].gyro) v = r.F64();
     for (double& v : p->imu[i].accel) v = r.F64();
     for (double& v : p->imu[i].quat_WI) v = r.F64();
+  }
+  for (uint32_t i = 0; i < p->h.ack; ++i) {
+    p->passive_q[i] = r.F64();
+    p->passive_dq[i] = r.F64();
   }
   return DecodeError::kOk;
 }

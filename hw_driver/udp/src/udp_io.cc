@@ -101,12 +101,14 @@ bool UdpIo::open(const IoConfig& config, std::string* error) {
   njoint_ = static_cast<int>(config.joint_names.size());
   nforce_ = static_cast<int>(config.force_names.size());
   nimu_ = static_cast<int>(config.imu_names.size());
+  npassive_ = static_cast<int>(config.passive_names.size());
   if (njoint_ < 1 || njoint_ > shm::kMaxJoints || nforce_ > shm::kMaxForceSensors ||
-      nimu_ > shm::kMaxImus) {
+      nimu_ > shm::kMaxImus || npassive_ > shm::kMaxPassiveJoints) {
     *error = "udp io: the robot has " + std::to_string(njoint_) + " joints, " +
-             std::to_string(nforce_) + " F/T sensors, " + std::to_string(nimu_) +
-             " IMUs: outside what the protocol carries (1.." + std::to_string(shm::kMaxJoints) +
-             ", " + std::to_string(shm::kMaxForceSensors) + ", " + std::to_string(shm::kMaxImus) + ")";
+             std::to_string(nforce_) + " F/T sensors, " + std::to_string(nimu_) + " IMUs, " +
+             std::to_string(npassive_) + " passive joints: outside what the protocol carries (1.." +
+             std::to_string(shm::kMaxJoints) + ", " + std::to_string(shm::kMaxForceSensors) + ", " +
+             std::to_string(shm::kMaxImus) + ", " + std::to_string(shm::kMaxPassiveJoints) + ")";
     return false;
   }
   if (boards.empty()) {
@@ -226,7 +228,7 @@ void UdpIo::Handle(const uint8_t* data, size_t n, int64_t now_ns) {
   // the packet must be the board's kind and carry the board's joints or sensors
   bool ok;
   if (b == layout_.sensor_board()) {
-    ok = h.count == nforce_ && h.first == nimu_ &&
+    ok = h.count == nforce_ && h.first == nimu_ && h.ack == static_cast<uint32_t>(npassive_) &&
          DecodeSensorState(data, n, &scratch_sensor_) == DecodeError::kOk;
   } else {
     ok = h.first == layout_.motor[b].first && h.count == layout_.motor[b].count &&
@@ -331,6 +333,11 @@ IoResult UdpIo::read(IoState* state) noexcept {
         const shm::Imu& u = sensor_.imu[i];
         state->imu[i] = u;
         finite = finite && AllFinite(u.gyro, 3) && AllFinite(u.accel, 3) && AllFinite(u.quat_WI, 4);
+      }
+      for (int i = 0; i < npassive_; ++i) {
+        state->passive_q[i] = sensor_.passive_q[i];
+        state->passive_dq[i] = sensor_.passive_dq[i];
+        finite = finite && std::isfinite(sensor_.passive_q[i]) && std::isfinite(sensor_.passive_dq[i]);
       }
     } else {
       const MotorStatePacket& p = motor_[b];

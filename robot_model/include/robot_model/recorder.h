@@ -8,11 +8,12 @@
 //   time, base_x, base_y, base_z, base_qw, base_qx, base_qy, base_qz,   (simulation ground truth:
 //   base_vx, base_vy, base_vz,                                           sim_host only)
 //   q_<joint>... , qref_<joint>... , tau_<joint>...                      (joint-id order)
+//   q_<passive>... , dq_<passive>...                  (passive joints, read-only: header order)
 //   <ft>_fx, <ft>_fy, <ft>_fz, <ft>_tx, <ft>_ty, <ft>_tz ...             (segment convention)
 //   <imu>_gx, <imu>_gy, <imu>_gz, <imu>_ax, <imu>_ay, <imu>_az,
 //   <imu>_qw, <imu>_qx, <imu>_qy, <imu>_qz ...
 //   status, rejected, guard_holding
-// The channels (base, joints, F/T, IMU) can be left out (RecorderChannels, the log_* effects of
+// The channels (base, joints with the passive ones, F/T, IMU) can be left out (RecorderChannels, the log_* effects of
 // sim_host/effects.h); time, status and rejected are always there. hw_driver has no ground
 // truth: its logs have no base_* columns (base = false), the sensor channels are the same.
 // qref_ is the reference the servos held over the interval that ends at the row's time;
@@ -37,7 +38,7 @@ namespace ohrp::model {
 // which column groups the log has
 struct RecorderChannels {
   bool base = true;          // base_x ... base_vz
-  bool joints = true;        // q_, qref_, tau_
+  bool joints = true;        // q_, qref_, tau_; the passive joints' q_, dq_
   bool force_torque = true;  // <ft>_fx ... <ft>_tz
   bool imu = true;           // <imu>_gx ... <imu>_qz
 };
@@ -47,6 +48,7 @@ struct LogNames {
   std::vector<std::string> joints;  // q_<joint>, qref_<joint>, tau_<joint>
   std::vector<std::string> forces;  // <ft>_fx ...
   std::vector<std::string> imus;    // <imu>_gx ...
+  std::vector<std::string> passive; // q_<passive>, dq_<passive> (with the joints' channel)
 };
 LogNames LogNamesOf(const RobotMap& robot);
 
@@ -142,7 +144,7 @@ class Recorder {
   double failure_time_ = 0, limit_time_ = 0;
   uint64_t failure_cycle_ = 0, limit_cycle_ = 0;
   std::string error_;  // set once, before failed_
-  int njoint_ = 0, nforce_ = 0, nimu_ = 0;  // 0 when the channel is off
+  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0;  // 0 when the channel is off
   bool base_ = true;
   bool closed_ = false;
   std::atomic<bool> stop_{false};

@@ -25,8 +25,9 @@ namespace ohrp::hw::udp {
 //---------------- constants ----------------
 
 inline constexpr uint16_t kMagic = 0x4855;        // bytes 'U','H' on the wire
-inline constexpr uint8_t kVersion = 2;            // bump on any incompatible change (2: the
-                                                  // driver's session id in its packets' ack field)
+inline constexpr uint8_t kVersion = 3;            // bump on any incompatible change (2: the
+                                                  // driver's session id in its packets' ack field;
+                                                  // 3: passive joints in the sensor state)
 inline constexpr size_t kHeaderSize = 24;         // [byte]
 inline constexpr size_t kCrcSize = 4;             // [byte]
 inline constexpr int kMaxBoardJoints = 8;         // joints per motor board
@@ -35,6 +36,7 @@ inline constexpr size_t kCommandJointSize = 42;   // bytes per joint in a comman
 inline constexpr size_t kStateJointSize = 26;     // bytes per joint in a motor state packet
 inline constexpr size_t kForceSize = 48;          // bytes per F/T sensor (6 doubles)
 inline constexpr size_t kImuSize = 80;            // bytes per IMU (10 doubles)
+inline constexpr size_t kPassiveSize = 16;        // bytes per passive joint (q, dq)
 inline constexpr size_t kMaxPacketSize = 1024;    // every packet of this protocol fits [byte]
 inline constexpr int kDefaultPort = 7700;         // the boards' UDP port (emulator default)
 // the largest forward jump of a sequence number a receiver accepts: further ahead is no gap of
@@ -73,8 +75,9 @@ struct Header {
   uint8_t first = 0;     // first joint id carried (motor packets), IMUs (sensor state)
   uint8_t flags = 0;     // board_flag:: bits (state packets); 0 in driver packets
   uint32_t seq = 0;      // sender's packet number for this board, +1 per packet
-  uint32_t ack = 0;      // state: seq of the last command the board applied; hello and
-                         // command: the driver's session id (non-zero, chosen at its open)
+  uint32_t ack = 0;      // motor state: seq of the last command the board applied; hello and
+                         // command: the driver's session id (non-zero, chosen at its open);
+                         // sensor state: the passive joints carried
   uint64_t time_ns = 0;  // sender's clock: driver's monotonic time / board time [ns]
 };
 
@@ -100,9 +103,11 @@ struct MotorStatePacket {
 };
 
 struct SensorStatePacket {
-  Header h;  // type kSensorState; count = F/T sensors, first = IMUs
+  Header h;  // type kSensorState; count = F/T sensors, first = IMUs, ack = passive joints
   shm::ForceTorque force[shm::kMaxForceSensors];
   shm::Imu imu[shm::kMaxImus];
+  double passive_q[shm::kMaxPassiveJoints];   // [rad or m]
+  double passive_dq[shm::kMaxPassiveJoints];  // [rad/s or m/s]
 };
 
 //---------------- encoding and decoding ----------------

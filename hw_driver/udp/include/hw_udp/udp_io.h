@@ -93,7 +93,7 @@ class UdpIo final : public RobotIo {
   UdpSocket socket_;
   sockaddr_in boards_addr_{};
   BoardLayout layout_;
-  int njoint_ = 0, nforce_ = 0, nimu_ = 0;
+  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0;
   bool quiet_ = false;
   int hello_every_ = 100;
   uint64_t writes_ = 0;
