@@ -208,27 +208,55 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     }
     return -1;
   };
+  // the sensors of a pair without its partner are said, not dropped silently
+  const auto lone = [&](int s, const char* kind, const char* partner) {
+    const std::string name = Name(m, mjOBJ_SENSOR, s);
+    robot->unpublished.push_back(
+        std::string("<") + kind + "> sensor" + (name.empty() ? "" : " '" + name + "'") +
+        " on site '" + Name(m, mjOBJ_SITE, m->sensor_objid[s]) + "' has no <" + partner +
+        "> on the same site: not published (the segment carries " +
+        (std::string(kind) == "force" || std::string(kind) == "torque" ? "force/torque pairs"
+                                                                      : "IMUs: gyro and accelerometer pairs") +
+        ")");
+  };
   for (int s = 0; s < m->nsensor; ++s) {
     if (m->sensor_objtype[s] != mjOBJ_SITE) continue;
     const int site = m->sensor_objid[s];
-    if (m->sensor_type[s] == mjSENS_FORCE) {
+    const int type = m->sensor_type[s];
+    if (type == mjSENS_FORCE) {
       const int t = find_on_site(mjSENS_TORQUE, site);
-      if (t < 0) continue;
+      if (t < 0) {
+        lone(s, "force", "torque");
+        continue;
+      }
       robot->forces.push_back({Name(m, mjOBJ_SITE, site), site, m->sensor_adr[s], t});
-    } else if (m->sensor_type[s] == mjSENS_GYRO) {
+    } else if (type == mjSENS_GYRO) {
       const int acc = find_on_site(mjSENS_ACCELEROMETER, site);
-      if (acc < 0) continue;
+      if (acc < 0) {
+        lone(s, "gyro", "accelerometer");
+        continue;
+      }
       robot->imus.push_back({Name(m, mjOBJ_SITE, site), site, m->sensor_adr[s], acc,
                              find_on_site(mjSENS_FRAMEQUAT, site)});
+    } else if (type == mjSENS_TORQUE && find_on_site(mjSENS_FORCE, site) < 0) {
+      lone(s, "torque", "force");
+    } else if (type == mjSENS_ACCELEROMETER && find_on_site(mjSENS_GYRO, site) < 0) {
+      lone(s, "accelerometer", "gyro");
     }
   }
-  if (robot->forces.size() > static_cast<size_t>(shm::kMaxForceSensors) ||
-      robot->imus.size() > static_cast<size_t>(shm::kMaxImus)) {
-    *error = "the robot has " + std::to_string(robot->forces.size()) + " force sensors and " +
-             std::to_string(robot->imus.size()) + " IMUs; the segment carries at most " +
-             std::to_string(shm::kMaxForceSensors) + " and " + std::to_string(shm::kMaxImus);
-    return false;
-  }
+  // more than the segment carries: the first ones (model order) are published, the others
+  // named as not published, the robot is not refused for them
+  const auto beyond = [&](const std::string& site, const char* what, int most) {
+    robot->unpublished.push_back(std::string(what) + " on site '" + site + "': not published (the segment carries " +
+                                 std::to_string(most) + ", the first in the model's order)");
+  };
+  for (size_t f = shm::kMaxForceSensors; f < robot->forces.size(); ++f)
+    beyond(robot->forces[f].name, "force/torque sensor", shm::kMaxForceSensors);
+  for (size_t i = shm::kMaxImus; i < robot->imus.size(); ++i)
+    beyond(robot->imus[i].name, "IMU", shm::kMaxImus);
+  if (robot->forces.size() > static_cast<size_t>(shm::kMaxForceSensors))
+    robot->forces.resize(shm::kMaxForceSensors);
+  if (robot->imus.size() > static_cast<size_t>(shm::kMaxImus)) robot->imus.resize(shm::kMaxImus);
   for (int c = 0; c < m->ncam && c < shm::kMaxCameras; ++c) {
     robot->cameras.push_back({Name(m, mjOBJ_CAMERA, c), c, m->cam_bodyid[c]});
   }

@@ -18,6 +18,7 @@ void PrintExplain(const HostText& t) {
   std::printf("%s", DescribeControlPeriod(dt, o.control_period, t.steps_per_cycle,
                                           t.period_defaulted).c_str());
   std::printf("%s", DescribeActuation(t.robot).c_str());
+  for (const std::string& u : t.robot.unpublished) std::printf("note: %s\n", u.c_str());
   if (t.soft && !t.soft->impact_note().empty())
     std::printf("note: %s\n", t.soft->impact_note().c_str());
   if (!t.robot.cameras.empty()) {
@@ -42,6 +43,7 @@ void PrintStart(const HostText& t) {
                t.m->opt.timestep, IntegratorName(t.m->opt.integrator), o.control_period,
                o.realtime ? "real time" : "lock-step", ContactModelName(t.contact),
                shm::ControllerLossName(o.on_loss));
+  for (const std::string& u : robot.unpublished) std::fprintf(stderr, "sim_host: note: %s\n", u.c_str());
   if (t.self_collision)
     std::fprintf(stderr, "sim_host: self_collision: %s\n", t.self_collision->Describe().c_str());
   if (t.soft && !t.soft->impact_note().empty())

@@ -177,6 +177,56 @@ TEST(RobotMap, TakesAGearedMotorAndListsPassiveJointsOfTheRobotOnly) {
   EXPECT_NEAR(robot.total_mass, 7.0, 1e-9);  // the box is not the robot's either
 }
 
+// a sensor of a pair without its partner is not published, and says so (issue 31: a lone
+// <force> or <gyro> used to vanish without a word); complete pairs are published
+TEST(RobotMap, ALoneForceOrGyroIsNamedAsNotPublished) {
+  const std::string xml = R"(<mujoco model="s"><worldbody><body name="link">
+    <joint name="j" type="hinge" axis="0 1 0"/><geom type="sphere" size="0.05" mass="1"/>
+    <site name="ankle"/><site name="chest"/><site name="hip"/></body></worldbody>
+    <actuator><motor joint="j"/></actuator>
+    <sensor><force name="f_only" site="ankle"/><gyro site="chest"/>
+            <force site="hip"/><torque site="hip"/></sensor></mujoco>)";
+  auto l = Load(xml);
+  RobotMap robot;
+  std::string error;
+  ASSERT_TRUE(MapRobot(l->m, &robot, &error)) << error;
+  EXPECT_EQ(robot.forces.size(), 1u);  // the pair on the hip
+  EXPECT_TRUE(robot.imus.empty());
+  ASSERT_EQ(robot.unpublished.size(), 2u);
+  EXPECT_NE(robot.unpublished[0].find("<force> sensor 'f_only' on site 'ankle' has no <torque>"),
+            std::string::npos) << robot.unpublished[0];
+  EXPECT_NE(robot.unpublished[1].find("<gyro> sensor on site 'chest' has no <accelerometer>"),
+            std::string::npos) << robot.unpublished[1];
+}
+
+// more force/torque sensors or IMUs than the segment carries: the robot is not refused; the
+// first ones in the model's order are published and the others named
+TEST(RobotMap, SensorsBeyondTheSegmentsRoomAreNamedNotRefused) {
+  std::string sites, sensors;
+  for (int i = 0; i < shm::kMaxForceSensors + 1; ++i) {
+    sites += "<site name=\"ft" + std::to_string(i) + "\"/>";
+    sensors += "<force site=\"ft" + std::to_string(i) + "\"/><torque site=\"ft" + std::to_string(i) + "\"/>";
+  }
+  for (int i = 0; i < shm::kMaxImus + 1; ++i) {
+    sites += "<site name=\"imu" + std::to_string(i) + "\"/>";
+    sensors += "<gyro site=\"imu" + std::to_string(i) + "\"/><accelerometer site=\"imu" + std::to_string(i) + "\"/>";
+  }
+  auto l = Load(R"(<mujoco model="s"><worldbody><body name="link"><joint name="j" type="hinge"/>
+    <geom type="sphere" size="0.05" mass="1"/>)" + sites + R"(</body></worldbody>
+    <actuator><motor joint="j"/></actuator><sensor>)" + sensors + "</sensor></mujoco>");
+  RobotMap robot;
+  std::string error;
+  ASSERT_TRUE(MapRobot(l->m, &robot, &error)) << error;
+  ASSERT_EQ(robot.forces.size(), static_cast<size_t>(shm::kMaxForceSensors));
+  ASSERT_EQ(robot.imus.size(), static_cast<size_t>(shm::kMaxImus));
+  EXPECT_EQ(robot.forces.back().name, "ft" + std::to_string(shm::kMaxForceSensors - 1));
+  ASSERT_EQ(robot.unpublished.size(), 2u);
+  EXPECT_NE(robot.unpublished[0].find("site 'ft" + std::to_string(shm::kMaxForceSensors) + "': not published"),
+            std::string::npos) << robot.unpublished[0];
+  EXPECT_NE(robot.unpublished[1].find("IMU on site 'imu" + std::to_string(shm::kMaxImus) + "'"),
+            std::string::npos) << robot.unpublished[1];
+}
+
 TEST(RobotMap, RefusesTwoActuatorsOnOneJoint) {
   auto l = Load(OneJoint(R"(<motor name="a" joint="j"/><position name="b" joint="j" kp="5"/>)"));
   RobotMap robot;

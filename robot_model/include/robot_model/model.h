@@ -81,6 +81,10 @@ struct RobotMap {
   std::vector<ImuMap> imus;
   std::vector<CameraMap> cameras;
   double total_mass = 0;  // [kg], all bodies but the world
+  // sensors of the model the segment does not carry, each with why and what would carry it
+  // (a <force> without a <torque> on its site, a <gyro> without an <accelerometer>, a sensor
+  // on something else than a site): never dropped without a word
+  std::vector<std::string> unpublished;
 };
 
 inline constexpr double kNoLimit = 1e9;
