@@ -272,6 +272,8 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     ++rep.cycles;
   }
   if (g_stop && !fell) stopped_by_signal = true;
+  // the producer's own verdict in its final block, which may have come with the end of the run
+  if (result == shm::ReadResult::kProducerStopped) last_status |= adaptor.published_status();
 
   //---------------- end of the run ----------------
   controller.deactivate();
@@ -301,6 +303,12 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
                                "and why)")
                  : std::string(" (see the producer's output)"));
       rep.exit_code = kExitProducerFailed;
+    } else if (last_status & shm::status::kFallen) {
+      // judged on the robot by the producer (sim_host's fall watch), though this program's own
+      // watch did not fire (off, or the robot lacks the sensors it needs)
+      why = producer + " ended its run: the robot fell (the producer's fall watch: its output "
+            "says when and why)";
+      rep.exit_code = kExitFell;
     } else {
       why = producer + " ended its run";
       rep.exit_code = kExitOk;

@@ -194,6 +194,12 @@ ReadResult RobotAdaptor::write(const CommandBlock& commands) {
   return ReadResult::kOk;
 }
 
+uint32_t RobotAdaptor::published_status() const {
+  if (segment_ == nullptr) return 0;
+  // one aligned word: no torn value, whatever the seqlock's state
+  return std::atomic_ref<uint32_t>(segment_->sensors.status).load(std::memory_order_acquire);
+}
+
 bool RobotAdaptor::dropped() const {
   if (segment_ == nullptr) return false;
   return internal::LoadControllerPid(segment_->header) != header_.controller_pid;

@@ -252,6 +252,7 @@ bool HostRun::Watches() {
   if (self_collision) self_collision->Check(d, d->time, st.cycles);
   if (!fall->Check(m, d, d->time, st.cycles)) return true;
   st.Record(d->time, "fall", fall->fall().body);
+  extra_status |= shm::status::kFallen;  // every block from now on says it
   if (o.fall.on_fall != OnFall::kEnd) return true;
   exit_code = kExitFell;
   Publish(shm::status::kShuttingDown);

@@ -94,6 +94,29 @@ TEST(FallPrograms, PostureOnALimpRobotExitsEightWithTimeAndCause) {
               kLimpAt, r.exit_code, t, r.base_z);
 }
 
+// the producer's verdict: sim_host's fall watch marks every block from the fall on
+// (status::kFallen); a program whose own watch saw nothing (here the robot stands: the mark is
+// the test's) still ends with exit 8, saying that the producer judged a fall
+TEST(FallPrograms, AFallTheProducerJudgedEndsTheProgramWithEight) {
+  InProcessRun run;
+  run.io = Hrp1sStanding();
+  run.args = {Program("posture"), "--ramp", "0.5", "--no-self-collision"};
+  run.t_end = 2.5;
+  run.edit_sensors = [](shm::SensorBlock* s) {
+    if (s->time >= 2.0) s->status |= shm::status::kFallen;
+  };
+  const InProcessResult r = RunInProcess("fall_producer", run);
+  EXPECT_EQ(r.exit_code, kExitFell) << r.output;
+  EXPECT_FALSE(r.left_early) << r.output;
+  EXPECT_NE(r.output.find("ended its run: the robot fell (the producer's fall watch"),
+            std::string::npos)
+      << r.output;
+  // without the mark the same run is a clean end
+  run.edit_sensors = nullptr;
+  const InProcessResult clean = RunInProcess("fall_producer_none", run);
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+}
+
 TEST(FallPrograms, BalancePushedOverExitsEightAndNeverSaysStood) {
   InProcessRun run;
   run.io = Hrp1sStanding();

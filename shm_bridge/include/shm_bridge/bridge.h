@@ -269,6 +269,10 @@ class RobotAdaptor {
   // bounded time before it sleeps (layout.h: handshake). Returns kSyncCorrupted, now and on
   // every later call, once the wake-up words are found corrupted.
   ReadResult read(SensorBlock* out);
+  // The status word of the block the producer published last, read or not (0 when not open):
+  // after read() returned kProducerStopped, what the producer said in its final block (e.g.
+  // status::kFallen) even when that block came with the end of the run and was not returned.
+  uint32_t published_status() const;
 
   // Writes the commands answering the last cycle read (answers_cycle is set here) and posts
   // commands_ready. Copies the guard record and commands.njoint (clamped to kMaxJoints) joints; `seq` and

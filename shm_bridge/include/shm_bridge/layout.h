@@ -102,6 +102,9 @@ inline constexpr uint32_t kServoOff = 1u << 7;           // the robot's servos a
 inline constexpr uint32_t kBoardFault = 1u << 8;         // a board is silent, reset, or reports a
                                                          // stuck or saturated sensor this cycle
 inline constexpr uint32_t kEmergencyStop = 1u << 9;      // the emergency stop was triggered
+// set by a producer that judges falls (sim_host's fall watch), in every block from the first
+// fall on, the last one included: a controller whose own watch saw nothing still learns it
+inline constexpr uint32_t kFallen = 1u << 10;
 }  // namespace status
 
 //---------------- header ----------------
