@@ -36,7 +36,17 @@ bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
     }
   }
   ContactModel model = o.model;
-  if (model == ContactModel::kAuto) model = soles.empty() ? ContactModel::kNative : ContactModel::kSoft;
+  if (model == ContactModel::kAuto) {
+    // soles that MuJoCo's contact would not touch (contype = conaffinity = 0, as a robot
+    // profile's `contact: native` makes them) mark the support polygon: the author's own foot
+    // geoms are the contact, natively
+    bool markers = o.soles.empty() && !soles.empty();
+    for (const std::string& s : soles) {
+      const int g = mj_name2id(m, mjOBJ_GEOM, s.c_str());
+      markers = markers && g >= 0 && m->geom_contype[g] == 0 && m->geom_conaffinity[g] == 0;
+    }
+    model = soles.empty() || markers ? ContactModel::kNative : ContactModel::kSoft;
+  }
   if (resolved) *resolved = model;
   if (model == ContactModel::kNative) return true;
   if (soles.empty()) {
