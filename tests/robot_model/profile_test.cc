@@ -82,8 +82,8 @@ std::string Error(const std::string& yaml) {
 
 TEST(ProfileRead, ErrorsNameTheFileLineKeyAndRange) {
   EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\nhands: 2\n"),
-            "p.yaml:5: hands: unknown key (known: chains, contact, feet, force_torque, groups, imu, "
-            "model, sole_thickness, stand, walking)");
+            "p.yaml:5: hands: unknown key (known: actuators, base, chains, contact, feet, force_torque, "
+            "groups, imu, model, sole_thickness, stand, walking)");
   const std::string size = Error("model: a.xml\nfeet:\n  left: {body: l}\n  right:\n    body: r\n"
                                  "    sole: {size: [0.2, 5], centre: [0, 0, 0]}\n");
   EXPECT_EQ(size.rfind("p.yaml:6: feet.right.sole.size[1]: = 5 is outside the plausible range", 0), 0u) << size;
@@ -283,6 +283,62 @@ TEST_F(Augmented, MeshesAreFoundBesideTheModel) {
   EXPECT_TRUE(again) << error;
 }
 
+// a URDF biped: a pelvis link, per leg a hip and a knee revolute joint and an ankle to a foot
+// link with a 0.2 x 0.1 m box; no actuators (URDF has none), its root fixed by MuJoCo
+std::string UrdfBiped() {
+  auto link = [](const std::string& name, const std::string& geom) {
+    return "<link name='" + name + "'><inertial><mass value='1'/><inertia ixx='0.01' ixy='0' ixz='0' "
+           "iyy='0.01' iyz='0' izz='0.01'/></inertial><collision><geometry>" + geom +
+           "</geometry></collision></link>";
+  };
+  auto joint = [](const std::string& name, const std::string& parent, const std::string& child,
+                  const std::string& xyz) {
+    return "<joint name='" + name + "' type='revolute'><parent link='" + parent + "'/><child link='" +
+           child + "'/><origin xyz='" + xyz + "'/><axis xyz='0 1 0'/>"
+           "<limit lower='-2' upper='2' effort='100' velocity='10'/></joint>";
+  };
+  std::string u = "<robot name='urdf_biped'>" + link("pelvis", "<box size='0.2 0.3 0.1'/>");
+  for (const std::string side : {"left", "right"}) {
+    const std::string y = side == "left" ? "0.1" : "-0.1";
+    u += link(side + "_thigh", "<cylinder radius='0.03' length='0.3'/>") +
+         link(side + "_shin", "<cylinder radius='0.03' length='0.3'/>") +
+         link(side + "_foot", "<box size='0.2 0.1 0.04'/>") +
+         joint(side + "_hip", "pelvis", side + "_thigh", "0 " + y + " -0.1") +
+         joint(side + "_knee", side + "_thigh", side + "_shin", "0 0 -0.3") +
+         joint(side + "_ankle", side + "_shin", side + "_foot", "0 0 -0.3");
+  }
+  return u + "</robot>";
+}
+
+TEST(ProfileUrdf, AUrdfRobotGetsAFreeBaseActuatorsAndWhatBalanceNeeds) {
+  const std::string dir = ScratchFolder("profile_urdf");
+  Write(dir + "/biped.urdf", UrdfBiped());
+  Write(dir + "/p.yaml", "model: biped.urdf\nbase: free\nactuators: {type: motor, torque_limit: 80}\n"
+                         "feet: {left: {body: left_foot}, right: {body: right_foot}}\n"
+                         "stand: {joints: {left_knee: 0.3, right_knee: 0.3}}\n");
+  std::string error;
+  auto k = Kinematics::Load(dir + "/p.yaml", &error);
+  ASSERT_TRUE(k) << error;
+  EXPECT_TRUE(k->floating());
+  ASSERT_EQ(k->njoint(), 6);
+  for (const JointMap& j : k->robot().joints) EXPECT_DOUBLE_EQ(j.tau_max, 80.0) << j.name;
+  ASSERT_GE(k->left_sole(), 0);
+  ASSERT_GE(k->right_sole(), 0);
+  EXPECT_NEAR(k->soles()[k->left_sole()].half_size[0], 0.1, 1e-9);  // the foot box, derived
+  for (int side : {k->left_sole(), k->right_sole()}) EXPECT_GE(k->soles()[side].force_sensor, 0);
+  EXPECT_EQ(k->robot().imus.size(), 1u);
+  EXPECT_GE(mj_name2id(k->m(), mjOBJ_KEY, "stand"), 0);
+  // nothing beside the model
+  std::set<std::string> files;
+  for (const auto& f : fs::directory_iterator(dir)) files.insert(f.path().filename().string());
+  EXPECT_EQ(files, (std::set<std::string>{"biped.urdf", "p.yaml"}));
+  // a joint the URDF does not have, and a second free joint: both listed
+  Write(dir + "/bad.yaml", "model: biped.urdf\nactuators: {type: position, kp: 100, joints: [left_hip, left_toe]}\n"
+                           "feet: {left: {body: left_foot}, right: {body: right_foot}}\n");
+  EXPECT_FALSE(LoadMujocoModel(dir + "/bad.yaml", &error));
+  EXPECT_NE(error.find("actuators.joints: the model has no joint 'left_toe'"), std::string::npos) << error;
+}
+
 //---------------- G1 and H1 ----------------
 
 std::string Repo() { return OHRP_SOURCE_DIR; }
@@ -341,7 +397,7 @@ TEST(ProfileRobots, EveryLoaderSeesTheSameModel) {
 TEST(ProfileDraft, DraftsForG1AndH1LoadAndMeetTheRequirements) {
   if (!HaveExternal()) GTEST_SKIP() << "no ../shared/external beside the repository";
   const std::string dir = ScratchFolder("profile_draft");
-  for (const std::string model : {Repo() + "/../shared/external/menagerie/unitree_g1/scene.xml",
+  for (const std::string& model : {Repo() + "/../shared/external/menagerie/unitree_g1/scene.xml",
                                   Repo() + "/scenarios/scenes/h1_free.xml"}) {
     const std::string out = dir + "/" + fs::path(model).stem().string() + ".yaml";
     std::string yaml, error;

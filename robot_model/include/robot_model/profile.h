@@ -7,7 +7,8 @@
 //   - force_torque: a site with a <force> and a <torque> sensor on each foot (when the foot has
 //     none);
 //   - imu: a site with a <gyro>, an <accelerometer> and a <framequat> (when the model has none);
-//   - stand: the keyframe "stand" (an existing keyframe copied, or joint values).
+//   - stand: the keyframe "stand" (an existing keyframe copied, or joint values);
+//   - base, actuators: a free joint and <motor>/<position> actuators (for a URDF robot).
 // Keys, defaults and what each derives: docs/robots.md ("Robot profiles").
 #pragma once
 
@@ -50,6 +51,13 @@ struct RobotProfile {
   std::map<std::string, double> stand_joints;  // or: these joint values (others at qpos0)
   bool stand_height_given = false;
   double stand_height = 0;        // base height; else derived (the soles' bottoms at z = 0)
+  // a URDF robot: a free joint on the root body (MuJoCo fixes a URDF's root to the world), and
+  // one actuator per joint
+  bool free_base = false;
+  std::string actuator_type;              // "" (none added), "motor" or "position"
+  std::vector<std::string> actuator_joints;  // empty: every hinge and slide joint
+  double actuator_kp = 0;                 // position: stiffness [N m/rad]
+  double actuator_limit = 0;              // torque limit [N m], 0: none
   // listed for the applications, checked against the model, not used by the loader
   std::map<std::string, std::vector<std::string>> chains;  // e.g. left_leg: [joints...]
   std::map<std::string, std::vector<std::string>> groups;

@@ -129,6 +129,23 @@ class Reader {
     }
   }
 
+  void Actuators(const YAML::Node& n, RobotProfile* p) const {
+    Keys(n, "actuators", {"type", "joints", "kp", "torque_limit"});
+    if (!n["type"]) Fail(n, "actuators", "needs type (motor or position)");
+    p->actuator_type = Text(n["type"], "actuators.type");
+    if (p->actuator_type != "motor" && p->actuator_type != "position")
+      Fail(n["type"], "actuators.type", "must be motor or position");
+    if (n["joints"] && !(n["joints"].IsScalar() && n["joints"].Scalar() == "all"))
+      p->actuator_joints = Names(n["joints"], "actuators.joints");
+    if (p->actuator_type == "position") {
+      if (!n["kp"]) Fail(n, "actuators", "position actuators need kp [N m/rad]");
+      p->actuator_kp = Number(n["kp"], "actuators.kp", "kp");
+    } else if (n["kp"]) {
+      Fail(n["kp"], "actuators.kp", "goes with type: position");
+    }
+    if (n["torque_limit"]) p->actuator_limit = Number(n["torque_limit"], "actuators.torque_limit", "torque");
+  }
+
   void NameLists(const YAML::Node& n, const std::string& key,
                  std::map<std::string, std::vector<std::string>>* out) const {
     if (!n.IsMap()) Fail(n, key, "must be a mapping of names to lists of joint names");
@@ -140,7 +157,7 @@ class Reader {
 
   void Read(const YAML::Node& root, RobotProfile* p) const {
     Keys(root, "", {"model", "contact", "feet", "sole_thickness", "force_torque", "imu", "stand",
-                    "chains", "groups", "walking"});
+                    "chains", "groups", "walking", "base", "actuators"});
     if (!root["model"]) Fail(root, "model", "missing (the robot's MJCF, VRML or URDF file)");
     const std::string model = Text(root["model"], "model");
     const std::filesystem::path base = std::filesystem::path(file_).parent_path();
@@ -165,6 +182,13 @@ class Reader {
       p->imu_site = Site(root["imu"], "imu");
     }
     if (root["stand"]) Stand(root["stand"], p);
+    if (root["base"]) {
+      const std::string base = Text(root["base"], "base");
+      if (base != "free" && base != "as_modelled")
+        Fail(root["base"], "base", "must be free (a free joint on the root body) or as_modelled");
+      p->free_base = base == "free";
+    }
+    if (root["actuators"]) Actuators(root["actuators"], p);
     if (root["chains"]) NameLists(root["chains"], "chains", &p->chains);
     if (root["groups"]) NameLists(root["groups"], "groups", &p->groups);
     if (root["walking"]) {
