@@ -27,11 +27,6 @@ namespace {
 namespace fs = std::filesystem;
 using ohrp::testing::ScratchFolder;
 
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
-using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
-
 void Write(const std::string& path, const std::string& text) {
   fs::create_directories(fs::path(path).parent_path());
   std::ofstream(path, std::ios::binary) << text;

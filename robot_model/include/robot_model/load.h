@@ -4,9 +4,15 @@
 
 #include <mujoco/mujoco.h>
 
+#include <memory>
 #include <string>
 
 namespace ohrp::model {
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
 
 // Loads `path` into a MuJoCo model:
 //   - a robot profile (.yaml, .yml: robot_model/profile.h): its model with the profile applied,

@@ -51,9 +51,6 @@ std::vector<std::string> Leg(const mjModel* m, int root, int b) {
   return joints;
 }
 
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
 struct DataDeleter {
   void operator()(mjData* d) const { mj_deleteData(d); }
 };
@@ -66,7 +63,7 @@ bool DraftProfile(const std::string& model_path, const std::string& profile_path
     *error = "'" + model_path + "' is a profile already: --init takes the robot's model";
     return false;
   }
-  std::unique_ptr<mjModel, ModelDeleter> m(LoadMujocoModel(model_path, error));
+  ModelPtr m(LoadMujocoModel(model_path, error));
   if (!m) return false;
   std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m.get()));
   std::vector<std::string> missing;

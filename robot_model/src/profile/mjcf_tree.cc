@@ -3,6 +3,7 @@
 
 #include <boost/property_tree/xml_parser.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -124,6 +125,12 @@ Tree* NthChild(Tree* element, const std::string& tag, int k) {
 
 Tree& Append(Tree* parent, const std::string& tag) {
   return parent->push_back({tag, Tree()})->second;
+}
+
+std::string Number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
 }
 
 void SetAttr(Tree* element, const std::string& name, const std::string& value) {

@@ -30,6 +30,9 @@ Tree* NthChild(Tree* element, const std::string& tag, int k);
 // Appends <tag attr.../> to `parent` and returns it.
 Tree& Append(Tree* parent, const std::string& tag);
 
+// A number as an attribute value (10 significant digits).
+std::string Number(double v);
+
 // Sets attribute `name` of `element`.
 void SetAttr(Tree* element, const std::string& name, const std::string& value);
 
