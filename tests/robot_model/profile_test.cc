@@ -240,6 +240,25 @@ TEST_F(Augmented, ExistingSensorsAreKeptAndEverythingMissingIsListedAtOnce) {
   EXPECT_NE(error.find("leg: the model has no joint 'left_heel'"), std::string::npos) << error;
 }
 
+TEST_F(Augmented, AFootsOwnSoleBoxIsKept) {
+  std::string model = Biped();
+  for (const std::string side : {"left", "right"}) {
+    const std::string box = "name='" + side + "_box'";
+    model.replace(model.find(box), box.size(), "name='" + side + "_OWN_SOLE'");
+  }
+  auto k = Load(kBipedProfile, model);
+  ASSERT_TRUE(k);
+  ASSERT_EQ(k->soles().size(), 2u);  // the model's, none added
+  EXPECT_EQ(k->soles()[k->left_sole()].name, "left_OWN_SOLE");
+  EXPECT_GE(k->soles()[k->left_sole()].force_sensor, 0);
+  const int g = k->soles()[k->left_sole()].geom_id;
+  EXPECT_EQ(k->m()->geom_contype[g], 1);  // still the contact
+  // the stance's height from the model's soles: their bottoms (0.05 below the feet) at z = 0
+  const int key = mj_name2id(k->m(), mjOBJ_KEY, "stand");
+  ASSERT_GE(key, 0);
+  EXPECT_NEAR(k->m()->key_qpos[key * k->m()->nq + 2], 0.1 + 0.6 * std::cos(0.2) + 0.05, 1e-9);
+}
+
 // a binary STL tetrahedron
 std::string Stl() {
   std::string s(80, '\0');

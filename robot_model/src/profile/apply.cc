@@ -67,6 +67,7 @@ struct Plan {
     std::array<double, 3> pos{};
   };
   std::vector<Sole> soles;
+  std::vector<Sole> own_soles;  // the model's own *_SOLE boxes (for the stance's height)
   std::vector<Site> force_torque;
   std::vector<Site> imu;  // 0 or 1
   bool key = false;
@@ -115,6 +116,16 @@ class Planner {
     const std::string key = "feet." + f.side;
     const int b = Body(f.body, key + ".body");
     if (b < 0) return;
+    if (const int g = profile::SoleGeom(m_, b); g >= 0) {  // the model's own *_SOLE box
+      if (f.sole_given)
+        Missing(key + ".sole: body '" + f.body + "' has its own sole box '" +
+                mj_id2name(m_, mjOBJ_GEOM, g) + "'; leave sole out");
+      const mjtNum* size = m_->geom_size + 3 * g;
+      const mjtNum* pos = m_->geom_pos + 3 * g;
+      plan->own_soles.push_back({"", f.body, {2 * size[0], 2 * size[1]}, {pos[0], pos[1], pos[2] - size[2]}, {}});
+      ForceTorque(f, b, plan);
+      return;
+    }
     Plan::Sole s;
     s.name = f.side == "left" ? "LEFT_SOLE" : "RIGHT_SOLE";
     s.body = f.body;
@@ -132,6 +143,10 @@ class Planner {
         if (profile::Collides(m_, m_->body_geomadr[b] + k)) s.own_geoms.push_back(k);
     }
     if (Fresh(mjOBJ_GEOM, s.name, "geom")) plan->soles.push_back(s);
+    ForceTorque(f, b, plan);
+  }
+
+  void ForceTorque(const ProfileFoot& f, int b, Plan* plan) {
     // the F/T sensor: where the profile says, else on the foot body when the foot has none
     const auto given = p_.force_torque_sites.find(f.side);
     if (given == p_.force_torque_sites.end() && (!p_.force_torque || profile::HasForceTorque(m_, b)))
@@ -194,7 +209,7 @@ class Planner {
       const int adr = m_->jnt_qposadr[m_->body_jntadr[root]];
       if (p_.stand_height_given) {
         q[adr + 2] = p_.stand_height;
-      } else if (!plan->soles.empty()) {
+      } else if (!plan->soles.empty() || !plan->own_soles.empty()) {
         q[adr + 2] -= LowestSole(q, *plan);  // the lowest sole's bottom at z = 0
       }
     }
@@ -209,7 +224,9 @@ class Planner {
     std::copy(q.begin(), q.end(), d->qpos);
     mj_kinematics(m_, d);
     double low = INFINITY;
-    for (const Plan::Sole& s : plan.soles) {
+    std::vector<Plan::Sole> all = plan.soles;
+    all.insert(all.end(), plan.own_soles.begin(), plan.own_soles.end());
+    for (const Plan::Sole& s : all) {
       const int b = mj_name2id(m_, mjOBJ_BODY, s.body.c_str());
       for (int k = 0; k < 4; ++k) {
         const mjtNum local[3] = {s.centre[0] + (k & 1 ? 0.5 : -0.5) * s.size[0],

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 namespace ohrp::model::profile {
@@ -110,6 +111,15 @@ bool DeriveSole(const mjModel* m, int b, std::array<double, 2>* size,
     return false;
   }
   return true;
+}
+
+int SoleGeom(const mjModel* m, int b) {
+  for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+    const size_t n = name ? std::strlen(name) : 0;
+    if (m->geom_type[g] == mjGEOM_BOX && n > 5 && std::strcmp(name + n - 5, "_SOLE") == 0) return g;
+  }
+  return -1;
 }
 
 int RootBody(const mjModel* m) {

@@ -21,6 +21,9 @@ bool DeriveSole(const mjModel* m, int b, std::array<double, 2>* size,
 // (kinematics computed); +inf when it has no geom.
 double LowestZ(const mjModel* m, const mjData* d, int b);
 
+// A box geom of body `b` whose name ends in "_SOLE" (the model's own sole), or -1.
+int SoleGeom(const mjModel* m, int b);
+
 // The body of the first free joint, else the first body under the world (-1: none).
 int RootBody(const mjModel* m);
 

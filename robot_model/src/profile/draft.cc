@@ -125,6 +125,10 @@ bool DraftProfile(const std::string& model_path, const std::string& profile_path
       if (body.empty()) missing.push_back(std::string(side) + " foot: body #" + std::to_string(foot[s]) + " has no name");
       line(std::string("  ") + side + ":");
       line("    body: " + body);
+      if (const int g = profile::SoleGeom(m.get(), foot[s]); g >= 0) {
+        line("    # its sole: the model's own box " + Name(m.get(), mjOBJ_GEOM, g));
+        continue;
+      }
       std::array<double, 2> size{};
       std::array<double, 3> centre{};
       std::string how;
