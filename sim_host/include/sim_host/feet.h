@@ -32,6 +32,9 @@ struct FeetOptions {
 bool ParseContactModel(const std::string& name, ContactModel* model);
 const char* ContactModelName(ContactModel model);
 
+// The contact `o.model` resolves to on `m` whose soles are the geoms `soles` (kAuto as above).
+ContactModel ResolveContactModel(const mjModel* m, const FeetOptions& o, const std::vector<int>& soles);
+
 // Sets the model up for the chosen contact (must run before the first mj_forward/mj_step),
 // resolving kAuto into `*resolved` (which may be null), and,
 // for the soft model, creates the soft-foot contact of the soles against every static geom.
