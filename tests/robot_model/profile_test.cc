@@ -408,11 +408,13 @@ TEST(ProfileRobots, EveryLoaderSeesTheSameModel) {
   EXPECT_NE(ModelHash(plain->m(), plain_robot), ModelHash(scene->m(), robot));
 }
 
-TEST(ProfileDraft, DraftsForG1AndH1LoadAndMeetTheRequirements) {
+TEST(ProfileDraft, DraftsForG1H1AndTheVrmlSampleLoadAndMeetTheRequirements) {
   if (!HaveExternal()) GTEST_SKIP() << "no ../shared/external beside the repository";
   const std::string dir = ScratchFolder("profile_draft");
+  // G1, H1 and OpenHRP's sample robot (VRML, converted in memory, its own soles kept)
   for (const std::string& model : {Repo() + "/../shared/external/menagerie/unitree_g1/scene.xml",
-                                  Repo() + "/scenarios/scenes/h1_free.xml"}) {
+                                   Repo() + "/scenarios/scenes/h1_free.xml",
+                                   Repo() + "/../shared/external/openhrp3-sample/sample1.wrl"}) {
     const std::string out = dir + "/" + fs::path(model).stem().string() + ".yaml";
     std::string yaml, error;
     ASSERT_TRUE(DraftProfile(model, out, &yaml, &error)) << error;
