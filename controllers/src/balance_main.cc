@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
       "strategy). Leg joints by inverse kinematics on the robot's own model (--model), which\n"
       "must be the producer's robot (checked by the model hash in the segment header).",
       "balance"};
-  app.add_option("--model", o.model, "MJCF (or OpenHRP VRML .wrl) of the robot (must match the producer's robot)")
+  app.add_option("--model", o.model, "MJCF, OpenHRP VRML .wrl or robot profile .yaml of the robot (must match the producer's robot)")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
   app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")

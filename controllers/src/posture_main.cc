@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
                                     "take the target from this keyframe of --scene instead of a "
                                     "pose file (e.g. --keyframe home)")
       ->excludes(pose_option);
-  app.add_option("--scene", scene, "the MJCF scene the producer runs, for --keyframe")
+  app.add_option("--scene", scene, "the MJCF scene (or VRML, robot profile) the producer runs, for --keyframe")
       ->check(CLI::ExistingFile)->needs(key_option);
   key_option->needs("--scene");
   app.add_option("--ramp", options.ramp, "ramp duration [s of producer time], 0 = jump")

@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
       "measured joint angles) and the final tracking error. Exit 9 when no path is found, the\n"
       "run ends before the hold is over, or the final error exceeds --tolerance.",
       "reach"};
-  app.add_option("--model", o.balance.model, "MJCF (or OpenHRP VRML .wrl) of the robot")
+  app.add_option("--model", o.balance.model, "MJCF, OpenHRP VRML .wrl or robot profile .yaml of the robot")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
   app.add_option("--pose", o.balance.pose_file, "stance pose, YAML by joint name [rad]")

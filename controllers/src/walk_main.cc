@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   app.add_option("--log", o.log_file, "CSV log of the walk (plan frame), written at the end");
   app.add_option("--log-seconds", o.log_seconds, "[s] of walk log kept at most")
       ->default_val(o.log_seconds)->check(ohrp::cli::Plausible("duration"));
-  app.add_option("--model", b.model, "MJCF (or OpenHRP VRML .wrl) of the robot (must match the producer's robot)")
+  app.add_option("--model", b.model, "MJCF, OpenHRP VRML .wrl or robot profile .yaml of the robot (must match the producer's robot)")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
   app.add_option("--pose", b.pose_file, "stance pose, YAML by joint name [rad]")

@@ -19,7 +19,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "vrml/vrml.h"
+#include "robot_model/load.h"
 
 namespace ohrp::model {
 namespace {
@@ -80,19 +80,9 @@ std::vector<SoleMap> FindSoles(const mjModel* m, const RobotMap& robot) {
 //---------------- set-up ----------------
 
 std::unique_ptr<Kinematics> Kinematics::Load(const std::string& path, std::string* error) {
-  // an OpenHRP VRML file is converted in memory (vrml/vrml.h)
-  char err[1024] = "";
-  mjModel* m = nullptr;
-  if (vrml::IsVrmlPath(path)) {
-    m = vrml::LoadModel(path, error);
-    if (!m) return nullptr;
-  } else {
-    m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
-  }
-  if (!m) {
-    *error = "cannot load model '" + path + "': " + (err[0] ? err : "unknown MuJoCo error");
-    return nullptr;
-  }
+  // a robot profile, an OpenHRP VRML file, MJCF or URDF (load.h)
+  mjModel* m = LoadMujocoModel(path, error);
+  if (!m) return nullptr;
   std::unique_ptr<Kinematics> kin(new Kinematics());
   if (!kin->Init(m, error)) {
     *error = "model '" + path + "': " + *error;

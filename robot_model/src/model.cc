@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "shm_bridge/layout.h"
-#include "vrml/vrml.h"
+#include "robot_model/load.h"
 
 namespace ohrp::model {
 namespace {
@@ -74,19 +74,9 @@ const char* LastWarning() { return g_last_warning; }
 //---------------- scene ----------------
 
 std::unique_ptr<Scene> Scene::Load(const std::string& path, std::string* error) {
-  // an OpenHRP VRML file is converted in memory (vrml/vrml.h)
-  char err[1024] = "";
-  mjModel* m = nullptr;
-  if (vrml::IsVrmlPath(path)) {
-    m = vrml::LoadModel(path, error);
-    if (!m) return nullptr;
-  } else {
-    m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
-  }
-  if (!m) {
-    *error = "cannot load scene '" + path + "': " + (err[0] ? err : "unknown MuJoCo error");
-    return nullptr;
-  }
+  // a robot profile, an OpenHRP VRML file, MJCF or URDF (load.h)
+  mjModel* m = LoadMujocoModel(path, error);
+  if (!m) return nullptr;
   std::unique_ptr<Scene> scene(new Scene());
   scene->m_ = m;
   scene->d_ = mj_makeData(m);

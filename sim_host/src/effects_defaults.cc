@@ -55,8 +55,7 @@ bool DeclareDefaults(const mjModel* m, const RobotMap& robot, const FeetOptions&
 
   // contact: the soles, the pairs MuJoCo could make touch
   const std::vector<int> soles = Soles(m, feet);
-  ContactModel model = feet.model;
-  if (model == ContactModel::kAuto) model = soles.empty() ? ContactModel::kNative : ContactModel::kSoft;
+  const ContactModel model = ResolveContactModel(m, feet, soles);
   const bool soft = model == ContactModel::kSoft;
   std::vector<std::string> sole_names;
   for (int s : soles) sole_names.push_back(GeomName(m, s));

@@ -22,6 +22,17 @@ const char* ContactModelName(ContactModel model) {
   return "?";
 }
 
+ContactModel ResolveContactModel(const mjModel* m, const FeetOptions& o, const std::vector<int>& soles) {
+  if (o.model != ContactModel::kAuto) return o.model;
+  if (!o.soles.empty()) return ContactModel::kSoft;  // soles listed: they are the contact
+  // soles that MuJoCo's contact would not touch (contype = conaffinity = 0, as a robot profile's
+  // `contact: native` makes them) mark the support polygon: the author's own foot geoms are the
+  // contact, natively
+  bool markers = !soles.empty();
+  for (int g : soles) markers = markers && m->geom_contype[g] == 0 && m->geom_conaffinity[g] == 0;
+  return soles.empty() || markers ? ContactModel::kNative : ContactModel::kSoft;
+}
+
 bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
                std::unique_ptr<contact::SoftFootContact>* soft, std::string* error,
                ContactModel* resolved) {
@@ -35,8 +46,10 @@ bool SetUpFeet(mjModel* m, const FeetOptions& o, double mass,
       if (n.size() > 5 && n.compare(n.size() - 5, 5, "_SOLE") == 0) soles.push_back(n);
     }
   }
-  ContactModel model = o.model;
-  if (model == ContactModel::kAuto) model = soles.empty() ? ContactModel::kNative : ContactModel::kSoft;
+  std::vector<int> found;
+  for (const auto& s : soles)
+    if (const int g = mj_name2id(m, mjOBJ_GEOM, s.c_str()); g >= 0) found.push_back(g);
+  const ContactModel model = ResolveContactModel(m, o, found);
   if (resolved) *resolved = model;
   if (model == ContactModel::kNative) return true;
   if (soles.empty()) {

@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
       "sim_host: simulates a robot in MuJoCo and serves its sensors and commands through the\n"
       "shared-memory segment NAME, to which a controller attaches (e.g. 'posture --segment NAME').\n"
       "Lock-step by default: simulated time advances only when the controller has answered."};
-  app.add_option("--scene,scene", o.scene, "MJCF scene file, or OpenHRP VRML (.wrl, read directly) (e.g. mjcf/hrp1s/scene_flat.xml, mjcf/hrp1s/scene_bush.wrl)")
+  app.add_option("--scene,scene", o.scene, "MJCF scene file, OpenHRP VRML (.wrl, read directly), URDF, or a robot profile (.yaml, docs/robots.md) (e.g. mjcf/hrp1s/scene_flat.xml, mjcf/hrp1s/scene_bush.wrl, robots/g1.yaml)")
       ->required()->check(CLI::ExistingFile);
   app.add_option("--segment", o.segment, "segment name the controller attaches to")
       ->capture_default_str();

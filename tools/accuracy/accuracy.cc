@@ -1,5 +1,6 @@
 // Speed-accuracy measurement (see accuracy.h).
 #include "accuracy.h"
+#include "robot_model/load.h"
 #include "shm_bridge/clock.h"
 
 #include <time.h>
@@ -102,12 +103,8 @@ std::unique_ptr<Sim> Sim::Create(const SceneSpec& scene, const Setting& setting,
   s->setting_ = setting;
   s->scene_ = &scene;
   if (!scene.path.empty()) {
-    char err[1000] = "";
-    s->m_ = mj_loadXML(scene.path.c_str(), nullptr, err, sizeof(err));
-    if (!s->m_) {
-      *error = "cannot load " + scene.path + ": " + err;
-      return nullptr;
-    }
+    s->m_ = model::LoadMujocoModel(scene.path, error);  // a profile, VRML, MJCF, URDF
+    if (!s->m_) return nullptr;
   } else {
     s->m_ = LoadXmlString(scene.xml, error);
     if (!s->m_) return nullptr;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "robot_model/load.h"
 #include "sim_host/model.h"
 
 namespace ohrp::accuracy {
@@ -88,12 +89,8 @@ bool Humanoid(const BenchOptions& o, const std::string& path, double quick_durat
   s->path = path;
   s->contacts = {Contact::kNative, Contact::kRigid};
   s->duration = o.quick ? quick_duration : 1.5;
-  char err[1000] = "";
-  mjModel* m = mj_loadXML(path.c_str(), nullptr, err, sizeof err);
-  if (!m) {
-    *error = "cannot load " + path + ": " + err;
-    return false;
-  }
+  mjModel* m = model::LoadMujocoModel(path, error);  // a profile, VRML, MJCF, URDF
+  if (!m) return false;
   for (int g = 0; g < m->ngeom; ++g)
     if (m->geom_bodyid[g] != 0) s->soles.push_back(mj_id2name(m, mjOBJ_GEOM, g));
   mj_deleteModel(m);

@@ -21,6 +21,7 @@
 
 #include "cli/command_line.h"
 #include "render/offscreen.h"
+#include "robot_model/load.h"
 #include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
 #include "tool_process/run_command.h"
 
@@ -142,10 +143,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ohrp_video: '%s' has fewer than two rows: nothing to replay\n", log_path.c_str());
     return 2;
   }
-  char err[1000] = "";
-  mjModel* m = mj_loadXML(scene.c_str(), nullptr, err, sizeof(err));
+  std::string load_error;
+  mjModel* m = ohrp::model::LoadMujocoModel(scene, &load_error);  // a profile, VRML, MJCF, URDF
   if (!m) {
-    std::fprintf(stderr, "ohrp_video: %s: %s\n", scene.c_str(), err);
+    std::fprintf(stderr, "ohrp_video: %s\n", load_error.c_str());
     return 2;
   }
   mjData* d = mj_makeData(m);

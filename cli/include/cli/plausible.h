@@ -73,6 +73,8 @@ inline constexpr PlausibleRange kPlausibleRanges[] = {
   {"angle_deg",        -360,  360,   "deg",   "an angle within one turn"},
   {"clearance",        0,     0.5,   "m",     "a distance kept between links of at most 50 cm"},
   {"tilt",             0,     3.1416, "rad",  "a tilt between 0 and half a turn"},
+  {"body_offset",      -2,    2,     "m",     "a point within 2 m of its body's origin"},
+  {"sole_size",        1e-3,  1,     "m",     "a sole side (or thickness) between 1 mm and 1 m"},
   // loads
   {"impulse",          0,     1e3,   "N s",   "a push of at most 1000 N s"},
   {"force",            0,     1e5,   "N",     "a force of at most 1e5 N"},

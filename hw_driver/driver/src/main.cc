@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
       "sim_host (e.g. 'posture --segment NAME'). SIGUSR1 prints the lateness histogram;\n"
       "SIGUSR2 is an emergency stop; SIGINT/SIGTERM stop cleanly (damped hold, servo-off).",
       "hw_driver"};
-  app.add_option("--model", o.model, "MJCF model of the robot, or OpenHRP VRML (.wrl) (e.g. mjcf/hrp1s/hrp1s.xml)")
+  app.add_option("--model", o.model, "MJCF model of the robot, OpenHRP VRML (.wrl), URDF or a robot profile (.yaml) (e.g. mjcf/hrp1s/hrp1s.xml)")
       ->required()->check(CLI::ExistingFile);
   app.add_option("--io", o.io_plugin, "IO plugin shared object (e.g. build/lib/libohrp_io_replay.so)")
       ->required();

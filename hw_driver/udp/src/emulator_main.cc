@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
       "them, so that hw_driver (--io lib/libohrp_io_udp.so) runs without the robot. Servos start\n"
       "off; the robot's time starts with the first command packet. Faults can be injected from\n"
       "the command line and, while running, through --control FILE."};
-  app.add_option("--model,model", o.model, "MJCF scene, or OpenHRP VRML (.wrl) (e.g. mjcf/hrp1s/scene_flat.xml)")
+  app.add_option("--model,model", o.model, "MJCF scene, OpenHRP VRML (.wrl), URDF or a robot profile (.yaml) (e.g. mjcf/hrp1s/scene_flat.xml)")
       ->required()->check(CLI::ExistingFile);
   app.add_option("--keyframe", o.keyframe, "initial state: a keyframe of the scene");
   app.add_option("--host", o.host, "IPv4 address to bind")->capture_default_str();

@@ -5,7 +5,9 @@
 //   native  MuJoCo's soft-constraint contact as the scene defines it;
 //   rigid   MuJoCo's contact made near-rigid for the soles (constraint time constant of two
 //           physics steps, critically damped, impedance close to 1);
-//   auto    soft when the model has soles, native when it has none (a model without feet).
+//   auto    soft when the model has soles, native when it has none (a model without feet) or
+//           when its *_SOLE geoms do not collide (contype = conaffinity = 0: markers of the
+//           support polygon, as a robot profile's `contact: native` makes them).
 // The soles are the box geoms named "*_SOLE" unless listed explicitly.
 #pragma once
 
@@ -29,6 +31,9 @@ struct FeetOptions {
 // Parses "auto", "soft", "native" or "rigid"; false for anything else.
 bool ParseContactModel(const std::string& name, ContactModel* model);
 const char* ContactModelName(ContactModel model);
+
+// The contact `o.model` resolves to on `m` whose soles are the geoms `soles` (kAuto as above).
+ContactModel ResolveContactModel(const mjModel* m, const FeetOptions& o, const std::vector<int>& soles);
 
 // Sets the model up for the chosen contact (must run before the first mj_forward/mj_step),
 // resolving kAuto into `*resolved` (which may be null), and,

@@ -157,7 +157,7 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
   // the scene is required; the control period is whole physics steps; the run has a cycle
   const std::string file = "scenario '" + path + "': ";
   if (!root["scene"]) {
-    *error = file + "'scene' is required (an MJCF file or OpenHRP VRML .wrl, e.g. mjcf/hrp1s/scene_flat.xml)";
+    *error = file + "'scene' is required (an MJCF file, OpenHRP VRML .wrl or robot profile .yaml, e.g. mjcf/hrp1s/scene_flat.xml)";
     return false;
   }
   s->scene_line = root["scene"].Mark().line + 1;
