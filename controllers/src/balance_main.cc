@@ -34,9 +34,13 @@ int main(int argc, char** argv) {
   app.add_option("--model", o.model, "MJCF (or OpenHRP VRML .wrl) of the robot (must match the producer's robot)")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
-  app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")
+  auto* pose_option = app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")
       ->default_val(DefaultPoseFile())
       ->check(CLI::ExistingFile);
+  app.add_option("--keyframe", o.keyframe,
+                 "take the stance pose from this keyframe of --model instead of a pose file "
+                 "(e.g. --keyframe stand)")
+      ->excludes(pose_option);
   app.add_option("--ramp", o.ramp, "[s] ramp from the measured pose to the stance pose")
       ->default_val(o.ramp)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--settle", o.settle, "[s] of quiet standing before the CoM reference is taken")
