@@ -64,6 +64,11 @@ int main(int argc, char** argv) {
                  "[s] to move the CoM over the stance foot (and back)")
       ->default_val(o.one_leg.shift_time)
       ->check(ohrp::cli::InRange(0.1, 60.0));
+  app.add_option("--servo-hz", o.servo_frequency,
+                 "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz on each "
+                 "joint's own inertia; a robot of <motor>s such as H1 needs a stiffer one)")
+      ->default_val(o.servo_frequency)
+      ->check(ohrp::cli::InRange(0.0, 50.0));
   app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(g.k_dcm)->check(ohrp::cli::Plausible("rate"));
   app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")
