@@ -34,9 +34,13 @@ int main(int argc, char** argv) {
   app.add_option("--model", o.model, "MJCF, OpenHRP VRML .wrl or robot profile .yaml of the robot (must match the producer's robot)")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
-  app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")
+  auto* pose_option = app.add_option("--pose", o.pose_file, "stance pose, YAML by joint name [rad]")
       ->default_val(DefaultPoseFile())
       ->check(CLI::ExistingFile);
+  app.add_option("--keyframe", o.keyframe,
+                 "take the stance pose from this keyframe of --model instead of a pose file "
+                 "(e.g. --keyframe stand)")
+      ->excludes(pose_option);
   app.add_option("--ramp", o.ramp, "[s] ramp from the measured pose to the stance pose")
       ->default_val(o.ramp)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--settle", o.settle, "[s] of quiet standing before the CoM reference is taken")
@@ -60,6 +64,11 @@ int main(int argc, char** argv) {
                  "[s] to move the CoM over the stance foot (and back)")
       ->default_val(o.one_leg.shift_time)
       ->check(ohrp::cli::InRange(0.1, 60.0));
+  app.add_option("--servo-hz", o.servo_frequency,
+                 "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz on each "
+                 "joint's own inertia; a robot of <motor>s such as H1 needs a stiffer one)")
+      ->default_val(o.servo_frequency)
+      ->check(ohrp::cli::InRange(0.0, 50.0));
   app.add_option("--k-dcm", g.k_dcm, "[1/s] convergence rate of the capture point")
       ->default_val(g.k_dcm)->check(ohrp::cli::Plausible("rate"));
   app.add_option("--ankle-damping", g.ankle_damping, "[N m s/rad] foot rotation damping D")

@@ -7,6 +7,7 @@
 #include "controllers/balance.h"
 #include "controllers/posture.h"
 #include "cli/data_dir.h"
+#include "robot_model/model.h"
 #include "robot_model/model_hash.h"
 
 namespace ohrp::controllers {
@@ -54,8 +55,8 @@ std::vector<std::string> MissingRequirements(const model::Kinematics& k, const P
   for (const model::JointMap& j : k.robot().joints) names.push_back(j.name);
   std::vector<double> q;
   if (ConfigStatus s = ResolvePose(pose, names, &q); !s.ok())
-    missing.push_back("a stance pose for this robot's joints (--pose FILE; the default is "
-                      "HRP-1S's): " + s.message);
+    missing.push_back("a stance pose for this robot's joints (--keyframe NAME of the model, or "
+                      "--pose FILE; the default is HRP-1S's): " + s.message);
   return missing;
 }
 
@@ -109,11 +110,21 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
   o.program = program;
   if (o.model.empty()) o.model = DefaultModelFile();
   if (o.pose_file.empty()) o.pose_file = DefaultPoseFile();
-  if (ConfigStatus s = LoadPoseFile(o.pose_file, pose); !s.ok()) return s;
+  if (o.keyframe.empty()) {
+    if (ConfigStatus s = LoadPoseFile(o.pose_file, pose); !s.ok()) return s;
+  }
   std::string error;
   *kin_est = model::Kinematics::Load(o.model, &error);
   *kin_ik = *kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
   if (!*kin_est || !*kin_ik) return ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
+  if (!o.keyframe.empty()) {
+    // the stance pose from the model's own keyframe (its hinge and slide joints by name)
+    std::vector<std::pair<std::string, double>> joints;
+    if (!model::KeyframeJointPositions((*kin_est)->m(), o.keyframe, &joints, &error))
+      return ConfigStatus::Fail(ConfigError::kOption,
+                                "--keyframe " + o.keyframe + ": " + o.model + ": " + error);
+    *pose = FromKeyframe(o.model + " keyframe '" + o.keyframe + "'", joints);
+  }
   // what balance needs of the robot: every missing requirement at once
   const model::Kinematics& k = **kin_est;
   const std::vector<std::string> missing = MissingRequirements(k, *pose);

@@ -49,9 +49,13 @@ int main(int argc, char** argv) {
   app.add_option("--model", b.model, "MJCF, OpenHRP VRML .wrl or robot profile .yaml of the robot (must match the producer's robot)")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
-  app.add_option("--pose", b.pose_file, "stance pose, YAML by joint name [rad]")
+  auto* pose_option = app.add_option("--pose", b.pose_file, "stance pose, YAML by joint name [rad]")
       ->default_val(DefaultPoseFile())
       ->check(CLI::ExistingFile);
+  app.add_option("--stance-keyframe", b.keyframe,
+                 "take the stance pose from this keyframe of --model instead of a pose file "
+                 "(balance's --keyframe; walk's --keyframe is the --terrain scene's start)")
+      ->excludes(pose_option);
   app.add_option("--ramp", b.ramp, "[s] ramp from the measured pose to the stance pose")
       ->default_val(b.ramp)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--step-time", o.gait.step_time, "[s] one step (double + single support)")

@@ -14,6 +14,14 @@
 // HIP_P at the hip, HIP_Y at knee height), so the hip axes do not intersect and the usual
 // closed form (knee from the hip-ankle distance, then the hip from the ankle-frame direction)
 // does not apply; the numerical solver is used for every limb.
+//
+// A chain of 5 joints or fewer (H1's legs have no ankle roll) cannot reach every pose: its
+// rotation rows are weighed with reduced_orientation_weight, so the position comes first and
+// the orientation is the least-squares best that the position leaves (for H1: the foot's yaw
+// and pitch as asked, its roll what the hip roll gives). It has converged when the position is
+// within tolerance and the error's projection on the range of the Jacobian is (the rest of the
+// rotation error is beyond any joint of the chain). 7 joints (redundant): the damped step is
+// the minimum-norm one, nothing else changes.
 #include "robot_model/ik.h"
 
 #include <Eigen/Cholesky>
@@ -73,6 +81,11 @@ LimbIk::LimbIk(const Kinematics& kin, int root_body, int tip_body, const Eigen::
     q_max_[k] = kin.robot().joints[chain_[k]].q_max;
   }
   q_all_.assign(kin.njoint(), 0.0);
+  w_ = n < 6 ? std::min(options_.orientation_weight, options_.reduced_orientation_weight)
+             : options_.orientation_weight;
+  JtJ_.setZero(n, n);
+  ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(n);
+  g_.setZero(n);
 }
 
 LimbIk LimbIk::ForSole(const Kinematics& kin, int root_body, int sole, IkOptions options) {
@@ -108,7 +121,7 @@ double LimbIk::Error(const Kinematics& kin, const Eigen::Vector3d& p_WT_target,
   *position_error = e_p.norm();
   *orientation_error = std::fabs(e_r.angle());
   e_.head<3>() = e_p;
-  e_.tail<3>() = options_.orientation_weight * e_r.angle() * e_r.axis();
+  e_.tail<3>() = w_ * e_r.angle() * e_r.axis();
   return e_.norm();
 }
 
@@ -119,6 +132,19 @@ void LimbIk::Apply(Kinematics& kin) {
 }
 
 //---------------- solve ----------------
+
+bool LimbIk::AtReducedOptimum(const Eigen::Matrix<double, 6, 1>& e) {
+  // P e = J (J^T J)^-1 J^T e: the part of the error the chain's joints can change (to first
+  // order); at the weighted least-squares best it vanishes
+  JtJ_.noalias() = J_.transpose() * J_;
+  JtJ_.diagonal().array() += 1e-12;  // a joint that moves nothing (a column of zeros)
+  ldlt_.compute(JtJ_);
+  g_.noalias() = J_.transpose() * e;
+  ldlt_.solveInPlace(g_);
+  const Eigen::Matrix<double, 6, 1> Pe = J_ * g_;
+  return Pe.head<3>().norm() <= options_.position_tolerance &&
+         Pe.tail<3>().norm() <= w_ * options_.orientation_tolerance;
+}
 
 IkResult LimbIk::Solve(Kinematics& kin, const Eigen::Vector3d& p_WT_target,
                        const Eigen::Matrix3d& R_WT_target, double* q) {
@@ -146,12 +172,19 @@ IkResult LimbIk::Solve(Kinematics& kin, const Eigen::Vector3d& p_WT_target,
   bool need_jacobian = true;
 
   const int col0 = kin.base_columns();
-  const double w = options_.orientation_weight;
+  const double w = w_;
   for (int it = 0;; ++it) {
+    // the chain's weighted Jacobian at the accepted iterate (kin is there)
+    if (need_jacobian) {
+      kin.J_WBodyPoint(tip_body_, p_WT(kin), J_full_);
+      for (int k = 0; k < n; ++k) J_.col(k) = J_full_.col(col0 + chain_[k]);
+      J_.bottomRows<3>() *= w;
+    }
     // done, stalled, or out of iterations
     result.iterations = it;
     if (best_position <= options_.position_tolerance &&
-        best_orientation <= options_.orientation_tolerance) {
+        (best_orientation <= options_.orientation_tolerance ||
+         (n < 6 && need_jacobian && AtReducedOptimum(best_e)))) {
       result.status = IkStatus::kConverged;
       break;
     }
@@ -165,11 +198,7 @@ IkResult LimbIk::Solve(Kinematics& kin, const Eigen::Vector3d& p_WT_target,
     }
     best_history[it % kStallWindow] = best_err;
 
-    // the chain's weighted Jacobian at the accepted iterate (kin is there)
     if (need_jacobian) {
-      kin.J_WBodyPoint(tip_body_, p_WT(kin), J_full_);
-      for (int k = 0; k < n; ++k) J_.col(k) = J_full_.col(col0 + chain_[k]);
-      J_.bottomRows<3>() *= w;
       // joints on a limit that the descent direction pushes further out drop out of the step
       dq_.noalias() = J_.transpose() * best_e;
       for (int k = 0; k < n; ++k) {

@@ -85,6 +85,29 @@ TEST(Allocation, PerCycleKinematicsAndIkAllocateNothing) {
   EXPECT_TRUE(std::isfinite(sink));
 }
 
+// a chain of fewer than 6 joints (the planar arm's 2) asked for an orientation it cannot take:
+// the solve that judges the least-squares best (ik.h) allocates nothing either
+TEST(Allocation, ShortChainIkAllocatesNothing) {
+  std::string error;
+  auto kin = testing::Arm(&error);
+  ASSERT_TRUE(kin) << error;
+  LimbIk ik(*kin, 0, kin->BodyId("link2"), Eigen::Vector3d(testing::kL2, 0, 0));
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()).matrix();  // out of reach
+  double q[2] = {0.4, 0.5};
+  IkResult r;
+  const long n = Allocations([&] {
+    for (int cycle = 0; cycle < 3; ++cycle) {
+      q[0] = 0.4;
+      q[1] = 0.5;
+      r = ik.Solve(*kin, Eigen::Vector3d(1.2, 0.5, 0), R, q);
+    }
+  });
+  EXPECT_EQ(n, 0) << "heap allocations in a short chain's solve";
+  EXPECT_EQ(r.status, IkStatus::kConverged) << IkStatusName(r.status);
+  EXPECT_LT(r.position_error, 1e-5);
+  EXPECT_GE(r.orientation_error, 0.3 - 1e-6);  // the roll about x is beyond both joints
+}
+
 TEST(Allocation, EstimatorUpdateAllocatesNothing) {
   // HRP-1S standing in half-sitting as its sensors would show it: torso upright (the IMU reads
   // +g along its z), each sole carrying half the weight along its sensor's z, joints moving

@@ -53,6 +53,8 @@ std::string DefaultModelFile();
 struct BalanceOptions {
   std::string model;        // MJCF of the robot; empty: DefaultModelFile()
   std::string pose_file;    // stance pose (pose.h); empty: half-sitting
+  std::string keyframe;     // the stance pose from this keyframe of the --model MJCF instead
+                            // of a pose file (e.g. G1's "stand"); empty: pose_file
   double ramp = 2.0;        // [s] from the measured pose to the stance pose
   double settle = 0.5;      // [s] of quiet standing before c_ref is taken
   bool centre_com = true;   // move the CoM over the middle of the soles once standing

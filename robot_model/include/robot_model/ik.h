@@ -14,6 +14,7 @@
 // Per-call work allocates nothing: the scratch matrices are sized by the constructor.
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <string>
@@ -31,10 +32,17 @@ struct IkOptions {
                                         // mu damping + |e|^2 / 2 with mu adapted from 1 [m^2]
   double max_step = 0.3;                // largest joint change per iteration [rad or m]
   double orientation_weight = 1.0;      // weight of the rotation error against position [m/rad]
+  // a chain of fewer than 6 joints (e.g. a 5-joint leg without ankle roll) cannot reach every
+  // pose: its rotation error is weighed with at most this [m/rad], so that the position comes
+  // first and the orientation is met as far as the chain can (the least-squares best); it has
+  // converged when the position is within tolerance and what is left of the weighted error is
+  // beyond the chain's reach (its projection on the range of the Jacobian within tolerance)
+  double reduced_orientation_weight = 0.002;
 };
 
 enum class IkStatus {
-  kConverged,      // within both tolerances
+  kConverged,      // within both tolerances (a chain of fewer than 6 joints: the position
+                   // within tolerance, the orientation the nearest the chain can reach)
   kUnreachable,    // stalled with an error above tolerance: the target is out of reach (or
                    // beyond the joint limits); q holds the closest pose found
   kMaxIterations,  // still improving when the iterations ran out
@@ -82,6 +90,9 @@ class LimbIk {
                double* position_error, double* orientation_error);
   // sets the chain's joints from q_chain_ and updates kin's positions
   void Apply(Kinematics& kin);
+  // a chain of fewer than 6 joints at the least-squares best of the weighted error `e`
+  // (J_ at the same pose): the error's projection on the range of J_ within the tolerances
+  bool AtReducedOptimum(const Eigen::Matrix<double, 6, 1>& e);
 
   std::vector<int> chain_;       // segment joint ids, root outwards
   Eigen::MatrixXd J_full_;       // 6 x nv
@@ -90,6 +101,10 @@ class LimbIk {
   Eigen::VectorXd dq_;           // chain
   Eigen::Matrix<double, 6, 1> e_;  // weighted error
   Eigen::VectorXd q_chain_, best_q_, q_min_, q_max_;  // chain
+  double w_ = 1.0;               // the orientation weight used (reduced for a short chain)
+  Eigen::MatrixXd JtJ_;          // chain x chain (a short chain's range projection)
+  Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+  Eigen::VectorXd g_;            // chain
   std::vector<double> q_all_;    // njoint, the joints as set in kin plus the chain's
 };
 
