@@ -233,7 +233,7 @@ TEST(BalanceProcess, ListsEveryMissingRequirementAtOnce) {
   for (const char* item : {"4 requirements missing (all listed):", "\n  - two soles: a box geom whose name ends in _SOLE",
                            "\n  - a force/torque sensor in each foot: a <force> and a <torque>",
                            "\n  - an IMU: a <gyro> and an <accelerometer>",
-                           "\n  - a stance pose for this robot's joints (--pose FILE", "no joint left_knee_joint"})
+                           "\n  - a stance pose for this robot's joints (--keyframe NAME of the model, or --pose FILE", "no joint left_knee_joint"})
     EXPECT_NE(out.find(item), std::string::npos) << item << " not in:\n" << out;
   std::printf("[ figures  ] bare robot: %s", out.c_str());
   fs::remove_all(fs::path(bare).parent_path());
