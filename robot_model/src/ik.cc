@@ -84,7 +84,9 @@ LimbIk::LimbIk(const Kinematics& kin, int root_body, int tip_body, const Eigen::
   w_ = n < 6 ? std::min(options_.orientation_weight, options_.reduced_orientation_weight)
              : options_.orientation_weight;
   JtJ_.setZero(n, n);
-  ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(n);
+  // sized once here (the solve then allocates nothing); a default-constructed LDLT moved from
+  // would copy its uninitialised status (undefined behaviour, UBSan)
+  ldlt_.compute(Eigen::MatrixXd::Identity(n, n));
   g_.setZero(n);
 }
 
