@@ -77,20 +77,19 @@ void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
     ~Watching() { s->WatchImages(-1); }
   } watching(source);
   ws.binary(true);
-  // the page never sends on this socket: anything readable (its close frame, EOF, an error)
-  // means it stopped watching; looked at every 0.2 s without reading (no read beside writes)
+  // the page never sends on this socket, and the server never pings it (a ping's pong would be
+  // something to read): anything readable (its close frame, EOF, an error) means it stopped
+  // watching; looked at every 0.2 s without reading (no read beside writes). A page that went
+  // away without a word fails the next image's write. The first image may take seconds (a
+  // producer may start its renderer only when asked): the socket stays open meanwhile.
   auto page_done = [&] {
     pollfd p{ws.next_layer().native_handle(), POLLIN, 0};
     return ::poll(&p, 1, 0) != 0;
   };
   uint64_t sent[shm::kMaxCameras] = {};
   std::shared_ptr<const std::string> images[shm::kMaxCameras];
-  int idle = 0;
   while (!source->ended() && !page_done()) {
-    if (!source->NewestImages(sent, 0.2, images)) {
-      if (++idle % 5 == 0) ws.ping({});  // a page that went away fails the write
-      continue;
-    }
+    if (!source->NewestImages(sent, 0.2, images)) continue;
     for (const auto& image : images)
       if (image) ws.write(boost::asio::buffer(*image));
   }

@@ -351,7 +351,12 @@ function updateImages() {
     const ws = new WebSocket('ws://' + location.host + '/ws/images');
     ws.binaryType = 'arraybuffer';
     ws.onmessage = (e) => drawImage(e.data);
-    ws.onclose = () => { if (imagesWs === ws) imagesWs = null; };
+    // closed by the server while still wanted (it restarted, or a network hiccup): asked again
+    ws.onclose = () => {
+      if (imagesWs !== ws) return;
+      imagesWs = null;
+      setTimeout(updateImages, 1000);
+    };
     imagesWs = ws;
   } else if (!want && imagesWs) {
     imagesWs.close();
