@@ -199,15 +199,14 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     return -1;
   };
   // the sensors of a pair without its partner are said, not dropped silently
-  const auto lone = [&](int s, const char* kind, const char* partner) {
+  constexpr const char* kFtPairs = "force/torque pairs";
+  constexpr const char* kImuPairs = "IMUs: gyro and accelerometer pairs";
+  const auto lone = [&](int s, const char* kind, const char* partner, const char* carried) {
     const std::string name = Name(m, mjOBJ_SENSOR, s);
-    robot->unpublished.push_back(
-        std::string("<") + kind + "> sensor" + (name.empty() ? "" : " '" + name + "'") +
-        " on site '" + Name(m, mjOBJ_SITE, m->sensor_objid[s]) + "' has no <" + partner +
-        "> on the same site: not published (the segment carries " +
-        (std::string(kind) == "force" || std::string(kind) == "torque" ? "force/torque pairs"
-                                                                      : "IMUs: gyro and accelerometer pairs") +
-        ")");
+    robot->unpublished.push_back(std::string("<") + kind + "> sensor" + (name.empty() ? "" : " '" + name + "'") +
+                                 " on site '" + Name(m, mjOBJ_SITE, m->sensor_objid[s]) + "' has no <" +
+                                 partner + "> on the same site: not published (the segment carries " +
+                                 carried + ")");
   };
   for (int s = 0; s < m->nsensor; ++s) {
     if (m->sensor_objtype[s] != mjOBJ_SITE) continue;
@@ -216,22 +215,22 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     if (type == mjSENS_FORCE) {
       const int t = find_on_site(mjSENS_TORQUE, site);
       if (t < 0) {
-        lone(s, "force", "torque");
+        lone(s, "force", "torque", kFtPairs);
         continue;
       }
       robot->forces.push_back({Name(m, mjOBJ_SITE, site), site, m->sensor_adr[s], t});
     } else if (type == mjSENS_GYRO) {
       const int acc = find_on_site(mjSENS_ACCELEROMETER, site);
       if (acc < 0) {
-        lone(s, "gyro", "accelerometer");
+        lone(s, "gyro", "accelerometer", kImuPairs);
         continue;
       }
       robot->imus.push_back({Name(m, mjOBJ_SITE, site), site, m->sensor_adr[s], acc,
                              find_on_site(mjSENS_FRAMEQUAT, site)});
     } else if (type == mjSENS_TORQUE && find_on_site(mjSENS_FORCE, site) < 0) {
-      lone(s, "torque", "force");
+      lone(s, "torque", "force", kFtPairs);
     } else if (type == mjSENS_ACCELEROMETER && find_on_site(mjSENS_GYRO, site) < 0) {
-      lone(s, "accelerometer", "gyro");
+      lone(s, "accelerometer", "gyro", kImuPairs);
     }
   }
   // more than the segment carries: the first ones (model order) are published, the others

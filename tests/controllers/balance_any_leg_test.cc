@@ -9,6 +9,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "common/scratch.h"
 #include "controllers/runner.h"
@@ -63,6 +64,19 @@ std::string AugmentedH1() {
   return dir + "/scene.xml";
 }
 
+// an in-process run of balance on the augmented H1 from its "stand" key, 4 ms control;
+// `extra` are balance's options after --model
+InProcessRun H1Run(const std::string& scene, const std::vector<std::string>& extra, double t_end) {
+  InProcessRun run;
+  run.io.scene = scene;
+  run.io.keyframe = "stand";
+  run.io.control_period = 0.004;
+  run.args = {Program("balance"), "--model", scene};
+  run.args.insert(run.args.end(), extra.begin(), extra.end());
+  run.t_end = t_end;
+  return run;
+}
+
 // DISABLED, open (issue 31 item 2): it passed on its branch only because sim_host's soft soles
 // then left H1's own foot capsules colliding natively as well (two contacts under each foot);
 // with the soft soles alone (sim_host now switches the foot's own geoms off, or resolves
@@ -71,14 +85,8 @@ std::string AugmentedH1() {
 TEST(BalanceAnyLeg, DISABLED_H1WithFiveJointLegsStandsFreeFromItsKeyframe) {
   const std::string scene = AugmentedH1();
   if (scene.empty()) GTEST_SKIP() << "no ../shared/external beside the repository";
-  InProcessRun run;
-  run.io.scene = scene;
-  run.io.keyframe = "stand";
-  run.io.control_period = 0.004;
-  run.args = {Program("balance"), "--model", scene, "--keyframe", "stand", "--ramp", "1.0",
-              "--servo-hz", "15", "--no-self-collision"};
-  run.t_end = 5.0;
-  const InProcessResult r = RunInProcess("h1_any_leg", run);
+  const InProcessResult r = RunInProcess(
+      "h1_any_leg", H1Run(scene, {"--keyframe", "stand", "--ramp", "1.0", "--servo-hz", "15", "--no-self-collision"}, 5.0));
   EXPECT_EQ(r.exit_code, kExitOk) << r.output;
   EXPECT_FALSE(r.left_early) << r.output;
   EXPECT_NE(r.output.find("balance: stood"), std::string::npos) << r.output;
@@ -91,13 +99,8 @@ TEST(BalanceAnyLeg, DISABLED_H1WithFiveJointLegsStandsFreeFromItsKeyframe) {
 TEST(BalanceAnyLeg, AKeyframeTheModelLacksIsRefusedNamingIt) {
   const std::string scene = AugmentedH1();
   if (scene.empty()) GTEST_SKIP() << "no ../shared/external beside the repository";
-  InProcessRun run;
-  run.io.scene = scene;
-  run.io.keyframe = "stand";
-  run.io.control_period = 0.004;
-  run.args = {Program("balance"), "--model", scene, "--keyframe", "crouch", "--no-self-collision"};
-  run.t_end = 2.0;
-  const InProcessResult r = RunInProcess("h1_no_key", run);
+  const InProcessResult r =
+      RunInProcess("h1_no_key", H1Run(scene, {"--keyframe", "crouch", "--no-self-collision"}, 2.0));
   EXPECT_EQ(r.exit_code, kExitUsage) << r.output;
   EXPECT_NE(r.output.find("--keyframe crouch: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("crouch"), std::string::npos) << r.output;
