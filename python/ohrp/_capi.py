@@ -1,12 +1,15 @@
 """ctypes binding of the C API (shm_bridge/include/ohrp_shm.h, library libohrp_shm_c.so).
 
 The library is looked for, in order: the file named by the environment variable OHRP_LIB, the
-build tree of this checkout (build/lib next to python/), then the system's library path.
+build tree of this checkout (build/lib next to python/, when the package is imported from a
+checkout), the installed ohrp whose programs are on PATH (<prefix>/lib beside the <prefix>/bin
+holding sim_host), then the system's library path.
 """
 
 import ctypes
 import ctypes.util
 import os
+import shutil
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _LIB_NAME = "libohrp_shm_c.so"
@@ -24,6 +27,9 @@ def _candidates():
         yield env
         return
     yield os.path.join(_HERE, "..", "..", "build", "lib", _LIB_NAME)
+    program = shutil.which("sim_host")
+    if program:
+        yield os.path.join(os.path.dirname(os.path.realpath(program)), "..", "lib", _LIB_NAME)
     found = ctypes.util.find_library("ohrp_shm_c")
     if found:
         yield found
@@ -41,7 +47,8 @@ def _load():
             tried.append("%s (%s)" % (path, e))
     raise ImportError(
         "ohrp: the C library %s was not found (tried: %s); build the project first "
-        "(./ohrp build, or cmake --build build), or set OHRP_LIB to its path"
+        "(./ohrp build, or cmake --build build), put an installed ohrp's bin/ on PATH, or set "
+        "OHRP_LIB to its path"
         % (_LIB_NAME, ", ".join(tried) or "nothing"))
 
 

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # install_out_of_tree (tests/install/CMakeLists.txt): install BUILD into a temporary prefix, build
 # the out-of-tree example EXAMPLE against it with find_package(ohrp), and stand the robot with it
-# under the installed ohrp_run/sim_host and the installed model and scenario.
+# under the installed ohrp_run/sim_host and the installed model and scenario; then pip-install
+# the Python package (python/) into a venv, offline, and stand the robot with a Python controller
+# using it against the installed programs.
 #   install_test.sh BUILD EXAMPLE
 set -euo pipefail
 BUILD="$(realpath "$1")"
@@ -75,4 +77,38 @@ set -e
 cat "$TMP/run.log"
 [ "$code" -eq 0 ] || fail "ohrp_run exited $code (0 expected: the robot stands)"
 grep -q "stand_controller: ohrp " "$TMP/run.log" || fail "the example's banner is not in the run's output"
+
+echo "== the Python package: pip install of python/ into a venv, offline, with Debian's tools"
+PY=/usr/bin/python3
+"$PY" -m venv --system-site-packages "$TMP/venv" >"$TMP/venv.log" 2>&1 \
+  || { cat "$TMP/venv.log" >&2; fail "python3 -m venv failed (python3-venv installed? ./ohrp setup)"; }
+"$TMP/venv/bin/pip" install --no-index --no-build-isolation "$SOURCE/python" >"$TMP/pip.log" 2>&1 \
+  || { cat "$TMP/pip.log" >&2; fail "pip install of $SOURCE/python failed"; }
+VERSION="$(sed -n 's/^#define OHRP_VERSION_STRING "\(.*\)"$/\1/p' "$BUILD/include/ohrp/version.h")"
+PIP_VERSION="$("$TMP/venv/bin/pip" show ohrp | sed -n 's/^Version: //p')"
+[ "$PIP_VERSION" = "$VERSION" ] || fail "the Python package is version '$PIP_VERSION', the project $VERSION"
+# imported outside the checkout, it takes the installed library of the ohrp on PATH
+LIB="$(env -u OHRP_LIB PATH="$PREFIX/bin:$PATH" "$TMP/venv/bin/python" -c \
+  'import ohrp, ohrp._capi as c, os; print(os.path.realpath(c.lib._name)); print(os.path.realpath(ohrp.__file__))')"
+echo "$LIB"
+[ "$(sed -n 1p <<<"$LIB")" = "$(realpath "$PREFIX/lib/libohrp_shm_c.so.$LAYOUT")" ] \
+  || fail "the installed package did not load $PREFIX/lib/libohrp_shm_c.so.$LAYOUT"
+case "$(sed -n 2p <<<"$LIB")" in "$TMP/venv/"*) ;; *) fail "ohrp was not imported from the venv";; esac
+# and a controller using it stands the robot under the installed ohrp_run (stand_python.yaml's
+# checks): the repository's example, copied out of the checkout, run by the venv's python
+mkdir -p "$TMP/py"
+sed "1s#.*#\#!$TMP/venv/bin/python#" "$SOURCE/python/examples/posture.py" >"$TMP/py/posture.py"
+chmod +x "$TMP/py/posture.py"
+sed -e "s#^  - program: python/examples/posture.py\$#  - program: $TMP/py/posture.py#" \
+    -e "s#^    args: \[--ramp, \"2.0\"\]\$#    args: [--ramp, \"2.0\", --pose, $PREFIX/share/ohrp/controllers/poses/hrp1s_halfsit.yaml]#" \
+  "$PREFIX/share/ohrp/scenarios/stand_python.yaml" >"$TMP/stand_pip.yaml"
+grep -q "program: $TMP/py/posture.py" "$TMP/stand_pip.yaml" && grep -q -- "--pose, $PREFIX" "$TMP/stand_pip.yaml" \
+  || fail "share/ohrp/scenarios/stand_python.yaml has not the program and args lines to replace"
+set +e
+env -u OHRP_DATA_DIR -u OHRP_LIB PATH="$PREFIX/bin:$PATH" "$PREFIX/bin/ohrp_run" "$TMP/stand_pip.yaml" \
+  --out "$TMP/run_py" --no-plot >"$TMP/run_py.log" 2>&1
+code=$?
+set -e
+cat "$TMP/run_py.log"
+[ "$code" -eq 0 ] || fail "ohrp_run with the pip-installed package exited $code (0 expected: the robot stands)"
 echo "install_test: PASS"
