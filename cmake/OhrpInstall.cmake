@@ -39,7 +39,7 @@ install(TARGETS ${OHRP_INSTALLED_PLUGINS} LIBRARY DESTINATION ${OHRP_PLUGIN_INST
 
 # the libraries with their link dependencies (a static library exports its private ones too)
 set(OHRP_EXPORTED_LIBRARIES
-  ohrp_cli ohrp_shm_bridge ohrp_shm_c ohrp_vrml ohrp_robot_model ohrp_walking ohrp_collision
+  ohrp_cli ohrp_shm_bridge ohrp_shm_c ohrp_datalog ohrp_vrml ohrp_robot_model ohrp_walking ohrp_collision
   ohrp_robot_io ohrp_controllers ohrp_balance ohrp_walk)
 # the arm planner and the reach controller (issue 34), where the tree has them
 foreach(lib ohrp_planning ohrp_reach)
@@ -59,7 +59,7 @@ install(EXPORT ohrpTargets NAMESPACE ohrp:: DESTINATION ${OHRP_CMAKE_INSTALL_DIR
 
 # headers: each exported library's include/ folder, merged under <prefix>/include
 set(OHRP_PUBLIC_HEADER_DIRS
-  cli/include shm_bridge/include robot_model/include robot_model/collision/include
+  cli/include shm_bridge/include datalog/include robot_model/include robot_model/collision/include
   hw_driver/include controllers/include)
 if(TARGET ohrp_planning)
   list(APPEND OHRP_PUBLIC_HEADER_DIRS robot_model/planning/include)

@@ -16,7 +16,7 @@
 #include "sim_host/guard_watch.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
-#include "sim_host/recorder.h"
+#include "datalog/recorder.h"
 #include "sim_host/report.h"
 #include "sim_host/self_collision_watch.h"
 #include "sim_host/step.h"
@@ -81,7 +81,7 @@ class HostRun {
   double dt = 0;
   int steps_per_cycle = 1;
   std::unique_ptr<SelfCollisionWatch> self_collision;
-  std::unique_ptr<Recorder> recorder;
+  std::unique_ptr<datalog::Recorder> recorder;
   SensorSelection selection{};
   std::unique_ptr<SensorNoise> noise;
   std::unique_ptr<shm::Producer> producer;

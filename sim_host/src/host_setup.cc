@@ -4,6 +4,7 @@
 
 #include "cli/plausible.h"
 #include "host_run.h"
+#include "robot_model/log_names.h"
 #include "sim_host/host_text.h"
 #include "sim_host/period.h"
 
@@ -122,12 +123,12 @@ bool HostRun::SetUpWatches(std::string* why) {
 // the data log, before anything runs (its header written: a file that takes none is refused)
 bool HostRun::OpenLog(std::string* why) {
   if (!effects.on(Effect::kLog)) return true;
-  RecorderChannels channels;
+  datalog::RecorderChannels channels;
   channels.base = effects.on(Effect::kLogBase);
   channels.joints = effects.on(Effect::kLogJoints);
   channels.force_torque = effects.on(Effect::kLogForceTorque);
   channels.imu = effects.on(Effect::kLogImu);
-  recorder = Recorder::Open(o.log_path, robot, why, 8192, channels, o.log_max);
+  recorder = datalog::Recorder::Open(o.log_path, model::LogNamesOf(robot), why, 8192, channels, o.log_max);
   return recorder != nullptr;
 }
 

@@ -21,7 +21,7 @@ void RecordAt(RunStats* st, double time, uint64_t cycle, const char* kind, int64
 
 }  // namespace
 
-void EndLog(model::Recorder* log, RunStats* st, int* exit_code) {
+void EndLog(datalog::Recorder* log, RunStats* st, int* exit_code) {
   log->Close();
   st->log_rows = log->rows_on_disk();
   st->log_dropped = log->dropped();

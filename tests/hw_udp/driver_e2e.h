@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/process.h"
-#include "runner/checks.h"  // runner::Table: the data logs' reader
+#include "runner/checks.h"  // datalog::Table: the data logs' reader
 #include "common/scratch.h"
 #include "shm_bridge/bridge.h"
 

@@ -41,7 +41,7 @@ TEST_F(DriverEndToEnd, PassiveJointsReadTheSameOnSimHostAndThroughTheDriver) {
       << ReadFile(Path("driver.out"));
 
   // 3. the passive joints: the columns with a velocity (dq_), in both logs
-  runner::Table s, d;
+  datalog::Table s, d;
   std::string error;
   ASSERT_TRUE(s.Load(sim_log, &error)) << error;
   ASSERT_TRUE(d.Load(Path("driver.csv"), &error)) << error;
@@ -51,7 +51,7 @@ TEST_F(DriverEndToEnd, PassiveJointsReadTheSameOnSimHostAndThroughTheDriver) {
   ASSERT_EQ(passive.size(), 18u) << "3 bushes under each sole, 6 at each wrist";
   // the robot rocks on its bushes (stand_bush.yaml: +-4 mm at about 1.3 Hz, not in phase in two
   // runs): each joint's mean over the standing part, t >= 2 s, is compared
-  const auto mean_after = [](const runner::Table& t, int column, double from) {
+  const auto mean_after = [](const datalog::Table& t, int column, double from) {
     const auto& time = t.col(t.Column("time"));
     double sum = 0;
     int n = 0;

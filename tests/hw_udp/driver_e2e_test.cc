@@ -5,7 +5,7 @@
 // The fixture: driver_e2e.h.
 #include "driver_e2e.h"
 
-#include "runner/checks.h"  // runner::Table: the data logs' reader
+#include "runner/checks.h"  // datalog::Table: the data logs' reader
 
 namespace ohrp::hw::udp::e2e {
 namespace {
@@ -136,12 +136,12 @@ TEST_F(DriverEndToEnd, ASilentBoardTripsTheDriversSafeMode) {
 }
 
 // hw_driver --log writes sim_host's data log format: the same column names but the simulator's
-// ground truth (base_*), read by the same reader (runner::Table), one row per servo cycle, a
+// ground truth (base_*), read by the same reader (datalog::Table), one row per servo cycle, a
 // period apart; and the values are the robot's: standing half-sitting, the joints where
 // sim_host's robot has them and the feet carrying the same weight.
 TEST_F(DriverEndToEnd, TheDriversLogHasSimHostsColumnsAndTheSameReaderReadsIt) {
   RunSimHost(segment_ + "s", Path("sim.csv"), Path("sim"));
-  runner::Table sim, drv;
+  datalog::Table sim, drv;
   std::string error;
   ASSERT_TRUE(sim.Load(Path("sim.csv"), &error)) << error;
   ASSERT_EQ(RunChain({}, {"--duration", "4", "--io-arg", kBoardTimeout,
@@ -174,7 +174,7 @@ TEST_F(DriverEndToEnd, TheDriversLogHasSimHostsColumnsAndTheSameReaderReadsIt) {
   EXPECT_NEAR(t.back(), 4.0 + 0.2, 0.01);
 
   // the values: the last row of each log, the robot standing half-sitting on both
-  auto last = [](const runner::Table& tb, const std::string& name) {
+  auto last = [](const datalog::Table& tb, const std::string& name) {
     const int c = tb.Column(name);
     EXPECT_GE(c, 0) << name;
     return c < 0 ? NAN : tb.col(c).back();
@@ -203,7 +203,7 @@ TEST_F(DriverEndToEnd, TheDriversLogIsFlushedWholeAfterSigint) {
                      2.5),
             130)
       << ReadFile(Path("driver.out"));
-  runner::Table drv;
+  datalog::Table drv;
   std::string error;
   ASSERT_TRUE(drv.Load(Path("driver.csv"), &error)) << error;
   ASSERT_FALSE(summary_.is_discarded());

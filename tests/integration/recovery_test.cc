@@ -23,7 +23,7 @@ struct Row {
   double rf_fz = 0.5 * 96 * 9.81, lf_fz = 0.5 * 96 * 9.81;  // [N]
 };
 
-Table Log(double duration, const std::function<Row(double)>& at) {
+datalog::Table Log(double duration, const std::function<Row(double)>& at) {
   const std::string path = ohrp::testing::ScratchPath("recovery_log", ".csv");
   std::ofstream out(path);
   out << "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,rf_fz,rf_tx,rf_ty,lf_fz,lf_tx,lf_ty\n";
@@ -36,7 +36,7 @@ Table Log(double duration, const std::function<Row(double)>& at) {
         << r.lf_fz << "," << r.lf_tx << "," << r.lf_ty << "\n";
   }
   out.close();
-  Table t;
+  datalog::Table t;
   std::string error;
   EXPECT_TRUE(t.Load(path, &error)) << error;
   return t;
@@ -57,7 +57,7 @@ CheckSpec Spec(const std::string& type, std::map<std::string, std::string> p) {
 
 TEST(Standing, AnUprightRobotOnItsFeetStands) {
   // it sways 5 cm down and 10 deg after the push at 1 s, and is back by 2 s
-  const Table t = Log(4, [](double s) {
+  const datalog::Table t = Log(4, [](double s) {
     Row r;
     if (s > 1 && s < 2) {
       r.z = 0.7 - 0.05 * std::sin(M_PI * (s - 1));
@@ -80,7 +80,7 @@ TEST(Standing, AnUprightRobotOnItsFeetStands) {
 
 TEST(Standing, AFallenOrKneelingOrCutShortRobotDoesNotStand) {
   // fallen: the base ends at 0.3 m
-  const Table fallen = Log(4, [](double s) {
+  const datalog::Table fallen = Log(4, [](double s) {
     Row r;
     if (s > 1.5) r.z = std::max(0.3, 0.7 - 0.8 * (s - 1.5));
     return r;
@@ -89,7 +89,7 @@ TEST(Standing, AFallenOrKneelingOrCutShortRobotDoesNotStand) {
   EXPECT_FALSE(r.passed);
   EXPECT_NEAR(r.value, 0.3, 1e-12);
   // kneeling: upright and high enough, but the feet carry only 60 % of the weight
-  const Table kneeling = Log(4, [](double) {
+  const datalog::Table kneeling = Log(4, [](double) {
     Row r;
     r.rf_fz = r.lf_fz = 0.3 * 96 * 9.81;
     return r;
@@ -131,7 +131,7 @@ Row Decaying(double t, double omega) {
 }
 
 TEST(Settles, ExponentialReturnsSettleAtTheirClosedFormTimes) {
-  const Table t = Log(4, [](double s) { return Decaying(s, 0); });
+  const datalog::Table t = Log(4, [](double s) { return Decaying(s, 0); });
   SettleSpec spec;
   spec.at = 1;
   spec.sensors = {"rf", "lf"};
@@ -153,7 +153,7 @@ TEST(Settles, ExponentialReturnsSettleAtTheirClosedFormTimes) {
 // the last swing above 10 % of the first peak, within half a period before the envelope's time
 TEST(Settles, AnOscillationSettlesWhenItsSwingsStayBelowTheFraction) {
   const double omega = 2 * M_PI * 3;  // [rad/s] 3 Hz
-  const Table t = Log(4, [&](double s) { return Decaying(s, omega); });
+  const datalog::Table t = Log(4, [&](double s) { return Decaying(s, omega); });
   SettleSpec spec;
   spec.at = 1;
   spec.sensors = {"rf", "lf"};
@@ -168,7 +168,7 @@ TEST(Settles, AnOscillationSettlesWhenItsSwingsStayBelowTheFraction) {
 
 TEST(Settles, ADriftThatNeverReturnsNeverSettles) {
   // the feet slid: the base ends 3 cm away and the torques on a new level
-  const Table t = Log(3, [](double s) {
+  const datalog::Table t = Log(3, [](double s) {
     Row r;
     if (s >= 1.1) {
       r.x = 0.03;

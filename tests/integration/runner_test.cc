@@ -47,7 +47,7 @@ TEST(Scenario, MissingSceneAndBadValuesAreErrors) {
 
 // a standing robot's log: base at 0.7 m (a 5 mm wobble), two feet each carrying half of
 // (100 - 2 x 2) kg under g = 9.81
-Table StandingLog(double tilt_rad = 0) {
+datalog::Table StandingLog(double tilt_rad = 0) {
   std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,rf_fz,lf_fz\n";
   for (int i = 0; i <= 100; ++i) {
     const double t = 0.1 * i;
@@ -57,7 +57,7 @@ Table StandingLog(double tilt_rad = 0) {
            std::to_string(std::cos(tilt_rad / 2)) + "," + std::to_string(std::sin(tilt_rad / 2)) +
            ",0,0," + std::to_string(f) + "," + std::to_string(f) + "\n";
   }
-  Table t;
+  datalog::Table t;
   std::string error;
   EXPECT_TRUE(t.Load(Temp(csv, ".csv"), &error)) << error;
   return t;
@@ -108,7 +108,7 @@ TEST(Checks, NotFallenSeesTheTilt) {
 // (heading 170 -> 350 deg, through the quaternion's +-180 deg seam) pitched 3 deg forward and
 // rolled 2 deg stays within 5 deg (tilt = acos(cos 3 deg cos 2 deg) = 3.6 deg); pitched 6 deg it
 // does not; turned 180 deg upright it has no tilt at all
-Table TurningLog(double pitch_deg, double roll_deg) {
+datalog::Table TurningLog(double pitch_deg, double roll_deg) {
   std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz\n";
   const double p = pitch_deg * M_PI / 360, r = roll_deg * M_PI / 360;  // half angles
   for (int i = 0; i <= 100; ++i) {
@@ -122,7 +122,7 @@ Table TurningLog(double pitch_deg, double roll_deg) {
     std::snprintf(row, sizeof(row), "%g,0,0,0.7,%.17g,%.17g,%.17g,%.17g\n", 0.1 * i, w, x, y, z);
     csv += row;
   }
-  Table t;
+  datalog::Table t;
   std::string error;
   EXPECT_TRUE(t.Load(Temp(csv, ".csv"), &error)) << error;
   return t;
@@ -149,7 +149,7 @@ TEST(Checks, ForceRingingIsTheRmsOfTheHighFrequencyPart) {
     csv += std::to_string(t) + ",0,0,0.7,1,0,0,0," +
            std::to_string(600 + 10 * std::sin(2 * M_PI * 100 * t)) + ",600\n";
   }
-  Table t;
+  datalog::Table t;
   std::string error;
   ASSERT_TRUE(t.Load(Temp(csv, ".csv"), &error)) << error;
   auto r = Evaluate(Spec("force_ringing", {{"sensors", "rf,lf"}, {"after", "0.1"}, {"max", "8"}}), t, kSim);

@@ -55,7 +55,7 @@ void Moment(const Contact& c, double z, double n[3]) {
 // a log of both ankle sensors, contacts given per time; the sensors read the ground's wrench
 // plus the weight W = (0, 0, -m g) of `foot` at its centre of mass c: f = f_g + W,
 // n = p x f_g + c x W
-Table Log(double duration, double z, const std::function<std::pair<Contact, Contact>(double)>& at,
+datalog::Table Log(double duration, double z, const std::function<std::pair<Contact, Contact>(double)>& at,
           const Foot& foot = {}) {
   const std::string path = ohrp::testing::ScratchPath("sole_log", ".csv");
   std::ofstream out(path);
@@ -79,7 +79,7 @@ Table Log(double duration, double z, const std::function<std::pair<Contact, Cont
     out << "\n";
   }
   out.close();
-  Table t;
+  datalog::Table t;
   std::string error;
   EXPECT_TRUE(t.Load(path, &error)) << error;
   std::remove(path.c_str());
@@ -127,7 +127,7 @@ TEST(InsideDistance, NearestEdgeInsideNegativeOutside) {
 TEST(CopInside, TheCheckComputesTheCopExactly) {
   // the right CoP 1.1 cm inside the toe edge with an inclined force, on a plane 2 cm below
   const double z = -0.02;
-  const Table t = Log(1.0, z, [](double) {
+  const datalog::Table t = Log(1.0, z, [](double) {
     return std::make_pair(Contact{}, Contact{0.18 - 0.011, 0.0, 500, 30, -20});
   });
   const CheckResult r = Evaluate(Spec("cop_inside", {{"after", "0.2"}}), t, Summary(z));
@@ -139,7 +139,7 @@ TEST(CopInside, TheCheckComputesTheCopExactly) {
 TEST(CopInside, PassesAt11mmAndFailsAt9mmInside) {
   for (const double inside : {0.011, 0.009}) {
     // the left CoP near its left (+y) edge, the right one in the middle
-    const Table t = Log(1.0, 0, [inside](double) {
+    const datalog::Table t = Log(1.0, 0, [inside](double) {
       return std::make_pair(Contact{0.05, 0.07 - inside, 600, -10, 25}, Contact{});
     });
     const CheckResult r = Evaluate(Spec("cop_inside", {{"after", "0"}, {"margin", "0.01"}}), t, Summary());
@@ -150,7 +150,7 @@ TEST(CopInside, PassesAt11mmAndFailsAt9mmInside) {
 
 TEST(CopInside, FailsNamingTheSensorAndTheTimeOfTheWorstRow) {
   // both soles well inside, but at t = 0.5 s the right one stands on its heel edge
-  const Table t = Log(1.0, 0, [](double t) {
+  const datalog::Table t = Log(1.0, 0, [](double t) {
     Contact r;
     if (std::fabs(t - 0.5) < 1e-6) r.px = -0.07 + 0.002;
     else if (std::fabs(t - 0.6) < 1e-6) r.px = -0.07 + 0.005;
@@ -167,7 +167,7 @@ TEST(CopInside, FailsNamingTheSensorAndTheTimeOfTheWorstRow) {
 
 TEST(CopInside, ALiftedFootIsNotJudgedUnlessItMustBeLoaded) {
   // the left foot lifted (5 N, its "CoP" far outside) over [0.3, 0.7] s
-  const Table t = Log(1.0, 0, [](double t) {
+  const datalog::Table t = Log(1.0, 0, [](double t) {
     Contact l;
     if (t > 0.3 && t < 0.7) l = Contact{0.5, 0.3, 5};
     return std::make_pair(l, Contact{});
@@ -192,11 +192,11 @@ TEST(CopInside, ALiftedFootIsNotJudgedUnlessItMustBeLoaded) {
 }
 
 TEST(CopInside, RefusesWhatItCannotJudge) {
-  const Table t = Log(0.2, 0, [](double) { return std::make_pair(Contact{}, Contact{}); });
+  const datalog::Table t = Log(0.2, 0, [](double) { return std::make_pair(Contact{}, Contact{}); });
   EXPECT_FALSE(Evaluate(Spec("cop_inside", {{"after", "0"}}), t, nlohmann::json::object()).passed);
   EXPECT_FALSE(Evaluate(Spec("cop_inside", {{"after", "0"}, {"sensors", "lhsensor"}}), t, Summary()).passed);
   EXPECT_FALSE(Evaluate(Spec("cop_inside", {{"after", "5"}}), t, Summary()).passed);
-  const Table air = Log(0.2, 0, [](double) { return std::make_pair(Contact{0, 0, 1}, Contact{0, 0, 1}); });
+  const datalog::Table air = Log(0.2, 0, [](double) { return std::make_pair(Contact{0, 0, 1}, Contact{0, 0, 1}); });
   const CheckResult r = Evaluate(Spec("cop_inside", {{"after", "0"}}), air, Summary());
   EXPECT_FALSE(r.passed);
   EXPECT_NE(r.detail.find("no sole carried"), std::string::npos) << r.detail;
@@ -204,7 +204,7 @@ TEST(CopInside, RefusesWhatItCannotJudge) {
 
 TEST(CopInside, CorrectsForTheFootsWeight) {
   // both soles 1.1 cm inside their heel edges, read through a 1.9 kg foot
-  const Table t = Log(0.5, 0, [](double) {
+  const datalog::Table t = Log(0.5, 0, [](double) {
     return std::make_pair(Contact{-0.07 + 0.011, 0.02, 600, 15, -8}, Contact{-0.07 + 0.011, -0.02, 600});
   }, kHrpFoot);
   const CheckResult r = Evaluate(Spec("cop_inside", {{"after", "0"}}), t, Summary(0, kHrpFoot));
@@ -221,7 +221,7 @@ TEST(CopInside, CorrectsForTheFootsWeight) {
 
 TEST(FootLifted, PassesWhileTheFootIsInTheAirOnly) {
   // the left foot in the air over [0.4, 0.8] s (2 N of sensor noise), loaded otherwise
-  const Table t = Log(1.0, 0, [](double t) {
+  const datalog::Table t = Log(1.0, 0, [](double t) {
     Contact l;
     if (t > 0.35 && t < 0.85) l.fz = 2;
     return std::make_pair(l, Contact{});
@@ -241,7 +241,7 @@ TEST(FootLifted, PassesWhileTheFootIsInTheAirOnly) {
 }
 
 TEST(FootLifted, ALogEndingBeforeTheWindowsEndFails) {
-  const Table t = Log(1.0, 0, [](double) { return std::make_pair(Contact{0, 0, 0}, Contact{}); });
+  const datalog::Table t = Log(1.0, 0, [](double) { return std::make_pair(Contact{0, 0, 0}, Contact{}); });
   EXPECT_TRUE(Evaluate(Spec("foot_lifted", {{"sensor", "lfsensor"}, {"after", "0.2"}, {"until", "1.0"}}), t, Summary()).passed);
   const CheckResult r = Evaluate(Spec("foot_lifted", {{"sensor", "lfsensor"}, {"after", "0.2"}, {"until", "2.0"}}), t, Summary());
   EXPECT_FALSE(r.passed);

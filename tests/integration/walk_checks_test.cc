@@ -23,7 +23,7 @@ struct Pose {
 };
 
 // a log of the base following `at` over [0, duration]
-Table Log(double duration, const std::function<Pose(double)>& at) {
+datalog::Table Log(double duration, const std::function<Pose(double)>& at) {
   std::string csv = "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz\n";
   char row[256];
   for (int i = 0; i <= std::lround(duration / kDt); ++i) {
@@ -33,7 +33,7 @@ Table Log(double duration, const std::function<Pose(double)>& at) {
                   std::cos(p.yaw / 2), std::sin(p.yaw / 2));
     csv += row;
   }
-  Table t;
+  datalog::Table t;
   std::string error;
   EXPECT_TRUE(t.Load(Temp(csv, ".csv"), &error)) << error;
   return t;
@@ -50,7 +50,7 @@ CheckSpec Spec(const std::string& type, std::map<std::string, std::string> p) {
 // standing 2 s
 constexpr double kSpeed = 0.3;  // [m/s]
 constexpr double kWalkStart = 2.0, kWalkTime = 10 / kSpeed;  // [s]
-Table StraightWalk() {
+datalog::Table StraightWalk() {
   const double h = 30 * kDeg;
   return Log(kWalkStart + kWalkTime + 2, [=](double t) {
     const double s = kSpeed * std::clamp(t - kWalkStart, 0.0, kWalkTime);
@@ -87,7 +87,7 @@ TEST(GoalReached, FailsOffTheGoalOrItsHeading) {
 
 // facing +y, 1 m to its left is 1 m along the world's -x
 TEST(GoalReached, ASideStepIsAlongTheInitialY) {
-  const Table log = Log(4, [](double t) { return Pose{-std::min(t, 2.0) / 2, 0, 90 * kDeg}; });
+  const datalog::Table log = Log(4, [](double t) { return Pose{-std::min(t, 2.0) / 2, 0, 90 * kDeg}; });
   RelativePose p;
   std::string error;
   ASSERT_TRUE(FinalRelativePose(log, &p, &error)) << error;
@@ -100,7 +100,7 @@ TEST(GoalReached, ASideStepIsAlongTheInitialY) {
 // a settling shift before the walk (0.07 m forward while turned 90 deg), then a closed path
 // back to where the walk began: judged from `from`, the path closes; from the start, it does not
 TEST(GoalReached, FromJudgesThePoseFromThatTimeInItsHeading) {
-  const Table log = Log(10, [](double t) {
+  const datalog::Table log = Log(10, [](double t) {
     const double shift = 0.07 * std::min(t, 1.0);
     const double h = t < 2 ? 90 * kDeg : t < 8 ? 90 * kDeg + (t - 2) / 6 * 2 * M_PI : 450 * kDeg;
     return Pose{0, shift, h};
@@ -125,7 +125,7 @@ TEST(GoalReached, ATurnIsUnwrappedOverTheRun) {
   const auto turn = [](double by_deg) {
     return Log(6, [=](double t) { return Pose{0, 0, (170 + by_deg * std::min(t, 5.0) / 5) * kDeg}; });
   };
-  const Table half = turn(180), full = turn(360), back = turn(-180);
+  const datalog::Table half = turn(180), full = turn(360), back = turn(-180);
   EXPECT_NEAR(UnwrappedYaw(half).back() - UnwrappedYaw(half).front(), M_PI, 1e-9);
   EXPECT_NEAR(UnwrappedYaw(full).back() - UnwrappedYaw(full).front(), 2 * M_PI, 1e-9);
   EXPECT_TRUE(Evaluate(Spec("goal_reached", {{"yaw_deg", "180"}}), half, {}).passed);
@@ -166,7 +166,7 @@ TEST(AverageSpeed, IsTheDistanceOverTheTimeItMoved) {
 
 // walking past the goal and back: timed until it first comes within 2 cm of where it ends
 TEST(AverageSpeed, EndsWhenTheBaseFirstReachesItsFinalPosition) {
-  const Table log = Log(8, [](double t) {
+  const datalog::Table log = Log(8, [](double t) {
     return Pose{t < 4 ? 0.5 * t : std::max(2.0 - 0.5 * (t - 4), 1.5), 0, 0};
   });
   Motion m;
@@ -178,12 +178,12 @@ TEST(AverageSpeed, EndsWhenTheBaseFirstReachesItsFinalPosition) {
 }
 
 TEST(AverageSpeed, FailsWhenTheBaseDoesNotMove) {
-  const Table still = Log(3, [](double) { return Pose{0.3, 0.1, 0}; });
+  const datalog::Table still = Log(3, [](double) { return Pose{0.3, 0.1, 0}; });
   auto r = Evaluate(Spec("average_speed", {{"min", "0.1"}}), still, {});
   EXPECT_FALSE(r.passed);
   EXPECT_NE(r.detail.find("never went 20 mm from its start"), std::string::npos) << r.detail;
   // 3 cm in all: 2 cm from its start it is already within 2 cm of its end, no time to count
-  const Table creep = Log(3, [](double t) { return Pose{0.03 * std::min(t, 1.0), 0, 0}; });
+  const datalog::Table creep = Log(3, [](double t) { return Pose{0.03 * std::min(t, 1.0), 0, 0}; });
   r = Evaluate(Spec("average_speed", {{"min", "0.1"}}), creep, {});
   EXPECT_FALSE(r.passed);
   EXPECT_NE(r.detail.find("too little motion"), std::string::npos) << r.detail;

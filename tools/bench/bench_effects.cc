@@ -32,7 +32,8 @@
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 #include "sim_host/model.h"
-#include "sim_host/recorder.h"
+#include "datalog/recorder.h"
+#include "robot_model/log_names.h"
 #include "sim_host/self_collision_watch.h"
 #include "sim_host/step.h"
 #include "shm_bridge/clock.h"
@@ -66,7 +67,7 @@ struct Setup {
   std::unique_ptr<ohrp::contact::SoftFootContact> soft;
   SensorSelection selection;
   std::unique_ptr<SensorNoise> noise;
-  std::unique_ptr<Recorder> recorder;
+  std::unique_ptr<ohrp::datalog::Recorder> recorder;
   std::unique_ptr<SelfCollisionWatch> watch;
   bool bare = false;
 };
@@ -111,12 +112,12 @@ std::unique_ptr<Setup> Make(const std::string& path, const std::string& key, con
     s->selection = SelectSensors(s->plan);
     if (s->plan.on(Effect::kNoise)) s->noise = std::make_unique<SensorNoise>(s->plan.noise, s->selection);
     if (s->plan.on(Effect::kLog)) {
-      RecorderChannels ch;
+      ohrp::datalog::RecorderChannels ch;
       ch.base = s->plan.on(Effect::kLogBase);
       ch.joints = s->plan.on(Effect::kLogJoints);
       ch.force_torque = s->plan.on(Effect::kLogForceTorque);
       ch.imu = s->plan.on(Effect::kLogImu);
-      s->recorder = Recorder::Open(log_path, s->robot, &error, 8192, ch);
+      s->recorder = ohrp::datalog::Recorder::Open(log_path, ohrp::model::LogNamesOf(s->robot), &error, 8192, ch);
       if (!s->recorder) Fail(error);
     }
   }

@@ -22,7 +22,7 @@
 #include "cli/command_line.h"
 #include "render/offscreen.h"
 #include "robot_model/load.h"
-#include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
+#include "datalog/table.h"  // the data log's reader
 #include "tool_process/run_command.h"
 
 namespace {
@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  ohrp::runner::Table log;
+  ohrp::datalog::Table log;
   std::string error;
   if (!log.Load(log_path, &error)) {
     std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());

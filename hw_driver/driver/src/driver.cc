@@ -13,7 +13,7 @@ Driver::Driver(const DriverOptions& options, const shm::ProducerConfig& robot, R
 
 Driver::~Driver() { delete impl_; }
 
-void Driver::SetLog(model::Recorder* log) { impl_->log = log; }
+void Driver::SetLog(datalog::Recorder* log) { impl_->log = log; }
 
 const rt::RtReport& Driver::PrepareRealTime() {
   if (!rt_prepared_) {

@@ -10,7 +10,7 @@
 #include "hw_driver/board_checks.h"
 #include "hw_driver/driver.h"
 #include "hw_driver/guard.h"
-#include "robot_model/recorder.h"
+#include "datalog/recorder.h"
 
 namespace ohrp::hw {
 
@@ -99,7 +99,7 @@ struct Driver::Impl {
   uint64_t last_command_cycle = 0;
   uint64_t k = 0;
   double time = 0;             // driver time of cycle k [s]
-  model::Recorder* log = nullptr;  // the data log (--log), or none
+  datalog::Recorder* log = nullptr;  // the data log (--log), or none
 
   void Record(EventKind kind, int64_t value = 0, int board = -1, int joint = -1,
               double reading = 0) noexcept {

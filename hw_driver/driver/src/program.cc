@@ -15,7 +15,7 @@
 #include "hw_driver/plugin.h"
 #include "robot_model/model.h"
 #include "robot_model/output_file.h"
-#include "robot_model/recorder.h"
+#include "datalog/recorder.h"
 #include "robot_model/sensors.h"
 #include "robot_model/servo.h"
 
@@ -205,14 +205,14 @@ int RunProgram(const ProgramOptions& o) {
     return kExitUsage;
   }
   // the data log: sim_host's columns without the ground truth (no base_* on the robot)
-  std::unique_ptr<model::Recorder> log;
+  std::unique_ptr<datalog::Recorder> log;
   if (!o.log_path.empty()) {
-    model::RecorderChannels channels;
+    datalog::RecorderChannels channels;
     channels.base = false;
-    log = model::Recorder::Open(o.log_path,
-                                {robot.joint_names, robot.force_names, robot.imu_names,
-                                 robot.passive_names},
-                                &error, 16384, channels, o.log_max);
+    log = datalog::Recorder::Open(o.log_path,
+                                  {robot.joint_names, robot.force_names, robot.imu_names,
+                                   robot.passive_names},
+                                  &error, 16384, channels, o.log_max);
     if (!log) {
       std::fprintf(stderr, "hw_driver: %s (--log)\n", error.c_str());
       return kExitUsage;

@@ -12,7 +12,7 @@
 #include "sim_host/fall.h"
 #include "sim_host/host.h"
 #include "sim_host/model.h"
-#include "sim_host/recorder.h"
+#include "datalog/recorder.h"
 #include "sim_host/guard_watch.h"
 #include "sim_host/self_collision_watch.h"
 
@@ -118,7 +118,7 @@ void PrintReport(const RunStats& st);
 // disk), the run's outcome "log_failed" and *exit_code kExitOutputFailed unless the run had
 // already failed otherwise; the size bound reached is an event "log_limit_reached" (value: the
 // rows not written). Either is also said on stderr, --quiet or not.
-void EndLog(model::Recorder* log, RunStats* st, int* exit_code);
+void EndLog(datalog::Recorder* log, RunStats* st, int* exit_code);
 
 // The summary written at the start (--summary checked writable before anything runs): outcome
 // "running", replaced at the end; a reader of a run killed on the way sees that.

@@ -28,7 +28,7 @@ std::string Join(const std::vector<std::string>& v, size_t most = 12) {
 }
 
 // the first time `c` crosses `v` upwards (`above`) or downwards; NAN when never
-double FirstCrossing(const runner::Table& t, int time_col, int c, double v, bool above) {
+double FirstCrossing(const datalog::Table& t, int time_col, int c, double v, bool above) {
   const auto& x = t.col(c);
   const auto& tt = t.col(time_col);
   for (size_t i = 1; i < x.size(); ++i) {
@@ -81,7 +81,7 @@ bool EventTime(const std::string& summary, const std::string& log, const std::st
 }  // namespace
 
 int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
-  runner::Table a, b;
+  datalog::Table a, b;
   if (!a.Load(o.a, error) || !b.Load(o.b, error)) return kExitUsage;
   const int ta = a.Column("time"), tb = b.Column("time");
   if (ta < 0 || tb < 0) {
@@ -92,7 +92,7 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
     *error = (a.rows() < 3 ? o.a : o.b) + ": fewer than 3 rows";
     return kExitUsage;
   }
-  for (const runner::Table* t : {&a, &b}) {
+  for (const datalog::Table* t : {&a, &b}) {
     const auto& tt = t->col(t == &a ? ta : tb);
     // times of the file: a plausible run's (a time of 1e300 makes every window absurd)
     *error = cli::CheckPlausibleEach("time", tt, (t == &a ? o.a : o.b) + ": time");

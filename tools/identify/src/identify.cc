@@ -47,7 +47,7 @@ struct Measured {
 
 // the sum of the comma-separated channels of `log` (e.g. both ankles' pitch moments); false
 // with *error naming a missing one
-bool Channel(const runner::Table& log, const std::string& path, const std::string& channels,
+bool Channel(const datalog::Table& log, const std::string& path, const std::string& channels,
              std::vector<double>* x, std::string* error) {
   std::stringstream ss(channels);
   x->assign(log.rows(), 0.0);
@@ -68,7 +68,7 @@ bool Channel(const runner::Table& log, const std::string& path, const std::strin
   return true;
 }
 
-bool Measure(const runner::Table& log, const std::string& path, const std::string& channel,
+bool Measure(const datalog::Table& log, const std::string& path, const std::string& channel,
              double from, double to, Measured* m, std::string* error, double add_noise = 0) {
   const int tc = log.Column("time");
   if (tc < 0) {
@@ -145,7 +145,7 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
   auto say = [&](const std::string& s) {
     if (!o.quiet) std::fprintf(stderr, "ohrp identify: %s\n", s.c_str());
   };
-  runner::Table rec;
+  datalog::Table rec;
   if (!rec.Load(o.recording, error)) return kUsage;
   if (rec.Column("time") < 0 || rec.rows() < 3) {
     *error = o.recording + ": not a data log (no 'time' column, or fewer than 3 rows)";
@@ -201,7 +201,7 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
       const auto [k, d] = kd[i];
       Measured& m = (*ms)[i];
       const std::string log = dirs[i] + "/run/log.csv";
-      runner::Table t;
+      datalog::Table t;
       if (!t.Load(log, error) || !Measure(t, log, o.channel, r->from, r->to, &m, error, r->noise))
         return false;
       r->runs.push_back({{"k", k}, {"d", d}, {"frequency", m.osc.frequency},

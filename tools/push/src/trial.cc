@@ -189,7 +189,7 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
       return t;
     }
   }
-  runner::Table log;
+  datalog::Table log;
   std::string error;
   if (!log.Load(t.dir + "/log.csv", &error)) {
     t.detail = error;

@@ -14,48 +14,6 @@
 
 namespace ohrp::runner {
 
-//---------------- CSV table ----------------
-
-bool Table::Load(const std::string& path, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = "cannot read the data log '" + path + "'";
-    return false;
-  }
-  std::string line;
-  if (!std::getline(in, line)) {
-    *error = "the data log '" + path + "' is empty";
-    return false;
-  }
-  names_.clear();
-  std::stringstream hs(line);
-  for (std::string n; std::getline(hs, n, ',');) names_.push_back(n);
-  cols_.assign(names_.size(), {});
-  size_t lineno = 1;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (line.empty()) continue;
-    const char* p = line.c_str();
-    for (size_t c = 0; c < names_.size(); ++c) {
-      char* end = nullptr;
-      const double v = std::strtod(p, &end);
-      if (end == p) {
-        *error = path + ":" + std::to_string(lineno) + ": expected " +
-                 std::to_string(names_.size()) + " numbers";
-        return false;
-      }
-      cols_[c].push_back(v);
-      p = (*end == ',') ? end + 1 : end;
-    }
-  }
-  return true;
-}
-
-int Table::Column(const std::string& name) const {
-  auto it = std::find(names_.begin(), names_.end(), name);
-  return it == names_.end() ? -1 : static_cast<int>(it - names_.begin());
-}
-
 //---------------- checks ----------------
 namespace {
 
@@ -67,7 +25,7 @@ std::string Fmt(double v) {
 }
 
 // rows whose time lies in [after, until]
-std::vector<size_t> Window(const Table& t, double after, double until) {
+std::vector<size_t> Window(const datalog::Table& t, double after, double until) {
   std::vector<size_t> rows;
   const auto& time = t.col(t.Column("time"));
   for (size_t i = 0; i < time.size(); ++i)
@@ -81,7 +39,7 @@ CheckResult Fail(CheckResult r, const std::string& why) {
   return r;
 }
 
-CheckResult BaseHeight(const CheckSpec& s, const Table& t) {
+CheckResult BaseHeight(const CheckSpec& s, const datalog::Table& t) {
   CheckResult r{"base_height", false, 0, "m", "", ""};
   const auto rows = Window(t, s.Number("after", 0), s.Number("until", 1e30));
   if (rows.empty()) return Fail(r, "no logged data in the window");
@@ -101,7 +59,7 @@ CheckResult BaseHeight(const CheckSpec& s, const Table& t) {
   return r;
 }
 
-CheckResult NotFallen(const CheckSpec& s, const Table& t) {
+CheckResult NotFallen(const CheckSpec& s, const datalog::Table& t) {
   CheckResult r{"not_fallen", false, 0, "m", "", ""};
   const double min_h = s.Number("min_height");
   const double max_tilt = s.Number("max_tilt_deg");
@@ -125,7 +83,7 @@ CheckResult NotFallen(const CheckSpec& s, const Table& t) {
   return r;
 }
 
-CheckResult FeetCarryWeight(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
+CheckResult FeetCarryWeight(const CheckSpec& s, const datalog::Table& t, const nlohmann::json& sim) {
   CheckResult r{"feet_carry_weight", false, 0, "", "", ""};
   const auto sensors = SplitList(s.params.count("sensors") ? s.params.at("sensors") : "");
   if (sensors.empty()) return Fail(r, "the check needs 'sensors' (e.g. [rfsensor, lfsensor])");
@@ -153,7 +111,7 @@ CheckResult FeetCarryWeight(const CheckSpec& s, const Table& t, const nlohmann::
   return r;
 }
 
-CheckResult BaseDisplacement(const CheckSpec& s, const Table& t) {
+CheckResult BaseDisplacement(const CheckSpec& s, const datalog::Table& t) {
   const std::string axis = s.params.count("axis") ? s.params.at("axis") : "x";
   const double from = s.Number("from", 0);
   CheckResult r{"base_displacement_" + axis + (from > 0 ? "_after_" + Fmt(from) + "s" : ""),
@@ -173,7 +131,7 @@ CheckResult BaseDisplacement(const CheckSpec& s, const Table& t) {
 
 // high-frequency content of a force: the RMS of the force less its moving average over
 // `window`, the largest over the sensors (the ringing of a stiff contact at each impact)
-CheckResult ForceRinging(const CheckSpec& s, const Table& t) {
+CheckResult ForceRinging(const CheckSpec& s, const datalog::Table& t) {
   CheckResult r{"force_ringing", false, 0, "N", "", ""};
   const auto sensors = SplitList(s.params.count("sensors") ? s.params.at("sensors") : "");
   if (sensors.empty()) return Fail(r, "the check needs 'sensors' (e.g. [rfsensor, lfsensor])");
@@ -308,7 +266,7 @@ CheckResult SelfCollisionHolds(const CheckSpec& s, const nlohmann::json& sim) {
 }
 
 // still standing after a push (runner/recovery.h)
-CheckResult Standing(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
+CheckResult Standing(const CheckSpec& s, const datalog::Table& t, const nlohmann::json& sim) {
   CheckResult r{"standing", false, 0, "m", "", ""};
   if (!s.Has("stance_at") || !s.Has("after"))
     return Fail(r, "the check needs 'stance_at' (e.g. the push's start) and 'after' [s]");
@@ -330,7 +288,7 @@ CheckResult Standing(const CheckSpec& s, const Table& t, const nlohmann::json& s
 }
 
 // base and ankle torques settle after a push (runner/recovery.h)
-CheckResult Settles(const CheckSpec& s, const Table& t) {
+CheckResult Settles(const CheckSpec& s, const datalog::Table& t) {
   CheckResult r{"settles", false, 0, "s", "", ""};
   if (!s.Has("at")) return Fail(r, "the check needs 'at', the push's start [s]");
   SettleSpec spec;
@@ -364,7 +322,7 @@ std::vector<std::string> SplitList(const std::string& s) {
   return out;
 }
 
-CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::json& sim) {
+CheckResult Evaluate(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim) {
   try {
     if (spec.type == "max_rejected") return MaxRejected(spec, sim);
     if (spec.type == "real_time_factor") return RealTimeFactor(spec, sim);

@@ -11,7 +11,7 @@ namespace {
 constexpr double kStanceWindow = 0.2;  // [s] before stance_at, for the stance height
 
 // column index or -1 with an error naming it
-int Need(const Table& t, const std::string& name, std::string* error) {
+int Need(const datalog::Table& t, const std::string& name, std::string* error) {
   const int c = t.Column(name);
   if (c < 0) *error = "the data log has no column '" + name + "'";
   return c;
@@ -28,7 +28,7 @@ double TiltDeg(double qw, double qx, double qy, double qz) {
 
 //---------------- standing ----------------
 
-bool MeasureStanding(const Table& t, const nlohmann::json& sim, const StandingSpec& s,
+bool MeasureStanding(const datalog::Table& t, const nlohmann::json& sim, const StandingSpec& s,
                      StandingResult* out, std::string* error) {
   const int ct = Need(t, "time", error), cz = Need(t, "base_z", error);
   const int cw = Need(t, "base_qw", error), cx = Need(t, "base_qx", error);
@@ -116,7 +116,7 @@ bool MeasureStanding(const Table& t, const nlohmann::json& sim, const StandingSp
 
 //---------------- settling ----------------
 
-bool MeasureSettling(const Table& t, const SettleSpec& s, SettleResult* out, std::string* error) {
+bool MeasureSettling(const datalog::Table& t, const SettleSpec& s, SettleResult* out, std::string* error) {
   const int ct = Need(t, "time", error), cx = Need(t, "base_x", error), cy = Need(t, "base_y", error);
   if (ct < 0 || cx < 0 || cy < 0) return false;
   std::vector<int> torque_cols;

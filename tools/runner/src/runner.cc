@@ -363,7 +363,7 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
                        "exit code", s.expect_fall ? "== 0 or 8 (a fall)" : "== 0",
                        failed.empty() ? "see " + c.label + ".stderr" : failed});
   }
-  Table log;
+  datalog::Table log;
   const bool have_log = log.Load(out_abs + "/log.csv", &error);
   for (const auto& spec : s.checks) {
     if (!have_log) {

@@ -28,7 +28,7 @@ CheckResult Fail(CheckResult r, const std::string& why) {
 }
 
 // the columns of one F/T sensor: fx fy fz tx ty tz, or an empty vector when one is missing
-std::vector<int> SensorColumns(const Table& t, const std::string& name) {
+std::vector<int> SensorColumns(const datalog::Table& t, const std::string& name) {
   std::vector<int> c;
   for (const char* k : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"}) {
     c.push_back(t.Column(name + k));
@@ -84,7 +84,7 @@ bool SoleFromSummary(const nlohmann::json& sim, const std::string& sensor, SoleR
 
 //---------------- cop_inside ----------------
 
-CheckResult CopInside(const CheckSpec& s, const Table& t, const nlohmann::json& sim) {
+CheckResult CopInside(const CheckSpec& s, const datalog::Table& t, const nlohmann::json& sim) {
   CheckResult r{"cop_inside", false, 0, "m", "", ""};
   const double after = s.Number("after", 0), until = s.Number("until", 1e30);
   const double margin = s.Number("margin");
@@ -166,7 +166,7 @@ CheckResult CopInside(const CheckSpec& s, const Table& t, const nlohmann::json& 
 
 //---------------- foot_lifted ----------------
 
-CheckResult FootLifted(const CheckSpec& s, const Table& t) {
+CheckResult FootLifted(const CheckSpec& s, const datalog::Table& t) {
   CheckResult r{"foot_lifted", false, 0, "N", "", ""};
   if (!s.Has("sensor") || !s.Has("after") || !s.Has("until"))
     return Fail(r, "the check needs 'sensor', 'after' and 'until' [s]");

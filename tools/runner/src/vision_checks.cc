@@ -31,7 +31,7 @@ bool ProjectPinhole(const double p_C[3], double f, int width, int height, double
   return true;
 }
 
-CheckResult BallCentred(const CheckSpec& spec, const Table& log, const nlohmann::json& sim) {
+CheckResult BallCentred(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim) {
   const std::string geom = Text(spec, "geom"), camera = Text(spec, "camera");
   CheckResult r{"ball_centred " + geom + " in " + camera, false, 0, "px", "", ""};
   const double tolerance = spec.Number("tolerance");

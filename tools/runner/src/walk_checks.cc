@@ -22,7 +22,7 @@ CheckResult Fail(CheckResult r, const std::string& why) {
 constexpr double kDeg = M_PI / 180;  // [rad/deg]
 
 // the base's columns x, y, qw, qx, qy, qz, or an empty vector when one is missing
-std::vector<int> BaseColumns(const Table& t) {
+std::vector<int> BaseColumns(const datalog::Table& t) {
   std::vector<int> c;
   for (const char* k : {"base_x", "base_y", "base_qw", "base_qx", "base_qy", "base_qz"}) {
     c.push_back(t.Column(k));
@@ -39,7 +39,7 @@ double YawOf(double qw, double qx, double qy, double qz) {
   return std::atan2(2 * (qw * qz + qx * qy), qw * qw + qx * qx - qy * qy - qz * qz);
 }
 
-std::vector<double> UnwrappedYaw(const Table& log) {
+std::vector<double> UnwrappedYaw(const datalog::Table& log) {
   const auto c = BaseColumns(log);
   if (c.empty()) return {};
   std::vector<double> yaw(log.rows());
@@ -55,7 +55,7 @@ std::vector<double> UnwrappedYaw(const Table& log) {
   return yaw;
 }
 
-bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error, double from) {
+bool FinalRelativePose(const datalog::Table& log, RelativePose* out, std::string* error, double from) {
   const auto c = BaseColumns(log);
   if (c.empty() || log.rows() == 0) {
     *error = c.empty() ? "the data log has no base pose (base_x, base_y, base_q*)"
@@ -83,7 +83,7 @@ bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error, 
   return true;
 }
 
-bool MeasureMotion(const Table& log, double threshold, Motion* out, std::string* error) {
+bool MeasureMotion(const datalog::Table& log, double threshold, Motion* out, std::string* error) {
   const auto c = BaseColumns(log);
   const int tc = log.Column("time");
   if (c.empty() || tc < 0 || log.rows() == 0) {
@@ -109,7 +109,7 @@ bool MeasureMotion(const Table& log, double threshold, Motion* out, std::string*
 
 //---------------- checks ----------------
 
-CheckResult GoalReached(const CheckSpec& s, const Table& log) {
+CheckResult GoalReached(const CheckSpec& s, const datalog::Table& log) {
   CheckResult r{"goal_reached", false, 0, "m", "", ""};
   RelativePose p;
   std::string error;
@@ -128,7 +128,7 @@ CheckResult GoalReached(const CheckSpec& s, const Table& log) {
   return r;
 }
 
-CheckResult AverageSpeed(const CheckSpec& s, const Table& log) {
+CheckResult AverageSpeed(const CheckSpec& s, const datalog::Table& log) {
   CheckResult r{"average_speed", false, 0, "m/s", "", ""};
   const double threshold = s.Number("threshold"), min = s.Number("min");
   r.limit = ">= " + Fmt(min) + " m/s";

@@ -59,7 +59,7 @@ std::unique_ptr<ReplaySource> ReplaySource::Open(const std::string& run_dir, con
   src->geometry_ = SceneGeometry::Load(scene, error);
   if (!src->geometry_) return nullptr;
   // which column holds what
-  const runner::Table& log = src->log_;
+  const datalog::Table& log = src->log_;
   src->time_col_ = log.Column("time");
   const char* base[7] = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
   for (int k = 0; k < 7; ++k) src->base_col_[k] = log.Column(base[k]);

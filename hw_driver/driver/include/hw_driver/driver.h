@@ -92,7 +92,7 @@
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/controller_loss.h"
 
-namespace ohrp::model {
+namespace ohrp::datalog {
 class Recorder;
 }
 
@@ -242,11 +242,11 @@ class Driver {
   // when the caller did not. Call it first to print its warnings before the loop starts.
   const rt::RtReport& PrepareRealTime();
 
-  // The data log (robot_model/recorder.h, sim_host's format without the ground-truth base
+  // The data log (datalog/recorder.h, sim_host's format without the ground-truth base
   // columns): each published sensor block (every options.log_every cycles; not the closing
   // kShuttingDown block, which repeats the last cycle's time) is copied into the log's ring; its thread writes the file. Not owned; outlives
   // Run. Call before Run.
-  void SetLog(model::Recorder* log);
+  void SetLog(datalog::Recorder* log);
 
   // Runs the loop on the calling thread until the run ends; returns the exit code (also in
   // result()). Run once per Driver.

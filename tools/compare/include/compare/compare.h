@@ -1,6 +1,6 @@
 // Two data logs of the same experiment held against each other (ohrp compare-logs): a
 // simulation's (sim_host --log, ohrp_run's log.csv) and the robot's (hw_driver --log), or any
-// two logs in that format (robot_model/recorder.h), read with runner::Table.
+// two logs in that format (datalog/recorder.h), read with datalog::Table.
 //
 // 1. Alignment: the lag of B behind A, so that B(t + lag) is compared with A(t):
 //      xcorr:CHANNEL   the cross-correlation of CHANNEL (signal.h), searched over +-max_lag
@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "compare/oscillation.h"
-#include "runner/checks.h"
+#include "datalog/table.h"
 
 namespace ohrp::compare {
 

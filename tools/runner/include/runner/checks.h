@@ -10,23 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "datalog/table.h"
 #include "runner/scenario.h"
 
 namespace ohrp::runner {
-
-// A CSV file read column by column.
-class Table {
- public:
-  bool Load(const std::string& path, std::string* error);
-  int Column(const std::string& name) const;  // -1 when absent
-  const std::vector<double>& col(int c) const { return cols_[c]; }
-  size_t rows() const { return cols_.empty() ? 0 : cols_[0].size(); }
-  const std::vector<std::string>& names() const { return names_; }
-
- private:
-  std::vector<std::string> names_;
-  std::vector<std::vector<double>> cols_;
-};
 
 struct CheckResult {
   std::string name;     // type, plus a label where useful
@@ -41,6 +28,6 @@ struct CheckResult {
 std::vector<std::string> SplitList(const std::string& s);
 
 // Evaluates one check. `sim` is sim_host's summary (robot_mass, gravity, mass_below, ...).
-CheckResult Evaluate(const CheckSpec& spec, const Table& log, const nlohmann::json& sim);
+CheckResult Evaluate(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim);
 
 }  // namespace ohrp::runner

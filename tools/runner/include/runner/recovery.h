@@ -40,7 +40,7 @@ struct StandingResult {
 
 // Returns false with `*error` when the log lacks the columns or the data the spec needs (a
 // log that ends before `after` is a valid answer: not standing).
-bool MeasureStanding(const Table& log, const nlohmann::json& sim, const StandingSpec& spec,
+bool MeasureStanding(const datalog::Table& log, const nlohmann::json& sim, const StandingSpec& spec,
                      StandingResult* out, std::string* error);
 
 // Settling after a push on [at, at + duration]:
@@ -76,6 +76,6 @@ struct SettleResult {
 };
 
 // Returns false with `*error` when the log lacks the columns, the baseline or the push.
-bool MeasureSettling(const Table& log, const SettleSpec& spec, SettleResult* out, std::string* error);
+bool MeasureSettling(const datalog::Table& log, const SettleSpec& spec, SettleResult* out, std::string* error);
 
 }  // namespace ohrp::runner

@@ -52,7 +52,7 @@ bool SoleFromSummary(const nlohmann::json& sim, const std::string& sensor, SoleR
 
 // The checks (keys in checks.h). cop_inside corrects for the foot's weight when the summary
 // gives it (foot_mass, foot_com) unless the key `foot_weight` is false.
-CheckResult CopInside(const CheckSpec& spec, const Table& log, const nlohmann::json& sim);
-CheckResult FootLifted(const CheckSpec& spec, const Table& log);
+CheckResult CopInside(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim);
+CheckResult FootLifted(const CheckSpec& spec, const datalog::Table& log);
 
 }  // namespace ohrp::runner

@@ -21,6 +21,6 @@ namespace ohrp::runner {
 // false when the point is not in front of the camera.
 bool ProjectPinhole(const double p_C[3], double f, int width, int height, double* u, double* v);
 
-CheckResult BallCentred(const CheckSpec& spec, const Table& log, const nlohmann::json& sim);
+CheckResult BallCentred(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim);
 
 }  // namespace ohrp::runner

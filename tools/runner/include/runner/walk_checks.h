@@ -19,7 +19,7 @@ double YawOf(double qw, double qx, double qy, double qz);
 
 // The base's heading at each row of the log, unwrapped (no jump of 2 pi between rows: a turn of
 // 360 deg ends at 2 pi), starting in (-pi, pi]. Empty when the log lacks the base quaternion.
-std::vector<double> UnwrappedYaw(const Table& log);
+std::vector<double> UnwrappedYaw(const datalog::Table& log);
 
 // Pose of the last row relative to the first, in the frame of the first row's heading.
 struct RelativePose {
@@ -31,7 +31,7 @@ struct RelativePose {
 // The base's final pose relative to its pose at the first row at or after `from` [s] (the first
 // row when the log has no time column); false with `*error` when no row is left or the log
 // lacks the base columns.
-bool FinalRelativePose(const Table& log, RelativePose* out, std::string* error, double from = 0);
+bool FinalRelativePose(const datalog::Table& log, RelativePose* out, std::string* error, double from = 0);
 
 // When the base moved: the first time it is `threshold` [m] from its start (horizontally) and,
 // from then on, the first time it is within `threshold` of its final position.
@@ -41,10 +41,10 @@ struct Motion {
   double end = 0;        // [s]
   bool started = false;  // it went `threshold` from its start
 };
-bool MeasureMotion(const Table& log, double threshold, Motion* out, std::string* error);
+bool MeasureMotion(const datalog::Table& log, double threshold, Motion* out, std::string* error);
 
 // The checks (keys in check_keys.h).
-CheckResult GoalReached(const CheckSpec& spec, const Table& log);
-CheckResult AverageSpeed(const CheckSpec& spec, const Table& log);
+CheckResult GoalReached(const CheckSpec& spec, const datalog::Table& log);
+CheckResult AverageSpeed(const CheckSpec& spec, const datalog::Table& log);
 
 }  // namespace ohrp::runner

@@ -23,7 +23,7 @@
 #include <string>
 #include <thread>
 
-#include "runner/checks.h"  // runner::Table, the CSV reader of the data logs
+#include "datalog/table.h"  // the data log's reader
 #include "shm_bridge/observer.h"
 #include "view/geometry.h"
 
@@ -121,7 +121,7 @@ class ReplaySource : public Source {
   RobotState StateAt(double t);
 
   std::unique_ptr<SceneGeometry> geometry_;
-  runner::Table log_;
+  datalog::Table log_;
   std::string title_;
   int time_col_ = -1;
   int base_col_[7] = {-1, -1, -1, -1, -1, -1, -1};

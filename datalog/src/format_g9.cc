@@ -5,7 +5,7 @@
 // (strtod), so s carries a relative error of at most two roundings, 2.3e-16: under 2.3e-7 in
 // absolute terms. Wherever the fraction of s is further than 1e-5 from 1/2 the rounding is
 // therefore that of the exact value; nearer, the exact path decides.
-#include "robot_model/format_g9.h"
+#include "datalog/format_g9.h"
 
 #include <charconv>
 #include <cstdint>
@@ -13,7 +13,7 @@
 #include <cstring>
 #include <string>
 
-namespace ohrp::model {
+namespace ohrp::datalog {
 namespace {
 
 constexpr int kMinPow = -320, kMaxPow = 320;
@@ -124,4 +124,4 @@ char* FormatG9(char* out, double v) {
   return out;
 }
 
-}  // namespace ohrp::model
+}  // namespace ohrp::datalog

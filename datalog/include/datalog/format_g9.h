@@ -11,11 +11,11 @@
 // compares it with snprintf on millions of values.
 #pragma once
 
-namespace ohrp::model {
+namespace ohrp::datalog {
 
 // writes the text at `out` (no terminating NUL) and returns its end; `out` must have room for
 // kFormatG9Max characters
 inline constexpr int kFormatG9Max = 24;
 char* FormatG9(char* out, double v);
 
-}  // namespace ohrp::model
+}  // namespace ohrp::datalog

@@ -1,5 +1,5 @@
 // FormatG9 against printf's "%.9g" itself: every value must give the same text.
-#include "robot_model/format_g9.h"
+#include "datalog/format_g9.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace ohrp::model {
+namespace ohrp::datalog {
 namespace {
 
 std::string Printf(double v) {
@@ -111,4 +111,4 @@ TEST(FormatG9, DecadeBoundaries) {
 }
 
 }  // namespace
-}  // namespace ohrp::model
+}  // namespace ohrp::datalog

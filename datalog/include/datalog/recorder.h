@@ -1,8 +1,8 @@
 // The data log of a producer (sim_host --log, hw_driver --log): one CSV row per recorded control
 // cycle, written by a background thread from a preallocated ring, so the simulation loop or the
 // driver's servo cycle never formats, allocates or blocks on disk. Both producers write the same
-// format with the same column names; runner::Table (tools/runner/include/runner/checks.h) reads
-// it back.
+// format with the same column names; datalog::Table (datalog/table.h) reads it back. The names
+// come from the robot's map (robot_model/log_names.h: LogNamesOf) or are given.
 //
 // Columns (first line of the file; SI units, angles in rad):
 //   time, base_x, base_y, base_z, base_qw, base_qx, base_qy, base_qz,   (simulation ground truth:
@@ -31,9 +31,8 @@
 #include <vector>
 
 #include "shm_bridge/layout.h"
-#include "robot_model/model.h"
 
-namespace ohrp::model {
+namespace ohrp::datalog {
 
 // which column groups the log has
 struct RecorderChannels {
@@ -50,7 +49,6 @@ struct LogNames {
   std::vector<std::string> imus;    // <imu>_gx ...
   std::vector<std::string> passive; // q_<passive>, dq_<passive> (with the joints' channel)
 };
-LogNames LogNamesOf(const RobotMap& robot);
 
 // What reached the disk, and what did not (Recorder::Close, then the accessors below).
 //   rows_on_disk   rows written whole by write(2) (and synced to the disk at Close): what the
@@ -73,12 +71,6 @@ class Recorder {
                                         std::string* error, size_t capacity = 8192,
                                         const RecorderChannels& channels = {},
                                         uint64_t max_bytes = 0);
-  static std::unique_ptr<Recorder> Open(const std::string& path, const RobotMap& robot,
-                                        std::string* error, size_t capacity = 8192,
-                                        const RecorderChannels& channels = {},
-                                        uint64_t max_bytes = 0) {
-    return Open(path, LogNamesOf(robot), error, capacity, channels, max_bytes);
-  }
   ~Recorder();  // Close()
 
   // Queues one row (copies the values; no allocation, no lock). Returns false and counts a drop
@@ -158,4 +150,4 @@ class Recorder {
   std::vector<uint64_t> batch_cycles_;
 };
 
-}  // namespace ohrp::model
+}  // namespace ohrp::datalog

@@ -1,5 +1,5 @@
 // CSV data log with a background writer (see recorder.h).
-#include "robot_model/recorder.h"
+#include "datalog/recorder.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -9,19 +9,9 @@
 #include <cstdio>
 #include <cstring>
 
-#include "robot_model/format_g9.h"
+#include "datalog/format_g9.h"
 
-namespace ohrp::model {
-
-LogNames LogNamesOf(const RobotMap& robot) {
-  LogNames n;
-  for (const auto& j : robot.joints) n.joints.push_back(j.name);
-  for (const auto& f : robot.forces) n.forces.push_back(f.name);
-  for (const auto& u : robot.imus) n.imus.push_back(u.name);
-  for (const auto& p : robot.passive) n.passive.push_back(p.name);
-  return n;
-}
-
+namespace ohrp::datalog {
 
 namespace {
 
@@ -290,4 +280,4 @@ void Recorder::WriterLoop() {
   }
 }
 
-}  // namespace ohrp::model
+}  // namespace ohrp::datalog

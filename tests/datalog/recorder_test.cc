@@ -1,4 +1,4 @@
-// The producers' data log (robot_model/recorder.h) when the disk says no: a failed write (a file
+// The producers' data log (datalog/recorder.h) when the disk says no: a failed write (a file
 // size limit, a full tmpfs, /dev/full, /proc/version) is detected, the rows ON DISK are counted
 // (the file is read back: its whole lines), no half row is left, and --log-max bounds the file.
 // Also the output files' checks (robot_model/output_file.h) and --log-max's sizes.
@@ -18,10 +18,9 @@
 #include <vector>
 
 #include "common/scratch.h"
-#include "robot_model/output_file.h"
-#include "robot_model/recorder.h"
+#include "datalog/recorder.h"
 
-namespace ohrp::model {
+namespace ohrp::datalog {
 namespace {
 
 namespace fs = std::filesystem;
@@ -228,34 +227,5 @@ TEST(Recorder, ABoundTooSmallForTheHeaderAndOneRowIsRefused) {
   EXPECT_NE(error.find("cannot hold"), std::string::npos) << error;
 }
 
-TEST(OutputFile, PrepareRefusesWhatCannotBeWrittenAndLeavesTheProvisionalText) {
-  std::string error;
-  const std::string ok = ScratchPath("summary", ".json");
-  ASSERT_TRUE(PrepareOutputFile(ok, "{\"outcome\": \"running\"}\n", &error)) << error;
-  EXPECT_EQ(ReadFile(ok), "{\"outcome\": \"running\"}\n");
-  for (const std::string path : {"/nonexistent/x", "/proc/version", "/dev/full"}) {
-    EXPECT_FALSE(PrepareOutputFile(path, "{}\n", &error)) << path;
-    EXPECT_EQ(error.rfind("cannot write '" + path + "': ", 0), 0u) << error;
-  }
-  EXPECT_FALSE(WriteWholeFile("/dev/full", "{}\n", &error));
-  EXPECT_NE(error.find("No space left on device"), std::string::npos) << error;
-}
-
-TEST(OutputFile, ByteSizes) {
-  std::string error;
-  uint64_t b = 0;
-  const std::pair<const char*, uint64_t> good[] = {{"500000", 500000}, {"500k", 500000}, {"20M", 20000000},
-                                                   {"1.5G", 1500000000}, {"1KiB", 1024}, {"2MiB", 2097152},
-                                                   {"3MB", 3000000}};
-  for (const auto& [text, bytes] : good) {
-    EXPECT_TRUE(ParseByteSize(text, &b, &error)) << text << ": " << error;
-    EXPECT_EQ(b, bytes) << text;
-  }
-  for (const char* bad : {"", "x", "0", "-5", "5X", "1e300", "nan", "0.1"}) {
-    EXPECT_FALSE(ParseByteSize(bad, &b, &error)) << bad;
-    EXPECT_NE(error.find("500k"), std::string::npos) << error;
-  }
-}
-
 }  // namespace
-}  // namespace ohrp::model
+}  // namespace ohrp::datalog
