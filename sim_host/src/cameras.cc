@@ -27,9 +27,9 @@ bool ParseCameraSize(const std::string& text, int* width, int* height, std::stri
   return true;
 }
 
-Cameras::Cameras(const RobotMap& robot, const CameraOptions& options, bool enabled)
+Cameras::Cameras(const model::RobotMap& robot, const CameraOptions& options, bool enabled)
     : options_(options), enabled_(enabled && !robot.cameras.empty() && options.rate > 0) {
-  for (const CameraMap& c : robot.cameras) camera_ids_.push_back(c.camera_id);
+  for (const model::CameraMap& c : robot.cameras) camera_ids_.push_back(c.camera_id);
 }
 
 Cameras::~Cameras() {

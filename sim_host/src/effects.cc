@@ -30,7 +30,7 @@ std::vector<Effect> Needs(Effect e) {
 
 }  // namespace
 
-bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& feet, bool log,
+bool ResolveEffects(const mjModel* m, const model::RobotMap& robot, const FeetOptions& feet, bool log,
                     const EffectRequests& req, EffectsPlan* plan, std::string* error) {
   EffectsPlan p;
   p.noise = req.noise;

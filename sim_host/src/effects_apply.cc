@@ -27,7 +27,7 @@ int ContactFilter(const mjModel* m, mjData*, int g1, int g2) {
 
 }  // namespace
 
-void ApplyEffects(const EffectsPlan& plan, const RobotMap& robot, mjModel* m) {
+void ApplyEffects(const EffectsPlan& plan, const model::RobotMap& robot, mjModel* m) {
   if (!plan.on(Effect::kGravity)) m->opt.disableflags |= mjDSBL_GRAVITY;
   if (!plan.on(Effect::kJointLimits)) m->opt.disableflags |= mjDSBL_LIMIT;
   if (!plan.on(Effect::kPassive)) m->opt.disableflags |= mjDSBL_PASSIVE;

@@ -8,7 +8,7 @@
 
 namespace ohrp::sim::effects_internal {
 
-bool DeclareDefaults(const mjModel* m, const RobotMap& robot, const FeetOptions& feet, bool log,
+bool DeclareDefaults(const mjModel* m, const model::RobotMap& robot, const FeetOptions& feet, bool log,
                      EffectsPlan* plan) {
   EffectsPlan& p = *plan;
   auto& E = p.effects;

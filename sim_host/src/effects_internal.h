@@ -35,13 +35,13 @@ std::vector<ContactPair> CandidatePairs(const mjModel* m, const std::vector<int>
 
 enum class SensorKind { kForceTorque, kGyro, kAccel, kOrientation, kOther };
 // which effect reads MuJoCo sensor `s`
-SensorKind KindOf(const mjModel* m, const RobotMap& robot, int s);
+SensorKind KindOf(const mjModel* m, const model::RobotMap& robot, int s);
 bool KindOn(const EffectsPlan& p, SensorKind k);
 
 // Step 1 of the resolution: every effect as the scene (and the contact choice, the log)
 // declares it, with its reason (effects_defaults.cc); fills `p->effects` and `p->pairs`.
 // Returns whether the soles are on the soft-foot contact.
-bool DeclareDefaults(const mjModel* m, const RobotMap& robot, const FeetOptions& feet, bool log,
+bool DeclareDefaults(const mjModel* m, const model::RobotMap& robot, const FeetOptions& feet, bool log,
                      EffectsPlan* p);
 
 }  // namespace ohrp::sim::effects_internal

@@ -101,7 +101,7 @@ std::vector<ContactPair> CandidatePairs(const mjModel* m, const std::vector<int>
 }
 
 // which effect reads MuJoCo sensor `s`
-SensorKind KindOf(const mjModel* m, const RobotMap& robot, int s) {
+SensorKind KindOf(const mjModel* m, const model::RobotMap& robot, int s) {
   const int adr = m->sensor_adr[s];
   for (const auto& f : robot.forces)
     if (adr == f.force_adr || adr == f.torque_adr) return SensorKind::kForceTorque;

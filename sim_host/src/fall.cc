@@ -83,7 +83,7 @@ double GeomLowestPoint(const mjModel* m, const mjData* d, int g) {
 }
 
 std::unique_ptr<FallWatch> FallWatch::Create(const mjModel* m, const mjData* d0,
-                                             const RobotMap& robot,
+                                             const model::RobotMap& robot,
                                              const std::vector<std::string>& sole_names,
                                              const FallOptions& o, std::string* error) {
   std::unique_ptr<FallWatch> w(new FallWatch());

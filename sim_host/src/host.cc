@@ -24,7 +24,7 @@ void OnFatal(const char*) {
 }  // namespace
 
 int RunHost(const HostOptions& options) {
-  InstallMujocoHandlers(OnFatal);
+  model::InstallMujocoHandlers(OnFatal);
   struct sigaction sa {};
   sa.sa_handler = OnSignal;
   sigaction(SIGINT, &sa, nullptr);

@@ -35,7 +35,7 @@ void HostRun::StartLoop() {
   wait_since = st.wall_start;
   deadline = st.wall_start;
   waiting = o.wait_controller > 0;
-  warnings_at_start = WarningCount();
+  warnings_at_start = model::WarningCount();
   // non-finite state, MuJoCo's resets, energy blow-up (divergence.h)
   watch = std::make_unique<DivergenceWatch>(m);
   if (soft) {
@@ -52,7 +52,7 @@ void HostRun::StartLoop() {
 
 void HostRun::Publish(uint32_t flags, bool record) noexcept {
   shm::SensorBlock& s = producer->BeginSensors();
-  FillSensors(robot, m, d, selection, &s);
+  model::FillSensors(robot, m, d, selection, &s);
   if (noise) noise->Apply(robot, &s);
   s.cycle = st.cycles;
   s.time = d->time;
@@ -316,7 +316,7 @@ int HostRun::Shutdown() {
     const int j = static_cast<int>(i);
     if (servo->clamped(j) > 0) st.clamped_joints.emplace_back(robot.joints[i].name, servo->clamped(j));
   }
-  st.warnings = WarningCount() - warnings_at_start;
+  st.warnings = model::WarningCount() - warnings_at_start;
   if (self_collision) st.self_collision = self_collision->Summary();
   st.guard = guard.Summary();
   if (!o.quiet) PrintReport(st);

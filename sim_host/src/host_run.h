@@ -15,7 +15,9 @@
 #include "sim_host/feet.h"
 #include "sim_host/guard_watch.h"
 #include "sim_host/host.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "datalog/recorder.h"
 #include "sim_host/report.h"
 #include "sim_host/self_collision_watch.h"
@@ -69,10 +71,10 @@ class HostRun {
   size_t segment_object_size;
 
   //---- set up once
-  std::unique_ptr<Scene> scene;
+  std::unique_ptr<model::Scene> scene;
   mjModel* m = nullptr;
   mjData* d = nullptr;
-  RobotMap robot;
+  model::RobotMap robot;
   std::unique_ptr<contact::SoftFootContact> soft;
   ContactModel contact_model{};
   EffectsPlan effects;
@@ -82,11 +84,11 @@ class HostRun {
   int steps_per_cycle = 1;
   std::unique_ptr<SelfCollisionWatch> self_collision;
   std::unique_ptr<datalog::Recorder> recorder;
-  SensorSelection selection{};
+  model::SensorSelection selection{};
   std::unique_ptr<SensorNoise> noise;
   std::unique_ptr<shm::Producer> producer;
   std::unique_ptr<Cameras> cameras;
-  std::unique_ptr<Servo> servo;
+  std::unique_ptr<model::Servo> servo;
   std::unique_ptr<DivergenceWatch> watch;
   std::unique_ptr<PhysicsStep> stepper;
 

@@ -71,7 +71,7 @@ int HostRun::SetUp(bool* ran_enough) {
     return kExitUsage;  // the segment is removed on the way out
   }
   cameras = std::make_unique<Cameras>(robot, o.cameras, effects.on(Effect::kCameras));
-  servo = std::make_unique<Servo>(robot);
+  servo = std::make_unique<model::Servo>(robot);
   servo->HoldCurrent(d);
   if (!o.quiet) PrintStart(text);
   if (!o.quiet) std::fprintf(stderr, "sim_host: %s\n", fall->Describe().c_str());
@@ -80,11 +80,11 @@ int HostRun::SetUp(bool* ran_enough) {
 
 // the scene, its robot, the effects and the soles, the initial state, the control period
 bool HostRun::LoadScene(std::string* why) {
-  scene = Scene::Load(o.scene, why);
+  scene = model::Scene::Load(o.scene, why);
   if (!scene) return false;
   m = scene->m();
   d = scene->d();
-  if (!MapRobot(m, &robot, why)) {
+  if (!model::MapRobot(m, &robot, why)) {
     why->insert(0, o.scene + ": ");
     return false;
   }
@@ -134,7 +134,7 @@ bool HostRun::OpenLog(std::string* why) {
 
 bool HostRun::CreateSegment(std::string* why) {
   shm::Status status;
-  shm::ProducerConfig pc = MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
+  shm::ProducerConfig pc = model::MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
   pc.read_timeout_hint = o.controller_timeout;
   for (shm::CameraInfo& c : pc.cameras) {
     c.width = o.cameras.width;

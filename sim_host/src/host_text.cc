@@ -17,7 +17,7 @@ void PrintExplain(const HostText& t) {
   if (t.self_collision) std::printf("self_collision: %s\n", t.self_collision->Describe().c_str());
   std::printf("%s", DescribeControlPeriod(dt, o.control_period, t.steps_per_cycle,
                                           t.period_defaulted).c_str());
-  std::printf("%s", DescribeActuation(t.robot).c_str());
+  std::printf("%s", model::DescribeActuation(t.robot).c_str());
   for (const std::string& u : t.robot.unpublished) std::printf("note: %s\n", u.c_str());
   if (t.soft && !t.soft->impact_note().empty())
     std::printf("note: %s\n", t.soft->impact_note().c_str());
@@ -33,7 +33,7 @@ void PrintExplain(const HostText& t) {
 
 void PrintStart(const HostText& t) {
   const HostOptions& o = t.o;
-  const RobotMap& robot = t.robot;
+  const model::RobotMap& robot = t.robot;
   std::fprintf(stderr,
                "sim_host: robot '%s' (%zu joints, %zu F/T, %zu IMU, %zu cameras, %.2f kg) from "
                "%s\nsim_host: segment '%s', physics %g s (%s), control %g s, %s, "

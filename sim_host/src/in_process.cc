@@ -21,7 +21,7 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
                                                        std::string* error) {
   std::unique_ptr<InProcessRobot> r(new InProcessRobot());
   r->options_ = o;
-  r->scene_ = Scene::Load(o.scene, error);
+  r->scene_ = model::Scene::Load(o.scene, error);
   if (!r->scene_) return nullptr;
   mjModel* m = r->scene_->m();
   if (o.physics_dt > 0) m->opt.timestep = o.physics_dt;
@@ -32,7 +32,7 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
              " s is not a whole number of physics steps of " + std::to_string(m->opt.timestep) + " s";
     return nullptr;
   }
-  if (!MapRobot(m, &r->robot_, error)) return nullptr;
+  if (!model::MapRobot(m, &r->robot_, error)) return nullptr;
   if (!SetUpFeet(m, o.feet, r->robot_.total_mass, &r->soft_, error)) return nullptr;
   if (!r->scene_->Reset(o.keyframe, error)) return nullptr;
   for (const Perturbation& p : o.pushes) {
@@ -41,7 +41,7 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
       return nullptr;
     }
   }
-  r->servo_ = std::make_unique<Servo>(r->robot_);
+  r->servo_ = std::make_unique<model::Servo>(r->robot_);
   r->servo_->HoldCurrent(r->scene_->d());
   r->step_ = std::make_unique<PhysicsStep>(
       r->scene_->m(), r->scene_->d(),
@@ -49,7 +49,7 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
                          r->robot_.base_body, nullptr});
   shm::Status status;
   r->producer_ = shm::Producer::Create(
-      MakeProducerConfig(r->robot_, m, UniqueSegmentName(), m->opt.timestep, o.control_period),
+      model::MakeProducerConfig(r->robot_, m, UniqueSegmentName(), m->opt.timestep, o.control_period),
       &status);
   if (!r->producer_) {
     *error = status.message;
@@ -62,7 +62,7 @@ std::unique_ptr<InProcessRobot> InProcessRobot::Create(const InProcessOptions& o
 InProcessRobot::~InProcessRobot() = default;
 
 void InProcessRobot::Publish() {
-  FillSensors(robot_, m(), d(), &sensors_);
+  model::FillSensors(robot_, m(), d(), &sensors_);
   sensors_.cycle = cycle_;
   sensors_.time = d()->time;
   sensors_.status = shm::status::kRunning | shm::status::kSimulated;

@@ -20,7 +20,7 @@ const char* IntegratorName(int integrator) {
   return "unknown";
 }
 
-std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robot) {
+std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const model::RobotMap& robot) {
   std::vector<SoleRectangle> out;
   mjData* d = mj_makeData(m);
   if (!d) return out;
@@ -168,7 +168,7 @@ nlohmann::json GuardJson(const GuardSummary& g) {
 
 }  // namespace
 
-bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
+bool WriteSummary(const std::string& path, const HostOptions& o, const model::RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,
                   const EffectsPlan* effects) {
   const double wall = st.wall_end - st.wall_start;

@@ -23,7 +23,7 @@ std::string Hex(uint64_t v) {
 }  // namespace
 
 std::unique_ptr<SelfCollisionWatch> SelfCollisionWatch::Create(const mjModel* m,
-                                                               const RobotMap& robot,
+                                                               const model::RobotMap& robot,
                                                                const std::string& file,
                                                                std::string* error) {
   std::unique_ptr<SelfCollisionWatch> w(new SelfCollisionWatch());

@@ -5,8 +5,8 @@
 
 namespace ohrp::sim {
 
-SensorSelection SelectSensors(const EffectsPlan& p) {
-  SensorSelection s;
+model::SensorSelection SelectSensors(const EffectsPlan& p) {
+  model::SensorSelection s;
   s.q = p.on(Effect::kEncoders);
   s.dq = p.on(Effect::kJointVelocities);
   s.tau = p.on(Effect::kJointTorques);
@@ -17,10 +17,10 @@ SensorSelection SelectSensors(const EffectsPlan& p) {
   return s;
 }
 
-SensorNoise::SensorNoise(const NoiseOptions& options, const SensorSelection& selection)
+SensorNoise::SensorNoise(const NoiseOptions& options, const model::SensorSelection& selection)
     : o_(options), sel_(selection), rng_(options.seed) {}
 
-void SensorNoise::Apply(const RobotMap& robot, shm::SensorBlock* s) {
+void SensorNoise::Apply(const model::RobotMap& robot, shm::SensorBlock* s) {
   const int nj = static_cast<int>(robot.joints.size());
   if (sel_.q && o_.q > 0)
     for (int i = 0; i < nj; ++i) s->q[i] += o_.q * Gauss();

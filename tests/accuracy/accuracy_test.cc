@@ -19,14 +19,14 @@ const std::string kSrc = OHRP_SOURCE_DIR;
 class Accuracy : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    sim::InstallMujocoHandlers([](const char* msg) {
+    model::InstallMujocoHandlers([](const char* msg) {
       std::fprintf(stderr, "MuJoCo error: %s\n", msg);
       std::abort();
     });
   }
-  void SetUp() override { warnings_ = sim::WarningCount(); }
+  void SetUp() override { warnings_ = model::WarningCount(); }
   void TearDown() override {
-    EXPECT_EQ(sim::WarningCount(), warnings_) << "MuJoCo warning: " << sim::LastWarning();
+    EXPECT_EQ(model::WarningCount(), warnings_) << "MuJoCo warning: " << model::LastWarning();
   }
   long warnings_ = 0;
 };

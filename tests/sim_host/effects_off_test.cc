@@ -23,7 +23,7 @@ using testing::Resolve;
 //---------------- switched off is really off ----------------
 
 TEST(EffectsOff, GravityOffAFreeBodyDoesNotFall) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   for (bool gravity : {true, false}) {
     Loaded l = LoadText(kBoxes);
     mjModel* m = l.scene->m();
@@ -45,7 +45,7 @@ TEST(EffectsOff, GravityOffAFreeBodyDoesNotFall) {
 }
 
 TEST(EffectsOff, ContactOffPerPair) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   Loaded l = LoadText(kBoxes);
   mjModel* m = l.scene->m();
   mjData* d = l.scene->d();
@@ -64,7 +64,7 @@ TEST(EffectsOff, ContactOffPerPair) {
 }
 
 TEST(EffectsOff, JointLimitsOffTheJointPassesItsLimit) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   for (bool limits : {true, false}) {
     Loaded l = LoadText(testing::kTwoJointArm);
     Apply(l, Resolve(l, limits ? "" : "joint_limits=off"));
@@ -80,7 +80,7 @@ TEST(EffectsOff, JointLimitsOffTheJointPassesItsLimit) {
 }
 
 TEST(EffectsOff, PassiveOffNoDamping) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   // a vertical hinge (no gravity torque) of rotor inertia 2 kg m^2 and damping 0.5 N m s
   constexpr const char* kDamped = R"(
 <mujoco model="damped">
@@ -115,7 +115,7 @@ TEST(EffectsOff, PassiveOffNoDamping) {
 }
 
 TEST(EffectsOff, SensorsOffAreNotComputed) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   constexpr double kSentinel = 12345.0;
   for (bool on : {true, false}) {
     Loaded l = Load(kFlat);
@@ -140,7 +140,7 @@ TEST(EffectsOff, SensorsOffAreNotComputed) {
     EXPECT_NE(d->sensordata[imu.gyro_adr], kSentinel);
     // the segment marks what is not measured
     shm::SensorBlock s{};
-    FillSensors(l.robot, m, d, SelectSensors(p), &s);
+    model::FillSensors(l.robot, m, d, SelectSensors(p), &s);
     EXPECT_EQ(std::isnan(s.force[0].force[2]), !on);
     EXPECT_EQ(std::isnan(s.imu[0].accel[2]), !on);
     EXPECT_FALSE(std::isnan(s.imu[0].gyro[0]));
@@ -156,7 +156,7 @@ TEST(EffectsOff, SensorsOffAreNotComputed) {
 //---------------- noise ----------------
 
 TEST(EffectsNoise, OffIsExact) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   Loaded l = Load(kFlat);
   const EffectsPlan p = Resolve(l, "");
   ApplyEffects(p, l.robot, l.scene->m());
@@ -164,7 +164,7 @@ TEST(EffectsNoise, OffIsExact) {
   ASSERT_TRUE(l.scene->Reset("halfsit", &error));
   mj_step(l.scene->m(), l.scene->d());
   shm::SensorBlock s{};
-  FillSensors(l.robot, l.scene->m(), l.scene->d(), SelectSensors(p), &s);
+  model::FillSensors(l.robot, l.scene->m(), l.scene->d(), SelectSensors(p), &s);
   const mjData* d = l.scene->d();
   EXPECT_EQ(s.q[3], d->qpos[l.robot.joints[3].qpos_adr]);
   EXPECT_EQ(s.force[0].force[2], -d->sensordata[l.robot.forces[0].force_adr + 2]);
@@ -172,12 +172,12 @@ TEST(EffectsNoise, OffIsExact) {
 }
 
 TEST(EffectsNoise, StandardDeviationAndSeed) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   Loaded l = Load(kFlat);
   EffectsPlan p = Resolve(l, "noise=on,noise.force=2.5,noise.q=0.001,noise.seed=42");
   EXPECT_EQ(p.noise.force, 2.5);
   EXPECT_EQ(p.noise.gyro, NoiseOptions{}.gyro);  // the documented default
-  const SensorSelection sel = SelectSensors(p);
+  const model::SensorSelection sel = SelectSensors(p);
   SensorNoise noise(p.noise, sel);
   // N samples of zero-valued fields: the sample standard deviation of a Gaussian has a
   // relative spread of 1/sqrt(2N) = 0.3 % at N = 50000; allow 2 %

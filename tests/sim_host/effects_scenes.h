@@ -10,7 +10,9 @@
 #include <string>
 
 #include "sim_host/effects.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "test_models.h"
 
 namespace ohrp::sim::testing {
@@ -59,16 +61,16 @@ inline constexpr const char* kBoxes = R"(
 )";
 
 struct Loaded {
-  std::unique_ptr<Scene> scene;
-  RobotMap robot;
+  std::unique_ptr<model::Scene> scene;
+  model::RobotMap robot;
 };
 
 inline Loaded Load(const std::string& path) {
   Loaded l;
   std::string error;
-  l.scene = Scene::Load(path, &error);
+  l.scene = model::Scene::Load(path, &error);
   EXPECT_TRUE(l.scene) << error;
-  EXPECT_TRUE(MapRobot(l.scene->m(), &l.robot, &error)) << error;
+  EXPECT_TRUE(model::MapRobot(l.scene->m(), &l.robot, &error)) << error;
   return l;
 }
 

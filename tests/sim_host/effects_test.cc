@@ -24,7 +24,7 @@ using testing::Resolve;
 class EffectsFlat : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    InstallMujocoHandlers(nullptr);
+    model::InstallMujocoHandlers(nullptr);
     flat_ = new Loaded(Load(kFlat));
   }
   static void TearDownTestSuite() { delete flat_; }
@@ -139,7 +139,7 @@ TEST_F(EffectsFlat, WhatCannotBeSwitchedOnIsRefused) {
 }
 
 TEST(Effects, ModelWithoutSolesOrSensors) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   const Loaded l = LoadText(kPendulum);
   const EffectsPlan p = Resolve(l, "");
   EXPECT_TRUE(p.on(Effect::kGravity));
@@ -164,7 +164,7 @@ TEST(Effects, ModelWithoutSolesOrSensors) {
 }
 
 TEST(Effects, SelfContactNeedsNativeContact) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   // the hand's sphere overlaps the arm's (its grandparent: not filtered as parent-child); the
   // forearm's overlaps both but is the child of one and the parent of the other (filtered)
   Loaded l = LoadText(kBoxes);

@@ -11,15 +11,17 @@
 
 #include "common/scratch.h"
 #include "sim_host/fall.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim {
 namespace {
 
-std::unique_ptr<Scene> LoadScene(const std::string& file) {
-  InstallMujocoHandlers(nullptr);
+std::unique_ptr<model::Scene> LoadScene(const std::string& file) {
+  model::InstallMujocoHandlers(nullptr);
   std::string error;
-  auto scene = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/" + file, &error);
+  auto scene = model::Scene::Load(std::string(OHRP_SOURCE_DIR) + "/" + file, &error);
   EXPECT_TRUE(scene) << error;
   return scene;
 }
@@ -57,9 +59,9 @@ TEST(FallWatch, HrpLoweredIntoTheFloorTouchesWithItsAnkles) {
   auto scene = LoadScene("mjcf/hrp1s/scene_flat.xml");
   mjModel* m = scene->m();
   mjData* d = scene->d();
-  RobotMap robot;
+  model::RobotMap robot;
   std::string error;
-  ASSERT_TRUE(MapRobot(m, &robot, &error)) << error;
+  ASSERT_TRUE(model::MapRobot(m, &robot, &error)) << error;
   ASSERT_TRUE(scene->Reset("", &error)) << error;
   auto watch = FallWatch::Create(m, d, robot, {}, {}, &error);
   ASSERT_TRUE(watch) << error;
@@ -86,9 +88,9 @@ TEST(FallWatch, OneCheckOnTheRoughFloorIsCheap) {
   auto scene = LoadScene("mjcf/hrp1s/scene_rough.xml");
   mjModel* m = scene->m();
   mjData* d = scene->d();
-  RobotMap robot;
+  model::RobotMap robot;
   std::string error;
-  ASSERT_TRUE(MapRobot(m, &robot, &error)) << error;
+  ASSERT_TRUE(model::MapRobot(m, &robot, &error)) << error;
   ASSERT_TRUE(scene->Reset("halfsit", &error)) << error;
   auto watch = FallWatch::Create(m, d, robot, {}, {}, &error);
   ASSERT_TRUE(watch) << error;

@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/step.h"
 
 namespace ohrp::sim::testing {
@@ -24,17 +26,17 @@ class LeaningRobot {
   // scene's step. Gains are the servo's defaults, kp times kp_scale and kd times its root.
   void Load(const std::string& scene_file, const std::string& keyframe, double dt,
             double ankle_lean, double kp_scale) {
-    InstallMujocoHandlers(nullptr);
+    model::InstallMujocoHandlers(nullptr);
     std::string error;
-    scene_ = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/" + scene_file, &error);
+    scene_ = model::Scene::Load(std::string(OHRP_SOURCE_DIR) + "/" + scene_file, &error);
     ASSERT_TRUE(scene_) << error;
     if (dt > 0) m()->opt.timestep = dt;
-    ASSERT_TRUE(MapRobot(m(), &robot_, &error)) << error;
+    ASSERT_TRUE(model::MapRobot(m(), &robot_, &error)) << error;
     FeetOptions feet;
     feet.model = ContactModel::kSoft;
     ASSERT_TRUE(SetUpFeet(m(), feet, robot_.total_mass, &soft_, &error)) << error;
     ASSERT_TRUE(scene_->Reset(keyframe, &error)) << error;
-    servo_ = std::make_unique<Servo>(robot_);
+    servo_ = std::make_unique<model::Servo>(robot_);
     fold_ = std::make_unique<DampingFold>(m());
     step_ = std::make_unique<PhysicsStep>(m(), d(),
                                           PhysicsStep::Parts{servo_.get(), soft_.get()});
@@ -42,7 +44,7 @@ class LeaningRobot {
     start_.assign(cmd_.njoint, 0.0);
     lean_.assign(cmd_.njoint, 0.0);
     for (int i = 0; i < cmd_.njoint; ++i) {
-      const JointMap& j = robot_.joints[i];
+      const model::JointMap& j = robot_.joints[i];
       start_[i] = d()->qpos[j.qpos_adr];
       if (j.name == "RLEG_ANKLE_P" || j.name == "LLEG_ANKLE_P") lean_[i] = ankle_lean;
       cmd_.joint[i].mode = shm::JointMode::kPosition;
@@ -78,16 +80,16 @@ class LeaningRobot {
 
   mjModel* m() const { return scene_->m(); }
   mjData* d() const { return scene_->d(); }
-  const RobotMap& robot() const { return robot_; }
+  const model::RobotMap& robot() const { return robot_; }
   contact::SoftFootContact& soft() const { return *soft_; }
 
  private:
-  std::unique_ptr<Scene> scene_;
-  RobotMap robot_;
+  std::unique_ptr<model::Scene> scene_;
+  model::RobotMap robot_;
   std::unique_ptr<contact::SoftFootContact> soft_;
   std::unique_ptr<PhysicsStep> step_;
   std::unique_ptr<DampingFold> fold_;
-  std::unique_ptr<Servo> servo_;
+  std::unique_ptr<model::Servo> servo_;
   shm::CommandBlock cmd_{};
   std::vector<double> start_, lean_;
   double lean_start_ = 0;  // [s]

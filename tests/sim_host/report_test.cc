@@ -8,7 +8,9 @@
 
 #include <string>
 
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/report.h"
 
 namespace ohrp::sim {
@@ -18,10 +20,10 @@ constexpr double kTol = 1e-9;  // [m] a rigid offset: exact up to rounding
 
 TEST(SoleRectangles, Hrp1sSolesInTheirAnkleSensorFrames) {
   std::string error;
-  auto scene = Scene::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &error);
+  auto scene = model::Scene::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &error);
   ASSERT_TRUE(scene) << error;
-  RobotMap robot;
-  ASSERT_TRUE(MapRobot(scene->m(), &robot, &error)) << error;
+  model::RobotMap robot;
+  ASSERT_TRUE(model::MapRobot(scene->m(), &robot, &error)) << error;
   const auto rects = SoleRectangles(scene->m(), robot);
   ASSERT_EQ(rects.size(), 2u);
   for (const auto& r : rects) {

@@ -37,7 +37,7 @@ TEST(Rocking, StandingRobotRocksAsTheLinearisedSpringDamperPredicts) {
   if (HasFatalFailure()) return;
   mjModel* m = r.m();
   mjData* d = r.d();
-  const RobotMap& robot = r.robot();
+  const model::RobotMap& robot = r.robot();
   const contact::SoftFootContact* soft = &r.soft();
 
   // stiff joints holding the half-sitting pose, leaned forward at the ankles over the first

@@ -11,7 +11,9 @@
 #include <fstream>
 
 #include "common/scratch.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/self_collision_watch.h"
 
 namespace ohrp::sim {
@@ -40,13 +42,13 @@ double Closed(double q) {
 }
 
 TEST(SelfCollisionWatchPassive, ThePassiveAngleMovesTheLinkIntoContact) {
-  InstallMujocoHandlers(nullptr);
+  model::InstallMujocoHandlers(nullptr);
   const std::string path = ohrp::testing::ScratchFile("passive", kXml, ".xml");
   std::string error;
-  auto scene = Scene::Load(path, &error);
+  auto scene = model::Scene::Load(path, &error);
   ASSERT_TRUE(scene) << error;
-  RobotMap robot;
-  ASSERT_TRUE(MapRobot(scene->m(), &robot, &error)) << error;
+  model::RobotMap robot;
+  ASSERT_TRUE(model::MapRobot(scene->m(), &robot, &error)) << error;
   ASSERT_EQ(robot.passive.size(), 1u);
   auto w = SelfCollisionWatch::Create(scene->m(), robot, "", &error);
   ASSERT_TRUE(w) << error;

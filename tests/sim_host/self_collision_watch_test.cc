@@ -27,7 +27,9 @@
 
 #include "collision/pair_file.h"
 #include "collision/self_collision.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/self_collision_watch.h"
 
 namespace ohrp::sim {
@@ -43,14 +45,14 @@ std::string Src(const std::string& p) { return std::string(OHRP_SOURCE_DIR) + "/
 
 struct Hrp1s {
   Hrp1s() {
-    InstallMujocoHandlers(nullptr);
+    model::InstallMujocoHandlers(nullptr);
     std::string error;
-    scene = Scene::Load(Src("mjcf/hrp1s/scene_flat.xml"), &error);
+    scene = model::Scene::Load(Src("mjcf/hrp1s/scene_flat.xml"), &error);
     EXPECT_TRUE(scene) << error;
-    EXPECT_TRUE(MapRobot(scene->m(), &robot, &error)) << error;
+    EXPECT_TRUE(model::MapRobot(scene->m(), &robot, &error)) << error;
   }
-  std::unique_ptr<Scene> scene;
-  RobotMap robot;
+  std::unique_ptr<model::Scene> scene;
+  model::RobotMap robot;
 };
 
 // the trajectory's rows: time, then the 29 joints in joint-id order

@@ -1,6 +1,8 @@
 // Tests the joint servos: command checks joint by joint (velocity references among them), and
 // the PD law against the closed form of a damped oscillator.
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 #include <gtest/gtest.h>
 
@@ -15,12 +17,12 @@ namespace {
 class ServoTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    InstallMujocoHandlers(nullptr);
+    model::InstallMujocoHandlers(nullptr);
     std::string error;
-    scene_ = Scene::Load(testing::WriteTemp(testing::kTwoJointArm), &error);
+    scene_ = model::Scene::Load(testing::WriteTemp(testing::kTwoJointArm), &error);
     ASSERT_TRUE(scene_) << error;
-    ASSERT_TRUE(MapRobot(scene_->m(), &robot_, &error)) << error;
-    servo_ = std::make_unique<Servo>(robot_);
+    ASSERT_TRUE(model::MapRobot(scene_->m(), &robot_, &error)) << error;
+    servo_ = std::make_unique<model::Servo>(robot_);
     servo_->HoldCurrent(scene_->d());
   }
   shm::CommandBlock Position(double q1, double q2, double kp = 100, double kd = 10) {
@@ -35,9 +37,9 @@ class ServoTest : public ::testing::Test {
     c.joint[1].q_ref = q2;
     return c;
   }
-  std::unique_ptr<Scene> scene_;
-  RobotMap robot_;
-  std::unique_ptr<Servo> servo_;
+  std::unique_ptr<model::Scene> scene_;
+  model::RobotMap robot_;
+  std::unique_ptr<model::Servo> servo_;
 };
 
 TEST_F(ServoTest, AcceptsValidCommands) {
@@ -59,12 +61,12 @@ TEST_F(ServoTest, RejectsNanJointByJointAndTheJointHolds) {
 
 TEST_F(ServoTest, RejectsPositionOutsideTheJointRange) {
   EXPECT_EQ(servo_->Accept(Position(1.6, 0)), 1);  // range of j1 is +-1.5
-  EXPECT_EQ(servo_->Accept(Position(1.5 + 0.5 * kRangeTolerance, 0)), 0);
+  EXPECT_EQ(servo_->Accept(Position(1.5 + 0.5 * model::kRangeTolerance, 0)), 0);
 }
 
 TEST_F(ServoTest, RejectsBadGainsModesAndTorques) {
   EXPECT_EQ(servo_->Accept(Position(0, 0, -1, 0)), 2);
-  EXPECT_EQ(servo_->Accept(Position(0, 0, 2 * kMaxGain, 0)), 2);
+  EXPECT_EQ(servo_->Accept(Position(0, 0, 2 * model::kMaxGain, 0)), 2);
   auto c = Position(0, 0);
   c.joint[0].mode = static_cast<shm::JointMode>(42);
   c.joint[1].mode = shm::JointMode::kTorque;

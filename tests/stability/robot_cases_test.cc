@@ -231,7 +231,7 @@ struct Crouch {
     shm::CommandBlock c{};
     c.njoint = static_cast<int>(q_ref.size());
     for (size_t i = 0; i < q_ref.size(); ++i) {
-      const JointMap& j = r.map.joints[i];
+      const model::JointMap& j = r.map.joints[i];
       c.joint[i] = {shm::JointMode::kPosition, 0, q_ref[i], 0, 0, j.default_kp, j.default_kd};
     }
     return c;
@@ -277,7 +277,7 @@ TEST(StabilityRobot, StraightKneeHoldsThroughTheServoAndANaiveInverseIntoCtrlIsC
       [&] {
         naive.Update(u);
         for (size_t i = 0; i < naive.q_ref.size(); ++i) {
-          const JointMap& j = u.map.joints[i];
+          const model::JointMap& j = u.map.joints[i];
           d->ctrl[j.actuator_id] =
               j.default_kp * (naive.q_ref[i] - d->qpos[j.qpos_adr]) - j.default_kd * d->qvel[j.dof_adr];
         }

@@ -18,7 +18,9 @@
 #include "common/scratch.h"
 #include "sim_host/divergence.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim::stability {
 
@@ -51,7 +53,7 @@ struct RunResult {
 class Sim {
  public:
   static std::unique_ptr<Sim> FromFile(const std::string& path) {
-    InstallMujocoHandlers(nullptr);
+    model::InstallMujocoHandlers(nullptr);
     char err[1000] = "";
     mjModel* m = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
     EXPECT_NE(m, nullptr) << path << ": " << err;
@@ -67,9 +69,9 @@ class Sim {
   }
   // a scene through sim_host's loader (keyframes, robot mapping)
   static std::unique_ptr<Sim> FromScene(const std::string& path) {
-    InstallMujocoHandlers(nullptr);
+    model::InstallMujocoHandlers(nullptr);
     std::string error;
-    auto scene = Scene::Load(path, &error);
+    auto scene = model::Scene::Load(path, &error);
     EXPECT_TRUE(scene) << error;
     if (!scene) return nullptr;
     auto s = std::unique_ptr<Sim>(new Sim(scene->m(), scene->d()));
@@ -81,7 +83,7 @@ class Sim {
     mj_deleteData(d_);
     mj_deleteModel(m_);
   }
-  Scene* scene() const { return scene_.get(); }
+  model::Scene* scene() const { return scene_.get(); }
   mjModel* m() const { return m_; }
   mjData* d() const { return d_; }
 
@@ -96,7 +98,7 @@ class Sim {
     watch.Start(m_, d_);
     int start[mjNWARNING];
     for (int w = 0; w < mjNWARNING; ++w) start[w] = d_->warning[w].number;
-    const long handler0 = WarningCount();
+    const long handler0 = model::WarningCount();
     const auto t0 = std::chrono::steady_clock::now();
     const double t_end = d_->time + duration - 0.5 * m_->opt.timestep;
     while (d_->time < t_end) {
@@ -117,7 +119,7 @@ class Sim {
     r.work = watch.input_work();
     r.max_excess = watch.max_excess();
     for (int w = 0; w < mjNWARNING; ++w) r.warnings[w] = d_->warning[w].number - start[w];
-    r.handler_warnings = WarningCount() - handler0;
+    r.handler_warnings = model::WarningCount() - handler0;
     return r;
   }
 
@@ -128,7 +130,7 @@ class Sim {
   Sim(mjModel* m, mjData* d) : m_(m), d_(d) {}
   mjModel* m_;
   mjData* d_;
-  std::unique_ptr<Scene> scene_;
+  std::unique_ptr<model::Scene> scene_;
 };
 
 // A stable run: finite throughout, energy within `energy_tol` [J] of what the sources supplied,
@@ -141,8 +143,8 @@ inline void ExpectStable(const RunResult& r, double duration, double energy_tol,
       << "energy grew beyond what gravity, motors and pushes supplied: E(0) = " << r.energy0
       << " J, E = " << r.energy << " J, input work " << r.work << " J";
   if (allowed_warnings.empty()) {
-    EXPECT_EQ(r.total_warnings(), 0) << "MuJoCo warned: " << LastWarning();
-    EXPECT_EQ(r.handler_warnings, 0) << LastWarning();
+    EXPECT_EQ(r.total_warnings(), 0) << "MuJoCo warned: " << model::LastWarning();
+    EXPECT_EQ(r.handler_warnings, 0) << model::LastWarning();
   }
 }
 
@@ -201,9 +203,9 @@ inline void ResetRows(const std::string& file) {
 // HRP-1S on its soft soles, joints held by sim_host's servo
 struct Robot {
   std::unique_ptr<Sim> sim;
-  RobotMap map;
+  model::RobotMap map;
   std::unique_ptr<contact::SoftFootContact> soft;
-  std::unique_ptr<Servo> servo;
+  std::unique_ptr<model::Servo> servo;
   std::vector<int> soles;
 };
 
@@ -218,7 +220,7 @@ inline void LoadRobot(Robot& r, const std::string& scene, const std::string& key
   if (!r.sim) return;
   mjModel* m = r.sim->m();
   std::string error;
-  EXPECT_TRUE(MapRobot(m, &r.map, &error)) << error;
+  EXPECT_TRUE(model::MapRobot(m, &r.map, &error)) << error;
   if (claimed_mass_scale > 0) {
     std::vector<std::string> soles;
     for (int g = 0; g < m->ngeom; ++g) {
@@ -239,7 +241,7 @@ inline void LoadRobot(Robot& r, const std::string& scene, const std::string& key
   }
   EXPECT_TRUE(r.sim->scene()->Reset(keyframe, &error)) << error;
   mj_forward(m, r.sim->d());
-  r.servo = std::make_unique<Servo>(r.map);
+  r.servo = std::make_unique<model::Servo>(r.map);
   r.servo->HoldCurrent(r.sim->d());
   if (r.soft) {
     for (int g : r.soft->sole_geoms()) r.soles.push_back(m->geom_bodyid[g]);

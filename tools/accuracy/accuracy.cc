@@ -167,8 +167,8 @@ std::unique_ptr<Sim> Sim::Create(const SceneSpec& scene, const Setting& setting,
   }
   mj_forward(m, s->d_);
   if (scene.servo || scene.walk) {
-    if (!sim::MapRobot(m, &s->robot_, error)) return nullptr;
-    s->servo_ = std::make_unique<sim::Servo>(s->robot_);
+    if (!model::MapRobot(m, &s->robot_, error)) return nullptr;
+    s->servo_ = std::make_unique<model::Servo>(s->robot_);
     s->servo_->HoldCurrent(s->d_);
     const int n = static_cast<int>(s->robot_.joints.size());
     if (scene.walk && scene.walk->angles.njoint != n) {
@@ -334,15 +334,15 @@ bool MakeReference(const SceneSpec& scene, const Setting& setting, double window
   sim->Positions(&pos);
   ref->positions.push_back(pos);
   ref->force.push_back(0);
-  const long w0 = sim::WarningCount();
+  const long w0 = model::WarningCount();
   for (int k = 1; k <= nwin; ++k) {
     const double t0 = ThreadCpuSeconds();
     const double f = sim->Advance(spw);
     ref->cpu += ThreadCpuSeconds() - t0;
     ref->sim_time += spw * setting.dt;
-    if (!sim->Finite() || sim::WarningCount() != w0) {
+    if (!sim->Finite() || model::WarningCount() != w0) {
       *error = "scene " + scene.name + ": the reference (" + Describe(setting) + ") diverged" +
-               (sim::WarningCount() != w0 ? std::string(": ") + sim::LastWarning() : "");
+               (model::WarningCount() != w0 ? std::string(": ") + model::LastWarning() : "");
       return false;
     }
     ref->states.push_back(sim->Save());
@@ -393,15 +393,15 @@ PieceResult RunPieces(const SceneSpec& scene, const Setting& setting, const Refe
                                            static_cast<double>(i) * (nwin - piece_windows) /
                                            (restarts - 1)));
     sim->Restore(ref.states[k0]);
-    const long w0 = sim::WarningCount();
+    const long w0 = model::WarningCount();
     for (int w = 1; w <= piece_windows; ++w) {
       const double t0 = ThreadCpuSeconds();
       const double f = sim->Advance(spw);
       r.cpu += ThreadCpuSeconds() - t0;
       r.sim_time += spw * setting.dt;
-      if (!sim->Finite() || sim::WarningCount() != w0) {
+      if (!sim->Finite() || model::WarningCount() != w0) {
         r.diverged = true;
-        r.note = sim::WarningCount() != w0 ? std::string("MuJoCo: ") + sim::LastWarning()
+        r.note = model::WarningCount() != w0 ? std::string("MuJoCo: ") + model::LastWarning()
                                            : "non-finite state or speed above 1000 m/s";
         r.pos_error = r.force_error = kInf;
         return r;

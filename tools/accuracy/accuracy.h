@@ -21,7 +21,9 @@
 #include "contact/soft_contact.h"
 #include "controllers/trajectory.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/step.h"
 
 namespace ohrp::accuracy {
@@ -122,8 +124,8 @@ class Sim {
   const SceneSpec* scene_ = nullptr;
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
-  sim::RobotMap robot_;
-  std::unique_ptr<sim::Servo> servo_;
+  model::RobotMap robot_;
+  std::unique_ptr<model::Servo> servo_;
   std::unique_ptr<contact::SoftFootContact> soft_;
   std::unique_ptr<sim::PhysicsStep> step_;  // sim_host's physics step over the parts above
   std::vector<double> q_ref_, dq_ref_;

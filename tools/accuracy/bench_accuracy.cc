@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
                  "16 ms windows per piece (default 8, quick 4)")
       ->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  ohrp::sim::InstallMujocoHandlers(OnFatal);
+  ohrp::model::InstallMujocoHandlers(OnFatal);
   if (o.quick) {
     if (app.count("--restarts") == 0) o.restarts = 2;
     if (app.count("--piece-windows") == 0) o.piece_windows = 4;

@@ -6,7 +6,9 @@
 #include <filesystem>
 
 #include "robot_model/load.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::accuracy {
 namespace {
@@ -99,9 +101,9 @@ bool Humanoid(const BenchOptions& o, const std::string& path, double quick_durat
 
 // the soft soles of the HRP-1S scenes carry half the robot's mass each
 bool SetSoftMass(SceneSpec* s, std::string* error) {
-  auto scene = sim::Scene::Load(s->path, error);
-  sim::RobotMap robot;
-  if (!scene || !sim::MapRobot(scene->m(), &robot, error)) return false;
+  auto scene = model::Scene::Load(s->path, error);
+  model::RobotMap robot;
+  if (!scene || !model::MapRobot(scene->m(), &robot, error)) return false;
   s->soft_mass = 0.5 * robot.total_mass;
   return true;
 }

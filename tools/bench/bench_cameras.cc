@@ -25,7 +25,9 @@
 #include "shm_bridge/observer.h"
 #include "sim_host/cameras.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/step.h"
 
 namespace {
@@ -72,12 +74,12 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "rounds over all rows")
       ->capture_default_str()->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  InstallMujocoHandlers(nullptr);
+  ohrp::model::InstallMujocoHandlers(nullptr);
 
   std::string error;
-  auto loaded = Scene::Load(scene, &error);
-  RobotMap robot;
-  if (!loaded || !MapRobot(loaded->m(), &robot, &error)) Fail(error);
+  auto loaded = ohrp::model::Scene::Load(scene, &error);
+  ohrp::model::RobotMap robot;
+  if (!loaded || !ohrp::model::MapRobot(loaded->m(), &robot, &error)) Fail(error);
   if (robot.cameras.empty()) Fail(scene + " declares no camera");
   mjModel* m = loaded->m();
   mjData* d = loaded->d();
@@ -87,7 +89,7 @@ int main(int argc, char** argv) {
 
   // a segment to publish into, and a request for camera 0 (an observer of this process)
   const std::string segment = "bench_cameras_" + std::to_string(getpid());
-  ohrp::shm::ProducerConfig pc = MakeProducerConfig(robot, m, segment, 0.001, 0.005);
+  ohrp::shm::ProducerConfig pc = ohrp::model::MakeProducerConfig(robot, m, segment, 0.001, 0.005);
   ohrp::shm::Status status;
   auto producer = ohrp::shm::Producer::Create(pc, &status);
   if (!producer) Fail(status.message);
@@ -114,7 +116,7 @@ int main(int argc, char** argv) {
     for (std::size_t r = 0; r < rows.size(); ++r) {
       Row& row = rows[r];
       if (!loaded->Reset("halfsit", &error)) Fail(error);
-      Servo servo(robot);
+      ohrp::model::Servo servo(robot);
       servo.HoldCurrent(d);
       PhysicsStep step(m, d, {&servo, soft.get()});
       const bool frames = row.width > 0;

@@ -9,7 +9,9 @@
 #include "cli/command_line.h"
 #include "quantile.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/step.h"
 #include "shm_bridge/clock.h"
 
@@ -18,9 +20,9 @@ namespace {
 using ohrp::bench::Median;
 
 struct Setup {
-  std::unique_ptr<ohrp::sim::Scene> scene;
-  ohrp::sim::RobotMap robot;
-  std::unique_ptr<ohrp::sim::Servo> servo;
+  std::unique_ptr<ohrp::model::Scene> scene;
+  ohrp::model::RobotMap robot;
+  std::unique_ptr<ohrp::model::Servo> servo;
   std::unique_ptr<ohrp::contact::SoftFootContact> soft;
 };
 
@@ -28,8 +30,8 @@ Setup Make(const std::string& path, const std::string& key, double dt,
            ohrp::sim::ContactModel model) {
   Setup s;
   std::string error;
-  s.scene = ohrp::sim::Scene::Load(path, &error);
-  if (!s.scene || !ohrp::sim::MapRobot(s.scene->m(), &s.robot, &error)) {
+  s.scene = ohrp::model::Scene::Load(path, &error);
+  if (!s.scene || !ohrp::model::MapRobot(s.scene->m(), &s.robot, &error)) {
     std::fprintf(stderr, "bench_contact: %s\n", error.c_str());
     std::exit(2);
   }
@@ -41,7 +43,7 @@ Setup Make(const std::string& path, const std::string& key, double dt,
     std::fprintf(stderr, "bench_contact: %s\n", error.c_str());
     std::exit(2);
   }
-  s.servo = std::make_unique<ohrp::sim::Servo>(s.robot);
+  s.servo = std::make_unique<ohrp::model::Servo>(s.robot);
   s.servo->HoldCurrent(s.scene->d());
   return s;
 }
@@ -75,7 +77,7 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "measurements of each kind")->capture_default_str()
       ->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  ohrp::sim::InstallMujocoHandlers(nullptr);
+  ohrp::model::InstallMujocoHandlers(nullptr);
 
   Setup soft = Make(scene, key, dt, ohrp::sim::ContactModel::kSoft);
   Setup native = Make(scene, key, dt, ohrp::sim::ContactModel::kNative);

@@ -31,7 +31,9 @@
 #include "cli/command_line.h"
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "datalog/recorder.h"
 #include "robot_model/log_names.h"
 #include "sim_host/self_collision_watch.h"
@@ -60,12 +62,12 @@ struct Config {
 };
 
 struct Setup {
-  std::unique_ptr<Scene> scene;
-  RobotMap robot;
+  std::unique_ptr<ohrp::model::Scene> scene;
+  ohrp::model::RobotMap robot;
   EffectsPlan plan;
-  std::unique_ptr<Servo> servo;
+  std::unique_ptr<ohrp::model::Servo> servo;
   std::unique_ptr<ohrp::contact::SoftFootContact> soft;
-  SensorSelection selection;
+  ohrp::model::SensorSelection selection;
   std::unique_ptr<SensorNoise> noise;
   std::unique_ptr<ohrp::datalog::Recorder> recorder;
   std::unique_ptr<SelfCollisionWatch> watch;
@@ -81,8 +83,8 @@ std::unique_ptr<Setup> Make(const std::string& path, const std::string& key, con
                             const std::string& log_path) {
   auto s = std::make_unique<Setup>();
   std::string error;
-  s->scene = Scene::Load(path, &error);
-  if (!s->scene || !MapRobot(s->scene->m(), &s->robot, &error)) Fail(error);
+  s->scene = ohrp::model::Scene::Load(path, &error);
+  if (!s->scene || !ohrp::model::MapRobot(s->scene->m(), &s->robot, &error)) Fail(error);
   mjModel* m = s->scene->m();
   m->opt.timestep = 0.001;
   FeetOptions feet;
@@ -127,7 +129,7 @@ std::unique_ptr<Setup> Make(const std::string& path, const std::string& key, con
     if (!s->watch) Fail(c.label + ": " + error);
     s->watch->Start(s->scene->d());
   }
-  s->servo = std::make_unique<Servo>(s->robot);
+  s->servo = std::make_unique<ohrp::model::Servo>(s->robot);
   s->servo->HoldCurrent(s->scene->d());
   return s;
 }
@@ -144,13 +146,13 @@ double Run(Setup* s, int cycles, int warmup) {
     for (int c = 0; c < warmup + cycles; ++c) {
       if (c == warmup) t0 = ohrp::ThreadCpuSeconds();
       for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
-      FillSensors(s->robot, m, d, &block);
+      ohrp::model::FillSensors(s->robot, m, d, &block);
     }
   } else {
     for (int c = 0; c < warmup + cycles; ++c) {
       if (c == warmup) t0 = ohrp::ThreadCpuSeconds();
       for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
-      FillSensors(s->robot, m, d, s->selection, &block);
+      ohrp::model::FillSensors(s->robot, m, d, s->selection, &block);
       if (s->noise) s->noise->Apply(s->robot, &block);
       if (s->recorder) s->recorder->Push(block, &s->servo->reference(0));
       if (s->watch) s->watch->Check(d, d->time, c);
@@ -178,7 +180,7 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "rounds over all configurations")
       ->capture_default_str()->check(ohrp::cli::Plausible("repeats"));
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  InstallMujocoHandlers(nullptr);
+  ohrp::model::InstallMujocoHandlers(nullptr);
   const std::string log_path =
       (std::filesystem::temp_directory_path() / ("bench_effects_" + std::to_string(getpid()) + ".csv")).string();
 

@@ -24,7 +24,9 @@
 #include "cli/command_line.h"
 #include "quantile.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/step.h"
 #include "shm_bridge/clock.h"
 
@@ -38,15 +40,15 @@ using ohrp::bench::Median;
 // returns wall seconds per step
 double BareLoop(const std::string& scene_path, double dt, int steps) {
   std::string error;
-  auto scene = ohrp::sim::Scene::Load(scene_path, &error);
+  auto scene = ohrp::model::Scene::Load(scene_path, &error);
   if (!scene) {
     std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
     std::exit(2);
   }
   scene->m()->opt.timestep = dt;
   scene->Reset("", &error);
-  ohrp::sim::RobotMap robot;
-  if (!ohrp::sim::MapRobot(scene->m(), &robot, &error)) {
+  ohrp::model::RobotMap robot;
+  if (!ohrp::model::MapRobot(scene->m(), &robot, &error)) {
     std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
     std::exit(2);
   }
@@ -57,7 +59,7 @@ double BareLoop(const std::string& scene_path, double dt, int steps) {
     std::fprintf(stderr, "bench_loop: %s\n", error.c_str());
     std::exit(2);
   }
-  ohrp::sim::Servo servo(robot);
+  ohrp::model::Servo servo(robot);
   servo.HoldCurrent(scene->d());
   ohrp::sim::PhysicsStep step(scene->m(), scene->d(), {&servo, soft.get()});
   const double t0 = ohrp::MonotonicSeconds();
@@ -173,7 +175,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_loop: %s\n", e.c_str());
     return 2;
   }
-  ohrp::sim::InstallMujocoHandlers(nullptr);
+  ohrp::model::InstallMujocoHandlers(nullptr);
   const std::string bin = fs::canonical("/proc/self/exe").parent_path().string();
   const std::string summary = "/tmp/bench_loop_" + std::to_string(getpid()) + ".json";
 

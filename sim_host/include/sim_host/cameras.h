@@ -20,7 +20,9 @@
 
 #include "render/offscreen.h"
 #include "shm_bridge/bridge.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim {
 
@@ -37,7 +39,7 @@ bool ParseCameraSize(const std::string& text, int* width, int* height, std::stri
 class Cameras {
  public:
   // `enabled` false (the effect is off, or the scene has no camera): Tick never renders.
-  Cameras(const RobotMap& robot, const CameraOptions& options, bool enabled);
+  Cameras(const model::RobotMap& robot, const CameraOptions& options, bool enabled);
   ~Cameras();
 
   // Once per control cycle, after the physics steps: when a frame is due (simulated time) and

@@ -30,7 +30,9 @@
 
 #include "shm_bridge/layout.h"
 #include "sim_host/feet.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim {
 
@@ -137,7 +139,7 @@ struct EffectsPlan {
 // found in it, the contact choice, whether a data log is written, and the requests. Returns
 // false with `*error` saying what cannot be done (e.g. switching on cameras, conflicting
 // requests, a contact pair the scene does not have).
-bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& feet,
+bool ResolveEffects(const mjModel* m, const model::RobotMap& robot, const FeetOptions& feet,
                     bool log, const EffectRequests& requests, EffectsPlan* plan,
                     std::string* error);
 
@@ -148,23 +150,23 @@ bool ResolveEffects(const mjModel* m, const RobotMap& robot, const FeetOptions& 
 // or self_contact is switched off while native contact is on. (self_collision is no physics:
 // the host runs its SelfCollisionWatch when it is on.) Call after SetUpFeet and
 // before the first mj_forward. `m` must outlive the filter (ClearContactFilter removes it).
-void ApplyEffects(const EffectsPlan& plan, const RobotMap& robot, mjModel* m);
+void ApplyEffects(const EffectsPlan& plan, const model::RobotMap& robot, mjModel* m);
 void ClearContactFilter();
 
 // Which of the segment's sensor fields FillSensors measures (the others are NaN).
-SensorSelection SelectSensors(const EffectsPlan& plan);
+model::SensorSelection SelectSensors(const EffectsPlan& plan);
 
 // Gaussian sensor noise on the published block, per sensor kind (EffectsPlan::noise). Holds
 // its generator; Apply never allocates. Fields that are not measured (NaN) stay NaN.
 class SensorNoise {
  public:
-  SensorNoise(const NoiseOptions& options, const SensorSelection& selection);
-  void Apply(const RobotMap& robot, shm::SensorBlock* s);
+  SensorNoise(const NoiseOptions& options, const model::SensorSelection& selection);
+  void Apply(const model::RobotMap& robot, shm::SensorBlock* s);
 
  private:
   double Gauss() { return normal_(rng_); }
   NoiseOptions o_;
-  SensorSelection sel_;
+  model::SensorSelection sel_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
 };

@@ -35,7 +35,9 @@
 #include <string>
 #include <vector>
 
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim {
 
@@ -97,7 +99,7 @@ class FallWatch {
   // Sets the criteria up on the initial state `d` (after the keyframe; not modified). `soles`:
   // the sole geoms' names (empty: model::FindSoles's). False with `*error` when a body of
   // `allow_contact` is not a body of the robot.
-  static std::unique_ptr<FallWatch> Create(const mjModel* m, const mjData* d, const RobotMap& robot,
+  static std::unique_ptr<FallWatch> Create(const mjModel* m, const mjData* d, const model::RobotMap& robot,
                                            const std::vector<std::string>& soles,
                                            const FallOptions& options, std::string* error);
 

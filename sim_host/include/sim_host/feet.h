@@ -16,7 +16,9 @@
 #include <vector>
 
 #include "contact/soft_contact.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim {
 

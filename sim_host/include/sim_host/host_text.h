@@ -8,7 +8,9 @@
 #include "sim_host/effects.h"
 #include "sim_host/feet.h"
 #include "sim_host/host.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "sim_host/self_collision_watch.h"
 
 namespace ohrp::sim {
@@ -16,7 +18,7 @@ namespace ohrp::sim {
 // the run as set up (control period resolved); pointers may be null (effect off, no soft soles)
 struct HostText {
   const HostOptions& o;
-  const RobotMap& robot;
+  const model::RobotMap& robot;
   const EffectsPlan& effects;
   const SelfCollisionWatch* self_collision;
   const contact::SoftFootContact* soft;

@@ -50,17 +50,17 @@ class InProcessRobot {
 
   mjModel* m() const { return scene_->m(); }
   mjData* d() const { return scene_->d(); }
-  const RobotMap& robot() const { return robot_; }
+  const model::RobotMap& robot() const { return robot_; }
 
  private:
   InProcessRobot() = default;
   void Publish();
 
   InProcessOptions options_;
-  std::unique_ptr<Scene> scene_;
-  RobotMap robot_;
+  std::unique_ptr<model::Scene> scene_;
+  model::RobotMap robot_;
   std::unique_ptr<contact::SoftFootContact> soft_;
-  std::unique_ptr<Servo> servo_;
+  std::unique_ptr<model::Servo> servo_;
   std::unique_ptr<shm::Producer> producer_;
   shm::SensorBlock sensors_{};
   int steps_per_cycle_ = 1;

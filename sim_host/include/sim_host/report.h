@@ -11,7 +11,9 @@
 #include "sim_host/effects.h"
 #include "sim_host/fall.h"
 #include "sim_host/host.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 #include "datalog/recorder.h"
 #include "sim_host/guard_watch.h"
 #include "sim_host/self_collision_watch.h"
@@ -107,7 +109,7 @@ struct SoleRectangle {
 };
 
 // Every sole of `m` with an F/T sensor above it (model::FindSoles), in geom order.
-std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const RobotMap& robot);
+std::vector<SoleRectangle> SoleRectangles(const mjModel* m, const model::RobotMap& robot);
 
 // One line: outcome, simulated and wall time, real-time factor, counts.
 void PrintReport(const RunStats& st);
@@ -145,7 +147,7 @@ std::string ProvisionalSummary(const HostOptions& o);
 // (null, or {"pair", "distance_mm", "time", "cycle"}), "holds": [{"begin", "begin_cycle",
 // "end" (-1: held to the end), "end_cycle", "pair", "distance_mm", "closest_mm", "cycles"}]}.
 // False (and said on stderr, with the reason) when the file could not be written whole.
-bool WriteSummary(const std::string& path, const HostOptions& o, const RobotMap& robot,
+bool WriteSummary(const std::string& path, const HostOptions& o, const model::RobotMap& robot,
                   const mjModel* m, const RunStats& st, int exit_code,
                   const EffectsPlan* effects = nullptr);
 

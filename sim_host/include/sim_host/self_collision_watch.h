@@ -32,7 +32,9 @@
 #include "collision/geometry.h"
 #include "collision/incremental_check.h"
 #include "collision/self_collision.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::sim {
 
@@ -82,7 +84,7 @@ class SelfCollisionWatch {
   // non-adjacent pair less those in contact at the zero posture and in the scene's keyframes
   // (the initial state is added by Start). Returns null with `*error` naming what is wrong (the
   // model's geometry, the file's own message with its line, a file for another robot).
-  static std::unique_ptr<SelfCollisionWatch> Create(const mjModel* m, const RobotMap& robot,
+  static std::unique_ptr<SelfCollisionWatch> Create(const mjModel* m, const model::RobotMap& robot,
                                                     const std::string& file, std::string* error);
 
   // The run's initial state: without a file, pairs in contact in it are left out too.
@@ -113,7 +115,7 @@ class SelfCollisionWatch {
   // (re)builds the per-pair state for pairs_ (set-up only)
   void TrackPairs();
 
-  const RobotMap* robot_ = nullptr;
+  const model::RobotMap* robot_ = nullptr;
   std::unique_ptr<collision::SelfCollision> checker_;
   std::string source_;
   int all_pairs_ = 0;

@@ -8,7 +8,9 @@
 
 #include "runner/checks.h"
 #include "runner/runner.h"
-#include "sim_host/model.h"
+#include "robot_model/model.h"
+#include "robot_model/sensors.h"
+#include "robot_model/servo.h"
 
 namespace ohrp::runner {
 namespace {
@@ -39,12 +41,12 @@ std::string At(const Scenario& s, int line, const std::string& key) {
 }  // namespace
 
 bool CheckScenarioNames(const Scenario& s, const std::string& scene, std::string* error) {
-  sim::InstallMujocoHandlers(nullptr);
-  auto loaded = sim::Scene::Load(scene, error);
+  model::InstallMujocoHandlers(nullptr);
+  auto loaded = model::Scene::Load(scene, error);
   if (!loaded) return false;
   const mjModel* m = loaded->m();
-  sim::RobotMap robot;
-  if (!sim::MapRobot(m, &robot, error)) {
+  model::RobotMap robot;
+  if (!model::MapRobot(m, &robot, error)) {
     *error = "scene '" + scene + "': " + *error;
     return false;
   }
