@@ -82,7 +82,9 @@ echo "== the Python package: pip install of python/ into a venv, offline, with D
 PY=/usr/bin/python3
 "$PY" -m venv --system-site-packages "$TMP/venv" >"$TMP/venv.log" 2>&1 \
   || { cat "$TMP/venv.log" >&2; fail "python3 -m venv failed (python3-venv installed? ./ohrp setup)"; }
-"$TMP/venv/bin/pip" install --no-index --no-build-isolation "$SOURCE/python" >"$TMP/pip.log" 2>&1 \
+# from a copy: setuptools builds in the source folder (build/, *.egg-info), never in the checkout
+cp -r "$SOURCE/python" "$TMP/python_src"
+"$TMP/venv/bin/pip" install --no-index --no-build-isolation "$TMP/python_src" >"$TMP/pip.log" 2>&1 \
   || { cat "$TMP/pip.log" >&2; fail "pip install of $SOURCE/python failed"; }
 VERSION="$(sed -n 's/^#define OHRP_VERSION_STRING "\(.*\)"$/\1/p' "$BUILD/include/ohrp/version.h")"
 PIP_VERSION="$("$TMP/venv/bin/pip" show ohrp | sed -n 's/^Version: //p')"
