@@ -1,45 +1,22 @@
-// Reading sim_host's CSV data log (see csv_log.h).
+// Reading the producers' CSV data log (see csv_log.h), through datalog::Table.
 #include "csv_log.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <map>
-#include <sstream>
+
+#include "datalog/table.h"
 
 namespace ohrp::hw::replay {
-namespace {
-
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) {
-    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-    out.push_back(cell);
-  }
-  return out;
-}
-
-}  // namespace
 
 bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = "cannot open the replay log '" + path + "'";
+  datalog::Table table;
+  if (!table.Load(path, error)) {
+    error->insert(0, "replay log: ");
     return false;
   }
-  std::string line;
-  if (!std::getline(in, line)) {
-    *error = "replay log '" + path + "' is empty (expected sim_host's CSV header line)";
-    return false;
-  }
-  const std::vector<std::string> header = Split(line);
-  std::map<std::string, int> column;
-  for (size_t i = 0; i < header.size(); ++i) column[header[i]] = static_cast<int>(i);
-  if (!column.count("time")) {
-    *error = "replay log '" + path + "' has no 'time' column (not a sim_host data log?)";
+  const int time_col = table.Column("time");
+  if (time_col < 0) {
+    *error = "replay log '" + path + "' has no 'time' column (not a data log of sim_host or hw_driver?)";
     return false;
   }
 
@@ -50,10 +27,7 @@ bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* 
   npassive_ = static_cast<int>(config.passive_names.size());
   width_ = 3 * njoint_ + 6 * nforce_ + 10 * nimu_ + 2 * npassive_;
   std::vector<int> source(width_, -1);
-  auto find = [&](const std::string& name) {
-    auto it = column.find(name);
-    return it == column.end() ? -1 : it->second;
-  };
+  auto find = [&](const std::string& name) { return table.Column(name); };
   for (int j = 0; j < njoint_; ++j) {
     const std::string& name = config.joint_names[j];
     source[j] = find("q_" + name);
@@ -76,37 +50,17 @@ bool CsvLog::Load(const std::string& path, const IoConfig& config, std::string* 
   // a log without them (an older one) reads 0
   for (const std::string& p : config.passive_names) source[k++] = find("q_" + p);
   for (const std::string& p : config.passive_names) source[k++] = find("dq_" + p);
-  const int time_col = column["time"];
 
-  // rows
-  int line_no = 1;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<std::string> cells = Split(line);
-    if (cells.size() != header.size()) {
-      *error = path + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) +
-               " fields, the header has " + std::to_string(header.size());
-      return false;
-    }
-    std::vector<double> values(cells.size());
-    for (size_t i = 0; i < cells.size(); ++i) {
-      char* end = nullptr;
-      values[i] = std::strtod(cells[i].c_str(), &end);
-      if (end == cells[i].c_str()) {
-        *error = path + ":" + std::to_string(line_no) + ": '" + cells[i] + "' in column '" +
-                 header[i] + "' is not a number";
-        return false;
-      }
-    }
-    const double t = values[time_col];
-    if (!time_.empty() && !(t > time_.back())) {
-      *error = path + ":" + std::to_string(line_no) + ": time " + cells[time_col] +
+  // rows: times strictly increasing
+  const std::vector<double>& time = table.col(time_col);
+  for (size_t r = 0; r < table.rows(); ++r) {
+    if (r > 0 && !(time[r] > time[r - 1])) {
+      *error = path + ":" + std::to_string(table.line(r)) + ": time " + std::to_string(time[r]) +
                " does not increase";
       return false;
     }
-    time_.push_back(t);
-    for (int i = 0; i < width_; ++i) data_.push_back(source[i] >= 0 ? values[source[i]] : 0.0);
+    time_.push_back(time[r]);
+    for (int i = 0; i < width_; ++i) data_.push_back(source[i] >= 0 ? table.col(source[i])[r] : 0.0);
     // an IMU whose orientation was not logged reads the identity
     for (int u = 0; u < nimu_; ++u) {
       const int q0 = 3 * njoint_ + 6 * nforce_ + 10 * u + 6;

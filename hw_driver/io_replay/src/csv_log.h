@@ -1,4 +1,4 @@
-// sim_host's CSV data log (sim_host/recorder.h) read back for the replay plugin: the columns a
+// The producers' CSV data log (datalog/recorder.h, read by datalog::Table) for the replay plugin: the columns a
 // RobotIo needs (joint positions and torques, force/torque sensors, IMUs), looked up by name,
 // joint velocities by finite differences, and linear interpolation or steps in time.
 #pragma once
