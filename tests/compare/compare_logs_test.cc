@@ -188,5 +188,93 @@ TEST_F(CompareLogs, BadInputExitsTwoNamingWhatWasWrong) {
   EXPECT_NE(out.find("push_start"), std::string::npos) << out;
 }
 
+// A log of x(t) = f(t) every 2 ms over [0, 12] s, in the fixture's folder
+template <typename F>
+std::string WriteLog(const std::string& dir, const std::string& name, F f) {
+  const std::string path = dir + "/" + name;
+  std::ofstream o(path);
+  o << "time,x,status\n";
+  for (int k = 0; k * 0.002 <= 12.0; ++k) o << k * 0.002 << "," << f(k * 0.002) << ",1\n";
+  return path;
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in, nullptr, false);
+}
+
+// issue 35: the cross-correlation looks at the window only. Both logs hold the same oscillation
+// from 4 s on, at lag 0; before 3 s each has a large pulse, 0.6 s apart (another start, a
+// stand-up): over the whole logs the pulses pull the lag to 0.6 s
+TEST_F(CompareLogs, OnlyTheWindowAlignsTheLogs) {
+  Damped d;
+  d.t0 = 4.0;
+  auto pulse = [](double t, double at) { return 10.0 * std::exp(-std::pow((t - at) / 0.1, 2)); };
+  const std::string a = WriteLog(dir_, "pa.csv", [&](double t) { return d(t) + pulse(t, 1.0); });
+  const std::string b = WriteLog(dir_, "pb.csv", [&](double t) { return d(t) + pulse(t, 1.6); });
+  std::string out;
+  ASSERT_EQ(Run({a, b, "--channels", "x", "--from", "3.5", "--no-plot", "--out", dir_ + "/w"}, &out), 0) << out;
+  const nlohmann::json j = ReadJson(dir_ + "/w/compare.json");
+  EXPECT_NEAR(j["lag"].get<double>(), 0.0, 0.001) << out;
+  EXPECT_NE(j["alignment"].get<std::string>().find("within the window"), std::string::npos);
+  EXPECT_NEAR(j["channels"][0]["correlation"].get<double>(), 1.0, 1e-5);
+  EXPECT_LT(j["channels"][0]["rms"].get<double>(), 1e-3);  // the log's 6 digits and the lag's residual
+  // the whole logs (no window): the pulses win, as the issue measured (the test bites)
+  ASSERT_EQ(Run({a, b, "--channels", "x", "--no-plot", "--out", dir_ + "/all", "--min-coherence", "0"}, &out), 0) << out;
+  EXPECT_NEAR(ReadJson(dir_ + "/all/compare.json")["lag"].get<double>(), 0.6, 0.01) << out;
+}
+
+// two unrelated runs (another frequency, phase and start): exit 1 naming why, the figures still
+// written; --min-coherence 0 compares them anyway
+TEST_F(CompareLogs, UnrelatedLogsAreNotTheSameExperiment) {
+  Damped other;
+  other.f_d = 0.63;
+  other.t0 = 2.9;
+  other.zeta = 0.02;
+  const std::string b = WriteLog(dir_, "other.csv", [&](double t) { return -other(t); });
+  std::string out;
+  EXPECT_EQ(Run({A(), b, "--align", "none", "--channels", "x", "--no-plot", "--out", dir_ + "/u"}, &out), 1) << out;
+  EXPECT_NE(out.find("FAILED: the logs do not hold the same experiment: median correlation of the 1 "
+                     "channels that move in both logs"), std::string::npos) << out;
+  const nlohmann::json j = ReadJson(dir_ + "/u/compare.json");
+  ASSERT_FALSE(j.is_discarded()) << out;
+  EXPECT_FALSE(j["same_experiment"].get<bool>());
+  EXPECT_LT(j["coherence"]["median_correlation"].get<double>(), 0.5);
+  EXPECT_EQ(Run({A(), b, "--align", "none", "--channels", "x", "--no-plot", "--out", dir_ + "/u0",
+                 "--min-coherence", "0"}, &out), 0) << out;
+  // the fixture's logs are one experiment (B: A delayed, noisy, z at another frequency and decay):
+  // the median correlation stays high
+  ASSERT_EQ(Run({A(), B(), "--channels", "x,y,z", "--no-plot", "--out", dir_ + "/s"}, &out), 0) << out;
+  EXPECT_GT(ReadJson(dir_ + "/s/compare.json")["coherence"]["median_correlation"].get<double>(), 0.9);
+}
+
+// no oscillation below the noise: a torque flat to 3e-7 N m on 5 N m (numerical), and a swing of
+// 1e-4 in A that B's noise (0.02) would hide
+TEST_F(CompareLogs, NoOscillationIsReportedBelowTheNoise) {
+  Damped tiny;
+  tiny.amp = 3e-7;
+  const std::string a = WriteLog(dir_, "fa.csv", [&](double t) { return 5.0 + tiny(t); });
+  const std::string b = WriteLog(dir_, "fb.csv", [&](double t) { return 5.0 + tiny(t); });
+  std::string out;
+  ASSERT_EQ(Run({a, b, "--align", "none", "--channels", "x", "--oscillation", "x", "--no-plot", "--out",
+                 dir_ + "/f"}, &out), 0) << out;
+  nlohmann::json j = ReadJson(dir_ + "/f/compare.json");
+  EXPECT_FALSE(j["channels"][0]["oscillation"]["a"]["found"].get<bool>()) << out;
+  EXPECT_NE(j["channels"][0]["oscillation"]["a"]["why"].get<std::string>().find("flat"), std::string::npos);
+  EXPECT_NE(j["coherence"]["detail"].get<std::string>().find("cannot be told"), std::string::npos);
+
+  Damped small;
+  small.amp = 1e-4;
+  Noise noise(0.02, 7);
+  const std::string sa = WriteLog(dir_, "sa.csv", [&](double t) { return small(t); });
+  const std::string sb = WriteLog(dir_, "sb.csv", [&](double t) { return small(t) + noise(); });
+  ASSERT_EQ(Run({sa, sb, "--align", "none", "--channels", "x", "--oscillation", "x", "--no-plot", "--out",
+                 dir_ + "/n"}, &out), 0) << out;
+  j = ReadJson(dir_ + "/n/compare.json");
+  EXPECT_FALSE(j["channels"][0]["oscillation"]["a"]["found"].get<bool>()) << out;
+  EXPECT_NE(j["channels"][0]["oscillation"]["a"]["why"].get<std::string>().find("within the noise of the channel in B"),
+            std::string::npos) << j.dump();
+}
+
 }  // namespace
 }  // namespace ohrp::compare

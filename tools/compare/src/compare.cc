@@ -9,6 +9,7 @@
 #include <set>
 
 #include "cli/plausible.h"
+#include "compare/coherence.h"
 #include "compare/signal.h"
 
 namespace ohrp::compare {
@@ -76,6 +77,20 @@ bool EventTime(const std::string& summary, const std::string& log, const std::st
   *error = summary + ": no event '" + name + "' (it has: " +
            Join(std::vector<std::string>(names.begin(), names.end())) + ")";
   return false;
+}
+
+// An oscillation of one log whose first swing is within 6 noise sigma of the other log's channel
+// could not be seen in the other: not reported (a simulation's micro-rocking against a robot's
+// noisy sensor)
+void DropBelowTheOthersNoise(Oscillation* o, double other_noise, const char* other) {
+  if (!o->found || o->amplitude > 3 * other_noise) return;  // amplitude: half the first swing
+  char buf[200];
+  std::snprintf(buf, sizeof(buf), "its swing (%.3g) is within the noise of the channel in %s (6 sigma: %.3g)",
+                2 * o->amplitude, other, 6 * other_noise);
+  const double noise = o->noise;
+  *o = Oscillation{};
+  o->noise = noise;
+  o->why = buf;
 }
 
 }  // namespace
@@ -150,12 +165,14 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
     const std::string ch = align.substr(6);
     if (!check_channel(ch, "--align")) return kExitUsage;
     std::string why;
-    if (!CrossCorrelationLag(tA, a.col(a.Column(ch)), tB, b.col(b.Column(ch)), 0.0, o.max_lag,
-                             &out->lag, &why)) {
+    std::vector<double> tw, xw;  // A within [from, to]: only the window pulls the lag
+    Slice(tA, a.col(a.Column(ch)), o.from, o.to, &tw, &xw);
+    if (!CrossCorrelationLag(tw, xw, tB, b.col(b.Column(ch)), 0.0, o.max_lag, &out->lag, &why)) {
       *error = "--align " + align + ": " + why;
       return kExitUsage;
     }
-    out->align_detail = "cross-correlation of " + ch;
+    out->align_detail = "cross-correlation of " + ch +
+                        (std::isfinite(o.from) || std::isfinite(o.to) ? " within the window" : "");
   } else if (align.rfind("event:", 0) == 0) {
     const std::string ev = align.substr(6);
     const size_t op = ev.find_first_of("<>");
@@ -214,6 +231,8 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
 
   //---- per channel
   out->channels.clear();
+  std::vector<double> wt, wa, wb;  // A's times and values in the window, B's aligned to them
+  for (size_t i : rows) wt.push_back(tA[i]);
   for (const auto& n : channels) {
     ChannelResult r;
     r.name = n;
@@ -234,12 +253,22 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
       }
     }
     const double count = static_cast<double>(rows.size());
+    wa.clear();
+    wb.clear();
+    cursor = 0;
+    for (size_t i : rows) {
+      wa.push_back(xa[i]);
+      wb.push_back(Interpolate(tB, xb, tA[i] + out->lag, &cursor));
+    }
+    r.correlation = Correlation(wa, wb);
+    r.moves_a = Moves(wa);
+    r.moves_b = Moves(wb);
     r.rms = std::sqrt(s2 / count);
     r.bias = sum / count;
     r.rms_a = std::sqrt(sa2 / count);
     std::string why;
     double lag = 0;
-    if (CrossCorrelationLag(tA, xa, tB, xb, out->lag, 0.25, &lag, &why)) {
+    if (CrossCorrelationLag(wt, wa, tB, xb, out->lag, 0.25, &lag, &why)) {
       r.has_lag = true;
       r.lag = lag;
     }
@@ -247,8 +276,27 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
       r.oscillating = true;
       r.osc_a = AnalyseOscillation(tA, xa, out->from, out->to);
       r.osc_b = AnalyseOscillation(tB, xb, out->from + out->lag, out->to + out->lag);
+      DropBelowTheOthersNoise(&r.osc_a, r.osc_b.noise, "B");
+      DropBelowTheOthersNoise(&r.osc_b, r.osc_a.noise, "A");
     }
     out->channels.push_back(std::move(r));
+  }
+
+  //---- the same experiment?
+  std::vector<std::string> names;
+  std::vector<double> correlation;
+  std::vector<bool> moving;
+  for (const auto& r : out->channels) {
+    names.push_back(r.name);
+    correlation.push_back(r.correlation);
+    moving.push_back(r.moves_a && r.moves_b);
+  }
+  out->coherence = JudgeCoherence(names, correlation, moving, o.min_coherence);
+  if (!out->coherence.same) {
+    *error = "the logs do not hold the same experiment: " + out->coherence.detail +
+             " (the alignment: " + out->align_detail + "; other --from/--to or --align, or "
+             "--min-coherence 0 to compare anyway)";
+    return kExitDifferent;
   }
   return kExitOk;
 }
@@ -286,11 +334,20 @@ nlohmann::json ToJson(const CompareOptions& o, const Comparison& c) {
   j["alignment"] = c.align_detail;
   j["window"] = {c.from, c.to};
   j["samples"] = c.samples;
+  j["same_experiment"] = c.coherence.same;
+  j["coherence"] = {{"moving_channels", c.coherence.moving},
+                    {"median_correlation", std::isnan(c.coherence.median) ? nlohmann::json(nullptr)
+                                                                          : nlohmann::json(c.coherence.median)},
+                    {"threshold", o.min_coherence},
+                    {"detail", c.coherence.detail}};
   nlohmann::json ch = nlohmann::json::array();
   for (const auto& r : c.channels) {
     nlohmann::json e = {{"name", r.name}, {"rms", r.rms},           {"peak", r.peak},
                         {"peak_time", r.peak_time}, {"bias", r.bias}, {"rms_a", r.rms_a}};
     e["lag"] = r.has_lag ? nlohmann::json(r.lag) : nlohmann::json(nullptr);
+    e["alignment_lag"] = c.lag;  // the lag B was compared at
+    e["correlation"] = std::isnan(r.correlation) ? nlohmann::json(nullptr) : nlohmann::json(r.correlation);
+    e["moves"] = {{"a", r.moves_a}, {"b", r.moves_b}};
     if (r.oscillating) {
       e["oscillation"] = {{"a", OscJson(r.osc_a)}, {"b", OscJson(r.osc_b)}};
       if (r.osc_a.found && r.osc_b.found) {
@@ -310,14 +367,19 @@ std::string Table(const Comparison& c) {
   std::snprintf(buf, sizeof(buf), "alignment: %s; lag of B behind A %.4f s; window [%.3f, %.3f] s of A (%zu rows)\n\n",
                 c.align_detail.c_str(), c.lag, c.from, c.to, c.samples);
   s += buf;
-  std::snprintf(buf, sizeof(buf), "%-28s %12s %12s %9s %12s %12s %10s\n", "channel", "rms(B-A)",
-                "peak(B-A)", "at [s]", "mean(B-A)", "rms(A-mean)", "lag [s]");
+  s += "same experiment: " + std::string(c.coherence.same ? "yes" : "NO") + " (" + c.coherence.detail + ")\n";
+  s += "every channel is compared at that lag; 'lag' is its own by cross-correlation, 'corr' its\n"
+       "correlation with the aligned B ('-': flat), 'moves' whether it moves above its noise in A, B\n\n";
+  std::snprintf(buf, sizeof(buf), "%-28s %12s %12s %9s %12s %12s %10s %7s %5s\n", "channel", "rms(B-A)",
+                "peak(B-A)", "at [s]", "mean(B-A)", "rms(A-mean)", "lag [s]", "corr", "moves");
   s += buf;
   for (const auto& r : c.channels) {
-    char lag[32] = "-";
+    char lag[32] = "-", corr[32] = "-";
     if (r.has_lag) std::snprintf(lag, sizeof(lag), "%.4f", r.lag);
-    std::snprintf(buf, sizeof(buf), "%-28s %12.5g %12.5g %9.3f %12.5g %12.5g %10s\n", r.name.c_str(),
-                  r.rms, r.peak, r.peak_time, r.bias, r.rms_a, lag);
+    if (!std::isnan(r.correlation)) std::snprintf(corr, sizeof(corr), "%.3f", r.correlation);
+    const std::string moves = std::string(r.moves_a ? "A" : "-") + (r.moves_b ? "B" : "-");
+    std::snprintf(buf, sizeof(buf), "%-28s %12.5g %12.5g %9.3f %12.5g %12.5g %10s %7s %5s\n", r.name.c_str(),
+                  r.rms, r.peak, r.peak_time, r.bias, r.rms_a, lag, corr, moves.c_str());
     s += buf;
   }
   bool any = false;

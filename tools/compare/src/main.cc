@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
       ->check(ohrp::cli::Plausible("time"));
   app.add_option("--max-lag", o.max_lag, "[s] cross-correlation searches lags within +- this")
       ->capture_default_str()->check(ohrp::cli::Plausible("duration"));
+  app.add_option("--min-coherence", o.min_coherence,
+                 "the median correlation (A against the aligned B) of the channels that move in "
+                 "both logs below which they are not the same experiment (exit 1); 0 compares anyway")
+      ->capture_default_str()->check(ohrp::cli::Plausible("fraction"));
   app.add_option("--summary-a", o.summary_a, "summary JSON of A for event:NAME (default: sim_summary.json or summary.json beside A)")
       ->check(CLI::ExistingFile);
   app.add_option("--summary-b", o.summary_b, "summary JSON of B for event:NAME (e.g. hw_driver --summary)")
@@ -74,7 +78,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Every number, of the options and of the logs' times, is checked against its plausible\n"
       "range (cli/plausible.h) before anything is compared.\n"
-      "Exit codes: 0 compared, 2 bad option or input (a missing or malformed log, a time outside\n"
+      "Exit codes: 0 compared, 1 the logs do not hold the same experiment (the figures are still\n"
+      "printed and written), 2 bad option or input (a missing or malformed log, a time outside\n"
       "its plausible range, no common channel, an unknown channel, an alignment that cannot be\n"
       "done, an empty window), 3 the output cannot be written. docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
@@ -96,9 +101,10 @@ int main(int argc, char** argv) {
 
   ohrp::compare::Comparison c;
   std::string error;
-  if (const int code = ohrp::compare::Compare(o, &c, &error); code != 0) {
+  const int verdict = ohrp::compare::Compare(o, &c, &error);
+  if (verdict != 0 && verdict != ohrp::compare::kExitDifferent) {
     std::fprintf(stderr, "ohrp_compare_logs: %s\n", error.c_str());
-    return code;
+    return verdict;
   }
   std::printf("A: %s (%s)\nB: %s (%s)\n%s", o.a.c_str(), o.label_a.c_str(), o.b.c_str(),
               o.label_b.c_str(), ohrp::compare::Table(c).c_str());
@@ -137,6 +143,10 @@ int main(int argc, char** argv) {
     } else {
       std::printf("wrote %s\n", png.c_str());
     }
+  }
+  if (verdict == ohrp::compare::kExitDifferent) {
+    std::fprintf(stderr, "ohrp_compare_logs: FAILED: %s\n", error.c_str());
+    return verdict;
   }
   return 0;
 }

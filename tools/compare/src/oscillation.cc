@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "compare/signal.h"
 
@@ -87,6 +88,16 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
     hi = std::max(hi, x[i]);
   }
   o.noise = NoiseSigma(x, b, e);
+  // a swing below a millionth of the channel's magnitude is numerical (the solver's, the log's
+  // nine digits), not motion: a standing robot's torque flat to 1e-7 N m makes no oscillation
+  const double magnitude = std::max(std::fabs(lo), std::fabs(hi));
+  if (!(hi - lo > 1e-6 * magnitude)) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), "the channel is flat in the window: its range %.3g is below a millionth of its magnitude %.3g",
+                  hi - lo, magnitude);
+    o.why = buf;
+    return o;
+  }
   const double thr = std::max(6 * o.noise, 0.02 * (hi - lo));
   if (!(hi - lo > 2 * thr)) {
     o.why = "no swing above the noise in the window";
