@@ -115,6 +115,9 @@ bool Measure(const datalog::Table& log, const std::string& path, const std::stri
 }
 
 // a least-squares line y = a + b x through the points; returns b and sets *a
+// the damping ratio of a log decrement (per period)
+double ZetaOf(double delta) { return delta / std::sqrt(4 * M_PI * M_PI + delta * delta); }
+
 double Line(const std::vector<double>& x, const std::vector<double>& y, double* a) {
   double mx = 0, my = 0;
   for (size_t i = 0; i < x.size(); ++i) {
@@ -250,13 +253,12 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
       if (cnt > 0) q.emplace_back(name.substr(2), s / cnt);
     }
     if (!GeometryAt(model->m(), q, p, geo, error)) return false;
-    const auto zeta_of = [](double delta) { return delta / std::sqrt(4 * M_PI * M_PI + delta * delta); };
-    if (!InvertRocking(*geo, p, 2 * M_PI * r->f, zeta_of(r->delta), &e->k, &e->d, error)) return false;
+    if (!InvertRocking(*geo, p, 2 * M_PI * r->f, ZetaOf(r->delta), &e->k, &e->d, error)) return false;
     // standard errors: the measurement's, through the inversion (one-sided differences)
     double k1 = 0, d1 = 0, k2 = 0, d2 = 0;
     std::string ignore;
-    InvertRocking(*geo, p, 2 * M_PI * (r->f + r->f_se), zeta_of(r->delta), &k1, &d1, &ignore);
-    InvertRocking(*geo, p, 2 * M_PI * r->f, zeta_of(r->delta + r->delta_se), &k2, &d2, &ignore);
+    InvertRocking(*geo, p, 2 * M_PI * (r->f + r->f_se), ZetaOf(r->delta), &k1, &d1, &ignore);
+    InvertRocking(*geo, p, 2 * M_PI * r->f, ZetaOf(r->delta + r->delta_se), &k2, &d2, &ignore);
     e->k_se = std::hypot(k1 - e->k, k2 - e->k);
     e->d_se = std::hypot(d1 - e->d, d2 - e->d);
     return true;
@@ -284,35 +286,43 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
   say(Fmt("(a) closed form (mass %.2f kg, Iyy %.2f kg m^2, CoM %.3f m above the soles): ", geo.mass,
           geo.Iyy, geo.com_height) +
       Fmt("K %.4g +- %.2g N/m, D %.4g +- %.2g s/m", ka, r->closed_form.k_se, da, r->closed_form.d_se));
-  std::vector<double> ks, fs;
+  // the squared frequency against K: the rocking mode's omega^2 is affine in the soles'
+  // stiffness (the rotational spring K w l^2 less gravity's m g h, over the inertia), so a line
+  // through three runs is exact up to the damping's small share; f itself is concave in K, and
+  // a line of f put K_b 0.2-0.9 % high (issue 35)
+  std::vector<double> ks, f2s;
   for (size_t i = 0; i < kd.size(); ++i) {
     ks.push_back(kd[i].first);
-    fs.push_back(k_runs[i].osc.frequency);
+    f2s.push_back(k_runs[i].osc.frequency * k_runs[i].osc.frequency);
   }
-  double fa = 0;
-  const double dfdk = Line(ks, fs, &fa);
-  if (!(dfdk > 0)) {
+  double f2a = 0;
+  const double df2dk = Line(ks, f2s, &f2a);
+  if (!(df2dk > 0)) {
     *error = "the simulated frequency does not grow with K around the estimate: cannot refine";
     return kFailed;
   }
-  const double kb = (r->f - fa) / dfdk;
+  const double kb = (r->f * r->f - f2a) / df2dk;
   kd.clear();
   for (double s : {1 - 2 * o.step, 1.0, 1 + 2 * o.step}) kd.emplace_back(kb, da * s);
   std::vector<Measured> d_runs;
   if (!simulate("d", kd, &d_runs)) return kFailed;
-  std::vector<double> ds, dels;
+  // the damping ratio against D: zeta is proportional to the damping of the linearised soles
+  // (b = D k w delta), which the log decrement is not (delta = 2 pi zeta / sqrt(1 - zeta^2))
+  std::vector<double> ds, zetas;
   for (size_t i = 0; i < kd.size(); ++i) {
     ds.push_back(kd[i].second);
-    dels.push_back(d_runs[i].osc.log_decrement);
+    zetas.push_back(ZetaOf(d_runs[i].osc.log_decrement));
   }
-  double dela = 0;
-  const double ddeldd = Line(ds, dels, &dela);
-  if (!(ddeldd > 0)) {
+  double zeta_a = 0;
+  const double dzdd = Line(ds, zetas, &zeta_a);
+  if (!(dzdd > 0)) {
     *error = "the simulated decay does not grow with D around the estimate: cannot refine";
     return kFailed;
   }
-  const double db = (r->delta - dela) / ddeldd;
-  r->refined = {kb, r->f_se / dfdk, db, r->delta_se / ddeldd};
+  const double db = (ZetaOf(r->delta) - zeta_a) / dzdd;
+  // standard errors through the lines: d(f^2) = 2 f df, d zeta / d delta = 4 pi^2 / (4 pi^2 + delta^2)^1.5
+  const double dzeta_ddelta = 4 * M_PI * M_PI / std::pow(4 * M_PI * M_PI + r->delta * r->delta, 1.5);
+  r->refined = {kb, 2 * r->f * r->f_se / df2dk, db, dzeta_ddelta * r->delta_se / dzdd};
 
   //---- (c) the run at the refined K, D against the recording
   std::vector<Measured> final_run;
