@@ -306,6 +306,7 @@ namespace {
 nlohmann::json OscJson(const Oscillation& o) {
   if (!o.found) return {{"found", false}, {"why", o.why}};
   return {{"found", true},
+          {"method", o.method},
           {"frequency", o.frequency},
           {"frequency_se", o.frequency_se},
           {"natural_frequency", o.natural_frequency},

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "compare/damped_fit.h"
 #include "compare/signal.h"
 
 namespace ohrp::compare {
@@ -71,6 +72,46 @@ bool Vertex(const std::vector<double>& t, const std::vector<double>& x, size_t l
   return true;
 }
 
+// the figures of a damped sine fitted to [b, e) (damped_fit.h, from GridStart), reported with the
+// regular extrema `te`, `xe` (at least one); *o unchanged but its `why` when the fit fails
+void FromFit(const std::vector<double>& t, const std::vector<double>& x, size_t b, size_t e,
+             const std::vector<double>& te, const std::vector<double>& xe, Oscillation* o) {
+  double sigma0 = 0, omega0 = 0;
+  if (!GridStart(t, x, b, e, &sigma0, &omega0)) {
+    o->why += "; no start for a damped sine in the window";
+    return;
+  }
+  const DampedFit fit = FitDampedSine(t, x, b, e, sigma0, omega0);
+  if (!fit.ok || fit.explained < 0.5) {
+    o->why += "; a damped sine fitted to the window: " +
+              (fit.ok ? std::string("it explains under half of the signal") : fit.why);
+    return;
+  }
+  const double td = 2 * M_PI / fit.omega;
+  o->found = true;
+  o->method = "fit";
+  o->why.clear();
+  o->extrema = static_cast<int>(te.size());
+  o->first = t[b];
+  o->last = t[e - 1];
+  o->frequency = fit.omega / (2 * M_PI);
+  o->frequency_se = fit.omega_se / (2 * M_PI);
+  o->sigma = fit.sigma;
+  o->sigma_se = fit.sigma_se;
+  o->log_decrement = fit.sigma * td;
+  // delta = 2 pi sigma / omega: its variance through the fit's covariance of sigma and omega
+  const double ds = 2 * M_PI / fit.omega, dw = -2 * M_PI * fit.sigma / (fit.omega * fit.omega);
+  o->log_decrement_se = std::sqrt(std::max(0.0, ds * ds * fit.sigma_se * fit.sigma_se +
+                                                    dw * dw * fit.omega_se * fit.omega_se +
+                                                    2 * ds * dw * fit.cov_sigma_omega));
+  o->decay_ratio = std::exp(-o->log_decrement);
+  o->damping_ratio = o->log_decrement / std::sqrt(4 * M_PI * M_PI + o->log_decrement * o->log_decrement);
+  o->natural_frequency = o->frequency / std::sqrt(1 - o->damping_ratio * o->damping_ratio);
+  o->amplitude = std::hypot(fit.a, fit.b);
+  o->extremum_times = te;
+  o->extremum_values = xe;
+}
+
 }  // namespace
 
 Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<double>& x,
@@ -134,6 +175,14 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
   if (!idx.empty() && idx.front() <= b + 1) idx.erase(idx.begin());  // the window's edge
   if (idx.size() < 4) {
     o.why = "found " + std::to_string(idx.size()) + " extrema above the noise (need 4)";
+    if (!idx.empty()) {  // damped heavily: the fit (below)
+      std::vector<double> te, xe;
+      for (size_t i : idx) {
+        te.push_back(t[i]);
+        xe.push_back(x[i]);
+      }
+      FromFit(t, x, b, e, te, xe, &o);
+    }
     return o;
   }
 
@@ -158,12 +207,13 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
   // of the median one and each swing is above 16 noise sigma (in the tail, where the swings
   // sink into the noise, an extremum's time is noise's and one spurious extremum would shift
   // every index after it)
+  double g = 0;  // the median half period
   {
     std::vector<double> half_periods;
     for (size_t i = 0; i + 1 < te.size(); ++i) half_periods.push_back(te[i + 1] - te[i]);
     std::nth_element(half_periods.begin(), half_periods.begin() + half_periods.size() / 2,
                      half_periods.end());
-    const double g = half_periods[half_periods.size() / 2];
+    g = half_periods[half_periods.size() / 2];
     size_t keep = 1;
     while (keep < te.size() && std::fabs(te[keep] - te[keep - 1] - g) < 0.25 * g &&
            std::fabs(xe[keep] - xe[keep - 1]) > 16 * o.noise)
@@ -172,7 +222,10 @@ Oscillation AnalyseOscillation(const std::vector<double>& t, const std::vector<d
     xe.resize(keep);
   }
   if (te.size() < 4) {
+    // damped too heavily for the extrema (soles with a damping ratio of 0.2 and more): a damped
+    // sine fitted to the window, started from what the extrema say
     o.why = "found " + std::to_string(te.size()) + " regular extrema above the noise (need 4)";
+    if (!te.empty()) FromFit(t, x, b, e, te, xe, &o);
     return o;
   }
 

@@ -15,7 +15,10 @@
 //   log decrement delta = sigma T_d (per period), decay ratio exp(-delta) (amplitude ratio of
 //   one period to the previous), damping ratio zeta = delta / sqrt(4 pi^2 + delta^2), natural
 //   frequency f_n = f_d / sqrt(1 - zeta^2).
-// The standard errors come from the two fits' residuals. At least 4 extrema are needed.
+// The standard errors come from the two fits' residuals. At least 4 extrema are needed; with 1
+// to 3 (an oscillation damped so heavily that fewer swings stand above the noise) a damped sine
+// is fitted to the window instead (damped_fit.h; `method` "fit"), started from their spacing
+// and ratio, and accepted when it converges decaying and explains at least half the signal.
 #pragma once
 
 #include <string>
@@ -26,6 +29,7 @@ namespace ohrp::compare {
 struct Oscillation {
   bool found = false;
   std::string why;               // when not found: what was missing
+  std::string method = "extrema";  // or "fit": a damped sine fitted (heavily damped)
   int extrema = 0;               // used in the fits
   double first = 0, last = 0;    // [s] times of the first and last extremum used
   double frequency = 0;          // damped frequency f_d [Hz]
