@@ -15,6 +15,7 @@
 #include "robot_model/model.h"
 #include "runner/checks.h"
 #include "runner/scenario.h"
+#include "recording_checks.h"
 #include "simulate.h"
 
 namespace ohrp::identify {
@@ -187,6 +188,9 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
   r->noise = compare::NoiseSigma(rx);
   r->from = push_end + o.settle;
   r->to = r->from + o.window;
+  // rows across the experiment (the push, the window, the lags searched)
+  if (!CheckTimeBase(rec.col(rec.Column("time")), push_end - 1.0, r->to + 2.0, o.recording, error))
+    return kUsage;
 
   //---- the simulated experiment at sim_host's default soles: where the recording's window is
   // each stage's runs are one sweep (simulate.h), measured as the recording is
@@ -226,7 +230,9 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
       return false;
     }
     Measured recorded;
-    if (!Measure(rec, o.recording, o.channel, r->from + r->lag, r->to + r->lag, &recorded, error))
+    if (!Measure(rec, o.recording, o.channel, r->from + r->lag, r->to + r->lag, &recorded, error) ||
+        !CheckSwing(recorded.osc.amplitude, sim.osc.amplitude, r->from + r->lag, r->to + r->lag,
+                    o.recording, error))
       return false;
     r->f = recorded.osc.frequency;
     r->f_se = recorded.osc.frequency_se;
