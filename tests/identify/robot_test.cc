@@ -321,6 +321,11 @@ TEST(IdentifySimulated, RecoversTheSolesOfANoisySimulatedRecordingThroughSweeps)
   // aligned again on a run at the recording's frequency: the true lag, 0, to a tenth of the
   // 2 ms sample (the first alignment may be a fraction of a period off)
   EXPECT_NEAR(j["lag"].get<double>(), 0.0, 0.002) << "first alignment: " << j["first"]["lag"];
+  // the stated uncertainty covers the error (issue 35: it was the measurement's standard error,
+  // 5-40 times smaller than the errors): within 3 stated sigma of the truth
+  EXPECT_LT(std::fabs(j["refined"]["k"].get<double>() - kStiffness), 3 * j["refined"]["k_se"].get<double>());
+  EXPECT_LT(std::fabs(j["refined"]["d"].get<double>() - kDamping), 3 * j["refined"]["d_se"].get<double>());
+  EXPECT_GT(j["noise_spread"]["frequency"].get<double>(), 0);
   if (!HasFailure()) fs::remove_all(dir);  // kept for a look otherwise
 }
 

@@ -15,6 +15,7 @@
 #include "robot_model/model.h"
 #include "runner/checks.h"
 #include "runner/scenario.h"
+#include "noise_spread.h"
 #include "recording_checks.h"
 #include "simulate.h"
 
@@ -346,6 +347,20 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
     ++cnt;
   }
   r->final_rms = cnt ? std::sqrt(s2 / cnt) : NAN;
+  // (d) the uncertainty one recording leaves: the final run's channel (which matches the
+  // recording) under 40 draws of the recording's noise, measured as the recording is; its spread
+  // of f and delta through the same lines, beside the measurement's standard errors (the larger
+  // is stated)
+  const Spread spread = NoiseSpread(fin.t, fin.x, r->from, r->to, r->noise);
+  if (spread.measured >= 2) {
+    const double f_sd = std::max(r->f_se, spread.f_sd), delta_sd = std::max(r->delta_se, spread.delta_sd);
+    r->refined.k_se = 2 * r->f * f_sd / df2dk;
+    r->refined.d_se = dzeta_ddelta * delta_sd / dzdd;
+    r->spread_f = spread.f_sd;
+    r->spread_delta = spread.delta_sd;
+    say(Fmt("(d) the recording's noise alone moves f by %.4f Hz and delta by %.4f (1 sigma, %g draws)",
+            spread.f_sd, spread.delta_sd, spread.measured));
+  }
   say(Fmt("(b) refined: K %.4g +- %.2g N/m, D %.4g +- %.2g s/m", kb, r->refined.k_se, db, r->refined.d_se));
   say(Fmt("(c) at the refined K, D: f %.4f Hz (recording %.4f), log decrement %.4f (%.4f)", r->final_f,
           r->f, r->final_delta, r->delta) +

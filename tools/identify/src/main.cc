@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
                       {"d", r.closed_form.d}, {"d_se", r.closed_form.d_se}};
   j["refined"] = {{"k", r.refined.k}, {"k_se", r.refined.k_se}, {"d", r.refined.d},
                   {"d_se", r.refined.d_se}};
+  j["noise_spread"] = {{"frequency", r.spread_f}, {"log_decrement", r.spread_delta}};
   j["final"] = {{"frequency", r.final_f}, {"log_decrement", r.final_delta}, {"rms", r.final_rms}};
   j["runs"] = r.runs;
   j["sweeps"] = r.sweeps;

@@ -56,7 +56,9 @@ struct IdentifyResult {
   double from = 0, to = 0;          // the simulation's window [s]
   double f = 0, f_se = 0, delta = 0, delta_se = 0;  // the recording's oscillation
   Estimate closed_form;             // (a), on the recording aligned again (lag)
-  Estimate refined;                 // (b), (c)
+  Estimate refined;                 // (b), (c); its k_se, d_se from the larger of the
+                                    // measurement's standard errors and the noise's spread (d)
+  double spread_f = 0, spread_delta = 0;  // (d) what the recording's noise alone moves f, delta
   double final_f = 0, final_delta = 0, final_rms = 0;  // the run at the refined K, D
   nlohmann::json runs = nlohmann::json::array();      // every simulation: K, D, f, delta, dir
   nlohmann::json sweeps = nlohmann::json::array();    // every stage's sweep: folder, wall time
