@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "cli/command_line.h"
+#include "contact/params_file.h"
 #include "sim_host/host.h"
 
 int main(int argc, char** argv) {
@@ -47,6 +48,11 @@ int main(int argc, char** argv) {
   app.add_option("--contact-tangential-damping", cp.tangential_damping,
                  "soft: shear damping of one sole while it sticks [N s/m]")
       ->capture_default_str()->check(ohrp::cli::Plausible("sole_damping"));
+  app.add_option("--contact-file", o.contact_file,
+                 "soft: the soles' parameters from a file (contact_params: {stiffness: ..., "
+                 "damping: ...}, as `ohrp identify` writes DIR/soles.yaml); a --contact-* option "
+                 "given as well wins")
+      ->check(CLI::ExistingFile);
   std::vector<std::string> pushes;
   app.add_option("--push", pushes,
                  "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
@@ -132,6 +138,27 @@ int main(int argc, char** argv) {
       "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (!o.contact_file.empty()) {
+    // the file's values, except where a --contact-* option was given as well
+    ohrp::contact::SoftContactParams from_file = cp;
+    std::vector<std::string> keys;
+    std::string error;
+    if (!ohrp::contact::ReadContactFile(o.contact_file, &from_file, &keys, &error)) {
+      std::fprintf(stderr, "sim_host: --contact-file: %s\n", error.c_str());
+      return ohrp::sim::kExitUsage;
+    }
+    for (const std::string& k : keys) {
+      std::string flag = "--contact-" + k;
+      for (char& c : flag) c = c == '_' ? '-' : c;
+      if (app.count(flag) > 0) continue;
+      if (k == "stiffness") cp.stiffness = from_file.stiffness;
+      if (k == "exponent") cp.exponent = from_file.exponent;
+      if (k == "damping") cp.damping = from_file.damping;
+      if (k == "friction") cp.friction = from_file.friction;
+      if (k == "tangential_stiffness") cp.tangential_stiffness = from_file.tangential_stiffness;
+      if (k == "tangential_damping") cp.tangential_damping = from_file.tangential_damping;
+    }
+  }
   if (std::string error; !ohrp::sim::ParseCameraSize(camera_size, &o.cameras.width,
                                                       &o.cameras.height, &error)) {
     std::fprintf(stderr, "sim_host: --camera-size: %s\n", error.c_str());

@@ -185,6 +185,16 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const model::Ro
   j["integrator"] = IntegratorName(m->opt.integrator);
   j["mode"] = o.realtime ? "realtime" : "lockstep";
   j["contact"] = st.contact;
+  if (st.contact == "soft") {
+    const auto& cp = o.feet.params;
+    j["contact_params"] = {{"stiffness", cp.stiffness},
+                           {"exponent", cp.exponent},
+                           {"damping", cp.damping},
+                           {"friction", cp.friction},
+                           {"tangential_stiffness", cp.tangential_stiffness},
+                           {"tangential_damping", cp.tangential_damping}};
+    j["contact_file"] = o.contact_file;
+  }
   j["fcl_queries"] = st.fcl_queries;
   j["contact_pairs"] = st.contact_pairs;
   j["contact_pairs_bounded"] = st.contact_pairs_bounded;

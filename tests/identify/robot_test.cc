@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "contact/params.h"  // sim_host's default soles: the first simulation's
+#include "contact/params_file.h"
 #include "../controllers/fake_robot.h"  // Spawn, WaitExit, Program, TempPath, ReadFile
 
 namespace ohrp::identify {
@@ -326,6 +327,17 @@ TEST(IdentifySimulated, RecoversTheSolesOfANoisySimulatedRecordingThroughSweeps)
   EXPECT_LT(std::fabs(j["refined"]["k"].get<double>() - kStiffness), 3 * j["refined"]["k_se"].get<double>());
   EXPECT_LT(std::fabs(j["refined"]["d"].get<double>() - kDamping), 3 * j["refined"]["d_se"].get<double>());
   EXPECT_GT(j["noise_spread"]["frequency"].get<double>(), 0);
+  // the soles as sim_host --contact-file takes them, and the rocking closer to the recording at
+  // them than at sim_host's default soles (issue 35, item 4)
+  contact::SoftContactParams soles;
+  std::vector<std::string> keys;
+  std::string error;
+  ASSERT_TRUE(contact::ReadContactFile(dir + "/id/soles.yaml", &soles, &keys, &error)) << error;
+  EXPECT_NEAR(soles.stiffness, j["refined"]["k"].get<double>(), 1e-8 * kStiffness);
+  EXPECT_NEAR(soles.damping, j["refined"]["d"].get<double>(), 1e-8 * kDamping);
+  EXPECT_LT(j["final"]["rms"].get<double>(), 0.5 * j["final"]["rms_nominal"].get<double>());
+  std::printf("[ figures  ] RMS of recording - simulation over the window: %.4g at the default soles, "
+              "%.4g at the identified ones\n", j["final"]["rms_nominal"].get<double>(), j["final"]["rms"].get<double>());
   if (!HasFailure()) fs::remove_all(dir);  // kept for a look otherwise
 }
 

@@ -121,5 +121,34 @@ TEST_F(SimHostProcess, LogMaxBoundsTheLogAndSaysHowManyRowsItLeftOut) {
   EXPECT_NE(Stderr().find("--log-max: '20X'"), std::string::npos) << Stderr();
 }
 
+// --contact-file: the soles of a file (as `ohrp identify` writes DIR/soles.yaml) reach the run
+// (the summary's contact_params); a --contact-* option given as well wins; a bad file exits 2
+// naming the file, the line and the key, before anything runs
+TEST_F(SimHostProcess, AContactFileSetsTheSolesAndAnOptionGivenAsWellWins) {
+  scene_ = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
+  const std::string file = ohrp::testing::ScratchPath("soles", ".yaml");
+  std::ofstream(file) << "# identified\ncontact_params:\n  stiffness: 2.0e6\n  damping: 45\n"
+                         "identified: {stiffness_se: 1.0e4, recording: robot.csv}\n";
+  const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
+  Start({"--contact", "soft", "--contact-file", file, "--contact-damping", "50", "--duration", "0.02",
+         "--wait-controller", "0", "--summary", summary});
+  ASSERT_EQ(Wait(30), 0) << Stderr();
+  const nlohmann::json j = ReadJson(summary);
+  EXPECT_EQ(j["contact_params"]["stiffness"].get<double>(), 2.0e6) << j.dump();
+  EXPECT_EQ(j["contact_params"]["damping"].get<double>(), 50.0);  // the option wins
+  EXPECT_EQ(j["contact_file"].get<std::string>(), file);
+
+  std::ofstream(file) << "contact_params:\n  stiffness: 2.0e6\n  damping: -45\n";
+  Start({"--contact", "soft", "--contact-file", file, "--duration", "0.02", "--wait-controller", "0"});
+  EXPECT_EQ(Wait(30), 2);
+  EXPECT_NE(Stderr().find(file + ":3: contact_params: damping: must be a number > 0, not -45"), std::string::npos)
+      << Stderr();
+  std::ofstream(file) << "contact_params:\n  stifness: 2.0e6\n";
+  Start({"--contact", "soft", "--contact-file", file, "--duration", "0.02", "--wait-controller", "0"});
+  EXPECT_EQ(Wait(30), 2);
+  EXPECT_NE(Stderr().find(file + ":2: contact_params: stifness: unknown key"), std::string::npos) << Stderr();
+  EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
+}
+
 }  // namespace
 }  // namespace ohrp::sim

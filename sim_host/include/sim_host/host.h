@@ -68,6 +68,7 @@ struct HostOptions {
                                    // nearest 5 ms (sim_host/period.h)
   std::string integrator;          // euler | rk4 | implicit; empty: the scene's
   FeetOptions feet;                // the contact under the soles (default: soft-foot)
+  std::string contact_file;        // where feet.params came from (--contact-file), or empty
   std::vector<Perturbation> pushes; // external pushes on the base (none by default)
   double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
   bool realtime = false;           // pace cycles to the wall clock

@@ -337,16 +337,21 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
   const Measured& fin = final_run[0];
   r->final_f = fin.osc.frequency;
   r->final_delta = fin.osc.log_decrement;
-  double s2 = 0;
-  int cnt = 0;
-  size_t cursor = 0;
-  for (size_t i = 0; i < fin.t.size(); ++i) {
-    if (fin.t[i] < r->from || fin.t[i] > r->to) continue;
-    const double dlt = compare::Interpolate(rt, rx, fin.t[i] + r->lag, &cursor) - fin.x[i];
-    s2 += dlt * dlt;
-    ++cnt;
-  }
-  r->final_rms = cnt ? std::sqrt(s2 / cnt) : NAN;
+  // the recording against a simulation over the window, aligned by the lag found
+  auto rms_against_recording = [&](const Measured& m) {
+    double s2 = 0;
+    int cnt = 0;
+    size_t cursor = 0;
+    for (size_t i = 0; i < m.t.size(); ++i) {
+      if (m.t[i] < r->from || m.t[i] > r->to) continue;
+      const double dlt = compare::Interpolate(rt, rx, m.t[i] + r->lag, &cursor) - m.x[i];
+      s2 += dlt * dlt;
+      ++cnt;
+    }
+    return cnt ? std::sqrt(s2 / cnt) : NAN;
+  };
+  r->final_rms = rms_against_recording(fin);
+  r->nominal_rms = rms_against_recording(nominal_run[0]);
   // (d) the uncertainty one recording leaves: the final run's channel (which matches the
   // recording) under 40 draws of the recording's noise, measured as the recording is; its spread
   // of f and delta through the same lines, beside the measurement's standard errors (the larger
@@ -364,7 +369,8 @@ int Identify(const IdentifyOptions& o, IdentifyResult* r, std::string* error) {
   say(Fmt("(b) refined: K %.4g +- %.2g N/m, D %.4g +- %.2g s/m", kb, r->refined.k_se, db, r->refined.d_se));
   say(Fmt("(c) at the refined K, D: f %.4f Hz (recording %.4f), log decrement %.4f (%.4f)", r->final_f,
           r->f, r->final_delta, r->delta) +
-      Fmt("; RMS of recording - simulation over the window %.4g", r->final_rms));
+      Fmt("; RMS of recording - simulation over the window %.4g (at sim_host's default soles %.4g)",
+          r->final_rms, r->nominal_rms));
   return kOk;
 }
 

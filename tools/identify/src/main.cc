@@ -11,6 +11,39 @@
 #include "sweep/executor_options.h"
 #include "tool_process/run_command.h"
 
+namespace {
+
+std::string G(double v, int digits = 9) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
+  return buf;
+}
+
+// DIR/soles.yaml: the identified soles as sim_host --contact-file takes them (contact/params_file.h),
+// with where they came from and the RMS before and after
+void WriteSolesFile(const ohrp::identify::IdentifyOptions& o, const ohrp::identify::IdentifyResult& r,
+                    const std::string& path) {
+  const auto quoted = [](const std::string& text) { return nlohmann::json(text).dump(); };
+  std::ofstream f(path);
+  f << "# The soles identified by ohrp identify. `sim_host --contact-file " << path << "` applies them\n"
+    << "# (in a scenario: sim_args [--contact-file, FILE], or the same keys under contact_params).\n"
+    << "contact_params:\n"
+    << "  stiffness: " << G(r.refined.k) << "  # [N/m] +- " << G(r.refined.k_se, 3) << "\n"
+    << "  damping: " << G(r.refined.d) << "  # [s/m] +- " << G(r.refined.d_se, 3) << "\n"
+    << "identified:\n"
+    << "  stiffness_se: " << G(r.refined.k_se, 6) << "\n"
+    << "  damping_se: " << G(r.refined.d_se, 6) << "\n"
+    << "  recording: " << quoted(o.recording) << "\n"
+    << "  scenario: " << quoted(o.scenario) << "\n"
+    << "  channel: " << quoted(o.channel) << "\n"
+    << "  window: [" << G(r.from, 6) << ", " << G(r.to, 6) << "]  # [s] of the simulations\n"
+    << "  rms_nominal: " << G(r.nominal_rms, 6) << "  # recording - simulation at sim_host's default soles\n"
+    << "  rms_identified: " << G(r.final_rms, 6) << "  # recording - simulation at the identified soles\n";
+  if (!f) std::fprintf(stderr, "ohrp_identify: cannot write %s\n", path.c_str());
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
   ohrp::identify::IdentifyOptions o;
@@ -89,10 +122,12 @@ int main(int argc, char** argv) {
   j["refined"] = {{"k", r.refined.k}, {"k_se", r.refined.k_se}, {"d", r.refined.d},
                   {"d_se", r.refined.d_se}};
   j["noise_spread"] = {{"frequency", r.spread_f}, {"log_decrement", r.spread_delta}};
-  j["final"] = {{"frequency", r.final_f}, {"log_decrement", r.final_delta}, {"rms", r.final_rms}};
+  j["final"] = {{"frequency", r.final_f}, {"log_decrement", r.final_delta}, {"rms", r.final_rms},
+                {"rms_nominal", r.nominal_rms}};
   j["runs"] = r.runs;
   j["sweeps"] = r.sweeps;
   std::ofstream(o.out_dir + "/identify.json") << j.dump(2) << "\n";
+  WriteSolesFile(o, r, o.out_dir + "/soles.yaml");
   // the paper's figure 12: the run at the identified K, D and the recording on the same axes
   // (ohrp_compare_logs, aligned by the lag found: DIR/compare/compare.png)
   const std::string compare = (fs::path(o.bin_dir) / "ohrp_compare_logs").string();

@@ -60,6 +60,8 @@ struct IdentifyResult {
                                     // measurement's standard errors and the noise's spread (d)
   double spread_f = 0, spread_delta = 0;  // (d) what the recording's noise alone moves f, delta
   double final_f = 0, final_delta = 0, final_rms = 0;  // the run at the refined K, D
+  double nominal_rms = 0;           // the recording against the nominal run (sim_host's default
+                                    // soles) over the window: the RMS before identification
   nlohmann::json runs = nlohmann::json::array();      // every simulation: K, D, f, delta, dir
   nlohmann::json sweeps = nlohmann::json::array();    // every stage's sweep: folder, wall time
 };
