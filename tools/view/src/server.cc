@@ -69,7 +69,12 @@ void PushFrames(websocket::stream<tcp::socket>& ws, Source* source) {
 }
 
 // live images: while this page is connected the source asks the producer for the camera
-// images; the newest image of each camera is sent when there is one (binary, source.h)
+// images. Only the newest images are ever sent, never a queue: after sending the newest image of
+// each camera that has a new one, the server waits for the page's answer to each (a message the
+// page sends once it has drawn the image) before it sends more; meanwhile newer images replace
+// older ones in the source. A slow page therefore gets the newest image when it is ready again
+// instead of a backlog queued in socket buffers (images ran seconds behind the robot). The send
+// buffer is kept small for the same reason.
 void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
   struct Watching {
     Source* s;
@@ -77,11 +82,12 @@ void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
     ~Watching() { s->WatchImages(-1); }
   } watching(source);
   ws.binary(true);
-  // the page never sends on this socket, and the server never pings it (a ping's pong would be
-  // something to read): anything readable (its close frame, EOF, an error) means it stopped
-  // watching; looked at every 0.2 s without reading (no read beside writes). A page that went
-  // away without a word fails the next image's write. The first image may take seconds (a
-  // producer may start its renderer only when asked): the socket stays open meanwhile.
+  ws.next_layer().set_option(boost::asio::socket_base::send_buffer_size(64 * 1024));
+  // the server never pings this socket. Between images, anything readable is the page's close
+  // (it sends nothing else then): looked at every 0.2 s without blocking, since the first image
+  // may take seconds (a producer may start its renderer only when asked) and the socket stays
+  // open meanwhile. While answers are awaited, read() blocks: a close frame throws, which ends
+  // this thread and the watch; a page that went away without a word fails a read or a write.
   auto page_done = [&] {
     pollfd p{ws.next_layer().native_handle(), POLLIN, 0};
     return ::poll(&p, 1, 0) != 0;
@@ -90,25 +96,36 @@ void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
   std::shared_ptr<const std::string> images[shm::kMaxCameras];
   while (!source->ended() && !page_done()) {
     if (!source->NewestImages(sent, 0.2, images)) continue;
+    int unanswered = 0;
     for (const auto& image : images)
-      if (image) ws.write(boost::asio::buffer(*image));
+      if (image) {
+        ws.write(boost::asio::buffer(*image));
+        ++unanswered;
+      }
+    for (; unanswered > 0; --unanswered) {
+      beast::flat_buffer answer;
+      ws.read(answer);
+    }
   }
   // returning closes the socket (and ends the watch)
 }
 
-// replay: answer each {"t": ...} with the frame at that time
+// replay: answer each {"t": ...} with the frame at that time, each {"column": NAME} with the
+// log column's curve
 void AnswerFrames(websocket::stream<tcp::socket>& ws, Source* source) {
   for (;;) {
     beast::flat_buffer buffer;
     ws.read(buffer);
-    double t = 0;
+    nlohmann::json answer;
     try {
-      t = nlohmann::json::parse(beast::buffers_to_string(buffer.data())).value("t", 0.0);
+      const nlohmann::json ask = nlohmann::json::parse(beast::buffers_to_string(buffer.data()));
+      answer = ask.contains("column") ? source->Column(ask.at("column").get<std::string>())
+                                      : source->FrameAt(ask.value("t", 0.0));
     } catch (const std::exception&) {
       continue;  // not ours: ignored
     }
-    const std::string frame = source->FrameAt(t).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    ws.write(boost::asio::buffer(frame));
+    const std::string text = answer.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    ws.write(boost::asio::buffer(text));
   }
 }
 

@@ -1,7 +1,9 @@
 // ohrp view's page: builds the scene from the server's description (geoms with world poses
 // computed by the server), places the robot's geoms on every frame, and plots the chosen joints
 // (q and qref), the ankle forces (Fz) and the ZMP against simulated time (docs/view.md).
-// URL options: ?joints=A,B,C  the joints plotted; ?t=T (replay) start paused at time T [s];
+// URL options: ?joints=A,B,C  the joints plotted; ?columns=A,B  log columns plotted in the last
+// panel (replay: any column of log.csv; live: q_J, qref_J, SENSOR_fz, zmp_x, zmp_y);
+// ?t=T (replay) start paused at time T [s];
 // ?window=S (live) seconds of history in the plots; ?images=1 (live) show the camera images
 // at once (otherwise the "camera images" box turns them on).
 'use strict';
@@ -22,7 +24,32 @@ const sun = new THREE.DirectionalLight(0xffffff, 0.6);
 sun.position.set(2, -3, 5);
 scene3.add(sun);
 const orbit = {azimuth: -0.6, elevation: 0.18, distance: 3.0, target: new THREE.Vector3(0, 0, 0.5)};
+let home = null;  // the framing of the robot (from its size in the first frame), for 'reset view'
 let moving = [];  // meshes of the robot's geoms, in the server's order
+
+// frames the robot from its size: the camera looks at the middle of its bounding box from far
+// enough that its height (and width) fills about 70 % of the view, with room to rise or bend
+function frameRobot() {
+  const box = new THREE.Box3();
+  for (const o of moving) if (o) box.expandByObject(o);
+  if (box.isEmpty()) return;
+  const size = box.getSize(new THREE.Vector3()), mid = box.getCenter(new THREE.Vector3());
+  const half = Math.tan(camera.fov * Math.PI / 360);  // tan of half the vertical field of view
+  const across = Math.max(size.z, Math.hypot(size.x, size.y) / Math.max(camera.aspect, 0.1));
+  home = {distance: Math.max(0.3, 0.5 * across / half / 0.7), z: mid.z};
+  resetView();
+  const d = stateEl.dataset;
+  d.frameTop = box.max.z; d.frameBottom = box.min.z; d.frameDistance = home.distance;
+}
+
+function resetView() {
+  if (!home) return;
+  orbit.azimuth = -0.6; orbit.elevation = 0.18;
+  orbit.distance = home.distance; orbit.target.z = home.z;
+  $('follow').checked = true;
+  if (lastBase) { orbit.target.x = lastBase[0]; orbit.target.y = lastBase[1]; }
+  render();
+}
 
 function placeCamera() {
   const o = orbit, c = Math.cos(o.elevation);
@@ -122,10 +149,15 @@ function makeGeom(g) {
     const floor = new THREE.MeshLambertMaterial({color: 0x46525e});
     obj = new THREE.Group();
     obj.add(new THREE.Mesh(new THREE.PlaneBufferGeometry(w, h), floor));
-    const grid = new THREE.GridHelper(Math.min(w, 20), Math.min(w, 20) * 2, 0x303840, 0x303840);
-    grid.rotateX(Math.PI / 2);
-    grid.position.z = 0.001;
-    obj.add(grid);
+    // a grid that shows progress when the camera follows a walking robot: fine lines every
+    // 0.25 m, light ones every metre
+    const n = Math.min(w, 20);
+    for (const [div, color, z] of [[4 * n, 0x3a444e, 0.001], [n, 0x9aa8b8, 0.002]]) {
+      const grid = new THREE.GridHelper(n, div, color, color);
+      grid.rotateX(Math.PI / 2);
+      grid.position.z = z;
+      obj.add(grid);
+    }
   }
   return obj;
 }
@@ -158,12 +190,20 @@ function render() {
   });
 }
 
+let lastBase = null;
 function showPoses(poses) {
   poses.forEach((p, i) => { if (moving[i]) setPose(moving[i], p); });
-  // the camera follows the robot horizontally
-  if (poses.length) { orbit.target.x = poses[0][0]; orbit.target.y = poses[0][1]; }
+  if (poses.length) lastBase = poses[0];
+  if (!home) frameRobot();
+  // the camera follows the robot horizontally (unless 'follow' is off)
+  if (poses.length && $('follow').checked) { orbit.target.x = poses[0][0]; orbit.target.y = poses[0][1]; }
   render();
 }
+$('reset_view').onclick = resetView;
+$('follow').onchange = () => {
+  if ($('follow').checked && lastBase) { orbit.target.x = lastBase[0]; orbit.target.y = lastBase[1]; }
+  render();
+};
 
 // mouse: drag turns the camera, the wheel brings it closer
 let drag = null;
@@ -199,12 +239,22 @@ Chart.defaults.color = '#ccd';
 Chart.defaults.animation = false;
 const palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#b07aa1', '#76b7b2'];
 
+// replay: a click on a plot shows the robot at the clicked time (and pauses)
+function clickToSeek(e, elements, chart) {
+  if (!replay) return;
+  const t = Math.min(replay.t1, Math.max(replay.t0, chart.scales.x.getValueForPixel(e.x)));
+  replay.playing = false;
+  $('play').textContent = 'play';
+  $('slider').value = t;
+  seek(t);
+}
+
 function makeChart(id, title, unit, labels) {
   return new Chart($(id), {
     type: 'line',
     data: {datasets: labels.map((l, i) => ({label: l, data: [], borderColor: palette[i % palette.length],
       borderDash: l.startsWith('ref ') ? [5, 3] : [], borderWidth: 1.5, pointRadius: 0}))},
-    options: {responsive: true, maintainAspectRatio: false, parsing: false, normalized: true,
+    options: {responsive: true, maintainAspectRatio: false, parsing: false, normalized: true, onClick: clickToSeek,
       plugins: {title: {display: true, text: title}, legend: {labels: {boxWidth: 12}}},
       scales: {x: {type: 'linear', title: {display: true, text: 't [s]'}},
                y: {title: {display: true, text: unit}}}},
@@ -212,12 +262,20 @@ function makeChart(id, title, unit, labels) {
   });
 }
 
-let charts = null, plotJoints = [], jointIndex = [];
+let charts = null, plotJoints = [], jointIndex = [], columnNotes = [];
+// a note under the plots: names that were asked for and cannot be plotted (never dropped silently)
+function noteColumn(text) {
+  columnNotes.push(text);
+  $('column_note').textContent = columnNotes.join('; ');
+}
+
 function buildCharts(desc) {
   const all = desc.joints;
-  const wanted = params.get('joints') ? params.get('joints').split(',')
+  const wanted = params.get('joints') ? params.get('joints').split(',').filter((j) => j)
     : ['RLEG_HIP_P', 'RLEG_KNEE', 'RLEG_ANKLE_P'].filter((j) => all.includes(j));
   plotJoints = wanted.filter((j) => all.includes(j));
+  const unknown = wanted.filter((j) => !all.includes(j));
+  if (unknown.length) noteColumn('no joint ' + unknown.map((j) => "'" + j + "'").join(', ') + ' in the robot');
   if (!plotJoints.length) plotJoints = all.slice(0, 3);
   jointIndex = plotJoints.map((j) => all.indexOf(j));
   charts = {
@@ -225,7 +283,55 @@ function buildCharts(desc) {
                  plotJoints.concat(plotJoints.map((j) => 'ref ' + j))),
     fz: makeChart('plot_fz', 'force sensors: Fz (ankles, wrists)', '[N]', desc.forces),
     zmp: makeChart('plot_zmp', 'ZMP', '[m]', ['zmp x', 'zmp y']),
+    cols: makeChart('plot_cols', 'log columns (pick below)', '', []),
   };
+}
+
+// ---------------- the column picker: any log column by name ----------------
+// replay: the server sends the column's min/max decimated curve, or says it has none; live: the
+// frames' values by the log's names (q_J, qref_J, SENSOR_fz, zmp_x, zmp_y)
+let columnNames = [], liveColumn = {};
+function setupPicker(h) {
+  if (h.mode === 'replay') {
+    columnNames = h.columns.filter((c) => c !== 'time');
+  } else {
+    const d = h.scene;
+    d.joints.forEach((j, i) => {
+      liveColumn['q_' + j] = (f) => f.q[i];
+      liveColumn['qref_' + j] = (f) => (f.qref ? f.qref[i] : null);
+    });
+    d.forces.forEach((n, i) => { liveColumn[n + '_fz'] = (f) => f.fz[i]; });
+    liveColumn.zmp_x = (f) => (f.zmp ? f.zmp[0] : null);
+    liveColumn.zmp_y = (f) => (f.zmp ? f.zmp[1] : null);
+    columnNames = Object.keys(liveColumn);
+  }
+  $('column_list').innerHTML = columnNames.map((c) => '<option value="' + c + '">').join('');
+  $('picker').onsubmit = (e) => {
+    e.preventDefault();
+    const name = $('column_name').value.trim();
+    if (name) addColumn(name);
+    $('column_name').value = '';
+  };
+  for (const name of (params.get('columns') || '').split(',')) if (name) addColumn(name);
+}
+
+function addColumn(name) {
+  if (charts.cols.data.datasets.some((ds) => ds.label === name)) return;
+  if (replay) { replay.ws.send(JSON.stringify({column: name})); return; }
+  if (!liveColumn[name]) { noteColumn("no column '" + name + "' in the live frames"); return; }
+  pushColumn(name, []);
+}
+
+function pushColumn(name, data) {
+  const ds = charts.cols.data.datasets, i = ds.length;
+  ds.push({label: name, data, borderColor: palette[i % palette.length], borderWidth: 1.5, pointRadius: 0});
+  redrawCharts();
+}
+
+// replay: the server's answer to {column}
+function columnAnswer(m) {
+  if (m.error) { noteColumn(m.error); return; }
+  pushColumn(m.column, m.t.map((x, i) => ({x, y: m.y[i]})).filter((p) => p.y !== null));
 }
 
 function redrawCharts() {
@@ -262,6 +368,7 @@ function liveFrame(f) {
   jointIndex.forEach((j, i) => { add(q[i], f.q[j]); if (f.qref) add(q[n + i], f.qref[j]); });
   charts.fz.data.datasets.forEach((ds, i) => add(ds, f.fz[i]));
   if (f.zmp) { add(charts.zmp.data.datasets[0], f.zmp[0]); add(charts.zmp.data.datasets[1], f.zmp[1]); }
+  charts.cols.data.datasets.forEach((ds) => add(ds, liveColumn[ds.label](f)));
   for (const c of Object.values(charts)) {
     for (const ds of c.data.datasets) while (ds.data.length && ds.data[0].x < f.t - windowS) ds.data.shift();
     c.options.scales.x.min = Math.max(0, f.t - windowS);
@@ -275,8 +382,9 @@ function liveFrame(f) {
 // ---------------- replay: whole curves, a slider and play/pause ----------------
 let replay = null;
 function startReplay(h, ws) {
-  const s = h.series, t = s.t;
-  const pts = (ys) => t.map((x, i) => ({x, y: ys[i]})).filter((p) => p.y !== null);
+  // each curve {t, y}: min/max decimated by the server, every peak kept
+  const s = h.series;
+  const pts = (c) => c.t.map((x, i) => ({x, y: c.y[i]})).filter((p) => p.y !== null);
   const q = charts.q.data.datasets, n = plotJoints.length;
   plotJoints.forEach((j, i) => { q[i].data = pts(s.q[j]); q[n + i].data = pts(s.qref[j]); });
   charts.fz.data.datasets.forEach((ds) => { ds.data = pts(s.fz[ds.label]); });
@@ -350,11 +458,19 @@ function updateImages() {
   if (want && !imagesWs) {
     const ws = new WebSocket('ws://' + location.host + '/ws/images');
     ws.binaryType = 'arraybuffer';
-    ws.onmessage = (e) => drawImage(e.data);
-    // closed by the server while still wanted (it restarted, or a network hiccup): asked again
+    // each image drawn is answered: the server sends the next (the newest) only then, so
+    // images never queue behind a slow page
+    ws.onmessage = (e) => {
+      drawImage(e.data);
+      $('images_note').textContent = '';
+      if (ws.readyState === WebSocket.OPEN) ws.send('drawn');
+    };
+    // closed by the server while still wanted (it restarted, or a network hiccup): said on the
+    // page, and asked again every second
     ws.onclose = () => {
       if (imagesWs !== ws) return;
       imagesWs = null;
+      $('images_note').textContent = 'camera images: connection lost, reconnecting...';
       setTimeout(updateImages, 1000);
     };
     imagesWs = ws;
@@ -362,6 +478,7 @@ function updateImages() {
     imagesWs.close();
     imagesWs = null;
   }
+  if (!want) $('images_note').textContent = '';
 }
 
 function drawImage(buf) {
@@ -399,10 +516,13 @@ function connect() {
       buildScene(m.scene);
       buildCharts(m.scene);
       if (m.mode === 'replay') startReplay(m, ws);
+      setupPicker(m);
       stateEl.dataset.ready = 1;
       return;
     }
-    if (hello.mode === 'live') liveFrame(m); else replayFrame(m);
+    if (hello.mode === 'live') liveFrame(m);
+    else if (m.column !== undefined) columnAnswer(m);
+    else replayFrame(m);
   };
   ws.onclose = () => { $('counters').textContent += ' (viewer disconnected)'; };
 }
