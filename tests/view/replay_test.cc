@@ -114,11 +114,11 @@ TEST_F(Replay, APeakOfOneRowIsPlotted) {
   Browser browser(viewer.url + "?t=0&columns=rfsensor_fz");
   ASSERT_TRUE(browser.ok()) << browser.error();
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
-  ASSERT_TRUE(browser.WaitTrue("charts.cols.data.datasets.length === 1", 5.0));
   const std::string peak = "(c, label) => Math.max(...c.data.datasets.find((d) => d.label === label).data.map((p) => p.y))";
   const double in_fz = browser.Eval("(" + peak + ")(charts.fz, 'rfsensor')").get<double>();
-  const double in_cols = browser.Eval("(" + peak + ")(charts.cols, 'rfsensor_fz')").get<double>();
   EXPECT_NEAR(in_fz, 1234, 12.34) << "the impact's peak is lost in the force plot";
+  ASSERT_TRUE(browser.WaitTrue("charts.cols.data.datasets.length === 1", 5.0));
+  const double in_cols = browser.Eval("(" + peak + ")(charts.cols, 'rfsensor_fz')").get<double>();
   EXPECT_NEAR(in_cols, 1234, 12.34) << "the impact's peak is lost in the picked column's plot";
   // at most 800 points a curve, and the peak at its time within one bucket (4001 rows / 400)
   EXPECT_LE(browser.Eval("charts.fz.data.datasets[0].data.length").get<int>(), 800);
@@ -154,8 +154,8 @@ TEST_F(Replay, PicksLogColumnsByNameAndSaysWhichAreNotThere) {
 }
 
 // the camera: follow on (the default) keeps the robot in view as it walks 1 m; off, it stays
-// where it was and the robot walks out of the middle; 'reset view' frames it again. The floor's
-// metre grid is drawn (walking progress shows against it).
+// where it was and the robot walks out of the middle; 'reset view' frames it again. The floor is
+// a checker (walking progress shows against it).
 TEST_F(Replay, TheCameraFollowsOrStaysAndResets) {
   fs::create_directories(dir_ / "walk");
   std::ofstream(dir_ / "walk/sim_summary.json") << "{\"scene\": \"" << kScene << "\"}\n";
@@ -178,18 +178,20 @@ TEST_F(Replay, TheCameraFollowsOrStaysAndResets) {
   const std::string out = OutputDir("replay");
   ASSERT_TRUE(browser.Screenshot(out + "/walk_t0.png"));
   const PixelCount at0 = RobotPixels(&browser, out + "/walk_t0.png");
-  // the floor's metre lines are in the picture: in the left quarter of the canvas's lower half
-  // (floor only, away from the robot), pixels much lighter than the floor (70, 82, 94; the old
-  // grid was darker than it) and bluish grey, not the sky (200, 212, 224)
+  // the floor's checker is in the picture: in the left quarter of the canvas's lower half
+  // (floor only, away from the robot), both its light squares (106, 120, 134 lit) and its dark
+  // ones (60, 70, 80 lit); the plain floor before was one shade (70, 82, 94 lit)
   const nlohmann::json r = nlohmann::json::parse(browser.Eval(
       "JSON.stringify(document.getElementById('view3d').getBoundingClientRect())").get<std::string>());
   const int left = r["left"].get<int>(), top = r["top"].get<int>(), right = r["right"].get<int>(),
             bottom = r["bottom"].get<int>();
-  const PixelCount grid = CountPixels(out + "/walk_t0.png", left, (top + bottom) / 2, left + (right - left) / 4,
-                                      bottom, [](int R, int G, int B) {
-                                        return R >= 100 && R < 185 && B > R + 5 && std::abs(2 * G - R - B) < 24;
-                                      });
-  EXPECT_GT(grid.n, 100) << "no metre grid on the floor (" << out << "/walk_t0.png)";
+  auto floor = [&](int r_min, int r_max) {
+    return CountPixels(out + "/walk_t0.png", left, (top + bottom) / 2, left + (right - left) / 4, bottom,
+                       [&](int R, int G, int B) { return R >= r_min && R < r_max && B > R + 5 && G > R && B > G; }).n;
+  };
+  const int light = floor(95, 150), dark = floor(40, 68);
+  EXPECT_GT(light, 2000) << "no checker on the floor (" << out << "/walk_t0.png)";
+  EXPECT_GT(dark, 2000) << "no checker on the floor (" << out << "/walk_t0.png)";
   // follow on: the camera looks at the base, 1 m on
   ASSERT_TRUE(seek(2));
   EXPECT_NEAR(browser.Eval("orbit.target.x").get<double>(), 1.0, 1e-6);

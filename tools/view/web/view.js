@@ -146,20 +146,27 @@ function makeGeom(g) {
     if (hfields[g.hfield]) obj = new THREE.Mesh(hfields[g.hfield], mat);
   } else if (g.type === 'plane') {
     const w = s[0] > 0 ? 2 * s[0] : 40, h = s[1] > 0 ? 2 * s[1] : 40;
-    const floor = new THREE.MeshLambertMaterial({color: 0x46525e});
+    // a checker of 0.5 m squares (as in the paper's video): walking progress shows while the
+    // camera follows the robot (thin grid lines mostly vanish in software rendering)
+    const floor = new THREE.MeshLambertMaterial({map: checkerTexture(w / 0.5, h / 0.5)});
     obj = new THREE.Group();
     obj.add(new THREE.Mesh(new THREE.PlaneBufferGeometry(w, h), floor));
-    // a grid that shows progress when the camera follows a walking robot: fine lines every
-    // 0.25 m, light ones every metre
-    const n = Math.min(w, 20);
-    for (const [div, color, z] of [[4 * n, 0x3a444e, 0.001], [n, 0x9aa8b8, 0.002]]) {
-      const grid = new THREE.GridHelper(n, div, color, color);
-      grid.rotateX(Math.PI / 2);
-      grid.position.z = z;
-      obj.add(grid);
-    }
   }
   return obj;
+}
+
+// a texture of 2 x 2 squares (dark, light) repeated `nx` x `ny` times over a plane
+function checkerTexture(nx, ny) {
+  const c = document.createElement('canvas');
+  c.width = c.height = 2;
+  const g = c.getContext('2d');
+  g.fillStyle = '#3c4650'; g.fillRect(0, 0, 2, 2);
+  g.fillStyle = '#6a7886'; g.fillRect(0, 0, 1, 1); g.fillRect(1, 1, 1, 1);
+  const t = new THREE.CanvasTexture(c);
+  t.magFilter = THREE.NearestFilter;  // sharp edges near, mipmapped (grey) far
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  t.repeat.set(nx / 2, ny / 2);
+  return t;
 }
 
 function setPose(obj, p) {
@@ -255,8 +262,10 @@ function makeChart(id, title, unit, labels) {
     data: {datasets: labels.map((l, i) => ({label: l, data: [], borderColor: palette[i % palette.length],
       borderDash: l.startsWith('ref ') ? [5, 3] : [], borderWidth: 1.5, pointRadius: 0}))},
     options: {responsive: true, maintainAspectRatio: false, parsing: false, normalized: true, onClick: clickToSeek,
-      plugins: {title: {display: true, text: title}, legend: {labels: {boxWidth: 12}}},
-      scales: {x: {type: 'linear', title: {display: true, text: 't [s]'}},
+      // small titles and legends: four panels share the height of a laptop's screen
+      plugins: {title: {display: true, text: title, padding: 2, font: {size: 11}},
+                legend: {labels: {boxWidth: 10, padding: 4, font: {size: 10}}}},
+      scales: {x: {type: 'linear', title: {display: true, text: 't [s]', padding: 0, font: {size: 10}}},
                y: {title: {display: true, text: unit}}}},
     plugins: [cursorPlugin],
   });
