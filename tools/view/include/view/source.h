@@ -123,7 +123,8 @@ class ReplaySource : public Source {
  private:
   ReplaySource() = default;
   RobotState StateAt(double t);
-  nlohmann::json Series(const std::vector<double>& y) const;
+  nlohmann::json Series(const std::vector<double>& y) const;  // against the log's time
+  static nlohmann::json Series(const std::vector<double>& times, const std::vector<double>& y);
 
   std::unique_ptr<SceneGeometry> geometry_;
   datalog::Table log_;
@@ -132,7 +133,8 @@ class ReplaySource : public Source {
   int base_col_[7] = {-1, -1, -1, -1, -1, -1, -1};
   std::vector<int> q_col_, qref_col_;            // per joint, -1 when absent
   std::vector<std::array<int, 6>> ft_col_;       // per force sensor: fx fy fz tx ty tz
-  std::mutex mutex_;                             // the geometry's mjData
+  std::mutex mutex_;                             // the geometry's mjData, series_
+  nlohmann::json series_;                        // the plots' curves, made by the first Hello()
 };
 
 }  // namespace ohrp::view
