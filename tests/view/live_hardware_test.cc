@@ -209,5 +209,24 @@ TEST_F(LiveHardware, AClosedImageConnectionIsSaidOnThePage) {
       << browser.Eval("document.getElementById('images_note').textContent");
 }
 
+// live, the column picker plots the frames' values by the log's names; a name the frames do not
+// have is said on the page
+TEST_F(LiveHardware, PicksColumnsOfTheLiveFrames) {
+  FakeHardware hardware(segment_, 0.0);
+  ASSERT_TRUE(hardware.error().empty()) << hardware.error();
+  Viewer viewer;
+  StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
+  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
+  Browser browser(viewer.url + "?columns=q_RLEG_KNEE,RLEG_KNEE_fz");
+  ASSERT_TRUE(browser.ok()) << browser.error();
+  // the fake's joints are straight: q = 0 in every frame
+  ASSERT_TRUE(browser.WaitTrue("charts.cols.data.datasets.length === 1 && "
+                               "charts.cols.data.datasets[0].data.length > 5"));
+  EXPECT_EQ(browser.Eval("charts.cols.data.datasets[0].label").get<std::string>(), "q_RLEG_KNEE");
+  EXPECT_EQ(browser.Eval("charts.cols.data.datasets[0].data.every((p) => p.y === 0)").get<bool>(), true);
+  EXPECT_EQ(browser.Eval("document.getElementById('column_note').textContent").get<std::string>(),
+            "no column 'RLEG_KNEE_fz' in the live frames");
+}
+
 }  // namespace
 }  // namespace ohrp::view::testing
