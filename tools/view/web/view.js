@@ -470,9 +470,12 @@ function updateImages() {
     // each image drawn is answered: the server sends the next (the newest) only then, so
     // images never queue behind a slow page
     ws.onmessage = (e) => {
-      drawImage(e.data);
-      $('images_note').textContent = '';
-      if (ws.readyState === WebSocket.OPEN) ws.send('drawn');
+      try {
+        drawImage(e.data);
+        $('images_note').textContent = '';
+      } finally {  // answered even when drawing failed: the server would wait forever
+        if (ws.readyState === WebSocket.OPEN) ws.send('drawn');
+      }
     };
     // closed by the server while still wanted (it restarted, or a network hiccup): said on the
     // page, and asked again every second
