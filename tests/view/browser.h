@@ -153,6 +153,18 @@ class Browser {
            {{"type", type}, {"x", x}, {"y", y}, {"button", "left"}, {"clickCount", 1}});
   }
 
+  // A drag with the left button from (x0, y0) to (x1, y1) [CSS px] in `steps` moves; `modifiers`
+  // as the protocol's bits (8: shift)
+  void Drag(double x0, double y0, double x1, double y1, int modifiers = 0, int steps = 5) {
+    auto mouse = [&](const char* type, double x, double y) {
+      Call("Input.dispatchMouseEvent", {{"type", type}, {"x", x}, {"y", y}, {"button", "left"},
+                                        {"buttons", 1}, {"clickCount", 1}, {"modifiers", modifiers}});
+    };
+    mouse("mousePressed", x0, y0);
+    for (int i = 1; i <= steps; ++i) mouse("mouseMoved", x0 + (x1 - x0) * i / steps, y0 + (y1 - y0) * i / steps);
+    mouse("mouseReleased", x1, y1);
+  }
+
   // Writes a screenshot of the page to `png_path`; false when none came.
   bool Screenshot(const std::string& png_path) {
     const nlohmann::json r = Call("Page.captureScreenshot", {{"format", "png"}});

@@ -154,7 +154,8 @@ TEST_F(Replay, PicksLogColumnsByNameAndSaysWhichAreNotThere) {
 }
 
 // the camera: follow on (the default) keeps the robot in view as it walks 1 m; off, it stays
-// where it was and the robot walks out of the middle; 'reset view' frames it again. The floor is
+// where it was and the robot walks out of the middle; 'reset view' frames it again; shift-drag
+// pans, a drag turns. The floor is
 // a checker (walking progress shows against it).
 TEST_F(Replay, TheCameraFollowsOrStaysAndResets) {
   fs::create_directories(dir_ / "walk");
@@ -209,6 +210,20 @@ TEST_F(Replay, TheCameraFollowsOrStaysAndResets) {
   EXPECT_NEAR(browser.Eval("orbit.distance").get<double>(),
               browser.Eval("Number(document.getElementById('state').dataset.frameDistance)").get<double>(), 1e-9);
   EXPECT_TRUE(browser.Eval("document.getElementById('follow').checked").get<bool>());
+  // shift-drag 120 px to the right pans: the target moves 120 px' worth of metres (at its
+  // distance) to the camera's left, horizontally here, and follow turns off
+  const double metres_per_px = browser.Eval(
+      "2 * orbit.distance * Math.tan(camera.fov * Math.PI / 360) / canvas.clientHeight").get<double>();
+  const double cx = (left + right) / 2.0, cy = (top + bottom) / 2.0;
+  browser.Drag(cx, cy, cx + 120, cy, 8);
+  const double moved = browser.Eval("Math.hypot(orbit.target.x, orbit.target.y)").get<double>();
+  EXPECT_NEAR(moved, 120 * metres_per_px, 0.02 * 120 * metres_per_px);
+  EXPECT_FALSE(browser.Eval("document.getElementById('follow').checked").get<bool>());
+  // a plain drag turns the camera instead: the target stays
+  const double az = browser.Eval("orbit.azimuth").get<double>();
+  browser.Drag(cx, cy, cx + 50, cy);
+  EXPECT_NEAR(browser.Eval("orbit.azimuth").get<double>(), az - 0.5, 1e-9);
+  EXPECT_NEAR(browser.Eval("Math.hypot(orbit.target.x, orbit.target.y)").get<double>(), moved, 1e-9);
 }
 
 TEST_F(Replay, AFolderWithoutLogIsRefused) {

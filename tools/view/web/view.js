@@ -212,15 +212,29 @@ $('follow').onchange = () => {
   render();
 };
 
-// mouse: drag turns the camera, the wheel brings it closer
+// mouse: drag turns the camera, shift-drag or right-drag pans it (in the view's plane: the
+// point under the mouse stays under it; follow turns off), the wheel brings it closer
 let drag = null;
-canvas.addEventListener('mousedown', (e) => { drag = [e.clientX, e.clientY]; });
+canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+canvas.addEventListener('mousedown', (e) => { drag = {x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey}; });
 window.addEventListener('mouseup', () => { drag = null; });
 window.addEventListener('mousemove', (e) => {
   if (!drag) return;
-  orbit.azimuth -= 0.01 * (e.clientX - drag[0]);
-  orbit.elevation = Math.max(-0.2, Math.min(1.4, orbit.elevation + 0.01 * (e.clientY - drag[1])));
-  drag = [e.clientX, e.clientY];
+  const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+  drag.x = e.clientX; drag.y = e.clientY;
+  if (drag.pan) {
+    // metres per pixel at the target's distance
+    const scale = 2 * orbit.distance * Math.tan(camera.fov * Math.PI / 360) / Math.max(1, canvas.clientHeight);
+    placeCamera();
+    camera.updateMatrixWorld();
+    const right = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 0);
+    const up = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 1);
+    orbit.target.addScaledVector(right, -dx * scale).addScaledVector(up, dy * scale);
+    $('follow').checked = false;
+  } else {
+    orbit.azimuth -= 0.01 * dx;
+    orbit.elevation = Math.max(-0.2, Math.min(1.4, orbit.elevation + 0.01 * dy));
+  }
   render();
 });
 canvas.addEventListener('wheel', (e) => {
