@@ -157,8 +157,9 @@ TEST_F(LiveHardware, AFirstImageThatComesSecondsAfterThePageAskedIsShown) {
 // viewer may send 30 a second, and the page takes 150 ms to draw each (at most 6.7 a second).
 // Before, the server wrote every newest image as fast as the socket took it, socket and browser
 // buffers queued them, and the drawn image fell seconds behind (growing with the run: 6 s in the
-// issue). Now the page answers each image it has drawn and the server sends the next, the
-// newest, only then: the drawn image is never more than a few drawing times old.
+// issue). Now the page answers each image it has drawn and the server has at most two
+// unanswered images per camera (then it sends the newest): the drawn image is never more than a
+// few drawing times old.
 TEST_F(LiveHardware, ASlowPageDrawsTheNewestImageNotAQueue) {
   FakeHardware hardware(segment_, 0.0, 320, 240, 6);
   ASSERT_TRUE(hardware.error().empty()) << hardware.error();
@@ -188,8 +189,10 @@ TEST_F(LiveHardware, ASlowPageDrawsTheNewestImageNotAQueue) {
   std::printf("slow page: %d images drawn, the oldest image seen on the page was %.3f s old (%d looks)\n",
               drawn, worst, looks);
   EXPECT_GT(drawn, 20) << "the page should draw about 6 images a second";
-  // two drawing times (one being drawn, one waiting), the viewer's 1/30 s and the page's polling
-  EXPECT_LT(worst, 1.0) << "the page's image fell behind the producer: images are queued";
+  // about three drawing times (one being drawn, two unanswered ones waiting), the viewer's
+  // 1/30 s and this test's looks, which wait for a drawing to end: bounded by 10 drawing times
+  // (a queue grows with the run: 5.2 s after 6 s before)
+  EXPECT_LT(worst, 10 * draw) << "the page's image fell behind the producer: images are queued";
 }
 
 // An image socket that closes while the images are wanted is said on the page (and asked again)

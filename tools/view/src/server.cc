@@ -69,12 +69,12 @@ void PushFrames(websocket::stream<tcp::socket>& ws, Source* source) {
 }
 
 // live images: while this page is connected the source asks the producer for the camera
-// images. Only the newest images are ever sent, never a queue: after sending the newest image of
-// each camera that has a new one, the server waits for the page's answer to each (a message the
-// page sends once it has drawn the image) before it sends more; meanwhile newer images replace
-// older ones in the source. A slow page therefore gets the newest image when it is ready again
-// instead of a backlog queued in socket buffers (images ran seconds behind the robot). The send
-// buffer is kept small for the same reason.
+// images. Only the newest images are ever sent, never a queue: the page answers each image once
+// it has drawn it (any message), and at most kInFlight images per camera are sent and not yet
+// answered; meanwhile newer images replace older ones in the source. A slow page therefore gets
+// the newest image when it is ready again instead of a backlog queued in socket buffers (images
+// ran seconds behind the robot). The send buffer is kept small for the same reason.
+constexpr int kInFlight = 2;
 void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
   struct Watching {
     Source* s;
@@ -83,29 +83,46 @@ void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
   } watching(source);
   ws.binary(true);
   ws.next_layer().set_option(boost::asio::socket_base::send_buffer_size(64 * 1024));
-  // the server never pings this socket. Between images, anything readable is the page's close
-  // (it sends nothing else then): looked at every 0.2 s without blocking, since the first image
-  // may take seconds (a producer may start its renderer only when asked) and the socket stays
-  // open meanwhile. While answers are awaited, read() blocks: a close frame throws, which ends
-  // this thread and the watch; a page that went away without a word fails a read or a write.
-  auto page_done = [&] {
+  // The server never pings this socket: the page sends its answers, then its close. Looked at
+  // every 0.2 s without blocking (the first image may take seconds: a producer may start its
+  // renderer only when asked, and the socket stays open meanwhile): something readable while
+  // answers are owed is read (an answer; a close frame throws, which ends this thread and the
+  // watch), with none owed it is the close. At the limit of unanswered images read() blocks
+  // until the page answers. Each read takes one message, so none is counted twice or lost (an
+  // answer that Beast has already buffered is taken by the next read). A page that went away
+  // without a word fails a read or a write.
+  auto readable = [&] {
     pollfd p{ws.next_layer().native_handle(), POLLIN, 0};
     return ::poll(&p, 1, 0) != 0;
   };
+  auto read_answer = [&] {
+    beast::flat_buffer answer;
+    ws.read(answer);
+  };
   uint64_t sent[shm::kMaxCameras] = {};
   std::shared_ptr<const std::string> images[shm::kMaxCameras];
-  while (!source->ended() && !page_done()) {
-    if (!source->NewestImages(sent, 0.2, images)) continue;
-    int unanswered = 0;
-    for (const auto& image : images)
-      if (image) {
-        ws.write(boost::asio::buffer(*image));
-        ++unanswered;
-      }
-    for (; unanswered > 0; --unanswered) {
-      beast::flat_buffer answer;
-      ws.read(answer);
+  int unanswered = 0, cameras = 0;
+  bool seen[shm::kMaxCameras] = {};
+  while (!source->ended()) {
+    if (readable()) {
+      if (unanswered == 0) return;  // the page's close
+      read_answer();
+      --unanswered;
+      continue;
     }
+    if (cameras > 0 && unanswered >= kInFlight * cameras) {
+      read_answer();  // blocks until the page has drawn one
+      --unanswered;
+      continue;
+    }
+    if (!source->NewestImages(sent, 0.2, images)) continue;
+    for (int c = 0; c < shm::kMaxCameras; ++c)
+      if (images[c]) {
+        ws.write(boost::asio::buffer(*images[c]));
+        ++unanswered;
+        if (!seen[c]) ++cameras;
+        seen[c] = true;
+      }
   }
   // returning closes the socket (and ends the watch)
 }

@@ -10,8 +10,8 @@
 //                              replay: answers each {"t": seconds} message with FrameAt(t).
 //   GET /ws/images             live: the camera images (binary messages, source.h), asked from
 //                              the producer only while at least one page holds this socket open;
-//                              the page answers each image it has drawn (any message) and the
-//                              server sends the next, the newest, only then (never a queue);
+//                              the page answers each image it has drawn (any message), and at
+//                              most two per camera are unanswered (the newest sent, never a queue);
 //                              replay: closed at once (a run folder has no images).
 // One thread per connection, so a stalled page stalls only its own connection; the source's
 // thread (the observer) never waits for a page.
