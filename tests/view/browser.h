@@ -52,6 +52,7 @@ struct PixelCount {
   int n = 0;
   double x = 0, y = 0;  // their mean position [px]
   int y_max = -1;       // the lowest row that has one [px]
+  int y_min = -1;       // the highest row that has one [px]
 };
 inline PixelCount CountPixels(const std::string& png_path, int x0, int y0, int x1, int y1,
                               const std::function<bool(int, int, int)>& match) {
@@ -71,6 +72,7 @@ inline PixelCount CountPixels(const std::string& png_path, int x0, int y0, int x
         c.x += x;
         c.y += y;
         c.y_max = y;
+        if (c.y_min < 0) c.y_min = y;
         ++c.n;
       }
     }
@@ -142,6 +144,25 @@ class Browser {
   // Waits up to `timeout` [s] until `expression` is true in the page.
   bool WaitTrue(const std::string& expression, double timeout = 15.0) {
     return shm::testing::WaitFor([&] { return Eval(expression) == true; }, timeout);
+  }
+
+  // A click of the left mouse button at (x, y) [CSS px of the page], as a user's (press, release)
+  void Click(double x, double y) {
+    for (const char* type : {"mousePressed", "mouseReleased"})
+      Call("Input.dispatchMouseEvent",
+           {{"type", type}, {"x", x}, {"y", y}, {"button", "left"}, {"clickCount", 1}});
+  }
+
+  // A drag with the left button from (x0, y0) to (x1, y1) [CSS px] in `steps` moves; `modifiers`
+  // as the protocol's bits (8: shift)
+  void Drag(double x0, double y0, double x1, double y1, int modifiers = 0, int steps = 5) {
+    auto mouse = [&](const char* type, double x, double y) {
+      Call("Input.dispatchMouseEvent", {{"type", type}, {"x", x}, {"y", y}, {"button", "left"},
+                                        {"buttons", 1}, {"clickCount", 1}, {"modifiers", modifiers}});
+    };
+    mouse("mousePressed", x0, y0);
+    for (int i = 1; i <= steps; ++i) mouse("mouseMoved", x0 + (x1 - x0) * i / steps, y0 + (y1 - y0) * i / steps);
+    mouse("mouseReleased", x1, y1);
   }
 
   // Writes a screenshot of the page to `png_path`; false when none came.

@@ -34,7 +34,9 @@ int main(int argc, char** argv) {
   double rate = 30, image_rate = 10, attach_timeout = 0;
   bool exit_when_ended = false;
   CLI::App app{
-      "ohrp_view: the robot in 3D in a browser, with time plots of joints, ankle forces and ZMP.\n"
+      "ohrp_view: the robot in 3D in a browser, with time plots of joints, ankle forces, ZMP and any\n"
+      "log column picked by name (a click on a plot seeks a replay; the camera is framed from the\n"
+      "robot's size, with follow on/off and reset).\n"
       "TARGET is a segment name (a running sim_host or hw_driver: attach as a read-only observer,\n"
       "never slowing it) or a run folder (./ohrp run ... --out DIR: replay its log.csv with a\n"
       "timeline). Serves on 127.0.0.1 only and prints the URL to open."};

@@ -69,7 +69,12 @@ void PushFrames(websocket::stream<tcp::socket>& ws, Source* source) {
 }
 
 // live images: while this page is connected the source asks the producer for the camera
-// images; the newest image of each camera is sent when there is one (binary, source.h)
+// images. Only the newest images are ever sent, never a queue: the page answers each image once
+// it has drawn it (any message), and at most kInFlight images per camera are sent and not yet
+// answered; meanwhile newer images replace older ones in the source. A slow page therefore gets
+// the newest image when it is ready again instead of a backlog queued in socket buffers (images
+// ran seconds behind the robot). The send buffer is kept small for the same reason.
+constexpr int kInFlight = 2;
 void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
   struct Watching {
     Source* s;
@@ -77,38 +82,67 @@ void PushImages(websocket::stream<tcp::socket>& ws, Source* source) {
     ~Watching() { s->WatchImages(-1); }
   } watching(source);
   ws.binary(true);
-  // the page never sends on this socket, and the server never pings it (a ping's pong would be
-  // something to read): anything readable (its close frame, EOF, an error) means it stopped
-  // watching; looked at every 0.2 s without reading (no read beside writes). A page that went
-  // away without a word fails the next image's write. The first image may take seconds (a
-  // producer may start its renderer only when asked): the socket stays open meanwhile.
-  auto page_done = [&] {
+  ws.next_layer().set_option(boost::asio::socket_base::send_buffer_size(64 * 1024));
+  // The server never pings this socket: the page sends its answers, then its close. Looked at
+  // every 0.2 s without blocking (the first image may take seconds: a producer may start its
+  // renderer only when asked, and the socket stays open meanwhile): something readable while
+  // answers are owed is read (an answer; a close frame throws, which ends this thread and the
+  // watch), with none owed it is the close. At the limit of unanswered images read() blocks
+  // until the page answers. Each read takes one message, so none is counted twice or lost (an
+  // answer that Beast has already buffered is taken by the next read). A page that went away
+  // without a word fails a read or a write.
+  auto readable = [&] {
     pollfd p{ws.next_layer().native_handle(), POLLIN, 0};
     return ::poll(&p, 1, 0) != 0;
   };
+  auto read_answer = [&] {
+    beast::flat_buffer answer;
+    ws.read(answer);
+  };
   uint64_t sent[shm::kMaxCameras] = {};
   std::shared_ptr<const std::string> images[shm::kMaxCameras];
-  while (!source->ended() && !page_done()) {
+  int unanswered = 0, cameras = 0;
+  bool seen[shm::kMaxCameras] = {};
+  while (!source->ended()) {
+    if (readable()) {
+      if (unanswered == 0) return;  // the page's close
+      read_answer();
+      --unanswered;
+      continue;
+    }
+    if (cameras > 0 && unanswered >= kInFlight * cameras) {
+      read_answer();  // blocks until the page has drawn one
+      --unanswered;
+      continue;
+    }
     if (!source->NewestImages(sent, 0.2, images)) continue;
-    for (const auto& image : images)
-      if (image) ws.write(boost::asio::buffer(*image));
+    for (int c = 0; c < shm::kMaxCameras; ++c)
+      if (images[c]) {
+        ws.write(boost::asio::buffer(*images[c]));
+        ++unanswered;
+        if (!seen[c]) ++cameras;
+        seen[c] = true;
+      }
   }
   // returning closes the socket (and ends the watch)
 }
 
-// replay: answer each {"t": ...} with the frame at that time
+// replay: answer each {"t": ...} with the frame at that time, each {"column": NAME} with the
+// log column's curve
 void AnswerFrames(websocket::stream<tcp::socket>& ws, Source* source) {
   for (;;) {
     beast::flat_buffer buffer;
     ws.read(buffer);
-    double t = 0;
+    nlohmann::json answer;
     try {
-      t = nlohmann::json::parse(beast::buffers_to_string(buffer.data())).value("t", 0.0);
+      const nlohmann::json ask = nlohmann::json::parse(beast::buffers_to_string(buffer.data()));
+      answer = ask.contains("column") ? source->Column(ask.at("column").get<std::string>())
+                                      : source->FrameAt(ask.value("t", 0.0));
     } catch (const std::exception&) {
       continue;  // not ours: ignored
     }
-    const std::string frame = source->FrameAt(t).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    ws.write(boost::asio::buffer(frame));
+    const std::string text = answer.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    ws.write(boost::asio::buffer(text));
   }
 }
 
@@ -174,6 +208,7 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
   assets = {{"/", options.web_dir + "/index.html", "text/html; charset=utf-8"},
             {"/index.html", options.web_dir + "/index.html", "text/html; charset=utf-8"},
             {"/view.js", options.web_dir + "/view.js", "text/javascript"},
+            {"/plots.js", options.web_dir + "/plots.js", "text/javascript"},
             {"/lib/three.min.js", options.three_js, "text/javascript"},
             {"/lib/chart.min.js", options.chart_js, "text/javascript"}};
   for (const Asset& a : assets)

@@ -1,7 +1,9 @@
 // ohrp view's page: builds the scene from the server's description (geoms with world poses
-// computed by the server), places the robot's geoms on every frame, and plots the chosen joints
-// (q and qref), the ankle forces (Fz) and the ZMP against simulated time (docs/view.md).
-// URL options: ?joints=A,B,C  the joints plotted; ?t=T (replay) start paused at time T [s];
+// computed by the server), places the robot's geoms on every frame, frames the camera from the
+// robot's size, feeds the plots (plots.js) and shows the camera images (docs/view.md).
+// URL options: ?joints=A,B,C  the joints plotted; ?columns=A,B  log columns plotted in the last
+// panel (replay: any column of log.csv; live: q_J, qref_J, SENSOR_fz, zmp_x, zmp_y);
+// ?t=T (replay) start paused at time T [s];
 // ?window=S (live) seconds of history in the plots; ?images=1 (live) show the camera images
 // at once (otherwise the "camera images" box turns them on).
 'use strict';
@@ -22,7 +24,32 @@ const sun = new THREE.DirectionalLight(0xffffff, 0.6);
 sun.position.set(2, -3, 5);
 scene3.add(sun);
 const orbit = {azimuth: -0.6, elevation: 0.18, distance: 3.0, target: new THREE.Vector3(0, 0, 0.5)};
+let home = null;  // the framing of the robot (from its size in the first frame), for 'reset view'
 let moving = [];  // meshes of the robot's geoms, in the server's order
+
+// frames the robot from its size: the camera looks at the middle of its bounding box from far
+// enough that its height (and width) fills about 70 % of the view, with room to rise or bend
+function frameRobot() {
+  const box = new THREE.Box3();
+  for (const o of moving) if (o) box.expandByObject(o);
+  if (box.isEmpty()) return;
+  const size = box.getSize(new THREE.Vector3()), mid = box.getCenter(new THREE.Vector3());
+  const half = Math.tan(camera.fov * Math.PI / 360);  // tan of half the vertical field of view
+  const across = Math.max(size.z, Math.hypot(size.x, size.y) / Math.max(camera.aspect, 0.1));
+  home = {distance: Math.max(0.3, 0.5 * across / half / 0.7), z: mid.z};
+  resetView();
+  const d = stateEl.dataset;
+  d.frameTop = box.max.z; d.frameBottom = box.min.z; d.frameDistance = home.distance;
+}
+
+function resetView() {
+  if (!home) return;
+  orbit.azimuth = -0.6; orbit.elevation = 0.18;
+  orbit.distance = home.distance; orbit.target.z = home.z;
+  $('follow').checked = true;
+  if (lastBase) { orbit.target.x = lastBase[0]; orbit.target.y = lastBase[1]; }
+  render();
+}
 
 function placeCamera() {
   const o = orbit, c = Math.cos(o.elevation);
@@ -119,15 +146,27 @@ function makeGeom(g) {
     if (hfields[g.hfield]) obj = new THREE.Mesh(hfields[g.hfield], mat);
   } else if (g.type === 'plane') {
     const w = s[0] > 0 ? 2 * s[0] : 40, h = s[1] > 0 ? 2 * s[1] : 40;
-    const floor = new THREE.MeshLambertMaterial({color: 0x46525e});
+    // a checker of 0.5 m squares (as in the paper's video): walking progress shows while the
+    // camera follows the robot (thin grid lines mostly vanish in software rendering)
+    const floor = new THREE.MeshLambertMaterial({map: checkerTexture(w / 0.5, h / 0.5)});
     obj = new THREE.Group();
     obj.add(new THREE.Mesh(new THREE.PlaneBufferGeometry(w, h), floor));
-    const grid = new THREE.GridHelper(Math.min(w, 20), Math.min(w, 20) * 2, 0x303840, 0x303840);
-    grid.rotateX(Math.PI / 2);
-    grid.position.z = 0.001;
-    obj.add(grid);
   }
   return obj;
+}
+
+// a texture of 2 x 2 squares (dark, light) repeated `nx` x `ny` times over a plane
+function checkerTexture(nx, ny) {
+  const c = document.createElement('canvas');
+  c.width = c.height = 2;
+  const g = c.getContext('2d');
+  g.fillStyle = '#3c4650'; g.fillRect(0, 0, 2, 2);
+  g.fillStyle = '#6a7886'; g.fillRect(0, 0, 1, 1); g.fillRect(1, 1, 1, 1);
+  const t = new THREE.CanvasTexture(c);
+  t.magFilter = THREE.NearestFilter;  // sharp edges near, mipmapped (grey) far
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  t.repeat.set(nx / 2, ny / 2);
+  return t;
 }
 
 function setPose(obj, p) {
@@ -158,22 +197,44 @@ function render() {
   });
 }
 
+let lastBase = null;
 function showPoses(poses) {
   poses.forEach((p, i) => { if (moving[i]) setPose(moving[i], p); });
-  // the camera follows the robot horizontally
-  if (poses.length) { orbit.target.x = poses[0][0]; orbit.target.y = poses[0][1]; }
+  if (poses.length) lastBase = poses[0];
+  if (!home) frameRobot();
+  // the camera follows the robot horizontally (unless 'follow' is off)
+  if (poses.length && $('follow').checked) { orbit.target.x = poses[0][0]; orbit.target.y = poses[0][1]; }
   render();
 }
+$('reset_view').onclick = resetView;
+$('follow').onchange = () => {
+  if ($('follow').checked && lastBase) { orbit.target.x = lastBase[0]; orbit.target.y = lastBase[1]; }
+  render();
+};
 
-// mouse: drag turns the camera, the wheel brings it closer
+// mouse: drag turns the camera, shift-drag or right-drag pans it (in the view's plane: the
+// point under the mouse stays under it; follow turns off), the wheel brings it closer
 let drag = null;
-canvas.addEventListener('mousedown', (e) => { drag = [e.clientX, e.clientY]; });
+canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+canvas.addEventListener('mousedown', (e) => { drag = {x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey}; });
 window.addEventListener('mouseup', () => { drag = null; });
 window.addEventListener('mousemove', (e) => {
   if (!drag) return;
-  orbit.azimuth -= 0.01 * (e.clientX - drag[0]);
-  orbit.elevation = Math.max(-0.2, Math.min(1.4, orbit.elevation + 0.01 * (e.clientY - drag[1])));
-  drag = [e.clientX, e.clientY];
+  const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+  drag.x = e.clientX; drag.y = e.clientY;
+  if (drag.pan) {
+    // metres per pixel at the target's distance
+    const scale = 2 * orbit.distance * Math.tan(camera.fov * Math.PI / 360) / Math.max(1, canvas.clientHeight);
+    placeCamera();
+    camera.updateMatrixWorld();
+    const right = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 0);
+    const up = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 1);
+    orbit.target.addScaledVector(right, -dx * scale).addScaledVector(up, dy * scale);
+    $('follow').checked = false;
+  } else {
+    orbit.azimuth -= 0.01 * dx;
+    orbit.elevation = Math.max(-0.2, Math.min(1.4, orbit.elevation + 0.01 * dy));
+  }
   render();
 });
 canvas.addEventListener('wheel', (e) => {
@@ -181,59 +242,6 @@ canvas.addEventListener('wheel', (e) => {
   render();
   e.preventDefault();
 });
-
-// ---------------- the plots (Chart.js), with a cursor at the time shown ----------------
-let cursorT = null;
-const cursorPlugin = {
-  id: 'cursor',
-  afterDatasetsDraw(chart) {
-    if (cursorT === null) return;
-    const x = chart.scales.x.getPixelForValue(cursorT), a = chart.chartArea;
-    if (x < a.left || x > a.right) return;
-    const ctx = chart.ctx;
-    ctx.save(); ctx.strokeStyle = '#f44'; ctx.lineWidth = 1.5;
-    ctx.beginPath(); ctx.moveTo(x, a.top); ctx.lineTo(x, a.bottom); ctx.stroke(); ctx.restore();
-  },
-};
-Chart.defaults.color = '#ccd';
-Chart.defaults.animation = false;
-const palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#b07aa1', '#76b7b2'];
-
-function makeChart(id, title, unit, labels) {
-  return new Chart($(id), {
-    type: 'line',
-    data: {datasets: labels.map((l, i) => ({label: l, data: [], borderColor: palette[i % palette.length],
-      borderDash: l.startsWith('ref ') ? [5, 3] : [], borderWidth: 1.5, pointRadius: 0}))},
-    options: {responsive: true, maintainAspectRatio: false, parsing: false, normalized: true,
-      plugins: {title: {display: true, text: title}, legend: {labels: {boxWidth: 12}}},
-      scales: {x: {type: 'linear', title: {display: true, text: 't [s]'}},
-               y: {title: {display: true, text: unit}}}},
-    plugins: [cursorPlugin],
-  });
-}
-
-let charts = null, plotJoints = [], jointIndex = [];
-function buildCharts(desc) {
-  const all = desc.joints;
-  const wanted = params.get('joints') ? params.get('joints').split(',')
-    : ['RLEG_HIP_P', 'RLEG_KNEE', 'RLEG_ANKLE_P'].filter((j) => all.includes(j));
-  plotJoints = wanted.filter((j) => all.includes(j));
-  if (!plotJoints.length) plotJoints = all.slice(0, 3);
-  jointIndex = plotJoints.map((j) => all.indexOf(j));
-  charts = {
-    q: makeChart('plot_q', 'joints: q (solid), qref (dashed)', '[rad]',
-                 plotJoints.concat(plotJoints.map((j) => 'ref ' + j))),
-    fz: makeChart('plot_fz', 'force sensors: Fz (ankles, wrists)', '[N]', desc.forces),
-    zmp: makeChart('plot_zmp', 'ZMP', '[m]', ['zmp x', 'zmp y']),
-  };
-}
-
-function redrawCharts() {
-  for (const c of Object.values(charts)) c.update('none');
-  let points = 0;
-  for (const c of Object.values(charts)) for (const d of c.data.datasets) points += d.data.length;
-  stateEl.dataset.points = points;
-}
 
 // ---------------- status line ----------------
 function showFrame(f) {
@@ -262,6 +270,7 @@ function liveFrame(f) {
   jointIndex.forEach((j, i) => { add(q[i], f.q[j]); if (f.qref) add(q[n + i], f.qref[j]); });
   charts.fz.data.datasets.forEach((ds, i) => add(ds, f.fz[i]));
   if (f.zmp) { add(charts.zmp.data.datasets[0], f.zmp[0]); add(charts.zmp.data.datasets[1], f.zmp[1]); }
+  charts.cols.data.datasets.forEach((ds) => add(ds, liveColumn[ds.label](f)));
   for (const c of Object.values(charts)) {
     for (const ds of c.data.datasets) while (ds.data.length && ds.data[0].x < f.t - windowS) ds.data.shift();
     c.options.scales.x.min = Math.max(0, f.t - windowS);
@@ -275,8 +284,9 @@ function liveFrame(f) {
 // ---------------- replay: whole curves, a slider and play/pause ----------------
 let replay = null;
 function startReplay(h, ws) {
-  const s = h.series, t = s.t;
-  const pts = (ys) => t.map((x, i) => ({x, y: ys[i]})).filter((p) => p.y !== null);
+  // each curve {t, y}: min/max decimated by the server, every peak kept
+  const s = h.series;
+  const pts = (c) => c.t.map((x, i) => ({x, y: c.y[i]})).filter((p) => p.y !== null);
   const q = charts.q.data.datasets, n = plotJoints.length;
   plotJoints.forEach((j, i) => { q[i].data = pts(s.q[j]); q[n + i].data = pts(s.qref[j]); });
   charts.fz.data.datasets.forEach((ds) => { ds.data = pts(s.fz[ds.label]); });
@@ -350,11 +360,22 @@ function updateImages() {
   if (want && !imagesWs) {
     const ws = new WebSocket('ws://' + location.host + '/ws/images');
     ws.binaryType = 'arraybuffer';
-    ws.onmessage = (e) => drawImage(e.data);
-    // closed by the server while still wanted (it restarted, or a network hiccup): asked again
+    // each image drawn is answered: the server sends the next (the newest) only then, so
+    // images never queue behind a slow page
+    ws.onmessage = (e) => {
+      try {
+        drawImage(e.data);
+        $('images_note').textContent = '';
+      } finally {  // answered even when drawing failed: the server would wait forever
+        if (ws.readyState === WebSocket.OPEN) ws.send('drawn');
+      }
+    };
+    // closed by the server while still wanted (it restarted, or a network hiccup): said on the
+    // page, and asked again every second
     ws.onclose = () => {
       if (imagesWs !== ws) return;
       imagesWs = null;
+      $('images_note').textContent = 'camera images: connection lost, reconnecting...';
       setTimeout(updateImages, 1000);
     };
     imagesWs = ws;
@@ -362,6 +383,7 @@ function updateImages() {
     imagesWs.close();
     imagesWs = null;
   }
+  if (!want) $('images_note').textContent = '';
 }
 
 function drawImage(buf) {
@@ -399,10 +421,13 @@ function connect() {
       buildScene(m.scene);
       buildCharts(m.scene);
       if (m.mode === 'replay') startReplay(m, ws);
+      setupPicker(m);
       stateEl.dataset.ready = 1;
       return;
     }
-    if (hello.mode === 'live') liveFrame(m); else replayFrame(m);
+    if (hello.mode === 'live') liveFrame(m);
+    else if (m.column !== undefined) columnAnswer(m);
+    else replayFrame(m);
   };
   ws.onclose = () => { $('counters').textContent += ' (viewer disconnected)'; };
 }

@@ -2,6 +2,7 @@
 //
 //   GET /                      the page (web/index.html)
 //   GET /view.js               its script (web/view.js)
+//   GET /plots.js              its plots (web/plots.js)
 //   GET /lib/three.min.js      three.js from Debian's libjs-three (nothing from the internet)
 //   GET /lib/chart.min.js      Chart.js from Debian's libjs-chart.js
 //   GET /ws                    the WebSocket: the server sends the source's Hello() first, then
@@ -10,6 +11,8 @@
 //                              replay: answers each {"t": seconds} message with FrameAt(t).
 //   GET /ws/images             live: the camera images (binary messages, source.h), asked from
 //                              the producer only while at least one page holds this socket open;
+//                              the page answers each image it has drawn (any message), and at
+//                              most two per camera are unanswered (the newest sent, never a queue);
 //                              replay: closed at once (a run folder has no images).
 // One thread per connection, so a stalled page stalls only its own connection; the source's
 // thread (the observer) never waits for a page.

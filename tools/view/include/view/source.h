@@ -43,6 +43,9 @@ class Source {
   }
   // replay: the frame at time `t` [s] (clamped to the log). live: not used.
   virtual nlohmann::json FrameAt(double t) { return {}; }
+  // replay: the log column `name` as a curve for the plots, {"column", "t", "y"} (min/max
+  // decimated), or {"column", "error"} when the log has no such column. live: not used.
+  virtual nlohmann::json Column(const std::string& name) { return {{"column", name}, {"error", "not a replay"}}; }
   // live: the producer has stopped (its last frame is out)
   virtual bool ended() const { return false; }
   // live: a page starts (+1) or stops (-1) watching the camera images
@@ -115,10 +118,13 @@ class ReplaySource : public Source {
   bool live() const override { return false; }
   nlohmann::json Hello() override;
   nlohmann::json FrameAt(double t) override;
+  nlohmann::json Column(const std::string& name) override;
 
  private:
   ReplaySource() = default;
   RobotState StateAt(double t);
+  nlohmann::json Series(const std::vector<double>& y) const;  // against the log's time
+  static nlohmann::json Series(const std::vector<double>& times, const std::vector<double>& y);
 
   std::unique_ptr<SceneGeometry> geometry_;
   datalog::Table log_;
@@ -127,7 +133,8 @@ class ReplaySource : public Source {
   int base_col_[7] = {-1, -1, -1, -1, -1, -1, -1};
   std::vector<int> q_col_, qref_col_;            // per joint, -1 when absent
   std::vector<std::array<int, 6>> ft_col_;       // per force sensor: fx fy fz tx ty tz
-  std::mutex mutex_;                             // the geometry's mjData
+  std::mutex mutex_;                             // the geometry's mjData, series_
+  nlohmann::json series_;                        // the plots' curves, made by the first Hello()
 };
 
 }  // namespace ohrp::view
