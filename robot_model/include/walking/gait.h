@@ -16,7 +16,8 @@
 // second (minimum jerk in each half); it moves horizontally (and turns and tilts to the landing
 // surface's tilt) with a minimum-jerk profile between `vertical_fraction` of the single
 // support after lift-off and the same before landing, so it leaves and lands vertically (0.3 at
-// least onto or off a step of 1 cm or more: the toe clears the stair's edge first).
+// least onto or off a step of 1 cm or more that the tilt of neither sole's surface explains
+// over the travel: the toe clears the stair's edge first; a slope's rise is no edge).
 // The ground height under the ZMP moves like a minimum-jerk step over each step (double and
 // single support: the CoM rises or falls with it on stairs and slopes, on the stance leg while
 // the other foot swings, not in the short double support alone).

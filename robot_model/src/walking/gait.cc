@@ -179,10 +179,20 @@ double Gait::HeelLift(bool down, double apex) const {
   return 0.8 * std::asin(std::clamp(apex / options_.sole_half_length, 0.0, 1.0));
 }
 
+// a height change between lift-off and landing that the tilt of neither sole's surface explains
+// (a slope rises by its tilt over the travel): a stair's edge to clear
+static bool IsStepEdge(const FeetPose& before, const Footstep& step) {
+  const int sw = step.foot;
+  const double rise = std::abs(step.p.z() - before.p[sw].z());
+  const double run = (step.p.head<2>() - before.p[sw].head<2>()).norm();
+  const double tilt = std::max({std::abs(step.pitch), std::abs(step.roll),
+                                std::abs(before.pitch[sw]), std::abs(before.roll[sw])});
+  return rise > kStepEdge + run * std::tan(tilt);
+}
+
 double Gait::LandingShare(const Phase& p) const {
-  const Eigen::Vector3d& a = p.before.p[p.step.foot];
   const double vf = options_.vertical_fraction;
-  return std::abs(p.step.p.z() - a.z()) > kStepEdge ? std::max(vf, kStepVerticalFraction) : vf;
+  return IsStepEdge(p.before, p.step) ? std::max(vf, kStepVerticalFraction) : vf;
 }
 
 double Gait::Travel(const Phase& p, double t) const {
@@ -194,7 +204,7 @@ double Gait::Travel(const Phase& p, double t) const {
   // slope) keeps the symmetric profile of a step: no stair to leave
   const Eigen::Vector3d& a = p.before.p[p.step.foot];
   const Eigen::Vector3d& b = p.step.p;
-  const bool edge = std::abs(b.z() - a.z()) > kStepEdge;
+  const bool edge = IsStepEdge(p.before, p.step);
   const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
   const double vf = options_.vertical_fraction;
   const double vf_land = LandingShare(p);
