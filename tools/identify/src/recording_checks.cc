@@ -8,8 +8,8 @@
 
 namespace ohrp::identify {
 
-bool CheckTimeBase(const std::vector<double>& t, double from, double to, const std::string& path,
-                   std::string* error) {
+bool CheckTimeBase(const std::vector<double>& t, double from, double to, double max_gap,
+                   const std::string& path, std::string* error) {
   const double h = compare::MedianStep(t);
   if (!(h > 0)) return true;  // the loader refused non-increasing times already
   size_t worst = 0;
@@ -22,14 +22,15 @@ bool CheckTimeBase(const std::vector<double>& t, double from, double to, const s
       worst = i;
     }
   }
-  if (worst_step <= 3 * h) return true;
-  char buf[400];
+  if (worst_step <= max_gap) return true;
+  char buf[500];
   std::snprintf(buf, sizeof(buf),
                 "%s: the time base has a gap of %.4g s (the median step is %.4g s) at t = %.4f s, inside "
-                "the experiment's span [%.3f, %.3f] s: rows missing there (an emulator that "
-                "resynchronised to the wall clock, a driver that skipped cycles); the oscillation "
-                "cannot be measured across it: record the experiment again",
-                path.c_str(), worst_step, h, t[worst - 1], from, to);
+                "the experiment's span [%.3f, %.3f] s, longer than %.4g s (a tenth of the oscillation's "
+                "period): rows missing there (an emulator that resynchronised to the wall clock, a "
+                "driver that stopped); the oscillation cannot be measured across it: record the "
+                "experiment again",
+                path.c_str(), worst_step, h, t[worst - 1], from, to, max_gap);
   *error = buf;
   return false;
 }

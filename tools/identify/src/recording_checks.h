@@ -8,11 +8,12 @@
 
 namespace ohrp::identify {
 
-// The recording's times within [from, to]: every step at most 3 times the median step (an
-// emulator that resynchronised to the wall clock, or rows dropped, leave a gap). False with
-// `*error` naming the gap and where.
-bool CheckTimeBase(const std::vector<double>& t, double from, double to, const std::string& path,
-                   std::string* error);
+// The recording's times within [from, to]: no step longer than `max_gap` [s] (the identification
+// asks for a tenth of the oscillation's period: an emulator that resynchronised to the wall
+// clock leaves a longer gap; a driver that skipped a few cycles does not). False with `*error`
+// naming the gap and where.
+bool CheckTimeBase(const std::vector<double>& t, double from, double to, double max_gap,
+                   const std::string& path, std::string* error);
 
 // The recording's first swing in its window against the simulated experiment's at the nominal
 // soles: within a factor kSwingFactor either way (other soles change it by far less). False with
