@@ -1,5 +1,8 @@
 // sim_host: simulate a robot and serve its segment (see sim_host/host.h and README.md).
 #include <cstdio>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "cli/command_line.h"
 #include "contact/params_file.h"
@@ -140,23 +143,18 @@ int main(int argc, char** argv) {
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   if (!o.contact_file.empty()) {
     // the file's values, except where a --contact-* option was given as well
-    ohrp::contact::SoftContactParams from_file = cp;
+    std::set<std::string> given;
+    for (const char* k : {"stiffness", "exponent", "damping", "friction", "tangential_stiffness",
+                          "tangential_damping"}) {
+      std::string flag = std::string("--contact-") + k;
+      for (char& c : flag) c = c == '_' ? '-' : c;
+      if (app.count(flag) > 0) given.insert(k);
+    }
     std::vector<std::string> keys;
     std::string error;
-    if (!ohrp::contact::ReadContactFile(o.contact_file, &from_file, &keys, &error)) {
+    if (!ohrp::contact::ReadContactFile(o.contact_file, &cp, &keys, &error, given)) {
       std::fprintf(stderr, "sim_host: --contact-file: %s\n", error.c_str());
       return ohrp::sim::kExitUsage;
-    }
-    for (const std::string& k : keys) {
-      std::string flag = "--contact-" + k;
-      for (char& c : flag) c = c == '_' ? '-' : c;
-      if (app.count(flag) > 0) continue;
-      if (k == "stiffness") cp.stiffness = from_file.stiffness;
-      if (k == "exponent") cp.exponent = from_file.exponent;
-      if (k == "damping") cp.damping = from_file.damping;
-      if (k == "friction") cp.friction = from_file.friction;
-      if (k == "tangential_stiffness") cp.tangential_stiffness = from_file.tangential_stiffness;
-      if (k == "tangential_damping") cp.tangential_damping = from_file.tangential_damping;
     }
   }
   if (std::string error; !ohrp::sim::ParseCameraSize(camera_size, &o.cameras.width,

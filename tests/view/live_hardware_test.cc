@@ -16,6 +16,7 @@
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/clock.h"
 #include "view_process.h"
+#include "viewer_page.h"
 
 namespace ohrp::view::testing {
 namespace {
@@ -141,13 +142,12 @@ TEST_F(LiveHardware, AFirstImageThatComesSecondsAfterThePageAskedIsShown) {
   const double delay = 3.0;
   FakeHardware hardware(segment_, delay);
   ASSERT_TRUE(hardware.error().empty()) << hardware.error();
-  Viewer viewer;
-  StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?images=1");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string(), "?images=1");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 2", delay + 10.0))
-      << ReadFile(viewer.out_file);
+      << ReadFile(page.viewer.out_file);
   EXPECT_GT(hardware.asked_at(), 0.0);
   // while the page still shows them, the request stays up
   EXPECT_EQ(hardware.producer()->ImagesRequested() & 1u, 1u);
@@ -163,11 +163,10 @@ TEST_F(LiveHardware, AFirstImageThatComesSecondsAfterThePageAskedIsShown) {
 TEST_F(LiveHardware, ASlowPageDrawsTheNewestImageNotAQueue) {
   FakeHardware hardware(segment_, 0.0, 320, 240, 6);
   ASSERT_TRUE(hardware.error().empty()) << hardware.error();
-  Viewer viewer;
-  StartViewer(&viewer, {segment_, "--port", "0", "--image-rate", "30"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url);
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {segment_, "--port", "0", "--image-rate", "30"}, (dir_ / "viewer.txt").string());
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.ready == 1"));
   // a page whose drawing takes 150 ms, then the images shown
   const double draw = 0.15;
@@ -199,15 +198,14 @@ TEST_F(LiveHardware, ASlowPageDrawsTheNewestImageNotAQueue) {
 TEST_F(LiveHardware, AClosedImageConnectionIsSaidOnThePage) {
   FakeHardware hardware(segment_, 0.0);
   ASSERT_TRUE(hardware.error().empty()) << hardware.error();
-  Viewer viewer;
-  StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?images=1");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string(), "?images=1");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.images > 0"));
   EXPECT_EQ(browser.Eval("document.getElementById('images_note').textContent").get<std::string>(), "");
-  ohrp::testing::Terminate(viewer.pid, 5.0);
-  viewer.pid = -1;
+  ohrp::testing::Terminate(page.viewer.pid, 5.0);
+  page.viewer.pid = -1;
   EXPECT_TRUE(browser.WaitTrue("document.getElementById('images_note').textContent.includes('reconnecting')", 5.0))
       << browser.Eval("document.getElementById('images_note').textContent");
 }
@@ -217,11 +215,10 @@ TEST_F(LiveHardware, AClosedImageConnectionIsSaidOnThePage) {
 TEST_F(LiveHardware, PicksColumnsOfTheLiveFrames) {
   FakeHardware hardware(segment_, 0.0);
   ASSERT_TRUE(hardware.error().empty()) << hardware.error();
-  Viewer viewer;
-  StartViewer(&viewer, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?columns=q_RLEG_KNEE,RLEG_KNEE_fz");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {segment_, "--port", "0"}, (dir_ / "viewer.txt").string(), "?columns=q_RLEG_KNEE,RLEG_KNEE_fz");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   // the fake's joints are straight: q = 0 in every frame
   ASSERT_TRUE(browser.WaitTrue("charts.cols.data.datasets.length === 1 && "
                                "charts.cols.data.datasets[0].data.length > 5"));

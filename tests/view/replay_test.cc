@@ -8,6 +8,7 @@
 #include "browser.h"
 #include "common/scratch.h"
 #include "view_process.h"
+#include "viewer_page.h"
 
 namespace ohrp::view::testing {
 namespace {
@@ -42,12 +43,11 @@ PixelCount RobotPixels(Browser* b, const std::string& png) {
 }
 
 TEST_F(Replay, ShowsTheRobotAndTheSliderMovesIt) {
-  Viewer viewer;
-  StartViewer(&viewer, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
   // the page paused at t = 0
-  Browser browser(viewer.url + "?t=0");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
   const std::string out = OutputDir("replay");
   ASSERT_TRUE(browser.Screenshot(out + "/t0.png"));
@@ -78,11 +78,10 @@ TEST_F(Replay, ShowsTheRobotAndTheSliderMovesIt) {
 
 // a click on a plot (a user's press and release) shows the robot at the clicked time
 TEST_F(Replay, ClickingAPlotSeeks) {
-  Viewer viewer;
-  StartViewer(&viewer, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?t=0");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
   // the page's pixel of t = 1.5 s on the force plot, halfway up its plotting area
   const nlohmann::json at = browser.Eval(
@@ -108,11 +107,10 @@ TEST_F(Replay, APeakOfOneRowIsPlotted) {
     for (int i = 0; i <= 4000; ++i)
       log << 0.0005 * i << ",0.7235,0.1," << (i == 2467 ? 1234 : 300) << ",300\n";
   }
-  Viewer viewer;
-  StartViewer(&viewer, {(dir_ / "impact").string(), "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?t=0&columns=rfsensor_fz");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {(dir_ / "impact").string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0&columns=rfsensor_fz");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
   const std::string peak = "(c, label) => Math.max(...c.data.datasets.find((d) => d.label === label).data.map((p) => p.y))";
   const double in_fz = browser.Eval("(" + peak + ")(charts.fz, 'rfsensor')").get<double>();
@@ -130,11 +128,10 @@ TEST_F(Replay, APeakOfOneRowIsPlotted) {
 // the column picker: any log column by name, typed in its box; a mistyped column or joint is
 // said on the page, not dropped silently
 TEST_F(Replay, PicksLogColumnsByNameAndSaysWhichAreNotThere) {
-  Viewer viewer;
-  StartViewer(&viewer, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?t=0&joints=RLEG_KNEE,RLEG_KNEEE&columns=base_z,base_zz");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {(dir_ / "run").string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0&joints=RLEG_KNEE,RLEG_KNEEE&columns=base_z,base_zz");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('column_note').textContent.includes('base_zz')", 5.0));
   const std::string note = browser.Eval("document.getElementById('column_note').textContent").get<std::string>();
@@ -165,11 +162,10 @@ TEST_F(Replay, TheCameraFollowsOrStaysAndResets) {
     log << "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,q_RLEG_KNEE\n";
     for (int i = 0; i <= 200; ++i) log << 0.01 * i << "," << 0.5 * 0.01 * i << ",0,0.7235,1,0,0,0,0\n";
   }
-  Viewer viewer;
-  StartViewer(&viewer, {(dir_ / "walk").string(), "--port", "0"}, (dir_ / "viewer.txt").string());
-  ASSERT_FALSE(viewer.url.empty()) << ReadFile(viewer.out_file);
-  Browser browser(viewer.url + "?t=0");
-  ASSERT_TRUE(browser.ok()) << browser.error();
+  ViewerPage page;
+  OpenPage(&page, {(dir_ / "walk").string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
   ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
   auto seek = [&](double t) {
     browser.Eval("(() => { const s = document.getElementById('slider'); s.value = " + std::to_string(t) +

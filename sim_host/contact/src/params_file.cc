@@ -16,7 +16,7 @@ std::string At(const std::string& path, const YAML::Node& n) {
 }  // namespace
 
 bool ReadContactFile(const std::string& path, SoftContactParams* p, std::vector<std::string>* keys,
-                     std::string* error) {
+                     std::string* error, const std::set<std::string>& keep) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -66,6 +66,7 @@ bool ReadContactFile(const std::string& path, SoftContactParams* p, std::vector<
       *error = At(path, kv.first) + "contact_params: " + key + ": " + why;
       return false;
     }
+    if (keep.count(key)) continue;
     *it->second = v;
     set.push_back(key);
   }

@@ -238,28 +238,29 @@ int Compare(const CompareOptions& o, Comparison* out, std::string* error) {
     r.name = n;
     const auto& xa = a.col(a.Column(n));
     const auto& xb = b.col(b.Column(n));
-    size_t cursor = 0;
-    double s2 = 0, sum = 0, ma = 0, sa2 = 0;
-    for (size_t i : rows) ma += xa[i];
-    ma /= static_cast<double>(rows.size());
-    for (size_t i : rows) {
-      const double d = Interpolate(tB, xb, tA[i] + out->lag, &cursor) - xa[i];
-      s2 += d * d;
-      sum += d;
-      sa2 += (xa[i] - ma) * (xa[i] - ma);
-      if (std::fabs(d) > std::fabs(r.peak)) {
-        r.peak = d;
-        r.peak_time = tA[i];
-      }
-    }
-    const double count = static_cast<double>(rows.size());
+    // A's window and B aligned to it, once: the differences, the correlation and the motion
+    // are all read from them
     wa.clear();
     wb.clear();
-    cursor = 0;
+    size_t cursor = 0;
     for (size_t i : rows) {
       wa.push_back(xa[i]);
       wb.push_back(Interpolate(tB, xb, tA[i] + out->lag, &cursor));
     }
+    double s2 = 0, sum = 0, ma = 0, sa2 = 0;
+    for (double v : wa) ma += v;
+    ma /= static_cast<double>(wa.size());
+    for (size_t k = 0; k < wa.size(); ++k) {
+      const double d = wb[k] - wa[k];
+      s2 += d * d;
+      sum += d;
+      sa2 += (wa[k] - ma) * (wa[k] - ma);
+      if (std::fabs(d) > std::fabs(r.peak)) {
+        r.peak = d;
+        r.peak_time = wt[k];
+      }
+    }
+    const double count = static_cast<double>(rows.size());
     r.correlation = Correlation(wa, wb);
     r.moves_a = Moves(wa);
     r.moves_b = Moves(wb);

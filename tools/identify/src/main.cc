@@ -7,6 +7,7 @@
 
 #include "cli/command_line.h"
 #include "cli/data_dir.h"
+#include "compare/compare.h"
 #include "identify/identify.h"
 #include "sweep/executor_options.h"
 #include "tool_process/run_command.h"
@@ -138,11 +139,15 @@ int main(int argc, char** argv) {
     const std::string compare_txt = o.out_dir + "/compare.txt";
     std::remove(compare_txt.c_str());
     std::string why;  // an argument vector, no shell (tool_process/run_command.h)
-    if (ohrp::tool::RunCommand({compare, r.runs.back()["dir"].get<std::string>() + "/run/log.csv",
-                          o.recording, "--channels", o.channel, "--oscillation", o.channel,
-                          "--from", from, "--to", to, "--labels", "simulation,robot", "--out",
-                          o.out_dir + "/compare"},
-                         compare_txt, &why) != 0)
+    const int compared = ohrp::tool::RunCommand(
+        {compare, r.runs.back()["dir"].get<std::string>() + "/run/log.csv", o.recording, "--channels",
+         o.channel, "--oscillation", o.channel, "--from", from, "--to", to, "--labels",
+         "simulation,robot", "--out", o.out_dir + "/compare"},
+        compare_txt, &why);
+    if (compared == ohrp::compare::kExitDifferent)  // written, but not the same experiment
+      std::fprintf(stderr, "ohrp_identify: compare-logs finds the last run and the recording are not the "
+                   "same experiment (see %s/compare.txt)\n", o.out_dir.c_str());
+    else if (compared != 0)
       std::fprintf(stderr, "ohrp_identify: the comparison plot could not be made (see %s/compare.txt)\n",
                    o.out_dir.c_str());
   }

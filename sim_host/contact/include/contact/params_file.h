@@ -9,6 +9,7 @@
 // file, the line and the key.
 #pragma once
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,11 @@
 
 namespace ohrp::contact {
 
-// Sets the keys the file gives in *p and lists them in *keys ("stiffness", ...). False with
-// `*error` ("FILE:LINE: contact_params: KEY: why") on any problem; *p is then unchanged.
+// Sets the keys the file gives in *p, except those in `keep` (given otherwise, e.g. on the
+// command line: checked, not applied), and lists the keys it set in *keys ("stiffness", ...).
+// False with `*error` ("FILE:LINE: contact_params: KEY: why") on any problem; *p is then
+// unchanged.
 bool ReadContactFile(const std::string& path, SoftContactParams* p, std::vector<std::string>* keys,
-                     std::string* error);
+                     std::string* error, const std::set<std::string>& keep = {});
 
 }  // namespace ohrp::contact
