@@ -72,8 +72,6 @@ inline InProcessResult RunInProcess(const std::string& tag, const InProcessRun& 
       &status);
   EXPECT_TRUE(producer) << status.message;
   if (!producer) return out;
-  // before the program answers, the joints hold the keyframe's pose
-  const shm::CommandBlock hold = HoldWhereItIs(*robot);
   std::vector<std::string> args = spec.args;
   args.insert(args.begin() + 1, {"--segment", segment});
   const std::string log = TempPath(tag);
@@ -97,12 +95,13 @@ inline InProcessResult RunInProcess(const std::string& tag, const InProcessRun& 
       if (spec.edit_commands) spec.edit_commands(robot->sensors().time, &cmd);
       robot->Cycle(cmd);
     } else if (r == shm::WaitResult::kNoController || r == shm::WaitResult::kControllerDied) {
-      if (answered) {  // the program left: it ended its run itself
+      if (answered || !ohrp::testing::Running(pid)) {  // the program left: it ended its run
         out.left_early = true;
         break;
       }
+      // time frozen until the program attaches, as sim_host does (a slow start on a loaded
+      // machine must not eat the run's producer time)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      robot->Cycle(hold);
     } else {
       ADD_FAILURE() << "the program did not answer: " << static_cast<int>(r);
       break;
