@@ -123,6 +123,14 @@ void BalanceController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   CountStand(out);
   SolveJoints(out, R_yaw.inverse() * out.com_offset, lift);
   for (int j = 0; j < njoint(); ++j) dq_ref_[j] = 0;
+  CarryLoad(out);
+}
+
+void BalanceController::CarryLoad(const StabilizerOutput& out) noexcept {
+  if (load_ff_)
+    load_ff_->Compute(*kin_est_, out.fz_share, header().tau_max, tau_ff_.data());
+  else
+    tau_ff_.fill(0.0);
 }
 
 void BalanceController::FillStabilizerInput(const shm::SensorBlock& s, double t,

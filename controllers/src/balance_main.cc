@@ -64,6 +64,11 @@ int main(int argc, char** argv) {
                  "[s] to move the CoM over the stance foot (and back)")
       ->default_val(o.one_leg.shift_time)
       ->check(ohrp::cli::InRange(0.1, 60.0));
+  app.add_flag("--load-feedforward", o.load_feedforward,
+               "send the joints a feed-forward torque for the robot's weight (gravity at the "
+               "measured posture, the weight on the soles in the stabilizer's shares), so "
+               "that a servo soft against the weight does not sag under it (G1, H1: "
+               "docs/robots.md); off: the PD carries the load");
   app.add_option("--servo-hz", o.servo_frequency,
                  "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz on each "
                  "joint's own inertia; a robot of <motor>s such as H1 needs a stiffer one)")

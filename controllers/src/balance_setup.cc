@@ -196,6 +196,8 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
   }
   try {
     estimator_ = std::make_unique<model::BaseEstimator>(kin_est_.get(), options_.estimator);
+    if (options_.load_feedforward)
+      load_ff_ = std::make_unique<LoadFeedforward>(k, sole_);
     for (int i = 0; i < 2; ++i) {
       leg_ik_[i] = std::make_unique<model::LimbIk>(
           model::LimbIk::ForSole(*kin_ik_, k.robot().base_body, sole_[i]));

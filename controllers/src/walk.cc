@@ -146,10 +146,8 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   // rotors' reflected inertia dominates it on geared robots)
   const shm::SegmentHeader& h = header();
   const double w2 = std::pow(2 * M_PI * kSuggestedServoHz, 2);
-  for (int j = 0; j < njoint(); ++j) {
-    dq_ref_[j] = 0;
-    tau_ff_[j] = 0;
-  }
+  CarryLoad(out);  // the load's feed-forward; the swing leg's inertia on top
+  for (int j = 0; j < njoint(); ++j) dq_ref_[j] = 0;
   for (int i = 0; i < 2; ++i) {
     for (int j : leg_ik_[i]->chain()) {
       const double dq = plan_valid_ ? (q_plan_[j] - q_plan_prev_[j]) / dt : 0.0;
@@ -157,7 +155,7 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
       rate_[j] = dq;
       dq_ref_[j] = dq;
       if (i == w.gait.swing) {
-        tau_ff_[j] = walk_options_.inertia_feedforward * h.default_kp[j] / w2 * ddq;
+        tau_ff_[j] += walk_options_.inertia_feedforward * h.default_kp[j] / w2 * ddq;
         tau_ff_[j] = std::clamp(tau_ff_[j], -h.tau_max[j], h.tau_max[j]);
       }
     }

@@ -68,6 +68,11 @@ int main(int argc, char** argv) {
       ->default_val(o.limits.max_forward)->check(ohrp::cli::Plausible("stride"));
   app.add_option("--com-lower", o.com_lower, "[m] walk with the CoM this much below the stance's")
       ->default_val(o.com_lower)->check(ohrp::cli::Plausible("height"));
+  app.add_flag("--load-feedforward", b.load_feedforward,
+               "send the joints a feed-forward torque for the robot's weight (gravity at the "
+               "measured posture, the weight on the soles in the stabilizer's shares), so "
+               "that a servo soft against the weight does not sag under it (G1, H1: "
+               "docs/robots.md); off: the PD carries the load");
   app.add_option("--servo-hz", b.servo_frequency,
                  "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz)")
       ->default_val(b.servo_frequency)

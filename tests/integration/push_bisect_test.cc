@@ -1,8 +1,13 @@
 // Tests the push tool's bisection (tools/push/src/bisect.cc) on trials with a known threshold.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
 
+#include "common/scratch.h"
 #include "push/push.h"
 
 namespace ohrp::push {
@@ -85,6 +90,44 @@ TEST(Options, BadValuesAreNamed) {
   b = o;
   b.controllers = {"  "};
   refused(b, "empty");
+}
+
+}  // namespace
+}  // namespace ohrp::push
+
+// the standing judgement reads the soles' F/T sensors of the scene's robot, not HRP-1S's names
+namespace ohrp::push {
+namespace {
+
+std::vector<std::string> Sorted(std::vector<std::string> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+TEST(FootSensors, AreTheSolesSensorsOfTheScenesRobot) {
+  std::vector<std::string> names;
+  std::string error;
+  ASSERT_TRUE(FootSensorsOf(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &names, &error))
+      << error;
+  EXPECT_EQ(Sorted(names), (std::vector<std::string>{"lfsensor", "rfsensor"}));  // not the hands'
+  const std::string g1 = std::string(OHRP_SOURCE_DIR) + "/robots/g1.yaml";
+  if (std::filesystem::exists(std::string(OHRP_SOURCE_DIR) + "/../shared/external/menagerie/unitree_g1")) {
+    ASSERT_TRUE(FootSensorsOf(g1, &names, &error)) << error;
+    EXPECT_EQ(Sorted(names), (std::vector<std::string>{"left_foot_ft", "right_foot_ft"}));
+  }
+}
+
+TEST(FootSensors, ARobotWithoutSoleSensorsIsRefusedNamingTheOption) {
+  const std::string scene = ohrp::testing::ScratchFile(
+      "nosoles",
+      "<mujoco><worldbody><body name=\"b\"><freejoint/><geom size=\"0.1\"/>"
+      "<body name=\"l\"><joint name=\"j\"/><geom size=\"0.05\"/></body></body></worldbody>"
+      "<actuator><motor joint=\"j\"/></actuator></mujoco>",
+      ".xml");
+  std::vector<std::string> names;
+  std::string error;
+  EXPECT_FALSE(FootSensorsOf(scene, &names, &error));
+  EXPECT_NE(error.find("--foot-sensors"), std::string::npos) << error;
 }
 
 }  // namespace

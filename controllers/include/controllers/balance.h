@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "controllers/controller.h"
+#include "controllers/load_feedforward.h"
 #include "controllers/pose.h"
 #include "controllers/stabilizer.h"
 #include "controllers/stance_plan.h"
@@ -67,6 +68,9 @@ struct BalanceOptions {
   // each joint's own inertia) scaled to this closing frequency [Hz]: kp * (f / 6)^2,
   // kd * (f / 6); 0: the suggested gains as they are
   double servo_frequency = 0;
+  // the joints' feed-forward carries the robot's weight on the soles in the stabilizer's
+  // shares (load_feedforward.h), so the servo does not sag under it (--load-feedforward)
+  bool load_feedforward = false;
 };
 
 // why the controller went to its hold (BalanceController::hold_reason)
@@ -147,6 +151,9 @@ class BalanceController : public Controller {
                            const Eigen::Rotation2Dd& R_yaw) noexcept;
   void SwingLift(double dt, double lift[2]) noexcept;
   void CountStand(const StabilizerOutput& out) noexcept;
+  // tau_ff_: the load's feed-forward for the measured state and the stabilizer's force shares
+  // (zeros without it)
+  void CarryLoad(const StabilizerOutput& out) noexcept;
   void SolveJoints(const StabilizerOutput& out, const Eigen::Vector2d& offset_B,
                    const double lift[2]) noexcept;
   void Write(shm::CommandBlock* commands, double dt) noexcept;
@@ -161,6 +168,7 @@ class BalanceController : public Controller {
   std::unique_ptr<model::Kinematics> kin_ik_;   // the legs' IK (base frame, upright)
   std::unique_ptr<model::BaseEstimator> estimator_;
   std::unique_ptr<model::LimbIk> leg_ik_[2];    // left, right
+  std::unique_ptr<LoadFeedforward> load_ff_;     // null without --load-feedforward
   Stabilizer stabilizer_;
   StabilizerInput input_;
   int sole_[2] = {-1, -1};
@@ -191,7 +199,7 @@ class BalanceController : public Controller {
   std::array<double, shm::kMaxJoints> q_prev_{};
   std::array<double, shm::kMaxJoints> dq_ref_{};
   std::array<double, shm::kMaxJoints> q_ik_{};
-  std::array<double, shm::kMaxJoints> tau_ff_{};  // feed-forward torques sent (0 in balance)
+  std::array<double, shm::kMaxJoints> tau_ff_{};  // feed-forward torques sent (the load's)
   double start_time_ = 0, last_time_ = 0, activate_time_ = 0;
   bool ramp_started_ = false;
   int stale_blocks_ = 0;     // sensor blocks in a row whose time did not advance

@@ -44,6 +44,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--scene", o.scene, "scene (MJCF), relative to the repository root")->capture_default_str();
   app.add_option("--keyframe", o.keyframe, "initial state")->capture_default_str();
+  app.add_option("--foot-sensors", o.foot_sensors,
+                 "the soles' force/torque sensors whose forces say the feet carry the weight "
+                 "(default: those of the scene's robot, e.g. rfsensor,lfsensor for HRP-1S)")
+      ->delimiter(',');
   app.add_option("--jobs,-j", o.jobs, "trials at once (default: the number of cores)");
   app.add_option("--out", o.out_dir, "output folder (default: runs/push-<date>-<time>)");
   app.add_option("--require-not-worse", not_worse,
@@ -72,6 +76,13 @@ int main(int argc, char** argv) {
   o.out_dir = std::filesystem::absolute(o.out_dir).lexically_normal().string();
   std::string error;
   if (!ohrp::push::ValidateOptions(o, &error)) {
+    std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
+    return 2;
+  }
+  const std::filesystem::path scene = std::filesystem::path(o.source_dir) / o.scene;
+  if (o.foot_sensors.empty() &&
+      !ohrp::push::FootSensorsOf(std::filesystem::path(o.scene).is_absolute() ? o.scene : scene.string(),
+                                 &o.foot_sensors, &error)) {
     std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
     return 2;
   }

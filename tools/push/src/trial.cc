@@ -201,7 +201,7 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
   runner::StandingSpec st;
   st.stance_at = o.push_at;
   st.after = push_end + o.observe;
-  st.sensors = {"rfsensor", "lfsensor"};
+  st.sensors = o.foot_sensors;
   runner::StandingResult sr;
   if (!runner::MeasureStanding(log, sim, st, &sr, &error)) {
     t.ok = false;
@@ -221,6 +221,7 @@ Trial RunTrial(const PushOptions& o, const std::string& controller, double direc
   t.largest_tilt = sr.largest_tilt;
   if (o.settle_impulse > 0) {
     runner::SettleSpec ss;
+    ss.sensors = o.foot_sensors;
     ss.at = o.push_at;
     ss.duration = o.push_duration;
     ss.tolerance = o.settle_tolerance;

@@ -51,7 +51,15 @@ struct PushOptions {
   std::string source_dir;      // data folder, cli::DataDir() (scene paths)
   std::string bin_dir;         // sim_host and the controllers
   bool plot = true;
+  // the soles' force/torque sensors, whose log columns NAME_fz say the feet carry the weight;
+  // empty: FootSensorsOf the scene's robot
+  std::vector<std::string> foot_sensors;
 };
+
+// The F/T sensors of the soles of the robot in `scene` (a path), left then right as the model
+// lists its soles (robot_model/kinematics.h FindSoles). False with `*error` when the model does
+// not load or no sole has a sensor.
+bool FootSensorsOf(const std::string& scene, std::vector<std::string>* names, std::string* error);
 
 // Checks the options. Returns false with `*error` saying what is wrong.
 bool ValidateOptions(const PushOptions& o, std::string* error);
