@@ -176,19 +176,23 @@ void WalkController::CountLandings(const shm::SensorBlock& s, double t) noexcept
   for (int i = 0; i < 2; ++i) load[i] = end_load_[i] = FootLoad(s, i);
   end_tilt_ = base_tilt();
   // step k landed when, within a quarter of its duration of its planned landing, its foot's
-  // sensor carries a tenth of the weight; past that window it did not land
+  // sensor carries a tenth of the weight; past that window it did not land. The window lasts
+  // at least until the next step begins: after the last step, until the ZMP has reached the
+  // middle of the final stance (the plan moves the weight onto the landed foot that slowly,
+  // so it may carry less than a tenth a quarter step after landing)
   const walking::Gait& gait = gen_.gait();
   while (next_to_land_ < gait.step_count()) {
     const int k = next_to_land_;
     const double due = gait.step_land(k);
     const double tolerance = 0.25 * (due - gait.step_begin(k));
     if (t < due - tolerance) return;
+    const double weight_moved = k + 1 < gait.step_count() ? gait.step_begin(k + 1) : gait.end_time();
     const int foot = gait.step(k).foot;
     if (std::isfinite(load[foot])) window_load_ = std::max(window_load_, load[foot]);
     if (load[foot] >= land_load_) {
       ++walk_stats_.steps_done;
     } else {
-      if (t <= due + tolerance) return;
+      if (t <= std::max(due + tolerance, weight_moved)) return;
       if (walk_stats_.steps_missed++ == 0) {
         walk_stats_.first_missed_step = k;
         walk_stats_.first_missed_foot = foot;

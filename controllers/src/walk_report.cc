@@ -35,8 +35,9 @@ std::string WalkController::Unverified() const {
   if (w.steps_missed > 0) {
     std::snprintf(buf, sizeof buf,
                   "%d step(s) did not land: the first, step %d (%s foot, due at t = %.3f s), "
-                  "carried at most %.0f N within a quarter of its duration of that time (a "
-                  "landed foot carries %.0f N, a tenth of the weight)",
+                  "carried at most %.0f N within a quarter of its duration of that time or "
+                  "before the weight was to move onto it (a landed foot carries %.0f N, a tenth "
+                  "of the weight)",
                   w.steps_missed, w.first_missed_step + 1, walking::SideName(w.first_missed_foot),
                   w.first_missed_due, w.first_missed_load, land_load_);
     return buf;
