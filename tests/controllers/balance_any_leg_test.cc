@@ -77,16 +77,17 @@ InProcessRun H1Run(const std::string& scene, const std::vector<std::string>& ext
   return run;
 }
 
-// DISABLED, open (issue 31 item 2): it passed on its branch only because sim_host's soft soles
-// then left H1's own foot capsules colliding natively as well (two contacts under each foot);
-// with the soft soles alone (sim_host now switches the foot's own geoms off, or resolves
-// contype-0 soles to the native contact) balance lets H1 fall within 2.4-3.8 s. Kept to be
-// enabled once balance stands H1 on one contact.
-TEST(BalanceAnyLeg, DISABLED_H1WithFiveJointLegsStandsFreeFromItsKeyframe) {
+// Issue 31 item 2: balance stands H1 on one contact (the soft soles alone; sim_host switches the
+// foot's own geoms off) at --servo-hz 10. H1's actuators are <motor>s: the suggested 6 Hz on
+// each joint's own inertia lets it sink; at 9 Hz it still falls (6.5 s), from 9.5 to 11 Hz it
+// stands 20 s (tilt under 2.5 deg), at 12 Hz the servo chatters at the control rate (the pelvis'
+// accelerometer reads a steady 4 m/s^2 sideways while it stands still) and balance's estimator
+// reports a fall that is not. The servo's frequency is not yet derived from the robot.
+TEST(BalanceAnyLeg, H1WithFiveJointLegsStandsFreeFromItsKeyframe) {
   const std::string scene = AugmentedH1();
   if (scene.empty()) GTEST_SKIP() << "no ../shared/external beside the repository";
   const InProcessResult r = RunInProcess(
-      "h1_any_leg", H1Run(scene, {"--keyframe", "stand", "--ramp", "1.0", "--servo-hz", "15", "--no-self-collision"}, 5.0));
+      "h1_any_leg", H1Run(scene, {"--keyframe", "stand", "--ramp", "1.0", "--servo-hz", "10", "--no-self-collision"}, 8.0));
   EXPECT_EQ(r.exit_code, kExitOk) << r.output;
   EXPECT_FALSE(r.left_early) << r.output;
   EXPECT_NE(r.output.find("balance: stood"), std::string::npos) << r.output;
