@@ -9,6 +9,7 @@
 #include "cli/data_dir.h"
 #include "robot_model/model.h"
 #include "robot_model/model_hash.h"
+#include "robot_model/profile.h"
 
 namespace ohrp::controllers {
 namespace {
@@ -114,6 +115,14 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
     if (ConfigStatus s = LoadPoseFile(o.pose_file, pose); !s.ok()) return s;
   }
   std::string error;
+  // a robot profile's servo: the defaults of --servo-hz and --load-feedforward
+  if (model::IsProfilePath(o.model)) {
+    model::RobotProfile profile;
+    if (!model::ReadProfile(o.model, &profile, &error))
+      return ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
+    if (o.servo_frequency == 0) o.servo_frequency = profile.servo_frequency;
+    if (o.load_feedforward < 0) o.load_feedforward = profile.load_feedforward ? 1 : 0;
+  }
   *kin_est = model::Kinematics::Load(o.model, &error);
   *kin_ik = *kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
   if (!*kin_est || !*kin_ik) return ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
@@ -196,7 +205,7 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
   }
   try {
     estimator_ = std::make_unique<model::BaseEstimator>(kin_est_.get(), options_.estimator);
-    if (options_.load_feedforward)
+    if (options_.load_feedforward > 0)
       load_ff_ = std::make_unique<LoadFeedforward>(k, sole_);
     for (int i = 0; i < 2; ++i) {
       leg_ik_[i] = std::make_unique<model::LimbIk>(

@@ -20,6 +20,8 @@ std::string At(const std::string& path, const YAML::Node& node) {
   return path + ":" + std::to_string(node.Mark().line + 1) + ": ";
 }
 
+ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, WalkOptions* o);
+
 }  // namespace
 
 const char* WalkCommandHelp() {
@@ -157,6 +159,28 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
   }
   if (!root.IsMap())
     return ConfigStatus::Fail(ConfigError::kFile, path + ": expected a map of parameters (docs/walking.md)");
+  return ApplyWalkParams(root, path, o);
+}
+
+ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(profile);
+  } catch (const YAML::Exception& e) {
+    return ConfigStatus::Fail(ConfigError::kFile,
+                              profile + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  if (!root.IsMap() || !root["walking"]) return ConfigStatus::Ok();
+  if (!root["walking"].IsMap())
+    return ConfigStatus::Fail(ConfigError::kFile, At(profile, root["walking"]) +
+                                                      "walking: expected a map of walk's parameters (docs/walking.md)");
+  return ApplyWalkParams(root["walking"], profile, o);
+}
+
+namespace {
+
+// the parameters of map `root` (a --params file, or a profile's walking:) into `o`
+ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, WalkOptions* o) {
   // every key and where its value goes
   walking::GaitOptions& g = o->gait;
   walking::StepLimits& l = o->limits;
@@ -214,5 +238,7 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
   }
   return ConfigStatus::Ok();
 }
+
+}  // namespace
 
 }  // namespace ohrp::controllers

@@ -7,6 +7,7 @@
 #include "cli/plausible.h"
 #include "controllers/walk.h"
 #include "controllers/pose.h"
+#include "robot_model/profile.h"
 #include "walking/footstep_file.h"
 #include "walk_geometry.h"
 
@@ -43,6 +44,11 @@ using walk_geometry::YawOf;
 std::unique_ptr<WalkController> WalkController::Create(const WalkOptions& options,
                                                        ConfigStatus* status) {
   WalkOptions o = options;
+  // the robot profile's walking parameters, then the parameter file's
+  if (model::IsProfilePath(o.balance.model)) {
+    *status = LoadProfileWalkParams(o.balance.model, &o);
+    if (!status->ok()) return nullptr;
+  }
   if (!o.params_file.empty()) {
     *status = LoadWalkParams(o.params_file, &o);
     if (!status->ok()) return nullptr;

@@ -81,6 +81,25 @@ TEST(WalkParams, RefusesUnknownKeysAndWrongTypesWithTheLine) {
   EXPECT_NE(s.message.find("nosuch.yaml"), std::string::npos) << s.message;
 }
 
+// a robot profile's walking: map holds the same keys (robot_model/profile.h; robots/g1.yaml)
+TEST(WalkParams, AProfilesWalkingMapIsRead) {
+  WalkOptions o;
+  const std::string head = "model: robot.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n";
+  ConfigStatus s = LoadProfileWalkParams(
+      Temp("robot_profile.yaml", head + "walking: {max_forward: 0.13, max_side: 0.05}\n"), &o);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_DOUBLE_EQ(o.limits.max_forward, 0.13);
+  EXPECT_DOUBLE_EQ(o.limits.max_side, 0.05);
+  WalkOptions untouched;
+  s = LoadProfileWalkParams(Temp("no_walking.yaml", head), &untouched);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_DOUBLE_EQ(untouched.limits.max_forward, WalkOptions{}.limits.max_forward);
+  s = LoadProfileWalkParams(Temp("typo_profile.yaml", head + "walking:\n  max_froward: 0.1\n"), &o);
+  EXPECT_EQ(s.code, ConfigError::kFile);
+  EXPECT_NE(s.message.find("typo_profile.yaml:6:"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("max_froward"), std::string::npos) << s.message;
+}
+
 // values out of range are refused when the controller is created (before anything runs)
 TEST(WalkOptions, RefusesValuesOutOfRange) {
   ConfigStatus status;

@@ -69,8 +69,9 @@ struct BalanceOptions {
   // kd * (f / 6); 0: the suggested gains as they are
   double servo_frequency = 0;
   // the joints' feed-forward carries the robot's weight on the soles in the stabilizer's
-  // shares (load_feedforward.h), so the servo does not sag under it (--load-feedforward)
-  bool load_feedforward = false;
+  // shares (load_feedforward.h), so the servo does not sag under it: 1 on (--load-feedforward),
+  // 0 off (--no-load-feedforward), -1 the robot profile's servo.load_feedforward (else off)
+  int load_feedforward = -1;
 };
 
 // why the controller went to its hold (BalanceController::hold_reason)

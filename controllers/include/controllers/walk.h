@@ -96,6 +96,9 @@ struct WalkOptions {
 
 // the YAML parameter file into `o` (strict keys; errors name the file, line and key)
 ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o);
+// a robot profile's walking: map (robot_model/profile.h) into `o`, the same keys as a parameter
+// file; nothing when the profile has none
+ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o);
 
 struct WalkStats {
   uint64_t walk_cycles = 0;     // cycles under the generator

@@ -62,6 +62,9 @@ struct RobotProfile {
   std::map<std::string, std::vector<std::string>> chains;  // e.g. left_leg: [joints...]
   std::map<std::string, std::vector<std::string>> groups;
   std::map<std::string, double> walking;                   // walking limits, by name
+  // the joints' servo balance and walk use by default (their --servo-hz, --load-feedforward)
+  double servo_frequency = 0;      // [Hz], 0: the producer's suggested gains
+  bool load_feedforward = false;
 };
 
 // True when `path` names a profile (".yaml" or ".yml").

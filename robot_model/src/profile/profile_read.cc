@@ -75,6 +75,22 @@ class Reader {
     return false;
   }
 
+  // servo: {frequency: F, load_feedforward: true|false}: what balance and walk take by default
+  void Servo(const YAML::Node& n, RobotProfile* p) const {
+    if (!n.IsMap()) Fail(n, "servo", "must be a mapping: frequency (Hz), load_feedforward (true/false)");
+    Keys(n, "servo", {"frequency", "load_feedforward"});
+    if (n["frequency"]) {
+      p->servo_frequency = Number(n["frequency"], "servo.frequency", "frequency");
+      if (p->servo_frequency > 50) Fail(n["frequency"], "servo.frequency", "must be at most 50 Hz (balance's --servo-hz)");
+    }
+    if (n["load_feedforward"]) {
+      bool v = false;
+      if (!n["load_feedforward"].IsScalar() || !YAML::convert<bool>::decode(n["load_feedforward"], v))
+        Fail(n["load_feedforward"], "servo.load_feedforward", "must be true or false");
+      p->load_feedforward = v;
+    }
+  }
+
   ProfileSite Site(const YAML::Node& n, const std::string& key) const {
     Keys(n, key, {"body", "pos"});
     ProfileSite s;
@@ -157,7 +173,7 @@ class Reader {
 
   void Read(const YAML::Node& root, RobotProfile* p) const {
     Keys(root, "", {"model", "contact", "feet", "sole_thickness", "force_torque", "imu", "stand",
-                    "chains", "groups", "walking", "base", "actuators"});
+                    "chains", "groups", "walking", "base", "actuators", "servo"});
     if (!root["model"]) Fail(root, "model", "missing (the robot's MJCF, VRML or URDF file)");
     const std::string model = Text(root["model"], "model");
     const std::filesystem::path base = std::filesystem::path(file_).parent_path();
@@ -191,6 +207,7 @@ class Reader {
     if (root["actuators"]) Actuators(root["actuators"], p);
     if (root["chains"]) NameLists(root["chains"], "chains", &p->chains);
     if (root["groups"]) NameLists(root["groups"], "groups", &p->groups);
+    if (root["servo"]) Servo(root["servo"], p);
     if (root["walking"]) {
       if (!root["walking"].IsMap()) Fail(root["walking"], "walking", "must be a mapping of limits");
       for (const auto& kv : root["walking"]) {
