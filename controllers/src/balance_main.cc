@@ -64,16 +64,7 @@ int main(int argc, char** argv) {
                  "[s] to move the CoM over the stance foot (and back)")
       ->default_val(o.one_leg.shift_time)
       ->check(ohrp::cli::InRange(0.1, 60.0));
-  bool load_ff = false, no_load_ff = false;
-  auto* load_ff_flag = app.add_flag(
-      "--load-feedforward", load_ff,
-      "send the joints a feed-forward torque for the robot's weight (gravity at the measured "
-      "posture, the weight on the soles in the stabilizer's shares), so that a servo soft "
-      "against the weight does not sag under it (G1: docs/robots.md); default: the robot "
-      "profile's servo.load_feedforward, else off");
-  app.add_flag("--no-load-feedforward", no_load_ff,
-               "no such feed-forward, whatever the robot profile says")
-      ->excludes(load_ff_flag);
+  AddLoadFeedforwardFlags(&app, &o.load_feedforward);
   app.add_option("--servo-hz", o.servo_frequency,
                  "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz on each "
                  "joint's own inertia; a robot of <motor>s such as H1 needs a stiffer one); 0: the "
@@ -101,7 +92,6 @@ int main(int argc, char** argv) {
   for (const std::string& side : one_leg) o.one_leg.sides.push_back(side == "left" ? 0 : 1);
   g.ankle_strategy = !no_ankle;
   g.hip_strategy = !no_hip;
-  if (load_ff || no_load_ff) o.load_feedforward = load_ff ? 1 : 0;
 
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;

@@ -68,16 +68,7 @@ int main(int argc, char** argv) {
       ->default_val(o.limits.max_forward)->check(ohrp::cli::Plausible("stride"));
   app.add_option("--com-lower", o.com_lower, "[m] walk with the CoM this much below the stance's")
       ->default_val(o.com_lower)->check(ohrp::cli::Plausible("height"));
-  bool load_ff = false, no_load_ff = false;
-  auto* load_ff_flag = app.add_flag(
-      "--load-feedforward", load_ff,
-      "send the joints a feed-forward torque for the robot's weight (gravity at the measured "
-      "posture, the weight on the soles in the stabilizer's shares), so that a servo soft "
-      "against the weight does not sag under it (G1: docs/robots.md); default: the robot "
-      "profile's servo.load_feedforward, else off");
-  app.add_flag("--no-load-feedforward", no_load_ff,
-               "no such feed-forward, whatever the robot profile says")
-      ->excludes(load_ff_flag);
+  AddLoadFeedforwardFlags(&app, &b.load_feedforward);
   app.add_option("--servo-hz", b.servo_frequency,
                  "[Hz] closing frequency of the joints' servo (the producer suggests 6 Hz); 0: the "
                  "robot profile's servo.frequency, else the suggested gains")
@@ -116,7 +107,6 @@ int main(int argc, char** argv) {
     o.commands.push_back(c);
   }
 
-  if (load_ff || no_load_ff) b.load_feedforward = load_ff ? 1 : 0;
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;
   auto controller = WalkController::Create(o, &status);

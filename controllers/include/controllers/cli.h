@@ -46,6 +46,21 @@ inline void AddRunOptions(CLI::App* app, RunOptions* run) {
   app->footer(ExitCodeHelp());
 }
 
+// Adds --load-feedforward and --no-load-feedforward (balance and walk: BalanceOptions::
+// load_feedforward, 1 and 0; neither leaves the robot profile's choice, -1).
+inline void AddLoadFeedforwardFlags(CLI::App* app, int* load_feedforward) {
+  auto* on = app->add_flag_callback(
+      "--load-feedforward", [load_feedforward] { *load_feedforward = 1; },
+      "send the joints a feed-forward torque for the robot's weight (gravity at the measured "
+      "posture, the weight on the soles in the stabilizer's shares), so that a servo soft against "
+      "the weight does not sag under it (G1: docs/robots.md); default: the robot profile's "
+      "servo.load_feedforward, else off");
+  app->add_flag_callback(
+         "--no-load-feedforward", [load_feedforward] { *load_feedforward = 0; },
+         "no such feed-forward, whatever the robot profile says")
+      ->excludes(on);
+}
+
 // The command line is parsed as every program's is (cli/command_line.h): help 0, usage error 2.
 using cli::ParseCommandLine;
 
