@@ -44,18 +44,25 @@ std::vector<EmulatorRow> ReadEmulatorLog(const std::string& path) {
 Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
                const std::vector<std::string>& emulator_args, double duration,
                Tolerance tolerance) {
+  return RunChainOn({kScene, "halfsit"}, tag, controller, emulator_args, duration, tolerance);
+}
+
+Chain RunChainOn(const ChainRobot& robot, const std::string& tag,
+                 const std::vector<std::string>& controller,
+                 const std::vector<std::string>& emulator_args, double duration,
+                 Tolerance tolerance) {
   Chain c;
   const fs::path dir = ohrp::testing::ScratchFolder(tag);
   auto path = [&](const char* f) { return (dir / f).string(); };
   // the emulator first: it writes its port once it listens
-  std::vector<std::string> e = {Program("hw_emulator"), "--model", kScene, "--keyframe",
-                                "halfsit", "--port", "0", "--port-file", path("port"),
+  std::vector<std::string> e = {Program("hw_emulator"), "--model", robot.model, "--keyframe",
+                                robot.keyframe, "--port", "0", "--port-file", path("port"),
                                 "--wait-driver", "60", "--log", path("emu.csv"), "--log-every",
                                 "10"};
   e.insert(e.end(), emulator_args.begin(), emulator_args.end());
   const pid_t emulator = Spawn(e, path("emu.out"));
   int port = 0;
-  for (double t = 0; port == 0 && t < kWall; t += 0.01) {
+  for (double t = 0; port == 0 && t < kWall && ohrp::testing::Running(emulator); t += 0.01) {
     std::ifstream in(path("port"));
     if (!(in >> port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
@@ -63,7 +70,7 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
   // the driver, then the controller once the segment exists
   const std::string segment = UniqueSegment(tag);
   const pid_t driver = Spawn(
-      {Program("hw_driver"), "--model", kScene, "--io", Program("../lib/libohrp_io_udp.so"),
+      {Program("hw_driver"), "--model", robot.model, "--io", Program("../lib/libohrp_io_udp.so"),
        "--io-arg", "port=" + std::to_string(port), "--io-arg",
        "timeout_ms=" + std::to_string(tolerance.board_ms), "--segment", segment, "--period",
        "0.002", "--watchdog-cycles", std::to_string(tolerance.cycles), "--board-timeout-cycles",
@@ -71,7 +78,7 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
        std::to_string(duration), "--summary", path("driver.json")},
       path("driver.out"));
   const std::string shm_path = "/dev/shm/" + shm::SegmentObjectName(segment);
-  for (double t = 0; !fs::exists(shm_path) && t < kWall; t += 0.01)
+  for (double t = 0; !fs::exists(shm_path) && t < kWall && ohrp::testing::Running(driver); t += 0.01)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::vector<std::string> args = controller;
   if (args[0].find('/') == std::string::npos) args[0] = Program(args[0]);  // else a path

@@ -48,6 +48,17 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
                const std::vector<std::string>& emulator_args, double duration,
                Tolerance tolerance = kStallTolerance);
 
+// The robot behind the boards: the emulator's and the driver's --model and the emulator's start
+struct ChainRobot {
+  std::string model;     // a scene or robot profile
+  std::string keyframe;  // the emulator's initial state
+};
+// the same on another robot than HRP-1S's flat scene
+Chain RunChainOn(const ChainRobot& robot, const std::string& tag,
+                 const std::vector<std::string>& controller,
+                 const std::vector<std::string>& emulator_args, double duration,
+                 Tolerance tolerance = kStallTolerance);
+
 // What to read when a run went wrong: the exit codes, the driver's summary (deadline misses,
 // lateness, late commands, board faults) and the three programs' output.
 std::string Diagnosis(const Chain& c);
