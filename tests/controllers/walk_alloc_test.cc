@@ -43,6 +43,7 @@ TEST(WalkAllocation, UpdateAllocatesNothingOnceWalking) {
   const std::string log = TempPath("walk_alloc_log");
   WalkOptions o;
   o.balance.ramp = 0.5;
+  o.balance.load_feedforward = 1;  // its gravity torques and Jacobians run in the cycle too
   WalkCommand goal;
   ASSERT_TRUE(ParseWalkCommand("goal 1 0 0", &goal, &error)) << error;
   o.commands.push_back(goal);
