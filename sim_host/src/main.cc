@@ -6,6 +6,7 @@
 
 #include "cli/command_line.h"
 #include "contact/params_file.h"
+#include "robot_model/profile.h"
 #include "sim_host/host.h"
 
 int main(int argc, char** argv) {
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
   app.add_option("--contact-file", o.contact_file,
                  "soft: the soles' parameters from a file (contact_params: {stiffness: ..., "
                  "damping: ...}, as `ohrp identify` writes DIR/soles.yaml); a --contact-* option "
-                 "given as well wins")
+                 "given as well wins; default: a robot profile's contact_file")
       ->check(CLI::ExistingFile);
   std::vector<std::string> pushes;
   app.add_option("--push", pushes,
@@ -141,6 +142,16 @@ int main(int argc, char** argv) {
       "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  // a robot profile's soles file, when no --contact-file is given
+  if (o.contact_file.empty() && ohrp::model::IsProfilePath(o.scene)) {
+    ohrp::model::RobotProfile profile;
+    std::string error;
+    if (!ohrp::model::ReadProfile(o.scene, &profile, &error)) {
+      std::fprintf(stderr, "sim_host: --scene: %s\n", error.c_str());
+      return ohrp::sim::kExitUsage;
+    }
+    o.contact_file = profile.contact_file;
+  }
   if (!o.contact_file.empty()) {
     // the file's values, except where a --contact-* option was given as well
     std::set<std::string> given;

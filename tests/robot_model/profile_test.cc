@@ -77,7 +77,7 @@ std::string Error(const std::string& yaml) {
 
 TEST(ProfileRead, ErrorsNameTheFileLineKeyAndRange) {
   EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\nhands: 2\n"),
-            "p.yaml:5: hands: unknown key (known: actuators, base, chains, contact, feet, force_torque, "
+            "p.yaml:5: hands: unknown key (known: actuators, base, chains, contact, contact_file, feet, force_torque, "
             "groups, imu, model, servo, sole_thickness, stand, walking)");
   const std::string size = Error("model: a.xml\nfeet:\n  left: {body: l}\n  right:\n    body: r\n"
                                  "    sole: {size: [0.2, 5], centre: [0, 0, 0]}\n");

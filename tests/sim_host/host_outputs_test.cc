@@ -150,5 +150,37 @@ TEST_F(SimHostProcess, AContactFileSetsTheSolesAndAnOptionGivenAsWellWins) {
   EXPECT_FALSE(fs::exists("/dev/shm/" + shm::SegmentObjectName(segment_)));
 }
 
+// a robot profile's contact_file (relative to the profile) is the --contact-file by default; a
+// --contact-file given wins; a profile naming a file that is not there is refused (exit 2)
+TEST_F(SimHostProcess, AProfilesContactFileSetsTheSoles) {
+  const std::string dir = ohrp::testing::ScratchFolder("profile_soles");
+  std::ofstream(dir + "/soles.yaml") << "contact_params:\n  stiffness: 3.0e6\n  damping: 40\n";
+  const std::string head = "model: " + std::string(OHRP_SOURCE_DIR) +
+                           "/mjcf/hrp1s/scene_flat.xml\nfeet:\n  left: {body: LLEG_ANKLE_R}\n"
+                           "  right: {body: RLEG_ANKLE_R}\nforce_torque: none\nimu: none\n";
+  std::ofstream(dir + "/robot.yaml") << head << "contact_file: soles.yaml\n";
+  scene_ = dir + "/robot.yaml";
+  const std::string summary = ohrp::testing::ScratchPath("summary", ".json");
+  Start({"--contact", "soft", "--duration", "0.02", "--wait-controller", "0", "--summary", summary});
+  ASSERT_EQ(Wait(30), 0) << Stderr();
+  nlohmann::json j = ReadJson(summary);
+  EXPECT_EQ(j["contact_params"]["stiffness"].get<double>(), 3.0e6) << j.dump();
+  EXPECT_EQ(j["contact_params"]["damping"].get<double>(), 40.0);
+  EXPECT_EQ(j["contact_file"].get<std::string>(), dir + "/soles.yaml");
+  // a --contact-file given wins over the profile's
+  const std::string other = ohrp::testing::ScratchPath("other_soles", ".yaml");
+  std::ofstream(other) << "contact_params:\n  stiffness: 1.5e6\n";
+  Start({"--contact", "soft", "--contact-file", other, "--duration", "0.02", "--wait-controller",
+         "0", "--summary", summary});
+  ASSERT_EQ(Wait(30), 0) << Stderr();
+  j = ReadJson(summary);
+  EXPECT_EQ(j["contact_params"]["stiffness"].get<double>(), 1.5e6) << j.dump();
+  // a profile naming a file that is not there
+  std::ofstream(dir + "/robot.yaml") << head << "contact_file: nosuch.yaml\n";
+  Start({"--contact", "soft", "--duration", "0.02", "--wait-controller", "0"});
+  EXPECT_EQ(Wait(30), 2);
+  EXPECT_NE(Stderr().find("robot.yaml:7: contact_file: no such file"), std::string::npos) << Stderr();
+}
+
 }  // namespace
 }  // namespace ohrp::sim

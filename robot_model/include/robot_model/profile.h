@@ -62,6 +62,9 @@ struct RobotProfile {
   std::map<std::string, std::vector<std::string>> chains;  // e.g. left_leg: [joints...]
   std::map<std::string, std::vector<std::string>> groups;
   std::map<std::string, double> walking;                   // walking limits, by name
+  // the soles' soft-contact parameters sim_host takes when no --contact-file is given (as `ohrp
+  // identify` writes DIR/soles.yaml), resolved against the profile's folder; "": none
+  std::string contact_file;
   // the joints' servo balance and walk use by default (their --servo-hz, --load-feedforward)
   double servo_frequency = 0;      // [Hz], 0: the producer's suggested gains
   bool load_feedforward = false;

@@ -173,7 +173,7 @@ class Reader {
 
   void Read(const YAML::Node& root, RobotProfile* p) const {
     Keys(root, "", {"model", "contact", "feet", "sole_thickness", "force_torque", "imu", "stand",
-                    "chains", "groups", "walking", "base", "actuators", "servo"});
+                    "chains", "groups", "walking", "base", "actuators", "servo", "contact_file"});
     if (!root["model"]) Fail(root, "model", "missing (the robot's MJCF, VRML or URDF file)");
     const std::string model = Text(root["model"], "model");
     const std::filesystem::path base = std::filesystem::path(file_).parent_path();
@@ -208,6 +208,13 @@ class Reader {
     if (root["chains"]) NameLists(root["chains"], "chains", &p->chains);
     if (root["groups"]) NameLists(root["groups"], "groups", &p->groups);
     if (root["servo"]) Servo(root["servo"], p);
+    if (root["contact_file"]) {
+      const std::string f = Text(root["contact_file"], "contact_file");
+      p->contact_file = std::filesystem::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
+      if (!std::filesystem::is_regular_file(p->contact_file))
+        Fail(root["contact_file"], "contact_file", "no such file: " + p->contact_file +
+                                                       " (the soles' parameters, as ohrp identify writes DIR/soles.yaml)");
+    }
     if (root["walking"]) {
       if (!root["walking"].IsMap()) Fail(root["walking"], "walking", "must be a mapping of limits");
       for (const auto& kv : root["walking"]) {
