@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
       "(0 = +x forward, 90 = +y left), the largest impulse over --push-duration at the base after\n"
       "which the robot still stands, by bisection; or with --settle IMPULSE the time the base and the\n"
       "ankle torques take to settle after that push. Each trial is one headless lock-step run (soft\n"
-      "soles, 1 ms physics, 5 ms control) starting in half-sitting. Writes table.md (also printed),\n"
+      "soles, 1 ms physics, 5 ms control) starting from --keyframe. Writes table.md (also printed),\n"
       "push.csv, push.json and push.png into --out. Definitions: docs/scenarios.md."};
   app.add_option("--controller", controllers,
                  "controller command (program in build/bin and its arguments, one string); "
@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--window", o.window, "length of the standing window at the end of the run [s]")
       ->capture_default_str();
-  app.add_option("--scene", o.scene, "scene (MJCF), relative to the repository root")->capture_default_str();
+  app.add_option("--scene", o.scene, "scene (MJCF, or a robot profile .yaml), relative to the repository root")->capture_default_str();
   app.add_option("--keyframe", o.keyframe, "initial state")->capture_default_str();
   app.add_option("--foot-sensors", o.foot_sensors,
                  "the soles' force/torque sensors whose forces say the feet carry the weight "
