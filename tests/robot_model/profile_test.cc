@@ -1,5 +1,5 @@
-// The robot profile (robot_model/profile.h, load.h): reading errors with file, line and key;
-// include expansion with MuJoCo's semantics; the additions on a small biped written here
+// The robot profile (robot_model/profile.h, load.h; reading: profile_read_test.cc): include
+// expansion with MuJoCo's semantics; the additions on a small biped written here
 // (soles derived from the feet's geoms, F/T sensors, IMU, the stance with its base height, the
 // contact switched to the soles or not); assets found beside the model; G1 and H1 through their
 // committed profiles and through drafts made by DraftProfile (skipped without ../shared/external).
@@ -65,56 +65,6 @@ const char* kBipedProfile =
     "stand:\n"
     "  joints: {left_knee: 0.4, right_knee: 0.4, left_hip: -0.2, right_hip: -0.2, left_ankle: -0.2,\n"
     "           right_ankle: -0.2}\n";
-
-std::string Error(const std::string& yaml) {
-  const std::string dir = ScratchFolder("profile_errors");
-  Write(dir + "/p.yaml", yaml);
-  RobotProfile p;
-  std::string error;
-  EXPECT_FALSE(ReadProfile(dir + "/p.yaml", &p, &error)) << yaml;
-  return error.substr(error.find("p.yaml"));
-}
-
-TEST(ProfileRead, ErrorsNameTheFileLineKeyAndRange) {
-  EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\nhands: 2\n"),
-            "p.yaml:5: hands: unknown key (known: actuators, base, chains, contact, contact_file, feet, force_torque, "
-            "groups, imu, model, servo, sole_thickness, stand, walking)");
-  const std::string size = Error("model: a.xml\nfeet:\n  left: {body: l}\n  right:\n    body: r\n"
-                                 "    sole: {size: [0.2, 5], centre: [0, 0, 0]}\n");
-  EXPECT_EQ(size.rfind("p.yaml:6: feet.right.sole.size[1]: = 5 is outside the plausible range", 0), 0u) << size;
-  EXPECT_NE(size.find("[0.001, 1] m"), std::string::npos) << size;
-  EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n"),
-            "p.yaml:3: feet: needs right (its body, and its sole)");
-  EXPECT_EQ(Error("feet: {}\n"), "p.yaml:1: model: missing (the robot's MJCF, VRML or URDF file)");
-  EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\ncontact: hard\n"),
-            "p.yaml:5: contact: must be soft or native");
-  EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n"
-                  "stand: {keyframe: a, joints: {k: 1}}\n"),
-            "p.yaml:5: stand: needs either keyframe (a keyframe's name) or joints (name: angle)");
-  EXPECT_EQ(Error("model: a.xml\n  - bad: [\n"), "p.yaml:2: not valid YAML: illegal map value");
-  const std::string feet = "model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n";
-  EXPECT_EQ(Error(feet + "servo: {frequency: 80}\n"),
-            "p.yaml:5: servo.frequency: must be at most 50 Hz (balance's --servo-hz)");
-  EXPECT_EQ(Error(feet + "servo: {load_feedforward: maybe}\n"),
-            "p.yaml:5: servo.load_feedforward: must be true or false");
-  EXPECT_EQ(Error(feet + "servo: {kp: 3}\n"),
-            "p.yaml:5: servo.kp: unknown key (known: frequency, load_feedforward)");
-}
-
-TEST(ProfileRead, TheServoIsRead) {
-  const std::string dir = ScratchFolder("profile_servo");
-  Write(dir + "/p.yaml", "model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n"
-                         "servo: {frequency: 8, load_feedforward: true}\n");
-  RobotProfile p;
-  std::string error;
-  ASSERT_TRUE(ReadProfile(dir + "/p.yaml", &p, &error)) << error;
-  EXPECT_EQ(p.servo_frequency, 8.0);
-  EXPECT_TRUE(p.load_feedforward);
-  Write(dir + "/q.yaml", "model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n");
-  ASSERT_TRUE(ReadProfile(dir + "/q.yaml", &p, &error)) << error;
-  EXPECT_EQ(p.servo_frequency, 0.0);
-  EXPECT_FALSE(p.load_feedforward);
-}
 
 TEST(ProfileApply, IncludesAreExpandedRelativeToTheMainFile) {
   const std::string dir = ScratchFolder("profile_include");
