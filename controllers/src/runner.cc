@@ -12,6 +12,7 @@
 
 #include "cli/data_dir.h"
 #include "controllers/self_collision_guard.h"
+#include "self_collision_choice.h"
 #include "shm_bridge/bridge.h"
 #include "shm_bridge/realtime.h"
 
@@ -152,31 +153,13 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
     controller.close();
     return rep.exit_code = kExitConfig;
   }
-  // the self-collision check. A default file for another robot (another name and other joint
-  // names) means this robot has none: said once on stderr. A file for this robot (its name or
-  // its joints) with another model hash (a changed model) is refused below, exit 3: protection
-  // is never silently off.
+  // the self-collision check (self_collision_choice.h): a file for this robot with another
+  // model hash is refused below, exit 3: protection is never silently off
   SelfCollisionGuard guard;
-  bool guarded = !options.self_collision.empty();
-  if (guarded && options.self_collision_is_default) {
-    std::string robot;
-    const auto owner = SelfCollisionGuard::FileOwner(options.self_collision, header, &robot);
-    if (owner == SelfCollisionGuard::Owner::kAnotherRobot) {
-      const std::string here(header.robot_name, strnlen(header.robot_name, sizeof(header.robot_name)));
-      err << prog << ": WARNING: no self-collision check: there is no self-collision file for "
-          << "robot " << here << " (the default " << options.self_collision << " is for " << robot
-          << ", other joints; make one with ohrp_selfcollision --model MJCF --out FILE and give "
-          << "--self-collision FILE)\n";
-      guarded = false;
-    } else if (owner == SelfCollisionGuard::Owner::kUnpublished) {
-      err << prog << ": WARNING: no self-collision check: the producer publishes no model hash, "
-          << "so no self-collision file can be checked against its robot (give "
-          << "--no-self-collision to say so, or run a producer that publishes its model)\n";
-      guarded = false;
-    }
-  }
+  const std::string self_collision = SelfCollisionFileFor(options, header, prog, err);
+  const bool guarded = !self_collision.empty();
   if (guarded) {
-    const std::string problem = guard.Configure(options.self_collision, header);
+    const std::string problem = guard.Configure(self_collision, header);
     if (!problem.empty()) {
       err << prog << ": --self-collision: " << problem << "\n";
       adaptor.close();

@@ -1,10 +1,12 @@
 // The robot's collision geometry from MuJoCo's compiled model.
 #include "collision/from_mjcf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "mesh_hull.h"
+#include "outer_hull.h"
 #include "robot_model/model_hash.h"
 
 namespace ohrp::collision {
@@ -14,22 +16,44 @@ Eigen::Vector3d Vec(const mjtNum* v) { return Eigen::Vector3d(v[0], v[1], v[2]);
 Eigen::Quaterniond Quat(const mjtNum* q) { return Eigen::Quaterniond(q[0], q[1], q[2], q[3]); }
 
 // a mesh geom as the convex hull of its vertices: MuJoCo's (its graph: numvert, numface,
-// vert_edgeadr, vert_globalid, edge_localid, face_globalid) where it made one, Qhull's where it
-// did not (MuJoCo 2.2 makes one only for meshes a colliding geom uses)
+// vert_edgeadr, vert_globalid, edge_localid, face_globalid: the hull's vertices among the mesh's
+// and its triangles) where it made one, Qhull's where it did not (MuJoCo 2.2 makes one only for
+// meshes a colliding geom uses); a hull of more than kExactHullVertices vertices then becomes its
+// outer polytope within kMeshHullTolerance (outer_hull.h), when that has fewer
 bool MeshHull(const mjModel* m, int mesh, Shape* s, std::string* error) {
   const float* v = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < m->mesh_vertnum[mesh]; ++i) points.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  std::vector<Eigen::Vector3d> hull;
+  std::vector<int> faces;
   const int adr = m->mesh_graphadr[mesh];
-  if (adr < 0) return ConvexHull(points, &s->vertices, &s->faces, error);
-  const int* g = m->mesh_graph + adr;
-  const int numvert = g[0], numface = g[1];
-  const int* face = g + 2 + 2 * numvert + (numvert + 3 * numface);
-  s->vertices = std::move(points);
-  for (int f = 0; f < numface; ++f) {
-    s->faces.push_back(3);
-    for (int k = 0; k < 3; ++k) s->faces.push_back(face[3 * f + k]);
+  if (adr < 0) {
+    if (!ConvexHull(points, &hull, &faces, error)) return false;
+  } else {
+    const int* g = m->mesh_graph + adr;
+    const int numvert = g[0], numface = g[1];
+    const int* globalid = g + 2 + numvert;
+    const int* face = g + 2 + 2 * numvert + (numvert + 3 * numface);
+    std::map<int, int> local;  // mesh vertex -> hull vertex
+    for (int i = 0; i < numvert; ++i) {
+      local[globalid[i]] = i;
+      hull.push_back(points[globalid[i]]);
+    }
+    for (int f = 0; f < numface; ++f) {
+      faces.push_back(3);
+      for (int k = 0; k < 3; ++k) faces.push_back(local.at(face[3 * f + k]));
+    }
   }
+  OuterPolytope outer;
+  std::string why;
+  if (hull.size() > kExactHullVertices &&
+      OuterPolytopeOf(hull, faces, kMeshHullTolerance, 256, &outer, &why) &&
+      outer.excess <= kMeshHullTolerance && outer.vertices.size() < hull.size()) {
+    hull = std::move(outer.vertices);
+    faces = std::move(outer.faces);
+  }
+  s->vertices = std::move(hull);
+  s->faces = std::move(faces);
   return true;
 }
 
@@ -53,6 +77,15 @@ bool GeomShape(const mjModel* m, int g, Shape* s, std::string* error) {
   s->p_LS = Vec(m->geom_pos + 3 * g);
   s->q_LS = Quat(m->geom_quat + 4 * g).normalized();
   return true;
+}
+
+// geoms g and h are the same shape at the same place (a visual and a collision geom of one mesh,
+// as menagerie's G1 has on every body): the link keeps one
+bool SameGeom(const mjModel* m, int g, int h) {
+  return m->geom_type[g] == m->geom_type[h] && m->geom_dataid[g] == m->geom_dataid[h] &&
+         std::equal(m->geom_size + 3 * g, m->geom_size + 3 * g + 3, m->geom_size + 3 * h) &&
+         std::equal(m->geom_pos + 3 * g, m->geom_pos + 3 * g + 3, m->geom_pos + 3 * h) &&
+         std::equal(m->geom_quat + 4 * g, m->geom_quat + 4 * g + 4, m->geom_quat + 4 * h);
 }
 
 const char* Name(const mjModel* m, mjtObj type, int id) {
@@ -194,8 +227,12 @@ bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeom
       RebaseToZero(m, j, &l);
     }
     l.name = body;
-    // its geoms
-    for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    // its geoms, each shape once
+    const int g0 = m->body_geomadr[b];
+    for (int g = g0; g < g0 + m->body_geomnum[b]; ++g) {
+      bool twice = false;
+      for (int h = g0; h < g && !twice; ++h) twice = SameGeom(m, g, h);
+      if (twice) continue;
       Shape s;
       std::string why;
       if (!GeomShape(m, g, &s, &why)) {

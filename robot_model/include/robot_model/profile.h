@@ -65,6 +65,9 @@ struct RobotProfile {
   // the soles' soft-contact parameters sim_host takes when no --contact-file is given (as `ohrp
   // identify` writes DIR/soles.yaml), resolved against the profile's folder; "": none
   std::string contact_file;
+  // the robot's self-collision file (ohrp_selfcollision --model PROFILE), resolved against the
+  // profile's folder: a controller's default when the segment's model hash is its; "": none
+  std::string self_collision_file;
   // the joints' servo balance and walk use by default (their --servo-hz, --load-feedforward)
   double servo_frequency = 0;      // [Hz], 0: the producer's suggested gains
   bool load_feedforward = false;

@@ -171,9 +171,20 @@ class Reader {
     }
   }
 
+  // a file the profile names, relative to the profile's folder; one that is not there is refused
+  std::string FileBeside(const YAML::Node& n, const std::string& key,
+                         const std::filesystem::path& base, const std::string& what) const {
+    const std::string f = Text(n, key);
+    const std::string path =
+        std::filesystem::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
+    if (!std::filesystem::is_regular_file(path)) Fail(n, key, "no such file: " + path + " (" + what + ")");
+    return path;
+  }
+
   void Read(const YAML::Node& root, RobotProfile* p) const {
     Keys(root, "", {"model", "contact", "feet", "sole_thickness", "force_torque", "imu", "stand",
-                    "chains", "groups", "walking", "base", "actuators", "servo", "contact_file"});
+                    "chains", "groups", "walking", "base", "actuators", "servo", "contact_file",
+                    "self_collision"});
     if (!root["model"]) Fail(root, "model", "missing (the robot's MJCF, VRML or URDF file)");
     const std::string model = Text(root["model"], "model");
     const std::filesystem::path base = std::filesystem::path(file_).parent_path();
@@ -208,13 +219,12 @@ class Reader {
     if (root["chains"]) NameLists(root["chains"], "chains", &p->chains);
     if (root["groups"]) NameLists(root["groups"], "groups", &p->groups);
     if (root["servo"]) Servo(root["servo"], p);
-    if (root["contact_file"]) {
-      const std::string f = Text(root["contact_file"], "contact_file");
-      p->contact_file = std::filesystem::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
-      if (!std::filesystem::is_regular_file(p->contact_file))
-        Fail(root["contact_file"], "contact_file", "no such file: " + p->contact_file +
-                                                       " (the soles' parameters, as ohrp identify writes DIR/soles.yaml)");
-    }
+    if (root["contact_file"])
+      p->contact_file = FileBeside(root["contact_file"], "contact_file", base,
+                                   "the soles' parameters, as ohrp identify writes DIR/soles.yaml");
+    if (root["self_collision"])
+      p->self_collision_file = FileBeside(root["self_collision"], "self_collision", base,
+                                          "the self-collision file, as ohrp_selfcollision writes it");
     if (root["walking"]) {
       if (!root["walking"].IsMap()) Fail(root["walking"], "walking", "must be a mapping of limits");
       for (const auto& kv : root["walking"]) {

@@ -12,10 +12,18 @@
 
 namespace ohrp::collision {
 
+// A mesh's convex hull of more vertices than this becomes its outer polytope within
+// kMeshHullTolerance [m] (it contains the hull: distances measured on it are at most that much
+// shorter, never longer; collision/src/outer_hull.h), when that has fewer vertices
+inline constexpr size_t kExactHullVertices = 32;
+inline constexpr double kMeshHullTolerance = 0.002;
+
 // Fills `*out` with the robot's links (its bodies: the base's subtree, the base as the root at
 // the origin), their joints by joint id (the segment's actuated joints, then its passive ones:
 // RobotGeometry), and every geom of each body: spheres, capsules, cylinders, boxes, ellipsoids,
-// and meshes as their convex hulls (MuJoCo's hull graph, or Qhull's). A joint's reference
+// and meshes as their convex hulls (MuJoCo's hull graph, or Qhull's; a large hull as its outer
+// polytope, above). A geom the same as an earlier one of its body (type, mesh, size, pose: a
+// visual and a collision geom of one mesh) is taken once. A joint's reference
 // position (ref) is folded into its body's pose, so a posture is MuJoCo's qpos of the joints
 // (PostureFromQpos). A body below a ball joint (Cassie's achilles rods: the segment does not
 // publish a ball joint's orientation) is left out with its subtree and named in
