@@ -1,5 +1,6 @@
 // The robot profile's reader (robot_model/profile.h ReadProfile): errors with the file, line and
-// key (and the plausible range), and the servo key balance and walk take their defaults from.
+// key (and the plausible range), the servo key balance and walk take their defaults from, and
+// the self-collision file controllers load by default.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -27,7 +28,11 @@ std::string Error(const std::string& yaml) {
 TEST(ProfileRead, ErrorsNameTheFileLineKeyAndRange) {
   EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\nhands: 2\n"),
             "p.yaml:5: hands: unknown key (known: actuators, base, chains, contact, contact_file, feet, force_torque, "
-            "groups, imu, model, servo, sole_thickness, stand, walking)");
+            "groups, imu, model, self_collision, servo, sole_thickness, stand, walking)");
+  // a self-collision file that is not there, with the profile's line
+  EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n"
+                  "self_collision: none.yaml\n").substr(0, 40),
+            "p.yaml:5: self_collision: no such file: ");
   const std::string size = Error("model: a.xml\nfeet:\n  left: {body: l}\n  right:\n    body: r\n"
                                  "    sole: {size: [0.2, 5], centre: [0, 0, 0]}\n");
   EXPECT_EQ(size.rfind("p.yaml:6: feet.right.sole.size[1]: = 5 is outside the plausible range", 0), 0u) << size;
@@ -63,6 +68,18 @@ TEST(ProfileRead, TheServoIsRead) {
   ASSERT_TRUE(ReadProfile(dir + "/q.yaml", &p, &error)) << error;
   EXPECT_EQ(p.servo_frequency, 0.0);
   EXPECT_FALSE(p.load_feedforward);
+}
+
+// self_collision: a file beside the profile, resolved against its folder
+TEST(ProfileRead, TheSelfCollisionFileIsResolvedBesideTheProfile) {
+  const std::string dir = ScratchFolder("profile_self_collision");
+  Write(dir + "/sc.yaml", "robot: x\n");
+  Write(dir + "/p.yaml", "model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n"
+                         "self_collision: sc.yaml\n");
+  RobotProfile p;
+  std::string error;
+  ASSERT_TRUE(ReadProfile(dir + "/p.yaml", &p, &error)) << error;
+  EXPECT_EQ(p.self_collision_file, dir + "/sc.yaml");
 }
 
 }  // namespace
