@@ -114,6 +114,17 @@ void WaitAll(std::vector<Child*> cs, double deadline, bool echo) {
   }
 }
 
+// "walk: exit 3, ..." when every controller has ended with a refusal (exit 2: its command line,
+// 3: a file or the robot it attached to), "" otherwise
+std::string EveryControllerRefused(const std::vector<Child>& ctl) {
+  std::string said;
+  for (const Child& c : ctl) {
+    if (!c.done || (c.exit_code != 2 && c.exit_code != 3)) return "";
+    said += (said.empty() ? "" : ", ") + c.label + ": exit " + std::to_string(c.exit_code);
+  }
+  return said;
+}
+
 std::string Resolve(const std::string& path, const std::string& root) {
   if (path.empty() || path[0] == '/') return path;
   return (fs::path(root) / path).lexically_normal().string();
@@ -192,12 +203,16 @@ std::string ControllerFall(const std::string& label, int exit_code, const std::s
 // the reason a controller gave for exit 9 (kExitFailed): its "FAILED: ..." line, e.g. a motion
 // the self-collision guard stopped; "" for another exit code or no such line
 std::string ControllerFailure(int exit_code, const std::string& output) {
-  if (exit_code != kControllerExitFailed) return "";
+  // its own verdict (exit 9), or why it refused to run (exit 2 or 3: its first line, cut short)
+  const bool refused = exit_code == 2 || exit_code == 3;
+  if (exit_code != kControllerExitFailed && !refused) return "";
   std::string said;
   std::ifstream in(output);
   for (std::string line; std::getline(in, line);) {
-    if (line.find("FAILED: ") != std::string::npos) said = line;
+    if (refused && said.empty() && line.find("WARNING") == std::string::npos) said = line;
+    if (!refused && line.find("FAILED: ") != std::string::npos) said = line;
   }
+  if (said.size() > 160) said = said.substr(0, 157) + "...";
   return said;
 }
 
@@ -326,6 +341,14 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
       Reap(&c);
       Echo(&c, o.echo);
     }
+    // every controller refused to run (its command line or its files: exit 2 or 3, said on its
+    // stderr): nothing will attach, so sim_host need not wait out its attach timeout
+    const std::string refused = EveryControllerRefused(ctl);
+    if (!refused.empty() && aborted.empty()) {
+      aborted = "every controller refused to run (" + refused + ")";
+      std::fprintf(stderr, "ohrp_run: %s; stopping sim_host\n", aborted.c_str());
+      Stop(&sim, SIGTERM);
+    }
   }
   // the controllers see the producer stop and end by themselves; give them a moment
   std::vector<Child*> rest;
@@ -364,7 +387,11 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
                        failed.empty() ? "see " + c.label + ".stderr" : failed});
   }
   datalog::Table log;
-  const bool have_log = log.Load(out_abs + "/log.csv", &error);
+  bool have_log = log.Load(out_abs + "/log.csv", &error);
+  if (have_log && log.rows() < 2) {  // a check on no simulated motion would pass vacuously
+    have_log = false;
+    error = "not judged: nothing was simulated (the log has " + std::to_string(log.rows()) + (log.rows() == 1 ? " row)" : " rows)");
+  }
   for (const auto& spec : s.checks) {
     if (!have_log) {
       results.push_back({spec.type, false, 0, "", "", error});
