@@ -116,9 +116,13 @@ int main(int argc, char** argv) {
   app.add_option("--model", o.balance.model, "MJCF, OpenHRP VRML .wrl or robot profile .yaml of the robot")
       ->default_val(DefaultModelFile())
       ->check(CLI::ExistingFile);
-  app.add_option("--pose", o.balance.pose_file, "stance pose, YAML by joint name [rad]")
+  auto* pose = app.add_option("--pose", o.balance.pose_file, "stance pose, YAML by joint name [rad]")
       ->default_val(DefaultPoseFile())
       ->check(CLI::ExistingFile);
+  app.add_option("--keyframe", o.balance.keyframe,
+                 "take the stance pose from this keyframe of --model instead of --pose (as "
+                 "balance's --keyframe; a robot profile's stance is its keyframe 'stand')")
+      ->excludes(pose);
   app.add_option("--ramp", o.balance.ramp, "[s] ramp from the measured pose to the stance pose")
       ->default_val(o.balance.ramp)->check(ohrp::cli::Plausible("ramp_time"));
   app.add_option("--settle", o.balance.settle, "[s] of quiet standing before the CoM reference is taken")
