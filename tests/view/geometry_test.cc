@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -227,6 +228,58 @@ TEST_F(Geometry, ZmpFromTheSoleSensorsMatchesTheClosedForm) {
   state_.ft[r].force[2] = state_.ft[l].force[2] = 5;
   EXPECT_FALSE(geometry_->Zmp(state_, zmp));
   mj_deleteData(d);
+}
+
+// the balance overlays' data (balance.cc): the CoM is the bodies' mass-weighted mean (a fresh
+// kinematics of the same state); a sole's centre of pressure is its sensor moved by
+// (-ty, tx) / fz; its corners are the MJCF's sole box (0.25 x 0.14 m, 0.055 m ahead of the
+// sensor, its bottom face on the sensor's plane); a foot with 5 N is not loaded
+TEST_F(Geometry, BalanceMatchesTheClosedForms) {
+  const int r = Sensor("rfsensor"), l = Sensor("lfsensor");
+  ASSERT_GE(r, 0);
+  ASSERT_GE(l, 0);
+  state_.p_WB[0] = 0.3;
+  geometry_->Poses(state_);
+  const mjModel* m = geometry_->model();
+  mjData* d = mj_makeData(m);
+  for (int k = 0; k < 3; ++k) d->qpos[geometry_->robot().base_qpos + k] = state_.p_WB[k];
+  mj_kinematics(m, d);
+  double mass = 0, com[3] = {0, 0, 0};
+  for (int b = 1; b < m->nbody; ++b) {
+    mass += m->body_mass[b];
+    for (int k = 0; k < 3; ++k) com[k] += m->body_mass[b] * d->xipos[3 * b + k];
+  }
+  state_.ft[r].force[2] = 300;
+  state_.ft[r].torque[0] = 3;   // cop 1 cm to +y
+  state_.ft[r].torque[1] = -6;  // cop 2 cm to +x
+  state_.ft[l].force[2] = 5;
+  const nlohmann::json b = geometry_->Balance(state_);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(b["com"][k].get<double>(), com[k] / mass, 1e-9) << k;
+  ASSERT_EQ(b["feet"].size(), 2u) << b;  // the sole sensors only, not the wrists'
+  for (const auto& foot : b["feet"]) {
+    const bool right = foot["sensor"] == "rfsensor";
+    const double* p = d->site_xpos + 3 * geometry_->robot().forces[right ? r : l].site_id;
+    EXPECT_EQ(foot["loaded"].get<bool>(), right);
+    EXPECT_NEAR(foot["f"][2].get<double>(), right ? 300 : 5, 1e-9);
+    EXPECT_NEAR(foot["cop"][0].get<double>(), p[0] + (right ? 0.02 : 0), 1e-9);
+    EXPECT_NEAR(foot["cop"][1].get<double>(), p[1] + (right ? 0.01 : 0), 1e-9);
+    ASSERT_EQ(foot["corners"].size(), 4u);
+    for (const auto& c : foot["corners"]) {
+      EXPECT_NEAR(std::abs(c[0].get<double>() - p[0] - 0.055), 0.125, 1e-9);
+      EXPECT_NEAR(std::abs(c[1].get<double>() - p[1]), 0.07, 1e-9);
+      EXPECT_NEAR(c[2].get<double>(), p[2], 1e-9);
+    }
+  }
+  mj_deleteData(d);
+  // its cost beside the poses' (printed, not checked: the machine is shared)
+  auto seconds = [](auto f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < 2000; ++i) f();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 2000;
+  };
+  const double poses = seconds([&] { geometry_->Poses(state_); });
+  const double balance = seconds([&] { geometry_->Balance(state_); });
+  std::printf("per frame: Poses %.1f us, Balance %.1f us, %zu bytes of JSON\n", 1e6 * poses, 1e6 * balance, b.dump().size());
 }
 
 }  // namespace

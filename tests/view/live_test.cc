@@ -93,6 +93,27 @@ TEST_F(Live, ShowsTheRobotAndThePlotsAdvanceWithSimulatedTime) {
   const PixelCount robot = CountPixels(out + "/live.png", r["left"].get<int>(), r["top"].get<int>(),
                                        r["right"].get<int>(), r["bottom"].get<int>(), RobotGreen);
   EXPECT_GT(robot.n, 2000) << out << "/live.png";
+  // the balance overlays live (docs/view.md, "Balance in 3D"): the robot stands on both feet,
+  // so both arrows are drawn, and the ZMP and the CoM's ground projection lie in the support
+  // polygon (a standing robot's; counter-clockwise corners)
+  const nlohmann::json ov = nlohmann::json::parse(browser.Eval("JSON.stringify(ohrpOverlay.state())").get<std::string>());
+  ASSERT_TRUE(ov["polygon"].is_array() && ov["zmp"].is_array() && ov["comGround"].is_array()) << ov;
+  for (const auto& a : ov["arrows"]) EXPECT_TRUE(a["visible"].get<bool>()) << ov;
+  auto inside = [&](const nlohmann::json& q) {
+    const nlohmann::json& P = ov["polygon"];
+    for (size_t i = 0; i < P.size(); ++i) {
+      const nlohmann::json &a = P[i], &b = P[(i + 1) % P.size()];
+      const double cross = (b[0].get<double>() - a[0].get<double>()) * (q[1].get<double>() - a[1].get<double>()) -
+                           (b[1].get<double>() - a[1].get<double>()) * (q[0].get<double>() - a[0].get<double>());
+      if (cross < 0) return false;
+    }
+    return true;
+  };
+  std::printf("live overlays: zmp %s, CoM on the floor %s, arrows %.3f + %.3f m, polygon %zu corners\n",
+              ov["zmp"].dump().c_str(), ov["comGround"].dump().c_str(), ov["arrows"][0]["length"].get<double>(),
+              ov["arrows"][1]["length"].get<double>(), ov["polygon"].size());
+  EXPECT_TRUE(inside(ov["zmp"])) << ov;
+  EXPECT_TRUE(inside(ov["comGround"])) << ov;
 }
 
 // the ball's red (scene_ball.xml: rgba 0.9 0.1 0.1, shaded by the headlight)

@@ -63,14 +63,15 @@ std::unique_ptr<SceneGeometry> SceneGeometry::Load(const std::string& path, std:
   // the sole sensors: a sensor's body is a *_SOLE geom's body or one of its ancestors
   for (const auto& f : g->robot_.forces) {
     const int body = m->site_bodyid[f.site_id];
-    bool sole = false;
-    for (int i = 0; i < m->ngeom && !sole; ++i) {
+    int sole = -1;
+    for (int i = 0; i < m->ngeom && sole < 0; ++i) {
       const char* name = mj_id2name(m, mjOBJ_GEOM, i);
       const std::string n = name ? name : "";
       if (n.size() < 5 || n.compare(n.size() - 5, 5, "_SOLE") != 0) continue;
-      for (int b = m->geom_bodyid[i]; b > 0 && !sole; b = m->body_parentid[b]) sole = b == body;
+      for (int b = m->geom_bodyid[i]; b > 0 && sole < 0; b = m->body_parentid[b]) sole = b == body ? i : -1;
     }
-    g->sole_sensor_.push_back(sole);
+    g->sole_sensor_.push_back(sole >= 0);
+    g->sole_geom_.push_back(sole);
   }
   if (std::find(g->sole_sensor_.begin(), g->sole_sensor_.end(), true) == g->sole_sensor_.end())
     g->sole_sensor_.assign(g->sole_sensor_.size(), true);
@@ -191,6 +192,10 @@ nlohmann::json SceneGeometry::MakeDescription() const {
   for (const auto& jm : robot_.joints) out["joints"].push_back(jm.name);
   out["forces"] = nlohmann::json::array();
   for (const auto& f : robot_.forces) out["forces"].push_back(f.name);
+  // the sensors the ZMP and the balance overlays use (Balance)
+  out["soles"] = nlohmann::json::array();
+  for (size_t i = 0; i < robot_.forces.size(); ++i)
+    if (sole_sensor_[i]) out["soles"].push_back(robot_.forces[i].name);
   return out;
 }
 

@@ -233,6 +233,7 @@ std::string LiveSource::MakeFrame(const shm::SensorBlock& s, bool ended) {
   j["fz"] = fz;
   double zmp[2];
   j["zmp"] = geometry_->Zmp(state, zmp) ? nlohmann::json{zmp[0], zmp[1]} : nlohmann::json(nullptr);
+  j["balance"] = geometry_->Balance(state);
   j["status"] = StatusNames(s.status);
   j["counters"] = {{"late_commands", s.late_commands},
                    {"rejected_commands", s.rejected_commands},

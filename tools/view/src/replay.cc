@@ -131,6 +131,7 @@ nlohmann::json ReplaySource::FrameAt(double t) {
   j["poses"] = geometry_->Poses(state);
   double zmp[2];
   j["zmp"] = geometry_->Zmp(state, zmp) ? nlohmann::json{zmp[0], zmp[1]} : nlohmann::json(nullptr);
+  j["balance"] = geometry_->Balance(state);
   j["base"] = base_col_[0] >= 0 ? "ground truth" : "not logged";
   return j;
 }

@@ -253,6 +253,7 @@ function showFrame(f) {
     $('base').textContent = 'base pose: ' + f.base;
     $('base').className = f.base === 'ground truth' ? '' : 'warn';
   }
+  applyOverlay(f);  // before the poses: drawn in the same browser frame
   showPoses(f.poses);
   cursorT = f.t;
   stateEl.dataset.t = f.t;
@@ -419,6 +420,7 @@ function connect() {
       if (m.mode === 'live') setupImages(m);
       resize();
       buildScene(m.scene);
+      setupOverlays(m);
       buildCharts(m.scene);
       if (m.mode === 'replay') startReplay(m, ws);
       setupPicker(m);

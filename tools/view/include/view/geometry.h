@@ -53,7 +53,7 @@ class SceneGeometry {
   static std::unique_ptr<SceneGeometry> Load(const std::string& path, std::string* error);
 
   // The scene's description for the page: {"static": [geom...], "moving": [geom...],
-  // "joints": [names], "forces": [names], "robot": name, "meshes": [mesh...],
+  // "joints": [names], "forces": [names], "soles": [the force sensors under soles], "robot": name, "meshes": [mesh...],
   // "hfields": [height field...]}; each geom is {"type", "size", "rgba"}, for static ones
   // "pose", for a mesh geom "mesh" (its index in "meshes"); each mesh is {"name", "nvert",
   // "nface", "vertices", "faces"}, CompactMesh's arrays as base64 (little-endian float32 x, y,
@@ -72,6 +72,14 @@ class SceneGeometry {
   // the last Poses() call: false when they carry less than `min_fz` [N] in total (in the air).
   bool Zmp(const RobotState& state, double zmp[2], double min_fz = 20.0) const;
 
+  // The balance overlays' data at the poses of the last Poses() call (docs/view.md, "Balance in
+  // 3D"): {"com": [x, y, z] (the robot's centre of mass [m]), "feet": [{"sensor", "loaded"
+  // (fz >= `min_foot_fz` [N]), "f": [fx, fy, fz] (the measured force in the world [N]), "cop":
+  // [x, y, z] (where the foot's wrench has no horizontal moment on the plane of its sensor, or
+  // the sensor's position when unloaded [m]), "corners": [[x, y, z] x 4] (the sole box's bottom
+  // face, [] without a *_SOLE box)}...]} for the sole sensors.
+  nlohmann::json Balance(const RobotState& state, double min_foot_fz = 10.0);
+
   const mjModel* model() const { return scene_->m(); }
   const model::RobotMap& robot() const { return robot_; }
 
@@ -89,6 +97,7 @@ class SceneGeometry {
   std::vector<int> hfields_;       // MuJoCo height field ids, in "hfields" order
   std::map<int, int> geom_asset_;  // a drawn mesh or height field geom: its index in those
   std::vector<bool> sole_sensor_;  // per force sensor: used for the ZMP
+  std::vector<int> sole_geom_;     // per force sensor: its *_SOLE geom, or -1
   nlohmann::json description_;
 };
 
