@@ -207,6 +207,10 @@ void ReachController::PlannerThread() {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
       continue;
     }
+    if (!reach_.scene.empty() && !PlaceScene()) {
+      plan_state_.store(kUnsolved, std::memory_order_release);
+      continue;
+    }
     result_ = planning::PlanJoints(*check_, request_, goal_, reach_.plan);
     // the straight joint-space line, for comparison (what the plan avoided)
     std::vector<double> start(goal_.size());
@@ -221,6 +225,31 @@ void ReachController::PlannerThread() {
     plan_state_.compare_exchange_strong(expected, result_.solved ? kSolved : kUnsolved,
                                         std::memory_order_acq_rel);
   }
+}
+
+bool ReachController::PlaceScene() {
+  // the scene's obstacles in the base frame as the robot stands now (planner thread)
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.linear() = request_quat_WB_.normalized().toRotationMatrix();
+  X_WB.translation() = request_p_WB_;
+  std::vector<planning::SceneBox> boxes = reach_.boxes;
+  for (const model::SceneObstacle& o : reach_.scene) {
+    planning::SceneBox b;
+    b.name = o.name;
+    b.half_size = o.half_size;
+    b.X_BO = model::BoxInFrame(o, X_WB);
+    boxes.push_back(b);
+  }
+  std::string error;
+  std::unique_ptr<planning::PostureCheck> check =
+      planning::PostureCheck::Create(file_, boxes, group_, reach_.clearance, &error);
+  if (!check) {
+    result_ = planning::PlanResult();
+    result_.reason = "--scene: " + error;
+    return false;
+  }
+  check_ = std::move(check);
+  return true;
 }
 
 void ReachController::Record(const shm::SensorBlock& s) noexcept {
@@ -243,6 +272,8 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
         const int na = njoint();
         for (size_t j = 0; j < request_.size(); ++j)
           request_[j] = static_cast<int>(j) < na ? s.q[j] : s.passive_q[j - na];
+        request_p_WB_ = estimate().p_WB;
+        request_quat_WB_ = estimate().quat_WB;
         plan_state_.store(kRequested, std::memory_order_release);
         phase_reach_ = Phase::kPlanning;
         request_time_ = s.time;
@@ -326,6 +357,12 @@ void ReachController::report(std::ostream& out) const {
         << ")\n";
     return;
   }
+  if (!reach_.scene.empty())
+    out << "reach: scene " << reach_.scene_file << ": " << reach_.scene.size()
+        << " static obstacles placed from the estimated base pose at the plan's request: "
+        << Fmt("base at (%.3f, %.3f, %.3f) m, ", request_p_WB_.x(), request_p_WB_.y(), request_p_WB_.z())
+        << Fmt("tilt %.2f deg\n", 180 / M_PI * std::acos(std::clamp(
+                                       (request_quat_WB_.normalized().toRotationMatrix() * Eigen::Vector3d::UnitZ()).z(), -1.0, 1.0)));
   if (!reach_.plan_log.empty())
     out << "reach: plan log " << reach_.plan_log << (log_error_.empty() ? "" : " NOT written: " + log_error_) << "\n";
   const planning::PlanResult& p = result_;

@@ -11,6 +11,7 @@
 #include "controllers/reach.h"
 #include "controllers/runner.h"
 #include "robot_model/model.h"
+#include "robot_model/scene_obstacles.h"
 
 namespace {
 [[noreturn]] void OnMujocoFatal(const char*) { std::_Exit(ohrp::controllers::kExitConfig); }
@@ -145,6 +146,12 @@ int main(int argc, char** argv) {
                  "a static box to keep clear of: NAME,CX,CY,CZ,HX,HY,HZ (centre and half sizes in "
                  "the base frame, as the robot stands) [m]; repeat for more")
       ->take_all()->allow_extra_args(false);
+  app.add_option("--scene", o.scene_file,
+                 "an MJCF scene (normally the one sim_host simulates): its static geoms (boxes; "
+                 "spheres, capsules, cylinders as their bounding boxes; not the floor) are kept "
+                 "clear of, placed in the base frame from the estimated base pose when the plan is "
+                 "made (the scene's world: the estimator's, soles centred on x = y = 0, facing +x)")
+      ->check(CLI::ExistingFile);
   app.add_option("--clearance", o.clearance, "[m] kept between links beyond the file's margin")
       ->default_val(o.clearance)->check(ohrp::cli::Plausible("clearance"));
   app.add_option("--start", o.start, "[s] after the stance begins, when the plan is made")
@@ -183,6 +190,14 @@ int main(int argc, char** argv) {
   }
 
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
+  if (!o.scene_file.empty()) {
+    ohrp::model::SceneObstacles scene;
+    if (!ohrp::model::ReadSceneObstacles(o.scene_file, &scene, &error)) {
+      std::cerr << "reach: " << error << "\n";
+      return kExitUsage;
+    }
+    o.scene = scene.boxes;
+  }
   ConfigStatus status;
   auto controller = ReachController::Create(o, &status);
   if (!controller) {

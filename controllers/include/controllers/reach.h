@@ -32,6 +32,7 @@
 
 #include "collision/pair_file.h"
 #include "controllers/balance.h"
+#include "robot_model/scene_obstacles.h"
 #include "planning/arm_planner.h"
 #include "planning/timed_path.h"
 
@@ -64,6 +65,10 @@ struct ReachOptions {
   HandGoal hand;
   // static boxes to keep clear of, in the base frame (the waist, as the robot stands)
   std::vector<planning::SceneBox> boxes;
+  // a scene's static obstacles (--scene FILE, model::ReadSceneObstacles) in the world; placed in
+  // the base frame from the estimated base pose when the plan is asked
+  std::string scene_file;
+  std::vector<model::SceneObstacle> scene;
   double clearance = 0.01;     // [m] kept beyond the file's margin
   double start = 1.5;          // [s] after the stance begins (the CoM centred first)
   double hold = 1.5;           // [s] at the goal before the tracking error is taken
@@ -96,6 +101,9 @@ class ReachController : public BalanceController {
                   std::unique_ptr<model::Kinematics> kin_est,
                   std::unique_ptr<model::Kinematics> kin_ik);
   void PlannerThread();
+  // the check with the scene placed from the base pose at the request (planner thread); false
+  // with result_.reason when the checker refuses it
+  bool PlaceScene();
   void Record(const shm::SensorBlock& s) noexcept;
   // the plan log's text (ReachOptions::plan_log)
   std::string PlanLog() const;
@@ -120,6 +128,9 @@ class ReachController : public BalanceController {
   std::atomic<bool> quit_{false};      // the planning thread ends
   std::thread thread_;
   Phase phase_reach_ = Phase::kWait;
+  // the estimated base pose when the plan was asked (the scene's boxes placed from it)
+  Eigen::Vector3d request_p_WB_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond request_quat_WB_ = Eigen::Quaterniond::Identity();
   double request_time_ = 0, motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;  // [s]
   std::vector<double> sample_q_, sample_dq_;  // group
   std::vector<double> final_error_;           // group: measured - goal at the end of the hold
