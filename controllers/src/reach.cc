@@ -38,6 +38,33 @@ ConfigStatus CheckReachOptions(const ReachOptions& o) {
   return ConfigStatus::Ok();
 }
 
+// The estimator's world frame in the scene's: at reset it puts the base's yaw at 0 and the origin
+// midway between the soles, on the floor (robot_model/estimator.h); the soles stand where the
+// scene's keyframe `key` puts them (standing does not move them; the base's pose over them is
+// the estimator's, measured).
+ConfigStatus EstimatorFrameInScene(model::Kinematics& kin, const std::string& key, Eigen::Isometry3d* X_WE) {
+  const mjModel* m = kin.m();
+  if (m->njnt < 1 || m->jnt_type[0] != mjJNT_FREE)
+    return ConfigStatus::Fail(ConfigError::kOption, "--scene: the robot has no floating base");
+  const int k = mj_name2id(m, mjOBJ_KEY, key.c_str());
+  if (k < 0)
+    return ConfigStatus::Fail(ConfigError::kOption, "--scene-keyframe: the robot's model has no keyframe '" + key + "'");
+  const double* qpos = m->key_qpos + k * m->nq;
+  std::vector<double> joints;  // joint-id order, from the keyframe's qpos
+  for (const model::JointMap& j : kin.robot().joints) joints.push_back(qpos[j.qpos_adr]);
+  const Eigen::Quaterniond quat(qpos[3], qpos[4], qpos[5], qpos[6]);
+  kin.SetBasePose(Eigen::Vector3d(qpos[0], qpos[1], qpos[2]), quat.normalized());
+  kin.SetJointPositions(joints.data());
+  kin.UpdatePositions();
+  const Eigen::Vector3d mid = 0.5 * (kin.p_WSole(kin.left_sole()) + kin.p_WSole(kin.right_sole()));
+  const Eigen::Vector3d x = quat.normalized() * Eigen::Vector3d::UnitX();
+  *X_WE = Eigen::Isometry3d::Identity();
+  X_WE->linear() = Eigen::AngleAxisd(std::atan2(x.y(), x.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  X_WE->translation() = Eigen::Vector3d(mid.x(), mid.y(), 0.0);
+  kin.SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  return ConfigStatus::Ok();
+}
+
 }  // namespace
 
 std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& options,
@@ -60,6 +87,10 @@ std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& opt
   }
   std::unique_ptr<ReachController> r(
       new ReachController(o, filled, std::move(pose), std::move(kin_est), std::move(kin_ik)));
+  if (!r->reach_.scene.empty()) {
+    *status = EstimatorFrameInScene(*r->kin_ik_, o.scene_keyframe, &r->X_WE_);
+    if (!status->ok()) return nullptr;
+  }
   if (!collision::ReadSelfCollisionFile(o.collision_file, &r->file_, &error)) {
     *status = ConfigStatus::Fail(ConfigError::kFile, error);
     return nullptr;
@@ -232,6 +263,7 @@ bool ReachController::PlaceScene() {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.linear() = request_quat_WB_.normalized().toRotationMatrix();
   X_WB.translation() = request_p_WB_;
+  X_WB = X_WE_ * X_WB;  // the estimator's frame into the scene's world
   std::vector<planning::SceneBox> boxes = reach_.boxes;
   for (const model::SceneObstacle& o : reach_.scene) {
     planning::SceneBox b;
@@ -360,7 +392,9 @@ void ReachController::report(std::ostream& out) const {
   if (!reach_.scene.empty())
     out << "reach: scene " << reach_.scene_file << ": " << reach_.scene.size()
         << " static obstacles placed from the estimated base pose at the plan's request: "
-        << Fmt("base at (%.3f, %.3f, %.3f) m, ", request_p_WB_.x(), request_p_WB_.y(), request_p_WB_.z())
+        << Fmt("base at (%.3f, %.3f, %.3f) m (estimator), ", request_p_WB_.x(), request_p_WB_.y(), request_p_WB_.z())
+        << Fmt("the soles' midpoint at (%.3f, %.3f) m in the scene (keyframe ", X_WE_.translation().x(), X_WE_.translation().y())
+        << reach_.scene_keyframe << "), "
         << Fmt("tilt %.2f deg\n", 180 / M_PI * std::acos(std::clamp(
                                        (request_quat_WB_.normalized().toRotationMatrix() * Eigen::Vector3d::UnitZ()).z(), -1.0, 1.0)));
   if (!reach_.plan_log.empty())

@@ -152,6 +152,9 @@ int main(int argc, char** argv) {
                  "clear of, placed in the base frame from the estimated base pose when the plan is "
                  "made (the scene's world: the estimator's, soles centred on x = y = 0, facing +x)")
       ->check(CLI::ExistingFile);
+  app.add_option("--scene-keyframe", o.scene_keyframe,
+                 "with --scene: the keyframe the scene starts the robot in (where its soles stand)")
+      ->default_val(o.scene_keyframe);
   app.add_option("--clearance", o.clearance, "[m] kept between links beyond the file's margin")
       ->default_val(o.clearance)->check(ohrp::cli::Plausible("clearance"));
   app.add_option("--start", o.start, "[s] after the stance begins, when the plan is made")

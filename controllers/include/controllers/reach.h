@@ -69,6 +69,9 @@ struct ReachOptions {
   // the base frame from the estimated base pose when the plan is asked
   std::string scene_file;
   std::vector<model::SceneObstacle> scene;
+  // the keyframe the scene starts the robot in: where its soles stand in the scene's world, the
+  // estimator's origin (midway between the soles, yaw of the base, on z = 0)
+  std::string scene_keyframe = "halfsit";
   double clearance = 0.01;     // [m] kept beyond the file's margin
   double start = 1.5;          // [s] after the stance begins (the CoM centred first)
   double hold = 1.5;           // [s] at the goal before the tracking error is taken
@@ -130,6 +133,7 @@ class ReachController : public BalanceController {
   Phase phase_reach_ = Phase::kWait;
   // the estimated base pose when the plan was asked (the scene's boxes placed from it)
   Eigen::Vector3d request_p_WB_ = Eigen::Vector3d::Zero();
+  Eigen::Isometry3d X_WE_ = Eigen::Isometry3d::Identity();  // the estimator's frame in the scene
   Eigen::Quaterniond request_quat_WB_ = Eigen::Quaterniond::Identity();
   double request_time_ = 0, motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;  // [s]
   std::vector<double> sample_q_, sample_dq_;  // group
