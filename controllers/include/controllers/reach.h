@@ -55,6 +55,12 @@ ConfigStatus GoalFromHandPose(model::Kinematics& kin, const planning::JointGroup
                               const HandGoal& hand, const std::vector<double>& stance,
                               std::vector<double>* goal);
 
+// The estimator's world frame in the scene's world (reach --scene): the soles' midpoint on the
+// floor, the base's yaw, as the scene's keyframe `key` stands the robot (reach_scene.cc).
+// kOption when the robot has no floating base or the keyframe does not exist.
+ConfigStatus EstimatorFrameInScene(model::Kinematics& kin, const std::string& key,
+                                   Eigen::Isometry3d* X_WE);
+
 struct ReachOptions {
   BalanceOptions balance;
   std::string collision_file;  // the self-collision file; empty: DefaultSelfCollisionFile()
