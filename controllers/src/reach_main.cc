@@ -9,6 +9,7 @@
 #include "controllers/cli.h"
 #include "controllers/posture.h"
 #include "controllers/reach.h"
+#include "controllers/reach_goals.h"
 #include "controllers/runner.h"
 #include "robot_model/model.h"
 #include "robot_model/scene_obstacles.h"
@@ -141,6 +142,13 @@ int main(int argc, char** argv) {
                  "(the group's joints by the shared limb IK from the stance pose)")
       ->delimiter(',')
       ->excludes("--goal-joints");
+  std::string goals_file;
+  app.add_option("--goals", goals_file,
+                 "a goals file (YAML: group, goals: joints or a hand pose each, optional hold) "
+                 "reached in sequence, each planned from where the previous one left the arm")
+      ->check(CLI::ExistingFile)
+      ->excludes("--goal-joints")
+      ->excludes("--goal-pose");
   std::vector<std::string> box_items;
   app.add_option("--box", box_items,
                  "a static box to keep clear of: NAME,CX,CY,CZ,HX,HY,HZ (centre and half sizes in "
@@ -183,6 +191,10 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   o.hand_goal = !pose_items.empty();
+  if (!goals_file.empty() && !ReadGoalsFile(goals_file, &o.goals, &error)) {
+    std::cerr << "reach: --goals: " << error << "\n";
+    return kExitUsage;
+  }
   for (const std::string& b : box_items) {
     ohrp::planning::SceneBox box;
     if (!ParseBox(b, &box, &error)) {

@@ -47,6 +47,21 @@ struct HandGoal {
   Eigen::Vector3d rpy = Eigen::Vector3d::Zero();  // roll, pitch, yaw about the base's x, y, z [rad]
 };
 
+// one goal of a goals file (reach --goals, controllers/reach_goals.h)
+struct GoalSpec {
+  std::vector<std::pair<std::string, double>> joints;  // a joints goal (by name) [rad], or
+  bool hand = false;                                   // a hand pose goal
+  HandGoal pose;
+  double hold = -1;  // [s]; < 0: the command line's --hold
+  int line = 0;      // the goal's line in the file (for messages)
+};
+
+struct GoalsFile {
+  std::string path;
+  std::vector<std::string> group;  // empty: the first goal's joints
+  std::vector<GoalSpec> goals;
+};
+
 // The group's goal for a hand pose: the shared limb IK (robot_model/ik.h) of the chain from the
 // group's first joint to the site, started from `stance` (joint-id order). The chain's joints
 // must all be in the group; the group's other joints keep their stance values. kOption with the reason: an unknown site, a chain that is not the
@@ -67,6 +82,9 @@ struct ReachOptions {
   std::vector<std::pair<std::string, double>> goal_joints;  // the group and its goal [rad]
   // or: the group by name and a hand pose, the goal by IK (hand_goal true)
   std::vector<std::string> group;
+  // or: a goals file's goals in sequence (goals.goals not empty; its group, or the first goal's
+  // joints, is the group)
+  GoalsFile goals;
   bool hand_goal = false;
   HandGoal hand;
   // static boxes to keep clear of, in the base frame (the waist, as the robot stands)
@@ -109,6 +127,14 @@ class ReachController : public BalanceController {
   ReachController(const ReachOptions& options, const BalanceOptions& filled, Pose pose,
                   std::unique_ptr<model::Kinematics> kin_est,
                   std::unique_ptr<model::Kinematics> kin_ik);
+  // the group, the goals (the command line's one or the goals file's), each checked against the
+  // limits and, with `stance`'s other joints, the checker; fills group_, check_, goals_
+  // (reach_sequence.cc)
+  ConfigStatus ResolveGoals(const std::vector<double>& stance);
+  // hands the measured posture and goal `current_` to the planner (control thread, no allocation)
+  void RequestPlan(const shm::SensorBlock& s) noexcept;
+  // the group's references at hold_q_ (between two goals), the posture recorded
+  void HoldGroup(const shm::SensorBlock& s) noexcept;
   void PlannerThread();
   // the check with the scene placed from the base pose at the request (planner thread); false
   // with result_.reason when the checker refuses it
@@ -120,6 +146,10 @@ class ReachController : public BalanceController {
   double HandError() const;
   // the smallest clearance of the recorded motion (computed once, after the run)
   const planning::Verdict& MeasuredClearance() const;
+  // the smallest clearance of the recorded rows [begin, end) (reach_report.cc)
+  planning::Verdict ClearanceOfRows(size_t begin, size_t end) const;
+  // one line per goal of a goals file
+  void ReportGoals(std::ostream& out) const;
 
   enum class Phase { kWait, kPlanning, kMoving, kHolding, kDone, kFailed };
   enum PlanState : int { kIdle, kRequested, kSolved, kUnsolved };
@@ -127,7 +157,26 @@ class ReachController : public BalanceController {
   collision::SelfCollisionFile file_;
   planning::JointGroup group_;
   std::unique_ptr<planning::PostureCheck> check_;
-  std::vector<double> goal_;            // group values
+  std::vector<double> goal_;            // group values: the goal being planned or reached
+  // the goals in sequence (one without a goals file), their holds [s] and labels ("FILE:LINE")
+  std::vector<std::vector<double>> goals_;
+  std::vector<double> holds_;
+  std::vector<std::string> labels_;
+  size_t current_ = 0;                  // the goal under way
+  std::vector<double> hold_q_;          // group: the previous goal held while the next is planned
+  // per goal, what was planned (planner thread) and measured (control thread); preallocated
+  struct GoalReport {
+    bool planned = false, solved = false;
+    std::string reason;
+    double plan_time = 0, simplify_time = 0, length = 0, raw_length = 0, duration = 0;
+    size_t waypoints = 0;
+    planning::Verdict closest, straight;
+    double request_time = 0, motion_start = -1;
+    size_t row_begin = 0, row_end = 0;  // its measured rows in log_ (motion and hold)
+    bool done = false;
+    std::vector<double> final_error;   // group
+  };
+  std::vector<GoalReport> reports_;
   std::vector<double> v_max_, a_max_;   // per group joint
   std::vector<double> request_;         // the measured posture handed to the planner
   planning::PlanResult result_;         // written by the planner thread before kSolved/kUnsolved
