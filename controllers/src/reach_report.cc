@@ -47,16 +47,27 @@ const planning::Verdict& ReachController::MeasuredClearance() const {
   return clearance_;
 }
 
-planning::Verdict ReachController::ClearanceOfRows(size_t begin, size_t end) const {
-  planning::Verdict c;
-  c.distance = INFINITY;
-  c.valid = true;
+ReachController::Clearances ReachController::ClearanceOfRows(size_t begin, size_t end) const {
+  Clearances c;
+  c.self.distance = c.scene.distance = INFINITY;
   const size_t nq = request_.size();
+  planning::Verdict self, scene;
   for (size_t r = begin; r < end && r < log_rows_; ++r) {
-    const planning::Verdict v = check_->Evaluate(std::span<const double>(log_.data() + r * nq, nq));
-    if (v.distance < c.distance) c = v;
+    check_->EvaluateByKind(std::span<const double>(log_.data() + r * nq, nq), &self, &scene);
+    if (self.distance < c.self.distance) c.self = self;
+    if (scene.distance < c.scene.distance) c.scene = scene;
   }
   return c;
+}
+
+std::string ReachController::Describe(const Clearances& c) const {
+  auto one = [&](const planning::Verdict& v) {
+    if (v.a.empty()) return Fmt("above %.1f mm", 1e3 * v.distance);
+    return Fmt("%.1f mm", 1e3 * v.distance) + " (" + v.a + " / " + v.b + ")";
+  };
+  std::string text = "robot-robot " + one(c.self);
+  if (has_scene_pairs_) text += ", robot-obstacle " + one(c.scene);
+  return text;
 }
 
 void ReachController::ReportGoals(std::ostream& out) const {
@@ -75,8 +86,7 @@ void ReachController::ReportGoals(std::ostream& out) const {
         << g.waypoints << Fmt(" waypoints, %.2f s; planned clearance %.1f mm", g.duration, 1e3 * g.closest.distance)
         << " (" << g.closest.a << " / " << g.closest.b << ")";
     if (g.row_end > g.row_begin) {
-      const planning::Verdict c = ClearanceOfRows(g.row_begin, g.row_end);
-      out << Fmt("; measured clearance %.1f mm", 1e3 * c.distance) << " (" << c.a << " / " << c.b << ")";
+      out << "; measured clearance " << Describe(ClearanceOfRows(g.row_begin, g.row_end));
     }
     if (g.done) {
       double worst = 0;
@@ -129,7 +139,8 @@ void ReachController::report(std::ostream& out) const {
   if (log_rows_ > 0)
     out << "reach: measured clearance along the executed motion " << Fmt("%.1f mm", 1e3 * c.distance)
         << " (" << c.a << " / " << c.b << ", " << log_rows_ << " measured postures"
-        << (log_dropped_ ? ", some not recorded" : "") << Fmt("; the planner keeps %.1f mm)\n", 1e3 * check_->required());
+        << (log_dropped_ ? ", some not recorded" : "") << Fmt("; the planner keeps %.1f mm): ", 1e3 * check_->required())
+        << Describe(ClearanceOfRows(0, log_rows_)) << "\n";
   if (reports_.size() > 1) ReportGoals(out);
   if (phase_reach_ == Phase::kDone) {
     double worst = 0;

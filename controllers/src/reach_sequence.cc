@@ -61,6 +61,7 @@ ConfigStatus ReachController::ResolveGoals(const std::vector<double>& stance) {
     labels_.push_back(file ? o.goals.path + ":" + std::to_string(g.line) : "the goal");
   }
   goal_ = goals_[0];
+  has_scene_pairs_ = !o.boxes.empty() || !o.scene.empty();
   return ConfigStatus::Ok();
 }
 

@@ -146,8 +146,14 @@ class ReachController : public BalanceController {
   double HandError() const;
   // the smallest clearance of the recorded motion (computed once, after the run)
   const planning::Verdict& MeasuredClearance() const;
-  // the smallest clearance of the recorded rows [begin, end) (reach_report.cc)
-  planning::Verdict ClearanceOfRows(size_t begin, size_t end) const;
+  // the smallest clearances of the recorded rows [begin, end), the robot's own pairs and the
+  // pairs with an obstacle apart (reach_report.cc), and their text
+  struct Clearances {
+    planning::Verdict self, scene;
+  };
+  Clearances ClearanceOfRows(size_t begin, size_t end) const;
+  std::string Describe(const Clearances& c) const;
+  bool has_scene_pairs_ = false;  // --box or --scene obstacles
   // one line per goal of a goals file
   void ReportGoals(std::ostream& out) const;
 
