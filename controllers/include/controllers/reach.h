@@ -19,6 +19,11 @@
 //             after the run through the same checker) and the tracking error at the end of the
 //             hold. failure(): no path (the reason), the run ended before the hold did, or a
 //             final tracking error above the tolerance.
+//   scene     --box obstacles in the base frame; --scene FILE: a scene's static geoms
+//             (model::ReadSceneObstacles), placed in the base frame at each plan's request from
+//             the estimated base pose and the estimator's frame in the scene (reach_scene.cc).
+//   goals     --goals FILE (reach_goals.h): several goals in sequence, each planned from where
+//             the previous left the arm (held meanwhile), reported per goal (reach_report.cc).
 // The per-cycle path allocates nothing, throws nothing and logs nothing.
 #pragma once
 
