@@ -110,8 +110,7 @@ int main(int argc, char** argv) {
       "--goal-pose solved by the shared limb IK) from its measured posture to the goal along a\n"
       "path planned clear of the robot's own links (the self-collision file's online pairs,\n"
       "margin and safe ranges, plus --clearance) and of --box and --scene obstacles by OMPL's\n"
-      "RRTConnect with path\n"
-      "simplification, timed within --max-speed and --max-accel; hold it, and report the\n"
+      "RRTConnect with path simplification (--goals FILE: several goals in sequence), timed within --max-speed and --max-accel; hold it, and report the\n"
       "planning time, the path length, the smallest clearance of the executed motion (from the\n"
       "measured joint angles) and the final tracking error. Exit 9 when no path is found, the\n"
       "run ends before the hold is over, or the final error exceeds --tolerance.",
