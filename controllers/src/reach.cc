@@ -24,8 +24,9 @@ std::string Fmt(const char* format, double a, double b = 0, double c = 0, double
 // the options' own ranges (the goals are checked against the file)
 ConfigStatus CheckReachOptions(const ReachOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
-  if (o.goal_joints.empty() == !o.hand_goal)
-    return bad("give one goal: --goal-joints NAME=VALUE,... [rad], or --group and --goal-pose");
+  if (!o.goal_joints.empty() + o.hand_goal + !o.goals.goals.empty() != 1)
+    return bad("give one goal: --goal-joints NAME=VALUE,... [rad], or --group and --goal-pose, "
+               "or --goals FILE");
   if (o.hand_goal && o.group.empty()) return bad("--goal-pose needs --group (the joints it moves)");
   if (!(o.clearance >= 0 && o.clearance <= 0.2)) return bad("--clearance must be in [0, 0.2] m");
   if (!(o.start >= 0 && o.start <= 3600)) return bad("--start must be in [0, 3600] s");
@@ -60,53 +61,27 @@ std::unique_ptr<ReachController> ReachController::Create(const ReachOptions& opt
   }
   std::unique_ptr<ReachController> r(
       new ReachController(o, filled, std::move(pose), std::move(kin_est), std::move(kin_ik)));
+  if (!r->reach_.scene.empty()) {
+    *status = EstimatorFrameInScene(*r->kin_ik_, o.scene_keyframe, &r->X_WE_);
+    if (!status->ok()) return nullptr;
+  }
   if (!collision::ReadSelfCollisionFile(o.collision_file, &r->file_, &error)) {
     *status = ConfigStatus::Fail(ConfigError::kFile, error);
     return nullptr;
   }
-  // the group and its goal, against the file's joints and limits (a hand pose: after IK below)
-  std::vector<std::string> names = o.group;
-  if (!o.hand_goal) {
-    names.clear();
-    for (const auto& [name, value] : o.goal_joints) {
-      names.push_back(name);
-      r->goal_.push_back(value);
-    }
-  }
-  const char* option = o.hand_goal ? "--group" : "--goal-joints";
-  if (!planning::MakeJointGroup(r->file_.robot, names, &r->group_, &error) ||
-      (!o.hand_goal && !(error = planning::OutsideLimits(r->group_, r->goal_)).empty())) {
-    *status = ConfigStatus::Fail(ConfigError::kOption, std::string(option) + ": " + error);
-    return nullptr;
-  }
-  r->check_ = planning::PostureCheck::Create(r->file_, o.boxes, r->group_, o.clearance, &error);
-  if (!r->check_) {
-    *status = ConfigStatus::Fail(ConfigError::kFile, o.collision_file + ": " + error);
-    return nullptr;
-  }
-  // the goal with the stance pose's other joints: a goal in collision is refused now
+  // the stance pose (the group's goals are checked with its other joints)
   std::vector<double> stance;
   if (ConfigStatus s = ResolvePose(r->pose_, r->file_.robot.joint_names, &stance); !s.ok()) {
     *status = s;
     return nullptr;
   }
   stance.resize(collision::NumJoints(r->file_.robot), 0.0);
-  if (o.hand_goal) {
-    if (r->kin_ik_->robot().joints.size() != r->file_.robot.joint_names.size()) {
-      *status = ConfigStatus::Fail(ConfigError::kMismatch, "--model and --collision-file are not the same robot");
-      return nullptr;
-    }
-    *status = GoalFromHandPose(*r->kin_ik_, r->group_, o.hand, stance, &r->goal_);
-    if (!status->ok()) return nullptr;
-  }
-  planning::SetGroupValues(r->group_, r->goal_, stance);
-  const planning::Verdict v = r->check_->Evaluate(stance);
-  if (!v.valid) {
-    *status = ConfigStatus::Fail(ConfigError::kOption,
-                                 std::string(option) + ": the goal is in collision in the stance pose: " +
-                                     r->check_->Describe(v));
+  if (r->kin_ik_->robot().joints.size() != r->file_.robot.joint_names.size()) {
+    *status = ConfigStatus::Fail(ConfigError::kMismatch, "--model and --collision-file are not the same robot");
     return nullptr;
   }
+  *status = r->ResolveGoals(stance);
+  if (!status->ok()) return nullptr;
   return r;
 }
 
@@ -145,6 +120,9 @@ ConfigStatus ReachController::on_configure(const shm::SegmentHeader& header) {
   sample_q_.assign(n, 0.0);
   sample_dq_.assign(n, 0.0);
   final_error_.assign(n, NAN);
+  hold_q_.assign(n, 0.0);
+  reports_.assign(goals_.size(), GoalReport());
+  for (GoalReport& g : reports_) g.final_error.assign(n, NAN);
   final_q_.assign(header.njoint, 0.0);
   period_ = header.control_period;
   log_capacity_ = static_cast<size_t>(kLogSeconds / header.control_period) + 1;
@@ -207,6 +185,12 @@ void ReachController::PlannerThread() {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
       continue;
     }
+    if (!reach_.scene.empty() && !PlaceScene()) {
+      reports_[current_].planned = true;
+      reports_[current_].reason = result_.reason;
+      plan_state_.store(kUnsolved, std::memory_order_release);
+      continue;
+    }
     result_ = planning::PlanJoints(*check_, request_, goal_, reach_.plan);
     // the straight joint-space line, for comparison (what the plan avoided)
     std::vector<double> start(goal_.size());
@@ -217,10 +201,44 @@ void ReachController::PlannerThread() {
       result_.solved = false;
       result_.reason = "timing: " + error;
     }
+    GoalReport& g = reports_[current_];  // current_ does not change while a plan is asked
+    g.planned = true;
+    g.solved = result_.solved;
+    g.reason = result_.reason;
+    g.plan_time = result_.plan_time;
+    g.simplify_time = result_.simplify_time;
+    g.length = result_.length;
+    g.raw_length = result_.raw_length;
+    g.waypoints = result_.waypoints.size();
+    g.duration = result_.solved ? path_.duration() : 0;
+    g.closest = result_.closest;
+    g.straight = straight_;
     int expected = kRequested;
     plan_state_.compare_exchange_strong(expected, result_.solved ? kSolved : kUnsolved,
                                         std::memory_order_acq_rel);
   }
+}
+
+void ReachController::RequestPlan(const shm::SensorBlock& s) noexcept {
+  const int na = njoint();
+  for (size_t j = 0; j < request_.size(); ++j)
+    request_[j] = static_cast<int>(j) < na ? s.q[j] : s.passive_q[j - na];
+  request_p_WB_ = estimate().p_WB;
+  request_quat_WB_ = estimate().quat_WB;
+  reports_[current_].request_time = s.time;
+  plan_state_.store(kRequested, std::memory_order_release);
+  phase_reach_ = Phase::kPlanning;
+  request_time_ = s.time;
+}
+
+void ReachController::HoldGroup(const shm::SensorBlock& s) noexcept {
+  for (int i = 0; i < group_.size(); ++i) {
+    const int j = group_.ids[i];
+    if (j >= njoint()) continue;
+    q_ref_[j] = q_ik_[j] = hold_q_[i];
+    dq_ref_[j] = 0;
+  }
+  Record(s);
 }
 
 void ReachController::Record(const shm::SensorBlock& s) noexcept {
@@ -239,21 +257,19 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   const int n = group_.size();
   switch (phase_reach_) {
     case Phase::kWait:
-      if (s.time - stand_time_ >= reach_.start) {
-        const int na = njoint();
-        for (size_t j = 0; j < request_.size(); ++j)
-          request_[j] = static_cast<int>(j) < na ? s.q[j] : s.passive_q[j - na];
-        plan_state_.store(kRequested, std::memory_order_release);
-        phase_reach_ = Phase::kPlanning;
-        request_time_ = s.time;
-      }
+      if (s.time - stand_time_ >= reach_.start) RequestPlan(s);
       return;
     case Phase::kPlanning: {
       const int state = plan_state_.load(std::memory_order_acquire);
       if (state == kUnsolved) phase_reach_ = Phase::kFailed;
-      if (state != kSolved) return;
+      if (state != kSolved) {
+        if (current_ > 0) HoldGroup(s);  // the previous goal, while the next one is planned
+        return;
+      }
       phase_reach_ = Phase::kMoving;
       motion_start_ = s.time;
+      reports_[current_].motion_start = s.time;
+      reports_[current_].row_begin = log_rows_;
       break;
     }
     case Phase::kMoving:
@@ -263,9 +279,20 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
       }
       break;
     case Phase::kHolding:
-      if (s.time - hold_start_ >= reach_.hold) {
-        for (int i = 0; i < n; ++i) final_error_[i] = s.q[group_.ids[i]] - goal_[i];
+      if (s.time - hold_start_ >= holds_[current_]) {
+        GoalReport& g = reports_[current_];
+        for (int i = 0; i < n; ++i) g.final_error[i] = final_error_[i] = s.q[group_.ids[i]] - goal_[i];
         for (int j = 0; j < njoint(); ++j) final_q_[j] = s.q[j];
+        g.row_end = log_rows_;
+        g.done = true;
+        if (current_ + 1 < goals_.size()) {  // the next goal, from here
+          std::copy(goal_.begin(), goal_.end(), hold_q_.begin());
+          ++current_;
+          std::copy(goals_[current_].begin(), goals_[current_].end(), goal_.begin());
+          RequestPlan(s);
+          HoldGroup(s);
+          return;
+        }
         motion_end_ = s.time;
         phase_reach_ = Phase::kDone;
       }
@@ -284,96 +311,6 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
     dq_ref_[j] = sample_dq_[i];
   }
   if (phase_reach_ != Phase::kDone) Record(s);
-}
-
-double ReachController::HandError() const {
-  // the base frame: the base at the origin, upright (as the goal was given)
-  const int site = kin_ik_->SiteId(reach_.hand.site);
-  kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
-  kin_ik_->SetJointPositions(final_q_.data());
-  kin_ik_->UpdatePositions();
-  const mjModel* m = kin_ik_->m();
-  const int body = m->site_bodyid[site];
-  const Eigen::Vector3d p_TipT(m->site_pos[3 * site], m->site_pos[3 * site + 1], m->site_pos[3 * site + 2]);
-  const Eigen::Vector3d p = kin_ik_->p_WBody(body) + kin_ik_->R_WBody(body) * p_TipT;
-  return (p - reach_.hand.p_B).norm();
-}
-
-const planning::Verdict& ReachController::MeasuredClearance() const {
-  if (!clearance_done_) {
-    clearance_done_ = true;
-    clearance_ = planning::Verdict();
-    clearance_.distance = INFINITY;
-    clearance_.valid = true;
-    const size_t nq = request_.size();
-    for (size_t r = 0; r < log_rows_; ++r) {
-      const planning::Verdict v =
-          check_->Evaluate(std::span<const double>(log_.data() + r * nq, nq));
-      if (v.distance < clearance_.distance) clearance_ = v;
-    }
-  }
-  return clearance_;
-}
-
-void ReachController::report(std::ostream& out) const {
-  BalanceController::report(out);
-  const int state = plan_state_.load();
-  out << "reach: group";
-  for (const auto& n : group_.names) out << " " << n;
-  out << "\n";
-  if (state == kIdle || state == kRequested) {
-    out << "reach: no plan made (the run ended " << (state == kIdle ? "before the start" : "while planning")
-        << ")\n";
-    return;
-  }
-  if (!reach_.plan_log.empty())
-    out << "reach: plan log " << reach_.plan_log << (log_error_.empty() ? "" : " NOT written: " + log_error_) << "\n";
-  const planning::PlanResult& p = result_;
-  if (!p.solved) {
-    out << "reach: planning failed: " << p.reason << " (" << p.evaluations << " posture checks, "
-        << Fmt("%.1f ms)\n", 1e3 * p.plan_time);
-    return;
-  }
-  out << "reach: planned in " << Fmt("%.1f ms (RRTConnect) + %.1f ms (simplification), ", 1e3 * p.plan_time, 1e3 * p.simplify_time)
-      << p.evaluations << " posture checks; path " << Fmt("%.3f rad (raw %.3f), ", p.length, p.raw_length)
-      << p.waypoints.size() << " waypoints, " << Fmt("%.2f s; planned clearance %.1f mm", path_.duration(), 1e3 * p.closest.distance)
-      << " (" << p.closest.a << " / " << p.closest.b << ")\n";
-  out << "reach: the straight joint-space line would " << (straight_.valid ? "keep " : "come to ")
-      << Fmt("%.1f mm", 1e3 * straight_.distance) << " (" << straight_.a << " / " << straight_.b << ")\n";
-  if (phase_reach_ != Phase::kPlanning)
-    out << "reach: the motion began " << Fmt("%.3f s (producer time) after the plan was asked at %.3f s", motion_start_ - request_time_, request_time_)
-        << " (the robot stands meanwhile; a simulation faster than real time runs on while the plan is made)\n";
-  const planning::Verdict& c = MeasuredClearance();
-  if (log_rows_ > 0)
-    out << "reach: measured clearance along the executed motion " << Fmt("%.1f mm", 1e3 * c.distance)
-        << " (" << c.a << " / " << c.b << ", " << log_rows_ << " measured postures"
-        << (log_dropped_ ? ", some not recorded" : "") << Fmt("; the planner keeps %.1f mm)\n", 1e3 * check_->required());
-  if (phase_reach_ == Phase::kDone) {
-    double worst = 0;
-    int at = 0;
-    for (int i = 0; i < group_.size(); ++i)
-      if (std::abs(final_error_[i]) > worst) worst = std::abs(final_error_[i]), at = i;
-    out << "reach: final tracking error " << Fmt("%.4f rad", worst) << " (" << group_.names[at]
-        << ") after " << Fmt("%.2f s of hold (tolerance %.3f rad)\n", reach_.hold, reach_.tolerance);
-    if (reach_.hand_goal)
-      out << "reach: the hand (" << reach_.hand.site << ") measured "
-          << Fmt("%.1f mm from its goal (%.3f, %.3f, %.3f) m in the base frame, by the model's kinematics\n",
-                 1e3 * HandError(), reach_.hand.p_B.x(), reach_.hand.p_B.y(), reach_.hand.p_B.z());
-  }
-}
-
-std::string ReachController::failure() const {
-  if (std::string f = BalanceController::failure(); !f.empty()) return f;
-  if (!log_error_.empty()) return "--plan-log: " + log_error_;
-  const int state = plan_state_.load();
-  if (state == kUnsolved) return "planning failed: " + result_.reason;
-  if (phase_reach_ != Phase::kDone)
-    return "the run ended before the motion and its hold were done (give the run more time)";
-  double worst = 0;
-  for (double e : final_error_) worst = std::max(worst, std::abs(e));
-  if (!(worst <= reach_.tolerance))
-    return "final tracking error " + Fmt("%.4f rad", worst) + " exceeds --tolerance";
-  return "";
 }
 
 }  // namespace ohrp::controllers

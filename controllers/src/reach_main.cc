@@ -9,8 +9,10 @@
 #include "controllers/cli.h"
 #include "controllers/posture.h"
 #include "controllers/reach.h"
+#include "controllers/reach_goals.h"
 #include "controllers/runner.h"
 #include "robot_model/model.h"
+#include "robot_model/scene_obstacles.h"
 
 namespace {
 [[noreturn]] void OnMujocoFatal(const char*) { std::_Exit(ohrp::controllers::kExitConfig); }
@@ -107,8 +109,8 @@ int main(int argc, char** argv) {
       "move a joint group (the joints named in --goal-joints, or --group with a hand pose\n"
       "--goal-pose solved by the shared limb IK) from its measured posture to the goal along a\n"
       "path planned clear of the robot's own links (the self-collision file's online pairs,\n"
-      "margin and safe ranges, plus --clearance) and of --box obstacles by OMPL's RRTConnect with path\n"
-      "simplification, timed within --max-speed and --max-accel; hold it, and report the\n"
+      "margin and safe ranges, plus --clearance) and of --box and --scene obstacles by OMPL's\n"
+      "RRTConnect with path simplification (--goals FILE: several goals in sequence), timed within --max-speed and --max-accel; hold it, and report the\n"
       "planning time, the path length, the smallest clearance of the executed motion (from the\n"
       "measured joint angles) and the final tracking error. Exit 9 when no path is found, the\n"
       "run ends before the hold is over, or the final error exceeds --tolerance.",
@@ -144,11 +146,27 @@ int main(int argc, char** argv) {
                  "(the group's joints by the shared limb IK from the stance pose)")
       ->delimiter(',')
       ->excludes("--goal-joints");
+  std::string goals_file;
+  app.add_option("--goals", goals_file,
+                 "a goals file (YAML: group, goals: joints or a hand pose each, optional hold) "
+                 "reached in sequence, each planned from where the previous one left the arm")
+      ->check(CLI::ExistingFile)
+      ->excludes("--goal-joints")
+      ->excludes("--goal-pose");
   std::vector<std::string> box_items;
   app.add_option("--box", box_items,
                  "a static box to keep clear of: NAME,CX,CY,CZ,HX,HY,HZ (centre and half sizes in "
                  "the base frame, as the robot stands) [m]; repeat for more")
       ->take_all()->allow_extra_args(false);
+  app.add_option("--scene", o.scene_file,
+                 "an MJCF scene (normally the one sim_host simulates): its static geoms (boxes; "
+                 "spheres, capsules, cylinders as their bounding boxes; not the floor) are kept "
+                 "clear of, placed in the base frame from the estimated base pose when the plan is "
+                 "made (the scene's world: the estimator's, soles centred on x = y = 0, facing +x)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--scene-keyframe", o.scene_keyframe,
+                 "with --scene: the keyframe the scene starts the robot in (where its soles stand)")
+      ->default_val(o.scene_keyframe);
   app.add_option("--clearance", o.clearance, "[m] kept between links beyond the file's margin")
       ->default_val(o.clearance)->check(ohrp::cli::Plausible("clearance"));
   app.add_option("--start", o.start, "[s] after the stance begins, when the plan is made")
@@ -177,6 +195,10 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   o.hand_goal = !pose_items.empty();
+  if (!goals_file.empty() && !ReadGoalsFile(goals_file, &o.goals, &error)) {
+    std::cerr << "reach: --goals: " << error << "\n";
+    return kExitUsage;
+  }
   for (const std::string& b : box_items) {
     ohrp::planning::SceneBox box;
     if (!ParseBox(b, &box, &error)) {
@@ -187,6 +209,14 @@ int main(int argc, char** argv) {
   }
 
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
+  if (!o.scene_file.empty()) {
+    ohrp::model::SceneObstacles scene;
+    if (!ohrp::model::ReadSceneObstacles(o.scene_file, &scene, &error)) {
+      std::cerr << "reach: " << error << "\n";
+      return kExitUsage;
+    }
+    o.scene = scene.boxes;
+  }
   ConfigStatus status;
   auto controller = ReachController::Create(o, &status);
   if (!controller) {

@@ -19,6 +19,11 @@
 //             after the run through the same checker) and the tracking error at the end of the
 //             hold. failure(): no path (the reason), the run ended before the hold did, or a
 //             final tracking error above the tolerance.
+//   scene     --box obstacles in the base frame; --scene FILE: a scene's static geoms
+//             (model::ReadSceneObstacles), placed in the base frame at each plan's request from
+//             the estimated base pose and the estimator's frame in the scene (reach_scene.cc).
+//   goals     --goals FILE (reach_goals.h): several goals in sequence, each planned from where
+//             the previous left the arm (held meanwhile), reported per goal (reach_report.cc).
 // The per-cycle path allocates nothing, throws nothing and logs nothing.
 #pragma once
 
@@ -32,6 +37,7 @@
 
 #include "collision/pair_file.h"
 #include "controllers/balance.h"
+#include "robot_model/scene_obstacles.h"
 #include "planning/arm_planner.h"
 #include "planning/timed_path.h"
 
@@ -46,6 +52,21 @@ struct HandGoal {
   Eigen::Vector3d rpy = Eigen::Vector3d::Zero();  // roll, pitch, yaw about the base's x, y, z [rad]
 };
 
+// one goal of a goals file (reach --goals, controllers/reach_goals.h)
+struct GoalSpec {
+  std::vector<std::pair<std::string, double>> joints;  // a joints goal (by name) [rad], or
+  bool hand = false;                                   // a hand pose goal
+  HandGoal pose;
+  double hold = -1;  // [s]; < 0: the command line's --hold
+  int line = 0;      // the goal's line in the file (for messages)
+};
+
+struct GoalsFile {
+  std::string path;
+  std::vector<std::string> group;  // empty: the first goal's joints
+  std::vector<GoalSpec> goals;
+};
+
 // The group's goal for a hand pose: the shared limb IK (robot_model/ik.h) of the chain from the
 // group's first joint to the site, started from `stance` (joint-id order). The chain's joints
 // must all be in the group; the group's other joints keep their stance values. kOption with the reason: an unknown site, a chain that is not the
@@ -54,16 +75,32 @@ ConfigStatus GoalFromHandPose(model::Kinematics& kin, const planning::JointGroup
                               const HandGoal& hand, const std::vector<double>& stance,
                               std::vector<double>* goal);
 
+// The estimator's world frame in the scene's world (reach --scene): the soles' midpoint on the
+// floor, the base's yaw, as the scene's keyframe `key` stands the robot (reach_scene.cc).
+// kOption when the robot has no floating base or the keyframe does not exist.
+ConfigStatus EstimatorFrameInScene(model::Kinematics& kin, const std::string& key,
+                                   Eigen::Isometry3d* X_WE);
+
 struct ReachOptions {
   BalanceOptions balance;
   std::string collision_file;  // the self-collision file; empty: DefaultSelfCollisionFile()
   std::vector<std::pair<std::string, double>> goal_joints;  // the group and its goal [rad]
   // or: the group by name and a hand pose, the goal by IK (hand_goal true)
   std::vector<std::string> group;
+  // or: a goals file's goals in sequence (goals.goals not empty; its group, or the first goal's
+  // joints, is the group)
+  GoalsFile goals;
   bool hand_goal = false;
   HandGoal hand;
   // static boxes to keep clear of, in the base frame (the waist, as the robot stands)
   std::vector<planning::SceneBox> boxes;
+  // a scene's static obstacles (--scene FILE, model::ReadSceneObstacles) in the world; placed in
+  // the base frame from the estimated base pose when the plan is asked
+  std::string scene_file;
+  std::vector<model::SceneObstacle> scene;
+  // the keyframe the scene starts the robot in: where its soles stand in the scene's world, the
+  // estimator's origin (midway between the soles, yaw of the base, on z = 0)
+  std::string scene_keyframe = "halfsit";
   double clearance = 0.01;     // [m] kept beyond the file's margin
   double start = 1.5;          // [s] after the stance begins (the CoM centred first)
   double hold = 1.5;           // [s] at the goal before the tracking error is taken
@@ -95,7 +132,18 @@ class ReachController : public BalanceController {
   ReachController(const ReachOptions& options, const BalanceOptions& filled, Pose pose,
                   std::unique_ptr<model::Kinematics> kin_est,
                   std::unique_ptr<model::Kinematics> kin_ik);
+  // the group, the goals (the command line's one or the goals file's), each checked against the
+  // limits and, with `stance`'s other joints, the checker; fills group_, check_, goals_
+  // (reach_sequence.cc)
+  ConfigStatus ResolveGoals(const std::vector<double>& stance);
+  // hands the measured posture and goal `current_` to the planner (control thread, no allocation)
+  void RequestPlan(const shm::SensorBlock& s) noexcept;
+  // the group's references at hold_q_ (between two goals), the posture recorded
+  void HoldGroup(const shm::SensorBlock& s) noexcept;
   void PlannerThread();
+  // the check with the scene placed from the base pose at the request (planner thread); false
+  // with result_.reason when the checker refuses it
+  bool PlaceScene();
   void Record(const shm::SensorBlock& s) noexcept;
   // the plan log's text (ReachOptions::plan_log)
   std::string PlanLog() const;
@@ -103,6 +151,16 @@ class ReachController : public BalanceController {
   double HandError() const;
   // the smallest clearance of the recorded motion (computed once, after the run)
   const planning::Verdict& MeasuredClearance() const;
+  // the smallest clearances of the recorded rows [begin, end), the robot's own pairs and the
+  // pairs with an obstacle apart (reach_report.cc), and their text
+  struct Clearances {
+    planning::Verdict self, scene;
+  };
+  Clearances ClearanceOfRows(size_t begin, size_t end) const;
+  std::string Describe(const Clearances& c) const;
+  bool has_scene_pairs_ = false;  // --box or --scene obstacles
+  // one line per goal of a goals file
+  void ReportGoals(std::ostream& out) const;
 
   enum class Phase { kWait, kPlanning, kMoving, kHolding, kDone, kFailed };
   enum PlanState : int { kIdle, kRequested, kSolved, kUnsolved };
@@ -110,7 +168,26 @@ class ReachController : public BalanceController {
   collision::SelfCollisionFile file_;
   planning::JointGroup group_;
   std::unique_ptr<planning::PostureCheck> check_;
-  std::vector<double> goal_;            // group values
+  std::vector<double> goal_;            // group values: the goal being planned or reached
+  // the goals in sequence (one without a goals file), their holds [s] and labels ("FILE:LINE")
+  std::vector<std::vector<double>> goals_;
+  std::vector<double> holds_;
+  std::vector<std::string> labels_;
+  size_t current_ = 0;                  // the goal under way
+  std::vector<double> hold_q_;          // group: the previous goal held while the next is planned
+  // per goal, what was planned (planner thread) and measured (control thread); preallocated
+  struct GoalReport {
+    bool planned = false, solved = false;
+    std::string reason;
+    double plan_time = 0, simplify_time = 0, length = 0, raw_length = 0, duration = 0;
+    size_t waypoints = 0;
+    planning::Verdict closest, straight;
+    double request_time = 0, motion_start = -1;
+    size_t row_begin = 0, row_end = 0;  // its measured rows in log_ (motion and hold)
+    bool done = false;
+    std::vector<double> final_error;   // group
+  };
+  std::vector<GoalReport> reports_;
   std::vector<double> v_max_, a_max_;   // per group joint
   std::vector<double> request_;         // the measured posture handed to the planner
   planning::PlanResult result_;         // written by the planner thread before kSolved/kUnsolved
@@ -120,6 +197,10 @@ class ReachController : public BalanceController {
   std::atomic<bool> quit_{false};      // the planning thread ends
   std::thread thread_;
   Phase phase_reach_ = Phase::kWait;
+  // the estimated base pose when the plan was asked (the scene's boxes placed from it)
+  Eigen::Vector3d request_p_WB_ = Eigen::Vector3d::Zero();
+  Eigen::Isometry3d X_WE_ = Eigen::Isometry3d::Identity();  // the estimator's frame in the scene
+  Eigen::Quaterniond request_quat_WB_ = Eigen::Quaterniond::Identity();
   double request_time_ = 0, motion_start_ = 0, hold_start_ = 0, motion_end_ = -1;  // [s]
   std::vector<double> sample_q_, sample_dq_;  // group
   std::vector<double> final_error_;           // group: measured - goal at the end of the hold

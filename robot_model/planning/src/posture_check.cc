@@ -58,6 +58,7 @@ std::unique_ptr<PostureCheck> PostureCheck::Create(const collision::SelfCollisio
   if (!c->checker_) return nullptr;
   c->group_ = group;
   c->nq_ = collision::NumJoints(robot);
+  c->nrobot_ = nrobot;
   c->margin_ = file.margin;
   c->required_ = file.margin + clearance;
   const std::vector<char> moved = MovedLinks(robot, group);
@@ -103,6 +104,28 @@ Verdict PostureCheck::Evaluate(std::span<const double> q) {
     v.b = checker_->robot().links[pairs_[r.closest].b].name;
   }
   return v;
+}
+
+void PostureCheck::EvaluateByKind(std::span<const double> q, Verdict* self, Verdict* scene) {
+  ++evaluations_;
+  ListPairs(q);
+  checker_->SetPose(q);
+  const double cutoff = required_ + 0.05;
+  *self = Verdict();
+  *scene = Verdict();
+  self->distance = scene->distance = cutoff;
+  const auto& links = checker_->robot().links;
+  for (const auto& p : pairs_) {
+    const double x = checker_->Distance(p.a, p.b, cutoff);
+    Verdict* v = p.a >= nrobot_ || p.b >= nrobot_ ? scene : self;
+    if (x < v->distance) {
+      v->distance = x;
+      v->a = links[p.a].name;
+      v->b = links[p.b].name;
+    }
+  }
+  self->valid = self->distance >= required_;
+  scene->valid = scene->distance >= required_;
 }
 
 bool PostureCheck::Valid(std::span<const double> q) {

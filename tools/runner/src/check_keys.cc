@@ -122,6 +122,13 @@ const std::vector<CheckType>& CheckTypes() {
        "pose (the logged base pose and joint angles through the scene's kinematics, the "
        "camera's fovy, a `width` x `height` image), lies within `tolerance` pixels of the "
        "image centre (runner/vision_checks.h)"},
+      {"obstacle_contacts",
+       {Num("max", "cycles, 0", 0, kBig, false, false, 0)},
+       "the robot's contacts with the scene's static obstacles (geoms welded to the world, not "
+       "the floor), measured on the logged motion (the simulated base pose and joint angles "
+       "through the scene's model and MuJoCo's collision functions; runner/obstacle_checks.h): "
+       "the logged cycles in which a robot geom penetrates one are at most `max`; the detail "
+       "names the first contact and the deepest"},
       {"max_rejected",
        {Num("max", "0", 0, kBig, false, false, 0)},
        "joint commands rejected by the servos (NaN, out of range) are at most `max`"},

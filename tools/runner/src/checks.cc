@@ -10,6 +10,7 @@
 #include "runner/recovery.h"
 #include "runner/sole_checks.h"
 #include "runner/vision_checks.h"
+#include "runner/obstacle_checks.h"
 #include "runner/walk_checks.h"
 
 namespace ohrp::runner {
@@ -342,6 +343,7 @@ CheckResult Evaluate(const CheckSpec& spec, const datalog::Table& log, const nlo
     if (spec.type == "goal_reached") return GoalReached(spec, log);
     if (spec.type == "average_speed") return AverageSpeed(spec, log);
     if (spec.type == "ball_centred") return BallCentred(spec, log, sim);
+    if (spec.type == "obstacle_contacts") return ObstacleContacts(spec, log, sim);
   } catch (const std::exception& e) {
     return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
   }

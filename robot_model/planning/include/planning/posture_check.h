@@ -55,6 +55,10 @@ class PostureCheck {
 
   // The verdict on a whole posture (NumJoints values). Allocates nothing.
   Verdict Evaluate(std::span<const double> posture);
+  // Evaluate's closest pair split by kind: among the robot's own pairs (`self`) and among the
+  // pairs with a scene box (`scene`); a kind with no pair within required() + 50 mm has the
+  // cutoff as its distance and no names (for reports after a run: it copies the names)
+  void EvaluateByKind(std::span<const double> posture, Verdict* self, Verdict* scene);
   // Evaluate's valid, stopping at the first pair closer than required()
   bool Valid(std::span<const double> posture);
   // evaluations since Create
@@ -73,6 +77,7 @@ class PostureCheck {
   std::unique_ptr<collision::SelfCollision> checker_;
   JointGroup group_;
   int nq_ = 0;
+  int nrobot_ = 0;  // the robot's links; the scene's boxes follow them
   double margin_ = 0, required_ = 0;
   std::vector<collision::LinkPair> always_;   // online pairs with a moving link, scene pairs
   struct Range {

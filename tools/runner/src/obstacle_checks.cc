@@ -1,0 +1,139 @@
+// The robot's clearance from the scene's static obstacles on the logged motion
+// (runner/obstacle_checks.h).
+#include "runner/obstacle_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "robot_model/model.h"
+
+namespace ohrp::runner {
+namespace {
+
+struct Pair {
+  int robot, obstacle;
+};
+
+std::string GeomText(const mjModel* m, int g) {
+  const char* n = mj_id2name(m, mjOBJ_GEOM, g);
+  const char* b = mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[g]);
+  if (n && *n) return n;
+  return std::string(b ? b : "?") + ":geom" + std::to_string(g);
+}
+
+// the pairs: the robot's geoms (under a free joint) against the static obstacles
+std::vector<Pair> ObstaclePairs(const mjModel* m, int* obstacles) {
+  std::vector<int> robot, fixed;
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int b = m->geom_bodyid[g], t = m->geom_type[g];
+    if (m->body_weldid[b] != 0) robot.push_back(g);
+    else if (t != mjGEOM_PLANE && t != mjGEOM_HFIELD) fixed.push_back(g);
+  }
+  *obstacles = static_cast<int>(fixed.size());
+  std::vector<Pair> pairs;
+  for (int r : robot)
+    for (int o : fixed) pairs.push_back({r, o});
+  return pairs;
+}
+
+// the pair's penetration (a negative distance) as MuJoCo's collision function finds it with no
+// margin, else 0 (apart). Not a clearance: with a margin MuJoCo's box-box function reports
+// distances of non-touching boxes wrongly (-322 mm for boxes 19 mm apart), so none is asked.
+double Penetration(const mjModel* m, const mjData* d, const Pair& p, std::vector<mjContact>* con) {
+  const mjtNum* a = d->geom_xpos + 3 * p.robot;
+  const mjtNum* b = d->geom_xpos + 3 * p.obstacle;
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  const double reach = m->geom_rbound[p.robot] + m->geom_rbound[p.obstacle];
+  if (dx * dx + dy * dy + dz * dz > reach * reach) return 0;
+  int g1 = p.robot, g2 = p.obstacle;
+  if (m->geom_type[g1] > m->geom_type[g2]) std::swap(g1, g2);
+  mjfCollision collide = mjCOLLISIONFUNC[m->geom_type[g1]][m->geom_type[g2]];
+  if (!collide) return 0;
+  const int n = collide(m, d, con->data(), g1, g2, 0);
+  double closest = 0;
+  for (int i = 0; i < n; ++i) closest = std::min(closest, static_cast<double>((*con)[i].dist));
+  return closest;
+}
+
+bool SetRow(const mjModel* m, mjData* d, const datalog::Table& log, size_t row, std::string* error) {
+  for (int j = 0; j < m->njnt; ++j) {
+    const int adr = m->jnt_qposadr[j];
+    if (m->jnt_type[j] == mjJNT_FREE) {
+      const char* names[7] = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+      for (int k = 0; k < 7; ++k) {
+        const int col = log.Column(names[k]);
+        if (col < 0) return *error = std::string("the data log has no ") + names[k] + " column", false;
+        d->qpos[adr + k] = log.col(col)[row];
+      }
+      mju_normalize4(d->qpos + adr + 3);
+    } else if (m->jnt_type[j] == mjJNT_HINGE || m->jnt_type[j] == mjJNT_SLIDE) {
+      const char* name = mj_id2name(m, mjOBJ_JOINT, j);
+      const int col = name ? log.Column(std::string("q_") + name) : -1;
+      if (col >= 0) d->qpos[adr] = log.col(col)[row];  // a passive joint not logged: as built
+    }
+  }
+  return true;
+}
+
+std::string Mm(double metres) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", 1e3 * metres);
+  return text;
+}
+
+std::string Seconds(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", t);
+  return text;
+}
+
+}  // namespace
+
+CheckResult ObstacleContacts(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim) {
+  CheckResult r{"obstacle_contacts", false, 0, "cycles", "", ""};
+  const std::string scene_path = sim.value("scene", "");
+  std::string error;
+  auto scene = model::Scene::Load(scene_path, &error);
+  if (!scene) return r.detail = "the run's scene: " + error, r;
+  const mjModel* m = scene->m();
+  mjData* d = scene->d();
+  int obstacles = 0;
+  const std::vector<Pair> pairs = ObstaclePairs(m, &obstacles);
+  if (obstacles == 0) return r.detail = scene_path + " has no static obstacle (only the floor)", r;
+  const std::vector<double>& time = log.col(log.Column("time"));
+  std::vector<mjContact> con(mjMAXCONPAIR);
+  double first_t = -1, deepest = 0, deepest_t = 0;
+  Pair first_pair{-1, -1}, deepest_pair{-1, -1};
+  long in_contact = 0;
+  for (size_t row = 0; row < time.size(); ++row) {
+    if (!SetRow(m, d, log, row, &error)) return r.detail = error, r;
+    mj_kinematics(m, d);
+    bool touching = false;
+    for (const Pair& p : pairs) {
+      const double x = Penetration(m, d, p, &con);
+      if (x < 0) {
+        touching = true;
+        if (x < deepest) deepest = x, deepest_t = time[row], deepest_pair = p;
+        if (first_t < 0) first_t = time[row], first_pair = p;
+      }
+    }
+    in_contact += touching;
+  }
+  const std::string contact = first_t < 0 ? "in contact: none"
+      : "first contact " + GeomText(m, first_pair.robot) + " / " + GeomText(m, first_pair.obstacle) +
+            " at " + Seconds(first_t) + " s; deepest " + Mm(-deepest) + " mm (" +
+            GeomText(m, deepest_pair.robot) + " / " + GeomText(m, deepest_pair.obstacle) + " at " +
+            Seconds(deepest_t) + " s)";
+  r.detail = std::to_string(pairs.size()) + " robot-obstacle geom pairs (" + std::to_string(obstacles) +
+             " static obstacles) in " + std::to_string(time.size()) + " logged cycles; " + contact;
+  const double max = spec.Number("max", 0);
+  r.value = static_cast<double>(in_contact);
+  r.passed = r.value <= max;
+  r.limit = "<= " + std::to_string(static_cast<long>(max));
+  return r;
+}
+
+}  // namespace ohrp::runner
