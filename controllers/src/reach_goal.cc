@@ -15,22 +15,28 @@ ConfigStatus GoalFromHandPose(model::Kinematics& kin, const planning::JointGroup
     return ConfigStatus::Fail(ConfigError::kOption, "--goal-pose: " + what);
   };
   const mjModel* m = kin.m();
+  // the hand: a site, else a body (its frame; a robot without hand sites, as menagerie's G1)
   const int site = kin.SiteId(hand.site);
-  if (site < 0) {
+  const int body = site < 0 ? mj_name2id(m, mjOBJ_BODY, hand.site.c_str()) : -1;
+  if (site < 0 && body < 0) {
     std::string known;
     for (int i = 0; i < m->nsite; ++i) {
       const char* n = mj_id2name(m, mjOBJ_SITE, i);
       if (n) known += std::string(known.empty() ? "" : ", ") + n;
     }
-    return bad("the robot has no site '" + hand.site + "' (it has: " + known + ")");
+    return bad("the robot has no site or body '" + hand.site + "' (its sites: " + known + ")");
   }
   const int first = kin.JointId(group.names[0]);
   if (first < 0) return bad("the model has no joint '" + group.names[0] + "'");
   const int root = m->body_parentid[m->jnt_bodyid[kin.robot().joints[first].joint_id]];
-  const int tip = m->site_bodyid[site];
-  const Eigen::Vector3d p_TipT(m->site_pos[3 * site], m->site_pos[3 * site + 1], m->site_pos[3 * site + 2]);
-  const Eigen::Quaterniond q_TipT(m->site_quat[4 * site], m->site_quat[4 * site + 1],
-                                  m->site_quat[4 * site + 2], m->site_quat[4 * site + 3]);
+  const int tip = site >= 0 ? m->site_bodyid[site] : body;
+  Eigen::Vector3d p_TipT = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_TipT = Eigen::Quaterniond::Identity();
+  if (site >= 0) {
+    p_TipT = Eigen::Vector3d(m->site_pos[3 * site], m->site_pos[3 * site + 1], m->site_pos[3 * site + 2]);
+    q_TipT = Eigen::Quaterniond(m->site_quat[4 * site], m->site_quat[4 * site + 1],
+                                m->site_quat[4 * site + 2], m->site_quat[4 * site + 3]);
+  }
   model::IkOptions options;
   options.max_iterations = 200;
   if (!hand.orientation) {  // the position only: the rotation error neither weighed nor judged

@@ -12,6 +12,7 @@
 #include "controllers/reach_goals.h"
 #include "controllers/runner.h"
 #include "robot_model/model.h"
+#include "robot_model/profile.h"
 #include "robot_model/scene_obstacles.h"
 
 namespace {
@@ -96,6 +97,21 @@ bool ParseBox(const std::string& text, ohrp::planning::SceneBox* box, std::strin
   box->half_size = Eigen::Vector3d(v[3], v[4], v[5]);
   return true;
 }
+// --group NAME: with a robot profile as --model, one of its chains or groups (docs/robots.md)
+// stands for its joints; false with `*error` for a single name that is neither a joint the
+// profile lists nor a chain or group of it
+bool GroupFromProfile(const std::string& model, std::vector<std::string>* group, std::string* error) {
+  if (group->size() != 1 || !ohrp::model::IsProfilePath(model)) return true;
+  ohrp::model::RobotProfile p;
+  if (!ohrp::model::ReadProfile(model, &p, error)) return false;
+  for (const auto* named : {&p.chains, &p.groups}) {
+    if (const auto it = named->find(group->front()); it != named->end()) {
+      *group = it->second;
+      return true;
+    }
+  }
+  return true;  // a joint's name: the controller checks it against the robot
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -138,7 +154,8 @@ int main(int argc, char** argv) {
                  "the goal: NAME=VALUE,... [rad]; the named joints are the group the plan moves")
       ->delimiter(',');
   app.add_option("--group", o.group,
-                 "with --goal-pose: the joints the plan moves, the chain to the site, root outwards")
+                 "with --goal-pose: the joints the plan moves, the chain to the site, root outwards; with a "
+                 "robot profile as --model, a chain or group of it by name (e.g. left_arm)")
       ->delimiter(',');
   std::vector<std::string> pose_items;
   app.add_option("--goal-pose", pose_items,
@@ -195,6 +212,10 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   o.hand_goal = !pose_items.empty();
+  if (!GroupFromProfile(o.balance.model, &o.group, &error)) {
+    std::cerr << "reach: --group: " << error << "\n";
+    return kExitUsage;
+  }
   if (!goals_file.empty() && !ReadGoalsFile(goals_file, &o.goals, &error)) {
     std::cerr << "reach: --goals: " << error << "\n";
     return kExitUsage;

@@ -25,8 +25,11 @@ double ReachController::HandError() const {
   kin_ik_->SetJointPositions(final_q_.data());
   kin_ik_->UpdatePositions();
   const mjModel* m = kin_ik_->m();
-  const int body = m->site_bodyid[site];
-  const Eigen::Vector3d p_TipT(m->site_pos[3 * site], m->site_pos[3 * site + 1], m->site_pos[3 * site + 2]);
+  // the hand: a site, else a body's frame (reach_goal.cc)
+  const int body = site >= 0 ? m->site_bodyid[site] : mj_name2id(m, mjOBJ_BODY, reach_.hand.site.c_str());
+  const Eigen::Vector3d p_TipT = site >= 0 ? Eigen::Vector3d(m->site_pos[3 * site], m->site_pos[3 * site + 1],
+                                                             m->site_pos[3 * site + 2])
+                                           : Eigen::Vector3d::Zero();
   const Eigen::Vector3d p = kin_ik_->p_WBody(body) + kin_ik_->R_WBody(body) * p_TipT;
   return (p - reach_.hand.p_B).norm();
 }
