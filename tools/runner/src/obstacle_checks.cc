@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "log_posture.h"
 #include "robot_model/model.h"
 
 namespace ohrp::runner {
@@ -58,26 +59,6 @@ double Penetration(const mjModel* m, const mjData* d, const Pair& p, std::vector
   return closest;
 }
 
-bool SetRow(const mjModel* m, mjData* d, const datalog::Table& log, size_t row, std::string* error) {
-  for (int j = 0; j < m->njnt; ++j) {
-    const int adr = m->jnt_qposadr[j];
-    if (m->jnt_type[j] == mjJNT_FREE) {
-      const char* names[7] = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
-      for (int k = 0; k < 7; ++k) {
-        const int col = log.Column(names[k]);
-        if (col < 0) return *error = std::string("the data log has no ") + names[k] + " column", false;
-        d->qpos[adr + k] = log.col(col)[row];
-      }
-      mju_normalize4(d->qpos + adr + 3);
-    } else if (m->jnt_type[j] == mjJNT_HINGE || m->jnt_type[j] == mjJNT_SLIDE) {
-      const char* name = mj_id2name(m, mjOBJ_JOINT, j);
-      const int col = name ? log.Column(std::string("q_") + name) : -1;
-      if (col >= 0) d->qpos[adr] = log.col(col)[row];  // a passive joint not logged: as built
-    }
-  }
-  return true;
-}
-
 std::string Mm(double metres) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f", 1e3 * metres);
@@ -109,7 +90,7 @@ CheckResult ObstacleContacts(const CheckSpec& spec, const datalog::Table& log, c
   Pair first_pair{-1, -1}, deepest_pair{-1, -1};
   long in_contact = 0;
   for (size_t row = 0; row < time.size(); ++row) {
-    if (!SetRow(m, d, log, row, &error)) return r.detail = error, r;
+    if (!PostureFromLogRow(m, d, log, row, false, nullptr, &error)) return r.detail = error, r;
     mj_kinematics(m, d);
     bool touching = false;
     for (const Pair& p : pairs) {

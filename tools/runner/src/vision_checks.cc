@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "log_posture.h"
 #include "robot_model/model.h"
 
 namespace ohrp::runner {
@@ -62,24 +63,8 @@ CheckResult BallCentred(const CheckSpec& spec, const datalog::Table& log, const 
     return Failed(r, scene_path + " has no " + (g < 0 ? "geom '" + geom : "camera '" + camera) + "'");
   }
   int joints = 0;
-  for (int j = 0; j < m->njnt; ++j) {
-    const int adr = m->jnt_qposadr[j];
-    if (m->jnt_type[j] == mjJNT_FREE) {
-      const char* names[7] = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
-      for (int k = 0; k < 7; ++k) {
-        const int col = log.Column(names[k]);
-        if (col < 0) return Failed(r, std::string("the data log has no ") + names[k] + " column");
-        d->qpos[adr + k] = log.col(col)[row];
-      }
-      mju_normalize4(d->qpos + adr + 3);
-    } else if (m->jnt_type[j] == mjJNT_HINGE || m->jnt_type[j] == mjJNT_SLIDE) {
-      const char* name = mj_id2name(m, mjOBJ_JOINT, j);
-      const int col = name ? log.Column(std::string("q_") + name) : -1;
-      if (col < 0) return Failed(r, std::string("the data log has no q_") + (name ? name : "?") + " column");
-      d->qpos[adr] = log.col(col)[row];
-      ++joints;
-    }
-  }
+  std::string missing;
+  if (!PostureFromLogRow(m, d, log, row, true, &joints, &missing)) return Failed(r, missing);
   mj_kinematics(m, d);
   mj_camlight(m, d);
 
