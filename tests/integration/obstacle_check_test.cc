@@ -70,3 +70,72 @@ TEST(ObstacleContacts, PassesWhenTheCubeStaysApartAndIgnoresTheFloor) {
 }
 
 }  // namespace
+
+// obstacle_clearance (runner/obstacle_checks.h) on closed forms: a ball and a capsule on free
+// joints approach a static 0.2 m cube whose near face is at x = 0.9
+namespace {
+
+const char* kClearanceScene = R"(<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <geom name="wall" type="box" pos="1 0 0.5" size="0.1 0.1 0.1"/>
+    <body name="robot" pos="0 0 0.5"><freejoint/>
+      <geom name="ball" type="sphere" size="0.1"/>
+      <geom name="stick" type="capsule" pos="0 0 0.5" size="0.02 0.1"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+// a log of the base at x = x0 + step * i, turned by `pitch` [rad] about y
+std::string PoseLog(double x0, double step, int rows, double pitch) {
+  const std::string path = ::testing::TempDir() + "clearance_log.csv";
+  std::ofstream out(path);
+  out << "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz\n";
+  for (int i = 0; i < rows; ++i)
+    out << 0.01 * i << "," << x0 + step * i << ",0,0.5," << std::cos(pitch / 2) << ",0,"
+        << std::sin(pitch / 2) << ",0\n";
+  return path;
+}
+
+ohrp::runner::CheckResult Clearance(const std::string& log_path, double min) {
+  const std::string scene = ::testing::TempDir() + "clearance_scene.xml";
+  std::ofstream(scene) << kClearanceScene;
+  ohrp::datalog::Table log;
+  std::string error;
+  EXPECT_TRUE(log.Load(log_path, &error)) << error;
+  ohrp::runner::CheckSpec spec;
+  spec.type = "obstacle_clearance";
+  spec.params["min"] = std::to_string(min);
+  return ohrp::runner::ObstacleClearance(spec, log, nlohmann::json{{"scene", scene}});
+}
+
+}  // namespace
+
+// upright, the stick (0.5 m above the ball) is at the wall's height minus 0.5 m: out of reach;
+// the ball's gap is 0.9 - x - 0.1, smallest at the last row x = 0.55: 250 mm
+TEST(ObstacleClearance, TheBallsGapIsTheClosedForm) {
+  const auto r = Clearance(PoseLog(0.1, 0.05, 10, 0.0), 0.2);
+  EXPECT_NEAR(r.value, 0.25, 1e-6) << r.detail;
+  EXPECT_TRUE(r.passed) << r.detail;
+  EXPECT_NE(r.detail.find("closest ball / wall at 250.0 mm (0.090 s)"), std::string::npos) << r.detail;
+  EXPECT_NE(r.detail.find("0 of 10 logged cycles closer than 200.0 mm"), std::string::npos) << r.detail;
+}
+
+// turned 90 deg about y the stick lies along +x at the ball's height: its far end at
+// x + 0.5 + 0.1 and its radius 0.02 make a gap of 0.9 - x - 0.62 = 0.28 - x, below the ball's;
+// from x = 0.1 by 0.05: 180, 130, 80, 30 mm, then -20 mm (the stick 20 mm inside the wall)
+TEST(ObstacleClearance, ATurnedCapsulesGapAndOverlapAreTheClosedForm) {
+  const auto r = Clearance(PoseLog(0.1, 0.05, 5, M_PI / 2), 0.05);
+  EXPECT_NEAR(r.value, -0.02, 1e-6) << r.detail;
+  EXPECT_FALSE(r.passed) << r.detail;
+  EXPECT_NE(r.detail.find("closest stick / wall at -20.0 mm (0.040 s)"), std::string::npos) << r.detail;
+  EXPECT_NE(r.detail.find("2 of 5 logged cycles closer than 50.0 mm"), std::string::npos) << r.detail;
+}
+
+// far away the closest pair is still measured: the ball at x = -3 is 3.8 m from the wall
+TEST(ObstacleClearance, FarFromEveryObstacleTheGapIsStillMeasured) {
+  const auto r = Clearance(PoseLog(-3.0, 0.0, 4, 0.0), 0.01);
+  EXPECT_TRUE(r.passed) << r.detail;
+  EXPECT_NEAR(r.value, 3.8, 1e-6) << r.detail;
+  EXPECT_NE(r.detail.find("closest ball / wall at 3800.0 mm (0.000 s)"), std::string::npos) << r.detail;
+}

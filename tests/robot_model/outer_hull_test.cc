@@ -80,7 +80,9 @@ TEST(OuterHull, ASphereWithinTheTolerance) {
       EXPECT_LE(x.norm() - R, tol + 1e-12);
       // the exact distance agrees with the closed form's lower bound (a few corners: each
       // call measures the hull's planes again)
-      if (i % 16 == 0) EXPECT_GE(DistanceToHull(x, v, f), x.norm() - R - 1e-12);
+      if (i % 16 == 0) {
+        EXPECT_GE(DistanceToHull(x, v, f), x.norm() - R - 1e-12);
+      }
     }
     // the polytope contains the hull: no hull vertex beyond any of its faces
     for (size_t k = 0; k < out.faces.size(); k += 4) {

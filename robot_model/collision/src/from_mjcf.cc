@@ -57,28 +57,6 @@ bool MeshHull(const mjModel* m, int mesh, Shape* s, std::string* error) {
   return true;
 }
 
-// one geom as a shape; false with a reason when it cannot be one
-bool GeomShape(const mjModel* m, int g, Shape* s, std::string* error) {
-  const mjtNum* size = m->geom_size + 3 * g;
-  switch (m->geom_type[g]) {
-    case mjGEOM_SPHERE: s->type = ShapeType::kSphere; s->size = {size[0], 0, 0}; break;
-    case mjGEOM_CAPSULE: s->type = ShapeType::kCapsule; s->size = {size[0], size[1], 0}; break;
-    case mjGEOM_CYLINDER: s->type = ShapeType::kCylinder; s->size = {size[0], size[1], 0}; break;
-    case mjGEOM_BOX: s->type = ShapeType::kBox; s->size = Vec(size); break;
-    case mjGEOM_ELLIPSOID: s->type = ShapeType::kEllipsoid; s->size = Vec(size); break;
-    case mjGEOM_MESH:
-      s->type = ShapeType::kConvex;
-      if (!MeshHull(m, m->geom_dataid[g], s, error)) return false;
-      break;
-    default:
-      *error = "is a plane or height field: use a box, sphere, capsule, cylinder, ellipsoid or mesh";
-      return false;
-  }
-  s->p_LS = Vec(m->geom_pos + 3 * g);
-  s->q_LS = Quat(m->geom_quat + 4 * g).normalized();
-  return true;
-}
-
 // geoms g and h are the same shape at the same place (a visual and a collision geom of one mesh,
 // as menagerie's G1 has on every body): the link keeps one
 bool SameGeom(const mjModel* m, int g, int h) {
@@ -135,6 +113,27 @@ void RebaseToZero(const mjModel* m, int j, Link* l) {
 }
 
 }  // namespace
+
+bool GeomShape(const mjModel* m, int g, Shape* s, std::string* error) {
+  const mjtNum* size = m->geom_size + 3 * g;
+  switch (m->geom_type[g]) {
+    case mjGEOM_SPHERE: s->type = ShapeType::kSphere; s->size = {size[0], 0, 0}; break;
+    case mjGEOM_CAPSULE: s->type = ShapeType::kCapsule; s->size = {size[0], size[1], 0}; break;
+    case mjGEOM_CYLINDER: s->type = ShapeType::kCylinder; s->size = {size[0], size[1], 0}; break;
+    case mjGEOM_BOX: s->type = ShapeType::kBox; s->size = Vec(size); break;
+    case mjGEOM_ELLIPSOID: s->type = ShapeType::kEllipsoid; s->size = Vec(size); break;
+    case mjGEOM_MESH:
+      s->type = ShapeType::kConvex;
+      if (!MeshHull(m, m->geom_dataid[g], s, error)) return false;
+      break;
+    default:
+      *error = "is a plane or height field: use a box, sphere, capsule, cylinder, ellipsoid or mesh";
+      return false;
+  }
+  s->p_LS = Vec(m->geom_pos + 3 * g);
+  s->q_LS = Quat(m->geom_quat + 4 * g).normalized();
+  return true;
+}
 
 void PostureFromQpos(const model::RobotMap& robot, const mjtNum* qpos, std::span<double> q) {
   const size_t na = robot.joints.size();

@@ -59,20 +59,21 @@ double Overlap(const PreparedShape& a, const Eigen::Isometry3d& X_WA, const Prep
 
 }  // namespace
 
+PreparedShape Prepare(const Shape& s) {
+  PreparedShape p;
+  p.spec = &s;
+  p.fcl = MakeFcl(s);
+  p.X_LS.setIdentity();
+  p.X_LS.translate(s.p_LS);
+  p.X_LS.rotate(s.q_LS.normalized().toRotationMatrix());
+  p.radius = ShapeRadius(s);  // collision/incremental_check.h
+  return p;
+}
+
 ShapeSet::ShapeSet(const RobotGeometry& robot) {
   links_.resize(robot.links.size());
-  for (size_t l = 0; l < robot.links.size(); ++l) {
-    for (const Shape& s : robot.links[l].shapes) {
-      PreparedShape p;
-      p.spec = &s;
-      p.fcl = MakeFcl(s);
-      p.X_LS.setIdentity();
-      p.X_LS.translate(s.p_LS);
-      p.X_LS.rotate(s.q_LS.normalized().toRotationMatrix());
-      p.radius = ShapeRadius(s);  // collision/incremental_check.h
-      links_[l].push_back(std::move(p));
-    }
-  }
+  for (size_t l = 0; l < robot.links.size(); ++l)
+    for (const Shape& s : robot.links[l].shapes) links_[l].push_back(Prepare(s));
 }
 
 double Support(const PreparedShape& s, const Eigen::Isometry3d& X_WS, const Eigen::Vector3d& n) {

@@ -19,6 +19,9 @@ struct PreparedShape {
   double radius = 0;                         // bounding sphere about the shape frame's origin [m]
 };
 
+// one shape prepared for queries (`s` must outlive the result: it keeps a pointer)
+PreparedShape Prepare(const Shape& s);
+
 class ShapeSet {
  public:
   // the shapes of every link of `robot`, by link then shape (robot must outlive the set)

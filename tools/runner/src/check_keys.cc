@@ -129,6 +129,12 @@ const std::vector<CheckType>& CheckTypes() {
        "through the scene's model and MuJoCo's collision functions; runner/obstacle_checks.h): "
        "the logged cycles in which a robot geom penetrates one are at most `max`; the detail "
        "names the first contact and the deepest"},
+      {"obstacle_clearance",
+       {Num("min", "m, 0", -1, 1, false, false, 0)},
+       "the robot's clearance from the scene's static obstacles on the logged motion (as "
+       "obstacle_contacts, with the self-collision checker's certified distances; "
+       "runner/obstacle_checks.h): the smallest distance of a robot geom to one is at least `min` "
+       "[m]; the detail names the closest pair, when, and the cycles below `min`"},
       {"max_rejected",
        {Num("max", "0", 0, kBig, false, false, 0)},
        "joint commands rejected by the servos (NaN, out of range) are at most `max`"},

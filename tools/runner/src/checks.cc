@@ -344,6 +344,7 @@ CheckResult Evaluate(const CheckSpec& spec, const datalog::Table& log, const nlo
     if (spec.type == "average_speed") return AverageSpeed(spec, log);
     if (spec.type == "ball_centred") return BallCentred(spec, log, sim);
     if (spec.type == "obstacle_contacts") return ObstacleContacts(spec, log, sim);
+    if (spec.type == "obstacle_clearance") return ObstacleClearance(spec, log, sim);
   } catch (const std::exception& e) {
     return Fail({spec.type, false, 0, "", "", ""}, std::string("bad parameter: ") + e.what());
   }

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "collision/from_mjcf.h"
+#include "collision/shape_distance.h"
 #include "log_posture.h"
 #include "robot_model/model.h"
 
@@ -57,6 +59,33 @@ double Penetration(const mjModel* m, const mjData* d, const Pair& p, std::vector
   double closest = 0;
   for (int i = 0; i < n; ++i) closest = std::min(closest, static_cast<double>((*con)[i].dist));
   return closest;
+}
+
+// each geom of `pairs` as a shape for distances (null for a geom that cannot be one); false with
+// the reason for the first such geom
+bool GeomShapes(const mjModel* m, const std::vector<Pair>& pairs,
+                std::vector<std::unique_ptr<collision::ShapeDistance>>* shapes, std::string* error) {
+  shapes->clear();
+  shapes->resize(m->ngeom);
+  for (const Pair& p : pairs) {
+    for (int g : {p.robot, p.obstacle}) {
+      if ((*shapes)[g]) continue;
+      collision::Shape s;
+      std::string why;
+      if (!collision::GeomShape(m, g, &s, &why)) return *error = "geom " + GeomText(m, g) + " " + why, false;
+      (*shapes)[g] = std::make_unique<collision::ShapeDistance>(s);
+    }
+  }
+  return true;
+}
+
+Eigen::Isometry3d BodyPose(const mjData* d, int body) {
+  const mjtNum* p = d->xpos + 3 * body;
+  const mjtNum* q = d->xquat + 4 * body;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translate(Eigen::Vector3d(p[0], p[1], p[2]));
+  X.rotate(Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix());
+  return X;
 }
 
 std::string Mm(double metres) {
@@ -114,6 +143,57 @@ CheckResult ObstacleContacts(const CheckSpec& spec, const datalog::Table& log, c
   r.value = static_cast<double>(in_contact);
   r.passed = r.value <= max;
   r.limit = "<= " + std::to_string(static_cast<long>(max));
+  return r;
+}
+
+CheckResult ObstacleClearance(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim) {
+  CheckResult r{"obstacle_clearance", false, 0, "m", "", ""};
+  const double min = spec.Number("min", 0);
+  r.limit = ">= " + Mm(min) + " mm";
+  const std::string scene_path = sim.value("scene", "");
+  std::string error;
+  auto scene = model::Scene::Load(scene_path, &error);
+  if (!scene) return r.detail = "the run's scene: " + error, r;
+  const mjModel* m = scene->m();
+  mjData* d = scene->d();
+  int obstacles = 0;
+  const std::vector<Pair> pairs = ObstaclePairs(m, &obstacles);
+  if (obstacles == 0) return r.detail = scene_path + " has no static obstacle (only the floor)", r;
+  std::vector<std::unique_ptr<collision::ShapeDistance>> shape;
+  if (!GeomShapes(m, pairs, &shape, &error)) return r.detail = scene_path + ": " + error, r;
+  const std::vector<double>& time = log.col(log.Column("time"));
+  std::vector<Eigen::Isometry3d> X_WF(m->ngeom);  // each geom's body pose this row
+  double best = INFINITY, best_t = 0;
+  Pair best_pair{-1, -1};
+  long below = 0;
+  for (size_t row = 0; row < time.size(); ++row) {
+    if (!PostureFromLogRow(m, d, log, row, false, nullptr, &error)) return r.detail = error, r;
+    mj_kinematics(m, d);
+    for (int g = 0; g < m->ngeom; ++g)
+      if (shape[g]) X_WF[g] = BodyPose(d, m->geom_bodyid[g]);
+    // a pair is measured only where its bounding spheres could be closer than both the
+    // smallest distance so far and the limit: nothing closer is missed
+    const double threshold = std::max(best, min);
+    double row_least = INFINITY;
+    for (const Pair& p : pairs) {
+      const collision::ShapeDistance &a = *shape[p.robot], &b = *shape[p.obstacle];
+      const double spheres = (X_WF[p.robot] * a.centre_F() - X_WF[p.obstacle] * b.centre_F()).norm() -
+                             a.radius() - b.radius();
+      if (spheres >= threshold) continue;
+      const double gap = a.To(X_WF[p.robot], b, X_WF[p.obstacle]);
+      row_least = std::min(row_least, gap);
+      if (gap < best) best = gap, best_t = time[row], best_pair = p;
+    }
+    below += row_least < min;
+  }
+  if (best_pair.robot < 0) return r.detail = "no robot geom to measure in " + scene_path, r;
+  r.value = best;
+  r.passed = best >= min;
+  r.detail = "closest " + GeomText(m, best_pair.robot) + " / " + GeomText(m, best_pair.obstacle) +
+             " at " + Mm(best) + " mm (" + Seconds(best_t) + " s); " + std::to_string(below) +
+             " of " + std::to_string(time.size()) + " logged cycles closer than " + Mm(min) +
+             " mm; " + std::to_string(pairs.size()) + " robot-obstacle geom pairs (" +
+             std::to_string(obstacles) + " static obstacles)";
   return r;
 }
 

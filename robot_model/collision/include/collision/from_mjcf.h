@@ -33,6 +33,11 @@ inline constexpr double kMeshHullTolerance = 0.002;
 bool GeometryFromModel(const mjModel* m, const model::RobotMap& robot, RobotGeometry* out,
                        std::string* error);
 
+// Geom `g` of `m` as a convex shape, posed in its body (Shape::p_LS, q_LS: the geom's pos and
+// quat; a mesh as its hull, as GeometryFromModel takes it). False with `*error` saying why for a
+// plane or height field, or a mesh without a convex hull.
+bool GeomShape(const mjModel* m, int g, Shape* s, std::string* error);
+
 // The posture of the geometry (actuated joints, then passive ones; NumJoints values) from a
 // MuJoCo qpos of the model (mjData::qpos, mjModel::qpos0, a keyframe's key_qpos row).
 void PostureFromQpos(const model::RobotMap& robot, const mjtNum* qpos, std::span<double> q);
