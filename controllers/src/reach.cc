@@ -140,40 +140,50 @@ void ReachController::on_close() {
 }
 
 std::string ReachController::PlanLog() const {
-  // kind,t,JOINT...: the waypoints at their times, the timed path every 10 ms, the measured
-  // group joints every control cycle from the motion's start (t from the motion's start [s])
-  std::string text = "# reach plan: " + (result_.solved ? std::string("solved") : "not solved: " + result_.reason) + "\n";
-  text += "kind,t";
+  // goal,kind,t,JOINT...: per goal (1, 2, ... in --goals order), the waypoints at their times,
+  // the timed path every 10 ms and the measured group joints every control cycle of its motion
+  // and hold (t from that goal's motion start [s])
+  std::string text = "# reach plan";
+  for (size_t k = 0; k < reports_.size(); ++k) {
+    const GoalReport& g = reports_[k];
+    text += Fmt(k ? "; goal %.0f: " : ": goal %.0f: ", k + 1.0) +
+            (!g.planned ? std::string("not planned") : g.solved ? std::string("solved") : "not solved: " + g.reason);
+  }
+  text += "\ngoal,kind,t";
   for (const auto& n : group_.names) text += "," + n;
   text += "\n";
-  auto row = [&](const char* kind, double t, const double* v, int stride) {
-    text += kind + Fmt(",%.4f", t);
-    for (int i = 0; i < group_.size(); ++i) text += Fmt(",%.6f", v[i * stride]);
+  auto row = [&](size_t goal, const char* kind, double t, const double* v) {
+    text += Fmt("%.0f,", goal + 1.0) + kind + Fmt(",%.4f", t);
+    for (int i = 0; i < group_.size(); ++i) text += Fmt(",%.6f", v[i]);
     text += "\n";
   };
-  if (result_.solved) {
-    std::vector<double> q(group_.size());
-    double t = 0;
-    for (size_t k = 0; k < result_.waypoints.size(); ++k) {
-      // each waypoint is reached at rest: find its time on the path by sampling
-      row("waypoint", t, result_.waypoints[k].data(), 1);
-      if (k + 1 < result_.waypoints.size()) {
-        planning::TimedPath one;
-        std::string ignored;
-        one.Build({result_.waypoints[k], result_.waypoints[k + 1]}, v_max_, a_max_, &ignored);
-        t += one.duration();
+  const size_t nq = request_.size();
+  std::vector<double> q(group_.size());
+  for (size_t k = 0; k < reports_.size(); ++k) {
+    const GoalReport& g = reports_[k];
+    if (g.solved) {
+      double t = 0;
+      for (size_t w = 0; w < g.plan_waypoints.size(); ++w) {
+        // each waypoint is reached at rest: its time is the sum of the segments' before it
+        row(k, "waypoint", t, g.plan_waypoints[w].data());
+        if (w + 1 < g.plan_waypoints.size()) {
+          planning::TimedPath one;
+          std::string ignored;
+          one.Build({g.plan_waypoints[w], g.plan_waypoints[w + 1]}, v_max_, a_max_, &ignored);
+          t += one.duration();
+        }
+      }
+      for (double s = 0; s <= g.plan_path.duration() + 1e-9; s += 0.01) {
+        g.plan_path.Sample(s, q.data(), nullptr, nullptr);
+        row(k, "planned", s, q.data());
       }
     }
-    for (double s = 0; s <= path_.duration() + 1e-9; s += 0.01) {
-      path_.Sample(s, q.data(), nullptr, nullptr);
-      row("planned", s, q.data(), 1);
+    if (g.motion_start < 0) continue;
+    const size_t end = g.done ? g.row_end : log_rows_;
+    for (size_t r = g.row_begin; r < end && r < log_rows_; ++r) {
+      for (int i = 0; i < group_.size(); ++i) q[i] = log_[r * nq + group_.ids[i]];
+      row(k, "measured", (r - g.row_begin) * period_, q.data());
     }
-  }
-  const size_t nq = request_.size();
-  std::vector<double> g(group_.size());
-  for (size_t r = 0; r < log_rows_; ++r) {
-    for (int i = 0; i < group_.size(); ++i) g[i] = log_[r * nq + group_.ids[i]];
-    row("measured", r * period_, g.data(), 1);
   }
   return text;
 }
@@ -213,6 +223,10 @@ void ReachController::PlannerThread() {
     g.duration = result_.solved ? path_.duration() : 0;
     g.closest = result_.closest;
     g.straight = straight_;
+    if (result_.solved && !reach_.plan_log.empty()) {
+      g.plan_waypoints = result_.waypoints;
+      g.plan_path = path_;
+    }
     int expected = kRequested;
     plan_state_.compare_exchange_strong(expected, result_.solved ? kSolved : kUnsolved,
                                         std::memory_order_acq_rel);

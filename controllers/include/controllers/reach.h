@@ -186,6 +186,9 @@ class ReachController : public BalanceController {
     size_t row_begin = 0, row_end = 0;  // its measured rows in log_ (motion and hold)
     bool done = false;
     std::vector<double> final_error;   // group
+    // the plan for the plan log (planner thread, before kSolved): its waypoints and timing
+    std::vector<std::vector<double>> plan_waypoints;
+    planning::TimedPath plan_path;
   };
   std::vector<GoalReport> reports_;
   std::vector<double> v_max_, a_max_;   // per group joint
