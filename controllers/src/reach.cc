@@ -24,10 +24,10 @@ std::string Fmt(const char* format, double a, double b = 0, double c = 0, double
 // the options' own ranges (the goals are checked against the file)
 ConfigStatus CheckReachOptions(const ReachOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
-  if (!o.goal_joints.empty() + o.hand_goal + !o.goals.goals.empty() != 1)
+  if (!o.goal_joints.empty() + !o.hands.empty() + !o.goals.goals.empty() != 1)
     return bad("give one goal: --goal-joints NAME=VALUE,... [rad], or --group and --goal-pose, "
                "or --goals FILE");
-  if (o.hand_goal && o.group.empty()) return bad("--goal-pose needs --group (the joints it moves)");
+  if (!o.hands.empty() && o.group.empty()) return bad("--goal-pose needs --group (the joints it moves)");
   if (!(o.clearance >= 0 && o.clearance <= 0.2)) return bad("--clearance must be in [0, 0.2] m");
   if (!(o.start >= 0 && o.start <= 3600)) return bad("--start must be in [0, 3600] s");
   if (!(o.hold >= 0 && o.hold <= 3600)) return bad("--hold must be in [0, 3600] s");

@@ -51,6 +51,22 @@ bool KnownKeys(const Where& w, const YAML::Node& map, const std::set<std::string
   return true;
 }
 
+// one hand's pose {site, position, rpy} into spec->hands
+bool ReadHand(const Where& w, const YAML::Node& p, GoalSpec* spec) {
+  if (!p.IsMap())
+    return w.Fail(p, "pose", "give {site: NAME, position: [x, y, z], rpy: [r, p, y]}, or a list of them (one per hand)");
+  if (!KnownKeys(w, p, {"site", "position", "rpy"}, "a pose")) return false;
+  if (!p["site"].IsDefined() || !p["site"].IsScalar()) return w.Fail(p, "pose: site", "missing (the hand's site)");
+  if (!p["position"].IsDefined()) return w.Fail(p, "pose: position", "missing ([x, y, z] in the base frame, m)");
+  HandGoal hand;
+  hand.site = p["site"].Scalar();
+  if (!Vector3(w, p["position"], "pose: position", 10, &hand.p_B)) return false;
+  hand.orientation = p["rpy"].IsDefined();
+  if (hand.orientation && !Vector3(w, p["rpy"], "pose: rpy", 2 * M_PI, &hand.rpy)) return false;
+  spec->hands.push_back(hand);
+  return true;
+}
+
 bool ReadGoal(const Where& w, const YAML::Node& g, GoalSpec* spec) {
   spec->line = g.Mark().line + 1;
   if (!g.IsMap()) return w.Fail(g, "goals", "each goal is a map with joints: or pose:");
@@ -68,16 +84,14 @@ bool ReadGoal(const Where& w, const YAML::Node& g, GoalSpec* spec) {
     }
     return true;
   }
-  const YAML::Node p = g["pose"];
-  if (!p.IsMap()) return w.Fail(p, "pose", "give {site: NAME, position: [x, y, z], rpy: [r, p, y]}");
-  if (!KnownKeys(w, p, {"site", "position", "rpy"}, "a pose")) return false;
-  if (!p["site"].IsDefined() || !p["site"].IsScalar()) return w.Fail(p, "pose: site", "missing (the hand's site)");
-  if (!p["position"].IsDefined()) return w.Fail(p, "pose: position", "missing ([x, y, z] in the base frame, m)");
-  spec->hand = true;
-  spec->pose.site = p["site"].Scalar();
-  if (!Vector3(w, p["position"], "pose: position", 10, &spec->pose.p_B)) return false;
-  spec->pose.orientation = p["rpy"].IsDefined();
-  return !spec->pose.orientation || Vector3(w, p["rpy"], "pose: rpy", 2 * M_PI, &spec->pose.rpy);
+  // a hand's pose, or a list of them (one per limb: both hands)
+  const YAML::Node poses = g["pose"];
+  if (poses.IsSequence() && poses.size() > 0) {
+    for (const auto& p : poses)
+      if (!ReadHand(w, p, spec)) return false;
+    return true;
+  }
+  return ReadHand(w, poses, spec);
 }
 
 }  // namespace
@@ -110,7 +124,7 @@ bool ReadGoalsFile(const std::string& path, GoalsFile* out, std::string* error) 
     if (!ReadGoal(w, g, &spec)) return false;
     out->goals.push_back(spec);
   }
-  if (out->group.empty() && out->goals[0].hand)
+  if (out->group.empty() && !out->goals[0].hands.empty())
     return w.Fail(goals[0], "group", "missing: a pose goal needs the group (the joints the plan moves)");
   return true;
 }

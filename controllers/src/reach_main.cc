@@ -39,11 +39,14 @@ bool ParseGoals(const std::vector<std::string>& items,
   return true;
 }
 
-// "SITE,X,Y,Z[,ROLL,PITCH,YAW]" (split at the commas); false with `*error`
+// one hand: "SITE,X,Y,Z[,ROLL,PITCH,YAW]" (split at the commas); false with `*error`
 bool ParseHandPose(const std::vector<std::string>& items, ohrp::controllers::HandGoal* hand,
                    std::string* error) {
   if (items.size() != 4 && items.size() != 7) {
-    *error = "--goal-pose: give SITE,X,Y,Z or SITE,X,Y,Z,ROLL,PITCH,YAW (metres, radians)";
+    std::string given;
+    for (const std::string& i : items) given += (given.empty() ? "" : ",") + i;
+    *error = "--goal-pose: '" + given +
+             "': give SITE,X,Y,Z or SITE,X,Y,Z,ROLL,PITCH,YAW (metres, radians) for each hand";
     return false;
   }
   hand->site = items[0];
@@ -65,6 +68,27 @@ bool ParseHandPose(const std::vector<std::string>& items, ohrp::controllers::Han
   hand->p_B = Eigen::Vector3d(v[0], v[1], v[2]);
   hand->orientation = items.size() == 7;
   hand->rpy = Eigen::Vector3d(v[3], v[4], v[5]);
+  return true;
+}
+
+// --goal-pose's items (its values split at the commas, repeats joined): a word that is not a
+// number begins the next hand; false with `*error`
+bool ParseHandPoses(const std::vector<std::string>& items,
+                    std::vector<ohrp::controllers::HandGoal>* hands, std::string* error) {
+  auto number = [](const std::string& s) {
+    std::istringstream in(s);
+    double v = 0;
+    std::string rest;
+    return static_cast<bool>(in >> v) && !(in >> rest);
+  };
+  for (size_t i = 0; i < items.size();) {
+    size_t end = i + 1;
+    while (end < items.size() && number(items[end])) ++end;
+    ohrp::controllers::HandGoal hand;
+    if (!ParseHandPose({items.begin() + i, items.begin() + end}, &hand, error)) return false;
+    hands->push_back(hand);
+    i = end;
+  }
   return true;
 }
 
@@ -160,7 +184,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> pose_items;
   app.add_option("--goal-pose", pose_items,
                  "the goal as a hand pose: SITE,X,Y,Z[,ROLL,PITCH,YAW] in the base frame [m, rad] "
-                 "(the group's joints by the shared limb IK from the stance pose)")
+                 "(the group's joints by the shared limb IK from the stance pose); repeat for a "
+                 "second hand (both arms in --group, one site each)")
       ->delimiter(',')
       ->excludes("--goal-joints");
   std::string goals_file;
@@ -207,11 +232,10 @@ int main(int argc, char** argv) {
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   std::string error;
   if (!ParseGoals(goal_items, &o.goal_joints, &error) ||
-      (!pose_items.empty() && !ParseHandPose(pose_items, &o.hand, &error))) {
+      !ParseHandPoses(pose_items, &o.hands, &error)) {
     std::cerr << "reach: " << error << "\n";
     return kExitUsage;
   }
-  o.hand_goal = !pose_items.empty();
   if (!GroupFromProfile(o.balance.model, &o.group, &error)) {
     std::cerr << "reach: --group: " << error << "\n";
     return kExitUsage;

@@ -18,20 +18,20 @@ std::string Fmt(const char* format, double a, double b = 0, double c = 0, double
 
 }  // namespace
 
-double ReachController::HandError() const {
+double ReachController::HandError(const HandGoal& hand) const {
   // the base frame: the base at the origin, upright (as the goal was given)
-  const int site = kin_ik_->SiteId(reach_.hand.site);
+  const int site = kin_ik_->SiteId(hand.site);
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   kin_ik_->SetJointPositions(final_q_.data());
   kin_ik_->UpdatePositions();
   const mjModel* m = kin_ik_->m();
   // the hand: a site, else a body's frame (reach_goal.cc)
-  const int body = site >= 0 ? m->site_bodyid[site] : mj_name2id(m, mjOBJ_BODY, reach_.hand.site.c_str());
+  const int body = site >= 0 ? m->site_bodyid[site] : mj_name2id(m, mjOBJ_BODY, hand.site.c_str());
   const Eigen::Vector3d p_TipT = site >= 0 ? Eigen::Vector3d(m->site_pos[3 * site], m->site_pos[3 * site + 1],
                                                              m->site_pos[3 * site + 2])
                                            : Eigen::Vector3d::Zero();
   const Eigen::Vector3d p = kin_ik_->p_WBody(body) + kin_ik_->R_WBody(body) * p_TipT;
-  return (p - reach_.hand.p_B).norm();
+  return (p - hand.p_B).norm();
 }
 
 const planning::Verdict& ReachController::MeasuredClearance() const {
@@ -152,10 +152,10 @@ void ReachController::report(std::ostream& out) const {
       if (std::abs(final_error_[i]) > worst) worst = std::abs(final_error_[i]), at = i;
     out << "reach: final tracking error " << Fmt("%.4f rad", worst) << " (" << group_.names[at]
         << ") after " << Fmt("%.2f s of hold (tolerance %.3f rad)\n", reach_.hold, reach_.tolerance);
-    if (reach_.hand_goal)
-      out << "reach: the hand (" << reach_.hand.site << ") measured "
+    for (const HandGoal& hand : last_hands_)
+      out << "reach: the hand (" << hand.site << ") measured "
           << Fmt("%.1f mm from its goal (%.3f, %.3f, %.3f) m in the base frame, by the model's kinematics\n",
-                 1e3 * HandError(), reach_.hand.p_B.x(), reach_.hand.p_B.y(), reach_.hand.p_B.z());
+                 1e3 * HandError(hand), hand.p_B.x(), hand.p_B.y(), hand.p_B.z());
   }
 }
 

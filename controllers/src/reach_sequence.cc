@@ -13,14 +13,13 @@ ConfigStatus ReachController::ResolveGoals(const std::vector<double>& stance) {
   if (!file) {  // the command line's goal as a list of one
     GoalSpec one;
     one.joints = o.goal_joints;
-    one.hand = o.hand_goal;
-    one.pose = o.hand;
+    one.hands = o.hands;
     specs.push_back(one);
   }
   // "--goal-joints: ", "--group: ", or "FILE:LINE: KEY: "
   auto where = [&](const GoalSpec& g, const char* key) {
     if (file) return o.goals.path + ":" + std::to_string(g.line) + ": " + key + ": ";
-    return std::string(g.hand ? "--group" : "--goal-joints") + ": ";
+    return std::string(g.hands.empty() ? "--goal-joints" : "--group") + ": ";
   };
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
   // the group: --group, the file's group, or the (first) joints goal's names
@@ -36,9 +35,9 @@ ConfigStatus ReachController::ResolveGoals(const std::vector<double>& stance) {
   std::vector<double> values(group_.size());
   planning::GroupValues(group_, stance, values);
   for (const GoalSpec& g : specs) {
-    if (g.hand) {
+    if (!g.hands.empty()) {
       // the IK from the stance pose, as --goal-pose (from the previous goal it may stall)
-      if (ConfigStatus s = GoalFromHandPose(*kin_ik_, group_, g.pose, stance, &values); !s.ok())
+      if (ConfigStatus s = GoalFromHandPose(*kin_ik_, group_, g.hands, stance, &values); !s.ok())
         return file ? bad(where(g, "pose") + s.message.substr(s.message.rfind("--goal-pose: ", 0) == 0 ? 13 : 0)) : s;
     } else {
       for (const auto& [name, value] : g.joints) {
@@ -54,13 +53,14 @@ ConfigStatus ReachController::ResolveGoals(const std::vector<double>& stance) {
     planning::SetGroupValues(group_, values, posture);
     const planning::Verdict v = check_->Evaluate(posture);
     if (!v.valid)
-      return bad(where(g, g.hand ? "pose" : "joints") + "the goal is in collision in the stance pose: " +
+      return bad(where(g, g.hands.empty() ? "joints" : "pose") + "the goal is in collision in the stance pose: " +
                  check_->Describe(v));
     goals_.push_back(values);
     holds_.push_back(g.hold >= 0 ? g.hold : o.hold);
     labels_.push_back(file ? o.goals.path + ":" + std::to_string(g.line) : "the goal");
   }
   goal_ = goals_[0];
+  last_hands_ = specs.back().hands;
   has_scene_pairs_ = !o.boxes.empty() || !o.scene.empty();
   return ConfigStatus::Ok();
 }

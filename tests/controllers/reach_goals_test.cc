@@ -35,27 +35,34 @@ TEST(ReachGoalsFile, ReadsJointsAndPoseGoalsWithHolds) {
       "  - joints: {A: 0.5, B: -1}\n"
       "    hold: 2\n"
       "  - pose: {site: hand, position: [0.1, 0.2, 0.3], rpy: [0, -1.5, 0.25]}\n"
-      "  - pose: {site: hand, position: [1, 2, 3]}\n");
+      "  - pose: {site: hand, position: [1, 2, 3]}\n"
+      "  - pose: [{site: left, position: [0.2, 0.1, 0.1]}, {site: right, position: [0.2, -0.1, 0.1]}]\n");
   GoalsFile f;
   std::string error;
   ASSERT_TRUE(ReadGoalsFile(path, &f, &error)) << error;
   ASSERT_EQ(f.group, (std::vector<std::string>{"A", "B"}));
-  ASSERT_EQ(f.goals.size(), 3u);
-  EXPECT_FALSE(f.goals[0].hand);
+  ASSERT_EQ(f.goals.size(), 4u);
+  EXPECT_TRUE(f.goals[0].hands.empty());
   ASSERT_EQ(f.goals[0].joints.size(), 2u);
   EXPECT_EQ(f.goals[0].joints[0].first, "A");
   EXPECT_EQ(f.goals[0].joints[0].second, 0.5);
   EXPECT_EQ(f.goals[0].joints[1].second, -1.0);
   EXPECT_EQ(f.goals[0].hold, 2.0);
   EXPECT_EQ(f.goals[0].line, 3);
-  EXPECT_TRUE(f.goals[1].hand);
-  EXPECT_EQ(f.goals[1].pose.site, "hand");
-  EXPECT_TRUE(f.goals[1].pose.p_B.isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
-  EXPECT_TRUE(f.goals[1].pose.orientation);
-  EXPECT_TRUE(f.goals[1].pose.rpy.isApprox(Eigen::Vector3d(0, -1.5, 0.25)));
+  ASSERT_EQ(f.goals[1].hands.size(), 1u);
+  EXPECT_EQ(f.goals[1].hands[0].site, "hand");
+  EXPECT_TRUE(f.goals[1].hands[0].p_B.isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
+  EXPECT_TRUE(f.goals[1].hands[0].orientation);
+  EXPECT_TRUE(f.goals[1].hands[0].rpy.isApprox(Eigen::Vector3d(0, -1.5, 0.25)));
   EXPECT_LT(f.goals[1].hold, 0);  // the command line's --hold
-  EXPECT_FALSE(f.goals[2].pose.orientation);
+  ASSERT_EQ(f.goals[2].hands.size(), 1u);
+  EXPECT_FALSE(f.goals[2].hands[0].orientation);
   EXPECT_EQ(f.goals[2].line, 6);
+  // both hands: a list of poses, one per limb
+  ASSERT_EQ(f.goals[3].hands.size(), 2u);
+  EXPECT_EQ(f.goals[3].hands[0].site, "left");
+  EXPECT_EQ(f.goals[3].hands[1].site, "right");
+  EXPECT_TRUE(f.goals[3].hands[1].p_B.isApprox(Eigen::Vector3d(0.2, -0.1, 0.1)));
 }
 
 TEST(ReachGoalsFile, TheGroupMayComeFromTheFirstJointsGoal) {
@@ -76,6 +83,8 @@ TEST(ReachGoalsFile, ErrorsNameTheLineAndTheKey) {
             ":3: pose: position: missing ([x, y, z] in the base frame, m)");
   EXPECT_EQ(ErrorOf("group: [A]\ngoals:\n  - pose: {site: h, position: [0, 0]}\n"),
             ":3: pose: position: give three numbers [a, b, c]");
+  EXPECT_EQ(ErrorOf("group: [A]\ngoals:\n  - pose: [{site: h, position: [0, 0, 0]}, {site: k}]\n"),
+            ":3: pose: position: missing ([x, y, z] in the base frame, m)");
   EXPECT_EQ(ErrorOf("goals:\n  - pose: {site: h, position: [0, 0, 0]}\n"),
             ":2: group: missing: a pose goal needs the group (the joints the plan moves)");
   EXPECT_EQ(ErrorOf("colour: red\ngoals:\n  - joints: {A: 1}\n").substr(0, 33),

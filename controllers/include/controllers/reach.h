@@ -55,8 +55,7 @@ struct HandGoal {
 // one goal of a goals file (reach --goals, controllers/reach_goals.h)
 struct GoalSpec {
   std::vector<std::pair<std::string, double>> joints;  // a joints goal (by name) [rad], or
-  bool hand = false;                                   // a hand pose goal
-  HandGoal pose;
+  std::vector<HandGoal> hands;                         // or a hand pose goal (one per limb)
   double hold = -1;  // [s]; < 0: the command line's --hold
   int line = 0;      // the goal's line in the file (for messages)
 };
@@ -67,12 +66,14 @@ struct GoalsFile {
   std::vector<GoalSpec> goals;
 };
 
-// The group's goal for a hand pose: the shared limb IK (robot_model/ik.h) of the chain from the
-// group's first joint to the site, started from `stance` (joint-id order). The chain's joints
-// must all be in the group; the group's other joints keep their stance values. kOption with the reason: an unknown site, a chain that is not the
-// group, a pose out of reach (by how far the closest pose found stays from it).
+// The group's goal for hand poses: per hand, the shared limb IK (robot_model/ik.h) of the chain
+// from the group's joint nearest the base on the hand's way up to the hand, started from
+// `stance` (joint-id order). Each chain's joints must all be in the group and no two hands may
+// share a joint (two hands: both arms in one group); the group's other joints keep their stance
+// values. kOption with the reason: an unknown site, a chain that is not the group's, chains that
+// share a joint, a pose out of reach (by how far the closest pose found stays from it).
 ConfigStatus GoalFromHandPose(model::Kinematics& kin, const planning::JointGroup& group,
-                              const HandGoal& hand, const std::vector<double>& stance,
+                              const std::vector<HandGoal>& hands, const std::vector<double>& stance,
                               std::vector<double>* goal);
 
 // The estimator's world frame in the scene's world (reach --scene): the soles' midpoint on the
@@ -85,13 +86,12 @@ struct ReachOptions {
   BalanceOptions balance;
   std::string collision_file;  // the self-collision file; empty: DefaultSelfCollisionFile()
   std::vector<std::pair<std::string, double>> goal_joints;  // the group and its goal [rad]
-  // or: the group by name and a hand pose, the goal by IK (hand_goal true)
+  // or: the group by name and hand poses (one per limb), the goal by IK (hands not empty)
   std::vector<std::string> group;
   // or: a goals file's goals in sequence (goals.goals not empty; its group, or the first goal's
   // joints, is the group)
   GoalsFile goals;
-  bool hand_goal = false;
-  HandGoal hand;
+  std::vector<HandGoal> hands;
   // static boxes to keep clear of, in the base frame (the waist, as the robot stands)
   std::vector<planning::SceneBox> boxes;
   // a scene's static obstacles (--scene FILE, model::ReadSceneObstacles) in the world; placed in
@@ -148,7 +148,8 @@ class ReachController : public BalanceController {
   // the plan log's text (ReachOptions::plan_log)
   std::string PlanLog() const;
   // a hand goal: the site's distance from its target at the final measured posture [m]
-  double HandError() const;
+  double HandError(const HandGoal& hand) const;
+  std::vector<HandGoal> last_hands_;  // the last goal's hand poses (none: a joints goal)
   // the smallest clearance of the recorded motion (computed once, after the run)
   const planning::Verdict& MeasuredClearance() const;
   // the smallest clearances of the recorded rows [begin, end), the robot's own pairs and the

@@ -8,6 +8,8 @@
 //       hold: 1.0                                          # named keep the previous goal's value
 //     - pose: {site: lhsensor, position: [0.2, -0.05, 0.25], rpy: [0, -1.57, 0]}
 //                                                    # base frame [m, rad]; rpy optional
+//     - pose: [{site: lhsensor, position: [...]}, {site: rhsensor, position: [...]}]
+//                                                    # both hands: one pose per limb
 //
 // `hold` [s] is optional (the command line's --hold). A bad file is refused with
 // "FILE:LINE: KEY: what" (a missing or unknown key, a value that is not a number, no goals).
