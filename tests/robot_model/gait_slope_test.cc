@@ -1,7 +1,8 @@
-// Tests of the swing's travel onto a slope (Gait::Travel): a height change that the landing
-// surface's tilt explains over the travel is no stair edge, so the foot goes forward after the
-// short vertical share (GaitOptions::vertical_fraction) instead of the stairs' long one; the same
-// rise onto a level surface is a stair and keeps the long vertical share.
+// Tests of the swing's travel onto and down a slope (Gait::Travel, Gait::At): a height change that
+// the surfaces' tilt explains over the travel is no stair edge, so the foot goes forward after the
+// short vertical share (GaitOptions::vertical_fraction) instead of the stairs' long one, and a
+// drop down a slope comes down from mid-swing (no stair to leave); the same rise or drop onto a
+// level surface is a stair.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,6 +45,51 @@ TEST(SwingOntoSlope, ARiseTheSlopeExplainsLeavesAfterTheShortVerticalShare) {
 
 TEST(SwingOntoSlope, TheSameRiseOntoALevelSurfaceIsAStairAndWaits) {
   EXPECT_NEAR(SwingX(0, 0.2), 0, 1e-12);  // still rising vertically at 0.2 (share 0.3)
+}
+
+// the left swing foot at `phase` of its single support, stepping `run` forward and down by
+// run tan(7 deg) from a surface pitched by `pitch_from` onto one pitched by `pitch_to`
+GaitState SwingDown(double run, double pitch_from, double pitch_to, double phase) {
+  Gait g;
+  GaitOptions o;
+  FeetPose start = Stance(0.18);
+  start.pitch[kLeft] = pitch_from;
+  g.Start(0, start, o);
+  g.Reserve(4);
+  Footstep s;
+  s.foot = kLeft;
+  s.p = Eigen::Vector3d(run, 0.09, -run * std::tan(7 * M_PI / 180));
+  s.pitch = pitch_to;
+  g.Replace(0, {s});
+  const double lift = g.step_lift(0), land = g.step_land(0);
+  GaitState st;
+  g.At(lift + phase * (land - lift), &st);
+  return st;
+}
+
+constexpr double kDown7 = 7 * M_PI / 180;  // a surface falling forward: toes down, pitch > 0
+
+TEST(SwingDownSlope, ADropDeeperThanTheApexThatTheSlopeExplainsComesDownOverHalfTheSwing) {
+  // 0.48 m down a 7 deg slope drops 59 mm, more than the 40 mm apex: still no stair to leave, so
+  // the foot comes down from the apex from mid-swing (minimum jerk over [0.5, 1]), not at the end
+  const GaitOptions o;
+  const double run = 0.48, drop = run * std::tan(kDown7);
+  ASSERT_GT(drop, o.step_height);
+  const double phase = 0.75;
+  const double top = o.step_height;  // above the higher end, the lift-off sole at z = 0
+  const double expected = top + MinJerk((phase - 0.5) / 0.5) * (-drop - top);
+  const GaitState st = SwingDown(run, kDown7, kDown7, phase);
+  EXPECT_NEAR(st.feet.p[kLeft].z(), expected, 1e-9);
+  // and no heel lift: the sole keeps the slope's pitch
+  EXPECT_NEAR(st.feet.pitch[kLeft], kDown7, 1e-9);
+}
+
+TEST(SwingDownSlope, TheSameDropOffALevelStairWaitsAtTheTop) {
+  // level soles: the drop is a stair's edge, the foot stays at the apex past mid-swing (until
+  // the stairs' landing share, 0.3 of the single support, is left)
+  const GaitOptions o;
+  const GaitState st = SwingDown(0.48, 0, 0, 0.65);
+  EXPECT_NEAR(st.feet.p[kLeft].z(), o.step_height, 1e-9);
 }
 
 }  // namespace

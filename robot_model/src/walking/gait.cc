@@ -190,6 +190,15 @@ static bool IsStepEdge(const FeetPose& before, const Footstep& step) {
   return rise > kStepEdge + run * std::tan(tilt);
 }
 
+// off a stair: an edge whose drop is deeper than the swing's apex. The swing then stays at the
+// top until past the nose and comes down late (with the heel first). A slope's drop is no stair
+// to leave however long the travel: it keeps the symmetric profile (held at the top, a sole on a
+// slope whose travel drops more than the apex came down over a twentieth of the swing)
+static bool IsStepDown(const FeetPose& before, const Footstep& step, double apex) {
+  const double drop = before.p[step.foot].z() - step.p.z();
+  return drop > std::max(kStepEdge, apex) && IsStepEdge(before, step);
+}
+
 double Gait::LandingShare(const Phase& p) const {
   const double vf = options_.vertical_fraction;
   return IsStepEdge(p.before, p.step) ? std::max(vf, kStepVerticalFraction) : vf;
@@ -200,12 +209,10 @@ double Gait::Travel(const Phase& p, double t) const {
   // before it moves over it. Off a step it stays at the top until past the nose and comes down
   // vertically for longer, but leaves the upper stair with the short vertical share: the
   // trailing foot goes forward at once (held back, its ankle ran out of range under a CoM
-  // already over the lower stair). A step down no deeper than the swing's apex (a stone, a
-  // slope) keeps the symmetric profile of a step: no stair to leave
-  const Eigen::Vector3d& a = p.before.p[p.step.foot];
-  const Eigen::Vector3d& b = p.step.p;
+  // already over the lower stair). A step down no deeper than the swing's apex (a stone) or
+  // one the surface's tilt explains (a slope) keeps the symmetric profile: no stair to leave
   const bool edge = IsStepEdge(p.before, p.step);
-  const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
+  const bool down = IsStepDown(p.before, p.step, p.height);
   const double vf = options_.vertical_fraction;
   const double vf_land = LandingShare(p);
   const double vf_lift = edge && !down ? vf_land : vf;
@@ -280,7 +287,7 @@ void Gait::At(double t, GaitState* s) const {
   const Eigen::Vector3d& b = p.step.p;
   double f, df, ddf;
   // the travel's profile: Travel (onto, off and over steps)
-  const bool down = a.z() - b.z() > std::max(kStepEdge, p.height);
+  const bool down = IsStepDown(p.before, p.step, p.height);
   const double vf_land = LandingShare(p);
   f = Travel(p, t);
   if (p.travel_from >= 0 && f >= p.travel_from) {
