@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "controllers/line_server.h"
 #include "walking/footsteps.h"
 
 namespace ohrp::controllers {
@@ -41,7 +42,7 @@ class WalkChannel {
   // when the socket cannot be made
   bool Open(int fd, const std::string& socket_path, const LivePlanning& planning, std::string* error);
   void Close();
-  bool open() const { return thread_.joinable(); }
+  bool open() const { return server_.open(); }
 
   // the control cycle: where a new command starts and that stance's version (no blocking, no
   // allocation: skipped when the channel holds the lock)
@@ -58,18 +59,13 @@ class WalkChannel {
 
 
  private:
-  void Run();
   // one line from a client (fd: where the reply goes, -1: none)
   void Line(const std::string& line, int reply_fd);
-  void Reply(int fd, const std::string& text);
   // plans the pending command from the published stance, if any is pending
   void Plan();
 
   LivePlanning planning_;
-  int fd_ = -1, listen_fd_ = -1, client_fd_ = -1;
-  std::string socket_path_;
-  std::thread thread_;
-  std::atomic<bool> quit_{false};
+  LineServer server_;
 
   std::mutex mutex_;  // guards everything below
   walking::FeetPose stance_{};
