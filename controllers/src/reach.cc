@@ -1,5 +1,6 @@
 // Reach: balance's stance, a planning thread, the timed path on the group's joints.
 #include "controllers/reach.h"
+#include "controllers/reach_live.h"
 
 #include <algorithm>
 #include <chrono>
@@ -24,9 +25,12 @@ std::string Fmt(const char* format, double a, double b = 0, double c = 0, double
 // the options' own ranges (the goals are checked against the file)
 ConfigStatus CheckReachOptions(const ReachOptions& o) {
   auto bad = [](const std::string& what) { return ConfigStatus::Fail(ConfigError::kOption, what); };
-  if (!o.goal_joints.empty() + !o.hands.empty() + !o.goals.goals.empty() != 1)
+  const int given = !o.goal_joints.empty() + !o.hands.empty() + !o.goals.goals.empty();
+  if (given > 1 || (given == 0 && !o.live()))
     return bad("give one goal: --goal-joints NAME=VALUE,... [rad], or --group and --goal-pose, "
-               "or --goals FILE");
+               "or --goals FILE (or goals while it runs: --group with --listen or --socket)");
+  if (given == 0 && o.group.empty())
+    return bad("live goals (--listen, --socket) without a goal given need --group (the joints they move)");
   if (!o.hands.empty() && o.group.empty()) return bad("--goal-pose needs --group (the joints it moves)");
   if (!(o.clearance >= 0 && o.clearance <= 0.2)) return bad("--clearance must be in [0, 0.2] m");
   if (!(o.start >= 0 && o.start <= 3600)) return bad("--start must be in [0, 3600] s");
@@ -128,10 +132,12 @@ ConfigStatus ReachController::on_configure(const shm::SegmentHeader& header) {
   log_capacity_ = static_cast<size_t>(kLogSeconds / header.control_period) + 1;
   log_.assign(log_capacity_ * nq, 0.0);
   thread_ = std::thread(&ReachController::PlannerThread, this);
+  if (reach_.live()) return OpenChannel();
   return ConfigStatus::Ok();
 }
 
 void ReachController::on_close() {
+  if (channel_) channel_->Close();
   if (thread_.joinable()) {
     quit_.store(true);
     thread_.join();
@@ -144,7 +150,7 @@ std::string ReachController::PlanLog() const {
   // the timed path every 10 ms and the measured group joints every control cycle of its motion
   // and hold (t from that goal's motion start [s])
   std::string text = "# reach plan";
-  for (size_t k = 0; k < reports_.size(); ++k) {
+  for (size_t k = 0; k < ngoals_; ++k) {
     const GoalReport& g = reports_[k];
     text += Fmt(k ? "; goal %.0f: " : ": goal %.0f: ", k + 1.0) +
             (!g.planned ? std::string("not planned") : g.solved ? std::string("solved") : "not solved: " + g.reason);
@@ -159,7 +165,7 @@ std::string ReachController::PlanLog() const {
   };
   const size_t nq = request_.size();
   std::vector<double> q(group_.size());
-  for (size_t k = 0; k < reports_.size(); ++k) {
+  for (size_t k = 0; k < ngoals_; ++k) {
     const GoalReport& g = reports_[k];
     if (g.solved) {
       double t = 0;
@@ -266,12 +272,25 @@ void ReachController::Record(const shm::SensorBlock& s) noexcept {
   ++log_rows_;
 }
 
+void ReachController::StartNextGoal(const shm::SensorBlock& s) noexcept {
+  std::copy(goal_.begin(), goal_.end(), hold_q_.begin());
+  ++current_;
+  std::copy(goals_[current_].begin(), goals_[current_].end(), goal_.begin());
+  RequestPlan(s);
+  HoldGroup(s);
+}
+
 void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
   BalanceController::Stand(s, dt);
   const int n = group_.size();
+  // a live goal resolved on the channel's thread: into the preallocated room
+  if (channel_ && ngoals_ < goals_.size() && channel_->Poll(&goals_[ngoals_])) ++ngoals_;
   switch (phase_reach_) {
     case Phase::kWait:
-      if (s.time - stand_time_ >= reach_.start) RequestPlan(s);
+      if (ngoals_ > 0 && s.time - stand_time_ >= reach_.start) {
+        std::copy(goals_[0].begin(), goals_[0].end(), goal_.begin());
+        RequestPlan(s);
+      }
       return;
     case Phase::kPlanning: {
       const int state = plan_state_.load(std::memory_order_acquire);
@@ -299,19 +318,14 @@ void ReachController::Stand(const shm::SensorBlock& s, double dt) noexcept {
         for (int j = 0; j < njoint(); ++j) final_q_[j] = s.q[j];
         g.row_end = log_rows_;
         g.done = true;
-        if (current_ + 1 < goals_.size()) {  // the next goal, from here
-          std::copy(goal_.begin(), goal_.end(), hold_q_.begin());
-          ++current_;
-          std::copy(goals_[current_].begin(), goals_[current_].end(), goal_.begin());
-          RequestPlan(s);
-          HoldGroup(s);
-          return;
-        }
+        if (current_ + 1 < ngoals_) return StartNextGoal(s);  // the next goal, from here
         motion_end_ = s.time;
         phase_reach_ = Phase::kDone;
       }
       break;
     case Phase::kDone:
+      if (current_ + 1 < ngoals_) return StartNextGoal(s);  // a live goal came
+      break;
     case Phase::kFailed:
       break;
   }

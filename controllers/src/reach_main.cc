@@ -16,81 +16,10 @@
 #include "robot_model/scene_obstacles.h"
 
 namespace {
+using ohrp::controllers::ParseHandPoses;
+using ohrp::controllers::ParseJointsGoal;
+
 [[noreturn]] void OnMujocoFatal(const char*) { std::_Exit(ohrp::controllers::kExitConfig); }
-
-// "NAME=VALUE,NAME=VALUE" (already split at the commas) into pairs; false with `*error`
-bool ParseGoals(const std::vector<std::string>& items,
-                std::vector<std::pair<std::string, double>>* goals, std::string* error) {
-  for (const std::string& item : items) {
-    const size_t eq = item.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) {
-      *error = "--goal-joints: '" + item + "' is not NAME=VALUE (a joint name and radians)";
-      return false;
-    }
-    std::istringstream in(item.substr(eq + 1));
-    double v = NAN;
-    std::string rest;
-    if (!(in >> v) || (in >> rest) || !std::isfinite(v)) {
-      *error = "--goal-joints: '" + item + "': the value is not a finite number of radians";
-      return false;
-    }
-    goals->emplace_back(item.substr(0, eq), v);
-  }
-  return true;
-}
-
-// one hand: "SITE,X,Y,Z[,ROLL,PITCH,YAW]" (split at the commas); false with `*error`
-bool ParseHandPose(const std::vector<std::string>& items, ohrp::controllers::HandGoal* hand,
-                   std::string* error) {
-  if (items.size() != 4 && items.size() != 7) {
-    std::string given;
-    for (const std::string& i : items) given += (given.empty() ? "" : ",") + i;
-    *error = "--goal-pose: '" + given +
-             "': give SITE,X,Y,Z or SITE,X,Y,Z,ROLL,PITCH,YAW (metres, radians) for each hand";
-    return false;
-  }
-  hand->site = items[0];
-  double v[6] = {0, 0, 0, 0, 0, 0};
-  for (size_t i = 1; i < items.size(); ++i) {
-    std::istringstream in(items[i]);
-    std::string rest;
-    if (!(in >> v[i - 1]) || (in >> rest) || !std::isfinite(v[i - 1])) {
-      *error = "--goal-pose: '" + items[i] + "' is not a finite number";
-      return false;
-    }
-    const char* quantity = i <= 3 ? "height" : "angle";  // within 10 m; within a turn
-    if (const std::string why = ohrp::cli::CheckPlausible(quantity, v[i - 1], "--goal-pose");
-        !why.empty()) {
-      *error = why;
-      return false;
-    }
-  }
-  hand->p_B = Eigen::Vector3d(v[0], v[1], v[2]);
-  hand->orientation = items.size() == 7;
-  hand->rpy = Eigen::Vector3d(v[3], v[4], v[5]);
-  return true;
-}
-
-// --goal-pose's items (its values split at the commas, repeats joined): a word that is not a
-// number begins the next hand; false with `*error`
-bool ParseHandPoses(const std::vector<std::string>& items,
-                    std::vector<ohrp::controllers::HandGoal>* hands, std::string* error) {
-  auto number = [](const std::string& s) {
-    std::istringstream in(s);
-    double v = 0;
-    std::string rest;
-    return static_cast<bool>(in >> v) && !(in >> rest);
-  };
-  for (size_t i = 0; i < items.size();) {
-    size_t end = i + 1;
-    while (end < items.size() && number(items[end])) ++end;
-    ohrp::controllers::HandGoal hand;
-    if (!ParseHandPose({items.begin() + i, items.begin() + end}, &hand, error)) return false;
-    hands->push_back(hand);
-    i = end;
-  }
-  return true;
-}
 
 // "NAME,CX,CY,CZ,HX,HY,HZ": a box in the base frame; false with `*error`
 bool ParseBox(const std::string& text, ohrp::planning::SceneBox* box, std::string* error) {
@@ -228,11 +157,18 @@ int main(int argc, char** argv) {
       ->default_val(o.plan.time_limit)->check(ohrp::cli::InRange(1e-3, 600.0));
   app.add_option("--seed", o.plan.seed, "the planner's random seed (the same seed, the same path)")
       ->default_val(o.plan.seed)->check(CLI::Range(1u, 4000000000u));
+  app.add_flag("--listen", o.listen,
+               "live goals on stdin while it stands, one a line: 'joints NAME=VALUE,...' or 'pose "
+               "SITE,X,Y,Z[,ROLL,PITCH,YAW] [SITE,...]' (reach_live.h; docs/planning.md), each "
+               "reached after the ones before it; replies on stderr");
+  app.add_option("--socket", o.socket,
+                 "live goals on a local stream socket at this path, as --listen (one client at a "
+                 "time, one reply line per goal: 'ok: goal N queued' or 'error: why')");
   AddRunOptions(&app, &run);
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   std::string error;
-  if (!ParseGoals(goal_items, &o.goal_joints, &error) ||
-      !ParseHandPoses(pose_items, &o.hands, &error)) {
+  if (!ParseJointsGoal(goal_items, "--goal-joints", &o.goal_joints, &error) ||
+      !ParseHandPoses(pose_items, "--goal-pose", &o.hands, &error)) {
     std::cerr << "reach: " << error << "\n";
     return kExitUsage;
   }

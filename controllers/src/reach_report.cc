@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "controllers/reach.h"
+#include "controllers/reach_live.h"
 
 namespace ohrp::controllers {
 namespace {
@@ -74,9 +75,9 @@ std::string ReachController::Describe(const Clearances& c) const {
 }
 
 void ReachController::ReportGoals(std::ostream& out) const {
-  for (size_t k = 0; k < reports_.size(); ++k) {
+  for (size_t k = 0; k < ngoals_; ++k) {
     const GoalReport& g = reports_[k];
-    out << "reach: goal " << k + 1 << "/" << reports_.size() << " (" << labels_[k] << "): ";
+    out << "reach: goal " << k + 1 << "/" << ngoals_ << " (" << Label(k) << "): ";
     if (!g.planned) {
       out << "not reached (the run ended first)\n";
       continue;
@@ -108,6 +109,11 @@ void ReachController::report(std::ostream& out) const {
   out << "reach: group";
   for (const auto& n : group_.names) out << " " << n;
   out << "\n";
+  if (channel_ && ngoals_ == 0) {
+    out << "reach: no live goal came: it stood (live: " << channel_->received() << " received, "
+        << channel_->refused() << " refused)\n";
+    return;
+  }
   if (state == kIdle || state == kRequested) {
     out << "reach: no plan made (the run ended " << (state == kIdle ? "before the start" : "while planning")
         << ")\n";
@@ -144,7 +150,10 @@ void ReachController::report(std::ostream& out) const {
         << " (" << c.a << " / " << c.b << ", " << log_rows_ << " measured postures"
         << (log_dropped_ ? ", some not recorded" : "") << Fmt("; the planner keeps %.1f mm): ", 1e3 * check_->required())
         << Describe(ClearanceOfRows(0, log_rows_)) << "\n";
-  if (reports_.size() > 1) ReportGoals(out);
+  if (ngoals_ > 1 || channel_) ReportGoals(out);
+  if (channel_)
+    out << "reach: live: " << channel_->received() << " received, " << channel_->refused()
+        << " refused, " << channel_->taken() << " taken\n";
   if (phase_reach_ == Phase::kDone) {
     double worst = 0;
     int at = 0;
@@ -164,14 +173,15 @@ std::string ReachController::failure() const {
   if (!log_error_.empty()) return "--plan-log: " + log_error_;
   const int state = plan_state_.load();
   if (state == kUnsolved) return "planning failed: " + result_.reason;
-  if (phase_reach_ != Phase::kDone)
+  if (channel_ && ngoals_ == 0) return "";  // live, and no goal came: it stood
+  if (phase_reach_ != Phase::kDone || current_ + 1 < ngoals_)
     return "the run ended before the motion and its hold were done (give the run more time)";
-  for (size_t k = 0; k < reports_.size(); ++k) {
+  for (size_t k = 0; k < ngoals_; ++k) {
     double worst = 0;
     for (double e : reports_[k].final_error) worst = std::max(worst, std::abs(e));
     if (!(worst <= reach_.tolerance))
       return "final tracking error " + Fmt("%.4f rad", worst) + " exceeds --tolerance" +
-             (reports_.size() > 1 ? " at goal " + std::to_string(k + 1) + " (" + labels_[k] + ")" : "");
+             (ngoals_ > 1 ? " at goal " + std::to_string(k + 1) + " (" + Label(k) + ")" : "");
   }
   return "";
 }

@@ -24,6 +24,8 @@
 //             the estimated base pose and the estimator's frame in the scene (reach_scene.cc).
 //   goals     --goals FILE (reach_goals.h): several goals in sequence, each planned from where
 //             the previous left the arm (held meanwhile), reported per goal (reach_report.cc).
+//   live      --listen / --socket PATH (reach_live.h): goals sent while it stands, resolved on
+//             the channel's thread, taken by the cycle in order after the ones before them.
 // The per-cycle path allocates nothing, throws nothing and logs nothing.
 #pragma once
 
@@ -110,7 +112,12 @@ struct ReachOptions {
   std::string plan_log;        // CSV of the plan (waypoints, timed samples) and the measured
                                // motion, written after the run; "" none
   planning::PlanOptions plan;
+  bool listen = false;         // live goals on stdin (reach_live.h)
+  std::string socket;          // live goals on this local socket ("" none)
+  bool live() const { return listen || !socket.empty(); }
 };
+
+class ReachChannel;
 
 class ReachController : public BalanceController {
  public:
@@ -136,6 +143,17 @@ class ReachController : public BalanceController {
   // limits and, with `stance`'s other joints, the checker; fills group_, check_, goals_
   // (reach_sequence.cc)
   ConfigStatus ResolveGoals(const std::vector<double>& stance);
+  // one goal's group values (the previous goal's in `*values` on entry) by `kin`'s IK and
+  // `check` in the stance pose; false with the key ("joints", "pose") and what is wrong (an IK
+  // refusal's text without its option) in `*key` and `*what`, `*ik` when the IK refused
+  bool ResolveGoal(model::Kinematics& kin, planning::PostureCheck& check, const GoalSpec& g,
+                   std::vector<double>* values, std::string* key, std::string* what, bool* ik) const;
+  // the live channel (reach_live.h) on its own copies of the IK model and the checker
+  ConfigStatus OpenChannel();
+  // the next goal, from the one held (control thread)
+  void StartNextGoal(const shm::SensorBlock& s) noexcept;
+  // goal k's label: "FILE:LINE", "the goal", or the live command's text
+  std::string Label(size_t k) const;
   // hands the measured posture and goal `current_` to the planner (control thread, no allocation)
   void RequestPlan(const shm::SensorBlock& s) noexcept;
   // the group's references at hold_q_ (between two goals), the posture recorded
@@ -171,9 +189,16 @@ class ReachController : public BalanceController {
   std::unique_ptr<planning::PostureCheck> check_;
   std::vector<double> goal_;            // group values: the goal being planned or reached
   // the goals in sequence (one without a goals file), their holds [s] and labels ("FILE:LINE")
+  // (live goals: room for kMaxLiveGoals more, preallocated; ngoals_ of them are goals)
   std::vector<std::vector<double>> goals_;
   std::vector<double> holds_;
   std::vector<std::string> labels_;
+  size_t ngoals_ = 0, nfixed_ = 0;      // goals so far, and those given before the run
+  static constexpr size_t kMaxLiveGoals = 64;
+  std::vector<double> stance_;          // the stance pose (goals are checked in it)
+  std::unique_ptr<ReachChannel> channel_;
+  std::unique_ptr<model::Kinematics> live_kin_;
+  std::unique_ptr<planning::PostureCheck> live_check_;
   size_t current_ = 0;                  // the goal under way
   std::vector<double> hold_q_;          // group: the previous goal held while the next is planned
   // per goal, what was planned (planner thread) and measured (control thread); preallocated

@@ -26,4 +26,13 @@ namespace ohrp::controllers {
 // Reads and checks `path` (the shape above); false with `*error` "PATH:LINE: KEY: what".
 bool ReadGoalsFile(const std::string& path, GoalsFile* out, std::string* error);
 
+// A joints goal "NAME=VALUE,..." (`items`: split at the commas) into pairs [rad]; false with
+// `*error` "WHAT: 'ITEM': why" (`what`: the option or command it came from).
+bool ParseJointsGoal(const std::vector<std::string>& items, const std::string& what,
+                     std::vector<std::pair<std::string, double>>* goals, std::string* error);
+// Hand poses "SITE,X,Y,Z[,ROLL,PITCH,YAW]" (`items`: split at the commas, several hands one
+// after another: a word that is not a number begins the next) [m, rad]; false with `*error`.
+bool ParseHandPoses(const std::vector<std::string>& items, const std::string& what,
+                    std::vector<HandGoal>* hands, std::string* error);
+
 }  // namespace ohrp::controllers
