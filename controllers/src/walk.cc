@@ -123,6 +123,7 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   AdjustStep();
   const walking::WalkSample& w = gen_.Advance();
   ++walk_stats_.walk_cycles;
+  Touchdown(s, w);
   FillWalkInput(s, w);
   // a swing foot turns to the tilt of the surface it will land on (the plan's); once down, the
   // stabilizer carries on from there
@@ -243,7 +244,7 @@ void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::Wal
     }
     sup.supporting[i] = w.gait.support[i];
     if (w.gait.support[i]) {
-      ground += w.gait.feet.p[i].z();
+      ground += w.gait.feet.p[i].z() + foot_dz_[i];
       ++n;
     }
   }
@@ -260,7 +261,7 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
   Eigen::Matrix3d Rs[2];
   for (int i = 0; i < 2; ++i) {
     const double side = i == 0 ? 0.5 : -0.5;
-    p[i] = f.p[i] + Eigen::Vector3d(0, 0, side * out.dz);
+    p[i] = f.p[i] + Eigen::Vector3d(0, 0, side * out.dz + foot_dz_[i]);
     Rs[i] = Rx(out.foot_roll[i]) * Ry(out.foot_pitch[i]) * Rz(f.yaw[i]) * R0_[i];
   }
   // the swing foot is placed against the ground, not against an upright body: the base's
@@ -300,7 +301,7 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
 
   // the plan alone (no stabilizer correction): the velocity references come from it
   for (int i = 0; i < 2; ++i) {
-    p[i] = f.p[i];
+    p[i] = f.p[i] + Eigen::Vector3d(0, 0, foot_dz_[i]);
     Rs[i] = Rx(f.roll[i]) * Ry(f.pitch[i]) * Rz(f.yaw[i]) * R0_[i];
   }
   com = w.com;

@@ -89,10 +89,16 @@ int main(int argc, char** argv) {
                "experimental: move a swing foot's landing where the measured capture point needs "
                "it (a stepping strategy against pushes; not better than without it yet: "
                "docs/walking.md)");
+  bool touchdown = false;
+  app.add_flag("--touchdown", touchdown,
+               "experimental: hold a swing foot where it meets the ground before its planned "
+               "landing (its force/torque sensor, in the last swing height of its descent) instead "
+               "of pushing it on down to where the plan expects the ground (docs/walking.md)");
   AddRunOptions(&app, &run);
   app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.stepping = stepping;
+  o.touchdown = touchdown;
   for (const std::string& text : commands) {
     WalkCommand c;
     std::string error;

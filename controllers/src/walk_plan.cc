@@ -126,7 +126,7 @@ void WalkController::UpdateFrame(double dt, bool first) noexcept {
   for (int i = 0; i < 2; ++i) {
     if (!g.support[i] || !e.contact[i]) continue;
     c_est += k.p_WSole(sole_[i]) / n;
-    c_plan += g.feet.p[i] / n;
+    c_plan += (g.feet.p[i] + Eigen::Vector3d(0, 0, foot_dz_[i])) / n;  // where it touched
   }
   // the measured frame maps c_est onto c_plan with the yaw dyaw; the filtered one moves
   // towards it about the feet (not about the world's origin, where a small yaw error would be a

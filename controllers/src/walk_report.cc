@@ -128,6 +128,14 @@ void WalkController::report(std::ostream& out) const {
                   w.steps_adjusted, w.max_adjust * 1e3);
     out << buf;
   }
+  if (w.early_touchdowns > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "walk: touchdown: %d swing foot/feet met the ground before their planned landing "
+                  "(by their force/torque sensors) and were held there, up to %.1f mm above the "
+                  "plan's ground\n",
+                  w.early_touchdowns, w.max_touch_height * 1e3);
+    out << buf;
+  }
   if (w.ik_failures > 0) {
     static const char* what[] = {"the left leg cannot reach its sole's target",
                                  "the right leg cannot reach its sole's target",

@@ -94,6 +94,7 @@ ConfigStatus WalkController::on_configure(const shm::SegmentHeader& header) {
   if (ConfigStatus s = LoadTerrain(); !s.ok()) return s;
   if (ConfigStatus s = PlanCommands(); !s.ok()) return s;
   land_load_ = 0.1 * kin_est_->mass() * 9.81;
+  touch_load_ = 0.5 * land_load_;
   // what the cycle needs, allocated now
   int total = 0;
   for (const auto& c : chunks_) total += static_cast<int>(c.size());

@@ -74,6 +74,8 @@ struct WalkOptions {
   walking::StepLimits limits;    // `width` from the stance
   double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
   double lower_time = 1.0;       // [s] to lower it
+  bool touchdown = false;        // experimental: a swing foot that meets the ground early is
+                                 // held there (walk_touchdown.cc; --touchdown)
   bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
                                  // push tables it is not better yet): a swing foot lands where
                                  // the measured DCM needs it
@@ -124,6 +126,9 @@ struct WalkStats {
   double max_fit_yaw = 0;       // and turned back [rad]
   int steps_adjusted = 0;       // steps the stepping strategy moved (the DCM beyond the ankle)
   double max_adjust = 0;        // the most a landing was moved [m]
+  int early_touchdowns = 0;     // swing feet that met the ground before their planned landing
+                                // (walk_touchdown.cc) and were held there
+  double max_touch_height = 0;  // the highest of them above the planned landing [m]
   bool stopped = false;         // SIGUSR1 stopped a walk
   double walk_start = -1;       // producer time the generator started [s]
 };
@@ -197,6 +202,10 @@ class WalkController : public BalanceController {
   void SolveWalkJoints(const StabilizerOutput& out, const walking::WalkSample& w,
                        double z_offset) noexcept;
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
+  // touchdown (walk_touchdown.cc): a swing foot whose sensor carries load in the last part of
+  // its descent has met ground higher than the plan's: it is held where it touched, and stays
+  // there while it supports; its next swing blends that offset back out by its landing
+  void Touchdown(const shm::SensorBlock& s, const walking::WalkSample& w) noexcept;
   // the steps whose landing window has come: landed when the foot's sensor carries load
   void CountLandings(const shm::SensorBlock& s, double t) noexcept;
   double FootLoad(const shm::SensorBlock& s, int foot) const noexcept;
@@ -242,6 +251,18 @@ class WalkController : public BalanceController {
                                // the robot's weight)
   double end_load_[2] = {0, 0};  // both feet's loads at the last walk cycle [N]
   double end_tilt_ = -1;       // the base's tilt then [rad] (-1: never walked)
+  // touchdown, per foot: the offset of the sole's height from the plan's [m], its value when
+  // the swing began, the height where an early touchdown holds the sole (plan frame) [m], the
+  // gait step of its swing, and whether it touched early in it
+  double foot_dz_[2] = {0, 0}, lift_dz_[2] = {0, 0}, touch_z_[2] = {0, 0};
+  int swing_step_[2] = {-1, -1};
+  bool touched_[2] = {false, false};
+  // the swing foot's sensor in the air (the mean of its vertical force over the first half of
+  // the swing after lift-off) [N], the cycles it has read a touch in a row
+  double air_fz_[2] = {0, 0}, air_sum_[2] = {0, 0};
+  int air_n_[2] = {0, 0}, touch_cycles_[2] = {0, 0};
+  double touch_load_ = 0;      // a swing foot carrying this much has touched [N] (a twentieth
+                               // of the robot's weight)
   std::unique_ptr<WalkChannel> channel_;       // live commands (null: none)
   std::vector<walking::Footstep> live_steps_;  // swapped with the channel's plans
   uint64_t live_version_ = 0;                  // of the stance a live command starts from
