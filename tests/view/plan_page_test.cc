@@ -8,6 +8,7 @@
 // the boxes are greyed out with the reason.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 
@@ -86,9 +87,9 @@ class PlanPage : public ::testing::Test {
 
 // the page at time t: what the plan overlays and the balance overlays draw there
 std::pair<nlohmann::json, nlohmann::json> At(Browser* b, double t) {
+  // asked as the slider asks (the slider itself would round t to its step)
   const std::string ts = std::to_string(t);
-  b->Eval("(() => { const s = document.getElementById('slider'); s.value = " + ts +
-          "; s.dispatchEvent(new Event('input')); })()");
+  b->Eval("(() => { replay.playing = false; seek(" + ts + "); })()");
   EXPECT_TRUE(b->WaitTrue("Math.abs(document.getElementById('state').dataset.t - " + ts + ") < 1e-6"));
   return {nlohmann::json::parse(b->Eval("JSON.stringify(ohrpPlan.state())").get<std::string>()),
           nlohmann::json::parse(b->Eval("JSON.stringify(ohrpOverlay.state())").get<std::string>())};
@@ -189,6 +190,93 @@ TEST_F(PlanPage, WithoutWalkCsvOrItsColumnsTheBoxesAreGreyedOut) {
   EXPECT_FALSE(browser.Eval("document.getElementById('pl_dcm').disabled").get<bool>());
   const std::string note = browser.Eval("document.getElementById('plan_note').textContent").get<std::string>();
   EXPECT_NE(note.find("desired ZMP: no zmp_des_x, zmp_des_y in walk.csv"), std::string::npos) << note;
+}
+
+// a real walk: walk_side (HRP-1S, 1 m to the left, soft soles) run here; each planned landing is
+// compared with the sole the log shows 0.3 s after it (landed and loaded), and the desired ZMP
+// with the supporting soles' planned rectangles. The plan is what the robot believes (its
+// estimator, never the simulation's truth): a landing lies on its sole when their centres are
+// within half a sole width (7 cm) and their headings within 5 deg; the desired ZMP, clamped by
+// the stabilizer to the supporting soles (less a margin), lies in their rectangles within 1 cm
+TEST_F(PlanPage, ARealWalksLandingsLieOnItsSoles) {
+  const std::string out = (dir_ / "walk_side").string();
+  const pid_t run = Start("ohrp_run", {kSource + "/scenarios/walk_side.yaml", "--out", out, "--no-plot", "-q"},
+                          (dir_ / "run.txt").string());
+  ASSERT_EQ(ohrp::testing::WaitExit(run, 120.0), 0) << ReadFile((dir_ / "run.txt").string());
+  ASSERT_TRUE(fs::exists(out + "/walk.csv"));
+  ViewerPage page;
+  OpenPage(&page, {out, "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
+  ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
+  const nlohmann::json steps = At(&browser, 0).first["steps"];
+  ASSERT_GE(steps.size(), 8u) << "1 m in side steps of at most 0.2 m: at least 5 landings per foot";
+  double worst = 0, worst_yaw = 0;
+  int landings = 0;
+  for (size_t i = 2; i < steps.size(); ++i) {
+    const double t = steps[i]["t"].get<double>() + 0.3;
+    At(&browser, t);
+    const std::string sensor = steps[i]["side"] == "left" ? "lfsensor" : "rfsensor";
+    const nlohmann::json feet = nlohmann::json::parse(
+        browser.Eval("JSON.stringify(lastOverlayFrame.balance.feet)").get<std::string>());
+    for (const auto& f : feet) {
+      if (f["sensor"] != sensor) continue;
+      const auto& c = f["corners"];
+      ASSERT_EQ(c.size(), 4u);
+      double cx = 0, cy = 0;
+      for (const auto& p : c) { cx += p[0].get<double>() / 4; cy += p[1].get<double>() / 4; }
+      const double yaw = std::atan2(c[0][1].get<double>() - c[3][1].get<double>(), c[0][0].get<double>() - c[3][0].get<double>());
+      const double d = std::hypot(cx - steps[i]["center"][0].get<double>(), cy - steps[i]["center"][1].get<double>());
+      const double dyaw = std::abs(std::remainder(yaw - steps[i]["yaw"].get<double>(), 2 * M_PI));
+      EXPECT_LT(d, 0.07) << "landing " << i << " at t = " << t;
+      EXPECT_LT(dyaw, 5 * M_PI / 180) << "landing " << i;
+      worst = std::max(worst, d);
+      worst_yaw = std::max(worst_yaw, dyaw);
+      ++landings;
+    }
+  }
+  EXPECT_EQ(landings, static_cast<int>(steps.size()) - 2);
+  std::printf("walk_side: %d landings planned; the sole stands within %.1f mm and %.2f deg of its plan\n",
+              landings, worst * 1e3, worst_yaw * 180 / M_PI);
+  // the desired ZMP in the bright (supporting) rectangles, every 0.25 s of the walk
+  const double t0 = steps[0]["t"].get<double>(), t1 = steps.back()["t"].get<double>() + 1.0;
+  double worst_out = 0;
+  int samples = 0;
+  for (double t = t0 + 0.05; t < t1; t += 0.25) {
+    const nlohmann::json p = At(&browser, t).first;
+    if (!p["zmpDes"].is_array()) continue;
+    const double zx = p["zmpDes"][0], zy = p["zmpDes"][1];
+    // the supporting soles' planned rectangles (bright and landed by t)
+    std::vector<nlohmann::json> sup;
+    for (const auto& st : p["steps"])
+      if (st["bright"].get<bool>() && st["t"].get<double>() <= t) sup.push_back(st);
+    ASSERT_FALSE(sup.empty()) << t;
+    double out_by;  // how far outside the clamp's region (0 inside)
+    if (sup.size() == 1) {  // one sole: its rectangle, in its own frame
+      const double c = std::cos(sup[0]["yaw"].get<double>()), sn = std::sin(sup[0]["yaw"].get<double>());
+      const double dx = zx - sup[0]["center"][0].get<double>(), dy = zy - sup[0]["center"][1].get<double>();
+      const double u = std::abs(c * dx + sn * dy) - 0.125, v = std::abs(-sn * dx + c * dy) - 0.07;
+      out_by = std::hypot(std::max(u, 0.0), std::max(v, 0.0));
+    } else {  // both: the bounding box of their corners (the walk heads along x here)
+      nlohmann::json corners = nlohmann::json::array();
+      for (const auto& st : sup)
+        for (const auto& c : st["corners"]) corners.push_back(c);
+      double r[4];
+      Range(corners, r);
+      out_by = std::hypot(std::max({r[0] - zx, zx - r[1], 0.0}), std::max({r[2] - zy, zy - r[3], 0.0}));
+    }
+    worst_out = std::max(worst_out, out_by);
+    ++samples;
+  }
+  std::printf("walk_side: the desired ZMP at %d times: at most %.1f mm outside the supporting soles' plan\n",
+              samples, worst_out * 1e3);
+  EXPECT_GT(samples, 20);
+  EXPECT_LT(worst_out, 0.01);
+  // a picture mid-walk, the camera from the front
+  At(&browser, (t0 + t1) / 2);
+  browser.Eval("orbit.azimuth = 0.3; orbit.elevation = 0.5; render()");
+  usleep(300000);
+  EXPECT_TRUE(browser.Screenshot(OutputDir("plan") + "/walk_side.png"));
 }
 
 }  // namespace
