@@ -53,7 +53,7 @@ function setupPlan(hello) {
     }
     box.onchange = () => { applyPlan(pl.last); render(); };
   }
-  if (p.note) notes.push('walk plan: ' + p.note);
+  if (p.note) notes.push('walk plan: ' + p.note.split(' (')[0]);  // the whole note on hover
   $('plan_note').textContent = notes.join('; ');
 }
 
