@@ -114,6 +114,10 @@ TEST_F(Live, ShowsTheRobotAndThePlotsAdvanceWithSimulatedTime) {
               ov["arrows"][1]["length"].get<double>(), ov["polygon"].size());
   EXPECT_TRUE(inside(ov["zmp"])) << ov;
   EXPECT_TRUE(inside(ov["comGround"])) << ov;
+  // the walk's plan is replay-only (walk.csv is written when the walk ends): greyed out, said
+  const nlohmann::json plan = nlohmann::json::parse(browser.Eval("JSON.stringify(ohrpPlan.state())").get<std::string>());
+  for (const char* k : {"desired_zmp", "dcm", "footsteps"}) EXPECT_FALSE(plan["enabled"][k].get<bool>()) << plan;
+  EXPECT_NE(plan["note"].get<std::string>().find("replay only"), std::string::npos) << plan;
 }
 
 // the ball's red (scene_ball.xml: rgba 0.9 0.1 0.1, shaded by the headlight)

@@ -76,6 +76,53 @@ TEST_F(Replay, ShowsTheRobotAndTheSliderMovesIt) {
   EXPECT_GT(at2.y_min, top + 3) << "the robot's head is cut off (" << out << "/t2.png)";
 }
 
+// menagerie's H1 (1.8 m tall, drawn by its meshes) replayed at its home keyframe: the camera is
+// framed from its size, read back from the page: every corner of the robot's bounding box projects
+// inside the view (its head included), its height fills about 70 % of the view's height, and the
+// camera looks at its middle (not at the fixed 0.5 m of before)
+TEST_F(Replay, H1IsFramedWhole) {
+  const std::string scene = kSource + "/scenarios/scenes/h1_hung.xml";
+  if (!fs::exists(kSource + "/../shared/external/menagerie/unitree_h1/h1.xml"))
+    GTEST_SKIP() << "menagerie's H1 is not beside the repository";
+  fs::create_directories(dir_ / "h1");
+  std::ofstream(dir_ / "h1/sim_summary.json") << "{\"scene\": \"" << scene << "\"}\n";
+  {
+    std::ofstream log(dir_ / "h1/log.csv");
+    log << "time,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz";
+    for (const char* side : {"left", "right"}) log << ",q_" << side << "_hip_pitch,q_" << side << "_knee,q_" << side << "_ankle";
+    log << "\n";
+    for (int i = 0; i <= 10; ++i) log << 0.1 * i << ",0,0,0.98,1,0,0,0,-0.4,0.8,-0.4,-0.4,0.8,-0.4\n";
+  }
+  ViewerPage page;
+  OpenPage(&page, {(dir_ / "h1").string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0.5");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
+  ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0", 60.0));
+  const nlohmann::json f = nlohmann::json::parse(browser.Eval(
+      "(() => { const box = new THREE.Box3(); for (const o of moving) if (o) box.expandByObject(o);"
+      " placeCamera(); camera.updateMatrixWorld(); const ndc = [];"
+      " for (const x of [box.min.x, box.max.x]) for (const y of [box.min.y, box.max.y])"
+      "  for (const z of [box.min.z, box.max.z]) { const v = new THREE.Vector3(x, y, z).project(camera); ndc.push([v.x, v.y]); }"
+      " return JSON.stringify({ndc, top: box.max.z, bottom: box.min.z, target: orbit.target.z, distance: orbit.distance}); })()")
+      .get<std::string>());
+  EXPECT_GT(f["top"].get<double>(), 1.6) << "H1's head is about 1.7 m up: " << f;
+  EXPECT_NEAR(f["target"].get<double>(), (f["top"].get<double>() + f["bottom"].get<double>()) / 2, 1e-6) << f;
+  double y0 = 1, y1 = -1;
+  for (const auto& p : f["ndc"]) {
+    EXPECT_LT(std::abs(p[0].get<double>()), 1.0) << "a corner of the robot's box out of the view: " << f;
+    EXPECT_LT(std::abs(p[1].get<double>()), 1.0) << "a corner of the robot's box out of the view: " << f;
+    y0 = std::min(y0, p[1].get<double>());
+    y1 = std::max(y1, p[1].get<double>());
+  }
+  // the box's corners nearer the camera than its middle project a little larger than 70 %
+  EXPECT_GT((y1 - y0) / 2, 0.6) << f;
+  EXPECT_LT((y1 - y0) / 2, 0.95) << f;
+  std::printf("H1: box top %.3f m, camera %.2f m from %.3f m up; the box spans %.0f %% of the view's height\n",
+              f["top"].get<double>(), f["distance"].get<double>(), f["target"].get<double>(), 50 * (y1 - y0));
+  usleep(300000);
+  EXPECT_TRUE(browser.Screenshot(OutputDir("replay") + "/h1.png"));
+}
+
 // a click on a plot (a user's press and release) shows the robot at the clicked time
 TEST_F(Replay, ClickingAPlotSeeks) {
   ViewerPage page;

@@ -71,4 +71,12 @@ nlohmann::json SceneGeometry::Balance(const RobotState& state, double min_foot_f
   return out;
 }
 
+std::array<double, 3> SceneGeometry::BoxBottom(int g) const {
+  const mjModel* m = scene_->m();
+  const mjData* d = scene_->d();
+  const double* R = d->geom_xmat + 9 * g;
+  const double h = m->geom_size[3 * g + 2];
+  return {d->geom_xpos[3 * g] - R[2] * h, d->geom_xpos[3 * g + 1] - R[5] * h, d->geom_xpos[3 * g + 2] - R[8] * h};
+}
+
 }  // namespace ohrp::view

@@ -78,6 +78,9 @@ nlohmann::json LiveSource::Hello() {
   const shm::SegmentHeader& h = observer_.header();
   nlohmann::json j;
   j["mode"] = "live";
+  // walk.csv is written when the walk ends (controllers/src/walk_report.cc): the plan overlays
+  // are replay-only
+  j["plan"] = {{"note", "replay only: the walk writes walk.csv when it ends"}};
   j["title"] = "segment " + segment_;
   j["scene"] = geometry_->Describe();
   j["producer"] = h.producer_kind == shm::ProducerKind::kSimulation ? "simulation"

@@ -89,8 +89,45 @@ std::unique_ptr<ReplaySource> ReplaySource::Open(const std::string& run_dir, con
   if (!error->empty()) return nullptr;
   const size_t slash = run_dir.find_last_not_of('/');
   const std::string trimmed = run_dir.substr(0, slash + 1);
+  src->LoadPlan(run_dir);
   src->title_ = "run " + trimmed.substr(trimmed.rfind('/') == std::string::npos ? 0 : trimmed.rfind('/') + 1);
   return src;
+}
+
+// the walk's plan (walk.csv), registered onto the soles the log shows at its first row
+void ReplaySource::LoadPlan(const std::string& run_dir) {
+  const std::string path = run_dir + "/walk.csv";
+  if (!std::ifstream(path)) {
+    plan_note_ = "no walk.csv in the run folder (the walk controller's --log)";
+    return;
+  }
+  const std::array<int, 2> soles = LeftRightSoles(geometry_->model());
+  if (soles[0] < 0) {
+    plan_note_ = "the model has not two *_SOLE boxes (left, right)";
+    return;
+  }
+  std::string error;
+  plan_ = WalkPlan::Load(path, &error);
+  if (!plan_) {
+    plan_note_ = error;
+    return;
+  }
+  const mjModel* m = geometry_->model();
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < 2; ++k) sole_half_[i][k] = m->geom_size[3 * soles[i] + k];
+  RobotState state = StateAt(plan_->t0());
+  geometry_->Poses(state);
+  const std::array<double, 3> left = geometry_->BoxBottom(soles[0]), right = geometry_->BoxBottom(soles[1]);
+  plan_->Register(left.data(), right.data());
+}
+
+// the plan overlays' part of the hello: {"note"} without a plan, else {"missing", "footsteps",
+// "t0", "registration": [x, y, yaw, dz]}
+nlohmann::json ReplaySource::PlanHello() const {
+  if (!plan_) return {{"note", plan_note_}};
+  const Planar& r = plan_->registration();
+  return {{"missing", plan_->Missing()}, {"footsteps", plan_->Footsteps(sole_half_)}, {"t0", plan_->t0()},
+          {"registration", {r.x, r.y, r.yaw, r.dz}}};
 }
 
 // the state at time t: linear interpolation between the rows around it
@@ -132,6 +169,7 @@ nlohmann::json ReplaySource::FrameAt(double t) {
   double zmp[2];
   j["zmp"] = geometry_->Zmp(state, zmp) ? nlohmann::json{zmp[0], zmp[1]} : nlohmann::json(nullptr);
   j["balance"] = geometry_->Balance(state);
+  if (plan_) j["plan"] = plan_->At(t);
   j["base"] = base_col_[0] >= 0 ? "ground truth" : "not logged";
   return j;
 }
@@ -169,6 +207,7 @@ nlohmann::json ReplaySource::Hello() {
   j["t0"] = times.front();
   j["t1"] = times.back();
   j["columns"] = log_.names();
+  j["plan"] = PlanHello();
   // the plots' curves, min/max decimated (decimate.h): q and qref per joint, fz per sensor, the
   // ZMP (forward kinematics of every row: the sensors' poses)
   const auto& robot = geometry_->robot();

@@ -254,6 +254,7 @@ function showFrame(f) {
     $('base').className = f.base === 'ground truth' ? '' : 'warn';
   }
   applyOverlay(f);  // before the poses: drawn in the same browser frame
+  applyPlan(f);
   showPoses(f.poses);
   cursorT = f.t;
   stateEl.dataset.t = f.t;
@@ -421,6 +422,7 @@ function connect() {
       resize();
       buildScene(m.scene);
       setupOverlays(m);
+      setupPlan(m);
       buildCharts(m.scene);
       if (m.mode === 'replay') startReplay(m, ws);
       setupPicker(m);

@@ -10,6 +10,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -79,6 +80,10 @@ class SceneGeometry {
   // the sensor's position when unloaded [m]), "corners": [[x, y, z] x 4] (the sole box's bottom
   // face, [] without a *_SOLE box)}...]} for the sole sensors.
   nlohmann::json Balance(const RobotState& state, double min_foot_fz = 10.0);
+
+  // The centre of box geom `g`'s bottom face (its -z face) in the world at the poses of the
+  // last Poses() call [m] (the walk plan's registration onto the soles, plan.h).
+  std::array<double, 3> BoxBottom(int g) const;
 
   const mjModel* model() const { return scene_->m(); }
   const model::RobotMap& robot() const { return robot_; }

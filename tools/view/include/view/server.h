@@ -4,6 +4,7 @@
 //   GET /view.js               its script (web/view.js)
 //   GET /plots.js              its plots (web/plots.js)
 //   GET /overlays.js           its balance overlays in 3D (web/overlays.js)
+//   GET /plan.js               its walk-plan overlays in 3D (web/plan.js)
 //   GET /lib/three.min.js      three.js from Debian's libjs-three (nothing from the internet)
 //   GET /lib/chart.min.js      Chart.js from Debian's libjs-chart.js
 //   GET /ws                    the WebSocket: the server sends the source's Hello() first, then

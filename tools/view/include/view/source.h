@@ -26,6 +26,7 @@
 #include "datalog/table.h"  // the data log's reader
 #include "shm_bridge/observer.h"
 #include "view/geometry.h"
+#include "view/plan.h"
 
 namespace ohrp::view {
 
@@ -111,8 +112,10 @@ class LiveSource : public Source {
 
 class ReplaySource : public Source {
  public:
-  // Reads RUN_DIR/log.csv (and sim_summary.json for the scene when `scene` is empty). Returns
-  // null with `*error` set (no folder, no log, no scene, a log that does not fit the scene).
+  // Reads RUN_DIR/log.csv (and sim_summary.json for the scene when `scene` is empty), and the
+  // walk's plan from RUN_DIR/walk.csv when there is one (plan.h; one that cannot be read is
+  // said on the page, not refused). Returns null with `*error` set (no folder, no log, no
+  // scene, a log that does not fit the scene).
   static std::unique_ptr<ReplaySource> Open(const std::string& run_dir, const std::string& scene,
                                             std::string* error);
   bool live() const override { return false; }
@@ -123,6 +126,8 @@ class ReplaySource : public Source {
  private:
   ReplaySource() = default;
   RobotState StateAt(double t);
+  void LoadPlan(const std::string& run_dir);
+  nlohmann::json PlanHello() const;
   nlohmann::json Series(const std::vector<double>& y) const;  // against the log's time
   static nlohmann::json Series(const std::vector<double>& times, const std::vector<double>& y);
 
@@ -135,6 +140,9 @@ class ReplaySource : public Source {
   std::vector<std::array<int, 6>> ft_col_;       // per force sensor: fx fy fz tx ty tz
   std::mutex mutex_;                             // the geometry's mjData, series_
   nlohmann::json series_;                        // the plots' curves, made by the first Hello()
+  std::unique_ptr<WalkPlan> plan_;               // walk.csv's plan, or null
+  std::string plan_note_;                        // why there is no plan
+  double sole_half_[2][2] = {{0, 0}, {0, 0}};    // left, right sole box half length, width [m]
 };
 
 }  // namespace ohrp::view
