@@ -279,5 +279,63 @@ TEST_F(PlanPage, ARealWalksLandingsLieOnItsSoles) {
   EXPECT_TRUE(browser.Screenshot(OutputDir("plan") + "/walk_side.png"));
 }
 
+// reach's plan (tools/view/web/reach.js, tools/view/src/replay_reach.cc) from a real run of
+// reach_scene_sequence (three goals, --plan-log): the box is on, three goals in time order, the
+// goal under way the bright one, each goal's hand path starting near where the previous one's
+// ended (each is planned from where the last one held; each path is placed with the base pose
+// at its own motion's start, and balance moves the base as the arm's mass moves: within 3 cm; the
+// paths themselves are checked in closed form in view_reach_plan_test); a run without plan.csv
+// greys the box with the reason
+TEST_F(PlanPage, AReachRunsPlanIsDrawnGoalByGoal) {
+  const std::string out = (dir_ / "reach_sequence").string();
+  const pid_t run = Start("ohrp_run", {kSource + "/scenarios/reach_scene_sequence.yaml", "--out", out, "--no-plot", "-q"},
+                          (dir_ / "run.txt").string());
+  ASSERT_EQ(ohrp::testing::WaitExit(run, 120.0), 0) << ReadFile((dir_ / "run.txt").string());
+  ViewerPage page;
+  OpenPage(&page, {out, "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
+  ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
+  auto state = [&](double t) {
+    const std::string ts = std::to_string(t);
+    browser.Eval("(() => { replay.playing = false; seek(" + ts + "); })()");
+    EXPECT_TRUE(browser.WaitTrue("Math.abs(document.getElementById('state').dataset.t - " + ts + ") < 1e-6"));
+    return nlohmann::json::parse(browser.Eval("JSON.stringify(ohrpReach.state())").get<std::string>());
+  };
+  const nlohmann::json s = state(0.5);
+  ASSERT_TRUE(s["enabled"].get<bool>()) << s.dump();
+  const nlohmann::json& goals = s["goals"];
+  ASSERT_EQ(goals.size(), 3u) << s.dump();
+  EXPECT_EQ(s["current"], 0) << "before the first motion the next goal is the bright one";
+  for (size_t k = 0; k < goals.size(); ++k) {
+    EXPECT_TRUE(goals[k]["visible"].get<bool>());
+    EXPECT_GT(goals[k]["t_end"].get<double>(), goals[k]["t_start"].get<double>());
+    if (k == 0) continue;
+    EXPECT_GT(goals[k]["t_start"].get<double>(), goals[k - 1]["t_end"].get<double>() - 1e-6);
+    double gap = 0;
+    for (int c = 0; c < 3; ++c)
+      gap += std::pow(goals[k]["first"][0][c].get<double>() - goals[k - 1]["last"][0][c].get<double>(), 2);
+    EXPECT_LT(std::sqrt(gap), 0.03) << "goal " << k + 1 << " starts where goal " << k << " ended";
+  }
+  const double mid2 = 0.5 * (goals[1]["t_start"].get<double>() + goals[1]["t_end"].get<double>());
+  EXPECT_EQ(state(mid2)["current"], 1);
+  std::printf("reach_scene_sequence: goals at %.2f-%.2f, %.2f-%.2f, %.2f-%.2f s\n",
+              goals[0]["t_start"].get<double>(), goals[0]["t_end"].get<double>(),
+              goals[1]["t_start"].get<double>(), goals[1]["t_end"].get<double>(),
+              goals[2]["t_start"].get<double>(), goals[2]["t_end"].get<double>());
+}
+
+TEST_F(PlanPage, WithoutPlanCsvTheReachBoxIsGreyedOut) {
+  WriteLog(dir_);
+  ViewerPage page;
+  OpenPage(&page, {dir_.string(), "--port", "0"}, (dir_ / "viewer.txt").string(), "?t=0");
+  ASSERT_FALSE(HasFatalFailure());
+  Browser& browser = *page.browser;
+  ASSERT_TRUE(browser.WaitTrue("document.getElementById('state').dataset.frames > 0"));
+  const nlohmann::json s = nlohmann::json::parse(browser.Eval("JSON.stringify(ohrpReach.state())").get<std::string>());
+  EXPECT_TRUE(s["disabled"].get<bool>());
+  EXPECT_EQ(s["note"], "no plan.csv in the run folder (reach --plan-log)");
+}
+
 }  // namespace
 }  // namespace ohrp::view::testing

@@ -79,4 +79,9 @@ std::array<double, 3> SceneGeometry::BoxBottom(int g) const {
   return {d->geom_xpos[3 * g] - R[2] * h, d->geom_xpos[3 * g + 1] - R[5] * h, d->geom_xpos[3 * g + 2] - R[8] * h};
 }
 
+std::array<double, 3> SceneGeometry::BodyOrigin(int b) const {
+  const mjData* d = scene_->d();
+  return {d->xpos[3 * b], d->xpos[3 * b + 1], d->xpos[3 * b + 2]};
+}
+
 }  // namespace ohrp::view

@@ -81,6 +81,7 @@ nlohmann::json LiveSource::Hello() {
   // walk.csv is written when the walk ends (controllers/src/walk_report.cc): the plan overlays
   // are replay-only
   j["plan"] = {{"note", "replay only: the walk writes walk.csv when it ends"}};
+  j["reach"] = {{"note", "replay only: reach writes its plan log when it ends"}};
   j["title"] = "segment " + segment_;
   j["scene"] = geometry_->Describe();
   j["producer"] = h.producer_kind == shm::ProducerKind::kSimulation ? "simulation"

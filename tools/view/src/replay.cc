@@ -90,6 +90,7 @@ std::unique_ptr<ReplaySource> ReplaySource::Open(const std::string& run_dir, con
   const size_t slash = run_dir.find_last_not_of('/');
   const std::string trimmed = run_dir.substr(0, slash + 1);
   src->LoadPlan(run_dir);
+  src->LoadReach(run_dir);
   src->title_ = "run " + trimmed.substr(trimmed.rfind('/') == std::string::npos ? 0 : trimmed.rfind('/') + 1);
   return src;
 }
@@ -208,6 +209,7 @@ nlohmann::json ReplaySource::Hello() {
   j["t1"] = times.back();
   j["columns"] = log_.names();
   j["plan"] = PlanHello();
+  j["reach"] = reach_;
   // the plots' curves, min/max decimated (decimate.h): q and qref per joint, fz per sensor, the
   // ZMP (forward kinematics of every row: the sensors' poses)
   const auto& robot = geometry_->robot();

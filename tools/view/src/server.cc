@@ -211,6 +211,7 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
             {"/plots.js", options.web_dir + "/plots.js", "text/javascript"},
             {"/overlays.js", options.web_dir + "/overlays.js", "text/javascript"},
             {"/plan.js", options.web_dir + "/plan.js", "text/javascript"},
+            {"/reach.js", options.web_dir + "/reach.js", "text/javascript"},
             {"/lib/three.min.js", options.three_js, "text/javascript"},
             {"/lib/chart.min.js", options.chart_js, "text/javascript"}};
   for (const Asset& a : assets)

@@ -255,6 +255,7 @@ function showFrame(f) {
   }
   applyOverlay(f);  // before the poses: drawn in the same browser frame
   applyPlan(f);
+  applyReach(f);
   showPoses(f.poses);
   cursorT = f.t;
   stateEl.dataset.t = f.t;
@@ -423,6 +424,7 @@ function connect() {
       buildScene(m.scene);
       setupOverlays(m);
       setupPlan(m);
+      setupReach(m);
       buildCharts(m.scene);
       if (m.mode === 'replay') startReplay(m, ws);
       setupPicker(m);

@@ -84,6 +84,8 @@ class SceneGeometry {
   // The centre of box geom `g`'s bottom face (its -z face) in the world at the poses of the
   // last Poses() call [m] (the walk plan's registration onto the soles, plan.h).
   std::array<double, 3> BoxBottom(int g) const;
+  // body `b`'s origin in the world at the poses of the last Poses() call [m]
+  std::array<double, 3> BodyOrigin(int b) const;
 
   const mjModel* model() const { return scene_->m(); }
   const model::RobotMap& robot() const { return robot_; }

@@ -128,6 +128,10 @@ class ReplaySource : public Source {
   RobotState StateAt(double t);
   void LoadPlan(const std::string& run_dir);
   nlohmann::json PlanHello() const;
+  // reach's plan (plan.csv, reach_plan.h) as hand paths in the world (replay_reach.cc):
+  // {"goals": [{"goal", "solved", "t_start", "t_end" [s], "paths": [[[x, y, z]...] per hand],
+  // "waypoints": [[[x, y, z]...] per hand]}], "hands": [body names]}, or {"note": why none}
+  void LoadReach(const std::string& run_dir);
   nlohmann::json Series(const std::vector<double>& y) const;  // against the log's time
   static nlohmann::json Series(const std::vector<double>& times, const std::vector<double>& y);
 
@@ -142,6 +146,7 @@ class ReplaySource : public Source {
   nlohmann::json series_;                        // the plots' curves, made by the first Hello()
   std::unique_ptr<WalkPlan> plan_;               // walk.csv's plan, or null
   std::string plan_note_;                        // why there is no plan
+  nlohmann::json reach_;                         // reach's plan for the hello (LoadReach)
   double sole_half_[2][2] = {{0, 0}, {0, 0}};    // left, right sole box half length, width [m]
 };
 
