@@ -168,17 +168,8 @@ std::string ReachController::PlanLog() const {
   for (size_t k = 0; k < ngoals_; ++k) {
     const GoalReport& g = reports_[k];
     if (g.solved) {
-      double t = 0;
-      for (size_t w = 0; w < g.plan_waypoints.size(); ++w) {
-        // each waypoint is reached at rest: its time is the sum of the segments' before it
-        row(k, "waypoint", t, g.plan_waypoints[w].data());
-        if (w + 1 < g.plan_waypoints.size()) {
-          planning::TimedPath one;
-          std::string ignored;
-          one.Build({g.plan_waypoints[w], g.plan_waypoints[w + 1]}, v_max_, a_max_, &ignored);
-          t += one.duration();
-        }
-      }
+      for (size_t w = 0; w < g.plan_waypoints.size(); ++w)
+        row(k, "waypoint", g.plan_path.WaypointTime(static_cast<int>(w)), g.plan_waypoints[w].data());
       for (double s = 0; s <= g.plan_path.duration() + 1e-9; s += 0.01) {
         g.plan_path.Sample(s, q.data(), nullptr, nullptr);
         row(k, "planned", s, q.data());
@@ -212,12 +203,8 @@ void ReachController::PlannerThread() {
     std::vector<double> start(goal_.size());
     planning::GroupValues(group_, request_, start);
     straight_ = planning::ClosestAlong(*check_, request_, {start, goal_}, reach_.plan.resolution);
-    std::string error;
-    if (result_.solved && !path_.Build(result_.waypoints, v_max_, a_max_, &error)) {
-      result_.solved = false;
-      result_.reason = "timing: " + error;
-    }
     GoalReport& g = reports_[current_];  // current_ does not change while a plan is asked
+    if (result_.solved) TimeThePath();
     g.planned = true;
     g.solved = result_.solved;
     g.reason = result_.reason;

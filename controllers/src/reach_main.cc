@@ -150,6 +150,9 @@ int main(int argc, char** argv) {
       ->default_val(o.max_accel)->check(ohrp::cli::InRange(1e-3, 200.0));
   app.add_option("--tolerance", o.tolerance, "[rad] largest final tracking error accepted")
       ->default_val(o.tolerance)->check(ohrp::cli::InRange(1e-4, 1.0));
+  app.add_flag("--stop-at-waypoints", o.stop_at_waypoints,
+               "time the path rest to rest at every waypoint (default: blended, not stopping at "
+               "them, where the blended path, checked again, keeps the clearance)");
   app.add_option("--plan-log", o.plan_log,
                  "CSV written after the run: the plan's waypoints, the timed path every 10 ms and "
                  "the measured group joints every cycle (kind,t,JOINT...)");

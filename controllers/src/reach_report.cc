@@ -139,6 +139,15 @@ void ReachController::report(std::ostream& out) const {
       << p.evaluations << " posture checks; path " << Fmt("%.3f rad (raw %.3f), ", p.length, p.raw_length)
       << p.waypoints.size() << " waypoints, " << Fmt("%.2f s; planned clearance %.1f mm", path_.duration(), 1e3 * p.closest.distance)
       << " (" << p.closest.a << " / " << p.closest.b << ")\n";
+  if (ngoals_ > 0) {
+    const GoalReport& g = reports_[current_];
+    if (g.blended)
+      out << "reach: timing: blended at the waypoints (the arm does not stop at them; the corners "
+          << Fmt("cut by at most %.3f rad), the blended path keeps %.1f mm", MaxCornerCut(), 1e3 * g.blended_closest.distance)
+          << " (" << g.blended_closest.a << " / " << g.blended_closest.b << ")\n";
+    else if (g.waypoints > 2)
+      out << "reach: timing: rest to rest at each waypoint (" << g.stops << ")\n";
+  }
   out << "reach: the straight joint-space line would " << (straight_.valid ? "keep " : "come to ")
       << Fmt("%.1f mm", 1e3 * straight_.distance) << " (" << straight_.a << " / " << straight_.b << ")\n";
   if (phase_reach_ != Phase::kPlanning)

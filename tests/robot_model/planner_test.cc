@@ -207,6 +207,85 @@ TEST(TimedPathTest, OneSegmentHasTheTrapezoidsClosedFormDuration) {
   EXPECT_FALSE(p.Build({{0.0}, {0.2}}, std::vector<double>{0.0}, std::vector<double>{2.0}, &error));
 }
 
+// a right-angle corner for one joint pair, blended: 1 rad along x then 1 rad along y at 1 rad/s
+// and 2 rad/s^2: the segments take 1 s each at full speed, the blends 0.5 s (start and end: 1
+// rad/s from rest; the corner: 1 rad/s off in x and on in y), so 0.25 + 1 + 1 + 0.25 = 2.5 s;
+// the corner is cut by |dV| b / 8 = 1 * 0.5 / 8 per joint, and passed at full speed
+TEST(TimedPathTest, ABlendedCornerHasTheClosedFormsTimingAndCut) {
+  TimedPath p;
+  std::string error;
+  const std::vector<double> v{1.0, 1.0}, a{2.0, 2.0};
+  ASSERT_TRUE(p.Build({{0, 0}, {1, 0}, {1, 1}}, v, a, &error, true)) << error;
+  ASSERT_TRUE(p.blended());
+  EXPECT_NEAR(p.duration(), 2.5, 1e-12);
+  EXPECT_NEAR(p.CornerCut(1), 0.5 / 8, 1e-12);
+  double q[2], dq[2], ddq[2];
+  p.Sample(1.25, q, dq, ddq);  // the corner's time: the parabola's middle
+  EXPECT_NEAR(q[0], 1 - 0.5 / 8, 1e-12);
+  EXPECT_NEAR(q[1], 0.5 / 8, 1e-12);
+  EXPECT_NEAR(dq[0], 0.5, 1e-12);  // half way from (1, 0) to (0, 1) rad/s: never stopping
+  EXPECT_NEAR(dq[1], 0.5, 1e-12);
+  EXPECT_NEAR(ddq[0], -2, 1e-12);
+  EXPECT_NEAR(ddq[1], 2, 1e-12);
+  // rest to rest stops there: two 1 rad trapezoids of 1.5 s
+  ASSERT_TRUE(p.Build({{0, 0}, {1, 0}, {1, 1}}, v, a, &error, false));
+  EXPECT_FALSE(p.blended());
+  EXPECT_NEAR(p.duration(), 3.0, 1e-12);
+}
+
+// random blended paths: within the limits (sampled and by finite differences), the velocity
+// continuous, from rest at the first waypoint to rest at the last, each inner waypoint passed
+// within its corner cut, and never slower than rest to rest
+TEST(TimedPathTest, BlendedNeverExceedsTheLimitsAndPassesNearTheWaypoints) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-2, 2), lim(0.3, 3);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 1 + trial % 7;
+    std::vector<std::vector<double>> w(3 + trial % 5, std::vector<double>(n));
+    for (auto& p : w)
+      for (double& x : p) x = u(rng);
+    std::vector<double> v(n), a(n);
+    for (int j = 0; j < n; ++j) v[j] = lim(rng), a[j] = lim(rng);
+    TimedPath p, stops;
+    std::string error;
+    ASSERT_TRUE(p.Build(w, v, a, &error, true)) << error;
+    ASSERT_TRUE(stops.Build(w, v, a, &error, false)) << error;
+    EXPECT_LE(p.duration(), stops.duration() * (1 + 1e-9)) << "trial " << trial;
+    std::vector<double> q(n), dq(n), ddq(n), q_prev(n), dq_prev(n);
+    std::vector<double> closest(w.size(), 1e9);  // each waypoint's nearest approach (max norm)
+    const double dt = 1e-4;
+    for (double t = 0; t <= p.duration() + dt; t += dt) {
+      p.Sample(t, q.data(), dq.data(), ddq.data());
+      for (int j = 0; j < n; ++j) {
+        ASSERT_LE(std::abs(dq[j]), v[j] * (1 + 1e-9));
+        ASSERT_LE(std::abs(ddq[j]), a[j] * (1 + 1e-9));
+        if (t > 0) {
+          ASSERT_LE(std::abs(q[j] - q_prev[j]) / dt, v[j] * (1 + 1e-6));
+          ASSERT_LE(std::abs(dq[j] - dq_prev[j]) / dt, a[j] * (1 + 1e-6));
+        }
+      }
+      for (size_t k = 0; k < w.size(); ++k) {
+        double d = 0;
+        for (int j = 0; j < n; ++j) d = std::max(d, std::abs(q[j] - w[k][j]));
+        closest[k] = std::min(closest[k], d);
+      }
+      q_prev = q, dq_prev = dq;
+    }
+    for (size_t k = 1; k + 1 < w.size(); ++k)
+      EXPECT_LE(closest[k], p.CornerCut(static_cast<int>(k)) + 1e-3) << "trial " << trial << ", waypoint " << k;
+    p.Sample(p.duration(), q.data(), dq.data(), nullptr);
+    for (int j = 0; j < n; ++j) {
+      EXPECT_NEAR(q[j], w.back()[j], 1e-12);
+      EXPECT_EQ(dq[j], 0);
+    }
+    p.Sample(0, q.data(), dq.data(), nullptr);
+    for (int j = 0; j < n; ++j) {
+      EXPECT_NEAR(q[j], w.front()[j], 1e-12);
+      EXPECT_EQ(dq[j], 0);
+    }
+  }
+}
+
 TEST(TimedPathTest, NeverExceedsTheLimitsAndPassesTheWaypoints) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(-2, 2), lim(0.3, 3);

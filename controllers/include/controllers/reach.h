@@ -109,6 +109,7 @@ struct ReachOptions {
   double max_speed = 0.8;      // [rad/s] per joint (the file's speed limit where lower)
   double max_accel = 2.0;      // [rad/s^2] per joint (half what the torque allows where lower)
   double tolerance = 0.1;      // [rad] largest final tracking error accepted
+  bool stop_at_waypoints = false;  // rest to rest at every waypoint (else blended where clear)
   std::string plan_log;        // CSV of the plan (waypoints, timed samples) and the measured
                                // motion, written after the run; "" none
   planning::PlanOptions plan;
@@ -159,6 +160,12 @@ class ReachController : public BalanceController {
   // the group's references at hold_q_ (between two goals), the posture recorded
   void HoldGroup(const shm::SensorBlock& s) noexcept;
   void PlannerThread();
+  // the solved plan's timing into path_ and goal current_'s report (planner thread,
+  // reach_timing.cc): blended at the waypoints when that path, checked again, keeps the
+  // planner's clearance; else rest to rest
+  void TimeThePath();
+  // the largest corner cut of path_'s inner waypoints [rad] (0 rest to rest)
+  double MaxCornerCut() const;
   // the check with the scene placed from the base pose at the request (planner thread); false
   // with result_.reason when the checker refuses it
   bool PlaceScene();
@@ -208,6 +215,11 @@ class ReachController : public BalanceController {
     double plan_time = 0, simplify_time = 0, length = 0, raw_length = 0, duration = 0;
     size_t waypoints = 0;
     planning::Verdict closest, straight;
+    // the timing: blended at the waypoints, and the blended path's closest pair; or why it
+    // stops at them ("" blended)
+    bool blended = false;
+    planning::Verdict blended_closest;
+    std::string stops;
     double request_time = 0, motion_start = -1;
     size_t row_begin = 0, row_end = 0;  // its measured rows in log_ (motion and hold)
     bool done = false;

@@ -1,4 +1,5 @@
-// Rest-to-rest trapezoidal timing per segment, synchronised across the joints.
+// Rest-to-rest trapezoidal timing per segment, synchronised across the joints (the blended
+// timing: timed_path_blend.cc).
 #include "planning/timed_path.h"
 
 #include <algorithm>
@@ -8,7 +9,7 @@ namespace ohrp::planning {
 
 bool TimedPath::Build(const std::vector<std::vector<double>>& waypoints,
                       std::span<const double> v_max, std::span<const double> a_max,
-                      std::string* error) {
+                      std::string* error, bool blend) {
   *this = TimedPath();
   if (waypoints.empty()) {
     *error = "a path needs at least one waypoint";
@@ -30,6 +31,8 @@ bool TimedPath::Build(const std::vector<std::vector<double>>& waypoints,
       return false;
     }
   points_ = waypoints;
+  // blended where there is an inner waypoint to pass (one segment: the same trapezoid)
+  if (blend && waypoints.size() > 2 && BuildBlended(v_max, a_max)) return true;
   times_.push_back(0);
   for (size_t k = 0; k + 1 < waypoints.size(); ++k) {
     // the scalar profile s in [0, 1]: joint j moves d_j s, so its speed is |d_j| s' and its
@@ -62,6 +65,7 @@ bool TimedPath::Build(const std::vector<std::vector<double>>& waypoints,
 
 void TimedPath::Sample(double t, double* q, double* dq, double* ddq) const {
   if (points_.empty()) return;
+  if (blended_) return SampleBlended(t, q, dq, ddq);
   t = std::clamp(t, 0.0, duration());
   // the segment holding t (the last one at the end)
   size_t k = 0;
