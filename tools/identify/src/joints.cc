@@ -2,7 +2,10 @@
 #include "identify/joints.h"
 
 #include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -43,8 +46,11 @@ bool SplitNumbers(const std::string& line, std::vector<double>* out) {
 // the dynamics: tau = I qdd + b qd + c sign(qd) + A sin q + B cos q over the moving samples
 bool FitDynamics(const JointLog& l, const JointFitOptions& o, JointEstimate* e, std::string* error) {
   std::vector<size_t> rows;
+  // consecutive cycles only (a row missed by the logger leaves a longer interval)
   for (size_t k = 1; k < l.t.size(); ++k)
-    if (std::fabs(l.dq[k - 1]) >= o.v_min && l.t[k] > l.t[k - 1]) rows.push_back(k);
+    if (std::fabs(l.dq[k - 1]) >= o.v_min &&
+        std::fabs(l.t[k] - l.t[k - 1] - e->period) < 0.1 * e->period)
+      rows.push_back(k);
   if (rows.size() < 50) {
     *error = l.joint + ": " + std::to_string(rows.size()) +
              " samples move faster than " + std::to_string(o.v_min) +
@@ -72,18 +78,43 @@ bool FitDynamics(const JointLog& l, const JointFitOptions& o, JointEstimate* e, 
 }
 
 // the servo: tau_k = kp (ref_{k-L} - q_k) + kd (dref_{k-L} - qd_k) + tau0, the L of least residual
+// (the lag in cycles of the period: each row's cycle number from its time, the reference of a
+// cycle the logger missed the one before it)
 void FitServo(const JointLog& l, const JointFitOptions& o, JointEstimate* e) {
   const long n = static_cast<long>(l.t.size());
+  std::vector<long> cycle(n);
+  for (long k = 0; k < n; ++k) cycle[k] = std::lround((l.t[k] - l.t[0]) / e->period);
+  // per cycle, the reference in force and its rate as commanded (excite: the move over the
+  // interval since its previous cycle)
+  std::vector<double> ref(static_cast<size_t>(cycle.back() + 1), l.ref[0]);
+  std::vector<double> rate(ref.size(), 0.0);
+  for (long k = 0, c = 0; c <= cycle.back(); ++c) {
+    while (k + 1 < n && cycle[k + 1] <= c) ++k;
+    ref[c] = l.ref[k];
+    rate[c] = k > 0 ? (l.ref[k] - l.ref[k - 1]) / (l.t[k] - l.t[k - 1]) : 0.0;
+  }
+  // a servo at its torque limit is not the PD law: the rows within kSaturated of the largest
+  // |tau| logged stay out
+  double tau_max = 0;
+  for (double t : l.tau) tau_max = std::fmax(tau_max, std::fabs(t));
+  std::vector<long> rows;
+  for (long k = 1; k < n; ++k)
+    if (cycle[k] == cycle[k - 1] + 1 && std::fabs(l.tau[k]) < (1 - kSaturated) * tau_max)
+      rows.push_back(k);
+  e->saturated = 0;
+  for (double t : l.tau) e->saturated += std::fabs(t) >= (1 - kSaturated) * tau_max;
   double best = -1;
-  for (int lag = 0; lag <= o.max_lag && n - lag - 2 > 20; ++lag) {
-    const long first = lag + 1;
-    Eigen::MatrixXd a(n - first, 3);
-    Eigen::VectorXd y(n - first);
-    for (long k = first; k < n; ++k) {
-      const long j = k - lag;
-      const double dref = (l.ref[j] - l.ref[j - 1]) / (l.t[j] - l.t[j - 1]);
-      a.row(k - first) << l.ref[j] - l.q[k - 1], dref - l.dq[k - 1], 1.0;
-      y(k - first) = l.tau[k];
+  for (int lag = 0; lag <= o.max_lag; ++lag) {
+    std::vector<long> use;
+    for (long k : rows)
+      if (cycle[k] - lag >= 1) use.push_back(k);
+    if (use.size() < 20) break;
+    Eigen::MatrixXd a(use.size(), 3);
+    Eigen::VectorXd y(use.size());
+    for (size_t i = 0; i < use.size(); ++i) {
+      const long k = use[i], c = cycle[k] - lag;
+      a.row(i) << ref[c] - l.q[k - 1], rate[c] - l.dq[k - 1], 1.0;
+      y(i) = l.tau[k];
     }
     const Fit f = LeastSquares(a, y);
     if (best < 0 || f.rms < best) {
@@ -158,10 +189,57 @@ bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate*
     *error = log.joint + ": " + std::to_string(log.t.size()) + " samples (need 100)";
     return false;
   }
-  e->period = (log.t.back() - log.t.front()) / static_cast<double>(log.t.size() - 1);
+  // the period: the median interval between rows
+  std::vector<double> dt;
+  for (size_t k = 1; k < log.t.size(); ++k) dt.push_back(log.t[k] - log.t[k - 1]);
+  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+  e->period = dt[dt.size() / 2];
+  if (!(e->period > 0)) {
+    *error = log.joint + ": the log's time does not increase";
+    return false;
+  }
   if (!FitDynamics(log, o, e, error)) return false;
   FitServo(log, o, e);
   return true;
+}
+
+int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o) {
+  std::vector<JointLog> joints;
+  std::string error;
+  if (!ReadExciteLog(log, &joints, &error)) {
+    std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
+    return 2;
+  }
+  nlohmann::json all = nlohmann::json::array();
+  std::printf("%-18s %9s %9s %9s %9s %9s %9s %7s %9s %8s\n", "joint", "I", "+-", "b", "+-", "c",
+              "+-", "lag_ms", "kp", "kd");
+  for (const JointLog& l : joints) {
+    JointEstimate e;
+    if (!EstimateJoint(l, o, &e, &error)) {
+      std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
+      return 2;
+    }
+    std::printf("%-18s %9.4g %9.2g %9.4g %9.2g %9.4g %9.2g %7.1f %9.4g %8.4g\n", e.joint.c_str(),
+                e.inertia, e.inertia_se, e.viscous, e.viscous_se, e.coulomb, e.coulomb_se,
+                1e3 * e.lag, e.kp, e.kd);
+    all.push_back({{"joint", e.joint}, {"samples", e.samples}, {"moving", e.moving},
+                   {"inertia", e.inertia}, {"inertia_se", e.inertia_se},
+                   {"viscous", e.viscous}, {"viscous_se", e.viscous_se},
+                   {"coulomb", e.coulomb}, {"coulomb_se", e.coulomb_se},
+                   {"dynamics_rms", e.dynamics_rms}, {"tau_rms", e.tau_rms},
+                   {"lag_cycles", e.lag_cycles}, {"period", e.period}, {"lag", e.lag},
+                   {"kp", e.kp}, {"kd", e.kd}, {"servo_rms", e.servo_rms}});
+  }
+  const std::string path = out_dir + "/joints.json";
+  std::ofstream f(path);
+  f << nlohmann::json{{"log", log}, {"joints", all}}.dump(2) << "\n";
+  if (!f) {
+    std::fprintf(stderr, "ohrp_identify: cannot write %s\n", path.c_str());
+    return 2;
+  }
+  std::printf("(I [kg m^2] total about the axis, b [N m s/rad], c [N m], the servo's lag with the "
+              "loop's own cycle, kp, kd as realised; %s)\n", path.c_str());
+  return 0;
 }
 
 }  // namespace ohrp::identify

@@ -16,15 +16,21 @@
 // the torque changing within it) the fit is biased.
 //
 // Servo: the torque the joint got is the PD of the reference `lag` cycles earlier,
-//   tau_k = kp (ref_{k-L} - q_{k-1}) + kd (dref_{k-L} - qd_{k-1}) + tau0,   dref the reference's rate,
+//   tau_k = kp (ref_{k-L} - q_{k-1}) + kd (dref_{k-L} - qd_{k-1}) + tau0,   dref the reference's
+//   rate as commanded (its change over the interval since the previous row, as excite sends it),
+//   L counted in cycles of the log's period (a row the logger missed: the row before in force),
 // fitted for each L in 0..max_lag; the L of least residual is the lag (the chain's own latency
-// included: one control cycle in sim_host), kp and kd the gains as realised.
+// included: one control cycle in sim_host), kp and kd the gains as realised. Rows whose |tau|
+// is within kSaturated of the largest logged are taken as the servo at its torque limit and left
+// out of this fit (not of the dynamics'): a saturated servo is not the PD law.
 #pragma once
 
 #include <string>
 #include <vector>
 
 namespace ohrp::identify {
+
+inline constexpr double kSaturated = 0.02;
 
 struct JointLog {
   std::string joint;
@@ -47,6 +53,7 @@ struct JointEstimate {
   double period = 0;                   // [s] mean sample period
   double lag = 0;                      // [s] lag_cycles * period
   double kp = 0, kd = 0, servo_rms = 0;
+  size_t saturated = 0;                // rows left out of the servo fit
 };
 
 // Reads an excite log (CSV: time, then JOINT_ref, JOINT_q, JOINT_dq, JOINT_tau per joint).
@@ -55,5 +62,10 @@ bool ReadExciteLog(const std::string& path, std::vector<JointLog>* joints, std::
 // Fits one joint's log. False with `*error` when there is too little motion to fit.
 bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate* e,
                    std::string* error);
+
+// ohrp identify --joints LOG: every joint of the excite log fitted, a table on stdout and
+// OUT_DIR/joints.json. Returns the exit code: 0, 2 (the log unreadable, or a joint that cannot be
+// fitted, with the reason on stderr).
+int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o);
 
 }  // namespace ohrp::identify
