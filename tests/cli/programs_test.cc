@@ -147,6 +147,7 @@ INSTANTIATE_TEST_SUITE_P(
         ProgramCase{"reach", {"--segment", "x", "--goal-joints", "LARM_ELBOW=-1.0"}, "--clearance",
                     {"--segment", "x", "--goal-joints", "LARM_ELBOW=-1.0", "--collision-file",
                      "nosuch.yaml"}},
+        ProgramCase{"excite", {"--segment", "x", "--joints", "LARM_ELBOW"}, "--amplitude", {}},
         ProgramCase{"bench_bridge", {}, "--cycles", {}, false},
         ProgramCase{"bench_loop", {}, "--duration", {}, false},
         ProgramCase{"bench_rt", {}, "--period", {}, false},

@@ -79,6 +79,21 @@ bool Emulator::SetUp(int* exit_code) {
     std::fprintf(stderr, "hw_emulator: --push needs a floating base; %s has none\n", o_.model.c_str());
     return false;
   }
+  // the robot's differences from the model, on the model before the state is first computed
+  std::vector<std::string> joint_names;
+  std::vector<int> dofs;
+  for (const model::JointMap& j : robot_.joints) {
+    joint_names.push_back(j.name);
+    dofs.push_back(j.dof_adr);
+    q_min_.push_back(j.q_min);
+    q_max_.push_back(j.q_max);
+  }
+  if (!ParseGap(o_.gap, joint_names, o_.period, &gap_, &error)) {
+    std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
+    return false;
+  }
+  ApplyGapToModel(gap_, dofs, m_, d_);
+  sensor_gap_ = std::make_unique<SensorGap>(gap_, o_.seed + 0x5eed);
   if (!scene_->Reset(o_.keyframe, &error)) {
     std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
     return false;
@@ -129,6 +144,8 @@ bool Emulator::SetUp(int* exit_code) {
   block_.njoint = static_cast<int>(robot_.joints.size());
   for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = shm::JointCommand{};  // kOff
   servo_->Accept(block_);
+  wanted_ = block_;
+  delay_.SetUp(gap_.delay_cycles, block_);
   mj_forward(m_, d_);
   z0_ = BaseZ();
 
@@ -159,10 +176,11 @@ bool Emulator::SetUp(int* exit_code) {
     std::fprintf(stderr,
                  "hw_emulator: robot '%s' (%zu joints, %d F/T, %d IMU) from %s; boards %s + "
                  "sensor board %d on udp %s:%d; period %g s (%d physics steps); loss %g, late %g "
-                 "x %g ms; robot time starts with the first command\n",
+                 "x %g ms; robot unlike the model: %s; robot time starts with the first command\n",
                  robot_.name.c_str(), robot_.joints.size(), nf, ni, o_.model.c_str(),
                  LayoutString(layout_).c_str(), layout_.sensor_board(), o_.host.c_str(),
-                 socket_.port(), o_.period, steps_per_cycle_, o_.loss, o_.late_rate, o_.late_ms);
+                 socket_.port(), o_.period, steps_per_cycle_, o_.loss, o_.late_rate, o_.late_ms,
+                 DescribeGap(gap_).c_str());
   }
   *exit_code = kEmuExitOk;
   return true;
@@ -284,6 +302,7 @@ int Emulator::Run() {
 
     // physics, the motor boards' PD at every step
     if (started_) {
+      if (delay_.cycles() > 0) ApplyDelayed();  // the commands of --delay-ms ago reach the PD
       // sim_host's physics step: pushes, the servo, the soft soles (when --contact soft), mj_step
       for (int s = 0; s < steps_per_cycle_; ++s) step_->Step(s == steps_per_cycle_ - 1);
       bool finite = true;

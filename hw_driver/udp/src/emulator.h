@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "plant_gap.h"
+
 namespace ohrp::hw::udp {
 
 struct EmulatorOptions {
@@ -46,6 +48,7 @@ struct EmulatorOptions {
   std::vector<std::string> silent, reset, stuck, saturate, estop, values;  // planned faults
                                                                           // (faults.h)
   std::string control_file;        // run-time fault commands (faults.h)
+  GapOptions gap;                  // the robot's differences from the model (plant_gap.h)
   std::string log_path;            // CSV: robot time, base height and tilt, faults
   int log_every = 10;              // cycles between log rows
   bool quiet = false;

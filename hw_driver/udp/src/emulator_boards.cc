@@ -96,13 +96,13 @@ void Emulator::ApplyCommand(const CommandPacket& p) {
     b.reset_flag = false;
   }
   // the whole block: other boards' joints keep their references
-  for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
+  block_ = wanted_;
   for (int k = 0; k < b.count; ++k) {
     const bool on = p.joint[k].servo_on && !b.locked;
     servo_on_[b.first + k] = on;
     block_.joint[b.first + k] = on ? p.joint[k].cmd : shm::JointCommand{};
   }
-  const int refused = servo_->Accept(block_);
+  const int refused = ToServo(0, 0);
   refused_joints_ += refused;
   b.joint_fault = refused > 0;
   if (!started_) {
@@ -121,18 +121,18 @@ void Emulator::HoldIdleBoards(double now) {
     b.holding = true;
     if (!any_on) continue;
     ++b.holds;
-    for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
+    block_ = wanted_;
     for (int k = 0; k < b.count; ++k) {
       const int j = b.first + k;
       if (!servo_on_[j]) continue;
       shm::JointCommand& c = block_.joint[j];
       c = shm::JointCommand{};
       c.mode = shm::JointMode::kPosition;
-      c.q_ref = sensors_.q[j];
+      c.q_ref = sensors_.q[j] + gap_.joint[j].bias;  // where its encoder reads it
       c.kp = robot_.joints[j].default_kp;
       c.kd = robot_.joints[j].default_kd;
     }
-    servo_->Accept(block_);
+    ToServo(b.first, b.count);
   }
 }
 
@@ -143,12 +143,12 @@ void Emulator::ResetBoard(int b) {
     return;
   }
   MotorBoard& mb = motor_[b];
-  for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = servo_->reference(i);
+  block_ = wanted_;
   for (int k = 0; k < mb.count; ++k) {
     block_.joint[mb.first + k] = shm::JointCommand{};
     servo_on_[mb.first + k] = false;
   }
-  servo_->Accept(block_);
+  ToServo(mb.first, mb.count);
   mb.rx = SeqTracker{};
   mb.tx_seq = 0;
   mb.ack = 0;
@@ -163,8 +163,57 @@ void Emulator::EstopChanged() {
     block_.joint[i] = shm::JointCommand{};
     servo_on_[i] = false;
   }
-  servo_->Accept(block_);
+  ToServo(0, block_.njoint);
   for (MotorBoard& b : motor_) b.locked = true;
+}
+
+// The boards' references (block_, in the encoders' frame) towards the servo: the encoders'
+// bias taken out (plant_gap.h) and, with --delay-ms, through the delay ring (ApplyDelayed), but
+// for joints [first, first + count), which act at once (e-stop, resets, the boards' own holds).
+// A joint whose command the servo would refuse keeps its reference (counted in refused_).
+// Returns the joints refused.
+int Emulator::ToServo(int first, int count) {
+  int refused = 0;
+  servo_block_ = block_;
+  sensor_gap_->ToJointFrame(q_min_.data(), q_max_.data(), &servo_block_);
+  if (delay_.cycles() == 0) {
+    refused = servo_->Accept(servo_block_);
+    for (int i = 0; i < block_.njoint; ++i) {
+      const uint32_t r = servo_->rejected_per_joint()[i];
+      if (r != servo_rejected_[i]) {
+        servo_rejected_[i] = r;
+        ++refused_[i];
+      } else {
+        wanted_.joint[i] = block_.joint[i];
+      }
+    }
+    return refused;
+  }
+  for (int i = 0; i < block_.njoint; ++i) {
+    const model::JointMap& j = robot_.joints[i];
+    if (model::CommandAcceptable(servo_block_.joint[i], j.q_min, j.q_max, j.tau_max)) {
+      wanted_.joint[i] = block_.joint[i];
+    } else {
+      ++refused_[i];
+      ++refused;
+    }
+  }
+  if (count > 0) {  // at once: out of the ring, into the servo
+    for (int j = first; j < first + count; ++j) delay_.Override(j, wanted_.joint[j]);
+    servo_block_ = wanted_;
+    sensor_gap_->ToJointFrame(q_min_.data(), q_max_.data(), &servo_block_);
+    for (int i = 0; i < block_.njoint; ++i)
+      if (i < first || i >= first + count) servo_block_.joint[i] = servo_->reference(i);
+    servo_->Accept(servo_block_);
+  }
+  return refused;
+}
+
+// Once a cycle with --delay-ms: the references accepted that many cycles ago reach the servo.
+void Emulator::ApplyDelayed() {
+  servo_block_ = delay_.Shift(wanted_);
+  sensor_gap_->ToJointFrame(q_min_.data(), q_max_.data(), &servo_block_);
+  servo_->Accept(servo_block_);
 }
 
 //---------------- states out ----------------
@@ -219,8 +268,8 @@ void Emulator::SendStates(double now) {
     for (int k = 0; k < b.count; ++k) {
       const int j = b.first + k;
       mp.joint[k].servo_on = servo_on_[j];
-      mp.joint[k].fault = servo_->rejected_per_joint()[j] > 0 ? 1 : 0;
-      mp.joint[k].q = j == faults_.value_joint ? faults_.value : sensors_.q[j];
+      mp.joint[k].fault = refused_[j] > 0 ? 1 : 0;
+      mp.joint[k].q = j == faults_.value_joint ? faults_.value : sensor_gap_->Encoder(j, sensors_.q[j]);
       mp.joint[k].dq = sensors_.dq[j];
       mp.joint[k].tau = sensors_.tau[j];
     }
@@ -246,6 +295,7 @@ void Emulator::SendStates(double now) {
   sp.h.time_ns = t_ns;
   for (int i = 0; i < sp.h.count; ++i) {
     shm::ForceTorque f = sensors_.force[i];
+    sensor_gap_->ForceTorque(&f);
     if (faults_.stuck & (1u << i)) {
       if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
       frozen_ |= 1u << i;
@@ -262,6 +312,7 @@ void Emulator::SendStates(double now) {
   for (int i = 0; i < sp.h.first; ++i) {
     const uint32_t bit = 1u << (8 + i);
     shm::Imu u = sensors_.imu[i];
+    sensor_gap_->Imu(&u);
     if (faults_.stuck & bit) {
       if (!(frozen_ & bit)) frozen_imu_[i] = u;
       frozen_ |= bit;

@@ -10,6 +10,7 @@
 
 #include "emulator.h"
 #include "faults.h"
+#include "plant_gap.h"
 #include "hw_udp/protocol.h"
 #include "hw_udp/socket.h"
 #include "robot_model/model.h"
@@ -68,6 +69,8 @@ class Emulator {
   void HoldIdleBoards(double now);
   void ApplyCommand(const CommandPacket& p);
   void ResetBoard(int b);
+  int ToServo(int first, int count);
+  void ApplyDelayed();
   void EstopChanged();
   void SendStates(double now);
   void Send(const uint8_t* data, size_t n, double now, bool may_be_late);
@@ -106,6 +109,15 @@ class Emulator {
   shm::ForceTorque frozen_force_[shm::kMaxForceSensors] = {};
   shm::Imu frozen_imu_[shm::kMaxImus] = {};
   uint32_t frozen_ = 0;    // sensors whose frozen value is taken
+  // the gap between the model and the robot (plant_gap.h)
+  PlantGap gap_;
+  std::unique_ptr<SensorGap> sensor_gap_;
+  CommandDelay delay_;
+  shm::CommandBlock wanted_{};       // the boards' references as accepted (encoders' frame)
+  shm::CommandBlock servo_block_{};  // what goes to the servo (joints' frame, delayed)
+  uint32_t refused_[shm::kMaxJoints] = {};         // commands refused per joint
+  uint32_t servo_rejected_[shm::kMaxJoints] = {};  // the servo's count, last seen
+  std::vector<double> q_min_, q_max_;
   FaultState faults_;
   std::vector<FaultEvent> events_;
   std::unique_ptr<ControlFile> control_;

@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ohrp::cli::InRange(0.0, 1.0));
   app.add_option("--late-ms", o.late_ms, "how late [ms]")->capture_default_str()
       ->check(ohrp::cli::NonNegative());
-  app.add_option("--seed", o.seed, "seed of the loss and late draws")->capture_default_str();
+  app.add_option("--seed", o.seed, "seed of the loss and late draws and of the sensors' noise")->capture_default_str();
   app.add_option("--silent", o.silent, "BOARD@T[+D]: the board stops answering at robot time T [s]");
   app.add_option("--reset", o.reset, "BOARD@T: the board restarts at T (its servos go off)");
   app.add_option("--stuck", o.stuck, "SENSOR@T: ft0..ft3 or imu0.. repeats its value from T on");
@@ -65,6 +65,30 @@ int main(int argc, char** argv) {
                  "file of fault commands read while running, one per appended line: loss P | "
                  "late P MS | silent B | talk B | reset B | stuck S | saturate S | sensor-ok S | "
                  "estop on|off | value J X | value off | clear");
+  // the robot unlike the model (plant_gap.h), for identification (docs/identify.md)
+  app.add_option("--friction", o.gap.friction,
+                 "JOINT|all=COULOMB,VISCOUS: the joint's Coulomb friction [N m] and viscous "
+                 "friction [N m s/rad] (MuJoCo frictionloss and damping, replacing the model's); "
+                 "JOINT a name or index; repeat, later ones override (all=..., then one joint)");
+  app.add_option("--armature", o.gap.armature,
+                 "JOINT|all=X: rotor inertia X [kg m^2] added to the joint's armature (repeat)");
+  app.add_option("--delay-ms", o.gap.delay_ms,
+                 "actuator delay [ms]: the motor boards apply each command this long after it "
+                 "arrives (a whole number of --period); e-stop, resets and holds act at once")
+      ->capture_default_str();
+  app.add_option("--encoder-bias", o.gap.encoder_bias,
+                 "JOINT|all=X: the joint's encoder reads q + X [rad], and the board's PD acts on "
+                 "what it reads (repeat)");
+  app.add_option("--encoder-noise", o.gap.encoder_noise,
+                 "white noise std [rad] on every reported joint position (the PD's reading is "
+                 "noise-free)")->capture_default_str();
+  app.add_option("--imu-bias", o.gap.imu_bias,
+                 "G,A or GX,GY,GZ,AX,AY,AZ: bias added to the IMUs' rates [rad/s] and "
+                 "accelerations [m/s^2]");
+  app.add_option("--imu-noise", o.gap.imu_noise,
+                 "G,A: white noise std on each IMU rate [rad/s] and acceleration [m/s^2] axis");
+  app.add_option("--ft-noise", o.gap.ft_noise,
+                 "F,T: white noise std on each F/T force [N] and torque [N m] axis");
   app.add_option("--log", o.log_path,
                  "CSV log: robot time, base height and tilt, servos, faults, base x, y and yaw");
   app.add_option("--log-every", o.log_every, "cycles between log rows")->capture_default_str()

@@ -9,6 +9,7 @@
 #include "cli/data_dir.h"
 #include "compare/compare.h"
 #include "identify/identify.h"
+#include "identify/joints.h"
 #include "sweep/executor_options.h"
 #include "tool_process/run_command.h"
 
@@ -81,12 +82,22 @@ int main(int argc, char** argv) {
       ->check(ohrp::cli::InRange(0.01, 0.5));
   app.add_option("--out", o.out_dir, "folder for identify.json and the simulations")->capture_default_str();
   app.add_flag("--quiet,-q", o.quiet, "print the result only");
+  bool joints = false;
+  app.add_flag("--joints", joints,
+               "the recording is an excite log (controllers/excite.h): per joint, inertia, viscous "
+               "and Coulomb friction, the servo's lag and realised gains (identify/joints.h); "
+               "writes DIR/joints.json");
   ohrp::sweep::AddExecutorOptions(&app, &o.executor, "simulations of a stage");
   app.footer(
       "Exit codes: 0 identified, 1 a simulation failed or the refinement could not proceed,\n"
       "2 bad option or input (a missing or malformed recording, an unknown channel, a scenario\n"
       "without a push, no oscillation in the recording). docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (joints) {
+    std::error_code made;
+    fs::create_directories(o.out_dir, made);
+    return ohrp::identify::IdentifyJoints(o.recording, o.out_dir, ohrp::identify::JointFitOptions{});
+  }
   o.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
   o.executor.progress = !o.quiet;
   for (const char* program : {"ohrp_run", "ohrp_sweep"}) {

@@ -1,0 +1,120 @@
+// hw_emulator's gap between the model and the robot: what a real robot has that the model does
+// not, set from the command line so that identification (issue 35) is tested on values it is
+// not told.
+//
+//   --friction JOINT|all=COULOMB,VISCOUS  the joint's dof gets MuJoCo frictionloss COULOMB [N m]
+//                                         and damping VISCOUS [N m s/rad] (replacing the model's;
+//                                         see kFrictionImpedance)
+//   --armature JOINT|all=X                X [kg m^2] added to the dof's armature (rotor inertia)
+//   --delay-ms X                          the motor boards apply the commands X ms (a whole number
+//                                         of board cycles) after they arrive; e-stop, board resets
+//                                         and the boards' own holds act at once
+//   --encoder-bias JOINT|all=X            the joint's encoder reads q + X [rad]; the board's PD
+//                                         acts on what it reads (a position reference r holds the
+//                                         joint at r - X)
+//   --encoder-noise X                     white noise of std X [rad] on every reported joint
+//                                         position (the board's PD uses the noise-free reading)
+//   --imu-bias G,A | GX,GY,GZ,AX,AY,AZ    added to the IMUs' rates [rad/s] and specific forces [m/s^2]
+//   --imu-noise G,A                       white noise std on each rate / acceleration axis
+//   --ft-noise F,T                        white noise std on each force [N] / torque [N m] axis
+// JOINT is a joint's name or index; later entries override earlier ones (all=..., then one joint).
+// Velocities, torques and passive joints are reported as simulated.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "shm_bridge/layout.h"
+
+struct mjModel_;
+typedef struct mjModel_ mjModel;
+struct mjData_;
+typedef struct mjData_ mjData;
+
+namespace ohrp::hw::udp {
+
+inline constexpr double kMaxDelayMs = 1000.0;
+
+// the options as given on the command line
+struct GapOptions {
+  std::vector<std::string> friction, armature, encoder_bias;
+  double delay_ms = 0;
+  double encoder_noise = 0;
+  std::string imu_bias, imu_noise, ft_noise;
+};
+
+struct JointGap {
+  double coulomb = -1, viscous = -1;  // < 0: the model's
+  double armature = 0;                // added [kg m^2]
+  double bias = 0;                    // encoder bias [rad]
+};
+
+struct PlantGap {
+  std::vector<JointGap> joint;  // per robot joint
+  int delay_cycles = 0;
+  double encoder_noise = 0;
+  double gyro_bias[3] = {}, accel_bias[3] = {};
+  double gyro_noise = 0, accel_noise = 0, force_noise = 0, torque_noise = 0;
+};
+
+// Parses the options for a robot with these joints and board cycle `period` [s]. Returns false
+// with `*error` naming the option, the value and what is expected.
+bool ParseGap(const GapOptions& o, const std::vector<std::string>& joint_names, double period,
+              PlantGap* gap, std::string* error);
+
+// MuJoCo's friction loss is a soft constraint: under a torque below it a joint creeps. The
+// constraint's impedance (solimp's first two values, MuJoCo's default 0.9) is raised to this on
+// the joints given a Coulomb friction: a hinge of 0.2 kg m^2 under 80 % of its friction creeps
+// at 1e-4 of the speed it would reach in 1 s without friction (1e-3 at the default).
+inline constexpr double kFrictionImpedance = 0.99;
+
+// Sets friction loss (and its impedance), damping and armature of each joint's dof (dof_adr[j])
+// on the model; `data` is used to recompute the model's constants when an armature changes.
+// Set-up only.
+void ApplyGapToModel(const PlantGap& gap, const std::vector<int>& dof_adr, mjModel* m,
+                     mjData* data);
+
+// One line for the start-up message ("none" when the robot is the model).
+std::string DescribeGap(const PlantGap& gap);
+
+// The actuator delay: a ring of preallocated command blocks.
+class CommandDelay {
+ public:
+  // `cycles` blocks, each `initial`; allocates (set-up only)
+  void SetUp(int cycles, const shm::CommandBlock& initial);
+  int cycles() const { return static_cast<int>(ring_.size()); }
+  // enters `now`; returns the block entered `cycles` calls ago
+  const shm::CommandBlock& Shift(const shm::CommandBlock& now);
+  // joint `j` gets `c` in every pending block (what must act at once)
+  void Override(int j, const shm::JointCommand& c);
+
+ private:
+  std::vector<shm::CommandBlock> ring_;
+  shm::CommandBlock out_{};
+  size_t head_ = 0;
+};
+
+// The sensors as the robot's give them: bias and white noise (no allocation).
+class SensorGap {
+ public:
+  SensorGap(const PlantGap& gap, uint64_t seed) : gap_(gap), rng_(seed) {}
+  double Encoder(int j, double q) {
+    const JointGap& g = gap_.joint[j];
+    return q + g.bias + (gap_.encoder_noise > 0 ? gap_.encoder_noise * normal_(rng_) : 0.0);
+  }
+  void Imu(shm::Imu* u);
+  void ForceTorque(shm::ForceTorque* f);
+  // the references the boards' PD acts on: a position reference in the encoder's frame becomes
+  // one in the joint's (bias taken out; kept within [q_min, q_max] when it was)
+  void ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const;
+
+ private:
+  double Noise(double std) { return std > 0 ? std * normal_(rng_) : 0.0; }
+  const PlantGap& gap_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> normal_{0.0, 1.0};
+};
+
+}  // namespace ohrp::hw::udp
