@@ -39,6 +39,11 @@ double ModelElbowInertia(int* joint) {
 class JointsOnTheEmulator : public EmulatorTest {};
 
 TEST_F(JointsOnTheEmulator, TheElbowsFrictionInertiaDelayAndGainsAreRecovered) {
+#ifdef OHRP_SANITIZE
+  // the chirp is driven through the UDP boards in real time: at -O1 with ASan the loop's late
+  // commands jolt the arm (as walk through hw_driver: walk_hw_test.cc)
+  GTEST_SKIP() << "the emulator's real-time excitation is not real time in a sanitizer build";
+#endif
   int elbow = -1;
   const double inertia = ModelElbowInertia(&elbow) + kExtraArmature;
   const int port = Start({"--duration", "9.0", "--keyframe", "halfsit", "--friction",
