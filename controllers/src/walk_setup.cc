@@ -30,6 +30,8 @@ ConfigStatus CheckWalkOptions(const WalkOptions& o) {
   if (!(std::isfinite(o.inertia_feedforward) && o.inertia_feedforward >= 0 &&
         o.inertia_feedforward <= 2))
     return bad("inertia_feedforward must be in [0, 2]");
+  if (!(std::isfinite(o.swing_zmp) && o.swing_zmp >= 0 && o.swing_zmp <= 1))
+    return bad("swing_zmp must be in [0, 1]");
   if (!(std::isfinite(o.step_search) && o.step_search >= 0 && o.step_search <= 0.2))
     return bad("step_search must be in [0, 0.2] m");
   if (!(std::isfinite(o.log_seconds) && o.log_seconds > 0 && o.log_seconds <= 36000))
@@ -155,6 +157,29 @@ double WalkController::LegLength(Eigen::Vector3d* hip) const {
   return first ? 0.0 : length + (k.p_WSole(k.left_sole()) - last).norm();
 }
 
+void WalkController::SetSwingZmp(double hip_stance, double sole_z) {
+  // the left leg's bodies (hip joint to sole) at their stance heights scaled to the walking hip
+  // height (the CoM lowered by bending the legs); the preview plans against their ZMP share
+  const model::Kinematics& k = *kin_ik_;
+  const mjModel* m = k.m();
+  const int sole_body = k.soles()[k.left_sole()].body_id;
+  const double hip = walk_options_.gait.hip_height;
+  std::vector<walking::LegBody> leg;
+  std::vector<int> bodies;
+  for (int j : k.Chain(k.robot().base_body, sole_body)) bodies.push_back(m->jnt_bodyid[k.robot().joints[j].joint_id]);
+  bodies.push_back(sole_body);
+  std::sort(bodies.begin(), bodies.end());
+  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  for (int b : bodies) {
+    const Eigen::Vector3d c = k.p_WBody(b) + k.R_WBody(b) * Eigen::Vector3d(m->body_ipos[3 * b],
+                                                                           m->body_ipos[3 * b + 1],
+                                                                           m->body_ipos[3 * b + 2]);
+    leg.push_back({m->body_mass[b], (c.z() - sole_z) * hip / std::max(hip_stance, 1e-6)});
+  }
+  swing_zmp_gain_ = walking::SwingZmpGain(leg, hip, zc_, k.mass());
+  gen_.SetSwingZmpGain(walk_options_.swing_zmp * swing_zmp_gain_);
+}
+
 ConfigStatus WalkController::FitStance(const double* q) {
   // the stance (base upright at the origin): the soles' nominal poses, the CoM height
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
@@ -193,6 +218,7 @@ ConfigStatus WalkController::FitStance(const double* q) {
   constexpr double kLegReach = 0.95;
   walk_options_.gait.leg_reach = kLegReach * leg;
   walk_options_.gait.hip_height = hip.z() - mid.z() - walk_options_.com_lower;
+  SetSwingZmp(hip.z() - mid.z(), mid.z());
   // a recovery step (the stepping strategy) may go as far as that leg reaches from the hip at
   // the walking height, beyond the planner's limits: r = sqrt(reach^2 - hip height^2) ahead,
   // behind, or beside the hip (half the width beside the stance sole)
