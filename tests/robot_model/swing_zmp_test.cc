@@ -1,7 +1,8 @@
 // Tests the swinging legs' share of the ZMP (walking::SwingZmpGain, PatternGenerator's
 // SetSwingZmpGain) against closed forms: the gain of point masses on a leg turning about the hip,
 // and the share the generator adds during a swing against the minimum-jerk travel's peak
-// acceleration 10 / sqrt(3) D / T^2.
+// acceleration 10 / sqrt(3) D / T^2; that peak against the gait's own swing, and the most the
+// hip lets a foot accelerate (SwingPeakAcceleration, SwingAccelerationLimit).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -75,6 +76,45 @@ TEST(SwingZmpGain, GeneratorAddsTheSwingFootsAccelerationTimesTheGain) {
   // the preview tracks the reference less the share to within what it tracks the cart's own
   // reference (a few mm at the double supports' corners)
   EXPECT_LT(worst_sum, 0.02);
+}
+
+// the swing foot's peak acceleration on the flat, against the gait's own swing sampled every
+// 0.1 ms (second differences): 10/sqrt(3) D / T^2 over T = step (1 - ds) (1 - 2 vf)
+TEST(SwingPeakAcceleration, MatchesTheGaitsSwing) {
+  for (double vf : {0.0, 0.05}) {
+    GaitOptions o;
+    o.step_time = 0.6;
+    o.double_support_ratio = 0.05;
+    o.vertical_fraction = vf;
+    FeetPose f;
+    f.p[kLeft] = Eigen::Vector3d(0, 0.08, 0);
+    f.p[kRight] = Eigen::Vector3d(0, -0.08, 0);
+    Gait gait;
+    gait.Start(0, f, o);
+    Footstep s;
+    s.foot = kRight;
+    s.p = Eigen::Vector3d(0.36, -0.08, 0);
+    gait.Replace(0, {s});
+    const double h = 1e-4;
+    double peak = 0;
+    GaitState a, b, c;
+    for (double t = gait.step_lift(0) + h; t < gait.step_land(0) - h; t += h) {
+      gait.At(t - h, &a);
+      gait.At(t, &b);
+      gait.At(t + h, &c);
+      peak = std::max(peak, std::abs(c.feet.p[kRight].x() - 2 * b.feet.p[kRight].x() + a.feet.p[kRight].x()) / (h * h));
+    }
+    const double T = 0.6 * 0.95 * (1 - 2 * vf);
+    EXPECT_NEAR(SwingPeakAcceleration(o, 0.36), 10 / std::sqrt(3.0) * 0.36 / (T * T), 1e-9);
+    EXPECT_NEAR(peak, SwingPeakAcceleration(o, 0.36), 0.01 * peak) << "vf " << vf;
+  }
+}
+
+// (tau_max - tau_gravity) hip / inertia; no more than none when gravity takes all the torque
+TEST(SwingAccelerationLimit, TorqueLessGravityOverInertiaAtTheFoot) {
+  EXPECT_NEAR(SwingAccelerationLimit(400, 25, 15, 0.6), 375 * 0.6 / 15, 1e-12);
+  EXPECT_EQ(SwingAccelerationLimit(400, 500, 15, 0.6), 0);
+  EXPECT_TRUE(std::isinf(SwingAccelerationLimit(400, 25, 0, 0.6)));
 }
 
 }  // namespace

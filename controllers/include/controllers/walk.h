@@ -172,6 +172,8 @@ class WalkController : public BalanceController {
   ConfigStatus FitStance(const double* q);
   // the swinging legs' ZMP share (walking::SwingZmpGain) from the model, to the generator
   void SetSwingZmp(double hip_stance, double sole_z);
+  // refuses a max_forward and step timing whose swing needs more than the hip can accelerate
+  ConfigStatus FitSwing();
   ConfigStatus FitPhysics(double leg_length);
   ConfigStatus LoadTerrain();
   // hip joint to sole along the left leg (the model) [m]; 0 when no chain is found; `*hip`:
@@ -224,6 +226,7 @@ class WalkController : public BalanceController {
   double z_lower_ = 0;                         // [m] lowering still to do at the start
   double zc_ = 0;                              // [m] walking CoM height over the soles
   double swing_zmp_gain_ = 0;                  // [s^2] walking::SwingZmpGain of a leg
+  double leg_mass_ = 0, leg_depth_ = 0;        // [kg], [m] a leg's mass, its CoM below the hip
   bool started_ = false;
   int next_command_ = 0;
   double ready_time_ = 0;                      // a wait ends [s]
