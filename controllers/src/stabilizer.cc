@@ -68,7 +68,7 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   const Eigen::Vector2d c = in.c.head<2>();
   out_.dcm = c + in.dc.head<2>() / omega;
   const Eigen::Vector2d dcm_ref = in.c_ref + in.dc_ref / omega;
-  const Eigen::Vector2d zmp_ref = in.c_ref - in.ddc_ref / (omega * omega);
+  const Eigen::Vector2d zmp_ref = in.c_ref - in.ddc_ref / (omega * omega) + in.zmp_ref_offset;
   out_.zmp_desired_raw = zmp_ref + (1.0 + g.k_dcm / omega) * (out_.dcm - dcm_ref);
 
   // the support: the supporting sole, or the bounding box of both soles' corners, less the

@@ -215,6 +215,7 @@ void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::Wal
   input_.c_ref = w.com.head<2>();
   input_.dc_ref = w.dcom.head<2>();
   input_.ddc_ref = w.ddcom.head<2>();
+  input_.zmp_ref_offset = w.zmp_swing;
   c_ref_ = input_.c_ref;
   input_.mass = k.mass();
   input_.heading = Wrap(frame_yaw_ + YawOf(e.quat_WB.toRotationMatrix()));

@@ -192,7 +192,8 @@ ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, Wa
       {"preview_q", &o->preview.q}, {"preview_r", &o->preview.r}, {"com_lower", &o->com_lower},
       {"lower_time", &o->lower_time}, {"step_search", &o->step_search},
       {"swing_tilt_compensation", &o->swing_tilt_compensation},
-      {"inertia_feedforward", &o->inertia_feedforward}, {"max_forward", &l.max_forward},
+      {"inertia_feedforward", &o->inertia_feedforward}, {"swing_zmp", &o->swing_zmp},
+      {"max_forward", &l.max_forward},
       {"max_backward", &l.max_backward}, {"max_side", &l.max_side}, {"min_width", &l.min_width},
       {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance},
       {"max_stride_change", &l.max_stride_change}};
@@ -207,7 +208,8 @@ ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, Wa
       {"max_side", "stride"},           {"min_width", "stride"},
       {"clearance", "distance"},        {"max_stride_change", "stride"},
       {"preview_time", "duration"},
-      {"swing_tilt_compensation", "fraction"}, {"inertia_feedforward", "gain_scale"}};
+      {"swing_tilt_compensation", "fraction"}, {"inertia_feedforward", "gain_scale"},
+      {"swing_zmp", "fraction"}};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     const auto it = keys.find(key);

@@ -30,6 +30,8 @@ ConfigStatus CheckWalkOptions(const WalkOptions& o) {
   if (!(std::isfinite(o.inertia_feedforward) && o.inertia_feedforward >= 0 &&
         o.inertia_feedforward <= 2))
     return bad("inertia_feedforward must be in [0, 2]");
+  if (!(std::isfinite(o.swing_zmp) && o.swing_zmp >= 0 && o.swing_zmp <= 1))
+    return bad("swing_zmp must be in [0, 1]");
   if (!(std::isfinite(o.step_search) && o.step_search >= 0 && o.step_search <= 0.2))
     return bad("step_search must be in [0, 0.2] m");
   if (!(std::isfinite(o.log_seconds) && o.log_seconds > 0 && o.log_seconds <= 36000))
@@ -156,6 +158,35 @@ double WalkController::LegLength(Eigen::Vector3d* hip) const {
   return first ? 0.0 : length + (k.p_WSole(k.left_sole()) - last).norm();
 }
 
+void WalkController::SetSwingZmp(double hip_stance, double sole_z) {
+  // the left leg's bodies (hip joint to sole) at their stance heights scaled to the walking hip
+  // height (the CoM lowered by bending the legs); the preview plans against their ZMP share
+  const model::Kinematics& k = *kin_ik_;
+  const mjModel* m = k.m();
+  const int sole_body = k.soles()[k.left_sole()].body_id;
+  const double hip = walk_options_.gait.hip_height;
+  std::vector<walking::LegBody> leg;
+  std::vector<int> bodies;
+  for (int j : k.Chain(k.robot().base_body, sole_body)) bodies.push_back(m->jnt_bodyid[k.robot().joints[j].joint_id]);
+  bodies.push_back(sole_body);
+  std::sort(bodies.begin(), bodies.end());
+  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  for (int b : bodies) {
+    const Eigen::Vector3d c = k.p_WBody(b) + k.R_WBody(b) * Eigen::Vector3d(m->body_ipos[3 * b],
+                                                                           m->body_ipos[3 * b + 1],
+                                                                           m->body_ipos[3 * b + 2]);
+    leg.push_back({m->body_mass[b], (c.z() - sole_z) * hip / std::max(hip_stance, 1e-6)});
+  }
+  swing_zmp_gain_ = walking::SwingZmpGain(leg, hip, zc_, k.mass());
+  leg_mass_ = leg_depth_ = 0;
+  for (const walking::LegBody& b : leg) {
+    leg_mass_ += b.mass;
+    leg_depth_ += b.mass * (hip - b.height);
+  }
+  leg_depth_ /= std::max(leg_mass_, 1e-9);
+  gen_.SetSwingZmpGain(walk_options_.swing_zmp * swing_zmp_gain_);
+}
+
 ConfigStatus WalkController::FitStance(const double* q) {
   // the stance (base upright at the origin): the soles' nominal poses, the CoM height
   kin_ik_->SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
@@ -194,6 +225,7 @@ ConfigStatus WalkController::FitStance(const double* q) {
   constexpr double kLegReach = 0.95;
   walk_options_.gait.leg_reach = kLegReach * leg;
   walk_options_.gait.hip_height = hip.z() - mid.z() - walk_options_.com_lower;
+  SetSwingZmp(hip.z() - mid.z(), mid.z());
   // a recovery step (the stepping strategy) may go as far as that leg reaches from the hip at
   // the walking height, beyond the planner's limits: r = sqrt(reach^2 - hip height^2) ahead,
   // behind, or beside the hip (half the width beside the stance sole)
@@ -220,6 +252,7 @@ ConfigStatus WalkController::FitPhysics(double leg) {
   walking::StepLimits& lim = walk_options_.limits;
   lim.physics_basis = basis;
   if (!(leg > 0)) return ConfigStatus::Ok();  // no leg chain found: the table's ranges hold
+  if (ConfigStatus s = FitSwing(); !s.ok()) return s;
   lim.max_rise = leg / 3;
   lim.max_apex = leg / 3;
   const cli::PlausibleRange* step_time = cli::FindPlausible("step_time");
@@ -243,6 +276,54 @@ ConfigStatus WalkController::FitPhysics(double leg) {
     return ConfigStatus::Fail(ConfigError::kOption, buf);
   }
   return ConfigStatus::Ok();
+}
+
+ConfigStatus WalkController::FitSwing() {
+  // the longest forward step's swing (from max_forward behind to max_forward ahead) against what
+  // the left hip pitch joint (the first joint of the leg turning about the base's y axis) can
+  // accelerate: its torque limit less the leg's gravity load where the swing's acceleration
+  // peaks, over its inertia in the stance (the mass matrix's diagonal: the leg's and the
+  // rotor's), at the foot hip_height below it
+  model::Kinematics& k = *kin_ik_;
+  const mjModel* m = k.m();
+  const int sole_body = k.soles()[k.left_sole()].body_id;
+  int hip_pitch = -1;
+  for (int j : k.Chain(k.robot().base_body, sole_body)) {
+    const int jid = k.robot().joints[j].joint_id;
+    const Eigen::Vector3d axis = k.R_WBody(m->jnt_bodyid[jid]) *
+                                 Eigen::Vector3d(m->jnt_axis[3 * jid], m->jnt_axis[3 * jid + 1], m->jnt_axis[3 * jid + 2]);
+    if (std::abs(axis.y()) > 0.9) {
+      hip_pitch = j;
+      break;
+    }
+  }
+  const walking::GaitOptions& g = walk_options_.gait;
+  const double tau_max = hip_pitch >= 0 ? k.robot().joints[hip_pitch].tau_max : 0;
+  if (hip_pitch < 0 || !(tau_max > 0) || tau_max >= model::kNoLimit || !(g.hip_height > 0))
+    return ConfigStatus::Ok();
+  Eigen::MatrixXd M(k.nv(), k.nv());
+  k.MassMatrix(M);
+  const int col = k.base_columns() + hip_pitch;
+  const double stride = walk_options_.limits.max_forward;
+  // at the peak (the minimum-jerk profile's s = 1/2 - sqrt(3)/6) the foot has travelled f(s) of
+  // its 2 strides: it is (1 - 2 f(s)) = 0.866 of a stride behind the hip (over the stance sole)
+  double f, df, ddf;
+  walking::MinJerk(0.5 - std::sqrt(3.0) / 6, &f, &df, &ddf);
+  const double behind = (1 - 2 * f) * stride;
+  const double tau_g = leg_mass_ * 9.81 * leg_depth_ * std::sin(std::atan2(behind, g.hip_height));
+  const double limit = walking::SwingAccelerationLimit(tau_max, tau_g, M(col, col), g.hip_height);
+  const double need = walking::SwingPeakAcceleration(g, 2 * stride);
+  if (need <= limit) return ConfigStatus::Ok();
+  char buf[600];
+  std::snprintf(buf, sizeof buf,
+                "max_forward %.3f m at %.3f s steps (double support %.2f, vertical share %.2f) "
+                "swings the foot at up to %.1f m/s^2; the legs reach %.1f m/s^2 (%s: %.0f N m "
+                "less %.0f N m of gravity, over %.1f kg m^2, the foot %.3f m below): a shorter "
+                "max_forward, longer steps or a smaller double support or vertical share",
+                stride, g.step_time, g.double_support_ratio, g.vertical_fraction, need, limit,
+                k.robot().joints[hip_pitch].name.c_str(), tau_max, tau_g, M(col, col),
+                g.hip_height);
+  return ConfigStatus::Fail(ConfigError::kOption, buf);
 }
 
 ConfigStatus WalkController::PlanCommands() {

@@ -99,6 +99,9 @@ struct StabilizerInput {
   Eigen::Vector2d c_ref = Eigen::Vector2d::Zero();  // where the CoM should be [m]
   Eigen::Vector2d dc_ref = Eigen::Vector2d::Zero();   // its velocity [m/s]
   Eigen::Vector2d ddc_ref = Eigen::Vector2d::Zero();  // its acceleration [m/s^2]
+  // what the reference's ZMP has beyond the cart-table's c_ref - ddc_ref / omega^2 (a walk's
+  // swinging legs: walking::WalkSample::zmp_swing) [m]
+  Eigen::Vector2d zmp_ref_offset = Eigen::Vector2d::Zero();
   FootWrench feet[2];                            // left, right ankle wrenches
   // the soles' measured tilt in W (estimated base orientation and joint angles): roll about
   // x and pitch about y such that the sole's normal is Rx(roll) Ry(pitch) e_z [rad]

@@ -83,6 +83,8 @@ struct WalkOptions {
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
                                      // acceleration sent as feed-forward torque [-]
+  double swing_zmp = 1.0;  // share of the swinging legs' ZMP shift (walking::SwingZmpGain, from
+                           // the model) the preview plans the CoM against [-]
   std::vector<WalkCommand> commands;
   std::string params_file;       // YAML: gait, preview and limit parameters (walk_commands.cc)
   std::string terrain;           // MJCF scene whose static geometry the steps are put on
@@ -173,6 +175,10 @@ class WalkController : public BalanceController {
   // the stance's nominal feet, the walking CoM height and the step limits from the model at
   // joint positions `q` (base upright at the origin); then the limits of the robot's physics
   ConfigStatus FitStance(const double* q);
+  // the swinging legs' ZMP share (walking::SwingZmpGain) from the model, to the generator
+  void SetSwingZmp(double hip_stance, double sole_z);
+  // refuses a max_forward and step timing whose swing needs more than the hip can accelerate
+  ConfigStatus FitSwing();
   ConfigStatus FitPhysics(double leg_length);
   ConfigStatus LoadTerrain();
   // hip joint to sole along the left leg (the model) [m]; 0 when no chain is found; `*hip`:
@@ -228,6 +234,8 @@ class WalkController : public BalanceController {
   double sole_yaw_B_[2] = {0, 0};              // the soles' yaw against the base's
   double z_lower_ = 0;                         // [m] lowering still to do at the start
   double zc_ = 0;                              // [m] walking CoM height over the soles
+  double swing_zmp_gain_ = 0;                  // [s^2] walking::SwingZmpGain of a leg
+  double leg_mass_ = 0, leg_depth_ = 0;        // [kg], [m] a leg's mass, its CoM below the hip
   bool started_ = false;
   int next_command_ = 0;
   double ready_time_ = 0;                      // a wait ends [s]

@@ -66,6 +66,15 @@ struct GaitOptions {
 double StepDownDrop(const GaitOptions& o, double depth, double reach_xy);
 // "" when usable, else which option and why
 std::string CheckGaitOptions(const GaitOptions& o);
+// the swing foot's peak horizontal acceleration over a travel of `travel` [m] on the flat: the
+// minimum-jerk profile's 10/sqrt(3) travel / T^2 over T = step_time (1 - double_support_ratio)
+// (1 - 2 vertical_fraction) [m/s^2]; infinite for T <= 0
+double SwingPeakAcceleration(const GaitOptions& o, double travel);
+// the most a swing foot `hip_height` [m] below the hip can accelerate when the leg turns about
+// the hip pitch joint of torque limit `tau_max` [N m], gravity load `tau_gravity` [N m] and
+// inertia about its axis `inertia` [kg m^2] (the leg's and the rotor's):
+// (tau_max - tau_gravity) hip_height / inertia [m/s^2]; infinite for no inertia
+double SwingAccelerationLimit(double tau_max, double tau_gravity, double inertia, double hip_height);
 
 // where everything is at one time
 struct GaitState {

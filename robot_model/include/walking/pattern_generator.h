@@ -25,8 +25,29 @@ struct WalkSample {
   Eigen::Vector3d dcom = Eigen::Vector3d::Zero();    // [m/s]
   Eigen::Vector3d ddcom = Eigen::Vector3d::Zero();   // [m/s^2]
   Eigen::Vector2d zmp = Eigen::Vector2d::Zero();     // the cart-table ZMP of the planned CoM [m]
+  // the ZMP's share the swinging legs add to the cart's (SwingZmpGain times the feet's
+  // horizontal acceleration): the robot's ZMP is zmp + zmp_swing, which the preview makes the
+  // gait's reference [m]
+  Eigen::Vector2d zmp_swing = Eigen::Vector2d::Zero();
   GaitState gait;                                    // ZMP reference, ground, feet, support
 };
+
+// A leg's body, for SwingZmpGain: its mass and its centre of mass's height above the soles in
+// the walking stance.
+struct LegBody {
+  double mass = 0;    // [kg]
+  double height = 0;  // [m]
+};
+// How far the ZMP moves per unit horizontal acceleration of a swinging foot [s^2] when the
+// whole-body CoM follows the plan (the leg IK moves the rest of the body against the leg):
+//   kappa = sum_i m_i s_i (z_r - z_i) / (M g),  s_i = clamp((hip - z_i) / (hip - sole), 0, 1)
+// body i of the leg, at height z_i, moving with the share s_i of the foot's acceleration (the
+// leg turning about the hip joint at height `hip_height`, the sole at 0); z_r the height of the
+// rest of the robot's centre of mass (total mass M, CoM at `com_height`), whose acceleration
+// cancels the leg's linear momentum rate: the ZMP moves by kappa times the foot's acceleration,
+// the way it goes. 0 for no legs or no mass.
+double SwingZmpGain(const std::vector<LegBody>& leg, double hip_height, double com_height,
+                    double total_mass, double gravity = 9.81);
 
 class PatternGenerator {
  public:
@@ -46,6 +67,10 @@ class PatternGenerator {
   // the planned CoM moved by `dc` [m] and its velocity by `dv` [m/s] (horizontal; e.g. onto a
   // measured state after a push): the preview servo plans on from there. No allocation.
   void ShiftCoM(const Eigen::Vector2d& dc, const Eigen::Vector2d& dv);
+  // the ZMP's share per unit horizontal acceleration of a swinging foot (SwingZmpGain) [s^2]:
+  // the preview follows the gait's ZMP reference less that share, so that the robot's ZMP (the
+  // cart's plus the legs') is on the reference. 0 (the default): the cart-table model alone
+  void SetSwingZmpGain(double kappa) { swing_gain_ = kappa; }
   // one control period ahead; no allocation
   const WalkSample& Advance();
 
@@ -58,12 +83,18 @@ class PatternGenerator {
 
  private:
   void Sample();
+  void SizeHorizon();
+  // the legs' share of the ZMP over the horizon taken out of the reference (swing_gain_)
+  void SwingShare(double dt, int n);
 
   GaitOptions gait_options_;
   PreviewGains gains_;
   Gait gait_;
   PreviewAxis axis_[2];
   std::vector<double> ref_[2];  // the ZMP reference over the horizon, x and y
+  // both feet's horizontal positions over the horizon, one sample before and after it too
+  std::vector<Eigen::Vector2d> feet_[2];
+  double swing_gain_ = 0;       // [s^2]
   double t_ = 0;
   double ground0_ = 0;          // the ground height the CoM height zc is measured from at Start
   WalkSample sample_;

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ohrp::walking {
 namespace {
@@ -50,6 +51,17 @@ std::string CheckGaitOptions(const GaitOptions& o) {
   if (!finite(o.zmp_forward) || std::abs(o.zmp_forward) > 0.1)
     return "zmp_forward must be within +-0.1 m (got " + std::to_string(o.zmp_forward) + ")";
   return "";
+}
+
+double SwingPeakAcceleration(const GaitOptions& o, double travel) {
+  const double T = o.step_time * (1 - o.double_support_ratio) * (1 - 2 * o.vertical_fraction);
+  if (!(T > 0)) return std::numeric_limits<double>::infinity();
+  return 10 / std::sqrt(3.0) * travel / (T * T);
+}
+
+double SwingAccelerationLimit(double tau_max, double tau_gravity, double inertia, double hip_height) {
+  if (!(inertia > 0)) return std::numeric_limits<double>::infinity();
+  return std::max(tau_max - tau_gravity, 0.0) * hip_height / inertia;
 }
 
 double StepDownDrop(const GaitOptions& o, double depth, double reach_xy) {
