@@ -61,6 +61,24 @@ double Penetration(const mjModel* m, const mjData* d, const Pair& p, std::vector
   return closest;
 }
 
+// the run's scene and its robot-obstacle pairs; false with `*why` (the scene does not load, or
+// has no static obstacle)
+struct ObstacleScene {
+  std::string path;
+  std::unique_ptr<model::Scene> scene;
+  std::vector<Pair> pairs;
+  int obstacles = 0;
+  bool Load(const nlohmann::json& sim, std::string* why) {
+    path = sim.value("scene", "");
+    std::string error;
+    scene = model::Scene::Load(path, &error);
+    if (!scene) return *why = "the run's scene: " + error, false;
+    pairs = ObstaclePairs(scene->m(), &obstacles);
+    if (obstacles == 0) return *why = path + " has no static obstacle (only the floor)", false;
+    return true;
+  }
+};
+
 // each geom of `pairs` as a shape for distances (null for a geom that cannot be one); false with
 // the reason for the first such geom
 bool GeomShapes(const mjModel* m, const std::vector<Pair>& pairs,
@@ -104,15 +122,13 @@ std::string Seconds(double t) {
 
 CheckResult ObstacleContacts(const CheckSpec& spec, const datalog::Table& log, const nlohmann::json& sim) {
   CheckResult r{"obstacle_contacts", false, 0, "cycles", "", ""};
-  const std::string scene_path = sim.value("scene", "");
+  ObstacleScene o;
   std::string error;
-  auto scene = model::Scene::Load(scene_path, &error);
-  if (!scene) return r.detail = "the run's scene: " + error, r;
-  const mjModel* m = scene->m();
-  mjData* d = scene->d();
-  int obstacles = 0;
-  const std::vector<Pair> pairs = ObstaclePairs(m, &obstacles);
-  if (obstacles == 0) return r.detail = scene_path + " has no static obstacle (only the floor)", r;
+  if (!o.Load(sim, &r.detail)) return r;
+  const mjModel* m = o.scene->m();
+  mjData* d = o.scene->d();
+  const std::vector<Pair>& pairs = o.pairs;
+  const int obstacles = o.obstacles;
   const std::vector<double>& time = log.col(log.Column("time"));
   std::vector<mjContact> con(mjMAXCONPAIR);
   double first_t = -1, deepest = 0, deepest_t = 0;
@@ -150,15 +166,14 @@ CheckResult ObstacleClearance(const CheckSpec& spec, const datalog::Table& log, 
   CheckResult r{"obstacle_clearance", false, 0, "m", "", ""};
   const double min = spec.Number("min", 0);
   r.limit = ">= " + Mm(min) + " mm";
-  const std::string scene_path = sim.value("scene", "");
+  ObstacleScene o;
   std::string error;
-  auto scene = model::Scene::Load(scene_path, &error);
-  if (!scene) return r.detail = "the run's scene: " + error, r;
-  const mjModel* m = scene->m();
-  mjData* d = scene->d();
-  int obstacles = 0;
-  const std::vector<Pair> pairs = ObstaclePairs(m, &obstacles);
-  if (obstacles == 0) return r.detail = scene_path + " has no static obstacle (only the floor)", r;
+  if (!o.Load(sim, &r.detail)) return r;
+  const mjModel* m = o.scene->m();
+  mjData* d = o.scene->d();
+  const std::vector<Pair>& pairs = o.pairs;
+  const int obstacles = o.obstacles;
+  const std::string& scene_path = o.path;
   std::vector<std::unique_ptr<collision::ShapeDistance>> shape;
   if (!GeomShapes(m, pairs, &shape, &error)) return r.detail = scene_path + ": " + error, r;
   const std::vector<double>& time = log.col(log.Column("time"));
