@@ -252,7 +252,6 @@ ConfigStatus WalkController::FitPhysics(double leg) {
   walking::StepLimits& lim = walk_options_.limits;
   lim.physics_basis = basis;
   if (!(leg > 0)) return ConfigStatus::Ok();  // no leg chain found: the table's ranges hold
-  if (ConfigStatus s = FitSwing(); !s.ok()) return s;
   lim.max_rise = leg / 3;
   lim.max_apex = leg / 3;
   const cli::PlausibleRange* step_time = cli::FindPlausible("step_time");
@@ -275,7 +274,8 @@ ConfigStatus WalkController::FitPhysics(double leg) {
                   g.step_time, lim.min_duration, lim.max_duration, basis);
     return ConfigStatus::Fail(ConfigError::kOption, buf);
   }
-  return ConfigStatus::Ok();
+  // within the leg's reach: then what its joints can swing
+  return FitSwing();
 }
 
 ConfigStatus WalkController::FitSwing() {
