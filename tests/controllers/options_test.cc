@@ -78,6 +78,15 @@ TEST(ControllerOptions, TheRobotNarrowsTheRangeBeforeAttaching) {
       << out;
   EXPECT_NE(out.find("leg length"), std::string::npos) << out;
   EXPECT_EQ(out.find("cannot attach"), std::string::npos) << out;  // refused before attaching
+  // within the leg's reach, but a swing faster than the hip can drive: 0.3 m strides at 0.5 s
+  // steps swing the foot 0.6 m in 0.4 s, beyond what 400 N m moves through HRP-1S's 15 kg m^2
+  EXPECT_EQ(RunProgram("walk", {"--segment", kNoSegment, "--max-stride", "0.3", "--step-time", "0.5",
+                                "-c", "goal 1 0 0"}, &out),
+            kExitUsage)
+      << out;
+  EXPECT_NE(out.find("swings the foot at up to"), std::string::npos) << out;
+  EXPECT_NE(out.find("LLEG_HIP_P: 400 N m"), std::string::npos) << out;
+  EXPECT_EQ(out.find("cannot attach"), std::string::npos) << out;
 }
 
 // a footstep file of one bad step (YAML, line 4 holds the step)
