@@ -1,8 +1,10 @@
 // The excite controller (see controllers/excite.h).
 #include "controllers/excite.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ostream>
 #include <sstream>
 
@@ -190,6 +192,7 @@ void ExciteController::Log(const shm::SensorBlock& s) noexcept {
 }
 
 std::string ExciteController::failure() const {
+  if (!log_error_.empty()) return "--log: " + log_error_;  // (report() wrote it, before this)
   if (!failed_) return "";
   const shm::SegmentHeader& h = header();
   char buf[320];
@@ -209,25 +212,33 @@ void ExciteController::report(std::ostream& out) const {
   for (int j : ids_) out << " " << joint_names()[j] << " " << excursion_[j] << " rad";
   out << "\n";
   if (o_.log_file.empty()) return;
-  FILE* f = std::fopen(o_.log_file.c_str(), "w");
-  if (!f) {
-    out << "excite: cannot write the log " << o_.log_file << "\n";
-    return;
-  }
-  std::fprintf(f, "time");
+  // the whole text, then one write, every result checked (a full disk fails the run: failure())
+  std::string text = "time";
   for (int j : ids_) {
-    const char* n = joint_names()[j].c_str();
-    std::fprintf(f, ",%s_ref,%s_q,%s_dq,%s_tau", n, n, n, n);
+    const std::string& n = joint_names()[j];
+    text += "," + n + "_ref," + n + "_q," + n + "_dq," + n + "_tau";
   }
-  std::fprintf(f, "\n");
+  text += "\n";
   const size_t width = 1 + 4 * ids_.size();
+  char value[32];
   for (size_t r = 0; r < log_rows_; ++r) {
     const double* row = log_.data() + r * width;
-    std::fprintf(f, "%.6f", row[0]);
-    for (size_t k = 1; k < width; ++k) std::fprintf(f, ",%.9g", row[k]);
-    std::fprintf(f, "\n");
+    for (size_t k = 0; k < width; ++k) {
+      std::snprintf(value, sizeof value, k ? ",%.9g" : "%.6f", row[k]);
+      text += value;
+    }
+    text += "\n";
   }
-  std::fclose(f);
+  FILE* f = std::fopen(o_.log_file.c_str(), "w");
+  const bool written = f && std::fwrite(text.data(), 1, text.size(), f) == text.size() &&
+                       std::fflush(f) == 0 && !std::ferror(f);
+  const int saved = errno;
+  const bool closed = f && std::fclose(f) == 0;
+  if (!written || !closed) {
+    log_error_ = "cannot write '" + o_.log_file + "': " + std::strerror(written ? errno : saved);
+    out << "excite: log NOT written: " << log_error_ << "\n";
+    return;
+  }
   out << "excite: log " << o_.log_file << " (" << log_rows_ << " rows)\n";
 }
 

@@ -5,6 +5,7 @@
 #include "controllers/cli.h"
 #include "controllers/excite.h"
 #include "controllers/runner.h"
+#include "robot_model/output_file.h"
 
 int main(int argc, char** argv) {
   using namespace ohrp::controllers;
@@ -57,6 +58,12 @@ int main(int argc, char** argv) {
   if (const std::string e = CheckExciteOptions(o); !e.empty()) {
     std::cerr << "excite: " << e << "\n";
     return kExitUsage;
+  }
+  // the log is written at the end: a path it cannot be written to is refused before attaching
+  if (std::string error; !o.log_file.empty() &&
+      !ohrp::model::PrepareOutputFile(o.log_file, "# excite: the run is under way\n", &error)) {
+    std::cerr << "excite: --log: " << error << "\n";
+    return kExitConfig;
   }
   ExciteController controller(o);
   InstallStopSignalHandlers();

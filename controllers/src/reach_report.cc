@@ -110,7 +110,7 @@ void ReachController::report(std::ostream& out) const {
   for (const auto& n : group_.names) out << " " << n;
   out << "\n";
   if (channel_ && ngoals_ == 0) {
-    out << "reach: no live goal came: it stood (live: " << channel_->received() << " received, "
+    out << "reach: no live goal came (live: " << channel_->received() << " received, "
         << channel_->refused() << " refused)\n";
     return;
   }

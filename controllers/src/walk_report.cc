@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "controllers/walk.h"
+#include "robot_model/output_file.h"
 
 namespace ohrp::controllers {
 
@@ -12,20 +13,20 @@ namespace ohrp::controllers {
 void WalkController::on_close() {
   if (channel_) channel_->Close();  // no more commands; its counts stay for the report
   if (walk_options_.log_file.empty()) return;
-  FILE* f = std::fopen(walk_options_.log_file.c_str(), "w");
-  if (!f) {
-    std::fprintf(stderr, "walk: cannot write the log %s\n", walk_options_.log_file.c_str());
-    return;
-  }
-  std::fprintf(f, "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
-                  "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
-                  "right_z,right_yaw,support_left,support_right,frame_x,frame_y,frame_yaw,"
-                  "foot_roll_left,foot_pitch_left,foot_roll_right,foot_pitch_right\n");
+  std::string text =
+      "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
+      "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
+      "right_z,right_yaw,support_left,support_right,frame_x,frame_y,frame_yaw,"
+      "foot_roll_left,foot_pitch_left,foot_roll_right,foot_pitch_right\n";
+  char value[32];
   for (const auto& row : log_) {
-    for (size_t c = 0; c < row.size(); ++c) std::fprintf(f, c ? ",%.6g" : "%.6f", row[c]);
-    std::fputc('\n', f);
+    for (size_t c = 0; c < row.size(); ++c) {
+      std::snprintf(value, sizeof value, c ? ",%.6g" : "%.6f", row[c]);
+      text += value;
+    }
+    text += '\n';
   }
-  std::fclose(f);
+  model::WriteWholeFile(walk_options_.log_file, text, &log_error_);
 }
 
 std::string WalkController::Unverified() const {
@@ -76,6 +77,7 @@ std::string WalkController::Unverified() const {
 std::string WalkController::failure() const {
   const std::string balance = BalanceController::failure();
   if (!balance.empty()) return balance;
+  if (!log_error_.empty()) return "--log: " + log_error_;  // the walk's log is not all there
   const std::string walk = Unverified();
   return walk.empty() ? walk : "the walk is not done: " + walk;
 }

@@ -5,8 +5,9 @@
 #include <cstdio>
 
 #include "cli/plausible.h"
-#include "controllers/walk.h"
 #include "controllers/pose.h"
+#include "controllers/walk.h"
+#include "robot_model/output_file.h"
 #include "robot_model/profile.h"
 #include "walking/footstep_file.h"
 #include "walk_geometry.h"
@@ -123,6 +124,10 @@ ConfigStatus WalkController::Preflight() {
   q.resize(shm::kMaxJoints, 0.0);
   if (ConfigStatus s = FitStance(q.data()); !s.ok()) return s;
   if (ConfigStatus s = LoadTerrain(); !s.ok()) return s;
+  std::string error;  // the log is written at the end: a path it cannot be written to is refused now
+  if (!walk_options_.log_file.empty() &&
+      !model::PrepareOutputFile(walk_options_.log_file, "# walk: the run is under way\n", &error))
+    return ConfigStatus::Fail(ConfigError::kFile, "--log: " + error);
   return PlanCommands();
 }
 

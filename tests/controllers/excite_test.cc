@@ -162,6 +162,20 @@ TEST(ExciteController, TheLogHasOneRowPerCycleWithReferenceAndMeasurement) {
   EXPECT_NE(out.str().find("50 rows"), std::string::npos) << out.str();
 }
 
+// a log that cannot be written whole (a full disk: /dev/full) fails the run, naming the file
+TEST(ExciteController, ALogNotWrittenFailsTheRun) {
+  ExciteOptions o;
+  o.joints = {"J1"};
+  o.duration = 1.0, o.start = 0;
+  o.log_file = "/dev/full";
+  FollowingRobot r(o);
+  for (int k = 0; k < 50; ++k) r.Step();
+  std::ostringstream out;
+  r.c.report(out);
+  EXPECT_NE(out.str().find("excite: log NOT written: cannot write '/dev/full'"), std::string::npos) << out.str();
+  EXPECT_EQ(r.c.failure().rfind("--log: cannot write '/dev/full': ", 0), 0u) << r.c.failure();
+}
+
 TEST(ExciteController, BadOptionsAndUnknownJointsAreRefused) {
   ExciteOptions o;
   EXPECT_NE(CheckExciteOptions(o).find("--joints"), std::string::npos);

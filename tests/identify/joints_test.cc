@@ -32,7 +32,7 @@ JointLog Simulate(const Hinge& h, double amplitude) {
   constexpr int kSteps = 1;
   const double dt = kCycle / kSteps;
   JointLog l;
-  l.joint = "J";
+  l.joint = std::string(1, 'J');  // (not = "J": GCC 12 warns -Wrestrict wrongly there)
   std::vector<double> refs;
   double q = 0, dq = 0, tau = 0;
   const int cycles = static_cast<int>(o.duration / kCycle);

@@ -102,6 +102,7 @@ class ExciteController : public Controller {
   // the log, preallocated
   std::vector<double> log_;
   size_t log_rows_ = 0, log_capacity_ = 0;
+  mutable std::string log_error_;  // report() could not write the log: why (failure())
 };
 
 }  // namespace ohrp::controllers

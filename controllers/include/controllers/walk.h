@@ -250,6 +250,7 @@ class WalkController : public BalanceController {
   Eigen::Vector3d p_WB_plan_ = Eigen::Vector3d::Zero();
   bool plan_valid_ = false;                        // q_plan_prev_ holds a solution
   std::vector<std::array<double, 32>> log_;
+  std::string log_error_;                      // the log could not be written: why
   std::vector<std::string> notes_;             // what planning changed (reported)
   std::unique_ptr<walking::TerrainMap> terrain_;
   WalkStats walk_stats_;

@@ -41,10 +41,18 @@ void ReplaySource::LoadReach(const std::string& run_dir) {
     bodies.push_back(m->jnt_bodyid[it->joint_id]);
   }
   const std::vector<int> tips = TipBodies(bodies, m->body_parentid);
+  // the group's logged joints at time t, interpolated as StateAt does (only those columns)
+  const std::vector<double>& times = log_.col(time_col_);
+  std::vector<double> q(ids.size());
   auto group_q = [&](double t) {
-    const RobotState s = StateAt(t);
-    std::vector<double> q;
-    for (int id : ids) q.push_back(s.q[id]);
+    const size_t next = std::lower_bound(times.begin(), times.end(), t) - times.begin();
+    const size_t hi = std::min(next, times.size() - 1), lo = hi > 0 ? hi - 1 : 0;
+    const double span = times[hi] - times[lo];
+    const double u = span > 0 ? std::clamp((t - times[lo]) / span, 0.0, 1.0) : 1.0;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      const std::vector<double>& c = log_.col(q_col_[ids[i]]);
+      q[i] = c[lo] + u * (c[hi] - c[lo]);
+    }
     return q;
   };
   // each goal: where its motion began on the log's time line, then its planned motion from the
@@ -53,7 +61,7 @@ void ReplaySource::LoadReach(const std::string& run_dir) {
   std::lock_guard lock(mutex_);
   for (const ReachPlanGoal& g : plan.goals) {
     if (g.planned.empty() || g.measured.empty()) continue;  // not solved, or never moved
-    const double t_start = AlignMotion(g.measured, log_.col(time_col_), group_q);
+    const double t_start = AlignMotion(g.measured, times, group_q);
     if (!std::isfinite(t_start)) continue;
     const RobotState at_start = StateAt(t_start);
     auto hands = [&](const std::vector<ReachPlanRow>& rows, size_t most) {
