@@ -45,6 +45,7 @@ class HostRun {
   //---- set-up (host_setup.cc)
   bool LoadScene(std::string* error);
   bool SetUpWatches(std::string* error);
+  bool ApplyJointFile(std::string* error);
   bool OpenLog(std::string* error);
   bool CreateSegment(std::string* error);
 
@@ -82,6 +83,7 @@ class HostRun {
   std::unique_ptr<FallWatch> fall;
   double dt = 0;
   int steps_per_cycle = 1;
+  uint64_t identity_hash = 0;  // the model file's hash, published whatever --joint-file changed
   std::unique_ptr<SelfCollisionWatch> self_collision;
   std::unique_ptr<datalog::Recorder> recorder;
   model::SensorSelection selection{};

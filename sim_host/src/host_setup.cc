@@ -5,6 +5,7 @@
 #include "cli/plausible.h"
 #include "host_run.h"
 #include "robot_model/log_names.h"
+#include "robot_model/model_hash.h"
 #include "sim_host/host_text.h"
 #include "sim_host/period.h"
 
@@ -42,7 +43,7 @@ HostRun::~HostRun() {
 
 int HostRun::SetUp(bool* ran_enough) {
   *ran_enough = false;
-  if (!LoadScene(&error) || !SetUpWatches(&error)) {
+  if (!LoadScene(&error) || !SetUpWatches(&error) || !ApplyJointFile(&error)) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
@@ -120,6 +121,21 @@ bool HostRun::SetUpWatches(std::string* why) {
   return true;
 }
 
+// the joints as identified (--joint-file): the robot's dynamics, not its identity. The segment
+// publishes the model file's hash, so that the controllers that load that file attach (as they
+// do to hw_driver, whose robot's joints differ from the model the same way); the
+// self_collision watch was made on the geometry, which the file does not touch. The armature
+// changes the model's constants (mj_setConst), so the initial state is set again.
+bool HostRun::ApplyJointFile(std::string* why) {
+  identity_hash = model::ModelHash(m, robot);
+  if (o.joints.empty()) return true;
+  if (!model::ApplyJointParams(o.joints, m, d, why)) {
+    why->insert(0, "--joint-file " + o.joint_file + ": ");
+    return false;
+  }
+  return scene->Reset(o.keyframe, why);
+}
+
 // the data log, before anything runs (its header written: a file that takes none is refused)
 bool HostRun::OpenLog(std::string* why) {
   if (!effects.on(Effect::kLog)) return true;
@@ -135,6 +151,7 @@ bool HostRun::OpenLog(std::string* why) {
 bool HostRun::CreateSegment(std::string* why) {
   shm::Status status;
   shm::ProducerConfig pc = model::MakeProducerConfig(robot, m, o.segment, dt, o.control_period);
+  pc.model_hash = identity_hash;  // the model file's, whatever --joint-file changed
   pc.read_timeout_hint = o.controller_timeout;
   for (shm::CameraInfo& c : pc.cameras) {
     c.width = o.cameras.width;

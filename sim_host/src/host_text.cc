@@ -44,6 +44,9 @@ void PrintStart(const HostText& t) {
                o.realtime ? "real time" : "lock-step", ContactModelName(t.contact),
                shm::ControllerLossName(o.on_loss));
   for (const std::string& u : robot.unpublished) std::fprintf(stderr, "sim_host: note: %s\n", u.c_str());
+  if (!o.joints.empty())
+    std::fprintf(stderr, "sim_host: joints from %s: %s\n", o.joint_file.c_str(),
+                 model::DescribeJointParams(o.joints).c_str());
   if (t.self_collision)
     std::fprintf(stderr, "sim_host: self_collision: %s\n", t.self_collision->Describe().c_str());
   if (t.soft && !t.soft->impact_note().empty())

@@ -57,6 +57,12 @@ int main(int argc, char** argv) {
                  "damping: ...}, as `ohrp identify` writes DIR/soles.yaml); a --contact-* option "
                  "given as well wins; default: a robot profile's contact_file")
       ->check(CLI::ExistingFile);
+  app.add_option("--joint-file", o.joint_file,
+                 "the joints as identified (joints: {NAME: {armature: ..., damping: ..., "
+                 "frictionloss: ...}}, as `ohrp identify --joints --model ...` writes "
+                 "DIR/joints.yaml): replace the model's values of those joints; default: a robot "
+                 "profile's joint_file")
+      ->check(CLI::ExistingFile);
   std::vector<std::string> pushes;
   app.add_option("--push", pushes,
                  "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
@@ -142,15 +148,21 @@ int main(int argc, char** argv) {
       "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  // a robot profile's soles file, when no --contact-file is given
-  if (o.contact_file.empty() && ohrp::model::IsProfilePath(o.scene)) {
+  // a robot profile's soles file, when no --contact-file is given, and its joints file, when no --joint-file is given
+  if ((o.contact_file.empty() || o.joint_file.empty()) && ohrp::model::IsProfilePath(o.scene)) {
     ohrp::model::RobotProfile profile;
     std::string error;
     if (!ohrp::model::ReadProfile(o.scene, &profile, &error)) {
       std::fprintf(stderr, "sim_host: --scene: %s\n", error.c_str());
       return ohrp::sim::kExitUsage;
     }
-    o.contact_file = profile.contact_file;
+    if (o.contact_file.empty()) o.contact_file = profile.contact_file;
+    if (o.joint_file.empty()) o.joint_file = profile.joint_file;
+  }
+  if (std::string error; !o.joint_file.empty() &&
+                         !ohrp::model::ReadJointParamsFile(o.joint_file, &o.joints, &error)) {
+    std::fprintf(stderr, "sim_host: --joint-file: %s\n", error.c_str());
+    return ohrp::sim::kExitUsage;
   }
   if (!o.contact_file.empty()) {
     // the file's values, except where a --contact-* option was given as well

@@ -195,6 +195,17 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const model::Ro
                            {"tangential_damping", cp.tangential_damping}};
     j["contact_file"] = o.contact_file;
   }
+  if (!o.joint_file.empty()) {
+    // the joints' values as they ran (robot_model/joint_params.h)
+    j["joint_file"] = o.joint_file;
+    nlohmann::json joints = nlohmann::json::array();
+    for (const model::JointParams& p : o.joints) {
+      const int dof = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, p.joint.c_str())];
+      joints.push_back({{"joint", p.joint}, {"armature", m->dof_armature[dof]},
+                        {"damping", m->dof_damping[dof]}, {"frictionloss", m->dof_frictionloss[dof]}});
+    }
+    j["joint_params"] = joints;
+  }
   j["fcl_queries"] = st.fcl_queries;
   j["contact_pairs"] = st.contact_pairs;
   j["contact_pairs_bounded"] = st.contact_pairs_bounded;

@@ -201,7 +201,7 @@ TEST(PlantGapOnTheModel, CoulombFrictionHoldsBelowItAndSubtractsAbove) {
   std::printf("[ figures  ] Coulomb 1 N m: at 0.8 N m the hinge creeps at %.3g rad/s (free: "
               "%.3g rad/s after 1 s); at 1.5 N m it reaches %.4f rad/s, closed form %.4f\n",
               v_below, 0.8 / kInertia, v_above, 0.5 / kInertia);
-  // MuJoCo's friction is a soft constraint (kFrictionImpedance)
+  // MuJoCo's friction is a soft constraint (model::kFrictionImpedance, robot_model/joint_params.h)
   EXPECT_LT(std::fabs(v_below), 2e-4 * 0.8 / kInertia);
   EXPECT_NEAR(v_above, 0.5 / kInertia, 0.01 * 0.5 / kInertia);
 }

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "robot_model/joint_params.h"
+
 namespace ohrp::hw::udp {
 namespace {
 
@@ -148,11 +150,7 @@ void ApplyGapToModel(const PlantGap& gap, const std::vector<int>& dof_adr, mjMod
   for (size_t j = 0; j < gap.joint.size() && j < dof_adr.size(); ++j) {
     const JointGap& g = gap.joint[j];
     const int d = dof_adr[j];
-    if (g.coulomb >= 0) {
-      m->dof_frictionloss[d] = g.coulomb;
-      m->dof_solimp[d * mjNIMP + 0] = kFrictionImpedance;
-      m->dof_solimp[d * mjNIMP + 1] = kFrictionImpedance;
-    }
+    if (g.coulomb >= 0) model::SetDofFrictionloss(m, d, g.coulomb);
     if (g.viscous >= 0) m->dof_damping[d] = g.viscous;
     m->dof_armature[d] += g.armature;
     armature |= g.armature != 0;

@@ -4,7 +4,7 @@
 //
 //   --friction JOINT|all=COULOMB,VISCOUS  the joint's dof gets MuJoCo frictionloss COULOMB [N m]
 //                                         and damping VISCOUS [N m s/rad] (replacing the model's;
-//                                         see kFrictionImpedance)
+//                                         see model::kFrictionImpedance)
 //   --armature JOINT|all=X                X [kg m^2] added to the dof's armature (rotor inertia)
 //   --delay-ms X                          the motor boards apply the commands X ms (a whole number
 //                                         of board cycles) after they arrive; e-stop, board resets
@@ -63,12 +63,6 @@ struct PlantGap {
 // with `*error` naming the option, the value and what is expected.
 bool ParseGap(const GapOptions& o, const std::vector<std::string>& joint_names, double period,
               PlantGap* gap, std::string* error);
-
-// MuJoCo's friction loss is a soft constraint: under a torque below it a joint creeps. The
-// constraint's impedance (solimp's first two values, MuJoCo's default 0.9) is raised to this on
-// the joints given a Coulomb friction: a hinge of 0.2 kg m^2 under 80 % of its friction creeps
-// at 1e-4 of the speed it would reach in 1 s without friction (1e-3 at the default).
-inline constexpr double kFrictionImpedance = 0.99;
 
 // Sets friction loss (and its impedance), damping and armature of each joint's dof (dof_adr[j])
 // on the model; `data` is used to recompute the model's constants when an armature changes.

@@ -65,6 +65,10 @@ struct RobotProfile {
   // the soles' soft-contact parameters sim_host takes when no --contact-file is given (as `ohrp
   // identify` writes DIR/soles.yaml), resolved against the profile's folder; "": none
   std::string contact_file;
+  // the joints as identified (armature, damping, frictionloss: robot_model/joint_params.h, as
+  // `ohrp identify --joints --model` writes DIR/joints.yaml) sim_host applies when no
+  // --joint-file is given, resolved against the profile's folder; "": none
+  std::string joint_file;
   // the robot's self-collision file (ohrp_selfcollision --model PROFILE), resolved against the
   // profile's folder: a controller's default when the segment's model hash is its; "": none
   std::string self_collision_file;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "robot_model/joint_params.h"
 #include "robot_model/output_file.h"
 
 #include "shm_bridge/controller_loss.h"
@@ -69,6 +70,8 @@ struct HostOptions {
   std::string integrator;          // euler | rk4 | implicit; empty: the scene's
   FeetOptions feet;                // the contact under the soles (default: soft-foot)
   std::string contact_file;        // where feet.params came from (--contact-file), or empty
+  std::string joint_file;          // the joints as identified (--joint-file), or empty
+  std::vector<model::JointParams> joints;  // its values, applied to the model at set-up
   std::vector<Perturbation> pushes; // external pushes on the base (none by default)
   double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
   bool realtime = false;           // pace cycles to the wall clock

@@ -128,6 +128,31 @@ void FitServo(const JointLog& l, const JointFitOptions& o, JointEstimate* e) {
   e->lag = e->lag_cycles * e->period;
 }
 
+// DIR/joints.yaml for sim_host --joint-file (robot_model/joint_params.h)
+int WriteJointFile(const std::string& log, const std::vector<JointLog>& joints,
+                   const std::vector<JointEstimate>& estimates, const JointModel& model,
+                   const std::string& path) {
+  std::vector<model::JointParams> params;
+  std::vector<std::string> warnings;
+  std::string error;
+  if (!JointParamsFromEstimates(joints, estimates, model, &params, &warnings, &error)) {
+    std::fprintf(stderr, "ohrp_identify: --model %s: %s\n", model.model.c_str(), error.c_str());
+    return 2;
+  }
+  for (const std::string& w : warnings) std::fprintf(stderr, "ohrp_identify: warning: %s\n", w.c_str());
+  const std::vector<std::string> header = {
+      "the joints as identified by ohrp identify --joints from " + log,
+      "on the model " + model.model + (model.keyframe.empty() ? "" : ", keyframe " + model.keyframe),
+      "armature [kg m^2] = the identified inertia less the links' (the model's), damping [N m s/rad],",
+      "frictionloss [N m]; sim_host --joint-file THIS (or a profile's joint_file:) applies them"};
+  if (!model::WriteJointParamsFile(path, params, header, &error)) {
+    std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
+    return 2;
+  }
+  std::printf("the model's joint parameters: %s (sim_host --joint-file)\n", path.c_str());
+  return 0;
+}
+
 }  // namespace
 
 bool ReadExciteLog(const std::string& path, std::vector<JointLog>* joints, std::string* error) {
@@ -203,7 +228,8 @@ bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate*
   return true;
 }
 
-int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o) {
+int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o,
+                   const JointModel& model) {
   std::vector<JointLog> joints;
   std::string error;
   if (!ReadExciteLog(log, &joints, &error)) {
@@ -213,8 +239,9 @@ int IdentifyJoints(const std::string& log, const std::string& out_dir, const Joi
   nlohmann::json all = nlohmann::json::array();
   std::printf("%-18s %9s %9s %9s %9s %9s %9s %7s %9s %8s\n", "joint", "I", "+-", "b", "+-", "c",
               "+-", "lag_ms", "kp", "kd");
+  std::vector<JointEstimate> estimates;
   for (const JointLog& l : joints) {
-    JointEstimate e;
+    JointEstimate& e = estimates.emplace_back();
     if (!EstimateJoint(l, o, &e, &error)) {
       std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
       return 2;
@@ -239,7 +266,8 @@ int IdentifyJoints(const std::string& log, const std::string& out_dir, const Joi
   }
   std::printf("(I [kg m^2] total about the axis, b [N m s/rad], c [N m], the servo's lag with the "
               "loop's own cycle, kp, kd as realised; %s)\n", path.c_str());
-  return 0;
+  if (model.model.empty()) return 0;
+  return WriteJointFile(log, joints, estimates, model, out_dir + "/joints.yaml");
 }
 
 }  // namespace ohrp::identify

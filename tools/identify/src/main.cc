@@ -87,6 +87,15 @@ int main(int argc, char** argv) {
                "the recording is an excite log (controllers/excite.h): per joint, inertia, viscous "
                "and Coulomb friction, the servo's lag and realised gains (identify/joints.h); "
                "writes DIR/joints.json");
+  ohrp::identify::JointModel joint_model;
+  app.add_option("--model", joint_model.model,
+                 "--joints: the model the excitation ran on (MJCF, VRML, URDF or robot profile): "
+                 "also writes DIR/joints.yaml, the joints' armature (the identified inertia less "
+                 "the links'), damping and frictionloss for sim_host --joint-file")
+      ->check(CLI::ExistingFile);
+  app.add_option("--keyframe", joint_model.keyframe,
+                 "--joints --model: the keyframe the other joints held (default: the model's "
+                 "initial posture)");
   ohrp::sweep::AddExecutorOptions(&app, &o.executor, "simulations of a stage");
   app.footer(
       "Exit codes: 0 identified, 1 a simulation failed or the refinement could not proceed,\n"
@@ -96,7 +105,12 @@ int main(int argc, char** argv) {
   if (joints) {
     std::error_code made;
     fs::create_directories(o.out_dir, made);
-    return ohrp::identify::IdentifyJoints(o.recording, o.out_dir, ohrp::identify::JointFitOptions{});
+    return ohrp::identify::IdentifyJoints(o.recording, o.out_dir, ohrp::identify::JointFitOptions{},
+                                          joint_model);
+  }
+  if (!joint_model.model.empty() || !joint_model.keyframe.empty()) {
+    std::fprintf(stderr, "ohrp_identify: --model and --keyframe go with --joints\n");
+    return 2;
   }
   o.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
   o.executor.progress = !o.quiet;

@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "robot_model/joint_params.h"
+
 namespace ohrp::identify {
 
 inline constexpr double kSaturated = 0.02;
@@ -63,9 +65,28 @@ bool ReadExciteLog(const std::string& path, std::vector<JointLog>* joints, std::
 bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate* e,
                    std::string* error);
 
+// The model the excitation ran on: its file (MJCF, VRML, URDF or robot profile) and the
+// keyframe the other joints held (empty: the model's initial posture).
+struct JointModel {
+  std::string model, keyframe;
+};
+
+// The estimates as the model's joint parameters (robot_model/joint_params.h): armature = the
+// identified total inertia less the links' share from the model (its mass matrix's diagonal in
+// the keyframe, the joint at its mean logged position, the model's armature left out), damping
+// = the viscous friction, frictionloss = the Coulomb friction; a negative value is left out
+// (the model's stays) with a line in `*warnings`. False with `*error` when the model does not
+// load or lacks a joint.
+bool JointParamsFromEstimates(const std::vector<JointLog>& logs,
+                              const std::vector<JointEstimate>& estimates,
+                              const JointModel& model, std::vector<model::JointParams>* out,
+                              std::vector<std::string>* warnings, std::string* error);
+
 // ohrp identify --joints LOG: every joint of the excite log fitted, a table on stdout and
-// OUT_DIR/joints.json. Returns the exit code: 0, 2 (the log unreadable, or a joint that cannot be
-// fitted, with the reason on stderr).
-int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o);
+// OUT_DIR/joints.json; with `model.model` also OUT_DIR/joints.yaml, the file sim_host's
+// --joint-file applies. Returns the exit code: 0, 2 (the log unreadable, a joint that cannot be
+// fitted, a model that does not load or lacks a joint, with the reason on stderr).
+int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o,
+                   const JointModel& model = {});
 
 }  // namespace ohrp::identify
