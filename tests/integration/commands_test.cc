@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "runner/commands.h"
+#include "robot_model/joint_params.h"
 #include "runner/runner.h"
 #include "temp_file.h"
 
@@ -67,6 +69,34 @@ TEST(Commands, TheControlPeriodIsPassedOnlyWhenTheScenarioSetsIt) {
   const auto at = std::find(argv.begin(), argv.end(), "--control-period");
   ASSERT_NE(at, argv.end());
   EXPECT_EQ(std::stod(*(at + 1)), 0.004);
+}
+
+// issue 35: a scenario's joint_params become the run folder's joint_params.yaml, which sim_host
+// applies with --joint-file; the file reads back as written
+TEST(Commands, JointParamsGoToSimHostAsAFileInTheRunFolder) {
+  Scenario s;
+  auto argv = SimHostCommand(s, "/bin/sim_host", "scene.xml", "seg", "/runs/w");
+  EXPECT_FALSE(Contains(argv, "--joint-file"));
+  s.joint_params["LARM_ELBOW"] = {{"armature", 15.0}, {"frictionloss", 1.5}};
+  s.joint_params["RLEG_KNEE"] = {{"damping", 0.25}};
+  argv = SimHostCommand(s, "/bin/sim_host", "scene.xml", "seg", "/runs/w");
+  const auto at = std::find(argv.begin(), argv.end(), "--joint-file");
+  ASSERT_NE(at, argv.end());
+  EXPECT_EQ(*(at + 1), "/runs/w/joint_params.yaml");
+  const std::string file = TempDir() + "/joint_params.yaml";
+  std::string error;
+  ASSERT_TRUE(WriteJointParams(s, file, &error)) << error;
+  std::vector<model::JointParams> read;
+  ASSERT_TRUE(model::ReadJointParamsFile(file, &read, &error)) << error;
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[0].joint, "LARM_ELBOW");
+  EXPECT_EQ(read[0].armature, 15.0);
+  EXPECT_TRUE(std::isnan(read[0].damping));  // left out: the model's
+  EXPECT_EQ(read[0].frictionloss, 1.5);
+  EXPECT_EQ(read[1].joint, "RLEG_KNEE");
+  EXPECT_EQ(read[1].damping, 0.25);
+  EXPECT_FALSE(WriteJointParams(s, "/nonexistent-folder/joint_params.yaml", &error));
+  EXPECT_NE(error.find("cannot write /nonexistent-folder/joint_params.yaml"), std::string::npos);
 }
 
 TEST(OutputFiles, ListsTheWalkLogWhenAControllerWroteIt) {

@@ -66,6 +66,8 @@ std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& si
     std::replace(flag.begin(), flag.end(), '_', '-');
     argv.insert(argv.end(), {flag, Num(value)});
   }
+  // the joints' parameters: the file the runner writes into the run folder (runner.cc)
+  if (!s.joint_params.empty()) argv.insert(argv.end(), {"--joint-file", out_dir + "/joint_params.yaml"});
   // a self_collisions check needs sim_host's self_collision effect (the scenario's own
   // effects, in sim_args below, come later and win)
   for (const auto& c : s.checks) {

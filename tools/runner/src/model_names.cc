@@ -76,6 +76,12 @@ bool CheckScenarioNames(const Scenario& s, const std::string& scene, std::string
       !all_in(s.plot_torques, joints, "joint", line("plot_torques"), "plot_torques") ||
       !all_in(s.fall_allow_contact, bodies, "body", line("fall_allow_contact"), "fall_allow_contact"))
     return false;
+  for (const auto& [name, values] : s.joint_params) {
+    if (std::find(joints.begin(), joints.end(), name) != joints.end()) continue;
+    *error = At(s, line("joint_params"), "joint_params: " + name) + "'" + name +
+             "' is not a joint of the robot in '" + scene + "' (its joints: " + Listed(joints) + ")";
+    return false;
+  }
   for (size_t i = 0; i < s.checks.size(); ++i) {
     const CheckSpec& c = s.checks[i];
     const std::string key = "checks[" + std::to_string(i) + "] (" + c.type + ")";

@@ -174,6 +174,11 @@ int RunScenario(const Scenario& s, const RunOptions& o) {
     return kRunUsage;
   }
   const std::string out_abs = fs::absolute(out).string();
+  if (std::string why; !s.joint_params.empty() &&
+                       !WriteJointParams(s, out_abs + "/joint_params.yaml", &why)) {
+    std::fprintf(stderr, "ohrp_run: %s\n", why.c_str());
+    return kRunUsage;
+  }
   const std::string segment =
       o.segment.empty() ? "run_" + s.name + "_" + std::to_string(getpid()) : o.segment;
   if (o.report)

@@ -12,6 +12,7 @@
 #include "runner/commands.h"
 #include "pushes.h"
 #include "sim_host/effects.h"
+#include "scenario_params.h"
 #include "yaml_read.h"
 
 namespace ohrp::runner {
@@ -21,11 +22,9 @@ const std::set<std::string> kTopKeys = {
     "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
     "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
     "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
-    "contact_params", "effects", "pushes", "camera_rate", "expect_fall", "on_fall",
+    "contact_params", "joint_params", "effects", "pushes", "camera_rate", "expect_fall", "on_fall",
     "fall_allow_contact"};
 const std::set<std::string> kControllerKeys = {"program", "args"};
-const std::set<std::string> kContactParams = {"stiffness", "exponent", "damping", "friction",
-                                              "tangential_stiffness", "tangential_damping"};
 
 // bounds of the run's numbers (the time steps: cli/plausible.h)
 constexpr double kMaxCameraRate = 1000.0;    // [frames per simulated s], sim_host's bounds: [0.1, 1000]
@@ -184,33 +183,6 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
   return true;
 }
 
-// contact_params: known soft-foot parameters, positive numbers
-bool ReadContactParams(const YAML::Node& root, const std::string& path, Scenario* s, std::string* error) {
-  const YAML::Node n = root["contact_params"];
-  if (!n.IsMap()) {
-    *error = AtKey(path, root, "contact_params") + "contact_params: must be a mapping, e.g. {stiffness: 3e6, damping: 30}";
-    return false;
-  }
-  if (!KnownKeysOnly(n, kContactParams, path, "contact_params: ", error)) return false;
-  for (const auto& kv : n) {
-    const std::string key = kv.first.Scalar();
-    double v = 0;
-    std::string why;
-    if (!ReadNumber(kv.second, &v, &why)) {
-    } else if (!(v > 0)) {
-      why = "must be > 0, not " + kv.second.Scalar();
-    } else if (key == "exponent" && (v < 1 || v > 3)) {
-      why = "must be in [1, 3], not " + kv.second.Scalar();
-    } else {
-      s->contact_params[key] = v;
-      continue;
-    }
-    *error = At(path, kv.first) + "contact_params: " + key + ": " + why;
-    return false;
-  }
-  return true;
-}
-
 // effects: NAME: on|off, contact:BODY1/BODY2: on|off, noise.KIND: STD, noise.seed: N, each
 // checked by sim_host's own parser (docs/effects.md); passed on as sim_args --effects
 bool ReadEffects(const YAML::Node& root, const std::string& path, Scenario* s, std::string* error) {
@@ -342,6 +314,7 @@ bool ReadScenario(const YAML::Node& root, const std::string& path, Scenario* out
   }
   if (!ReadRun(root, path, &s, error)) return false;
   if (root["contact_params"] && !ReadContactParams(root, path, &s, error)) return false;
+  if (root["joint_params"] && !ReadJointParams(root, path, &s, error)) return false;
   if (root["effects"] && !ReadEffects(root, path, &s, error)) return false;
   if (root["pushes"]) {
     if (!ParsePushes(root["pushes"], path, &s.pushes, error)) return false;

@@ -24,6 +24,11 @@ std::string UnknownPlaceholder(const std::string& arg);
 // `arg` with every `{out}` replaced by `out_dir` (used as given: pass an absolute path).
 std::string ExpandPlaceholders(const std::string& arg, const std::string& out_dir);
 
+// Writes the scenario's joint_params (per joint armature, damping, frictionloss) to `path`, the
+// file SimHostCommand names in the run folder (joint_params.yaml) for sim_host's --joint-file
+// (robot_model/joint_params.h). False with `*error` when it cannot be written.
+bool WriteJointParams(const Scenario& s, const std::string& path, std::string* error);
+
 // sim_host's command line for scenario `s`: the program `sim_host` (a path), the resolved
 // `scene`, the segment, the log and summary in `out_dir` (absolute), the scenario's settings,
 // its pushes and its `sim_args` with placeholders expanded.

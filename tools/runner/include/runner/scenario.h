@@ -65,6 +65,9 @@ struct Scenario {
   int log_every = 1;
   std::string contact;           // soft | native | rigid | auto; empty: sim_host's default (auto)
   std::map<std::string, double> contact_params;  // soft-foot parameters, e.g. stiffness
+  // per joint: armature, damping, frictionloss (written to the run folder for sim_host's
+  // --joint-file: robot_model/joint_params.h)
+  std::map<std::string, std::map<std::string, double>> joint_params;
   std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
                                                // LoadScenario passes them as sim_args --effects
   std::vector<std::string> sim_args;  // extra sim_host arguments (`{out}` as in controllers)
