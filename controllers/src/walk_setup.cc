@@ -339,12 +339,20 @@ ConfigStatus WalkController::PlanCommands() {
   for (const WalkCommand& c : walk_options_.commands) {
     std::vector<walking::Footstep> steps;
     std::string error, note;
-    if (!PlanWalkCommand(c, feet, lim, walk_options_.gait.step_time, &steps, &note, &error))
-      return ConfigStatus::Fail(ConfigError::kOption, error);
-    if (!note.empty()) notes_.push_back("\"" + c.text + "\": " + note);
-    if (terrain_ && !terrain_->PlaceSteps(&steps, feet, lim, walk_options_.step_search, &error))
-      return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
-                                                          walk_options_.terrain + ": " + error);
+    if (terrain_ && c.kind == WalkCommand::Kind::kGoal) {
+      // a goal across the terrain: one level (stair) at a time (walking/terrain.h)
+      if (!terrain_->PlanGoalAcross(feet, c.x, c.y, c.yaw, lim, walk_options_.step_search, &steps,
+                                    &error))
+        return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
+                                                            walk_options_.terrain + ": " + error);
+    } else {
+      if (!PlanWalkCommand(c, feet, lim, walk_options_.gait.step_time, &steps, &note, &error))
+        return ConfigStatus::Fail(ConfigError::kOption, error);
+      if (!note.empty()) notes_.push_back("\"" + c.text + "\": " + note);
+      if (terrain_ && !terrain_->PlaceSteps(&steps, feet, lim, walk_options_.step_search, &error))
+        return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
+                                                            walk_options_.terrain + ": " + error);
+    }
     // the steps moved off edges must still keep the limits
     if (const std::string e = walking::CheckSteps(feet, steps, lim); terrain_ && !e.empty())
       return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +

@@ -63,6 +63,25 @@ class TerrainMap {
   bool PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start, const StepLimits& limits,
                   double search, std::string* error) const;
 
+  // A goal (x, y, yaw in the start's mid frame, as PlanToGoal) across the terrain, one level
+  // at a time: PlanToGoal's strides placed as PlaceSteps places them, until a step's way from
+  // its stance sole crosses a rise (the surface's height jumps by more than kLevelChange between
+  // points 5 mm apart: a stair's riser, not a slope or a stone); that step lands where its whole
+  // sole, a margin around it included (MarginFor), rests on one plane of the new level (of the run
+  // of such spots along its heading nearest the planned one, within the limits, the middle going
+  // up and the farthest going down; the swing no longer than max_forward: from
+  // beside the other foot), and the other foot closes beside it (one stair at
+  // a time: a step-to gait); from a stance too far back to reach the new level within
+  // max_forward, both feet first step to the farthest spot of their own level (the edge). Then
+  // the rest is planned again from there. Each step carries its height and tilt. False with
+  // `*error` naming the step that has no surface, no spot on the new level within the limits
+  // (a tread shorter than the sole and the margins, or beyond max_forward) or no spot beside it.
+  bool PlanGoalAcross(const FeetPose& start, double x, double y, double yaw,
+                      const StepLimits& limits, double search, std::vector<Footstep>* steps,
+                      std::string* error) const;
+  static constexpr double kLevelChange = 0.02;  // [m] a rise between two levels
+  static constexpr double kLevelMargin = 0.02;  // [m] around a sole landing on a new level
+
   // the start frame in the scene's world: origin and yaw
   const Eigen::Vector3d& origin() const { return origin_; }
   double yaw() const { return yaw_; }
@@ -73,6 +92,33 @@ class TerrainMap {
   // the height [m, world] of the highest terrain surface on the vertical through (x, y) of
   // the world, or false
   bool Height(double x, double y, double* z) const;
+  // the largest jump of the terrain's height between neighbouring points 5 mm apart on the way
+  // from a to b (start frame) [m]
+  double LargestRise(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+  // how far around a sole its level must reach: behind its heel, before its toes [m] (and
+  // kLevelMargin to either side)
+  struct LevelMargin {
+    double back = kLevelMargin, front = kLevelMargin;
+  };
+  // kLevelMargin all round; going down none before the toes
+  static LevelMargin MarginFor(bool down);
+  // the surface under `s` when its sole and `margin` around it rest on one plane
+  bool OnOneLevel(const Footstep& s, const StepLimits& limits, const LevelMargin& margin,
+                  SurfaceSample* out) const;
+  // `s` moved along its heading to a spot within the limits against `feet` where it rests on one
+  // plane, across a rise from its stance sole (new_level) or not; the nearest to the planned spot
+  // first, or the farthest forward (`farthest`); on a new level, of the run of such spots
+  // around it, the middle going up (the sole centred on a stair's tread) and the farthest going
+  // down (the heel farthest past the nose); false when there is none
+  // (with `fixed`, that margin; otherwise MarginFor the step's way down or not)
+  bool PlaceOnLevel(const FeetPose& feet, Footstep* s, const StepLimits& limits, bool new_level,
+                    bool farthest, const LevelMargin* fixed = nullptr) const;
+  // the surface under the sole of `s` rises by more than kLevelChange (along or across it)
+  bool SoleAcrossRise(const Footstep& s, const StepLimits& limits) const;
+  // the other foot's step beside `last` (limits.width apart, parallel) on its level, appended to
+  // `steps` and `feet`; false with `*error` when the spot is not on one plane with `margin`
+  bool CloseBeside(FeetPose* feet, const Footstep& last, const LevelMargin& margin,
+                   const StepLimits& limits, std::vector<Footstep>* steps, std::string* error) const;
 
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
