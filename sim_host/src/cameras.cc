@@ -1,5 +1,7 @@
 // sim_host's cameras (cameras.h).
 #include "sim_host/cameras.h"
+
+#include "image_recorder.h"
 #include "shm_bridge/clock.h"
 
 #include <time.h>
@@ -58,7 +60,9 @@ bool Cameras::Tick(mjModel* m, const mjData* d, shm::Producer* producer, std::st
   if (!enabled_ || d->time < next_frame_) return true;
   const double period = 1.0 / options_.rate;
   while (next_frame_ <= d->time) next_frame_ += period;
-  const uint32_t wanted = producer->ImagesRequested();
+  const uint32_t asked = producer->ImagesRequested();
+  const uint32_t all = camera_ids_.size() >= 32 ? ~0u : (1u << camera_ids_.size()) - 1;
+  const uint32_t wanted = recorder_ ? all : asked;
   if (wanted == 0) return true;
   if (!renderer_ && !SetUp(m, error)) return false;
 
@@ -82,8 +86,11 @@ bool Cameras::Tick(mjModel* m, const mjData* d, shm::Producer* producer, std::st
     renderer_->Draw(m, pose_, &cam, options_.width, options_.height);
     renderer_->Read(options_.width, options_.height, rgb_.data(),
                     options_.depth ? depth_.data() : nullptr);
-    producer->PublishImage(static_cast<int>(i), d->time, options_.width, options_.height,
-                           rgb_.data(), options_.depth ? depth_.data() : nullptr);
+    if (asked & (1u << i))
+      producer->PublishImage(static_cast<int>(i), d->time, options_.width, options_.height,
+                             rgb_.data(), options_.depth ? depth_.data() : nullptr);
+    if (recorder_)
+      recorder_->Push(static_cast<int>(i), d->time, rgb_.data(), options_.depth ? depth_.data() : nullptr);
     ++frames_;
   }
   seconds_ += MonotonicSeconds() - start;

@@ -287,6 +287,23 @@ void HostRun::Progress() {
                static_cast<unsigned long>(servo->rejected_total()));
 }
 
+// --record-images: the writer drained; images not written whole are a failed run, as the log's
+void HostRun::EndImages() {
+  cameras->Record(nullptr);
+  const bool ok = images->Close(&st.images_error);
+  st.images_recorded = images->frames();
+  st.images_waited = images->waited_seconds();
+  if (!o.quiet)
+    std::fprintf(stderr, "sim_host: images: %lu written to %s%s%s\n",
+                 static_cast<unsigned long>(st.images_recorded), images->dir().c_str(),
+                 ok ? "" : "; INCOMPLETE: ", st.images_error.c_str());
+  if (!ok && exit_code == kExitOk) {
+    st.outcome = "images_failed";
+    st.detail = "the recorded images in '" + images->dir() + "' are incomplete: " + st.images_error;
+    exit_code = kExitOutputFailed;
+  }
+}
+
 // the run's outcome (a signal, a fall), the log's end, the report and the summary
 int HostRun::Shutdown() {
   st.wall_end = MonotonicSeconds();
@@ -310,6 +327,7 @@ int HostRun::Shutdown() {
   }
   if (exit_code != kExitDiverged) producer->SetState(shm::ProducerState::kStopped);
   if (recorder) EndLog(recorder.get(), &st, &exit_code);
+  if (images) EndImages();
   st.rejected = servo->rejected_total();
   st.clamped = servo->clamped_total();
   for (size_t i = 0; i < robot.joints.size(); ++i) {

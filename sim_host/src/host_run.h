@@ -8,6 +8,7 @@
 #include <string>
 
 #include "shm_bridge/bridge.h"
+#include "image_recorder.h"
 #include "sim_host/cameras.h"
 #include "sim_host/divergence.h"
 #include "sim_host/effects.h"
@@ -46,6 +47,8 @@ class HostRun {
   bool LoadScene(std::string* error);
   bool SetUpWatches(std::string* error);
   bool ApplyJointFile(std::string* error);
+  bool OpenImages(std::string* error);
+  void EndImages();
   bool OpenLog(std::string* error);
   bool CreateSegment(std::string* error);
 
@@ -90,6 +93,7 @@ class HostRun {
   std::unique_ptr<SensorNoise> noise;
   std::unique_ptr<shm::Producer> producer;
   std::unique_ptr<Cameras> cameras;
+  std::unique_ptr<ImageRecorder> images;  // --record-images (image_recorder.h)
   std::unique_ptr<model::Servo> servo;
   std::unique_ptr<DivergenceWatch> watch;
   std::unique_ptr<PhysicsStep> stepper;

@@ -72,6 +72,10 @@ int HostRun::SetUp(bool* ran_enough) {
     return kExitUsage;  // the segment is removed on the way out
   }
   cameras = std::make_unique<Cameras>(robot, o.cameras, effects.on(Effect::kCameras));
+  if (!o.record_images.empty() && !OpenImages(&error)) {
+    std::fprintf(stderr, "sim_host: --record-images: %s\n", error.c_str());
+    return kExitUsage;  // the segment is removed on the way out
+  }
   servo = std::make_unique<model::Servo>(robot);
   servo->HoldCurrent(d);
   if (!o.quiet) PrintStart(text);
@@ -134,6 +138,25 @@ bool HostRun::ApplyJointFile(std::string* why) {
     return false;
   }
   return scene->Reset(o.keyframe, why);
+}
+
+// --record-images: the robot's cameras, on, into the run folder (image_recorder.h)
+bool HostRun::OpenImages(std::string* why) {
+  if (robot.cameras.empty()) {
+    *why = "the robot in " + o.scene + " has no camera (a <camera> on one of its bodies)";
+    return false;
+  }
+  if (!effects.on(Effect::kCameras)) {
+    *why = "the cameras effect is off (--effects cameras=on)";
+    return false;
+  }
+  std::vector<std::string> names;
+  for (const model::CameraMap& c : robot.cameras) names.push_back(c.name);
+  images = ImageRecorder::Open(o.record_images, names, o.cameras.width, o.cameras.height,
+                               o.cameras.depth, why);
+  if (!images) return false;
+  cameras->Record(images.get());
+  return true;
 }
 
 // the data log, before anything runs (its header written: a file that takes none is refused)

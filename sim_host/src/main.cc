@@ -136,6 +136,10 @@ int main(int argc, char** argv) {
          "--camera-depth", [&o](const std::string& v) { o.cameras.depth = v == "on"; },
          "publish a depth image [m] beside each RGB image: on | off (default on)")
       ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--record-images", o.record_images,
+                 "write every image of every camera, rendered at --camera-rate whether asked or "
+                 "not, to this folder: CAMERA/NNNNNN.png (RGB), CAMERA/NNNNNN_depth.png (16-bit "
+                 "depth in mm) and images.csv (time, camera, files), for replays (ohrp view)");
   app.add_flag("--explain", o.explain,
                "print each effect (on or off, and why), the control period, and each joint's "
                "actuator and how its torque is mapped onto it, for this scene and these "

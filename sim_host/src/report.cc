@@ -195,6 +195,11 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const model::Ro
                            {"tangential_damping", cp.tangential_damping}};
     j["contact_file"] = o.contact_file;
   }
+  if (!o.record_images.empty()) {
+    j["images"] = {{"dir", o.record_images}, {"frames", st.images_recorded},
+                   {"waited_s", st.images_waited}, {"error", st.images_error},
+                   {"index", o.record_images + "/images.csv"}};
+  }
   if (!o.joint_file.empty()) {
     // the joints' values as they ran (robot_model/joint_params.h)
     j["joint_file"] = o.joint_file;

@@ -6,7 +6,6 @@
 // effects it runs are the ones the scene calls for) and works on any run folder, including the
 // ones CI leaves behind.
 #include <mujoco/mujoco.h>
-#include <png.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -21,6 +20,7 @@
 
 #include "cli/command_line.h"
 #include "render/offscreen.h"
+#include "render/png.h"
 #include "robot_model/load.h"
 #include "datalog/table.h"  // the data log's reader
 #include "tool_process/run_command.h"
@@ -36,33 +36,6 @@ void OnMujocoWarning(const char* msg) { std::fprintf(stderr, "ohrp_video: MuJoCo
 bool IsDir(const std::string& p) {
   struct stat st {};
   return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-bool WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int w, int h,
-              std::string* error) {
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    *error = "cannot write '" + path + "'";
-    return false;
-  }
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(f);
-    *error = "libpng failed on '" + path + "'";
-    return false;
-  }
-  png_init_io(png, f);
-  png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < h; ++y)
-    png_write_row(png, const_cast<png_bytep>(rgb.data() + static_cast<size_t>(y) * w * 3));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  std::fclose(f);
-  return true;
 }
 
 }  // namespace
@@ -286,7 +259,7 @@ int main(int argc, char** argv) {
       char name[64];
       std::snprintf(name, sizeof(name), "/still_%.2f.png", t);
       render(t);
-      if (!WritePng(run_dir + name, flipped, width, height, &error)) {
+      if (!ohrp::render::WritePngRgb(run_dir + name, flipped.data(), width, height, false, &error)) {
         std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
         status = 1;
       } else {
@@ -324,7 +297,7 @@ int main(int argc, char** argv) {
       } else {
         char name[64];
         std::snprintf(name, sizeof(name), "/frame_%05d.png", k);
-        if (!WritePng(frames_dir + name, flipped, width, height, &error)) {
+        if (!ohrp::render::WritePngRgb(frames_dir + name, flipped.data(), width, height, false, &error)) {
           std::fprintf(stderr, "ohrp_video: %s\n", error.c_str());
           status = 1;
         }

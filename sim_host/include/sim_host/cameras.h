@@ -3,6 +3,9 @@
 // into the segment's image slots (shm_bridge/images.h), at a rate of simulated time, and only
 // while some attached program asks for them (Producer::ImagesRequested).
 //
+// With a recorder (sim_host --record-images) every camera renders at every frame time, asked
+// or not, and each image goes to the run folder too (image_recorder.h).
+//
 // Cost when nobody asks: one comparison per control cycle, and at each frame time (e.g. 30 Hz of
 // simulated time) a look at the segment's request entries (16 loads). Nothing is set up: the
 // OSMesa context, MuJoCo's rendering context and a second mjData for the camera poses are made
@@ -26,6 +29,8 @@
 
 namespace ohrp::sim {
 
+class ImageRecorder;
+
 struct CameraOptions {
   double rate = 30.0;    // frames per second of simulated time, per requested camera
   int width = 640;       // image size [pixel] (<= shm::kMaxImageWidth x kMaxImageHeight)
@@ -48,6 +53,10 @@ class Cameras {
   // up (then the cameras stay off).
   bool Tick(mjModel* m, const mjData* d, shm::Producer* producer, std::string* error);
 
+  // Every camera rendered at every frame time, published (when asked) and handed to
+  // `recorder` (sim_host --record-images; not owned; null: none).
+  void Record(ImageRecorder* recorder) { recorder_ = recorder; }
+
   uint64_t frames() const { return frames_; }        // camera images published
   double render_seconds() const { return seconds_; }  // wall time spent rendering them [s]
   bool rendering() const { return renderer_ != nullptr; }
@@ -65,6 +74,7 @@ class Cameras {
   std::vector<float> depth_;
   uint64_t frames_ = 0;
   double seconds_ = 0.0;
+  ImageRecorder* recorder_ = nullptr;
 };
 
 }  // namespace ohrp::sim

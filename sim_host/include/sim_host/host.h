@@ -91,6 +91,8 @@ struct HostOptions {
                                    // ohrp_selfcollision (implies self_collision=on); empty: all
                                    // non-adjacent pairs (sim_host/self_collision_watch.h)
   CameraOptions cameras;           // the robot's cameras: size, rate (sim_host/cameras.h)
+  std::string record_images;       // every camera's images written to this folder (--record-images,
+                                   // image_recorder.h); empty: none
   FallOptions fall;                // the fall watch: end or continue, bodies allowed to touch
                                    // the ground (sim_host/fall.h)
 };

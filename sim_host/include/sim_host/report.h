@@ -86,6 +86,9 @@ struct RunStats {
   SelfCollisionSummary self_collision;  // the self_collision effect (on: false when off)
   FallSummary fall;                     // the fall watch and the robot's fall (sim_host/fall.h)
   GuardSummary guard;                   // the controller's self-collision guard (guard_watch.h)
+  uint64_t images_recorded = 0;         // --record-images: frames written whole
+  double images_waited = 0;             // [s] the loop's wait for the image writer
+  std::string images_error;             // why the recorded images are incomplete ("": complete)
 };
 
 const char* IntegratorName(int integrator);
