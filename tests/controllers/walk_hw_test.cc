@@ -111,12 +111,11 @@ TEST_F(WalkHw, TurnsNinetyDegreesThroughHwDriverAndUdp) {
 // of the goal, and not fallen (the emulator's truth: base above 0.6 m, tilt under 5 deg with all
 // servos on, below the 7.2 deg at which G1's CoM, 0.672 m up, leaves its 0.085 m sole reach;
 // the driver's own IMU fall check, --fall-tilt, ends the run with exit 10 otherwise).
-// DISABLED: not reliable yet. Of 7 such runs (soft or native soles) 2 reached the goal (4.97 m,
-// tilt at most 3.2 deg, joint by joint as sim_host's g1_walk_forward), 5 fell (at 9.2 s four
-// times, 27.2 s, 29.4 s): walk's hip strategy swings the waist roll to its 0.35 rad clamp in the
-// first steps (sim_host too: torso offset 11 deg at 4 ms, 20 deg at 2 ms), where the 50 N m
-// waist saturates and the chain's timing (a cycle's delay, late commands) tips it
-// (docs/robots.md "Through hw_driver + hw_emulator"). Run it with --gtest_also_run_disabled_tests.
+// DISABLED: not reliable yet. Of 10 such runs 3 reached the goal (4.96-4.98 m, tilt at most
+// 3.2 deg, joint by joint as sim_host's g1_walk_forward), 7 fell: walk's hip strategy swings
+// the waist roll to its 0.35 rad clamp (sim_host too reaches 11 deg of torso offset at 4 ms)
+// and the chain's timing (a cycle's delay, late commands) tips it (docs/robots.md "Through
+// hw_driver + hw_emulator"). Run it with --gtest_also_run_disabled_tests.
 TEST_F(WalkHw, DISABLED_G1ThroughItsProfileWalksFiveMetresThroughHwDriverAndUdp) {
 #ifdef OHRP_SANITIZE
   GTEST_SKIP() << "walk through hw_driver is not real time in a sanitizer build";
