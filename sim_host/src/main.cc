@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "cli/command_line.h"
-#include "contact/params_file.h"
 #include "robot_model/profile.h"
+#include "sim_host/contact_choice.h"
 #include "sim_host/host.h"
 
 int main(int argc, char** argv) {
@@ -152,35 +152,29 @@ int main(int argc, char** argv) {
       "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  // a robot profile's soles file, when no --contact-file is given, and its joints file, when no --joint-file is given
-  if ((o.contact_file.empty() || o.joint_file.empty()) && ohrp::model::IsProfilePath(o.scene)) {
+  // a robot profile's joints file, when no --joint-file is given
+  if (o.joint_file.empty() && ohrp::model::IsProfilePath(o.scene)) {
     ohrp::model::RobotProfile profile;
     std::string error;
     if (!ohrp::model::ReadProfile(o.scene, &profile, &error)) {
       std::fprintf(stderr, "sim_host: --scene: %s\n", error.c_str());
       return ohrp::sim::kExitUsage;
     }
-    if (o.contact_file.empty()) o.contact_file = profile.contact_file;
-    if (o.joint_file.empty()) o.joint_file = profile.joint_file;
+    o.joint_file = profile.joint_file;
   }
   if (std::string error; !o.joint_file.empty() &&
                          !ohrp::model::ReadJointParamsFile(o.joint_file, &o.joints, &error)) {
     std::fprintf(stderr, "sim_host: --joint-file: %s\n", error.c_str());
     return ohrp::sim::kExitUsage;
   }
-  if (!o.contact_file.empty()) {
-    // the file's values, except where a --contact-* option was given as well
-    std::set<std::string> given;
-    for (const char* k : {"stiffness", "exponent", "damping", "friction", "tangential_stiffness",
-                          "tangential_damping"}) {
-      std::string flag = std::string("--contact-") + k;
-      for (char& c : flag) c = c == '_' ? '-' : c;
-      if (app.count(flag) > 0) given.insert(k);
-    }
-    std::vector<std::string> keys;
-    std::string error;
-    if (!ohrp::contact::ReadContactFile(o.contact_file, &cp, &keys, &error, given)) {
-      std::fprintf(stderr, "sim_host: --contact-file: %s\n", error.c_str());
+  // the contact under the soles: as hw_emulator chooses it (sim_host/contact_choice.h)
+  {
+    ohrp::sim::ContactChoice choice{contact, o.contact_file, {}};
+    for (const auto& [key, flag] : ohrp::sim::ContactParamFlags())
+      if (app.count(flag) > 0) choice.given.insert(key);
+    if (std::string error;
+        !ohrp::sim::ChooseContact(o.scene, choice, &o.feet, &o.contact_file, &error)) {
+      std::fprintf(stderr, "sim_host: %s\n", error.c_str());
       return ohrp::sim::kExitUsage;
     }
   }
@@ -197,7 +191,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "sim_host: --log-max: %s\n", error.c_str());
     return ohrp::sim::kExitUsage;
   }
-  ohrp::sim::ParseContactModel(contact, &o.feet.model);
   for (const auto& spec : effects) {
     std::string error;
     if (!ohrp::sim::ParseEffectRequests(spec, &o.effects, &error)) {

@@ -73,7 +73,7 @@ Chain RunChainOn(const ChainRobot& robot, const std::string& tag,
       {Program("hw_driver"), "--model", robot.model, "--io", Program("../lib/libohrp_io_udp.so"),
        "--io-arg", "port=" + std::to_string(port), "--io-arg",
        "timeout_ms=" + std::to_string(tolerance.board_ms), "--segment", segment, "--period",
-       "0.002", "--watchdog-cycles", std::to_string(tolerance.cycles), "--board-timeout-cycles",
+       std::to_string(robot.period), "--watchdog-cycles", std::to_string(tolerance.cycles), "--board-timeout-cycles",
        std::to_string(tolerance.cycles), "--rt-priority", "0", "--no-mlock", "--duration",
        std::to_string(duration), "--summary", path("driver.json")},
       path("driver.out"));

@@ -52,6 +52,7 @@ Chain RunChain(const std::string& tag, const std::vector<std::string>& controlle
 struct ChainRobot {
   std::string model;     // a scene or robot profile
   std::string keyframe;  // the emulator's initial state
+  double period = 0.002; // the driver's servo cycle = the controller's period [s]
 };
 // the same on another robot than HRP-1S's flat scene
 Chain RunChainOn(const ChainRobot& robot, const std::string& tag,

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <string>
 
+#include "fake_robot.h"
 #include "hw_chain.h"
 
 namespace ohrp::controllers::testing {
@@ -102,6 +103,43 @@ TEST_F(WalkHw, TurnsNinetyDegreesThroughHwDriverAndUdp) {
   std::printf("[ figures  ] walk goal 0 0 90 on the hardware path: yaw %.2f deg, base moved "
               "(%.3f, %.3f) m; base z %.3f..%.3f m, tilt max %.2f deg\n%s",
               b.yaw - a.yaw, b.x - a.x, b.y - a.y, s[0], s[1], s[2], c.controller_out.c_str());
+}
+
+// issue 31: G1 through its robot profile walks the scenario g1_walk_forward's 5 m through the
+// chain: the emulator at G1's 2 ms timestep on the soft soles (--contact auto, as sim_host), the
+// driver and walk at the scenario's 4 ms period. Judged as the scenario: within 0.2 m and 5 deg
+// of the goal, and not fallen (the emulator's truth: base above 0.6 m, tilt under 5 deg with all
+// servos on, below the 7.2 deg at which G1's CoM, 0.672 m up, leaves its 0.085 m sole reach;
+// the driver's own IMU fall check, --fall-tilt, ends the run with exit 10 otherwise).
+// DISABLED: not reliable yet. Of 10 such runs 3 reached the goal (4.96-4.98 m, tilt at most
+// 3.2 deg, joint by joint as sim_host's g1_walk_forward), 7 fell: walk's hip strategy swings
+// the waist roll to its 0.35 rad clamp (sim_host too reaches 11 deg of torso offset at 4 ms)
+// and the chain's timing (a cycle's delay, late commands) tips it (docs/robots.md "Through
+// hw_driver + hw_emulator"). Run it with --gtest_also_run_disabled_tests.
+TEST_F(WalkHw, DISABLED_G1ThroughItsProfileWalksFiveMetresThroughHwDriverAndUdp) {
+#ifdef OHRP_SANITIZE
+  GTEST_SKIP() << "walk through hw_driver is not real time in a sanitizer build";
+#endif
+  if (ExternalDir().empty()) GTEST_SKIP() << "no ../shared/external beside the repository";
+  constexpr double kDuration = 42.0;  // the scenario's
+  const std::string g1 = std::string(OHRP_SOURCE_DIR) + "/robots/g1.yaml";
+  const Chain c = RunChainOn({g1, "stand", 0.004}, "walk_hw_g1",
+                             {"walk", "--model", g1, "--stance-keyframe", "stand", "--ramp", "1.0",
+                              "--command", "goal 5 0 0"},
+                             {"--period", "0.002"}, kDuration);
+  ExpectCleanRun(c);
+  ASSERT_FALSE(c.rows.empty());
+  const EmulatorRow &a = FirstOn(c), &b = c.rows.back();
+  EXPECT_NEAR(b.x - a.x, 5.0, 0.2) << "forward [m]";
+  EXPECT_NEAR(b.y - a.y, 0.0, 0.2) << "sideways [m]";
+  EXPECT_NEAR(b.yaw - a.yaw, 0.0, 5.0) << "heading [deg]";
+  const auto s = ExpectUpright(c, kDuration - 0.1);
+  std::printf("[ figures  ] G1 walk goal 5 0 0 on hw_driver (4 ms) + udp + hw_emulator (2 ms, "
+              "soft soles): base moved (%.3f, %.3f) m, yaw %.2f deg; base z %.3f..%.3f m, tilt "
+              "max %.2f deg; driver: %s late commands, %s deadline misses\n%s",
+              b.x - a.x, b.y - a.y, b.yaw - a.yaw, s[0], s[1], s[2],
+              c.summary["late_commands"].dump().c_str(),
+              c.summary["deadline_misses"].dump().c_str(), c.controller_out.c_str());
 }
 
 }  // namespace

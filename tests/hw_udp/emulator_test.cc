@@ -253,5 +253,46 @@ TEST_F(EmulatorTest, NoDriverEndsTheRunAfterTheWait) {
   EXPECT_NE(Stderr().find("no command packet within"), std::string::npos) << Stderr();
 }
 
+// issue 31: the contact under the soles is chosen as sim_host chooses it (sim_host/
+// contact_choice.h): --contact auto by default, so HRP-1S's colliding *_SOLE boxes are the soft
+// soles; a robot profile's `contact: native` (its soles non-colliding markers) resolves to
+// MuJoCo's contact; an explicit --contact wins; a contact file that is not there is refused
+TEST_F(EmulatorTest, TheContactIsChosenAsSimHostChoosesIt) {
+  auto contact_of = [&](std::vector<std::string> extra) {
+    if (Start(extra) <= 0) return std::string("(no start)");
+    kill(pid_, SIGINT);
+    EXPECT_EQ(Wait(), 130) << Stderr();
+    const std::string text = Stderr();
+    const size_t at = text.find("; contact ");
+    return at == std::string::npos ? std::string("(not said)")
+                                   : text.substr(at + 10, text.find(';', at + 10) - at - 10);
+  };
+  EXPECT_EQ(contact_of({}), "soft");
+  EXPECT_EQ(contact_of({"--contact", "native"}), "native");
+  EXPECT_EQ(contact_of({"--contact", "rigid"}), "rigid");
+  Spawn({"--model", kScene, "--contact-file", (dir_ / "none.yaml").string()});
+  EXPECT_EQ(Wait(), 2);
+  // a profile whose soles are markers (contact: native) over G1, when the menagerie is there
+  const fs::path g1 = fs::path(OHRP_SOURCE_DIR).parent_path() /
+                      "shared/external/menagerie/unitree_g1/scene.xml";
+  if (!fs::exists(g1)) GTEST_SKIP() << g1 << " is not there";
+  for (const char* mode : {"native", "soft"}) {
+    const std::string profile = (dir_ / (std::string("g1_") + mode + ".yaml")).string();
+    std::ofstream(profile) << "model: " << g1.string() << "\n"
+                           << "feet:\n  left: {body: left_ankle_roll_link}\n"
+                           << "  right: {body: right_ankle_roll_link}\n"
+                           << "contact: " << mode << "\n";
+    fs::remove(err_);  // the last run's text is not this one's
+    Spawn({"--model", profile, "--wait-driver", "30", "--period", "0.002"});
+    const auto t0 = Clock::now();
+    while (Running() && Since(t0) < kMaxWall && Stderr().find("; contact ") == std::string::npos)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    kill(pid_, SIGINT);
+    EXPECT_EQ(Wait(), 130) << Stderr();
+    EXPECT_NE(Stderr().find(std::string("; contact ") + mode + ";"), std::string::npos)
+        << mode << ": " << Stderr();
+  }
+}
+
 }  // namespace
 }  // namespace ohrp::hw::udp

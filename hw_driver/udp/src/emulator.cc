@@ -55,15 +55,18 @@ bool Emulator::SetUp(int* exit_code) {
   }
   // the contact under the soles, as sim_host sets it up (sim_host/feet.h), before the state
   // is first computed
+  // (sim_host/contact_choice.h: the same choice as sim_host's, a profile's contact_file too)
   sim::FeetOptions feet;
-  if (!sim::ParseContactModel(o_.contact, &feet.model)) {
-    std::fprintf(stderr, "hw_emulator: --contact '%s': want soft, native, rigid or auto\n",
-                 o_.contact.c_str());
+  sim::ContactChoice choice{o_.contact, o_.contact_file, {}};
+  if (o_.contact_stiffness > 0) choice.given.insert("stiffness");
+  if (o_.contact_damping >= 0) choice.given.insert("damping");
+  if (!sim::ChooseContact(o_.model, choice, &feet, nullptr, &error)) {
+    std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
     return false;
   }
   if (o_.contact_stiffness > 0) feet.params.stiffness = o_.contact_stiffness;
   if (o_.contact_damping >= 0) feet.params.damping = o_.contact_damping;
-  if (!sim::SetUpFeet(m_, feet, robot_.total_mass, &soft_, &error)) {
+  if (!sim::SetUpFeet(m_, feet, robot_.total_mass, &soft_, &error, &contact_)) {
     std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
     return false;
   }
@@ -175,11 +178,12 @@ bool Emulator::SetUp(int* exit_code) {
   if (!o_.quiet) {
     std::fprintf(stderr,
                  "hw_emulator: robot '%s' (%zu joints, %d F/T, %d IMU) from %s; boards %s + "
-                 "sensor board %d on udp %s:%d; period %g s (%d physics steps); loss %g, late %g "
-                 "x %g ms; robot unlike the model: %s; robot time starts with the first command\n",
+                 "sensor board %d on udp %s:%d; period %g s (%d physics steps); contact %s; loss %g, "
+                 "late %g x %g ms; robot unlike the model: %s; robot time starts with the first "
+                 "command\n",
                  robot_.name.c_str(), robot_.joints.size(), nf, ni, o_.model.c_str(),
                  LayoutString(layout_).c_str(), layout_.sensor_board(), o_.host.c_str(),
-                 socket_.port(), o_.period, steps_per_cycle_, o_.loss, o_.late_rate, o_.late_ms,
+                 socket_.port(), o_.period, steps_per_cycle_, sim::ContactModelName(contact_), o_.loss, o_.late_rate, o_.late_ms,
                  DescribeGap(gap_).c_str());
   }
   *exit_code = kEmuExitOk;

@@ -9,9 +9,11 @@
 //      refusing bad joints); a motor board without a valid command for --hold-ms holds its
 //      joints where they are (position hold, the model's default gains) until the next one;
 //   2. step the physics (period / timestep steps) with the motor boards' PD at every step, with
-//      sim_host's physics step (sim_host/step.h): pushes, the servo, the soft soles' contact
-//      (--contact soft, --contact-stiffness/--contact-damping: a robot whose feet differ from
-//      the simulation's, for identification, docs/identify.md), mj_step;
+//      sim_host's physics step (sim_host/step.h): pushes, the servo, the contact under the
+//      soles chosen as sim_host chooses it (--contact auto: the soft soles when the model has
+//      soles; a profile's contact: and contact_file: honoured; --contact-stiffness/
+//      --contact-damping: a robot whose feet differ from the simulation's, for identification,
+//      docs/identify.md), mj_step;
 //   3. answer one state packet per board (motor boards: q, dq, tau, servo state; the sensor
 //      board: F/T and IMU), through the injected faults (loss, late, silent, stuck, saturated).
 // The robot's time stands still until the first command packet arrives (the boards keep
@@ -34,7 +36,9 @@ struct EmulatorOptions {
   std::string boards;              // motor boards' joint ranges (empty: DefaultLayout)
   double period = 0.001;           // board cycle [s], a multiple of the model's timestep
   double timestep = 0;             // physics step [s]; 0: the model's
-  std::string contact = "native";  // under the soles, as sim_host --contact (sim_host/feet.h)
+  std::string contact = "auto";    // under the soles, chosen as sim_host chooses it
+                                   // (sim_host/contact_choice.h): auto honours a profile's contact:
+  std::string contact_file;        // soft soles' parameters; empty: a profile's contact_file
   double contact_stiffness = 0;    // soft soles' normal stiffness [N/m]; 0: the default
   double contact_damping = -1;     // soft soles' Hunt-Crossley damping [s/m]; < 0: the default
   std::vector<std::string> pushes; // T0,T1,FX,FY,FZ,TX,TY,TZ on the base (sim_host --push)

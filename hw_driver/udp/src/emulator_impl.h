@@ -15,6 +15,7 @@
 #include "hw_udp/socket.h"
 #include "robot_model/model.h"
 #include "robot_model/servo.h"
+#include "sim_host/contact_choice.h"
 #include "sim_host/feet.h"
 #include "sim_host/host.h"
 #include "sim_host/step.h"
@@ -89,6 +90,7 @@ class Emulator {
   model::RobotMap robot_;
   std::unique_ptr<model::Servo> servo_;
   std::unique_ptr<contact::SoftFootContact> soft_;  // --contact soft: the soles' spring-dampers
+  sim::ContactModel contact_ = sim::ContactModel::kAuto;  // --contact as resolved (reported)
   std::vector<sim::Perturbation> pushes_;           // --push
   std::unique_ptr<sim::PhysicsStep> step_;          // sim_host's step of all the above
   BoardLayout layout_;

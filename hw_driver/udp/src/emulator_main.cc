@@ -25,9 +25,16 @@ int main(int argc, char** argv) {
   app.add_option("--timestep", o.timestep, "physics step [s] (default: the model's)")
       ->check(ohrp::cli::Positive());
   app.add_option("--contact", o.contact,
-                 "under the soles, as sim_host --contact: soft (the paper's spring-dampers), "
-                 "native (MuJoCo's, as the scene defines it), rigid, auto")
+                 "under the soles, chosen as sim_host chooses it: soft (the paper's "
+                 "spring-dampers), native (MuJoCo's, as the scene defines it), rigid, auto (soft "
+                 "when the model has *_SOLE geoms that collide, else native: a robot profile's "
+                 "contact: key decides)")
       ->capture_default_str()->check(CLI::IsMember({"soft", "native", "rigid", "auto"}));
+  app.add_option("--contact-file", o.contact_file,
+                 "soft: the soles' parameters from a file (as sim_host --contact-file); "
+                 "--contact-stiffness/--contact-damping given as well win; default: a robot "
+                 "profile's contact_file")
+      ->check(CLI::ExistingFile);
   app.add_option("--contact-stiffness", o.contact_stiffness,
                  "soft: normal stiffness of one sole [N/m] (default: sim_host's)")
       ->check(ohrp::cli::Positive());

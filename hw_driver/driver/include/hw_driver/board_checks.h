@@ -9,10 +9,12 @@
 //                 had a sustain time to follow a change.
 //   acknowledgement (io_report::kBoards) no board leaves the commands unacknowledged
 //                 (IoState::unacked_boards: for the plugin's board timeout).
-//   tracking      (io_report::kFollowsCommands) a position-mode joint with its servo on stays
-//                 within tau_max / kp of its reference (the error at which its servo saturates:
-//                 beyond it the motor cannot pull the joint back harder), plus the plausibility
-//                 margin's floor of 0.05 rad, except for `tracking_time` at most.
+//   tracking      (io_report::kFollowsCommands) a position-mode joint with its servo on: the
+//                 error its stiffness fights, (kp e + kd (dq_ref - dq) + tau_ff) / kp with e the
+//                 reference minus the reading, stays within tau_max / kp (the error at which its
+//                 servo saturates: beyond it the motor cannot pull the joint back harder; the
+//                 damping and feed-forward terms explain the lag of a joint following a moving
+//                 reference), at least 0.05 rad, except for `tracking_time` at most.
 //   refusal, foreign commands (io_report::kBoards) a board refusing the driver's command
 //                 (refused_boards) or reporting refused commands of another sender
 //                 (foreign_boards).
