@@ -328,12 +328,13 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     // command is replaced by the brake from the measured state (a hold where the joints stand
     // still), whose acceleration and torque the next cycle measures; not a hold episode
     measuring_ = false;
+    braking_ = false;
+    if (monitor_only_) return false;  // monitoring: the commands are left alone
     for (int j = 0; j < njoint_; ++j) {
       if (std::isfinite(sensors.q[j])) brake_q_[j] = sensors.q[j];
       brake_v_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
       brake_decel_[j] = decel_[j];
     }
-    braking_ = false;
     Brake(sensors, c);
     return true;
   }

@@ -187,7 +187,7 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     v1_[j] = v1;
     q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
     stop_[j] = std::abs(v1) / decel_[j];
-    speed_[j] = std::max({std::abs(v), std::abs(v1), std::abs(v_up), std::abs(v_down)});
+    speed_[j] = std::max(std::abs(v), std::abs(v1));  // the nominal's (the envelope the rest)
     const double spread =
         std::min(0.5 * std::max(a_hi - a_mid, a_mid - a_lo) * horizon * horizon,
                  horizon * (std::max(v_ceil - v, v - v_floor) + std::abs(a_mid) * horizon));
