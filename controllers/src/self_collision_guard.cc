@@ -111,9 +111,19 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   // per pair and joint, how far the pair's two links move per unit of the joint
   const auto reach = collision::LinkReach(file_.robot);
   coef_.assign(every_.size() * nq_, 0.0);
+  // A joint beyond which BOTH links lie (an ancestor of both: G1's waist for its torso and
+  // arms) moves them rigidly together: their distance does not depend on it, so it adds
+  // nothing (with it, G1's waist settling after the stand braked the shoulder 2.9 mm from
+  // the torso for 18 cycles)
+  const auto moves = [&](int l, int joint) {
+    for (const auto& jr : reach[l])
+      if (jr.first == joint) return true;
+    return false;
+  };
   for (size_t i = 0; i < every_.size(); ++i)
     for (int l : {every_[i].a, every_[i].b})
-      for (const auto& [joint, r] : reach[l]) coef_[i * nq_ + joint] += r;
+      for (const auto& [joint, r] : reach[l])
+        if (!(moves(every_[i].a, joint) && moves(every_[i].b, joint))) coef_[i * nq_ + joint] += r;
   // a pair the brake can act on: some actuated joint that moves it carries no support (a leg
   // with a foot is not braked: braking a stance leg topples the robot; its pairs are monitored)
   brakeable_.assign(every_.size(), 0);
@@ -171,9 +181,10 @@ void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
   for (size_t i = 0; i < every_.size(); ++i)
     limit_[i] = std::min(base_limit_[i], check_->distance(static_cast<int>(i)) - tolerance_);
   braking_ = false;
-  // the load's first estimate: the measured torque, the joints taken as not accelerating
+  // no acceleration measured yet: the first cycle measures (Filter)
   for (int j = 0; j < njoint_; ++j) last_dq_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
-  have_last_ = true;
+  have_last_ = false;
+  measuring_ = true;
 }
 
 void SelfCollisionGuard::ListPairs() {
@@ -299,15 +310,34 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
     // prediction's braking rate was derived from), so that the servo follows the ramp from its
     // first cycle instead of building a tracking error first (which let the joint coast past
     // the ramp's end: 0.044 rad at HRP-1S's shoulder after a jump)
-    if (v0 != 0)
-      jc.tau_ff = brake_ff_[j] + (v0 > 0 ? -1 : 1) * brake_decel_[j] * file_.dynamics[j].inertia_max;
-    else
-      jc.tau_ff = brake_ff_[j];
+    // The torque is the ramp's mean deceleration over this period ((v0 - v1) / period: a ramp
+    // that ends within the period asks for less) times the SMALLEST inertia the joint may
+    // drive: with light rotors (G1: 0.01 kg m^2 against 2.2 at its waist) the largest inertia's
+    // torque applied to the rotor alone reversed the joint within a period (G1 standing: the
+    // waist at 2.2 rad/s after one braked cycle); the servo's gains add what a heavier joint
+    // needs. On HRP-1S (reflected rotors: 12 of 12-25 kg m^2) it is nearly the same torque.
+    jc.tau_ff = brake_ff_[j] + (v1 - v0) / period_ * file_.dynamics[j].inertia_min;
   }
 }
 
 bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
   bool clear = Predict(sensors, *c);
+  if (measuring_) {
+    // the first cycle after activation: no acceleration measured yet, so the load the joints
+    // carry is unknown (within the gravity bound: a box metres wide on G1's light rotors). The
+    // command is replaced by the brake from the measured state (a hold where the joints stand
+    // still), whose acceleration and torque the next cycle measures; not a hold episode
+    measuring_ = false;
+    braking_ = false;
+    if (monitor_only_) return false;  // monitoring: the commands are left alone
+    for (int j = 0; j < njoint_; ++j) {
+      if (std::isfinite(sensors.q[j])) brake_q_[j] = sensors.q[j];
+      brake_v_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
+      brake_decel_[j] = decel_[j];
+    }
+    Brake(sensors, c);
+    return true;
+  }
   if (!clear) {
     // a measurement is not finite: nothing to predict from, so nothing is judged (the
     // controller's own non-finite handling holds); a brake under way goes on (it needs none)

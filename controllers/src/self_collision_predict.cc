@@ -21,6 +21,33 @@ double Servo(const shm::JointCommand& c, double q, double dq) {
 
 }  // namespace
 
+void SelfCollisionGuard::VelocityBand(const shm::JointCommand& c, double q, double v,
+                                      double load_lo, double load_hi, double tau_max,
+                                      double horizon, double* v_floor, double* v_ceil) {
+  // A servo with damping kd > 0 drives the velocity towards v_eq = dq_ref + (kp (q_ref - q) +
+  // tau_ff - L) / kd: above it, the servo's torque (clamped to tau_max, the same sign) is below
+  // the load L, so the velocity falls, whatever the inertia (|L| <= tau_max). Over the horizon q
+  // stays within v_floor t .. v_ceil t of the start, which bounds kp (q_ref - q); the band and
+  // that range are narrowed in turn, each step from sound bounds (kp t / kd < 1 contracts).
+  const bool position = c.mode == shm::JointMode::kPosition;
+  if (!(c.mode == shm::JointMode::kPosition || c.mode == shm::JointMode::kVelocity)) return;
+  const double kp = position ? c.kp : 0.0;
+  if (!(c.kd > 0) || !(kp >= 0) || !std::isfinite(c.kd) || !std::isfinite(kp)) return;
+  // the ceiling needs every load >= -tau_max (else the load can outpull any torque), the floor
+  // every load <= tau_max
+  const bool ceil_ok = load_lo >= -tau_max, floor_ok = load_hi <= tau_max;
+  const double drive = (position ? kp * (c.q_ref - q) : 0.0) + c.tau_ff;
+  if (!std::isfinite(drive) || !std::isfinite(c.dq_ref)) return;
+  for (int k = 0; k < 4; ++k) {
+    const double back = std::max(0.0, *v_ceil) * horizon;   // how far q can rise
+    const double ahead = std::max(0.0, -*v_floor) * horizon;  // how far it can fall
+    const double hi = c.dq_ref + (drive + kp * ahead - load_lo) / c.kd;
+    const double lo = c.dq_ref + (drive - kp * back - load_hi) / c.kd;
+    if (ceil_ok) *v_ceil = std::min(*v_ceil, std::max(v, hi));
+    if (floor_ok) *v_floor = std::max(*v_floor, std::min(v, lo));
+  }
+}
+
 double SelfCollisionGuard::Deceleration(int j, double tau_measured) const {
   return Decelerate(j, tau_measured, file_.dynamics[j].inertia_max);
 }
@@ -37,17 +64,27 @@ double SelfCollisionGuard::Decelerate(int j, double tau_measured, double inertia
 
 void SelfCollisionGuard::Excursion(double v, double a_lo, double a_hi, double horizon,
                                    double v_max, double decel, double* lo, double* hi) {
+  const double ceil = v_max > 0 ? std::max(v, v_max) : INFINITY;
+  const double floor = v_max > 0 ? std::min(v, -v_max) : -INFINITY;
+  Excursion(v, a_lo, a_hi, horizon, floor, ceil, decel, lo, hi);
+}
+
+void SelfCollisionGuard::Excursion(double v, double a_lo, double a_hi, double horizon,
+                                   double v_floor, double v_ceil, double decel, double* lo,
+                                   double* hi) {
   const double t = horizon;
   // free motion: position extremes of v t + a t^2 / 2 over [0, t] for a in [a_lo, a_hi]
   double up = std::max(0.0, v * t + 0.5 * (v >= 0 ? std::max(a_hi, 0.0) : a_hi) * t * t);
   double down = std::min(0.0, v * t + 0.5 * (v <= 0 ? std::min(a_lo, 0.0) : a_lo) * t * t);
   double v_up = v + a_hi * t, v_down = v + a_lo * t;
-  if (v_max > 0) {  // the actuator's speed limit
-    up = std::min(up, std::max(v, v_max) * t);
-    down = std::max(down, std::min(v, -v_max) * t);
-    v_up = std::min(v_up, std::max(v, v_max));
-    v_down = std::max(v_down, std::min(v, -v_max));
-  }
+  // the velocity band (the actuator's speed limit, the servo's damping): the velocity stays
+  // within [min(v, v_floor), max(v, v_ceil)] over the horizon
+  v_ceil = std::max(v, v_ceil);
+  v_floor = std::min(v, v_floor);
+  up = std::min(up, std::max(0.0, v_ceil) * t);
+  down = std::max(down, std::min(0.0, v_floor) * t);
+  v_up = std::min(v_up, v_ceil);
+  v_down = std::max(v_down, v_floor);
   // then the brake to rest
   if (v_up > 0) up += v_up * v_up / (2 * decel);
   if (v_down < 0) down -= v_down * v_down / (2 * decel);
@@ -104,8 +141,28 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     const double load = observed ? std::max(std::abs(base - d.inertia_min * a0), std::abs(base - inertia * a0)) + slack
                                  : d.gravity_max;
     decel_[j] = Decelerate(j, load, inertia);
+    // the velocity band: the speed limit, and the servo's damping (VelocityBand)
+    double v_floor = d.velocity_max > 0 ? std::min(v, -d.velocity_max) : -INFINITY;
+    double v_ceil = d.velocity_max > 0 ? std::max(v, d.velocity_max) : INFINITY;
+    {
+      // the load the joint carries: what the measured torque did not spend on the measured
+      // acceleration (for any inertia within the bounds), changing by the slack; unmeasured:
+      // within the gravity bound
+      // (the measured acceleration of a light joint is large and its inertia uncertain: the
+      // load is also kept within the gravity bound and the slack, as the brake's rate is)
+      const double l_lo = observed ? std::max(std::min(base - d.inertia_min * a0, base - inertia * a0),
+                                              -d.gravity_max) - slack
+                                   : -d.gravity_max;
+      const double l_hi = observed ? std::min(std::max(base - d.inertia_min * a0, base - inertia * a0),
+                                              d.gravity_max) + slack
+                                   : d.gravity_max;
+      double band_lo = v + std::min(a_lo, 0.0) * horizon, band_hi = v + std::max(a_hi, 0.0) * horizon;
+      VelocityBand(c.joint[j], q, v, l_lo, l_hi, tau_max_[j], horizon, &band_lo, &band_hi);
+      v_floor = std::max(v_floor, band_lo);
+      v_ceil = std::min(v_ceil, band_hi);
+    }
     double lo = 0, hi = 0;
-    Excursion(v, a_lo, a_hi, horizon, d.velocity_max, decel_[j], &lo, &hi);
+    Excursion(v, a_lo, a_hi, horizon, v_floor, v_ceil, decel_[j], &lo, &hi);
     q_[j] = q;
     box_lo_[j] = q + lo;
     box_hi_[j] = q + hi;
@@ -113,17 +170,28 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     // within the bounds can be from it at any time: the acceleration's spread over the
     // horizon, and the brake's stopping point from the extreme velocities (two brakes at one
     // rate from v and v' differ by at most their stopping points' difference at any time)
-    const double a_mid = 0.5 * (a_lo + a_hi), v1 = v + a_mid * horizon;
+    // Within the band the velocity at time s lies in [max(v + a_lo s, v_floor), min(v + a_hi s,
+    // v_ceil)] (v_floor <= v <= v_ceil); the nominal velocity v + a_mid s, a_mid in [a_lo, a_hi]
+    // the middle of the band's end velocities. The position's deviation at t <= horizon is
+    // at most the integral of the velocity's: both 0.5 max(a_hi - a_mid, a_mid - a_lo) t^2
+    // (the accelerations) and t (max(v_ceil - v, v - v_floor) + |a_mid| t) (the band)
+    v_ceil = std::max(v, v_ceil);
+    v_floor = std::min(v, v_floor);
+    const double v_up = std::min(v + a_hi * horizon, v_ceil);
+    const double v_down = std::max(v + a_lo * horizon, v_floor);
+    const double a_mid = std::clamp((0.5 * (v_up + v_down) - v) / horizon, a_lo, a_hi);
+    const double v1 = v + a_mid * horizon;
     const auto stop = [&](double u) { return u * std::abs(u) / (2 * decel_[j]); };
     v0_[j] = v;
     a_mid_[j] = a_mid;
     v1_[j] = v1;
     q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
     stop_[j] = std::abs(v1) / decel_[j];
-    speed_[j] = std::max(std::abs(v), std::abs(v1));
-    envelope_[j] = 0.25 * (a_hi - a_lo) * horizon * horizon +
-                   std::max(std::abs(stop(v + a_hi * horizon) - stop(v1)),
-                            std::abs(stop(v + a_lo * horizon) - stop(v1)));
+    speed_[j] = std::max(std::abs(v), std::abs(v1));  // the nominal's (the envelope the rest)
+    const double spread =
+        std::min(0.5 * std::max(a_hi - a_mid, a_mid - a_lo) * horizon * horizon,
+                 horizon * (std::max(v_ceil - v, v - v_floor) + std::abs(a_mid) * horizon));
+    envelope_[j] = spread + std::max(std::abs(stop(v_up) - stop(v1)), std::abs(stop(v_down) - stop(v1)));
   }
   horizon_end_ = horizon + *std::max_element(stop_.begin(), stop_.end());
   // passive joints: measured, never commanded nor braked; taken to keep their measured speed

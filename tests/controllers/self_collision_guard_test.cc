@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -50,6 +51,17 @@ class GuardTest : public ::testing::Test {
     ASSERT_EQ(guard_.Configure(kFile, header_), "");
     sensors_ = shm::SensorBlock{};
     guard_.Activate(sensors_);  // the zero posture: arms hanging beside the thighs
+    Measure(&guard_);
+  }
+  // the first cycle after Activate only measures (the load is unknown until an acceleration
+  // has been measured): the command is replaced by the brake from the measured state, which is
+  // not a hold; the test's own command is kept for the next cycle
+  void Measure(SelfCollisionGuard* g) {
+    const shm::CommandBlock saved = commands_;
+    EXPECT_TRUE(g->Filter(sensors_, &commands_));
+    EXPECT_FALSE(g->holding());
+    EXPECT_EQ(g->holds(), 0u);
+    commands_ = saved;
   }
   collision::SelfCollisionFile file_;
   shm::SegmentHeader header_;
@@ -79,6 +91,44 @@ TEST(GuardExcursion, BrakingDistanceOfOneJoint) {
   EXPECT_EQ(hi, 0);
 }
 
+// One hinge of unknown inertia I in [0.01, 2.2] kg m^2 (G1's waist: its rotor alone up to the
+// upper body) under a position servo (kp 200 N m/rad, kd 10 N m s/rad, 50 N m limit) commanded
+// 0.05 rad ahead against a constant load of 5 N m, from rest: for two periods (8 ms) the servo
+// acts, then a ramp at 20 rad/s^2 to rest. The prediction (the acceleration over either end of
+// the inertia, narrowed by the servo's damping, then the ramp) must hold the farthest point of
+// the motion integrated finely for every inertia, and be within a factor 2 of it; without the
+// damping band the rotor alone (5 N m over 0.01 kg m^2) would bound it 5x wider.
+TEST(GuardExcursion, OneHingeOfUnknownInertiaAgainstItsIntegratedMotion) {
+  const double kp = 200, kd = 10, tau_max = 50, load = 5, lead = 0.05, T = 0.008, decel = 20;
+  const double i_min = 0.01, i_max = 2.2;
+  double farthest = 0;
+  for (double inertia : {0.01, 0.02, 0.05, 0.1, 0.3, 1.0, 2.2}) {
+    double q = 0, v = 0;
+    const double h = 1e-6;
+    for (double t = 0; t < T; t += h) {
+      const double tau = std::clamp(kp * (lead - q) - kd * v, -tau_max, tau_max);
+      v += h * (tau - load) / inertia;
+      q += h * v;
+      farthest = std::max(farthest, q);
+    }
+    farthest = std::max(farthest, q + (v > 0 ? v * v / (2 * decel) : 0.0));
+  }
+  // the servo's torque at the start (at rest the velocity carries the joint nowhere): kp lead
+  const double f = kp * lead - load;
+  const double a_lo = std::min(f / i_min, f / i_max), a_hi = std::max(f / i_min, f / i_max);
+  double v_floor = std::min(a_lo, 0.0) * T, v_ceil = std::max(a_hi, 0.0) * T;
+  shm::JointCommand c{shm::JointMode::kPosition, 0, lead, 0, 0, kp, kd};
+  SelfCollisionGuard::VelocityBand(c, 0, 0, load, load, tau_max, T, &v_floor, &v_ceil);
+  EXPECT_LT(v_ceil, 2 * f / kd);  // about the damping's equilibrium, not a_hi T = 4 rad/s
+  double lo = 0, hi = 0;
+  SelfCollisionGuard::Excursion(0, a_lo, a_hi, T, v_floor, v_ceil, decel, &lo, &hi);
+  EXPECT_GE(hi, farthest);
+  EXPECT_LE(hi, 2 * farthest);
+  double hi_wide = 0;
+  SelfCollisionGuard::Excursion(0, a_lo, a_hi, T, 0, decel, &lo, &hi_wide);
+  EXPECT_GT(hi_wide, 5 * farthest);
+}
+
 // the deceleration: the torque limit less the load, over the largest inertia
 TEST_F(GuardTest, DecelerationFromTheFile) {
   const collision::JointDynamics& d = file_.dynamics[kRarmShoulderR];
@@ -92,6 +142,7 @@ TEST_F(GuardTest, BrakesAnArmMovingFastIntoTheLegAlongARamp) {
   Command(q, header_.njoint, &commands_);  // the command holds the zero posture...
   sensors_.dq[kRarmShoulderR] = 2.0;       // ...but the arm swings inwards at 2 rad/s
   guard_.Activate(sensors_);               // (steadily: not accelerating)
+  Measure(&guard_);
   EXPECT_TRUE(guard_.Filter(sensors_, &commands_));
   EXPECT_TRUE(guard_.holding());
   EXPECT_EQ(guard_.holds(), 1u);
@@ -113,25 +164,28 @@ TEST_F(GuardTest, BrakesAnArmMovingFastIntoTheLegAlongARamp) {
   g.Activate(sensors_);
   q[kRarmShoulderR] = -0.5;
   Command(q, header_.njoint, &commands_);
+  Measure(&g);
   EXPECT_FALSE(g.Filter(sensors_, &commands_));
   EXPECT_EQ(g.holds(), 0u);
 }
 
 // the brake commands its ramp's deceleration as a feed-forward torque on top of the
-// controller's own (at the joint's largest inertia, the one its braking rate comes from): a
-// servo that must first build a tracking error lets the joint coast past the ramp's end (the
-// arm_jump_past_thigh trial: 0.044 rad at the shoulder, the hand 0.4 mm from the thigh)
+// controller's own (the period's mean deceleration at the joint's SMALLEST inertia: the largest
+// one's torque reversed G1's light rotors within a period): a servo that must first build a
+// tracking error lets the joint coast past the ramp's end (the arm_jump_past_thigh trial:
+// 0.044 rad at the shoulder, the hand 0.4 mm from the thigh)
 TEST_F(GuardTest, TheBrakeFeedsItsDecelerationForward) {
   double q[shm::kMaxJoints] = {};
   Command(q, header_.njoint, &commands_);
   for (int j = 0; j < header_.njoint; ++j) commands_.joint[j].tau_ff = 3.0;  // the controller's
   sensors_.dq[kRarmShoulderR] = 2.0;  // swinging inwards, into the leg
   guard_.Activate(sensors_);
+  Measure(&guard_);
   ASSERT_TRUE(guard_.Filter(sensors_, &commands_));
   const shm::JointCommand& c = commands_.joint[kRarmShoulderR];
   const double decel = (2.0 - c.dq_ref) / 0.005;  // the ramp's, this period
   ASSERT_GT(decel, 0.0);
-  const double inertia = file_.dynamics[kRarmShoulderR].inertia_max;
+  const double inertia = file_.dynamics[kRarmShoulderR].inertia_min;
   EXPECT_NEAR(c.tau_ff, 3.0 - decel * inertia, 1e-9);
   EXPECT_EQ(commands_.joint[kRarmShoulderR + 1].tau_ff, 3.0);  // a joint at rest: its own
 }

@@ -98,6 +98,17 @@ class SelfCollisionGuard {
   // (capped at v_max when > 0), then a brake at `decel` to rest. Exposed for tests.
   static void Excursion(double v, double a_lo, double a_hi, double horizon, double v_max,
                         double decel, double* lo, double* hi);
+  // the same with the velocity kept within [min(v, v_floor), max(v, v_ceil)] over the horizon
+  static void Excursion(double v, double a_lo, double a_hi, double horizon, double v_floor,
+                        double v_ceil, double decel, double* lo, double* hi);
+  // Narrows [*v_floor, *v_ceil] (the velocity's band over `horizon` [s], sound on entry) by the
+  // servo's damping: a joint under command `c` (position or velocity mode, kd > 0) from (q, v)
+  // carrying a load within [load_lo, load_hi] (|load| <= tau_max) has its velocity pulled
+  // towards dq_ref + (kp (q_ref - q) + tau_ff - load) / kd whatever its inertia, so it stays
+  // between v and that over the horizon. Exposed for tests.
+  static void VelocityBand(const shm::JointCommand& c, double q, double v, double load_lo,
+                           double load_hi, double tau_max, double horizon, double* v_floor,
+                           double* v_ceil);
 
   // joint j's braking deceleration [rad/s^2 or m/s^2] with a load of `tau_measured` [N m]
   // (>= 0, its magnitude; NaN: unknown): (tau_max - min(gravity_max, load)) / inertia_max, at
@@ -166,6 +177,7 @@ class SelfCollisionGuard {
   std::vector<double> brake_ff_;  // this cycle's controller feed-forward torque, kept under the brake
   std::vector<double> last_dq_;  // the last cycle's measured velocities
   bool have_last_ = false;
+  bool measuring_ = false;  // the first cycle after Activate: only measured (Filter)
   std::vector<int> support_;  // per joint, the header's index of its support force sensor, -1
   // the nominal motion per joint: the measured velocity, the middle acceleration over the
   // horizon, the velocity and position where the brake begins, its duration, the largest

@@ -1,0 +1,131 @@
+#!/usr/bin/env python3
+"""G1's arm driven into its leg, judged on the simulated robot (docs/selfcollision.md, "G1").
+
+  g1_arm_trial.py OUT_DIR [--runner BUILD/bin/ohrp_run] [--source ROOT] [--ramps 1,0.5,0.25,0]
+                  [--guard on,off] [--require]
+
+menagerie's Unitree G1 through its profile (robots/g1.yaml), standing free on its soft soles
+from the profile's stance; `posture --pose` swings the right arm in (shoulder roll 0.6 rad,
+yaw 0.8 rad from the stance's -0.2 and 0): the wrist goes into the right hip links. Each
+--ramps value is posture's --ramp [s] (shorter: faster; 0: a jump), with G1's self-collision
+file given explicitly (--self-collision robots/g1_selfcollision.yaml) or the check off. The
+figure of a trial is sim_host's closest approach of any two non-adjacent links over the run
+(its `self_collisions` check over every pair, independent of the guard; negative: overlap).
+
+--require: exit 1 unless every guard-on trial keeps the links at or above the file's margin
+less 0.5 mm and every guard-off trial overlaps (the motion is a colliding one).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+FILE = "robots/g1_selfcollision.yaml"
+POSE = {"right_shoulder_roll_joint": 0.6, "right_shoulder_yaw_joint": 0.8}
+TOLERANCE_MM = 0.5
+
+
+def margin_mm(root):
+    with open(os.path.join(root, FILE)) as f:
+        for line in f:
+            if line.startswith("margin:"):
+                return 1e3 * float(line.split(":")[1].split("#")[0])
+    raise SystemExit("g1_arm_trial: %s has no margin" % FILE)
+
+
+def scenario(name, pose, ramp, guard, root):
+    args = ["--pose", pose, "--ramp", "%g" % ramp]
+    args += ["--self-collision", os.path.join(root, FILE)] if guard == "on" else ["--no-self-collision"]
+    return ("# written by tools/selfcollision/trials/g1_arm_trial.py\n"
+            "name: %s\n" % name +
+            "description: G1's right arm swung into its hip (a self-collision trial)\n"
+            "scene: robots/g1.yaml\n"
+            "keyframe: stand\n"
+            "duration: %.3f\n" % (ramp + 1.5) +
+            "control_period: 0.004\n"
+            "on_controller_loss: end\n"
+            "controllers:\n"
+            "  - program: posture\n"
+            "    args: [%s]\n" % ", ".join('"%s"' % a for a in args) +
+            "checks:\n"
+            "  - type: self_collisions\n"
+            "    min_distance_mm: -1000\n")
+
+
+def run(runner, root, out, name, ramp, guard):
+    folder = os.path.join(out, name)
+    os.makedirs(folder, exist_ok=True)
+    pose = os.path.join(folder, "pose.yaml")
+    with open(pose, "w") as f:
+        f.write("description: G1's right arm swung in across the hip\njoints:\n")
+        for k, v in POSE.items():
+            f.write("  %s: %g\n" % (k, v))
+    path = os.path.join(folder, "scenario.yaml")
+    with open(path, "w") as f:
+        f.write(scenario(name, pose, ramp, guard, root))
+    subprocess.run([runner, path, "--out", os.path.join(folder, "run")], cwd=root,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    row = {"trial": name, "ramp": ramp, "guard": guard}
+    try:
+        with open(os.path.join(folder, "run", "sim_summary.json")) as f:
+            s = json.load(f)
+    except (OSError, ValueError) as e:
+        row["error"] = "no summary: %s" % e
+        return row
+    sc = s.get("self_collision") or {}
+    g = s.get("self_collision_guard") or {}
+    row.update({"closest_mm": sc.get("closest_mm"), "pair": sc.get("closest_pair", ""),
+                "holds": g.get("hold_episodes", 0), "outcome": s.get("outcome", "?")})
+    if row["closest_mm"] is None:
+        row["error"] = "no closest approach in the summary"
+    return row
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    here = os.path.dirname(os.path.abspath(__file__))
+    p.add_argument("out_dir")
+    p.add_argument("--source", default=os.path.normpath(os.path.join(here, "../../..")))
+    p.add_argument("--runner", default=None, help="ohrp_run (default: SOURCE/build/bin/ohrp_run)")
+    p.add_argument("--ramps", default="1,0.5,0.25,0")
+    p.add_argument("--guard", default="on,off")
+    p.add_argument("--require", action="store_true")
+    a = p.parse_args()
+    try:
+        ramps = [float(v) for v in a.ramps.split(",") if v]
+    except ValueError:
+        p.error("--ramps: numbers [s]")
+    if not ramps or any(not 0 <= r <= 10 for r in ramps):
+        p.error("--ramps: each in [0, 10] s")
+    guards = [g for g in a.guard.split(",") if g]
+    if not guards or any(g not in ("on", "off") for g in guards):
+        p.error("--guard: on, off or both")
+    root = os.path.abspath(a.source)
+    runner = a.runner or os.path.join(root, "build/bin/ohrp_run")
+    margin = margin_mm(root)
+    out = os.path.abspath(a.out_dir)
+    rows = []
+    for g in guards:
+        for r in (ramps if g == "on" else ramps[:1]):  # off: one colliding run shows the motion
+            rows.append(run(runner, root, out, "g1_arm_ramp%g_%s" % (r, g), r, g))
+            x = rows[-1]
+            print("%-26s %s" % (x["trial"], x.get("error") or "closest %.1f mm (%s), %d holds, %s"
+                                % (x["closest_mm"], x["pair"], x["holds"], x["outcome"])), flush=True)
+    failed = [r for r in rows if "error" in r]
+    if a.require:
+        failed += [r for r in rows if "error" not in r and r["guard"] == "on" and
+                   r["closest_mm"] < margin - TOLERANCE_MM]
+        failed += [r for r in rows if "error" not in r and r["guard"] == "off" and
+                   r["closest_mm"] >= 0]
+    for r in failed:
+        print("g1_arm_trial: FAILED: %s: %s" % (r["trial"], r.get("error") or
+              "closest approach %.1f mm (%s): guard %s needs %s" % (
+                  r["closest_mm"], r["pair"], r["guard"],
+                  ">= %.1f mm" % (margin - TOLERANCE_MM) if r["guard"] == "on" else "an overlap")),
+              file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
