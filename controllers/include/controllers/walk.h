@@ -128,6 +128,8 @@ struct WalkStats {
   double max_fit_yaw = 0;       // and turned back [rad]
   int steps_adjusted = 0;       // steps the stepping strategy moved (the DCM beyond the ankle)
   double max_adjust = 0;        // the most a landing was moved [m]
+  int steps_shortened = 0;      // swings the stepping strategy shortened (landed sooner)
+  double max_shorten = 0;       // by up to [s]
   int early_touchdowns = 0;     // swing feet that met the ground before their planned landing
                                 // (walk_touchdown.cc) and were held there
   double max_touch_height = 0;  // the highest of them above the planned landing [m]
@@ -279,6 +281,10 @@ class WalkController : public BalanceController {
   walking::StepLimits recovery_limits_;  // the stepping strategy's: as far as a leg reaches
   int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
   walking::Footstep adjust_planned_;  // its landing as planned
+  double adjust_planned_land_ = 0;    // and its landing time [s]
+  // how far the stepping strategy has moved the footholds (plan frame [m]): the command's later
+  // steps go on from there (Remap), not back onto the plan the robot was pushed off
+  Eigen::Vector2d recovery_shift_ = Eigen::Vector2d::Zero();
 };
 
 }  // namespace ohrp::controllers
