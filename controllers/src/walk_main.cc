@@ -89,6 +89,11 @@ int main(int argc, char** argv) {
                "experimental: move a swing foot's landing where the measured capture point needs "
                "it (a stepping strategy against pushes; not better than without it yet: "
                "docs/walking.md)");
+  bool no_timing = false, rebase = false;
+  app.add_flag("--stepping-no-timing", no_timing,
+               "with --stepping: move the landing only, never land sooner");
+  app.add_flag("--stepping-rebase", rebase,
+               "with --stepping: re-base the plan's CoM on the measured state at each adjustment");
   bool touchdown = false;
   app.add_flag("--touchdown", touchdown,
                "experimental: hold a swing foot where it meets the ground before its planned "
@@ -98,6 +103,8 @@ int main(int argc, char** argv) {
   app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.stepping = stepping;
+  o.stepping_timing = !no_timing;
+  o.stepping_rebase = rebase;
   o.touchdown = touchdown;
   for (const std::string& text : commands) {
     WalkCommand c;

@@ -53,17 +53,29 @@ void WalkController::AdjustStep() noexcept {
   for (int a = 0; a < 2; ++a)
     beyond[a] = std::copysign(std::max(std::abs(e[a]) - reach[a], 0.0), e[a]);
   if (beyond.isZero()) return;
-  // the landing times tried: as planned, then shorter; each landing where the DCM will be then,
-  // set within the recovery limits (a leg's reach, no crossing) against the stance sole; the one
-  // whose shortfall (the DCM's need it does not meet) plus the time it takes off is least
+  // the landing times tried: as planned, then shorter. The landing for a rest of r: where the
+  // measured DCM will be then (diverging from the stance point, less what the ankle takes back)
+  // less the plan's DCM offset at its own landing, so that the later steps go on as planned
+  // from there: L + (d_plan + e) exp(omega r) - d_plan exp(omega T), d_plan the plan's DCM from
+  // the stance point, e the error beyond the ankle, T the planned rest. Each set within the
+  // recovery limits (a leg's reach, no crossing) against the stance sole; the one whose
+  // shortfall (the DCM's need it does not meet) plus the time it takes off is least
   const walking::Footstep now_step = gait.step(k);
   const walking::FeetPose feet = gait.FeetAfter(k - 1);
-  const double shortest = std::max(kMinRest, gait.step_lift(k) + kMinSwing - w.t);
+  const double shortest = walk_options_.stepping_timing
+                              ? std::max(kMinRest, gait.step_lift(k) + kMinSwing - w.t)
+                              : remaining;
+  const Eigen::Vector2d d_plan = dcm_ref - w.gait.feet.p[st].head<2>();
+  const Eigen::Vector2d e_beyond = R * beyond;
+  // from the landing as first planned (the plan's DCM is not re-based: its error stays until the
+  // new footholds take it back), at its planned time
+  const Eigen::Vector2d nominal =
+      adjust_planned_.p.head<2>() - d_plan * std::exp(omega * (adjust_planned_land_ - w.t));
   walking::Footstep best = now_step;
   double best_rest = remaining, best_cost = std::numeric_limits<double>::infinity();
   for (double rest = remaining; rest >= shortest - 1e-9; rest -= kTimeStep) {
     walking::Footstep target = now_step;
-    const Eigen::Vector2d want = now_step.p.head<2>() + R * (beyond * std::exp(omega * rest));
+    const Eigen::Vector2d want = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
     target.p.head<2>() = want;
     walking::FitStep(feet, &target, recovery_limits_);
     const double cost = (want - target.p.head<2>()).norm() + kTimeCost * (remaining - rest);
@@ -87,7 +99,8 @@ void WalkController::AdjustStep() noexcept {
   }
   // the plan goes on from the robot's state: its CoM and velocity onto the measured (the
   // stabilizer no longer pulls the robot back onto the plan it was pushed off)
-  gen_.ShiftCoM(input_.c.head<2>() - input_.c_ref, input_.dc.head<2>() - input_.dc_ref);
+  if (walk_options_.stepping_rebase)
+    gen_.ShiftCoM(input_.c.head<2>() - input_.c_ref, input_.dc.head<2>() - input_.dc_ref);
   const double moved = (best.p.head<2>() - adjust_planned_.p.head<2>()).norm();
   if (moved > walk_stats_.max_adjust) walk_stats_.max_adjust = moved;
   if (now == adjust_planned_.p.head<2>() && moved > 0) ++walk_stats_.steps_adjusted;

@@ -79,6 +79,8 @@ struct WalkOptions {
   bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
                                  // push tables it is not better yet): a swing foot lands where
                                  // the measured DCM needs it
+  bool stepping_timing = true;   // and sooner when that place is out of reach (a swing shortened)
+  bool stepping_rebase = false;  // and the plan's CoM re-based on the measured state
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
