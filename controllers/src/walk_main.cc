@@ -94,6 +94,14 @@ int main(int argc, char** argv) {
                "with --stepping: move the landing only, never land sooner");
   app.add_flag("--stepping-rebase", rebase,
                "with --stepping: re-base the plan's CoM on the measured state at each adjustment");
+  app.add_option("--stepping-time-cost", o.stepping_time_cost,
+                 "with --stepping: a shorter swing's cost [m/s] against the distance its landing "
+                 "falls short of the DCM's need")->capture_default_str();
+  app.add_option("--stepping-reach", o.stepping_reach,
+                 "with --stepping: share of the leg's reach (from the hip at the walking height) "
+                 "a recovery step may use beyond the planner's step limits")->capture_default_str();
+  app.add_option("--stepping-gain", o.stepping_gain,
+                 "with --stepping: share of the DCM's landing change applied")->capture_default_str();
   bool touchdown = false;
   app.add_flag("--touchdown", touchdown,
                "experimental: hold a swing foot where it meets the ground before its planned "

@@ -19,8 +19,6 @@ constexpr double kMinSwing = 0.3;       // [s] a shortened single support lasts 
 constexpr double kMinRest = 0.1;        // [s] and its rest (the foot comes down from where it is)
 constexpr double kTimeStep = 0.02;      // [s] the landing times tried
 constexpr double kMinShorten = 0.01;    // [s] a change of the landing time smaller than this is none
-constexpr double kTimeCost = 0.05;      // [m/s] a shorter swing's cost against the distance the
-                                        // landing falls short of the DCM's need
 
 }  // namespace
 
@@ -75,10 +73,12 @@ void WalkController::AdjustStep() noexcept {
   double best_rest = remaining, best_cost = std::numeric_limits<double>::infinity();
   for (double rest = remaining; rest >= shortest - 1e-9; rest -= kTimeStep) {
     walking::Footstep target = now_step;
-    const Eigen::Vector2d want = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
+    const Eigen::Vector2d ideal = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
+    const Eigen::Vector2d want = adjust_planned_.p.head<2>() +
+                                 walk_options_.stepping_gain * (ideal - adjust_planned_.p.head<2>());
     target.p.head<2>() = want;
     walking::FitStep(feet, &target, recovery_limits_);
-    const double cost = (want - target.p.head<2>()).norm() + kTimeCost * (remaining - rest);
+    const double cost = (want - target.p.head<2>()).norm() + walk_options_.stepping_time_cost * (remaining - rest);
     if (cost < best_cost) {
       best_cost = cost;
       best = target;

@@ -80,6 +80,9 @@ struct WalkOptions {
                                  // push tables it is not better yet): a swing foot lands where
                                  // the measured DCM needs it
   bool stepping_timing = true;   // and sooner when that place is out of reach (a swing shortened)
+  double stepping_time_cost = 0.05;  // [m/s] a shorter swing's cost against the landing's shortfall
+  double stepping_reach = 1.0;       // share of the leg's reach a recovery step may use [-]
+  double stepping_gain = 1.0;        // share of the DCM's landing change applied [-]
   bool stepping_rebase = false;  // and the plan's CoM re-based on the measured state
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
