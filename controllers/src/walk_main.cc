@@ -87,8 +87,8 @@ int main(int argc, char** argv) {
   bool stepping = false;
   app.add_flag("--stepping", stepping,
                "experimental: move a swing foot's landing where the measured capture point needs "
-               "it (a stepping strategy against pushes; not better than without it yet: "
-               "docs/walking.md)");
+               "it, and land sooner when that place is out of reach (a stepping strategy against "
+               "pushes; better in some cells of the push table, worse in others: docs/walking.md)");
   bool no_timing = false, rebase = false;
   app.add_flag("--stepping-no-timing", no_timing,
                "with --stepping: move the landing only, never land sooner");

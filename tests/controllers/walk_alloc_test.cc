@@ -97,7 +97,9 @@ void WalksWithoutAllocating(bool stepping, double push_at, double impulse) {
   // the walk was walked: several steps, all landed, done on both feet
   EXPECT_TRUE(walk->done()) << report.str();
   EXPECT_GE(w.steps_done, 4);
-  if (!stepping) EXPECT_EQ(w.steps_done, w.steps_planned);  // stepping re-plans the steps
+  if (!stepping) {  // stepping re-plans the steps
+    EXPECT_EQ(w.steps_done, w.steps_planned);
+  }
   EXPECT_EQ(n.walking, 0) << "heap allocations in WalkController::update while walking (first "
                              "at t = " << n.first_at << " s)";
   EXPECT_EQ(n.after, 0) << "heap allocations after the walk";

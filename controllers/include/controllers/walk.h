@@ -77,8 +77,8 @@ struct WalkOptions {
   bool touchdown = false;        // experimental: a swing foot that meets the ground early is
                                  // held there (walk_touchdown.cc; --touchdown)
   bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
-                                 // push tables it is not better yet): a swing foot lands where
-                                 // the measured DCM needs it
+                                 // push tables better in some cells, worse in others): a swing
+                                 // foot lands where the measured DCM needs it
   bool stepping_timing = true;   // and sooner when that place is out of reach (a swing shortened)
   double stepping_time_cost = 0.05;  // [m/s] a shorter swing's cost against the landing's shortfall
   double stepping_reach = 0.6;       // share of the leg's reach a recovery step may use [-]
@@ -202,7 +202,8 @@ class WalkController : public BalanceController {
   void Stop() noexcept;
   // the stepping strategy (walk_step_adjust.cc): in a single support, the DCM error the stance
   // ankle cannot take back, predicted to the landing, moves the swing foot's landing by as much
-  // (within the step limits against the stance sole)
+  // (within the recovery limits against the stance sole), and lands it sooner when that place
+  // is out of reach; the later steps go on from the new foothold
   void AdjustStep() noexcept;
   // live commands (walk_live.cc): the stance a new command starts from published to the
   // channel, a plan made from it taken and walked (what was planned after the step under way
