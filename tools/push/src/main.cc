@@ -122,14 +122,18 @@ int main(int argc, char** argv) {
   std::vector<ohrp::push::Limit> results;
   std::vector<std::vector<ohrp::push::Limit>> per_time;
   const std::string top = o.out_dir;
-  for (double t : times) {
+  for (double t : times) {  // every time checked before anything runs
     ohrp::push::PushOptions ot = o;
     ot.push_at = t;
-    if (!phases.empty()) ot.out_dir = top + "/at-" + std::to_string(t).substr(0, std::to_string(t).find('.') + 3);
     if (!ohrp::push::ValidateOptions(ot, &error)) {
       std::fprintf(stderr, "ohrp_push: --phases %g: %s\n", t, error.c_str());
       return 2;
     }
+  }
+  for (double t : times) {
+    ohrp::push::PushOptions ot = o;
+    ot.push_at = t;
+    if (!phases.empty()) ot.out_dir = top + "/at-" + std::to_string(t).substr(0, std::to_string(t).find('.') + 3);
     per_time.push_back(ohrp::push::RunAll(ot));
     std::string markdown;
     if (!ohrp::push::WriteReport(ot, per_time.back(), &markdown, &error)) {
