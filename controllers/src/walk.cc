@@ -104,6 +104,7 @@ void WalkController::StartWalking(const shm::SensorBlock& s) noexcept {
   next_command_ = 0;
   walk_stats_.walk_start = s.time;
   chunk_ = -1;
+  recovery_shift_.setZero();
   UpdateFrame(0, true);
   frame0_p_ = frame_p_;
   frame0_yaw_ = frame_yaw_;

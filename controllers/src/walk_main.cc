@@ -87,8 +87,21 @@ int main(int argc, char** argv) {
   bool stepping = false;
   app.add_flag("--stepping", stepping,
                "experimental: move a swing foot's landing where the measured capture point needs "
-               "it (a stepping strategy against pushes; not better than without it yet: "
-               "docs/walking.md)");
+               "it, and land sooner when that place is out of reach (a stepping strategy against "
+               "pushes; better in some cells of the push table, worse in others: docs/walking.md)");
+  bool no_timing = false, rebase = false;
+  app.add_flag("--stepping-no-timing", no_timing,
+               "with --stepping: move the landing only, never land sooner");
+  app.add_flag("--stepping-rebase", rebase,
+               "with --stepping: re-base the plan's CoM on the measured state at each adjustment");
+  app.add_option("--stepping-time-cost", o.stepping_time_cost,
+                 "with --stepping: a shorter swing's cost [m/s] against the distance its landing "
+                 "falls short of the DCM's need")->capture_default_str();
+  app.add_option("--stepping-reach", o.stepping_reach,
+                 "with --stepping: share of the leg's reach (from the hip at the walking height) "
+                 "a recovery step may use beyond the planner's step limits")->capture_default_str();
+  app.add_option("--stepping-gain", o.stepping_gain,
+                 "with --stepping: share of the DCM's landing change applied")->capture_default_str();
   bool touchdown = false;
   app.add_flag("--touchdown", touchdown,
                "experimental: hold a swing foot where it meets the ground before its planned "
@@ -98,6 +111,8 @@ int main(int argc, char** argv) {
   app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;
   o.stepping = stepping;
+  o.stepping_timing = !no_timing;
+  o.stepping_rebase = rebase;
   o.touchdown = touchdown;
   for (const std::string& text : commands) {
     WalkCommand c;

@@ -64,7 +64,7 @@ void WalkController::Remap() noexcept {
   for (size_t n = 0; n < remap_.size(); ++n) {
     walking::Footstep s = original[first + n];
     const Eigen::Vector3d p = R * (s.p - frame0_p_) + frame_p_;
-    s.p.head<2>() = p.head<2>();
+    s.p.head<2>() = p.head<2>() + recovery_shift_;
     s.yaw = Wrap(s.yaw + dyaw);
     const double yaw = s.yaw;
     const double moved = walking::FitStep(feet, &s, walk_options_.limits);

@@ -130,6 +130,13 @@ void WalkController::report(std::ostream& out) const {
                   w.steps_adjusted, w.max_adjust * 1e3);
     out << buf;
   }
+  if (w.steps_shortened > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "walk: stepping strategy: %d swing(s) landed sooner (their landing out of reach "
+                  "in time), by up to %.0f ms\n",
+                  w.steps_shortened, w.max_shorten * 1e3);
+    out << buf;
+  }
   if (w.early_touchdowns > 0) {
     std::snprintf(buf, sizeof buf,
                   "walk: touchdown: %d swing foot/feet met the ground before their planned landing "

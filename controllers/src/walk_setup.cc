@@ -237,7 +237,7 @@ ConfigStatus WalkController::FitStance(const double* q) {
   const double r2 = std::pow(walk_options_.gait.leg_reach, 2) - std::pow(walk_options_.gait.hip_height, 2);
   recovery_limits_ = lim;
   if (r2 > 0) {
-    const double r = std::sqrt(r2);
+    const double r = walk_options_.stepping_reach * std::sqrt(r2);
     recovery_limits_.max_forward = std::max(lim.max_forward, r);
     recovery_limits_.max_backward = std::max(lim.max_backward, r);
     recovery_limits_.max_side = std::max(lim.max_side, r - 0.5 * lim.width);

@@ -1,8 +1,11 @@
 // The walk's stepping strategy (see walk.h, AdjustStep): where the stance ankle cannot bring the
 // capture point back (the measured DCM beyond what the sole's ZMP range takes back), the swing
-// foot lands where the DCM will be.
+// foot lands where the DCM will be, and sooner when that place is out of its reach (beyond the
+// leg's reach, or across the stance foot: the DCM grows less over a shorter swing, and the other
+// leg steps next); the later steps go on from the new foothold.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "controllers/walk.h"
 
@@ -12,6 +15,10 @@ namespace {
 constexpr double kGravity = 9.81;       // [m/s^2]
 constexpr double kLastMove = 0.1;       // [s] before landing the landing is no longer moved
 constexpr double kMinMove = 0.002;      // [m] a change of the landing smaller than this is none
+constexpr double kMinSwing = 0.3;       // [s] a shortened single support lasts at least this
+constexpr double kMinRest = 0.1;        // [s] and its rest (the foot comes down from where it is)
+constexpr double kTimeStep = 0.02;      // [s] the landing times tried
+constexpr double kMinShorten = 0.01;    // [s] a change of the landing time smaller than this is none
 
 }  // namespace
 
@@ -24,6 +31,7 @@ void WalkController::AdjustStep() noexcept {
   if (k != adjust_step_) {  // a new swing: its landing as planned
     adjust_step_ = k;
     adjust_planned_ = gait.step(k);
+    adjust_planned_land_ = gait.step_land(k);
   }
   const double remaining = gait.step_land(k) - w.t;
   if (remaining < kLastMove) return;
@@ -43,22 +51,59 @@ void WalkController::AdjustStep() noexcept {
   for (int a = 0; a < 2; ++a)
     beyond[a] = std::copysign(std::max(std::abs(e[a]) - reach[a], 0.0), e[a]);
   if (beyond.isZero()) return;
-  const Eigen::Vector2d shift = R * (beyond * std::exp(omega * remaining));
-  // the landing moved by that, kept within the recovery limits (a leg's reach) against the
-  // stance sole
-  walking::Footstep target = gait.step(k);
-  target.p.head<2>() += shift;
+  // the landing times tried: as planned, then shorter. The landing for a rest of r: where the
+  // measured DCM will be then (diverging from the stance point, less what the ankle takes back)
+  // less the plan's DCM offset at its own landing, so that the later steps go on as planned
+  // from there: L + (d_plan + e) exp(omega r) - d_plan exp(omega T), d_plan the plan's DCM from
+  // the stance point, e the error beyond the ankle, T the planned rest. Each set within the
+  // recovery limits (a leg's reach, no crossing) against the stance sole; the one whose
+  // shortfall (the DCM's need it does not meet) plus the time it takes off is least
+  const walking::Footstep now_step = gait.step(k);
   const walking::FeetPose feet = gait.FeetAfter(k - 1);
-  walking::FitStep(feet, &target, recovery_limits_);
-  const Eigen::Vector2d now = gait.step(k).p.head<2>();
-  if ((target.p.head<2>() - now).norm() < kMinMove) return;
-  if (!gen_.AdjustLanding(k, target.p.head<2>())) return;
+  const double shortest = walk_options_.stepping_timing
+                              ? std::max(kMinRest, gait.step_lift(k) + kMinSwing - w.t)
+                              : remaining;
+  const Eigen::Vector2d d_plan = dcm_ref - w.gait.feet.p[st].head<2>();
+  const Eigen::Vector2d e_beyond = R * beyond;
+  // from the landing as first planned (the plan's DCM is not re-based: its error stays until the
+  // new footholds take it back), at its planned time
+  const Eigen::Vector2d nominal =
+      adjust_planned_.p.head<2>() - d_plan * std::exp(omega * (adjust_planned_land_ - w.t));
+  walking::Footstep best = now_step;
+  double best_rest = remaining, best_cost = std::numeric_limits<double>::infinity();
+  for (double rest = remaining; rest >= shortest - 1e-9; rest -= kTimeStep) {
+    walking::Footstep target = now_step;
+    const Eigen::Vector2d ideal = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
+    const Eigen::Vector2d want = adjust_planned_.p.head<2>() +
+                                 walk_options_.stepping_gain * (ideal - adjust_planned_.p.head<2>());
+    target.p.head<2>() = want;
+    walking::FitStep(feet, &target, recovery_limits_);
+    const double cost = (want - target.p.head<2>()).norm() + walk_options_.stepping_time_cost * (remaining - rest);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = target;
+      best_rest = rest;
+    }
+  }
+  const Eigen::Vector2d now = now_step.p.head<2>();
+  const bool sooner = remaining - best_rest >= kMinShorten;
+  if ((best.p.head<2>() - now).norm() < kMinMove && !sooner) return;
+  const double t_land = sooner ? w.t + best_rest : gait.step_land(k);
+  if (!gen_.AdjustStep(k, best.p.head<2>(), t_land, true)) return;
+  // the later steps of the command go on from the new foothold (Remap adds this)
+  recovery_shift_ += best.p.head<2>() - now;
+  if (sooner) {
+    walk_stats_.max_shorten = std::max(walk_stats_.max_shorten,
+                                       adjust_planned_land_ - t_land);
+    if (adjust_planned_land_ - (remaining + w.t) < kMinShorten) ++walk_stats_.steps_shortened;
+  }
   // the plan goes on from the robot's state: its CoM and velocity onto the measured (the
   // stabilizer no longer pulls the robot back onto the plan it was pushed off)
-  gen_.ShiftCoM(input_.c.head<2>() - input_.c_ref, input_.dc.head<2>() - input_.dc_ref);
-  const double moved = (target.p.head<2>() - adjust_planned_.p.head<2>()).norm();
+  if (walk_options_.stepping_rebase)
+    gen_.ShiftCoM(input_.c.head<2>() - input_.c_ref, input_.dc.head<2>() - input_.dc_ref);
+  const double moved = (best.p.head<2>() - adjust_planned_.p.head<2>()).norm();
   if (moved > walk_stats_.max_adjust) walk_stats_.max_adjust = moved;
-  if (now == adjust_planned_.p.head<2>()) ++walk_stats_.steps_adjusted;
+  if (now == adjust_planned_.p.head<2>() && moved > 0) ++walk_stats_.steps_adjusted;
 }
 
 }  // namespace ohrp::controllers

@@ -32,10 +32,19 @@ struct Count {
   int first_step = -1;   // steps landed then
 };
 
-TEST(WalkAllocation, UpdateAllocatesNothingOnceWalking) {
+// a 1 m walk; with `stepping`, the stepping strategy on and a push from the side at `push_at`
+// (0.1 s, `impulse` N s towards -y) that makes it move a landing
+void WalksWithoutAllocating(bool stepping, double push_at, double impulse) {
   sim::InProcessOptions io;
   io.scene = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml";
   io.keyframe = "halfsit";
+  if (stepping) {
+    sim::Perturbation push;
+    push.t0 = push_at;
+    push.t1 = push_at + 0.1;
+    push.force[1] = -impulse / 0.1;
+    io.pushes.push_back(push);
+  }
   std::string error;
   auto robot = sim::InProcessRobot::Create(io, &error);
   ASSERT_TRUE(robot) << error;
@@ -48,6 +57,7 @@ TEST(WalkAllocation, UpdateAllocatesNothingOnceWalking) {
   ASSERT_TRUE(ParseWalkCommand("goal 1 0 0", &goal, &error)) << error;
   o.commands.push_back(goal);
   o.log_file = log;
+  o.stepping = stepping;
   ConfigStatus status;
   auto walk = WalkController::Create(o, &status);
   ASSERT_TRUE(walk) << status.message;
@@ -81,19 +91,29 @@ TEST(WalkAllocation, UpdateAllocatesNothingOnceWalking) {
   walk->report(report);
   const WalkStats& w = walk->walk_stats();
   std::printf("[ figures  ] allocations in update(): %ld standing up, %ld walking (first at "
-              "t = %.3f s, %d steps landed), %ld after; %d steps, %llu walk cycles\n%s",
+              "t = %.3f s, %d steps landed), %ld after; %d steps, %llu walk cycles from %.3f s\n%s",
               n.standing, n.walking, n.first_at, n.first_step, n.after, w.steps_done,
-              static_cast<unsigned long long>(w.walk_cycles), report.str().c_str());
+              static_cast<unsigned long long>(w.walk_cycles), w.walk_start, report.str().c_str());
   // the walk was walked: several steps, all landed, done on both feet
   EXPECT_TRUE(walk->done()) << report.str();
   EXPECT_GE(w.steps_done, 4);
-  EXPECT_EQ(w.steps_done, w.steps_planned);
+  if (!stepping) {  // stepping re-plans the steps
+    EXPECT_EQ(w.steps_done, w.steps_planned);
+  }
   EXPECT_EQ(n.walking, 0) << "heap allocations in WalkController::update while walking (first "
                              "at t = " << n.first_at << " s)";
   EXPECT_EQ(n.after, 0) << "heap allocations after the walk";
   EXPECT_TRUE(std::filesystem::file_size(log) > 0) << "the walk log written at close";
+  if (stepping) {
+    EXPECT_GT(w.steps_adjusted, 0) << "the push did not make the stepping strategy move a landing";
+  }
   std::filesystem::remove(log);
 }
+
+TEST(WalkAllocation, UpdateAllocatesNothingOnceWalking) { WalksWithoutAllocating(false, 0, 0); }
+
+// the stepping strategy's cycle (landing and timing chosen, the plan's later steps replaced)
+TEST(WalkAllocation, TheSteppingStrategyAllocatesNothing) { WalksWithoutAllocating(true, 4.5, 50); }
 
 #else
 TEST(WalkAllocation, NeedsTheCounter) {

@@ -64,5 +64,43 @@ TEST(AdjustLanding, OutsideTheSingleSupportNothingMoves) {
   EXPECT_NEAR((g.step(0).p - Eigen::Vector3d(0.2, 0.09, 0)).norm(), 0, 1e-12);
 }
 
+// a swing shortened (Gait::AdjustStep): the foot is where it was at that moment, lands at the
+// new place at the new time, its phase goes on linearly from there to 1; the later steps follow
+// at the default timing from the new landing, moved with it (carry_later)
+TEST(AdjustStep, AShorterSwingLandsSoonerAndTheLaterStepsFollowTheFoothold) {
+  Gait g;
+  GaitOptions o;
+  g.Start(0, Stance(0.18), o);
+  g.Reserve(8);
+  g.Replace(0, {Step(kLeft, 0.2, 0.09), Step(kRight, 0.4, -0.09), Step(kLeft, 0.6, 0.09)});
+  const double lift = g.step_lift(0), land = g.step_land(0);
+  const double now = lift + 0.4 * (land - lift);
+  GaitState before, after;
+  g.At(now, &before);
+  const Eigen::Vector2d moved(0.2, 0.14);  // 5 cm out
+  const double t_land = now + 0.5 * (land - now);
+  EXPECT_FALSE(g.AdjustStep(0, moved, land + 0.01, true, now));  // later than planned: refused
+  EXPECT_FALSE(g.AdjustStep(0, moved, now, true, now));          // not after now: refused
+  ASSERT_TRUE(g.AdjustStep(0, moved, t_land, true, now));
+  g.At(now, &after);
+  EXPECT_NEAR((after.feet.p[kLeft] - before.feet.p[kLeft]).norm(), 0, 1e-12);
+  EXPECT_NEAR(after.swing_phase, 0.4, 1e-12);
+  GaitState mid;
+  g.At(0.5 * (now + t_land), &mid);
+  EXPECT_NEAR(mid.swing_phase, 0.7, 1e-12);  // halfway from 0.4 to 1
+  EXPECT_DOUBLE_EQ(g.step_land(0), t_land);
+  GaitState landed;
+  g.At(t_land, &landed);
+  EXPECT_EQ(landed.swing, -1);
+  EXPECT_NEAR((landed.feet.p[kLeft].head<2>() - moved).norm(), 0, 1e-9);
+  // the next step begins at the new landing with the default timing
+  EXPECT_DOUBLE_EQ(g.step_begin(1), t_land);
+  EXPECT_NEAR(g.step_lift(1) - g.step_begin(1), o.double_support_ratio * o.step_time, 1e-12);
+  EXPECT_NEAR(g.step_land(1) - g.step_begin(1), o.step_time, 1e-12);
+  // and the later steps moved by the landing's change (0, +0.05)
+  EXPECT_NEAR((g.step(1).p - Eigen::Vector3d(0.4, -0.04, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((g.step(2).p - Eigen::Vector3d(0.6, 0.14, 0)).norm(), 0, 1e-12);
+}
+
 }  // namespace
 }  // namespace ohrp::walking

@@ -77,8 +77,14 @@ struct WalkOptions {
   bool touchdown = false;        // experimental: a swing foot that meets the ground early is
                                  // held there (walk_touchdown.cc; --touchdown)
   bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
-                                 // push tables it is not better yet): a swing foot lands where
-                                 // the measured DCM needs it
+                                 // push tables better in some cells, worse in others): a swing
+                                 // foot lands where the measured DCM needs it
+  bool stepping_timing = true;   // and sooner when that place is out of reach (a swing shortened)
+  double stepping_time_cost = 0.05;  // [m/s] a shorter swing's cost against the landing's shortfall
+  double stepping_reach = 0.6;       // share of the leg's reach a recovery step may use [-]
+                                     // (0.6 measured better than 0.8 and 1 in the push tables)
+  double stepping_gain = 1.0;        // share of the DCM's landing change applied [-]
+  bool stepping_rebase = false;  // and the plan's CoM re-based on the measured state
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
@@ -128,6 +134,8 @@ struct WalkStats {
   double max_fit_yaw = 0;       // and turned back [rad]
   int steps_adjusted = 0;       // steps the stepping strategy moved (the DCM beyond the ankle)
   double max_adjust = 0;        // the most a landing was moved [m]
+  int steps_shortened = 0;      // swings the stepping strategy shortened (landed sooner)
+  double max_shorten = 0;       // by up to [s]
   int early_touchdowns = 0;     // swing feet that met the ground before their planned landing
                                 // (walk_touchdown.cc) and were held there
   double max_touch_height = 0;  // the highest of them above the planned landing [m]
@@ -194,7 +202,8 @@ class WalkController : public BalanceController {
   void Stop() noexcept;
   // the stepping strategy (walk_step_adjust.cc): in a single support, the DCM error the stance
   // ankle cannot take back, predicted to the landing, moves the swing foot's landing by as much
-  // (within the step limits against the stance sole)
+  // (within the recovery limits against the stance sole), and lands it sooner when that place
+  // is out of reach; the later steps go on from the new foothold
   void AdjustStep() noexcept;
   // live commands (walk_live.cc): the stance a new command starts from published to the
   // channel, a plan made from it taken and walked (what was planned after the step under way
@@ -279,6 +288,10 @@ class WalkController : public BalanceController {
   walking::StepLimits recovery_limits_;  // the stepping strategy's: as far as a leg reaches
   int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
   walking::Footstep adjust_planned_;  // its landing as planned
+  double adjust_planned_land_ = 0;    // and its landing time [s]
+  // how far the stepping strategy has moved the footholds (plan frame [m]): the command's later
+  // steps go on from there (Remap), not back onto the plan the robot was pushed off
+  Eigen::Vector2d recovery_shift_ = Eigen::Vector2d::Zero();
 };
 
 }  // namespace ohrp::controllers

@@ -107,6 +107,12 @@ class Gait {
   // and the ZMP reference follows the new stance. False (nothing changed) when step k is not in
   // single support at `now`. Allocates nothing up to Reserve's count.
   bool AdjustLanding(int k, const Eigen::Vector2d& xy, double now);
+  // the same, and the landing at `t_land` [s] (in (now, the planned landing]: a swing shortened;
+  // the swing goes on from its phase at `now`, continuous, over the shorter rest) and, with
+  // `carry_later`, the later steps moved by the landing's change too (the walk goes on from the
+  // new foothold instead of returning to the old plan). False (nothing changed) when step k is
+  // not in single support at `now` or t_land is not in that range. No allocation.
+  bool AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carry_later, double now);
 
   // the state at `t` (any t, also in the past or after the end)
   void At(double t, GaitState* s) const;
@@ -143,7 +149,12 @@ class Gait {
     // travel then (the swing goes on from there); travel_from < 0: not moved
     Eigen::Vector2d moved_from = Eigen::Vector2d::Zero();
     double travel_from = -1;
+    // a swing shortened (AdjustStep): from `retime_t` on, its phase goes from `retime_phase` to 1
+    // at t_land; retime_t < 0: as planned
+    double retime_t = -1, retime_phase = 0;
   };
+  // the single support's phase (0 at lift-off, 1 at landing) of phase p at t
+  static double SwingPhase(const Phase& p, double t);
   // the swing's travel (0 at lift-off, 1 at landing) of phase p at t, and its landing's
   // vertical shares
   double Travel(const Phase& p, double t) const;

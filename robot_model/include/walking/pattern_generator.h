@@ -64,6 +64,10 @@ class PatternGenerator {
   // moves the landing of step k, under way in its single support, to `xy` (Gait::AdjustLanding
   // at the generator's time); false when it is not in single support. No allocation.
   bool AdjustLanding(int k, const Eigen::Vector2d& xy) { return gait_.AdjustLanding(k, xy, t_); }
+  // and its landing time, the later steps carried with it (Gait::AdjustStep). No allocation.
+  bool AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carry_later) {
+    return gait_.AdjustStep(k, xy, t_land, carry_later, t_);
+  }
   // the planned CoM moved by `dc` [m] and its velocity by `dv` [m/s] (horizontal; e.g. onto a
   // measured state after a push): the preview servo plans on from there. No allocation.
   void ShiftCoM(const Eigen::Vector2d& dc, const Eigen::Vector2d& dv);

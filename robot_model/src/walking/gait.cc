@@ -228,7 +228,7 @@ double Gait::Travel(const Phase& p, double t) const {
   const double vf = options_.vertical_fraction;
   const double vf_land = LandingShare(p);
   const double vf_lift = edge && !down ? vf_land : vf;
-  const double phase = (t - p.t_lift) / std::max(p.t_land - p.t_lift, 1e-9);
+  const double phase = SwingPhase(p, t);
   double f, df, ddf;
   MinJerk((phase - vf_lift) / std::max(1 - vf_lift - vf_land, 1e-9), &f, &df, &ddf);
   return f;
@@ -236,19 +236,42 @@ double Gait::Travel(const Phase& p, double t) const {
 
 bool Gait::AdjustLanding(int k, const Eigen::Vector2d& xy, double now) {
   if (k < 0 || k >= static_cast<int>(steps_.size())) return false;
+  return AdjustStep(k, xy, steps_[k].t_land, false, now);
+}
+
+bool Gait::AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carry_later, double now) {
+  if (k < 0 || k >= static_cast<int>(steps_.size())) return false;
   Phase& p = steps_[k];
   if (now < p.t_lift || now >= p.t_land) return false;
+  if (!(t_land > now) || t_land > p.t_land) return false;
   GaitState s;
   At(now, &s);
   p.moved_from = s.feet.p[p.step.foot].head<2>();
   p.travel_from = Travel(p, now);
+  if (t_land < p.t_land) {
+    p.retime_phase = SwingPhase(p, now);
+    p.retime_t = now;
+    p.t_land = t_land;
+  }
+  const Eigen::Vector2d delta = xy - p.step.p.head<2>();
   p.step.p.head<2>() = xy;
   p.detour.setZero();
-  // the later steps again, from the new stance (Replace keeps this one: it has begun)
+  // the later steps again, from the new stance and landing time (Replace keeps this one: it
+  // has begun), moved with it when asked
   pending_.clear();
-  for (size_t j = k + 1; j < steps_.size(); ++j) pending_.push_back(steps_[j].step);
+  for (size_t j = k + 1; j < steps_.size(); ++j) {
+    pending_.push_back(steps_[j].step);
+    if (carry_later) pending_.back().p.head<2>() += delta;
+  }
   Replace(now, pending_);
   return true;
+}
+
+double Gait::SwingPhase(const Phase& p, double t) {
+  if (p.retime_t >= 0 && t >= p.retime_t)
+    return p.retime_phase +
+           (1 - p.retime_phase) * (t - p.retime_t) / std::max(p.t_land - p.retime_t, 1e-9);
+  return (t - p.t_lift) / std::max(p.t_land - p.t_lift, 1e-9);
 }
 
 void Gait::At(double t, GaitState* s) const {
@@ -293,7 +316,7 @@ void Gait::At(double t, GaitState* s) const {
   const int sw = p.step.foot;
   s->swing = sw;
   s->support[sw] = false;
-  const double phase = (t - p.t_lift) / std::max(p.t_land - p.t_lift, 1e-9);
+  const double phase = SwingPhase(p, t);
   s->swing_phase = phase;
   const Eigen::Vector3d& a = p.before.p[sw];
   const Eigen::Vector3d& b = p.step.p;

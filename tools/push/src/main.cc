@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   ohrp::push::PushOptions o;
   std::vector<std::string> controllers;
   std::vector<double> directions;
+  std::vector<double> phases;
   std::vector<std::string> not_worse, require_settled;
   bool no_plot = false;
   CLI::App app{
@@ -37,6 +38,11 @@ int main(int argc, char** argv) {
   app.add_option("--settle-within", o.settle_within, "settle mode: settled when both times are below [s]")
       ->capture_default_str();
   app.add_option("--push-at", o.push_at, "simulated time of the push [s]")->capture_default_str();
+  app.add_option("--phases", phases,
+                 "several push times [s] (e.g. moments of a walk's gait: both feet down, lift-off, "
+                 "early and late swing): one table per time in --out/at-T, and phases.md / "
+                 "phases.csv, every controller x time x direction side by side")
+      ->delimiter(',');
   app.add_option("--push-duration", o.push_duration, "duration of the push [s]")->capture_default_str();
   app.add_option("--observe", o.observe, "time after the push before standing is judged [s]")
       ->capture_default_str();
@@ -111,15 +117,38 @@ int main(int argc, char** argv) {
     }
   }
 
-  const auto results = ohrp::push::RunAll(o);
-  std::string markdown;
-  if (!ohrp::push::WriteReport(o, results, &markdown, &error)) {
+  // one run per push time (--phases), each in its own folder; then the combined table
+  std::vector<double> times = phases.empty() ? std::vector<double>{o.push_at} : phases;
+  std::vector<ohrp::push::Limit> results;
+  std::vector<std::vector<ohrp::push::Limit>> per_time;
+  const std::string top = o.out_dir;
+  for (double t : times) {  // every time checked before anything runs
+    ohrp::push::PushOptions ot = o;
+    ot.push_at = t;
+    if (!ohrp::push::ValidateOptions(ot, &error)) {
+      std::fprintf(stderr, "ohrp_push: --phases %g: %s\n", t, error.c_str());
+      return 2;
+    }
+  }
+  for (double t : times) {
+    ohrp::push::PushOptions ot = o;
+    ot.push_at = t;
+    if (!phases.empty()) ot.out_dir = top + "/at-" + std::to_string(t).substr(0, std::to_string(t).find('.') + 3);
+    per_time.push_back(ohrp::push::RunAll(ot));
+    std::string markdown;
+    if (!ohrp::push::WriteReport(ot, per_time.back(), &markdown, &error)) {
+      std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
+      return 1;
+    }
+    std::printf("%s", markdown.c_str());
+    std::fprintf(stderr, "ohrp_push: wrote table.md, push.csv, push.json%s in %s\n",
+                 ot.plot && ot.settle_impulse <= 0 ? ", push.png" : "", ot.out_dir.c_str());
+  }
+  if (!phases.empty() && !ohrp::push::WritePhases(o, times, per_time, &error)) {
     std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
     return 1;
   }
-  std::printf("%s", markdown.c_str());
-  std::fprintf(stderr, "ohrp_push: wrote table.md, push.csv, push.json%s in %s\n",
-               o.plot && o.settle_impulse <= 0 ? ", push.png" : "", o.out_dir.c_str());
+  for (const auto& r : per_time) results.insert(results.end(), r.begin(), r.end());
 
   // the verdict: every trial ran, each A survives at least what B does, the named controllers
   // settle
@@ -133,12 +162,13 @@ int main(int argc, char** argv) {
   }
   const size_t nd = o.directions.size();
   for (const auto& [a, b] : pairs) {
-    for (size_t d = 0; d < nd; ++d) {
-      const auto& la = results[a * nd + d];
-      const auto& lb = results[b * nd + d];
+    for (size_t d = 0; d < nd * times.size(); ++d) {
+      const size_t base = d / nd * nd * o.controllers.size();
+      const auto& la = results[base + a * nd + d % nd];
+      const auto& lb = results[base + b * nd + d % nd];
       if (la.largest < lb.largest && !(la.above_max && lb.above_max)) {
         std::fprintf(stderr, "ohrp_push: '%s' survives %.1f N s at %g deg, less than '%s' (%.1f N s)\n",
-                     o.controllers[a].c_str(), la.largest, o.directions[d], o.controllers[b].c_str(), lb.largest);
+                     o.controllers[a].c_str(), la.largest, o.directions[d % nd], o.controllers[b].c_str(), lb.largest);
         rc = 1;
       }
     }

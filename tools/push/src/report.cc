@@ -1,4 +1,5 @@
 // The push tool's report: markdown table, CSV, JSON and the plot (see push/push.h).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -135,6 +136,49 @@ bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::s
                          o.out_dir + "/plot.stderr", &why) != 0)
       std::fprintf(stderr, "ohrp_push: the plot could not be made (see %s/plot.stderr)\n", o.out_dir.c_str());
   }
+  return true;
+}
+
+bool WritePhases(const PushOptions& o, const std::vector<double>& times,
+                 const std::vector<std::vector<Limit>>& results, std::string* error) {
+  const size_t nd = o.directions.size(), nc = o.controllers.size();
+  std::ostringstream md;
+  md << "Largest impulse survived [N s] per push time (columns: controller @ time [s]; push over "
+     << Fmt("%.2f", o.push_duration) << " s, standing judged " << Fmt("%.1f", o.observe)
+     << " s after it)\n\n| direction [deg] |";
+  for (size_t c = 0; c < nc; ++c)
+    for (double t : times) md << " " << o.controllers[c] << " @ " << Fmt("%.2f", t) << " |";
+  md << "\n|---:|";
+  for (size_t k = 0; k < nc * times.size(); ++k) md << "---:|";
+  md << "\n";
+  std::ofstream csv(o.out_dir + "/phases.csv");
+  csv << "controller,push_at_s,direction_deg,largest_impulse_Ns,smallest_fall_Ns,above_max,failed\n";
+  for (size_t d = 0; d < nd; ++d) {
+    md << "| " << Fmt("%g", o.directions[d]) << " |";
+    for (size_t c = 0; c < nc; ++c)
+      for (size_t t = 0; t < times.size(); ++t) {
+        const Limit& l = results[t][c * nd + d];
+        md << " " << LimitCell(l) << " |";
+        csv << '"' << o.controllers[c] << "\"," << times[t] << "," << o.directions[d] << ","
+            << l.largest << "," << l.smallest_fall << "," << l.above_max << "," << l.failed << "\n";
+      }
+    md << "\n";
+  }
+  md << "| least |";
+  for (size_t c = 0; c < nc; ++c)
+    for (size_t t = 0; t < times.size(); ++t) {
+      double least = 1e300;
+      for (size_t d = 0; d < nd; ++d) least = std::min(least, results[t][c * nd + d].largest);
+      md << " " << Fmt("%.1f", least) << " |";
+    }
+  md << "\n";
+  std::ofstream table(o.out_dir + "/phases.md");
+  table << md.str();
+  if (!table || !csv) {
+    *error = "cannot write phases.md / phases.csv into '" + o.out_dir + "'";
+    return false;
+  }
+  std::printf("%s", md.str().c_str());
   return true;
 }
 

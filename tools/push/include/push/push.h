@@ -110,4 +110,9 @@ std::vector<Limit> RunAll(const PushOptions& o);
 bool WriteReport(const PushOptions& o, const std::vector<Limit>& results, std::string* markdown,
                  std::string* error);
 
+// With several push times (--phases): phases.md (also printed) and phases.csv in o.out_dir, every
+// controller x time x direction; `results[t]` is RunAll's for times[t]. False with `*error` when
+// a file cannot be written.
+bool WritePhases(const PushOptions& o, const std::vector<double>& times,
+                 const std::vector<std::vector<Limit>>& results, std::string* error);
 }  // namespace ohrp::push
