@@ -199,6 +199,11 @@ TEST_F(SensorsOnTheEmulator, TheElbowsBandwidthIsItsServosMinus3dB) {
               "Hz (the line's %.3f; closed form %.3f Hz), gain0 %.4f, %zu windows, |tau| <= %.0f N m\n",
               inertia, kp, kd, b.found ? "" : "above", b.found ? b.f : b.f_max, b.f_se, b.f_fit_se,
               truth, b.gain0, b.freq.size(), tau_max);
+  for (size_t i = 0; i < b.freq.size(); i += 4) {
+    const std::complex<double> s(0, 2 * M_PI * b.freq[i]);
+    std::printf("[ figures  ]   %.3f Hz: |q/ref| %.4f +- %.4f (closed form %.4f)\n", b.freq[i], b.mag[i],
+                b.mag_se[i], std::abs((kd * s + kp) / (inertia * s * s + kd * s + kp)));
+  }
   ASSERT_TRUE(b.found);
   EXPECT_NEAR(b.f, truth, 0.05 * truth);
   EXPECT_NEAR(b.f, truth, 3 * b.f_se);
