@@ -1,5 +1,6 @@
 // ohrp identify --joints (see identify/joints.h).
 #include "identify/joints.h"
+#include "identify/sensors.h"
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -239,6 +240,7 @@ int IdentifyJoints(const std::string& log, const std::string& out_dir, const Joi
   nlohmann::json all = nlohmann::json::array();
   std::printf("%-18s %9s %9s %9s %9s %9s %9s %7s %9s %8s\n", "joint", "I", "+-", "b", "+-", "c",
               "+-", "lag_ms", "kp", "kd");
+  std::vector<std::string> bandwidths;
   std::vector<JointEstimate> estimates;
   for (const JointLog& l : joints) {
     JointEstimate& e = estimates.emplace_back();
@@ -256,7 +258,26 @@ int IdentifyJoints(const std::string& log, const std::string& out_dir, const Joi
                    {"dynamics_rms", e.dynamics_rms}, {"tau_rms", e.tau_rms},
                    {"lag_cycles", e.lag_cycles}, {"period", e.period}, {"lag", e.lag},
                    {"kp", e.kp}, {"kd", e.kd}, {"servo_rms", e.servo_rms}});
+    // the -3 dB bandwidth of q / ref (identify/sensors.h): reported, never a refusal
+    Bandwidth b;
+    std::string why;
+    char line[160];
+    if (!EstimateBandwidth(l, &b, &why)) {
+      all.back()["bandwidth_error"] = why;
+      std::snprintf(line, sizeof(line), "%-18s bandwidth not estimated: %s", e.joint.c_str(), why.c_str());
+    } else if (!b.found) {
+      all.back()["bandwidth_above"] = b.f_max;
+      std::snprintf(line, sizeof(line), "%-18s bandwidth above %.3g Hz (the chirp's highest: -3 dB not "
+                    "reached)", e.joint.c_str(), b.f_max);
+    } else {
+      all.back()["bandwidth"] = b.f, all.back()["bandwidth_se"] = b.f_se;
+      all.back()["bandwidth_gain0"] = b.gain0;
+      std::snprintf(line, sizeof(line), "%-18s bandwidth (-3 dB of q/ref) %.4g +- %.2g Hz (low-frequency "
+                    "gain %.4g)", e.joint.c_str(), b.f, b.f_se, b.gain0);
+    }
+    bandwidths.push_back(line);
   }
+  for (const std::string& b : bandwidths) std::printf("%s\n", b.c_str());
   const std::string path = out_dir + "/joints.json";
   std::ofstream f(path);
   f << nlohmann::json{{"log", log}, {"joints", all}}.dump(2) << "\n";

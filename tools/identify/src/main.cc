@@ -10,6 +10,7 @@
 #include "compare/compare.h"
 #include "identify/identify.h"
 #include "identify/joints.h"
+#include "identify/sensors.h"
 #include "sweep/executor_options.h"
 #include "tool_process/run_command.h"
 
@@ -87,6 +88,17 @@ int main(int argc, char** argv) {
                "the recording is an excite log (controllers/excite.h): per joint, inertia, viscous "
                "and Coulomb friction, the servo's lag and realised gains (identify/joints.h); "
                "writes DIR/joints.json");
+  bool sensors = false;
+  ohrp::identify::SensorOptions sensor_options;
+  app.add_flag("--sensors", sensors,
+               "the recording is a data log of the robot standing still (hw_driver --log, sim_host "
+               "--log while posture holds): the IMUs' gyro bias and noise, accelerometer noise and "
+               "bias, the F/T sensors' and the encoders' noise, with standard errors "
+               "(identify/sensors.h); writes DIR/sensors.json");
+  app.add_option("--from", sensor_options.from, "--sensors: [s] the still window's start (log time)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--to", sensor_options.to, "--sensors: [s] the still window's end (log time)")
+      ->check(CLI::PositiveNumber);
   ohrp::identify::JointModel joint_model;
   app.add_option("--model", joint_model.model,
                  "--joints: the model the excitation ran on (MJCF, VRML, URDF or robot profile): "
@@ -102,6 +114,15 @@ int main(int argc, char** argv) {
       "2 bad option or input (a missing or malformed recording, an unknown channel, a scenario\n"
       "without a push, no oscillation in the recording). docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (sensors) {
+    if (joints || !joint_model.model.empty() || sensor_options.to <= sensor_options.from) {
+      std::fprintf(stderr, "ohrp_identify: --sensors goes without --joints/--model, and --to after --from\n");
+      return 2;
+    }
+    std::error_code made;
+    fs::create_directories(o.out_dir, made);
+    return ohrp::identify::IdentifySensors(o.recording, o.out_dir, sensor_options);
+  }
   if (joints) {
     std::error_code made;
     fs::create_directories(o.out_dir, made);

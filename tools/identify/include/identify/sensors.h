@@ -1,0 +1,91 @@
+// ohrp identify --sensors LOG: the sensors' bias and noise from a data log of the robot standing
+// still (hw_driver --log or sim_host --log while `posture` holds), and the actuators' bandwidth
+// from an excite chirp (ohrp identify --joints). See docs/identify.md.
+//
+// Noise: the std of a channel less its centred moving average of `width` samples; for white
+// noise of std s that residual has std s sqrt(1 - 1/width), which is divided out. Its standard
+// error s / sqrt(2 (n - 1)) (white Gaussian noise). Bias: a mean, its standard error from batch
+// means (kBatches blocks: covers slowly correlated noise). Still: the moving average's range on
+// each joint and IMU channel below max(the tolerance, 8 noise / sqrt(width)), else refused.
+//
+// What a still log observes: the gyro's bias (the rate is zero); the accelerometer's along
+// gravity (|mean| - g) and, with the IMU's orientation logged (IMU_qw..qz), across it too (the
+// bias is then relative to that orientation: the estimator's or the board's, whatever its own
+// error); the noise of every channel. Not the encoders' bias: a held joint reads q + bias and
+// nothing in one still log tells q.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "identify/joints.h"
+
+namespace ohrp::identify {
+
+inline constexpr int kBatches = 20;
+
+struct Stat {
+  double value = 0, se = 0;
+};
+
+// the mean, its standard error from kBatches batch means
+Stat MeanOf(const std::vector<double>& x);
+// the white noise's std after the centred moving average of `width` (odd) samples is taken out
+Stat NoiseStd(const std::vector<double>& x, int width);
+// the range (max - min) of the centred moving average of `width` samples: the slow motion
+double SlowRange(const std::vector<double>& x, int width);
+
+struct SensorOptions {
+  double from = 0, to = 1e300;  // [s] the still window in the log's time
+  int width = 51;               // moving average [samples]
+  double gravity = 9.81;        // [m/s^2]
+  double joint_still = 2e-3;    // [rad] tolerated slow motion of a joint
+  double gyro_still = 5e-3;     // [rad/s]
+  double accel_still = 0.05;    // [m/s^2]
+};
+
+struct ImuEstimate {
+  std::string name;
+  Stat gyro_bias[3], gyro_noise[3], accel_noise[3], accel_mean[3];
+  Stat accel_bias_along_g;     // |mean| - g
+  bool oriented = false;           // the log has the IMU's orientation
+  Stat accel_bias[3];          // with it: mean - R^T (0, 0, g) per axis
+};
+
+struct SensorEstimates {
+  size_t samples = 0;
+  double period = 0;
+  std::vector<std::string> joints, forces;
+  std::vector<Stat> encoder_noise;  // per joint [rad]
+  std::vector<Stat> ft_noise;       // per F/T sensor, 6 axes [N, N m]
+  std::vector<ImuEstimate> imus;
+};
+
+// Reads a data log's columns (time, then q_J/qref_J, F_fx.., IMU_gx..) within the window and
+// estimates; false with `*error` when the log is unreadable, too short or not still.
+bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEstimates* out,
+                     std::string* error);
+
+// ohrp identify --sensors: the table on stdout, OUT_DIR/sensors.json. Exit code 0 or 2.
+int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o);
+
+// The actuator's bandwidth from a chirp on the reference: per window of two of the reference's
+// periods (between its upward crossings of its mean), a sinusoid fitted to ref and to q; the
+// magnitude |q| / |ref| against the window's frequency (the reference's phase interpolated
+// between its crossings of its mean, so that the chirp's rising frequency fits); the -3 dB
+// frequency where the magnitude first falls below 1 / sqrt(2) (0 dB: q follows ref), from a
+// straight line through the windows around it, its standard error from that line's (its
+// residual's scatter or the magnitudes' own standard errors, the larger) and the window's span of
+// the chirp's frequencies (span / sqrt(12), in quadrature). gain0 (the mean of the
+// three lowest windows) is reported: a joint whose gravity load takes some of the servo's
+// stiffness has gain0 < 1.
+struct Bandwidth {
+  bool found = false;       // false: the magnitude stays above -3 dB up to f_max
+  double f = 0, f_se = 0;   // [Hz]; f_se: the fit's and the window's frequency span's
+  double f_fit_se = 0;      // [Hz] the line's alone
+  double gain0 = 0, f_max = 0;
+  std::vector<double> freq, mag, mag_se;  // per window
+};
+bool EstimateBandwidth(const JointLog& log, Bandwidth* b, std::string* error);
+
+}  // namespace ohrp::identify
