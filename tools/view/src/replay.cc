@@ -91,6 +91,7 @@ std::unique_ptr<ReplaySource> ReplaySource::Open(const std::string& run_dir, con
   const std::string trimmed = run_dir.substr(0, slash + 1);
   src->LoadPlan(run_dir);
   src->LoadReach(run_dir);
+  src->LoadImages(run_dir);
   src->title_ = "run " + trimmed.substr(trimmed.rfind('/') == std::string::npos ? 0 : trimmed.rfind('/') + 1);
   return src;
 }
@@ -210,6 +211,7 @@ nlohmann::json ReplaySource::Hello() {
   j["columns"] = log_.names();
   j["plan"] = PlanHello();
   j["reach"] = reach_;
+  j["recorded_images"] = images_;
   // the plots' curves, min/max decimated (decimate.h): q and qref per joint, fz per sensor, the
   // ZMP (forward kinematics of every row: the sensors' poses)
   const auto& robot = geometry_->robot();

@@ -185,6 +185,13 @@ void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets
       res.result(http::status::not_found);
       res.set(http::field::content_type, "text/plain");
       res.body() = "not found\n";
+      // replay: a recorded camera image, only the files the run's index names (source.h)
+      if (std::string file; target.rfind("/recorded/", 0) == 0 &&
+                            source->RecordedImage(target.substr(10), &file)) {
+        res.result(http::status::ok);
+        res.set(http::field::content_type, "image/png");
+        res.body() = ReadFile(file);
+      }
       for (const Asset& a : *assets)
         if (target == a.target) {
           res.result(http::status::ok);
@@ -212,6 +219,7 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
             {"/overlays.js", options.web_dir + "/overlays.js", "text/javascript"},
             {"/plan.js", options.web_dir + "/plan.js", "text/javascript"},
             {"/reach.js", options.web_dir + "/reach.js", "text/javascript"},
+            {"/recorded.js", options.web_dir + "/recorded.js", "text/javascript"},
             {"/lib/three.min.js", options.three_js, "text/javascript"},
             {"/lib/chart.min.js", options.chart_js, "text/javascript"}};
   for (const Asset& a : assets)

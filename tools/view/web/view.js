@@ -256,6 +256,7 @@ function showFrame(f) {
   applyOverlay(f);  // before the poses: drawn in the same browser frame
   applyPlan(f);
   applyReach(f);
+  if (f.t !== undefined) showRecorded(f.t);
   showPoses(f.poses);
   cursorT = f.t;
   stateEl.dataset.t = f.t;
@@ -417,7 +418,7 @@ function connect() {
       document.title = 'ohrp view: ' + m.title;
       $('title').textContent = m.title + (m.producer ? ' (' + m.producer + ')' : '');
       if (m.mode === 'live') { $('timeline').style.display = 'none'; }
-      if (m.mode === 'replay') $('cameras').textContent = 'no images in a run folder';
+      if (m.mode === 'replay') setupRecorded(m);
       else if (m.cameras > 0) $('cameras').textContent = m.cameras + ' camera(s):';
       if (m.mode === 'live') setupImages(m);
       resize();

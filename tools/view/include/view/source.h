@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
@@ -49,6 +50,9 @@ class Source {
   virtual nlohmann::json Column(const std::string& name) { return {{"column", name}, {"error", "not a replay"}}; }
   // live: the producer has stopped (its last frame is out)
   virtual bool ended() const { return false; }
+  // replay: the path of the recorded camera image `name` (a file the run folder's
+  // images/images.csv names, relative to images/; sim_host --record-images), or false
+  virtual bool RecordedImage(const std::string& name, std::string* path) const { return false; }
   // live: a page starts (+1) or stops (-1) watching the camera images
   virtual void WatchImages(int delta) {}
   // live: blocks up to `timeout` [s] until some camera has an image message newer than
@@ -122,9 +126,14 @@ class ReplaySource : public Source {
   nlohmann::json Hello() override;
   nlohmann::json FrameAt(double t) override;
   nlohmann::json Column(const std::string& name) override;
+  bool RecordedImage(const std::string& name, std::string* path) const override;
 
  private:
   ReplaySource() = default;
+  // the cameras' images of the run (RUN_DIR/images/images.csv, sim_host --record-images;
+  // replay_images.cc): for the hello {"cameras": [names], "frames": {camera: {"t": [s],
+  // "rgb": [file]}}}, or {"note": why none}
+  void LoadImages(const std::string& run_dir);
   RobotState StateAt(double t);
   void LoadPlan(const std::string& run_dir);
   nlohmann::json PlanHello() const;
@@ -147,6 +156,9 @@ class ReplaySource : public Source {
   std::unique_ptr<WalkPlan> plan_;               // walk.csv's plan, or null
   std::string plan_note_;                        // why there is no plan
   nlohmann::json reach_;                         // reach's plan for the hello (LoadReach)
+  nlohmann::json images_;                        // the recorded images for the hello (LoadImages)
+  std::string images_dir_;                       // RUN_DIR/images
+  std::set<std::string> image_files_;            // the files its index names (served, nothing else)
   double sole_half_[2][2] = {{0, 0}, {0, 0}};    // left, right sole box half length, width [m]
 };
 
