@@ -55,9 +55,10 @@ TEST_F(Replay, ShowsTheRobotAndTheSliderMovesIt) {
   EXPECT_GT(at0.n, 2000) << "the robot's colours should fill part of the canvas (" << out << "/t0.png)";
   // every plot has its curves: knee q and qref, two ankle forces
   EXPECT_GT(browser.Eval("Number(document.getElementById('state').dataset.points)").get<double>(), 1000);
-  // a run folder has no camera images: the page says so, without a camera panel
+  // a run folder without recorded images (sim_host --record-images): the page says so, without
+  // a camera panel
   EXPECT_EQ(browser.Eval("document.getElementById('cameras').textContent").get<std::string>(),
-            "no images in a run folder");
+            "no recorded images (sim_host --record-images DIR/images keeps them)");
   EXPECT_TRUE(browser.Eval("document.getElementById('images_toggle').hidden").get<bool>());
 
   // the slider to the end: the robot is drawn higher
