@@ -96,10 +96,11 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   EXPECT_EQ(reply().rfind("ok: step", 0), 0u) << reply();
   EXPECT_TRUE(shm::testing::WaitFor([&] { return t() != paused_at; }, 5));
   EXPECT_NEAR(t() - paused_at, 0.005, 1e-9);
-  // a push on the base (WAIST): 10 N s along +x over 0.1 s, then resume
+  // a push on the base (WAIST): 20 N s along +x over 0.1 s, then resume
   page.Eval("document.getElementById('push_body').value = 'WAIST'");
+  page.Eval("document.getElementById('push_impulse').value = '20'");
   click("c_push");
-  EXPECT_EQ(reply().rfind("ok: push WAIST 100.000 0.000 0 0.1", 0), 0u) << reply();
+  EXPECT_EQ(reply().rfind("ok: push WAIST 200.000 0.000 0 0.1", 0), 0u) << reply();
   click("c_resume");
   EXPECT_EQ(reply().rfind("ok: resume", 0), 0u) << reply();
   EXPECT_TRUE(page.WaitTrue("Number(" + state + ".t) > " + std::to_string(paused_at + 1.0), 10));
@@ -138,6 +139,7 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   // standing before it (three times as much), and less than impulse / mass (the robot pivots
   // about its soles: the ground's reaction takes part of the impulse; the base is below the CoM)
   const nlohmann::json summary = nlohmann::json::parse(ReadFile(dir / "sim_summary.json"));
+  const double kImpulse = 20;  // [N s] as set on the page
   const double mass = summary["robot_mass"].get<double>();
   const auto vx = Column((dir / "log.csv").string(), "base_vx");
   ASSERT_FALSE(vx.empty()) << "no base_vx in the log";
@@ -145,11 +147,11 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   double standing = 0;
   for (double a = 1.0; a + 0.1 < t0 - 0.05; a += 0.005)
     standing = std::max(standing, std::fabs(At(vx, a + 0.1) - At(vx, a)));
-  std::printf("push 10 N s on %.1f kg: base vx %+.4f -> %+.4f m/s (impulse/mass %.4f; standing: "
-              "at most %.4f m/s in 0.1 s)\n", mass, At(vx, t0), At(vx, t1), 10.0 / mass, standing);
+  std::printf("push %.0f N s on %.1f kg: base vx %+.4f -> %+.4f m/s (impulse/mass %.4f; standing: "
+              "at most %.4f m/s in 0.1 s)\n", kImpulse, mass, At(vx, t0), At(vx, t1), kImpulse / mass, standing);
   EXPECT_GT(dv, 3 * standing);
   EXPECT_GT(dv, 0.0);
-  EXPECT_LT(dv, 10.0 / mass);
+  EXPECT_LT(dv, kImpulse / mass);
   const std::string walk_out = ReadFile(dir / "walk.txt");
   EXPECT_NE(walk_out.find("live: 2 received, 0 refused"), std::string::npos) << walk_out;
   shm::testing::RemoveSegment(segment);
