@@ -137,6 +137,9 @@ std::unique_ptr<ControlChannel> ControlChannel::Open(const std::string& socket_p
   }
   if (!p->server.Open(-1, socket_path, "sim_host",
                       [p](const std::string& line, int fd) { p->OnLine(line, fd); }, nullptr, error)) {
+    // LineServer names walk's option: said as sim_host's
+    const std::string theirs = "--socket " + socket_path + ": ";
+    if (error->rfind(theirs, 0) == 0) error->erase(0, theirs.size());
     *error = "--control-socket " + socket_path + ": " + *error;
     return nullptr;
   }

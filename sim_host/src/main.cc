@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   app.add_option("--control-socket", o.control_socket,
                  "a local stream socket for control lines (pause, resume, step [N], reset "
                  "[KEYFRAME], push BODY FX FY FZ DURATION, status), applied between control cycles "
-                 "and recorded in actions.jsonl beside --summary (docs/sim_host.md \"Control "
+                 "and recorded in actions.jsonl beside --summary (docs/architecture.md \"Control "
                  "channel\"); default: none");
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("duration"));

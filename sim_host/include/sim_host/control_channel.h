@@ -4,7 +4,7 @@
 // control loop through one preallocated slot; the loop applies them between control cycles
 // (never inside the physics step), without allocating or logging, and marks them done; the
 // channel's thread then answers the line and records the action in the run folder
-// (actions.jsonl). Docs: docs/sim_host.md "Control channel".
+// (actions.jsonl). Docs: docs/architecture.md "Control channel".
 #pragma once
 
 #include <mujoco/mujoco.h>
