@@ -76,7 +76,7 @@ bool ParseControlLine(const std::string& line, const mjModel* m, ControlAction* 
       a.keyframe = mj_name2id(m, mjOBJ_KEY, key.c_str());
       if (a.keyframe < 0)
         return fail("no keyframe '" + key + "' in the model (its keyframes: " +
-                    Names(m, mjOBJ_KEY, m->nkey) + "; 'reset' alone: the model's qpos0)");
+                    Names(m, mjOBJ_KEY, m->nkey) + "; 'reset' alone: the run's start state)");
     }
   } else if (verb == "push") {
     a.kind = ControlAction::kPush;

@@ -16,6 +16,7 @@ bool HostRun::OpenControl(std::string* why) {
   std::string actions;
   if (!o.summary_path.empty())
     actions = (std::filesystem::path(o.summary_path).parent_path() / "actions.jsonl").string();
+  start_keyframe = o.keyframe.empty() ? -1 : mj_name2id(m, mjOBJ_KEY, o.keyframe.c_str());
   saved_xfrc.assign(6 * static_cast<size_t>(m->nbody), 0.0);
   control = ControlChannel::Open(o.control_socket, actions, m, robot.base_body, why);
   if (control && !o.quiet)
@@ -67,12 +68,13 @@ void HostRun::ApplyAction(const ControlAction& a) {
       steps_left = a.steps;
       break;
     case ControlAction::kReset: {
-      // the keyframe's (or qpos0's) state at the same simulated time; the wrenches on the
+      // the keyframe's state (alone: the run's start, --keyframe or qpos0) at the same simulated time; the wrenches on the
       // bodies kept (the --push windows and the channel's push go on); the watches re-armed
       const double t = d->time;
       for (int i = 0; i < 6 * m->nbody; ++i) saved_xfrc[i] = d->xfrc_applied[i];
-      if (a.keyframe >= 0)
-        mj_resetDataKeyframe(m, d, a.keyframe);
+      const int key = a.keyframe >= 0 ? a.keyframe : start_keyframe;  // "reset": the start's
+      if (key >= 0)
+        mj_resetDataKeyframe(m, d, key);
       else
         mj_resetData(m, d);
       d->time = t;

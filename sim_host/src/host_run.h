@@ -132,6 +132,7 @@ class HostRun {
   int push_body = -1;           // the channel's push under way: body, force, end time
   double push_force[3] = {0, 0, 0};
   double push_end = 0;
+  int start_keyframe = -1;      // reset alone: the run's start (--keyframe; -1 qpos0)
   std::vector<double> saved_xfrc;  // reset: the bodies' wrenches kept (sized at set-up)
 };
 

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -118,6 +120,50 @@ TEST(ControlReplay, HandDrivenRunReRunsFromItsActions) {
   ASSERT_EQ(ohrp::testing::WaitExit(sim, 60), 0) << Read(c / "sim_host.txt");
   ASSERT_EQ(ohrp::testing::WaitExit(posture, 20), 0);
   EXPECT_FALSE(after_first(Read(c / "log.csv")) == hand);
+  if (!::testing::Test::HasFailure()) fs::remove_all(root);
+}
+
+// the log's column `name` at the first row at or after time `t`
+double Logged(const std::string& log, const std::string& name, double t) {
+  std::istringstream in(log);
+  std::string line, cell;
+  std::getline(in, line);
+  int col = -1, i = 0;
+  for (std::istringstream h(line); std::getline(h, cell, ','); ++i)
+    if (cell == name) col = i;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    for (std::istringstream r(line); std::getline(r, cell, ',');) v.push_back(std::atof(cell.c_str()));
+    if (col >= 0 && col < static_cast<int>(v.size()) && v[0] >= t - 1e-9) return v[col];
+  }
+  return NAN;
+}
+
+// reset: a push (60 N s) rocks the robot; "reset" puts the robot back in the run's start state (at
+// the same simulated time): a period later the base is back within a tenth of how far it was
+TEST(ControlReplay, ResetPutsTheRobotBackInItsStartState) {
+  const fs::path root = ohrp::testing::ScratchFolder("control_reset");
+  fs::create_directories(root);
+  const std::string seg = "ctlrst" + std::to_string(getpid());
+  const std::string sock = (root / "sim.sock").string();
+  const pid_t sim = StartSim(root, seg, {"--control-socket", sock});
+  for (int i = 0; i < 200 && !fs::exists(sock); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  EXPECT_EQ(Send(sock, "pause").rfind("ok: pause", 0), 0u);
+  const pid_t posture = StartPosture(root, seg);
+  EXPECT_EQ(Send(sock, "push WAIST 300 0 0 0.2").rfind("ok: push", 0), 0u);
+  EXPECT_EQ(Send(sock, "step 100"), "ok: step 100: t=0.5000 s cycle 100 paused");
+  EXPECT_EQ(Send(sock, "reset"), "ok: reset: t=0.5000 s cycle 100 paused");
+  EXPECT_EQ(Send(sock, "resume").rfind("ok: resume", 0), 0u);
+  ASSERT_EQ(ohrp::testing::WaitExit(sim, 60), 0) << Read(root / "sim_host.txt");
+  ASSERT_EQ(ohrp::testing::WaitExit(posture, 20), 0) << Read(root / "posture.txt");
+  const std::string log = Read(root / "log.csv");
+  const double x0 = Logged(log, "base_x", 0), moved = Logged(log, "base_x", 0.5) - x0,
+               back = Logged(log, "base_x", 0.505) - x0;
+  std::printf("base x: %+.4f m at 0.5 s, %+.5f m a period after the reset\n", moved, back);
+  EXPECT_GT(std::fabs(moved), 0.002);  // the robot rocks: forward, then back past its start
+  EXPECT_LT(std::fabs(back), 0.1 * std::fabs(moved));
+  const std::string actions = Read(root / "actions.jsonl");
+  EXPECT_NE(actions.find("\"action\": \"reset\""), std::string::npos) << actions;
   if (!::testing::Test::HasFailure()) fs::remove_all(root);
 }
 

@@ -19,7 +19,7 @@ namespace ohrp::sim {
 struct ControlAction {
   enum Kind { kNone, kPause, kResume, kStep, kReset, kPush, kStatus } kind = kNone;
   int steps = 1;         // step: control periods to run, then paused again
-  int keyframe = -1;     // reset: the keyframe's index; -1 the model's qpos0
+  int keyframe = -1;     // reset: the keyframe's index; -1 the run's start (--keyframe or qpos0)
   int body = -1;         // push: the body's id
   double force[3] = {0, 0, 0};  // push: world frame [N], at the body's centre of mass
   double duration = 0;   // push: [s] of simulated time (rounded up to whole control periods)
