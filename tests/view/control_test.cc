@@ -91,6 +91,8 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   const double paused_at = t();
   std::this_thread::sleep_for(std::chrono::seconds(3));  // longer than walk's --read-timeout (2 s)
   EXPECT_EQ(t(), paused_at);
+  // the status line says so (the paused host's heartbeat blocks carry status::kPaused)
+  EXPECT_TRUE(page.WaitTrue("document.getElementById('status').textContent.includes('paused')", 3));
   // step: one control period (5 ms) on
   click("c_step");
   EXPECT_EQ(reply().rfind("ok: step", 0), 0u) << reply();
@@ -103,6 +105,7 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   EXPECT_EQ(reply().rfind("ok: push WAIST 200.000 0.000 0 0.1", 0), 0u) << reply();
   click("c_resume");
   EXPECT_EQ(reply().rfind("ok: resume", 0), 0u) << reply();
+  EXPECT_TRUE(page.WaitTrue("!document.getElementById('status').textContent.includes('paused')", 3));
   EXPECT_TRUE(page.WaitTrue("Number(" + state + ".t) > " + std::to_string(paused_at + 1.0), 10));
   // keys: the up arrow starts walking forward, space stops
   int before = replies();
