@@ -65,7 +65,8 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
                            (dir / "walk.txt").string()));
   Viewer viewer;
   StartViewer(&viewer, {segment, "--attach-timeout", "20", "--port", "0", "--control", "--sim-socket",
-                        sim_sock, "--walk-socket", walk_sock}, (dir / "viewer.txt").string());
+                        sim_sock, "--walk-socket", walk_sock, "--control-record",
+                        (dir / "view_actions.jsonl").string()}, (dir / "viewer.txt").string());
   ASSERT_NE(viewer.url.find("?token="), std::string::npos) << ReadFile(viewer.out_file);
   Browser page(viewer.url);
   ASSERT_TRUE(page.ok()) << page.error();
@@ -155,6 +156,20 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   EXPECT_GT(dv, 3 * standing);
   EXPECT_GT(dv, 0.0);
   EXPECT_LT(dv, kImpulse / mass);
+  // the viewer's record: every line forwarded, walk's two with the simulated time they were sent
+  std::istringstream forwarded(ReadFile(dir / "view_actions.jsonl"));
+  std::vector<std::string> walk_lines;
+  int sim_lines = 0;
+  for (std::string l; std::getline(forwarded, l);) {
+    const nlohmann::json j = nlohmann::json::parse(l);
+    if (j["to"] == "walk") {
+      walk_lines.push_back(j["line"]);
+      EXPECT_GT(j["t"].get<double>(), paused_at) << l;
+    }
+    if (j["to"] == "sim") ++sim_lines;
+  }
+  EXPECT_EQ(walk_lines, (std::vector<std::string>{"velocity 0.2 0 0", "stop"}));
+  EXPECT_EQ(sim_lines, 4);  // pause, step, push, resume
   const std::string walk_out = ReadFile(dir / "walk.txt");
   EXPECT_NE(walk_out.find("live: 2 received, 0 refused"), std::string::npos) << walk_out;
   shm::testing::RemoveSegment(segment);

@@ -8,8 +8,12 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
 #include <random>
 
 namespace ohrp::view {
@@ -88,7 +92,22 @@ bool SendLine(const std::string& path, const std::string& line, double timeout, 
   return ok;
 }
 
-int AnswerControl(const std::string& target, const ControlOptions& o, std::string* body) {
+void RecordControl(const std::string& path, double sim_time, const std::string& to,
+                   const std::string& line, int status, const std::string& reply) {
+  static std::mutex mutex;  // pages' threads answer at once
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::ofstream out(path, std::ios::app);
+  timespec now{};
+  clock_gettime(CLOCK_REALTIME, &now);
+  char head[96];
+  std::snprintf(head, sizeof head, "{\"wall\": %.3f, \"t\": %.6f, ", now.tv_sec + 1e-9 * now.tv_nsec,
+                sim_time);
+  const nlohmann::json rest = {{"to", to}, {"line", line}, {"status", status}, {"reply", reply}};
+  out << head << rest.dump().substr(1) << "\n";
+}
+
+int AnswerControl(const std::string& target, const ControlOptions& o, std::string* body,
+                  double sim_time) {
   if (!o.on) {
     *body = "control is off (start ohrp view with --control)\n";
     return 404;
@@ -117,8 +136,9 @@ int AnswerControl(const std::string& target, const ControlOptions& o, std::strin
     return 400;
   }
   // a step of many periods may take a while: sim_host answers once they have run
-  if (!SendLine(path, line, 120.0, body)) return 502;
-  return 200;
+  const int status = SendLine(path, line, 120.0, body) ? 200 : 502;
+  if (!o.record.empty()) RecordControl(o.record, sim_time, to, line, status, *body);
+  return status;
 }
 
 }  // namespace ohrp::view

@@ -188,7 +188,11 @@ void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets
       res.body() = "not found\n";
       if (target == "/control") {
         std::string body;
-        res.result(static_cast<http::status>(AnswerControl(std::string(req.target()), *control, &body)));
+        double t = -1;  // the newest frame's simulated time, for the record
+        uint64_t v = 0;
+        if (const auto frame = source->Newest(0, 0.0, &v))
+          t = nlohmann::json::parse(*frame, nullptr, false).value("t", -1.0);
+        res.result(static_cast<http::status>(AnswerControl(std::string(req.target()), *control, &body, t)));
         res.set(http::field::cache_control, "no-store");
         res.body() = body;
       }

@@ -18,7 +18,15 @@ struct ControlOptions {
   std::string token;        // a random hex token (MakeToken)
   std::string sim_socket;   // sim_host --control-socket PATH ("": none)
   std::string walk_socket;  // walk --socket PATH ("": none)
+  std::string record;       // --control-record FILE: every line forwarded, as JSON lines
+                            // ("": none)
 };
+
+// The record of the lines forwarded (--control-record): one JSON line each, {"wall": unix time,
+// "t": the simulated time of the newest frame, "to", "line", "status", "reply"}; walk's commands
+// are recorded only here (sim_host records what it applied in its own actions.jsonl).
+void RecordControl(const std::string& path, double sim_time, const std::string& to,
+                   const std::string& line, int status, const std::string& reply);
 
 // 32 hex digits from the system's random source
 std::string MakeToken();
@@ -28,7 +36,9 @@ std::string QueryValue(const std::string& target, const std::string& key);
 
 // answers a /control request (`target` with its query): the HTTP status (200, 400, 403, 404,
 // 502) and the body
-int AnswerControl(const std::string& target, const ControlOptions& options, std::string* body);
+// (recorded when `options.record` is set, with `sim_time` the newest frame's time)
+int AnswerControl(const std::string& target, const ControlOptions& options, std::string* body,
+                  double sim_time = -1);
 
 // sends `line` to the local stream socket at `path` and returns its one reply line; false with
 // `*reply` saying why (no such socket, no answer within `timeout` [s])
