@@ -99,6 +99,14 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   EXPECT_EQ(reply().rfind("ok: step", 0), 0u) << reply();
   EXPECT_TRUE(shm::testing::WaitFor([&] { return t() != paused_at; }, 5));
   EXPECT_NEAR(t() - paused_at, 0.005, 1e-9);
+  // a click on the robot in the middle of the 3D view picks a body of its trunk for the push
+  page.Eval("document.getElementById('push_body').value = 'LLEG_ANKLE_R'");
+  const nlohmann::json view = page.Eval("(() => { const b = document.getElementById('view3d')"
+                                        ".getBoundingClientRect(); return [b.x + b.width / 2, b.y + b.height / 2]; })()");
+  page.Click(view[0].get<double>(), view[1].get<double>());
+  EXPECT_TRUE(page.WaitTrue("document.getElementById('push_body').value !== 'LLEG_ANKLE_R'", 3));
+  std::printf("a click in the middle of the view picked %s\n",
+              page.Eval("document.getElementById('push_body').value").dump().c_str());
   // a push on the base (WAIST): 20 N s along +x over 0.1 s, then resume
   page.Eval("document.getElementById('push_body').value = 'WAIST'");
   page.Eval("document.getElementById('push_impulse').value = '20'");
