@@ -123,7 +123,7 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
   if (internal::IsEnded(internal::LoadState(h))) return Checked(ReadResult::kProducerStopped);
 
   const int64_t start = MonotonicNs();
-  const int64_t deadline = start + internal::SecondsToNs(options_.read_timeout);
+  int64_t deadline = start + internal::SecondsToNs(options_.read_timeout);
   const int64_t slice_ns = std::max<int64_t>(internal::SecondsToNs(options_.slice), 1000000);
   for (int64_t now = start;; now = MonotonicNs()) {
     const int64_t until = std::min(deadline, now + slice_ns);
@@ -147,7 +147,13 @@ ReadResult RobotAdaptor::read(SensorBlock* out) {
           // a post that came while this process was still copying the block it announced (the
           // producer published twice before the copy) announces a block already returned: the
           // same cycle is never returned twice, the wait goes on for the next
-          if (have_cycle_ && out->cycle == last_cycle_) continue;
+          // A paused producer's heartbeat (status::kPaused, the same cycle again) restarts the
+          // wait: a pause is not a dead producer.
+          if (have_cycle_ && out->cycle == last_cycle_) {
+            if (out->status & status::kPaused)
+              deadline = MonotonicNs() + internal::SecondsToNs(options_.read_timeout);
+            continue;
+          }
           last_cycle_ = out->cycle;
           have_cycle_ = true;
           return ReadResult::kOk;

@@ -19,7 +19,12 @@ int HostRun::Run() {
     if (recorder && recorder->failed()) break;  // the log is incomplete: a failed run (Shutdown)
     const Next next = Commands();
     if (next == Next::kEnd) break;
-    if (next == Next::kAgain) continue;
+    if (next == Next::kAgain) {
+      // waiting for a controller: an action is applied now (a pause holds from the first cycle)
+      if (ControlAction a; control && control->Take(&a)) ApplyAction(a);
+      continue;
+    }
+    if (control && !ControlGate()) break;  // the channel's actions; paused here
     if (!Physics()) break;
     ++st.cycles;
     if (!Watches()) break;
@@ -306,6 +311,7 @@ void HostRun::EndImages() {
 
 // the run's outcome (a signal, a fall), the log's end, the report and the summary
 int HostRun::Shutdown() {
+  if (control) control->Close();
   st.wall_end = MonotonicSeconds();
   st.sim_time = d->time;
   if (signal->load() && exit_code == kExitOk) {

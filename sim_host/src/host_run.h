@@ -10,6 +10,7 @@
 #include "shm_bridge/bridge.h"
 #include "image_recorder.h"
 #include "sim_host/cameras.h"
+#include "sim_host/control_channel.h"
 #include "sim_host/divergence.h"
 #include "sim_host/effects.h"
 #include "sim_host/fall.h"
@@ -51,6 +52,13 @@ class HostRun {
   void EndImages();
   bool OpenLog(std::string* error);
   bool CreateSegment(std::string* error);
+  bool OpenControl(std::string* error);
+
+  //---- the control channel's actions, between cycles (host_control.cc)
+  bool ControlGate();
+  void ApplyAction(const ControlAction& a);
+  void EndControlPush();
+  void ControlDone(int kind);
 
   //---- the stages of a cycle (host_loop.cc)
   void StartLoop();
@@ -114,6 +122,18 @@ class HostRun {
   bool rejecting = false;       // its last command block had rejected joints
   double deadline = 0;          // real time: the wall time at which the cycle is due
   std::string error;
+
+  //---- the control channel (--control-socket)
+  std::unique_ptr<ControlChannel> control;
+  bool paused = false;
+  int steps_left = 0;           // paused: control periods still to run (step N)
+  bool step_owed = false;       // a step's answer, owed once its periods have run
+  double heartbeat = 0;         // paused: the wall time of the last republished block
+  int push_body = -1;           // the channel's push under way: body, force, end time
+  double push_force[3] = {0, 0, 0};
+  double push_end = 0;
+  int start_keyframe = -1;      // reset alone: the run's start (--keyframe; -1 qpos0)
+  std::vector<double> saved_xfrc;  // reset: the bodies' wrenches kept (sized at set-up)
 };
 
 }  // namespace ohrp::sim

@@ -71,6 +71,10 @@ int HostRun::SetUp(bool* ran_enough) {
     std::fprintf(stderr, "sim_host: --summary: %s\n", error.c_str());
     return kExitUsage;  // the segment is removed on the way out
   }
+  if (!o.control_socket.empty() && !OpenControl(&error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
   cameras = std::make_unique<Cameras>(robot, o.cameras, effects.on(Effect::kCameras));
   if (!o.record_images.empty() && !OpenImages(&error)) {
     std::fprintf(stderr, "sim_host: --record-images: %s\n", error.c_str());

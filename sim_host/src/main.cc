@@ -69,6 +69,11 @@ int main(int argc, char** argv) {
                  "N and N m at the base's centre of mass); may be given several times, "
                  "overlapping pushes add")
       ->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_option("--control-socket", o.control_socket,
+                 "a local stream socket for control lines (pause, resume, step [N], reset "
+                 "[KEYFRAME], push BODY FX FY FZ DURATION, status), applied between control cycles "
+                 "and recorded in actions.jsonl beside --summary (docs/architecture.md \"Control "
+                 "channel\"); default: none");
   app.add_option("--duration", o.duration, "simulated time to run [s]; 0 runs until Ctrl-C")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("duration"));
   app.add_flag("--realtime", o.realtime, "pace cycles to the wall clock instead of lock-step");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -282,6 +283,49 @@ TEST_F(AdaptorTest, ACycleIsReturnedOnceEvenWhenItsWakeUpComesTwice) {
   ASSERT_EQ(adaptor.read(&in), ReadResult::kOk);
   EXPECT_EQ(in.cycle, 6u);
   EXPECT_DOUBLE_EQ(in.time, 0.006);
+}
+
+// A paused producer (sim_host's control channel) republishes its last cycle with
+// status::kPaused as a heartbeat: each one restarts the read's timeout, so a pause of 0.6 s
+// outlives a 0.2 s --read-timeout; the next cycle is then returned, and once the heartbeats
+// stop the read times out again
+TEST_F(AdaptorTest, APausedProducersHeartbeatKeepsTheReadWaiting) {
+  auto producer = Create();
+  ASSERT_NE(producer, nullptr);
+  RobotAdaptor adaptor;
+  AdaptorOptions options;
+  options.read_timeout = 0.2;
+  options.slice = 0.02;
+  ASSERT_TRUE(adaptor.open(name_, options).ok());
+  const auto publish = [&](uint64_t cycle, uint32_t status) {
+    SensorBlock& s = producer->BeginSensors();
+    s.cycle = cycle;
+    s.time = 0.001 * static_cast<double>(cycle);
+    s.status = status::kRunning | status;
+    producer->PublishSensors();
+  };
+  SensorBlock in{};
+  publish(5, 0);
+  ASSERT_EQ(adaptor.read(&in), ReadResult::kOk);
+  std::thread paused([&] {
+    for (int i = 0; i < 6; ++i) {  // 0.6 s of heartbeats, one every 0.1 s
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      publish(5, status::kPaused);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    publish(6, 0);
+  });
+  const double t0 = MonotonicSeconds();
+  const ReadResult r = adaptor.read(&in);
+  const double waited = MonotonicSeconds() - t0;
+  paused.join();
+  ASSERT_EQ(r, ReadResult::kOk);
+  EXPECT_EQ(in.cycle, 6u);
+  EXPECT_GE(waited, 0.6);
+  publish(6, status::kPaused);  // a heartbeat, then none: the timeout counts from it
+  const double t1 = MonotonicSeconds();
+  EXPECT_EQ(adaptor.read(&in), ReadResult::kTimeout);
+  EXPECT_GE(MonotonicSeconds() - t1, 0.195);
 }
 
 }  // namespace

@@ -165,6 +165,14 @@ class Browser {
     mouse("mouseReleased", x1, y1);
   }
 
+  // A key pressed and released, as a user's: `key` and `code` as the DOM names them
+  // ("ArrowUp", " " / "Space"), `vk` its Windows virtual key code (38, 32)
+  void Key(const std::string& key, const std::string& code, int vk) {
+    for (const char* type : {"keyDown", "keyUp"})
+      Call("Input.dispatchKeyEvent", {{"type", type}, {"key", key}, {"code", code},
+                                      {"windowsVirtualKeyCode", vk}, {"nativeVirtualKeyCode", vk}});
+  }
+
   // Writes a screenshot of the page to `png_path`; false when none came.
   bool Screenshot(const std::string& png_path) {
     const nlohmann::json r = Call("Page.captureScreenshot", {{"format", "png"}});

@@ -105,6 +105,10 @@ inline constexpr uint32_t kEmergencyStop = 1u << 9;      // the emergency stop w
 // set by a producer that judges falls (sim_host's fall watch), in every block from the first
 // fall on, the last one included: a controller whose own watch saw nothing still learns it
 inline constexpr uint32_t kFallen = 1u << 10;
+// set by sim_host while paused from its control channel: the last block is republished (same
+// cycle) every 0.25 s as a heartbeat; a controller's read() waits on through it (its
+// --read-timeout starts again at each one) instead of taking the pause for a dead producer
+inline constexpr uint32_t kPaused = 1u << 11;
 }  // namespace status
 
 //---------------- header ----------------

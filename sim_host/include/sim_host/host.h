@@ -93,6 +93,8 @@ struct HostOptions {
   CameraOptions cameras;           // the robot's cameras: size, rate (sim_host/cameras.h)
   std::string record_images;       // every camera's images written to this folder (--record-images,
                                    // image_recorder.h); empty: none
+  std::string control_socket;      // the control channel's socket (sim_host/control_channel.h);
+                                   // empty: none
   FallOptions fall;                // the fall watch: end or continue, bodies allowed to touch
                                    // the ground (sim_host/fall.h)
 };

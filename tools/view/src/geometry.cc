@@ -89,6 +89,8 @@ nlohmann::json SceneGeometry::Geom(int g) const {
   j["rgba"] = {rgba[0], rgba[1], rgba[2], rgba[3]};
   const char* name = mj_id2name(m, mjOBJ_GEOM, g);
   j["name"] = name ? name : "";
+  const char* body = mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[g]);
+  j["body"] = body ? body : "";  // the page's push picks a body by its geoms
   if (m->geom_type[g] == mjGEOM_MESH) j["mesh"] = geom_asset_.at(g);
   if (m->geom_type[g] == mjGEOM_HFIELD) j["hfield"] = geom_asset_.at(g);
   return j;

@@ -22,7 +22,7 @@ nlohmann::json StatusNames(uint32_t bits) {
       {shm::status::kCommandLate, "command late"}, {shm::status::kShuttingDown, "shutting down"},
       {shm::status::kDiverged, "diverged"},       {shm::status::kServoOff, "servo off"},
       {shm::status::kBoardFault, "board fault"},  {shm::status::kEmergencyStop, "emergency stop"},
-      {shm::status::kSimulated, "simulated"}};
+      {shm::status::kSimulated, "simulated"},     {shm::status::kPaused, "paused"}};
   nlohmann::json out = nlohmann::json::array();
   for (const auto& [bit, name] : kNames)
     if (bits & bit) out.push_back(name);

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "cli/command_line.h"
@@ -56,12 +57,44 @@ int main(int argc, char** argv) {
   app.add_option("--attach-timeout", attach_timeout, "[s] wait this long for the segment to appear")
       ->capture_default_str()->check(ohrp::cli::Plausible("wait"));
   app.add_flag("--exit-when-ended", exit_when_ended, "live: end when the producer ends its run");
+  app.add_flag("--control", server.control.on,
+               "live: control the run from the page (pause, resume, step, reset, push through "
+               "--sim-socket; walk commands through --walk-socket); the URL printed carries a "
+               "random token, requests without it are refused (403)");
+  app.add_option("--sim-socket", server.control.sim_socket,
+                 "with --control: sim_host's --control-socket PATH");
+  app.add_option("--walk-socket", server.control.walk_socket,
+                 "with --control: walk's --socket PATH (its live command channel)");
+  app.add_option("--control-record", server.control.record,
+                 "with --control: append every line forwarded (walk's commands included) with "
+                 "its simulated time and reply, as JSON lines, to FILE (e.g. RUN/view_actions.jsonl)");
   app.footer("Examples: ohrp_view hrp1s                 (sim_host --segment hrp1s running)\n"
              "          ohrp_view runs/demo/stand --port 8080\n"
              "Exit codes: 0 ended, 2 bad option, no such segment or run folder, a run folder\n"
              "without log.csv, a scene that does not hold the segment's robot, port in use;\n"
              "3 MuJoCo error.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (!server.control.on && (!server.control.sim_socket.empty() || !server.control.walk_socket.empty() ||
+                             !server.control.record.empty())) {
+    std::fprintf(stderr, "ohrp_view: --sim-socket, --walk-socket and --control-record are for "
+                         "--control: add --control\n");
+    return 2;
+  }
+  if (server.control.on && server.control.sim_socket.empty() && server.control.walk_socket.empty()) {
+    std::fprintf(stderr, "ohrp_view: --control needs --sim-socket PATH (sim_host --control-socket) "
+                         "and/or --walk-socket PATH (walk --socket)\n");
+    return 2;
+  }
+  if (server.control.on && IsDir(target)) {
+    std::fprintf(stderr, "ohrp_view: --control is for a live run (a segment), not a run folder\n");
+    return 2;
+  }
+  if (!server.control.record.empty() && !std::ofstream(server.control.record, std::ios::app)) {
+    std::fprintf(stderr, "ohrp_view: --control-record %s: cannot write there\n",
+                 server.control.record.c_str());
+    return 2;
+  }
+  if (server.control.on) server.control.token = ohrp::view::MakeToken();
   ohrp::model::InstallMujocoHandlers(OnMujocoError);
   // a page that goes away mid-write is an error on its socket, not a signal that ends us
   signal(SIGPIPE, SIG_IGN);

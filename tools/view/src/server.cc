@@ -147,7 +147,8 @@ void AnswerFrames(websocket::stream<tcp::socket>& ws, Source* source) {
 }
 
 // one connection: HTTP requests until it upgrades to the WebSocket or closes
-void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets) {
+void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets,
+            const ControlOptions* control) {
   try {
     beast::flat_buffer buffer;
     for (;;) {
@@ -192,6 +193,16 @@ void Serve1(tcp::socket socket, Source* source, const std::vector<Asset>* assets
         res.set(http::field::content_type, "image/png");
         res.body() = ReadFile(file);
       }
+      if (target == "/control") {
+        std::string body;
+        double t = -1;  // the newest frame's simulated time, for the record
+        uint64_t v = 0;
+        if (const auto frame = source->Newest(0, 0.0, &v))
+          t = nlohmann::json::parse(*frame, nullptr, false).value("t", -1.0);
+        res.result(static_cast<http::status>(AnswerControl(std::string(req.target()), *control, &body, t)));
+        res.set(http::field::cache_control, "no-store");
+        res.body() = body;
+      }
       for (const Asset& a : *assets)
         if (target == a.target) {
           res.result(http::status::ok);
@@ -220,6 +231,7 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
             {"/plan.js", options.web_dir + "/plan.js", "text/javascript"},
             {"/reach.js", options.web_dir + "/reach.js", "text/javascript"},
             {"/recorded.js", options.web_dir + "/recorded.js", "text/javascript"},
+            {"/control.js", options.web_dir + "/control.js", "text/javascript"},
             {"/lib/three.min.js", options.three_js, "text/javascript"},
             {"/lib/chart.min.js", options.chart_js, "text/javascript"}};
   for (const Asset& a : assets)
@@ -241,7 +253,10 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
                          "for a free one)\n", options.port, ec.message().c_str());
     return 2;
   }
-  std::printf("ohrp_view: serving http://127.0.0.1:%d/ (Ctrl-C ends)\n", acceptor.local_endpoint().port());
+  // with --control the URL carries the run's token: only who reads this line can control the run
+  const std::string query = options.control.on ? "?token=" + options.control.token : "";
+  std::printf("ohrp_view: serving http://127.0.0.1:%d/%s (Ctrl-C ends)\n",
+              acceptor.local_endpoint().port(), query.c_str());
   std::fflush(stdout);
   // a live viewer told to end with its producer: a watcher closes the acceptor
   std::thread watcher;
@@ -256,7 +271,7 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
     tcp::socket socket(io);
     acceptor.accept(socket, ec);
     if (ec) break;
-    std::thread(Serve1, std::move(socket), source, &assets).detach();
+    std::thread(Serve1, std::move(socket), source, &assets, &options.control).detach();
   }
   if (watcher.joinable()) watcher.join();
   // the pages' threads end after the last frame; one stuck on a stalled page cannot be joined:

@@ -5,7 +5,8 @@
 // panel (replay: any column of log.csv; live: q_J, qref_J, SENSOR_fz, zmp_x, zmp_y);
 // ?t=T (replay) start paused at time T [s];
 // ?window=S (live) seconds of history in the plots; ?images=1 (live) show the camera images
-// at once (otherwise the "camera images" box turns them on).
+// at once (otherwise the "camera images" box turns them on); ?token=T (--control) the control
+// panel (control.js).
 'use strict';
 
 const params = new URLSearchParams(location.search);
@@ -181,7 +182,11 @@ function buildScene(desc) {
     const o = makeGeom(g);
     if (o) { setPose(o, g.pose); scene3.add(o); }
   }
-  moving = desc.moving.map((g) => { const o = makeGeom(g); if (o) scene3.add(o); return o; });
+  moving = desc.moving.map((g) => {
+    const o = makeGeom(g);
+    if (o) { o.userData.body = g.body; scene3.add(o); }  // the body: control.js picks it by a click
+    return o;
+  });
 }
 
 // draws the scene once at the browser's next frame, however many poses and camera moves came
@@ -429,6 +434,7 @@ function connect() {
       buildCharts(m.scene);
       if (m.mode === 'replay') startReplay(m, ws);
       setupPicker(m);
+      setupControl(m);
       stateEl.dataset.ready = 1;
       return;
     }

@@ -7,6 +7,7 @@
 //   GET /plan.js               its walk-plan overlays in 3D (web/plan.js)
 //   GET /lib/three.min.js      three.js from Debian's libjs-three (nothing from the internet)
 //   GET /lib/chart.min.js      Chart.js from Debian's libjs-chart.js
+//   GET /control?token=...     --control: pause, step, push, walk commands (view/control.h)
 //   GET /ws                    the WebSocket: the server sends the source's Hello() first, then
 //                              live: every new frame (text, JSON; a slow page gets the newest
 //                              frame when it is ready again, never a queue of old ones);
@@ -22,6 +23,7 @@
 
 #include <string>
 
+#include "view/control.h"
 #include "view/source.h"
 
 namespace ohrp::view {
@@ -31,6 +33,8 @@ struct ServerOptions {
   std::string web_dir;      // folder of index.html and view.js
   std::string three_js;     // path of three.min.js
   std::string chart_js;     // path of chart.min.js
+  ControlOptions control;   // --control: /control requests (view/control.h); the URL printed
+                            // carries the token
 };
 
 // Binds 127.0.0.1:port and prints "ohrp_view: serving http://127.0.0.1:PORT/ ..." on stdout.
