@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "../hw_udp/emulator_fixture.h"
+#include "elbow_inertia.h"
 #include "controllers/excite.h"
 #include "identify/joints.h"
 
@@ -18,24 +19,6 @@ using namespace hw::udp::emulator_test;  // NOLINT(build/namespaces): the emulat
 constexpr double kCoulomb = 1.5, kViscous = 2.0, kExtraArmature = 3.0, kBias = 0.02;
 constexpr int kDelayCycles = 6;
 
-// the elbow's inertia about its axis in the half-sitting posture, from the model (its armature
-// included), the parent still
-double ModelElbowInertia(int* joint) {
-  std::string e;
-  auto scene = model::Scene::Load(kScene, &e);
-  EXPECT_TRUE(scene) << e;
-  model::RobotMap map;
-  EXPECT_TRUE(model::MapRobot(scene->m(), &map, &e)) << e;
-  EXPECT_TRUE(scene->Reset("halfsit", &e)) << e;
-  mj_forward(scene->m(), scene->d());
-  for (size_t j = 0; j < map.joints.size(); ++j)
-    if (map.joints[j].name == "LARM_ELBOW") *joint = static_cast<int>(j);
-  const int dof = map.joints[*joint].dof_adr, nv = scene->m()->nv;
-  std::vector<double> full(static_cast<size_t>(nv) * nv);
-  mj_fullM(scene->m(), full.data(), scene->d()->qM);
-  return full[static_cast<size_t>(dof) * nv + dof];
-}
-
 class JointsOnTheEmulator : public EmulatorTest {};
 
 TEST_F(JointsOnTheEmulator, TheElbowsFrictionInertiaDelayAndGainsAreRecovered) {
@@ -45,7 +28,7 @@ TEST_F(JointsOnTheEmulator, TheElbowsFrictionInertiaDelayAndGainsAreRecovered) {
   GTEST_SKIP() << "the emulator's real-time excitation is not real time in a sanitizer build";
 #endif
   int elbow = -1;
-  const double inertia = ModelElbowInertia(&elbow) + kExtraArmature;
+  const double inertia = testing::ModelElbowInertia(kScene, &elbow) + kExtraArmature;
   const int port = Start({"--duration", "9.0", "--keyframe", "halfsit", "--friction",
                           "LARM_ELBOW=1.5,2.0", "--armature", "LARM_ELBOW=3", "--delay-ms", "6",
                           "--encoder-bias", "LARM_ELBOW=0.02"});

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "../hw_udp/emulator_fixture.h"
+#include "elbow_inertia.h"
 #include "controllers/excite.h"
 #include "identify/sensors.h"
 
@@ -125,24 +126,6 @@ TEST_F(SensorsOnTheEmulator, BiasAndNoiseAreRecovered) {
 }
 
 
-// the elbow's inertia about its axis in the half-sitting posture, from the model (its armature
-// included), the parent still
-double ModelElbowInertia(int* joint) {
-  std::string e;
-  auto scene = model::Scene::Load(kScene, &e);
-  EXPECT_TRUE(scene) << e;
-  model::RobotMap map;
-  EXPECT_TRUE(model::MapRobot(scene->m(), &map, &e)) << e;
-  EXPECT_TRUE(scene->Reset("halfsit", &e)) << e;
-  mj_forward(scene->m(), scene->d());
-  for (size_t j = 0; j < map.joints.size(); ++j)
-    if (map.joints[j].name == "LARM_ELBOW") *joint = static_cast<int>(j);
-  const int dof = map.joints[*joint].dof_adr, nv = scene->m()->nv;
-  std::vector<double> full(static_cast<size_t>(nv) * nv);
-  mj_fullM(scene->m(), full.data(), scene->d()->qM);
-  return full[static_cast<size_t>(dof) * nv + dof];
-}
-
 // The elbow with 100 kg m^2 of armature the fit is not told (its -3 dB brought down to about
 // 3.4 Hz, where a 0.002 rad chirp needs about 100 N m of its 150) under a chirp 0.2-6 Hz:
 // the bandwidth against the closed form of its servo, the board's PD on ref and its rate,
@@ -154,7 +137,7 @@ TEST_F(SensorsOnTheEmulator, TheElbowsBandwidthIsItsServosMinus3dB) {
   GTEST_SKIP() << "the emulator's real-time excitation is not real time in a sanitizer build";
 #endif
   int elbow = -1;
-  const double inertia = ModelElbowInertia(&elbow) + 100.0;
+  const double inertia = testing::ModelElbowInertia(kScene, &elbow) + 100.0;
   const double kp = Hrp1s().kp[elbow], kd = Hrp1s().kd[elbow];
   double lo = 0.1, hi = 50;  // |H| falls through 1/sqrt(2) once above its peak
   for (int i = 0; i < 60; ++i) {
