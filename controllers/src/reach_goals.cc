@@ -6,6 +6,8 @@
 #include <cmath>
 #include <set>
 
+#include "cli/yaml_file.h"
+
 namespace ohrp::controllers {
 namespace {
 
@@ -100,15 +102,7 @@ bool ReadGoalsFile(const std::string& path, GoalsFile* out, std::string* error) 
   *out = GoalsFile();
   out->path = path;
   YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    *error = path + ": cannot read the goals file";
-    return false;
-  } catch (const YAML::ParserException& e) {
-    *error = path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg;
-    return false;
-  }
+  if (!cli::LoadYamlFile(path, "goals file", &root, error)) return false;
   const Where w{path, error};
   if (!root.IsMap()) return w.Fail(root, "goals", "the file is a map with goals: (and group:)");
   if (!KnownKeys(w, root, {"group", "goals"}, "the file")) return false;

@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include "cli/yaml_file.h"
+
 namespace ohrp::model {
 namespace {
 
@@ -72,15 +74,7 @@ void Put(std::ostringstream& s, const char* key, double v, bool* first) {
 bool ReadJointParamsFile(const std::string& path, std::vector<JointParams>* joints,
                          std::string* error) {
   YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    *error = path + ": cannot read the joint file";
-    return false;
-  } catch (const YAML::Exception& e) {
-    *error = path + ":" + std::to_string(e.mark.line + 1) + ": not YAML: " + e.msg;
-    return false;
-  }
+  if (!cli::LoadYamlFile(path, "joint file", &root, error)) return false;
   if (!root.IsMap() || !root["joints"] || !root["joints"].IsMap() || root["joints"].size() == 0) {
     *error = path + ": wants a mapping 'joints:' of joints, e.g. "
              "joints: {LARM_ELBOW: {armature: 15.0, damping: 2.0, frictionloss: 1.5}}";

@@ -46,8 +46,9 @@ std::unique_ptr<ImageRecorder> ImageRecorder::Open(const std::string& dir,
   r->slots_.resize(kSlots);
   for (Slot& s : r->slots_) {
     s.rgb.resize(3 * pixels);
-    if (depth) s.depth_mm.resize(pixels);
+    if (depth) s.depth_m.resize(pixels);
   }
+  if (depth) r->depth_mm_.resize(pixels);
   r->thread_ = std::thread([p = r.get()] { p->Run(); });
   return r;
 }
@@ -65,16 +66,16 @@ void ImageRecorder::Push(int camera, double time, const uint8_t* rgb, const floa
     freed_.wait(lock, [&] { return !s.full; });
     waited_ += MonotonicSeconds() - start;
   }
+  // a slot that is not full is the loop's alone (the writer takes full slots only): filled
+  // without the lock
+  lock.unlock();
   s.camera = camera;
   s.time = time;
   const size_t pixels = static_cast<size_t>(width_) * height_;
   std::memcpy(s.rgb.data(), rgb, 3 * pixels);
-  if (depth_ && depth != nullptr) {
-    for (size_t k = 0; k < pixels; ++k) {
-      const double mm = std::round(1000.0 * static_cast<double>(depth[k]));
-      s.depth_mm[k] = std::isfinite(mm) && mm > 0 && mm <= 65535 ? static_cast<uint16_t>(mm) : 0;
-    }
-  }
+  s.has_depth = depth_ && depth != nullptr;
+  if (s.has_depth) std::memcpy(s.depth_m.data(), depth, pixels * sizeof(float));
+  lock.lock();
   s.full = true;
   next_push_ = (next_push_ + 1) % slots_.size();
   filled_.notify_one();
@@ -97,13 +98,21 @@ void ImageRecorder::Run() {
   }
 }
 
+void ImageRecorder::DepthToMillimetres(const Slot& s) {
+  for (size_t k = 0; k < depth_mm_.size(); ++k) {
+    const double mm = s.has_depth ? std::round(1000.0 * static_cast<double>(s.depth_m[k])) : 0.0;
+    depth_mm_[k] = std::isfinite(mm) && mm > 0 && mm <= 65535 ? static_cast<uint16_t>(mm) : 0;
+  }
+}
+
 bool ImageRecorder::Write(const Slot& s, uint64_t index) {
   char name[32];
   std::snprintf(name, sizeof(name), "%06lu", static_cast<unsigned long>(index));
   const std::string base = cameras_[s.camera] + "/" + name;
   std::string error;
+  if (depth_) DepthToMillimetres(s);
   if (!render::WritePngRgb(dir_ + "/" + base + ".png", s.rgb.data(), width_, height_, true, &error) ||
-      (depth_ && !render::WritePngGrey16(dir_ + "/" + base + "_depth.png", s.depth_mm.data(), width_,
+      (depth_ && !render::WritePngGrey16(dir_ + "/" + base + "_depth.png", depth_mm_.data(), width_,
                                          height_, true, &error))) {
     error_ = error;
     return false;

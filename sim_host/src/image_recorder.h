@@ -5,7 +5,8 @@
 // camera, rgb, depth: file names relative to DIR).
 //
 // The writing runs on a thread of its own: Push copies the frame into one of a few preallocated
-// slots and returns (no allocation, no file system on the loop's thread); when every slot is
+// slots and returns (no allocation, no file system and no conversion on the loop's thread: the
+// depth is turned into millimetres by the writer); when every slot is
 // still being written it waits for one (nothing is lost: a lock-step run is slowed, a real-time
 // one is late, and the time waited is counted). Close drains the slots; a file not written
 // whole (disk full) is the recorder's failure, named there.
@@ -49,12 +50,14 @@ class ImageRecorder {
     int camera = 0;
     double time = 0;
     bool full = false;
+    bool has_depth = false;
     std::vector<uint8_t> rgb;
-    std::vector<uint16_t> depth_mm;
+    std::vector<float> depth_m;  // as rendered [m]
   };
   ImageRecorder() = default;
   void Run();
   bool Write(const Slot& s, uint64_t index);
+  void DepthToMillimetres(const Slot& s);  // into depth_mm_ (the writer's)
 
   std::string dir_;
   std::vector<std::string> cameras_;
@@ -62,6 +65,7 @@ class ImageRecorder {
   bool depth_ = false;
   FILE* index_ = nullptr;
   std::vector<Slot> slots_;
+  std::vector<uint16_t> depth_mm_;  // the writer's: the slot being written, in mm
   size_t next_push_ = 0, next_write_ = 0;  // ring positions
   std::mutex mutex_;
   std::condition_variable filled_, freed_;

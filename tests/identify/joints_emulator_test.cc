@@ -40,28 +40,9 @@ TEST_F(JointsOnTheEmulator, TheElbowsFrictionInertiaDelayAndGainsAreRecovered) {
   // amplitude (0.06) leaves the fit at the mercy of the driver's scheduling on a loaded machine
   // (its late commands jolt the arm; seen once: I -27 %)
   x.amplitude = 0.15, x.f_min = 0.2, x.f_max = 1.5, x.duration = 7.0;
-  const std::vector<int8_t> none;
   JointLog log;
   log.joint = "LARM_ELBOW";
-  double q0 = 0, last_ref = 0;
-  uint64_t last_time = 0;
-  ASSERT_EQ(Drive([&](const hw::IoState& s, hw::IoCommand* c) {
-              if (s.time_ns == last_time) return;  // no new state: the command stands
-              last_time = s.time_ns;
-              const double t = s.time_ns * 1e-9;
-              if (log.t.empty()) q0 = last_ref = c->joint[elbow].q_ref;
-              const double ref = q0 + x.amplitude * controllers::ExciteSignalValue(
-                                                        controllers::ExciteSignal::kChirp, x,
-                                                        none, t - 1.0);
-              c->joint[elbow].q_ref = ref;
-              // the rate over the interval since the last state seen, as excite commands it
-              c->joint[elbow].dq_ref = log.t.empty() ? 0.0 : (ref - last_ref) / (t - log.t.back());
-              last_ref = ref;
-              log.t.push_back(t), log.ref.push_back(ref), log.q.push_back(s.q[elbow]);
-              log.dq.push_back(s.dq[elbow]), log.tau.push_back(s.tau[elbow]);
-            }),
-            0)
-      << Stderr();
+  ASSERT_EQ(Drive(testing::ChirpInto(elbow, x, &log)), 0) << Stderr();
   // as excite writes it (kept with the scratch folder when the test fails)
   const std::string csv = ohrp::testing::ScratchPath("excite", ".csv");
   {

@@ -155,27 +155,9 @@ TEST_F(SensorsOnTheEmulator, TheElbowsBandwidthIsItsServosMinus3dB) {
   OpenIo(port, {"timeout_ms=500"});
   controllers::ExciteOptions x;
   x.amplitude = 0.002, x.f_min = 0.2, x.f_max = 6.0, x.duration = 20.0;
-  const std::vector<int8_t> none;
   JointLog log;
   log.joint = "LARM_ELBOW";
-  double q0 = 0, last_ref = 0;
-  uint64_t last_time = 0;
-  ASSERT_EQ(Drive([&](const hw::IoState& s, hw::IoCommand* c) {
-              if (s.time_ns == last_time) return;
-              last_time = s.time_ns;
-              const double t = s.time_ns * 1e-9;
-              if (log.t.empty()) q0 = last_ref = c->joint[elbow].q_ref;
-              const double ref = q0 + x.amplitude * controllers::ExciteSignalValue(
-                                                        controllers::ExciteSignal::kChirp, x,
-                                                        none, t - 1.0);
-              c->joint[elbow].q_ref = ref;
-              c->joint[elbow].dq_ref = log.t.empty() ? 0.0 : (ref - last_ref) / (t - log.t.back());
-              last_ref = ref;
-              log.t.push_back(t), log.ref.push_back(ref), log.q.push_back(s.q[elbow]);
-              log.dq.push_back(s.dq[elbow]), log.tau.push_back(s.tau[elbow]);
-            }),
-            0)
-      << Stderr();
+  ASSERT_EQ(Drive(testing::ChirpInto(elbow, x, &log)), 0) << Stderr();
   Bandwidth b;
   std::string error;
   ASSERT_TRUE(EstimateBandwidth(log, &b, &error)) << error;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 
+#include "cli/yaml_file.h"
+
 namespace ohrp::contact {
 namespace {
 
@@ -18,15 +20,7 @@ std::string At(const std::string& path, const YAML::Node& n) {
 bool ReadContactFile(const std::string& path, SoftContactParams* p, std::vector<std::string>* keys,
                      std::string* error, const std::set<std::string>& keep) {
   YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    *error = path + ": cannot read the contact file";
-    return false;
-  } catch (const YAML::Exception& e) {
-    *error = path + ":" + std::to_string(e.mark.line + 1) + ": not YAML: " + e.msg;
-    return false;
-  }
+  if (!cli::LoadYamlFile(path, "contact file", &root, error)) return false;
   if (!root.IsMap() || !root["contact_params"] || !root["contact_params"].IsMap()) {
     *error = path + ": wants a mapping 'contact_params:' of the soles' parameters, e.g. "
              "contact_params: {stiffness: 2.0e6, damping: 45}";

@@ -16,22 +16,14 @@ figure of a trial is sim_host's closest approach of any two non-adjacent links o
 less 0.5 mm and every guard-off trial overlaps (the motion is a colliding one).
 """
 import argparse
-import json
 import os
 import subprocess
 import sys
 
+from selfcollision_trial import TOLERANCE_MM, closest_approach, margin_mm
+
 FILE = "robots/g1_selfcollision.yaml"
 POSE = {"right_shoulder_roll_joint": 0.6, "right_shoulder_yaw_joint": 0.8}
-TOLERANCE_MM = 0.5
-
-
-def margin_mm(root):
-    with open(os.path.join(root, FILE)) as f:
-        for line in f:
-            if line.startswith("margin:"):
-                return 1e3 * float(line.split(":")[1].split("#")[0])
-    raise SystemExit("g1_arm_trial: %s has no margin" % FILE)
 
 
 def scenario(name, pose, ramp, guard, root):
@@ -67,18 +59,7 @@ def run(runner, root, out, name, ramp, guard):
     subprocess.run([runner, path, "--out", os.path.join(folder, "run")], cwd=root,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     row = {"trial": name, "ramp": ramp, "guard": guard}
-    try:
-        with open(os.path.join(folder, "run", "sim_summary.json")) as f:
-            s = json.load(f)
-    except (OSError, ValueError) as e:
-        row["error"] = "no summary: %s" % e
-        return row
-    sc = s.get("self_collision") or {}
-    g = s.get("self_collision_guard") or {}
-    row.update({"closest_mm": sc.get("closest_mm"), "pair": sc.get("closest_pair", ""),
-                "holds": g.get("hold_episodes", 0), "outcome": s.get("outcome", "?")})
-    if row["closest_mm"] is None:
-        row["error"] = "no closest approach in the summary"
+    row.update(closest_approach(os.path.join(folder, "run")))
     return row
 
 
@@ -103,7 +84,7 @@ def main():
         p.error("--guard: on, off or both")
     root = os.path.abspath(a.source)
     runner = a.runner or os.path.join(root, "build/bin/ohrp_run")
-    margin = margin_mm(root)
+    margin = margin_mm(root, FILE)
     out = os.path.abspath(a.out_dir)
     rows = []
     for g in guards:

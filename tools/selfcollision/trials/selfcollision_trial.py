@@ -51,12 +51,32 @@ def trajectory_duration(path):
     return last
 
 
-def margin_mm(root):
-    with open(os.path.join(root, GUARD_FILE)) as f:
+def margin_mm(root, guard_file=GUARD_FILE):
+    """The margin of a self-collision file [mm] (its `margin:` line)."""
+    with open(os.path.join(root, guard_file)) as f:
         for line in f:
             if line.startswith("margin:"):
                 return 1e3 * float(line.split(":")[1].split("#")[0])
-    raise SystemExit("selfcollision_trial: %s has no margin" % GUARD_FILE)
+    raise SystemExit("%s: %s has no margin" % (os.path.basename(sys.argv[0]), guard_file))
+
+
+def closest_approach(run_dir):
+    """The figures of a trial from its run folder's sim_summary.json: sim_host's closest
+    approach of the simulated links (closest_mm, exact, pair, t), the guard's hold episodes and
+    sim_host's outcome; with "error" when there is no summary or no closest approach in it."""
+    try:
+        with open(os.path.join(run_dir, "sim_summary.json")) as f:
+            s = json.load(f)
+    except (OSError, ValueError) as e:
+        return {"error": "no summary: %s" % e}
+    sc = s.get("self_collision") or {}
+    g = s.get("self_collision_guard") or {}
+    out = {"closest_mm": sc.get("closest_mm"), "exact": sc.get("closest_exact", False),
+           "pair": sc.get("closest_pair", ""), "t": sc.get("closest_t"),
+           "holds": g.get("hold_episodes", 0), "outcome": s.get("outcome", "?")}
+    if out["closest_mm"] is None:
+        out["error"] = "no closest approach in the summary"
+    return out
 
 
 def scenario(name, program, args, duration):
@@ -118,11 +138,8 @@ def run(runner, root, out_dir, t):
                           cwd=root)
     row = {"trial": name, "motion": motion, "speed": speed, "guard": guard,
            "runner_exit": done.returncode}
-    try:
-        with open(os.path.join(folder, "run", "sim_summary.json")) as f:
-            s = json.load(f)
-    except (OSError, ValueError) as e:
-        row["error"] = "no summary: %s" % e
+    row.update(closest_approach(os.path.join(folder, "run")))
+    if "error" in row:
         return row
     try:  # the controller's exit code: 9 when its motion was not completed (a hold to the end)
         with open(os.path.join(folder, "run", "summary.json")) as f:
@@ -130,11 +147,6 @@ def run(runner, root, out_dir, t):
                                       if p.get("name") != "sim_host"][0]
     except (OSError, ValueError, KeyError, IndexError):
         row["controller_exit"] = "?"
-    sc = s.get("self_collision") or {}
-    g = s.get("self_collision_guard") or {}
-    row.update({"closest_mm": sc.get("closest_mm"), "exact": sc.get("closest_exact", False),
-                "pair": sc.get("closest_pair", ""), "t": sc.get("closest_t"),
-                "holds": g.get("hold_episodes", 0), "outcome": s.get("outcome", "?")})
     return row
 
 
