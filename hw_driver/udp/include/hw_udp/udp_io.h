@@ -87,7 +87,14 @@ class UdpIo final : public RobotIo {
   int local_port() const { return socket_.port(); }
 
  private:
+  struct ReadMasks;
+  // read()'s stages (udp_io_read.cc)
+  bool DrainSocket();
   void Handle(const uint8_t* data, size_t n, int64_t now_ns);
+  void JudgeBoard(int b, int64_t now, ReadMasks* m);
+  bool CopySensorBoard(IoState* state, uint64_t* time_ns) const;
+  bool CopyMotorBoard(int b, IoState* state, uint64_t* time_ns) const;
+  void Publish(ReadMasks* m, IoState* state);
   void SendHellos(int64_t now_ns);
 
   UdpSocket socket_;
