@@ -213,11 +213,11 @@ void Gait::ToeOff(const Phase& p, double phase, double f_travel, GaitState* s) c
   const double r = std::clamp(std::min(phase / std::max(lift_share, 1e-9), 1 - 2 * f_travel), 0.0, 1.0);
   const double a = HeelLift(true, p.height) * r;
   if (!(a > 0)) return;
-  // about the toe: the sole's centre up by half sin(a) and back by half (1 - cos(a))
+  // about the toe: the sole's centre up by half sin(a) and towards the toe by half (1 - cos(a))
   const double yaw = s->feet.yaw[sw];
   s->feet.pitch[sw] += a;
-  s->feet.p[sw].x() -= half * (1 - std::cos(a)) * std::cos(yaw);
-  s->feet.p[sw].y() -= half * (1 - std::cos(a)) * std::sin(yaw);
+  s->feet.p[sw].x() += half * (1 - std::cos(a)) * std::cos(yaw);
+  s->feet.p[sw].y() += half * (1 - std::cos(a)) * std::sin(yaw);
   s->feet.p[sw].z() += half * std::sin(a);
 }
 
