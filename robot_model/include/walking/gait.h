@@ -121,6 +121,11 @@ class Gait {
   // new foothold instead of returning to the old plan). False (nothing changed) when step k is
   // not in single support at `now` or t_land is not in that range. No allocation.
   bool AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carry_later, double now);
+  // a late touchdown (the ground lower than planned): step k's landing `delay` [s] later, the
+  // swing going on from its phase at `now` (continuous, slower) and the later steps after it as
+  // planned, each `delay` later; the ZMP stays on the stance sole until then. False (nothing
+  // changed) when step k is not in single support at `now` or delay <= 0. No allocation.
+  bool DelayLanding(int k, double delay, double now);
 
   // the state at `t` (any t, also in the past or after the end)
   void At(double t, GaitState* s) const;

@@ -297,6 +297,20 @@ bool Gait::AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carr
   return true;
 }
 
+bool Gait::DelayLanding(int k, double delay, double now) {
+  if (k < 0 || k >= static_cast<int>(steps_.size())) return false;
+  Phase& p = steps_[k];
+  if (now < p.t_lift || now >= p.t_land || !(delay > 0)) return false;
+  p.retime_phase = SwingPhase(p, now);
+  p.retime_t = now;
+  p.t_land += delay;
+  // the later steps again, from the later landing (Replace keeps this one: it has begun)
+  pending_.clear();
+  for (size_t j = k + 1; j < steps_.size(); ++j) pending_.push_back(steps_[j].step);
+  Replace(now, pending_);
+  return true;
+}
+
 double Gait::SwingPhase(const Phase& p, double t) {
   if (p.retime_t >= 0 && t >= p.retime_t)
     return p.retime_phase +
