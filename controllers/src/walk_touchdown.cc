@@ -21,7 +21,12 @@
 namespace ohrp::controllers {
 
 namespace {
-constexpr double kLateSpeed = 0.2;   // [m/s] a late foot's descent below its planned landing
+// a late foot's descent below its planned landing [m/s], and how long the landing is held beyond
+// that descent [s]. Measured on walk_unseen_step_down (docs/walking.md): 0.2 m/s held the landing
+// too long (the CoM ran on past the stance toe: fell); at 0.6 m/s the servo lags the target and
+// the foot meets the floor after the hold
+constexpr double kLateSpeed = 0.6;
+constexpr double kLateSettle = 0.03;
 
 // how far below its planned landing `land` a foot may go on with the hip `hip_height` above the
 // plan's ground `ground` and midway between the landing and the stance sole `stance`: the leg
@@ -87,8 +92,8 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
           // the planned landing without contact: hold it while the foot goes on down
           late_depth_[i] = LateReach(walk_options_.gait.leg_reach, walk_options_.gait.hip_height,
                                      g.zmp.z(), step.p, g.feet.p[1 - i]);
-          if (late_depth_[i] > 0 && gen_.DelayLanding(g.step, late_depth_[i] / kLateSpeed + dt))
-            late_[i] = true;
+          const double hold = late_depth_[i] / kLateSpeed + kLateSettle;
+          if (late_depth_[i] > 0 && gen_.DelayLanding(g.step, hold)) late_[i] = true;
         }
       }
     }

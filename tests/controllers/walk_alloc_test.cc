@@ -106,7 +106,7 @@ void WalksWithoutAllocating(bool stepping, double push_at, double impulse, bool 
   // the walk was walked: several steps, all landed, done on both feet (off the unseen step
   // down: late touchdowns, the walk not yet done: docs/walking.md, "Not done")
   if (late) {
-    EXPECT_GT(w.late_touchdowns, 0) << report.str();
+    EXPECT_GT(w.late_touchdowns + w.late_missed, 0) << report.str();  // the late path ran
   } else {
     EXPECT_TRUE(walk->done()) << report.str();
   }

@@ -83,7 +83,8 @@ TEST(StepUp, TheTrailingFootRollsOntoItsToe) {
     // the toe (sole centre + half length along the pitched sole) never below the floor it left
     const double toe_z = st.feet.p[kRight].z() - o.sole_half_length * std::sin(a);
     EXPECT_GE(toe_z, -1e-9) << ph;
-    // over the vertical lift (0.3 of the swing onto a stair), the toe stays where it stood (a roll about the toe)
+    // over the vertical lift (0.3 of the swing onto a stair), the toe stays where it stood (a
+    // roll about the toe)
     if (ph < 0.3 - 1e-9) {
       const double toe_x = st.feet.p[kRight].x() + o.sole_half_length * std::cos(a);
       EXPECT_NEAR(toe_x, toe0_x, 1e-9) << ph;

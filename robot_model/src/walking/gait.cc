@@ -156,7 +156,8 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     p.zmp_to.z() -= StepDownDrop(options_, p.zmp_to.z() - s.p.z(), reach_xy);
     // a step up onto a stair (an edge, not a slope): the CoM rises over the step as far as the
     // trailing leg still reaches, the rest over the next step
-    if (IsStepEdge(p.before, s)) p.zmp_to.z() += StepUpRise(options_, s.p.z() - p.zmp_to.z(), reach_xy);
+    if (IsStepEdge(p.before, s))
+      p.zmp_to.z() += StepUpRise(options_, s.p.z() - p.zmp_to.z(), reach_xy);
     p.height = s.height >= 0 ? s.height : options_.step_height;
     p.detour = SwingDetour(p.before, s);
     steps_.push_back(p);
@@ -210,7 +211,8 @@ void Gait::ToeOff(const Phase& p, double phase, double f_travel, GaitState* s) c
   if (!(half > 0) || !(p.step.p.z() > p.before.p[sw].z()) || !IsStepEdge(p.before, p.step)) return;
   // full by half the vertical lift, level again at half the travel
   const double lift_share = 0.5 * LandingShare(p);
-  const double r = std::clamp(std::min(phase / std::max(lift_share, 1e-9), 1 - 2 * f_travel), 0.0, 1.0);
+  const double r =
+      std::clamp(std::min(phase / std::max(lift_share, 1e-9), 1 - 2 * f_travel), 0.0, 1.0);
   const double a = HeelLift(true, p.height) * r;
   if (!(a > 0)) return;
   // about the toe: the sole's centre up by half sin(a) and towards the toe by half (1 - cos(a))
