@@ -75,7 +75,8 @@ struct WalkOptions {
   double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
   double lower_time = 1.0;       // [s] to lower it
   bool touchdown = false;        // experimental: a swing foot that meets the ground early is
-                                 // held there (walk_touchdown.cc; --touchdown)
+                                 // held there, one that has not met it at its landing goes on
+                                 // down, the landing held (walk_touchdown.cc; --touchdown)
   bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
                                  // push tables better in some cells, worse in others): a swing
                                  // foot lands where the measured DCM needs it
@@ -223,7 +224,9 @@ class WalkController : public BalanceController {
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
   // touchdown (walk_touchdown.cc): a swing foot whose sensor carries load in the last part of
   // its descent has met ground higher than the plan's: it is held where it touched, and stays
-  // there while it supports; its next swing blends that offset back out by its landing
+  // there while it supports; its next swing blends that offset back out by its landing. One
+  // without contact at its planned landing goes on down within the leg's reach, the landing
+  // held (Gait::DelayLanding), and the CoM goes down with it; a lower floor's offset is kept
   void Touchdown(const shm::SensorBlock& s, const walking::WalkSample& w, double dt) noexcept;
   // the steps whose landing window has come: landed when the foot's sensor carries load
   void CountLandings(const shm::SensorBlock& s, double t) noexcept;
