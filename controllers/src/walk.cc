@@ -124,7 +124,7 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   AdjustStep();
   const walking::WalkSample& w = gen_.Advance();
   ++walk_stats_.walk_cycles;
-  Touchdown(s, w);
+  Touchdown(s, w, dt);
   FillWalkInput(s, w);
   // a swing foot turns to the tilt of the surface it will land on (the plan's); once down, the
   // stabilizer carries on from there
@@ -140,7 +140,7 @@ void WalkController::WalkCycle(const shm::SensorBlock& s, double dt) noexcept {
   double lowered, unused_rate, unused_acceleration;
   walking::MinJerk((s.time - walk_t0_) / walk_options_.lower_time, &lowered, &unused_rate,
                    &unused_acceleration);
-  SolveWalkJoints(out, w, z_lower_ * (1.0 - lowered));
+  SolveWalkJoints(out, w, z_lower_ * (1.0 - lowered) + com_dz_);
   // velocity references and feed-forward from the plan alone (the stabilizer's corrections
   // carry force feedback: differentiated, they would close a derivative loop through the
   // contact): the legs' rates of the plan's IK; for the swing leg (in the air, where the servo

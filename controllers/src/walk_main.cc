@@ -106,7 +106,9 @@ int main(int argc, char** argv) {
   app.add_flag("--touchdown", touchdown,
                "experimental: hold a swing foot where it meets the ground before its planned "
                "landing (its force/torque sensor, in the last swing height of its descent) instead "
-               "of pushing it on down to where the plan expects the ground (docs/walking.md)");
+               "of pushing it on down to where the plan expects the ground; one that has not met "
+               "it at its planned landing goes on down within the leg's reach, the landing held "
+               "(docs/walking.md)");
   AddRunOptions(&app, &run);
   app.footer(std::string(WalkCommandHelp()) + "\n" + ExitCodeHelp());
   if (const int code = ParseCommandLine(&app, argc, argv); code >= 0) return code;

@@ -145,6 +145,14 @@ void WalkController::report(std::ostream& out) const {
                   w.early_touchdowns, w.max_touch_height * 1e3);
     out << buf;
   }
+  if (w.late_touchdowns > 0 || w.late_missed > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "walk: touchdown: %d swing foot/feet had not met the ground at their planned "
+                  "landing, went on down (the landing held) and met it, up to %.1f mm below the "
+                  "plan's ground; %d reached the leg's reach without contact\n",
+                  w.late_touchdowns, w.max_late_depth * 1e3, w.late_missed);
+    out << buf;
+  }
   if (w.ik_failures > 0) {
     static const char* what[] = {"the left leg cannot reach its sole's target",
                                  "the right leg cannot reach its sole's target",

@@ -1,6 +1,8 @@
 // Tests of a landing moved during the swing (Gait::AdjustLanding, the walk's stepping strategy):
 // the swing foot's path stays continuous, lands at the new place, and the later steps' stance
-// and the ZMP reference follow it; outside the single support nothing moves.
+// and the ZMP reference follow it; outside the single support nothing moves. A landing held for a
+// late touchdown (Gait::DelayLanding): the swing continuous, the landing and every later step
+// later by the delay, the ZMP on the stance sole until then.
 #include <gtest/gtest.h>
 
 #include "stances.h"
@@ -100,6 +102,40 @@ TEST(AdjustStep, AShorterSwingLandsSoonerAndTheLaterStepsFollowTheFoothold) {
   // and the later steps moved by the landing's change (0, +0.05)
   EXPECT_NEAR((g.step(1).p - Eigen::Vector3d(0.4, -0.04, 0)).norm(), 0, 1e-12);
   EXPECT_NEAR((g.step(2).p - Eigen::Vector3d(0.6, 0.14, 0)).norm(), 0, 1e-12);
+}
+
+TEST(DelayLanding, TheLandingAndTheLaterStepsWaitTheZmpStaysOnTheStance) {
+  const double w = 0.18;
+  Gait g;
+  GaitOptions o;
+  g.Start(0, Stance(w), o);
+  g.Reserve(8);
+  g.Replace(0, {Step(kLeft, 0.2, 0.09), Step(kRight, 0.4, -0.09), Step(kLeft, 0.4, 0.09)});
+  const double lift = g.step_lift(0), land = g.step_land(0);
+  const double later_begin = g.step_begin(1), later_land = g.step_land(1), end = g.end_time();
+  const double now = land - 0.005, delay = 0.2;
+  GaitState before, after;
+  g.At(now, &before);
+  ASSERT_TRUE(g.DelayLanding(0, delay, now));
+  g.At(now, &after);
+  EXPECT_NEAR((after.feet.p[kLeft] - before.feet.p[kLeft]).norm(), 0, 1e-12);  // continuous
+  EXPECT_NEAR(g.step_land(0), land + delay, 1e-12);
+  EXPECT_NEAR(g.step_begin(1), later_begin + delay, 1e-12);
+  EXPECT_NEAR(g.step_land(1), later_land + delay, 1e-12);
+  EXPECT_NEAR(g.end_time(), end + delay, 1e-12);
+  // still in single support on the right sole at the old landing, the ZMP on it
+  GaitState held;
+  g.At(land + 0.5 * delay, &held);
+  EXPECT_EQ(held.swing, kLeft);
+  EXPECT_NEAR((held.zmp.head<2>() - Stance(w).p[kRight].head<2>()).norm(), 0, 1e-9);
+  // the foot reaches its landing at the new time
+  GaitState landed;
+  g.At(land + delay - 1e-9, &landed);
+  EXPECT_NEAR((landed.feet.p[kLeft] - Eigen::Vector3d(0.2, 0.09, 0)).norm(), 0, 1e-6);
+  // nothing outside the single support, nor without a delay
+  EXPECT_FALSE(g.DelayLanding(0, delay, lift - 0.01));
+  EXPECT_FALSE(g.DelayLanding(0, 0.0, now));
+  EXPECT_FALSE(g.DelayLanding(5, delay, now));
 }
 
 }  // namespace

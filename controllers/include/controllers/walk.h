@@ -75,7 +75,8 @@ struct WalkOptions {
   double com_lower = 0.02;       // [m] walk with the CoM this much lower than the stance's
   double lower_time = 1.0;       // [s] to lower it
   bool touchdown = false;        // experimental: a swing foot that meets the ground early is
-                                 // held there (walk_touchdown.cc; --touchdown)
+                                 // held there, one that has not met it at its landing goes on
+                                 // down, the landing held (walk_touchdown.cc; --touchdown)
   bool stepping = false;         // the stepping strategy (AdjustStep, experimental: in the
                                  // push tables better in some cells, worse in others): a swing
                                  // foot lands where the measured DCM needs it
@@ -139,6 +140,10 @@ struct WalkStats {
   int early_touchdowns = 0;     // swing feet that met the ground before their planned landing
                                 // (walk_touchdown.cc) and were held there
   double max_touch_height = 0;  // the highest of them above the planned landing [m]
+  int late_touchdowns = 0;      // swing feet that had not met the ground at their planned
+                                // landing, went on down and met it (walk_touchdown.cc)
+  int late_missed = 0;          // of those, feet that reached the leg's reach without contact
+  double max_late_depth = 0;    // the deepest below the planned landing they met it [m]
   bool stopped = false;         // SIGUSR1 stopped a walk
   double walk_start = -1;       // producer time the generator started [s]
 };
@@ -219,8 +224,10 @@ class WalkController : public BalanceController {
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
   // touchdown (walk_touchdown.cc): a swing foot whose sensor carries load in the last part of
   // its descent has met ground higher than the plan's: it is held where it touched, and stays
-  // there while it supports; its next swing blends that offset back out by its landing
-  void Touchdown(const shm::SensorBlock& s, const walking::WalkSample& w) noexcept;
+  // there while it supports; its next swing blends that offset back out by its landing. One
+  // without contact at its planned landing goes on down within the leg's reach, the landing
+  // held (Gait::DelayLanding), and the CoM goes down with it; a lower floor's offset is kept
+  void Touchdown(const shm::SensorBlock& s, const walking::WalkSample& w, double dt) noexcept;
   // the steps whose landing window has come: landed when the foot's sensor carries load
   void CountLandings(const shm::SensorBlock& s, double t) noexcept;
   double FootLoad(const shm::SensorBlock& s, int foot) const noexcept;
@@ -275,6 +282,11 @@ class WalkController : public BalanceController {
   double foot_dz_[2] = {0, 0}, lift_dz_[2] = {0, 0}, touch_z_[2] = {0, 0};
   int swing_step_[2] = {-1, -1};
   bool touched_[2] = {false, false};
+  // a late touchdown, per foot: whether its landing is held for it in this swing, how far below
+  // the planned landing the foot has gone on [m] (<= 0) and the most it may (the leg's reach) [m]
+  bool late_[2] = {false, false};
+  double late_dz_[2] = {0, 0}, late_depth_[2] = {0, 0};
+  double com_dz_ = 0;  // the CoM's height below the plan's with a lower floor found [m] (<= 0)
   // the swing foot's sensor in the air (the mean of its vertical force over the first half of
   // the swing after lift-off) [N], the cycles it has read a touch in a row
   double air_fz_[2] = {0, 0}, air_sum_[2] = {0, 0};

@@ -64,6 +64,14 @@ struct GaitOptions {
 // hip (about midway between the soles, `hip_height` above the stance sole less the drop) must
 // be within `leg_reach` of the landing sole; 0 for a step that is not down, at most `depth`
 double StepDownDrop(const GaitOptions& o, double depth, double reach_xy);
+// how far the ground under the CoM rises above the stance sole over a step onto a stair whose
+// landing lies `height` [m] above the stance sole and `reach_xy` [m] from it horizontally: as
+// far as the stance (trailing) leg still reaches its sole with the hip about midway between the
+// soles (it carries the robot until the next step's lift-off): sqrt(leg_reach^2 - (reach_xy/2)^2)
+// - hip_height, within [0, height]; the rest of the rise comes with the next step. Raising the
+// hip before the upper leg takes the weight keeps that leg's knee from folding towards the next
+// riser; 0 for a step that is not up
+double StepUpRise(const GaitOptions& o, double height, double reach_xy);
 // "" when usable, else which option and why
 std::string CheckGaitOptions(const GaitOptions& o);
 // the swing foot's peak horizontal acceleration over a travel of `travel` [m] on the flat: the
@@ -113,6 +121,11 @@ class Gait {
   // new foothold instead of returning to the old plan). False (nothing changed) when step k is
   // not in single support at `now` or t_land is not in that range. No allocation.
   bool AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carry_later, double now);
+  // a late touchdown (the ground lower than planned): step k's landing `delay` [s] later, the
+  // swing going on from its phase at `now` (continuous, slower) and the later steps after it as
+  // planned, each `delay` later; the ZMP stays on the stance sole until then. False (nothing
+  // changed) when step k is not in single support at `now` or delay <= 0. No allocation.
+  bool DelayLanding(int k, double delay, double now);
 
   // the state at `t` (any t, also in the past or after the end)
   void At(double t, GaitState* s) const;
@@ -159,6 +172,10 @@ class Gait {
   // vertical shares
   double Travel(const Phase& p, double t) const;
   double LandingShare(const Phase& p) const;
+  // a foot leaving a lower level for a stair up rolls onto its toe as it lifts (toes down about
+  // the toe, at most HeelLift's angle, level again by half its travel): the trailing leg reaches
+  // its sole under a hip already moving up and over the upper stair
+  void ToeOff(const Phase& p, double phase, double f_travel, GaitState* s) const;
   // the swing's outward bend for `step` from `before` (zero when the straight path keeps the
   // gap, or the sole's size is not known)
   Eigen::Vector2d SwingDetour(const FeetPose& before, const Footstep& step) const;

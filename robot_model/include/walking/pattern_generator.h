@@ -79,6 +79,8 @@ class PatternGenerator {
   const WalkSample& Advance();
 
   const WalkSample& sample() const { return sample_; }
+  // step k's landing `delay` [s] later, the rest after it (Gait::DelayLanding). No allocation.
+  bool DelayLanding(int k, double delay) { return gait_.DelayLanding(k, delay, t_); }
   const Gait& gait() const { return gait_; }
   const PreviewGains& gains() const { return gains_; }
   double zc() const { return gains_.options().zc; }

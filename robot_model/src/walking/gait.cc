@@ -72,6 +72,14 @@ double StepDownDrop(const GaitOptions& o, double depth, double reach_xy) {
   return std::clamp(o.hip_height + depth - vertical, 0.0, depth);
 }
 
+double StepUpRise(const GaitOptions& o, double height, double reach_xy) {
+  if (!(height > 0) || !(o.leg_reach > 0) || !(o.hip_height > 0)) return 0;
+  // the trailing leg's sole half the step behind the hip when it leaves the ground
+  const double d = 0.5 * reach_xy;
+  const double vertical = std::sqrt(std::max(o.leg_reach * o.leg_reach - d * d, 0.0));
+  return std::clamp(vertical - o.hip_height, 0.0, height);
+}
+
 void Gait::Start(double t, const FeetPose& feet, const GaitOptions& options) {
   options_ = options;
   t_start_ = t;
@@ -113,6 +121,8 @@ double Gait::end_time() const {
   return steps_.empty() ? t_start_ : steps_.back().t_land + options_.end_time;
 }
 
+static bool IsStepEdge(const FeetPose& before, const Footstep& step);
+
 int Gait::Replace(double now, const std::vector<Footstep>& steps) {
   // keep the steps whose double support has begun
   int kept = 0;
@@ -142,8 +152,12 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     }
     // a step down: the CoM comes down over the step as far as the landing leg needs to reach
     // the lower sole (the stance knee bends), the rest over the next step
-    p.zmp_to.z() -= StepDownDrop(options_, p.zmp_to.z() - s.p.z(),
-                                 (s.p - p.before.p[1 - s.foot]).head<2>().norm());
+    const double reach_xy = (s.p - p.before.p[1 - s.foot]).head<2>().norm();
+    p.zmp_to.z() -= StepDownDrop(options_, p.zmp_to.z() - s.p.z(), reach_xy);
+    // a step up onto a stair (an edge, not a slope): the CoM rises over the step as far as the
+    // trailing leg still reaches, the rest over the next step
+    if (IsStepEdge(p.before, s))
+      p.zmp_to.z() += StepUpRise(options_, s.p.z() - p.zmp_to.z(), reach_xy);
     p.height = s.height >= 0 ? s.height : options_.step_height;
     p.detour = SwingDetour(p.before, s);
     steps_.push_back(p);
@@ -189,6 +203,24 @@ double Gait::HeelLift(bool down, double apex) const {
   if (!down || !(options_.sole_half_length > 0)) return 0;
   // as far as the toe stays above the stair at the apex, with a fifth to spare
   return 0.8 * std::asin(std::clamp(apex / options_.sole_half_length, 0.0, 1.0));
+}
+
+void Gait::ToeOff(const Phase& p, double phase, double f_travel, GaitState* s) const {
+  const int sw = p.step.foot;
+  const double half = options_.sole_half_length;
+  if (!(half > 0) || !(p.step.p.z() > p.before.p[sw].z()) || !IsStepEdge(p.before, p.step)) return;
+  // full by half the vertical lift, level again at half the travel
+  const double lift_share = 0.5 * LandingShare(p);
+  const double r =
+      std::clamp(std::min(phase / std::max(lift_share, 1e-9), 1 - 2 * f_travel), 0.0, 1.0);
+  const double a = HeelLift(true, p.height) * r;
+  if (!(a > 0)) return;
+  // about the toe: the sole's centre up by half sin(a) and towards the toe by half (1 - cos(a))
+  const double yaw = s->feet.yaw[sw];
+  s->feet.pitch[sw] += a;
+  s->feet.p[sw].x() += half * (1 - std::cos(a)) * std::cos(yaw);
+  s->feet.p[sw].y() += half * (1 - std::cos(a)) * std::sin(yaw);
+  s->feet.p[sw].z() += half * std::sin(a);
 }
 
 // a height change between lift-off and landing that the tilt of neither sole's surface explains
@@ -263,6 +295,20 @@ bool Gait::AdjustStep(int k, const Eigen::Vector2d& xy, double t_land, bool carr
     pending_.push_back(steps_[j].step);
     if (carry_later) pending_.back().p.head<2>() += delta;
   }
+  Replace(now, pending_);
+  return true;
+}
+
+bool Gait::DelayLanding(int k, double delay, double now) {
+  if (k < 0 || k >= static_cast<int>(steps_.size())) return false;
+  Phase& p = steps_[k];
+  if (now < p.t_lift || now >= p.t_land || !(delay > 0)) return false;
+  p.retime_phase = SwingPhase(p, now);
+  p.retime_t = now;
+  p.t_land += delay;
+  // the later steps again, from the later landing (Replace keeps this one: it has begun)
+  pending_.clear();
+  for (size_t j = k + 1; j < steps_.size(); ++j) pending_.push_back(steps_[j].step);
   Replace(now, pending_);
   return true;
 }
@@ -354,6 +400,7 @@ void Gait::At(double t, GaitState* s) const {
     MinJerk((phase - fall_start) / (1 - fall_start), &f, &df, &ddf);
     s->feet.p[sw].z() = top + f * (b.z() - top);
   }
+  ToeOff(p, phase, f_travel, s);
 }
 
 }  // namespace ohrp::walking
