@@ -6,7 +6,7 @@
 
 namespace ohrp::controllers {
 
-HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half, double hip_return) {
+HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half, double /*hip_return*/) {
   constexpr double kGravity = 9.81;
   constexpr double kTravelShare = 2.0 / 3.0;
   constexpr double kSoleShare = 0.5;
@@ -17,13 +17,9 @@ HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half, d
   double clamp = kTravelShare * a.travel;
   if (lever > kSoleShare * sole_half) clamp = std::min(clamp, std::asin(kSoleShare * sole_half / lever));
   out.max_angle = std::max(clamp, 0.0);
-  // the share: held at a constant excess e the torso leans theta = share m g e / (I w0^2),
-  // which moves the CoM by lever theta = share (g m_u h_u / I) / w0^2 e towards the side the
-  // excess is on: never more than the excess it answers, share <= I w0^2 / (g m_u h_u)
-  // (the torso's gravity pendulum against the return's spring); and the moment asked for an
-  // excess of the sole's half size within the torque the joint has left at the clamp
+  // the share: the moment asked for an excess of the sole's half size must be within the
+  // torque the joint has left at the clamp (after holding the leaning upper body)
   double share = 1.0;
-  if (a.moment > 0) share = std::min(share, a.inertia * hip_return * hip_return / (kGravity * a.moment));
   const double tau_free = a.tau_max - kGravity * a.moment * std::sin(out.max_angle);
   const double tau_ask = mass * kGravity * sole_half;
   if (tau_ask > 0) share = std::min(share, tau_free / tau_ask);

@@ -176,21 +176,17 @@ TEST(HipStrategy, ClampIsTwoThirdsOfTheTravelUnlessTheLeanMovesTheCoMTooFar) {
   EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.03, 4.0).max_angle, std::asin(0.15), 1e-12);
 }
 
-TEST(HipStrategy, ShareKeepsTheLeansCoMShiftWithinTheExcess) {
+TEST(HipStrategy, ShareIsTheTorqueLeftAtTheClampOverTheMomentOfASolesHalfSize) {
   TorsoAxis a;
   a.inertia = 2.0;
   a.moment = 4.0;
-  a.travel = 0.5;
+  a.travel = 0.45;  // clamp 0.3 (the lean's own bound, asin(0.05 / 0.08) = 0.68, is wider)
   a.tau_max = 1e4;
-  // I w0^2 / (g m_u h_u) = 2 * 16 / (9.81 * 4)
-  EXPECT_NEAR(DeriveHipAxis(a, 50.0, 0.1, 4.0).gain, 32.0 / (kG * 4.0), 1e-12);
-  // a light upper body: the share is 1
-  a.moment = 0.5;
-  EXPECT_NEAR(DeriveHipAxis(a, 50.0, 0.1, 4.0).gain, 1.0, 1e-12);
-  // a weak joint: the torque left at the clamp over m g times the sole's half size
+  EXPECT_NEAR(DeriveHipAxis(a, 50.0, 0.1, 4.0).gain, 1.0, 1e-12);  // a strong joint
   a.tau_max = 20.0;
   const HipAxisLimits l = DeriveHipAxis(a, 50.0, 0.1, 4.0);
-  EXPECT_NEAR(l.gain, (20.0 - kG * 0.5 * std::sin(l.max_angle)) / (50.0 * kG * 0.1), 1e-12);
+  EXPECT_NEAR(l.max_angle, 0.3, 1e-12);
+  EXPECT_NEAR(l.gain, (20.0 - kG * 4.0 * std::sin(0.3)) / (50.0 * kG * 0.1), 1e-12);
 }
 
 TEST(Stabilizer, HipStrategySettlesAtItsClosedFormLeanPerAxis) {

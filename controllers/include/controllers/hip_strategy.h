@@ -8,16 +8,19 @@
 //            the torso by theta moves the robot's CoM by (m_u h_u / m) sin(theta);
 //   the joint's travel from the stance angle to its nearer limit, and its torque limit.
 //
-//   clamp    theta_max = min(travel / 2,  asin(half the sole's half width / ((m_u h_u) / m))):
-//            half the joint's travel is left for the servo's overshoot and for braking, and a
-//            torso leaning at its clamp moves the CoM by at most half the sole's half size
-//            across it (the lean's weight is a ZMP shift the soles must then carry);
-//   gain     the share of the cut-off moment asked of the torso, min(1, tau_free / (I a_ask)):
-//            tau_free = tau_max - m_u g h_u sin(theta_max) is the torque the joint has left at
-//            the clamp, a_ask the acceleration that reaches the clamp from rest within
-//            the return's time scale 1/w0 (2 theta_max w0^2) --- the joint must be able to
-//            stop what it was asked to start.
+//   clamp    theta_max = min(2/3 travel, asin(sole_half / 2 / (m_u h_u / m))): a third of the
+//            joint's travel left for the servo's lag and its braking, and a torso leaning at
+//            its clamp moves the CoM by at most half the sole's half size across it (the lean's
+//            weight is a ZMP shift the soles must then carry);
+//   share    min(1, tau_free / (m g sole_half)): the moment asked for an excess of the sole's
+//            half size must be within tau_free = tau_max - g m_u h_u sin(theta_max), the torque
+//            the joint has left at the clamp after holding the leaning upper body.
 //
+// HRP-1S (WAIST_P / WAIST_R, travel 0.524 rad, m_u h_u 11.48 kg m of 130.8 kg, 400 N m): clamp
+// 0.349 rad on both axes (was 0.35), share 1 (was 1). G1 (waist pitch / roll, travel 0.52 rad,
+// m_u h_u 1.96 kg m of 33.3 kg, 50 N m, sole 0.17 x 0.06 m): pitch 0.347 rad, roll 0.258 rad
+// (the lean's CoM shift across the 6 cm sole), share 1. The control period does not enter
+// (docs/robots.md says what was tried).
 // Configuration time only (allocates).
 #pragma once
 
