@@ -140,7 +140,7 @@ void BalanceController::DeriveHipStrategy(StabilizerGains* g) {
   for (int a = 0; a < 2; ++a) {
     const int j = joint[a] >= 0 ? joint[a] : joint[1 - a];
     const TorsoAxis axis = MeasureTorsoAxis(*kin_ik_, M, j, target_[j]);
-    const HipAxisLimits lim = DeriveHipAxis(axis, k.mass(), sole_half[a], g->hip_return);
+    const HipAxisLimits lim = DeriveHipAxis(axis, k.mass(), sole_half[a]);
     // the inertia: the pitch joint's on both axes (as before). Each axis' own (HRP-1S's roll
     // 4.96 against its pitch 4.19 kg m^2) made walk_fast6 tilt 5.9 deg (its limit 5; 4.6 so)
     g->torso_inertia[a] = inertia;

@@ -6,7 +6,7 @@
 
 namespace ohrp::controllers {
 
-HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half, double /*hip_return*/) {
+HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half) {
   constexpr double kGravity = 9.81;
   constexpr double kTravelShare = 2.0 / 3.0;
   constexpr double kSoleShare = 0.5;

@@ -171,9 +171,9 @@ TEST(HipStrategy, ClampIsTwoThirdsOfTheTravelUnlessTheLeanMovesTheCoMTooFar) {
   a.travel = 0.6;
   a.tau_max = 1e4;
   // a wide sole: asin(0.5 * 0.5 / 0.1) undefined (the lean never reaches it): the travel's 2/3
-  EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.5, 4.0).max_angle, 0.4, 1e-12);
+  EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.5).max_angle, 0.4, 1e-12);
   // a 6 cm wide sole: sin(theta) 0.1 = 0.5 * 0.03
-  EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.03, 4.0).max_angle, std::asin(0.15), 1e-12);
+  EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.03).max_angle, std::asin(0.15), 1e-12);
 }
 
 TEST(HipStrategy, ShareIsTheTorqueLeftAtTheClampOverTheMomentOfASolesHalfSize) {
@@ -182,9 +182,9 @@ TEST(HipStrategy, ShareIsTheTorqueLeftAtTheClampOverTheMomentOfASolesHalfSize) {
   a.moment = 4.0;
   a.travel = 0.45;  // clamp 0.3 (the lean's own bound, asin(0.05 / 0.08) = 0.68, is wider)
   a.tau_max = 1e4;
-  EXPECT_NEAR(DeriveHipAxis(a, 50.0, 0.1, 4.0).gain, 1.0, 1e-12);  // a strong joint
+  EXPECT_NEAR(DeriveHipAxis(a, 50.0, 0.1).gain, 1.0, 1e-12);  // a strong joint
   a.tau_max = 20.0;
-  const HipAxisLimits l = DeriveHipAxis(a, 50.0, 0.1, 4.0);
+  const HipAxisLimits l = DeriveHipAxis(a, 50.0, 0.1);
   EXPECT_NEAR(l.max_angle, 0.3, 1e-12);
   EXPECT_NEAR(l.gain, (20.0 - kG * 4.0 * std::sin(0.3)) / (50.0 * kG * 0.1), 1e-12);
 }

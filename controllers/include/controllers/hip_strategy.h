@@ -3,7 +3,9 @@
 // HRP-1S's numbers. For each torso axis (pitch, roll):
 //
 //   I        the upper body's inertia about the joint (the link's, not the rotor's: the rotor's
-//            reaction goes to the base), the mass matrix's diagonal at the stance;
+//            reaction goes to the base), the mass matrix's diagonal at the stance: measured and
+//            reported, not used by the clamp or the share (the stabilizer takes the pitch
+//            joint's on both axes, docs/robots.md);
 //   m_u h_u  the upper body's mass times its centre of mass's height above the joint: leaning
 //            the torso by theta moves the robot's CoM by (m_u h_u / m) sin(theta);
 //   the joint's travel from the stance angle to its nearer limit, and its torque limit.
@@ -39,7 +41,7 @@ struct HipAxisLimits {
 };
 
 // `mass` the robot's [kg], `sole_half` the sole's half size across this axis's lean (the sole's
-// half length for the pitch, half width for the roll) [m], `hip_return` w0 [rad/s]
-HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half, double hip_return);
+// half length for the pitch, half width for the roll) [m]
+HipAxisLimits DeriveHipAxis(const TorsoAxis& a, double mass, double sole_half);
 
 }  // namespace ohrp::controllers

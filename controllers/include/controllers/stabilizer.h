@@ -74,8 +74,8 @@ struct StabilizerGains {
   double hip_gain = 1.0;         // share of the cut-off moment asked of the torso [-]
   double hip_return = 4.0;       // natural frequency of the torso's return to upright [rad/s]
   // per torso axis (pitch, roll), set from the model by balance and walk (hip_strategy.h): the
-  // upper body's inertia about the waist joint [kg m^2], the share of hip_gain this axis takes
-  // [-] and the clamp of its offset [rad]
+  // upper body's inertia about the waist joint [kg m^2] (balance and walk give both axes the
+  // pitch joint's), the share of hip_gain this axis takes [-] and the clamp of its offset [rad]
   double torso_inertia[2] = {6.0, 6.0};
   double torso_share[2] = {1.0, 1.0};
   double torso_limit[2] = {0.35, 0.35};
