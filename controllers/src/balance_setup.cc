@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "controllers/balance.h"
+#include "controllers/hip_strategy.h"
 #include "controllers/posture.h"
 #include "cli/data_dir.h"
 #include "robot_model/model.h"
@@ -95,7 +96,63 @@ int FindTorsoJoint(const model::Kinematics& kin, const std::vector<int>& chain,
   return -1;
 }
 
+// torso joint j as the hip strategy sees it, at kin's current (stance) configuration
+TorsoAxis MeasureTorsoAxis(model::Kinematics& kin, const Eigen::MatrixXd& M, int j, double q0) {
+  const mjModel* m = kin.m();
+  const model::JointMap& jm = kin.robot().joints[j];
+  const int jid = jm.joint_id;
+  const int top = m->jnt_bodyid[jid];
+  TorsoAxis a;
+  const int col = kin.base_columns() + j;
+  a.inertia = std::max(M(col, col) - m->dof_armature[jm.dof_adr], 1e-3);
+  const Eigen::Vector3d anchor =
+      kin.p_WBody(top) + kin.R_WBody(top) * Eigen::Vector3d(m->jnt_pos[3 * jid],
+                                                            m->jnt_pos[3 * jid + 1],
+                                                            m->jnt_pos[3 * jid + 2]);
+  for (int b = top; b < m->nbody; ++b) {  // the subtree: bodies whose ancestors include `top`
+    int p = b;
+    while (p > top) p = m->body_parentid[p];
+    if (p != top) continue;
+    const Eigen::Vector3d c = kin.p_WBody(b) + kin.R_WBody(b) * Eigen::Vector3d(m->body_ipos[3 * b],
+                                                                              m->body_ipos[3 * b + 1],
+                                                                              m->body_ipos[3 * b + 2]);
+    a.moment += m->body_mass[b] * (c.z() - anchor.z());
+  }
+  a.moment = std::max(a.moment, 0.0);
+  const double lo = jm.q_min, hi = jm.q_max;
+  a.travel = std::max(std::min(hi - q0, q0 - lo), 0.0);
+  a.tau_max = jm.tau_max;
+  return a;
+}
+
 }  // namespace
+
+void BalanceController::DeriveHipStrategy(StabilizerGains* g) {
+  // the torso's pitch and roll joints at the stance (kin_ik_ holds it); one axis without a
+  // joint takes the other's (its offset is not applied anyway)
+  const model::Kinematics& k = *kin_est_;
+  Eigen::MatrixXd M(kin_ik_->nv(), kin_ik_->nv());
+  kin_ik_->MassMatrix(M);
+  const int joint[2] = {torso_pitch_joint_, torso_roll_joint_};
+  const double sole_half[2] = {k.soles()[sole_[0]].half_size[0], k.soles()[sole_[0]].half_size[1]};
+  const double inertia =
+      MeasureTorsoAxis(*kin_ik_, M, joint[0] >= 0 ? joint[0] : joint[1], 0).inertia;
+  for (int a = 0; a < 2; ++a) {
+    const int j = joint[a] >= 0 ? joint[a] : joint[1 - a];
+    const TorsoAxis axis = MeasureTorsoAxis(*kin_ik_, M, j, target_[j]);
+    const HipAxisLimits lim = DeriveHipAxis(axis, k.mass(), sole_half[a]);
+    // the inertia: the pitch joint's on both axes (as before). Each axis' own (HRP-1S's roll
+    // 4.96 against its pitch 4.19 kg m^2) made walk_fast6 tilt 5.9 deg (its limit 5; 4.6 so)
+    g->torso_inertia[a] = inertia;
+    g->torso_share[a] = lim.gain;
+    g->torso_limit[a] = lim.max_angle;
+    std::fprintf(stderr, "%s: hip strategy %s (%s): I %.3f kg m^2 (used %.3f), m_u h_u %.3f kg m, travel %.3f rad, "
+                 "tau_max %.1f N m, sole half %.3f m -> gain %.3f, clamp %.3f rad\n",
+                 options_.program.c_str(), a == 0 ? "pitch" : "roll",
+                 k.robot().joints[j].name.c_str(), axis.inertia, inertia,
+                 axis.moment, axis.travel, axis.tau_max, sole_half[a], lim.gain, lim.max_angle);
+  }
+}
 
 std::string DefaultModelFile() { return cli::DataPath("mjcf/hrp1s/hrp1s.xml"); }
 
@@ -227,13 +284,7 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
   if (torso_pitch_joint_ < 0 && torso_roll_joint_ < 0) {
     g.hip_strategy = false;  // no torso joint: ankle strategy only (reported)
   } else {
-    const int j = torso_pitch_joint_ >= 0 ? torso_pitch_joint_ : torso_roll_joint_;
-    Eigen::MatrixXd M(kin_ik_->nv(), kin_ik_->nv());
-    kin_ik_->MassMatrix(M);
-    const int col = kin_ik_->base_columns() + j;
-    const int dof = k.robot().joints[j].dof_adr;
-    // the link inertia about the joint, without the rotor (its reaction goes to the base)
-    g.torso_inertia = std::max(M(col, col) - k.m()->dof_armature[dof], 1e-3);
+    DeriveHipStrategy(&g);
   }
   // nominal soles in the base frame at the stance pose
   for (int i = 0; i < 2; ++i) {

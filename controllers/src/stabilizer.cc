@@ -182,18 +182,19 @@ const StabilizerOutput& Stabilizer::Update(const StabilizerInput& in, double dt)
   // L_dot_y = m g e_x and L_dot_x = -m g e_y move the effective ZMP by e (stabilizer.h)
   const double w0 = g.hip_return;
   double acc[2] = {0, 0};
-  if (g.hip_strategy && g.torso_inertia > 0) {
+  if (g.hip_strategy) {
     const Eigen::Vector2d e_T = Eigen::Rotation2Dd(-in.heading) * excess;  // the torso's axes
-    acc[0] = g.hip_gain * in.mass * kGravity * e_T.x() / g.torso_inertia;
-    acc[1] = -g.hip_gain * in.mass * kGravity * e_T.y() / g.torso_inertia;
+    const double moment[2] = {in.mass * kGravity * e_T.x(), -in.mass * kGravity * e_T.y()};
+    for (int k = 0; k < 2; ++k)
+      if (g.torso_inertia[k] > 0) acc[k] = g.hip_gain * g.torso_share[k] * moment[k] / g.torso_inertia[k];
   }
   double* angle[2] = {&out_.torso_pitch, &out_.torso_roll};
   for (int k = 0; k < 2; ++k) {
     const double a = acc[k] - w0 * w0 * *angle[k] - 2.0 * w0 * torso_rate_[k];
     torso_rate_[k] += dt * a;
     *angle[k] += dt * torso_rate_[k];
-    if (std::abs(*angle[k]) > g.max_torso_angle) {
-      *angle[k] = Clamp(*angle[k], g.max_torso_angle);
+    if (std::abs(*angle[k]) > g.torso_limit[k]) {
+      *angle[k] = Clamp(*angle[k], g.torso_limit[k]);
       torso_rate_[k] = 0;
     }
   }

@@ -2,6 +2,7 @@
 // of known wrenches, the DCM law on an ideal linear inverted pendulum, the damping control's
 // first-order response, and the direction of the hip strategy.
 #include "controllers/stabilizer.h"
+#include "controllers/hip_strategy.h"
 
 #include <gtest/gtest.h>
 
@@ -159,6 +160,58 @@ TEST(Stabilizer, HipStrategyLeansTheTorsoIntoAForwardFall) {
       EXPECT_NEAR(st.output().torso_pitch, 0.0, 1e-12);
     }
   }
+}
+
+// issue 31: the hip strategy's share and clamp from the robot (hip_strategy.h), against the
+// closed forms on made-up torsos
+TEST(HipStrategy, ClampIsTwoThirdsOfTheTravelUnlessTheLeanMovesTheCoMTooFar) {
+  TorsoAxis a;
+  a.inertia = 5.0;
+  a.moment = 10.0;  // lever 10 / 100 = 0.1 m
+  a.travel = 0.6;
+  a.tau_max = 1e4;
+  // a wide sole: asin(0.5 * 0.5 / 0.1) undefined (the lean never reaches it): the travel's 2/3
+  EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.5).max_angle, 0.4, 1e-12);
+  // a 6 cm wide sole: sin(theta) 0.1 = 0.5 * 0.03
+  EXPECT_NEAR(DeriveHipAxis(a, 100.0, 0.03).max_angle, std::asin(0.15), 1e-12);
+}
+
+TEST(HipStrategy, ShareIsTheTorqueLeftAtTheClampOverTheMomentOfASolesHalfSize) {
+  TorsoAxis a;
+  a.inertia = 2.0;
+  a.moment = 4.0;
+  a.travel = 0.45;  // clamp 0.3 (the lean's own bound, asin(0.05 / 0.08) = 0.68, is wider)
+  a.tau_max = 1e4;
+  EXPECT_NEAR(DeriveHipAxis(a, 50.0, 0.1).gain, 1.0, 1e-12);  // a strong joint
+  a.tau_max = 20.0;
+  const HipAxisLimits l = DeriveHipAxis(a, 50.0, 0.1);
+  EXPECT_NEAR(l.max_angle, 0.3, 1e-12);
+  EXPECT_NEAR(l.gain, (20.0 - kG * 4.0 * std::sin(0.3)) / (50.0 * kG * 0.1), 1e-12);
+}
+
+TEST(Stabilizer, HipStrategySettlesAtItsClosedFormLeanPerAxis) {
+  // a constant lateral and forward excess: each offset settles at share m g e / (I w0^2), each
+  // axis with its own inertia and share
+  StabilizerGains g;
+  g.ankle_strategy = false;
+  g.k_dcm = 0;
+  g.torso_inertia[0] = 3.0;
+  g.torso_inertia[1] = 5.0;
+  g.torso_share[0] = 0.5;
+  g.torso_share[1] = 0.8;
+  g.torso_limit[0] = g.torso_limit[1] = 1.0;
+  Stabilizer st(g);
+  StabilizerInput in;
+  in.mass = 60;
+  in.support = TwoSoles();
+  // the CoM beyond the front-left corner of the support, still: the excess is fixed
+  in.c = Eigen::Vector3d(0.05 + 0.125 - 0.015 + 0.004, 0.09 + 0.07 - 0.015 + 0.003, 0.8);
+  in.c_ref = in.c.head<2>();
+  for (int i = 0; i < 2; ++i) in.feet[i].f_W.z() = 0.5 * in.mass * kG;
+  for (int k = 0; k < 5000; ++k) st.Update(in, 0.002);
+  const double w0 = g.hip_return;
+  EXPECT_NEAR(st.output().torso_pitch, 0.5 * 60 * kG * 0.004 / (3.0 * w0 * w0), 1e-6);
+  EXPECT_NEAR(st.output().torso_roll, -0.8 * 60 * kG * 0.003 / (5.0 * w0 * w0), 1e-6);
 }
 
 }  // namespace

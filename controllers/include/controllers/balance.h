@@ -146,6 +146,8 @@ class BalanceController : public Controller {
   // the hip shift (base frame) that puts the model's CoM over `p_B` (base frame) with the soles
   // held, and how far the CoM moves; false when the legs cannot reach
   bool SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift);
+  // the hip strategy's per-axis inertia, share and clamp from the model (hip_strategy.h)
+  void DeriveHipStrategy(StabilizerGains* g);
   // one stance cycle, in stages:
   virtual void Stand(const shm::SensorBlock& s, double dt) noexcept;
   void FillStabilizerInput(const shm::SensorBlock& s, double t,

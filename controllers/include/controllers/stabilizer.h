@@ -72,9 +72,13 @@ struct StabilizerGains {
   double max_com_offset = 0.03;  // clamp of that correction [m]
   double com_integral_band = 0.01;  // integrate only while |DCM - c_ref| is below this [m]
   double hip_gain = 1.0;         // share of the cut-off moment asked of the torso [-]
-  double torso_inertia = 6.0;    // upper body inertia about the waist [kg m^2] (set from the model)
   double hip_return = 4.0;       // natural frequency of the torso's return to upright [rad/s]
-  double max_torso_angle = 0.35; // clamp of the torso pitch and roll offsets [rad]
+  // per torso axis (pitch, roll), set from the model by balance and walk (hip_strategy.h): the
+  // upper body's inertia about the waist joint [kg m^2] (balance and walk give both axes the
+  // pitch joint's), the share of hip_gain this axis takes [-] and the clamp of its offset [rad]
+  double torso_inertia[2] = {6.0, 6.0};
+  double torso_share[2] = {1.0, 1.0};
+  double torso_limit[2] = {0.35, 0.35};
   bool ankle_strategy = true;    // foot damping control on (off: feet held as commanded)
   bool hip_strategy = true;      // torso rotation on
 };
