@@ -97,6 +97,7 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
   // the fastest joint: how much the load can change over the horizon (below)
   double speed = 0;
   for (int j = 0; j < njoint_; ++j) speed = std::max(speed, std::abs(sensors.dq[j]));
+  UpdateLoads(sensors, false);  // which feet carry load: the inertia, and which legs may brake
   for (int j = 0; j < njoint_; ++j) {
     const double q = sensors.q[j], v = sensors.dq[j];
     if (!std::isfinite(q) || !std::isfinite(v)) {
@@ -105,14 +106,8 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     }
     const collision::JointDynamics& d = file_.dynamics[j];
     // the inertia the joint drives: the links beyond alone while their force sensor says they
-    // carry no weight, else the bound under any contact
-    const int fs = support_[j];
-    double inertia = d.inertia_max;
-    if (fs >= 0) {
-      const double* f = sensors.force[fs].force;
-      const double load = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-      if (std::isfinite(load) && load < d.support_force) inertia = d.inertia_free;
-    }
+    // carry no weight (UpdateLoads), else the bound under any contact
+    const double inertia = CarriesFoot(j) && !Supports(j) ? d.inertia_free : d.inertia_max;
     // the joint's acceleration over the last period and the servo's torque that made it: the
     // next acceleration is that one plus the change of torque over the (unknown, common)
     // inertia, the load changing by at most the gravity bound times the angle turned over the

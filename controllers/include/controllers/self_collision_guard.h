@@ -91,6 +91,10 @@ class SelfCollisionGuard {
   void set_monitor_only(bool on) { monitor_only_ = on; }
   bool monitor_only() const { return monitor_only_; }
   long warned_cycles() const { return warned_cycles_; }
+  // cycles in which a leg with a foot was braked (its foot unloaded: UpdateLoads)
+  long leg_brake_cycles() const { return leg_brake_cycles_; }
+  // joint j's foot carries load this cycle (always false for a joint without a foot beyond)
+  bool loaded(int j) const { return j >= 0 && j < static_cast<int>(loaded_.size()) && loaded_[j]; }
   const collision::SelfCollisionFile& file() const { return file_; }
 
   // The motion interval of one joint [rad or m], relative to its measured position: where it
@@ -148,9 +152,22 @@ class SelfCollisionGuard {
   std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
   int njoint_ = 0;
   static constexpr bool kCheckStructuralFloors = false;  // (Configure says why)
-  // joint j carries a support (a foot beyond it, by the file's dynamics): never braked
-  bool Supports(int j) const { return !file_.dynamics[j].support_sensor.empty(); }
-  std::vector<char> brakeable_;              // per pair of every_: some non-support joint moves it
+  // joint j has a foot beyond it (by the file's dynamics: its support sensor)
+  bool CarriesFoot(int j) const { return !file_.dynamics[j].support_sensor.empty(); }
+  // joint j carries load this cycle: a foot beyond it whose force sensor reads load (with
+  // hysteresis, UpdateLoads), or whose sensor the segment lacks or reads no finite value (the
+  // conservative side: a loaded leg is never braked, braking a stance leg drops the robot)
+  bool Supports(int j) const { return loaded_[j] != 0; }
+  // each joint's loaded_ from the measured forces: loaded above the file's support_force (a
+  // tenth of the weight), unloaded below half of it, else as last cycle
+  void UpdateLoads(const shm::SensorBlock& sensors, bool first);
+  std::vector<char> brakeable_;  // per pair of every_: some actuated joint moves it (an arm, or a
+                                 // leg whose foot may leave the ground); braked when one of
+                                 // them is not Supports() this cycle
+  std::vector<char> loaded_;     // per joint: carries load this cycle (UpdateLoads)
+  std::vector<char> braked_;     // per joint: under the brake last cycle (Brake starts a joint
+                                 // from its measured state when not: a foot that left the ground)
+  long leg_brake_cycles_ = 0;    // cycles a leg with a foot (unloaded) was braked
   bool monitor_only_ = false;
   long warned_cycles_ = 0;
   long unjudged_cycles_ = 0;                 // a measurement not finite: nothing predicted                   // monitoring only: cycles it would have braked
