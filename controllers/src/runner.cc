@@ -166,6 +166,7 @@ int RunController(Controller& controller, const RunOptions& options, std::ostrea
       controller.close();
       return rep.exit_code = kExitConfig;
     }
+    guard.set_brake_unloaded_legs(controller.guard_may_brake_legs());
     if (!controller.guard_may_brake()) {
       guard.set_monitor_only(true);
       out << prog << ": self-collision check: monitoring only (a brake mid-motion would topple "

@@ -107,7 +107,7 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     const collision::JointDynamics& d = file_.dynamics[j];
     // the inertia the joint drives: the links beyond alone while their force sensor says they
     // carry no weight (UpdateLoads), else the bound under any contact
-    const double inertia = CarriesFoot(j) && !Supports(j) ? d.inertia_free : d.inertia_max;
+    const double inertia = CarriesFoot(j) && !loaded_[j] ? d.inertia_free : d.inertia_max;
     // the joint's acceleration over the last period and the servo's torque that made it: the
     // next acceleration is that one plus the change of torque over the (unknown, common)
     // inertia, the load changing by at most the gravity bound times the angle turned over the

@@ -270,6 +270,18 @@ TEST_F(LegGuardTest, NeverBrakesALoadedLeg) {
   EXPECT_EQ(g.leg_brake_cycles(), 0);
 }
 
+// a controller whose balance moves the legs (balance, walk: guard_may_brake_legs false): a leg
+// in the air is not braked either
+TEST_F(LegGuardTest, NotBrakedWhenTheControllerBalancesOnTheLegs) {
+  Feet(5.0);
+  SelfCollisionGuard g;
+  g.set_brake_unloaded_legs(false);
+  EXPECT_FALSE(Swing(&g));
+  EXPECT_FALSE(g.loaded(kRlegHipR));  // measured in the air all the same
+  EXPECT_EQ(commands_.joint[kRlegHipR].q_ref, 0.0);
+  EXPECT_EQ(g.leg_brake_cycles(), 0);
+}
+
 TEST_F(LegGuardTest, TheLoadHasHysteresis) {
   SelfCollisionGuard g;
   ASSERT_EQ(g.Configure(kFile, header_), "");

@@ -89,6 +89,10 @@ class SelfCollisionGuard {
   // controllers whose motion a brake would make unsafe (walk: a stance leg braked mid-step
   // topples the robot; Controller::guard_may_brake).
   void set_monitor_only(bool on) { monitor_only_ = on; }
+  // Whether a leg whose foot carries no load is braked (default: yes). Off for controllers whose
+  // balance moves the legs (Controller::guard_may_brake_legs: balance, walk): every leg with a
+  // foot is then never braked, as a loaded one (the inertia still follows the measured load).
+  void set_brake_unloaded_legs(bool on) { brake_legs_ = on; }
   bool monitor_only() const { return monitor_only_; }
   long warned_cycles() const { return warned_cycles_; }
   // cycles in which a leg with a foot was braked (its foot unloaded: UpdateLoads)
@@ -157,7 +161,8 @@ class SelfCollisionGuard {
   // joint j carries load this cycle: a foot beyond it whose force sensor reads load (with
   // hysteresis, UpdateLoads), or whose sensor the segment lacks or reads no finite value (the
   // conservative side: a loaded leg is never braked, braking a stance leg drops the robot)
-  bool Supports(int j) const { return loaded_[j] != 0; }
+  bool Supports(int j) const { return loaded_[j] != 0 || (!brake_legs_ && CarriesFoot(j)); }
+  bool brake_legs_ = true;  // set_brake_unloaded_legs
   // each joint's loaded_ from the measured forces: loaded above the file's support_force (a
   // tenth of the weight), unloaded below half of it, else as last cycle
   void UpdateLoads(const shm::SensorBlock& sensors, bool first);
