@@ -5,8 +5,8 @@
 //             command (tau = kp (q_ref - q) + kd (dq_ref - dq) + tau_ff, clamped to the
 //             header's tau_max): the last period's measured acceleration plus the change of
 //             servo torque over the inertia (within the file's `dynamics:` bounds: the links
-//             beyond alone while their support force sensor reads less than a tenth of the
-//             weight, else the bound under any contact), the load changing by the gravity bound
+//             beyond alone while their support force sensor says they carry no load: below a
+//             twentieth of the weight, until above a tenth, else the bound under any contact), the load changing by the gravity bound
 //             times the angle turned; without a last period, the load anywhere within the
 //             gravity bound; acting for two periods (this one and one of latency before a brake
 //             can act), then a brake at the joint's deceleration (tau_max less what holding
@@ -24,7 +24,9 @@
 //             evaluations a cycle (uncertified: brake, the safe side). A pair's limit is the margin (a structural
 //             pair's floor), or, for a pair already closer, the largest distance it had since,
 //             less a tolerance: moving away is allowed, creeping closer is not.
-//   brake     a command that is not certified is replaced by the braking trajectory from the
+//   brake     a command that is not certified is replaced, for the arms, the torso and every
+//             leg whose foot carries no load (never a loaded leg: braking a stance leg drops
+//             the robot), by the braking trajectory from the
 //             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
 //             and dq_ref consistent), then a hold where it stopped; any later command the check
 //             certifies resumes.
