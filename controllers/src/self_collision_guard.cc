@@ -171,34 +171,6 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   return "";
 }
 
-void SelfCollisionGuard::UpdateLoads(const shm::SensorBlock& sensors, bool first) {
-  // A foot carries load when its sensor's force is above the file's support_force (a tenth of
-  // the robot's weight) and stops carrying it below half of that: the band between (a
-  // twentieth of the weight: 64 N on HRP-1S, 17 N on G1) is the hysteresis, wide against an
-  // F/T sensor's noise (a few N) so that noise cannot toggle the brake. The force's magnitude,
-  // not its normal part: at least the normal force, so a stance foot is never read as unloaded.
-  // Conservative where the measurement says nothing: a sensor the segment lacks or a reading
-  // not finite is a loaded foot (never braked); at activation a reading within the band too.
-  for (int j = 0; j < njoint_; ++j) {
-    if (!CarriesFoot(j)) {
-      loaded_[j] = 0;
-      continue;
-    }
-    const int fs = support_[j];
-    if (fs < 0) {
-      loaded_[j] = 1;
-      continue;
-    }
-    const double* f = sensors.force[fs].force;
-    const double n = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-    const double on = file_.dynamics[j].support_force, off = 0.5 * on;
-    if (!std::isfinite(n)) loaded_[j] = 1;
-    else if (n > on) loaded_[j] = 1;
-    else if (n < off) loaded_[j] = 0;
-    else if (first) loaded_[j] = 1;
-  }
-}
-
 void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
   UpdateLoads(sensors, true);
   std::fill(braked_.begin(), braked_.end(), 0);

@@ -163,10 +163,17 @@ class SelfCollisionGuard {
   // joint j carries load this cycle: a foot beyond it whose force sensor reads load (with
   // hysteresis, UpdateLoads), or whose sensor the segment lacks or reads no finite value (the
   // conservative side: a loaded leg is never braked, braking a stance leg drops the robot)
-  bool Supports(int j) const { return loaded_[j] != 0 || (!brake_legs_ && CarriesFoot(j)); }
+  // A leg is braked only while NO foot carries load (the robot hangs on its rig, is lifted or in
+  // flight): standing on one foot, the other leg's motion may be a step the guard cannot see,
+  // and braking it mid-step drops the robot (walk_samplepd_4ms: a swing ankle braked 2.0 mm
+  // from the stance one; the walks fell with their swing legs braked)
+  bool Supports(int j) const {
+    return CarriesFoot(j) && (loaded_[j] != 0 || standing_ || !brake_legs_);
+  }
+  bool standing_ = true;    // some foot carries load this cycle (UpdateLoads)
   bool brake_legs_ = true;  // set_brake_unloaded_legs
   // each joint's loaded_ from the measured forces: loaded above the file's support_force (a
-  // tenth of the weight), unloaded below half of it, else as last cycle
+  // tenth of the weight), unloaded below half of it, else as last cycle; standing_: any is
   void UpdateLoads(const shm::SensorBlock& sensors, bool first);
   std::vector<char> brakeable_;  // per pair of every_: some actuated joint moves it (an arm, or a
                                  // leg whose foot may leave the ground); braked when one of
