@@ -146,6 +146,7 @@ bool ControllerRun::ConfigureGuard() {
     err_ << prog_ << ": --self-collision: " << problem << "\n";
     return false;
   }
+  guard_.set_brake_unloaded_legs(controller_.guard_may_brake_legs());
   if (!controller_.guard_may_brake()) {
     guard_.set_monitor_only(true);
     out_ << prog_ << ": self-collision check: monitoring only (a brake mid-motion would topple "

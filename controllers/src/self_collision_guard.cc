@@ -124,12 +124,14 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
     for (int l : {every_[i].a, every_[i].b})
       for (const auto& [joint, r] : reach[l])
         if (!(moves(every_[i].a, joint) && moves(every_[i].b, joint))) coef_[i * nq_ + joint] += r;
-  // a pair the brake can act on: some actuated joint that moves it carries no support (a leg
-  // with a foot is not braked: braking a stance leg topples the robot; its pairs are monitored)
+  // a pair the brake may act on: some actuated joint moves it. Which of them it acts on is
+  // decided each cycle from the measured forces (UpdateLoads): an arm always, a leg with a foot
+  // while its foot carries no load (in the air: a swing leg, a robot on its rig); a loaded leg
+  // is never braked (braking a stance leg topples the robot): its pairs are monitored
   brakeable_.assign(every_.size(), 0);
   for (size_t i = 0; i < every_.size(); ++i)
     for (int j = 0; j < njoint_; ++j)
-      if (coef_[i * nq_ + j] > 0 && !Supports(j)) brakeable_[i] = 1;
+      if (coef_[i * nq_ + j] > 0) brakeable_[i] = 1;
   check_ = std::make_unique<collision::IncrementalCheck>(checker_.get(), every_);
   list_.reserve(every_.size());
   on_list_.assign(every_.size(), 0);
@@ -152,6 +154,9 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
       if (!file_.dynamics[j].support_sensor.empty() &&
           file_.dynamics[j].support_sensor == std::string(header.force_names[f], strnlen(header.force_names[f], shm::kNameLen)))
         support_[j] = f;
+  loaded_.assign(njoint_, 0);
+  for (int j = 0; j < njoint_; ++j) loaded_[j] = CarriesFoot(j) ? 1 : 0;  // until measured
+  braked_.assign(njoint_, 0);
   q_.assign(nq_, 0.0);
   box_lo_.assign(nq_, 0.0);
   box_hi_.assign(nq_, 0.0);
@@ -167,6 +172,8 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
 }
 
 void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
+  UpdateLoads(sensors, true);
+  std::fill(braked_.begin(), braked_.end(), 0);
   for (int j = 0; j < njoint_; ++j) {
     q_[j] = std::isfinite(sensors.q[j]) ? sensors.q[j] : 0.0;
     brake_q_[j] = q_[j];
@@ -270,9 +277,13 @@ bool SelfCollisionGuard::BrakeHelps(int i) {
   // period of latency), so a pair monitored now is braked in time by the brakeable joints.
   const double* c = &coef_[static_cast<size_t>(i) * nq_];
   double share = 0;
+  bool acts = false;  // some joint the brake acts on this cycle moves the pair
   for (int j = 0; j < njoint_; ++j)
-    if (c[j] > 0 && !Supports(j))
+    if (c[j] > 0 && !Supports(j)) {
+      acts = true;
       share += c[j] * (speed_[j] * 2 * period_ + v1_[j] * v1_[j] / (2 * decel_[j]) + envelope_[j]);
+    }
+  if (!acts) return false;  // only loaded legs move it: monitored
   const double reach = limit_[i] + tolerance_ + share;  // closer than this: braked
   double d = check_->distance(i);
   if (d >= reach) return false;
@@ -289,9 +300,21 @@ bool SelfCollisionGuard::BrakeHelps(int i) {
 }
 
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
-  (void)sensors;
+  bool leg = false;
   for (int j = 0; j < njoint_; ++j) {
-    if (Supports(j)) continue;  // a leg with a foot keeps the controller's command
+    if (Supports(j)) {  // a loaded leg keeps the controller's command
+      braked_[j] = 0;
+      continue;
+    }
+    if (!braked_[j]) {
+      // the brake starts here (the hold begins, or the foot has just left the ground): from
+      // the measured state, at the prediction's rate
+      if (std::isfinite(sensors.q[j])) brake_q_[j] = sensors.q[j];
+      brake_v_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
+      brake_decel_[j] = decel_[j];
+      braked_[j] = 1;
+    }
+    leg = leg || CarriesFoot(j);
     const double v0 = brake_v_[j], dv = brake_decel_[j] * period_;
     const double v1 = v0 > 0 ? std::max(0.0, v0 - dv) : std::min(0.0, v0 + dv);
     brake_q_[j] += 0.5 * (v0 + v1) * period_;
@@ -318,6 +341,7 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
     // needs. On HRP-1S (reflected rotors: 12 of 12-25 kg m^2) it is nearly the same torque.
     jc.tau_ff = brake_ff_[j] + (v1 - v0) / period_ * file_.dynamics[j].inertia_min;
   }
+  if (leg) ++leg_brake_cycles_;
 }
 
 bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
@@ -330,11 +354,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     measuring_ = false;
     braking_ = false;
     if (monitor_only_) return false;  // monitoring: the commands are left alone
-    for (int j = 0; j < njoint_; ++j) {
-      if (std::isfinite(sensors.q[j])) brake_q_[j] = sensors.q[j];
-      brake_v_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
-      brake_decel_[j] = decel_[j];
-    }
+    std::fill(braked_.begin(), braked_.end(), 0);  // Brake starts each joint from its measurement
     Brake(sensors, c);
     return true;
   }
@@ -399,6 +419,7 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
   }
   if (clear) {
     braking_ = false;
+    std::fill(braked_.begin(), braked_.end(), 0);
     return false;
   }
   if (monitor_only_) {  // counted, the commands left alone
@@ -410,11 +431,8 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
   // brake: from the measured state when the hold begins, then along the ramp
   if (!braking_) {
     ++holds_;
-    for (int j = 0; j < njoint_; ++j) {
-      if (std::isfinite(sensors.q[j])) brake_q_[j] = sensors.q[j];
-      brake_v_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
-      brake_decel_[j] = decel_[j];  // the prediction's
-    }
+    // each joint's brake starts from its measured state at the prediction's rate (Brake)
+    std::fill(braked_.begin(), braked_.end(), 0);
   }
   braking_ = true;
   ++held_cycles_;

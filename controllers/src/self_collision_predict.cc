@@ -48,6 +48,36 @@ void SelfCollisionGuard::VelocityBand(const shm::JointCommand& c, double q, doub
   }
 }
 
+void SelfCollisionGuard::UpdateLoads(const shm::SensorBlock& sensors, bool first) {
+  // A foot carries load when its sensor's force is above the file's support_force (a tenth of
+  // the robot's weight) and stops carrying it below half of that: the band between (a
+  // twentieth of the weight: 64 N on HRP-1S, 17 N on G1) is the hysteresis, wide against an
+  // F/T sensor's noise (a few N) so that noise cannot toggle the brake. The force's magnitude,
+  // not its normal part: at least the normal force, so a stance foot is never read as unloaded.
+  // Conservative where the measurement says nothing: a sensor the segment lacks or a reading
+  // not finite is a loaded foot (never braked); at activation a reading within the band too.
+  for (int j = 0; j < njoint_; ++j) {
+    if (!CarriesFoot(j)) {
+      loaded_[j] = 0;
+      continue;
+    }
+    const int fs = support_[j];
+    if (fs < 0) {
+      loaded_[j] = 1;
+      continue;
+    }
+    const double* f = sensors.force[fs].force;
+    const double n = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    const double on = file_.dynamics[j].support_force, off = 0.5 * on;
+    if (!std::isfinite(n)) loaded_[j] = 1;
+    else if (n > on) loaded_[j] = 1;
+    else if (n < off) loaded_[j] = 0;
+    else if (first) loaded_[j] = 1;
+  }
+  standing_ = false;
+  for (int j = 0; j < njoint_; ++j) standing_ = standing_ || (CarriesFoot(j) && loaded_[j]);
+}
+
 double SelfCollisionGuard::Deceleration(int j, double tau_measured) const {
   return Decelerate(j, tau_measured, file_.dynamics[j].inertia_max);
 }
@@ -97,6 +127,7 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
   // the fastest joint: how much the load can change over the horizon (below)
   double speed = 0;
   for (int j = 0; j < njoint_; ++j) speed = std::max(speed, std::abs(sensors.dq[j]));
+  UpdateLoads(sensors, false);  // which feet carry load: the inertia, and which legs may brake
   for (int j = 0; j < njoint_; ++j) {
     const double q = sensors.q[j], v = sensors.dq[j];
     if (!std::isfinite(q) || !std::isfinite(v)) {
@@ -105,14 +136,8 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     }
     const collision::JointDynamics& d = file_.dynamics[j];
     // the inertia the joint drives: the links beyond alone while their force sensor says they
-    // carry no weight, else the bound under any contact
-    const int fs = support_[j];
-    double inertia = d.inertia_max;
-    if (fs >= 0) {
-      const double* f = sensors.force[fs].force;
-      const double load = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-      if (std::isfinite(load) && load < d.support_force) inertia = d.inertia_free;
-    }
+    // carry no weight (UpdateLoads), else the bound under any contact
+    const double inertia = CarriesFoot(j) && !loaded_[j] ? d.inertia_free : d.inertia_max;
     // the joint's acceleration over the last period and the servo's torque that made it: the
     // next acceleration is that one plus the change of torque over the (unknown, common)
     // inertia, the load changing by at most the gravity bound times the angle turned over the

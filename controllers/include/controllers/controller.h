@@ -99,6 +99,11 @@ class Controller {
   // the guard only monitors (SelfCollisionGuard::set_monitor_only), and links measured closer
   // than their limit fail the run instead.
   virtual bool guard_may_brake() const { return true; }
+  // The guard may brake a leg whose foot carries no load (SelfCollisionGuard::
+  // set_brake_unloaded_legs; a loaded leg is never braked). False (balance, walk): a leg that
+  // leaves the ground is part of the balance (a swing leg braked mid-step is not placed: the
+  // walks fell), so every leg with a foot is treated as loaded and its pairs are monitored.
+  virtual bool guard_may_brake_legs() const { return true; }
 
   // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
   // the header), valid from kInactive on: the runner asks the producer for them after

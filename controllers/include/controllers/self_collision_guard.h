@@ -5,8 +5,8 @@
 //             command (tau = kp (q_ref - q) + kd (dq_ref - dq) + tau_ff, clamped to the
 //             header's tau_max): the last period's measured acceleration plus the change of
 //             servo torque over the inertia (within the file's `dynamics:` bounds: the links
-//             beyond alone while their support force sensor reads less than a tenth of the
-//             weight, else the bound under any contact), the load changing by the gravity bound
+//             beyond alone while their support force sensor says they carry no load: below a
+//             twentieth of the weight, until above a tenth, else the bound under any contact), the load changing by the gravity bound
 //             times the angle turned; without a last period, the load anywhere within the
 //             gravity bound; acting for two periods (this one and one of latency before a brake
 //             can act), then a brake at the joint's deceleration (tau_max less what holding
@@ -24,7 +24,9 @@
 //             evaluations a cycle (uncertified: brake, the safe side). A pair's limit is the margin (a structural
 //             pair's floor), or, for a pair already closer, the largest distance it had since,
 //             less a tolerance: moving away is allowed, creeping closer is not.
-//   brake     a command that is not certified is replaced by the braking trajectory from the
+//   brake     a command that is not certified is replaced, for the arms, the torso and every
+//             leg whose foot carries no load (never a loaded leg: braking a stance leg drops
+//             the robot), by the braking trajectory from the
 //             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
 //             and dq_ref consistent), then a hold where it stopped; any later command the check
 //             certifies resumes.
@@ -89,8 +91,16 @@ class SelfCollisionGuard {
   // controllers whose motion a brake would make unsafe (walk: a stance leg braked mid-step
   // topples the robot; Controller::guard_may_brake).
   void set_monitor_only(bool on) { monitor_only_ = on; }
+  // Whether a leg whose foot carries no load is braked (default: yes). Off for controllers whose
+  // balance moves the legs (Controller::guard_may_brake_legs: balance, walk): every leg with a
+  // foot is then never braked, as a loaded one (the inertia still follows the measured load).
+  void set_brake_unloaded_legs(bool on) { brake_legs_ = on; }
   bool monitor_only() const { return monitor_only_; }
   long warned_cycles() const { return warned_cycles_; }
+  // cycles in which a leg with a foot was braked (its foot unloaded: UpdateLoads)
+  long leg_brake_cycles() const { return leg_brake_cycles_; }
+  // joint j's foot carries load this cycle (always false for a joint without a foot beyond)
+  bool loaded(int j) const { return j >= 0 && j < static_cast<int>(loaded_.size()) && loaded_[j]; }
   const collision::SelfCollisionFile& file() const { return file_; }
 
   // The motion interval of one joint [rad or m], relative to its measured position: where it
@@ -148,9 +158,30 @@ class SelfCollisionGuard {
   std::unique_ptr<collision::IncrementalCheck> check_;  // over every_
   int njoint_ = 0;
   static constexpr bool kCheckStructuralFloors = false;  // (Configure says why)
-  // joint j carries a support (a foot beyond it, by the file's dynamics): never braked
-  bool Supports(int j) const { return !file_.dynamics[j].support_sensor.empty(); }
-  std::vector<char> brakeable_;              // per pair of every_: some non-support joint moves it
+  // joint j has a foot beyond it (by the file's dynamics: its support sensor)
+  bool CarriesFoot(int j) const { return !file_.dynamics[j].support_sensor.empty(); }
+  // joint j carries load this cycle: a foot beyond it whose force sensor reads load (with
+  // hysteresis, UpdateLoads), or whose sensor the segment lacks or reads no finite value (the
+  // conservative side: a loaded leg is never braked, braking a stance leg drops the robot)
+  // A leg is braked only while NO foot carries load (the robot hangs on its rig, is lifted or in
+  // flight): standing on one foot, the other leg's motion may be a step the guard cannot see,
+  // and braking it mid-step drops the robot (walk_samplepd_4ms: a swing ankle braked 2.0 mm
+  // from the stance one; the walks fell with their swing legs braked)
+  bool Supports(int j) const {
+    return CarriesFoot(j) && (loaded_[j] != 0 || standing_ || !brake_legs_);
+  }
+  bool standing_ = true;    // some foot carries load this cycle (UpdateLoads)
+  bool brake_legs_ = true;  // set_brake_unloaded_legs
+  // each joint's loaded_ from the measured forces: loaded above the file's support_force (a
+  // tenth of the weight), unloaded below half of it, else as last cycle; standing_: any is
+  void UpdateLoads(const shm::SensorBlock& sensors, bool first);
+  std::vector<char> brakeable_;  // per pair of every_: some actuated joint moves it (an arm, or a
+                                 // leg whose foot may leave the ground); braked when one of
+                                 // them is not Supports() this cycle
+  std::vector<char> loaded_;     // per joint: carries load this cycle (UpdateLoads)
+  std::vector<char> braked_;     // per joint: under the brake last cycle (Brake starts a joint
+                                 // from its measured state when not: a foot that left the ground)
+  long leg_brake_cycles_ = 0;    // cycles a leg with a foot (unloaded) was braked
   bool monitor_only_ = false;
   long warned_cycles_ = 0;
   long unjudged_cycles_ = 0;                 // a measurement not finite: nothing predicted                   // monitoring only: cycles it would have braked

@@ -121,8 +121,10 @@ std::vector<JointDynamics> JointDynamicsFromModel(const mjModel* m, const model:
     if (!carries) rest = Side();
     JointDynamics d;
     d.inertia_free = m->dof_armature[dof] + (slide ? beyond.mass : beyond.inertia);
-    if (carries && !sensor.empty()) {
-      d.support_sensor = sensor;
+    if (carries) {
+      // a foot without a force sensor: "none", which no segment names, so the guard takes the
+      // leg as always loaded and never brakes it (it cannot tell a swing foot from a stance one)
+      d.support_sensor = sensor.empty() ? "none" : sensor;
       d.support_force = 0.1 * g * robot.total_mass;
     }
     const double armature = m->dof_armature[dof];

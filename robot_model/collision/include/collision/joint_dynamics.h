@@ -33,7 +33,8 @@ namespace ohrp::collision {
 // states no speed limit); inertia_free = armature + the bound of the links beyond alone; for a
 // joint whose links beyond include a support and a force sensor (robot.forces), that sensor and
 // a tenth of the robot's weight: while it reads less, the links beyond carry no weight and the
-// joint drives them alone.
+// joint drives them alone; with a support but no force sensor, the sensor "none" (the guard
+// then takes the leg as always loaded: never braked, the inertia under any contact).
 std::vector<JointDynamics> JointDynamicsFromModel(const mjModel* m, const model::RobotMap& robot);
 
 // By MuJoCo body id: 1 for the robot's bodies whose geoms' bounding spheres reach into the lowest

@@ -52,7 +52,8 @@ struct JointDynamics {
   double inertia_free = 0;  // [kg m^2] the same bound for the links beyond alone (armature
                             // included): what the joint drives while they carry no weight
   std::string support_sensor;  // the force sensor beyond the joint that tells when the links
-                               // beyond stand on something ("" none: inertia_max always)
+                               // beyond stand on something ("": no foot beyond, inertia_max
+                               // always; "none": a foot without a sensor, always loaded)
   double support_force = 0;    // [N] above this force on it, they do (a tenth of the weight)
 };
 
