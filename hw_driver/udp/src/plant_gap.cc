@@ -200,29 +200,26 @@ void CommandDelay::Override(int j, const shm::JointCommand& c) {
   for (shm::CommandBlock& b : ring_) b.joint[j] = c;
 }
 
-void SensorGap::Imu(shm::Imu* u) {
-  for (int k = 0; k < 3; ++k) {
-    u->gyro[k] += gap_.gyro_bias[k] + Noise(gap_.gyro_noise);
-    u->accel[k] += gap_.accel_bias[k] + Noise(gap_.accel_noise);
-  }
+namespace {
+
+model::SensorParams GapSensors(const PlantGap& gap, size_t imus, size_t forces) {
+  model::SensorParams p;
+  for (const JointGap& g : gap.joint) p.encoders.push_back({"", g.bias, gap.encoder_noise, ""});
+  p.imus.resize(imus);
+  for (model::SensorParams::Imu& u : p.imus)
+    for (int k = 0; k < 3; ++k) {
+      u.gyro_bias[k] = gap.gyro_bias[k], u.gyro_noise[k] = gap.gyro_noise;
+      u.accel_bias[k] = gap.accel_bias[k], u.accel_noise[k] = gap.accel_noise;
+    }
+  p.forces.resize(forces);
+  for (model::SensorParams::ForceTorque& f : p.forces)
+    for (int k = 0; k < 3; ++k) f.noise[k] = gap.force_noise, f.noise[3 + k] = gap.torque_noise;
+  return p;
 }
 
-void SensorGap::ForceTorque(shm::ForceTorque* f) {
-  for (int k = 0; k < 3; ++k) {
-    f->force[k] += Noise(gap_.force_noise);
-    f->torque[k] += Noise(gap_.torque_noise);
-  }
-}
+}  // namespace
 
-void SensorGap::ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const {
-  for (int j = 0; j < b->njoint && j < static_cast<int>(gap_.joint.size()); ++j) {
-    const double bias = gap_.joint[j].bias;
-    shm::JointCommand& c = b->joint[j];
-    if (bias == 0 || c.mode != shm::JointMode::kPosition) continue;
-    const bool inside = c.q_ref >= q_min[j] && c.q_ref <= q_max[j];
-    c.q_ref -= bias;
-    if (inside) c.q_ref = std::fmin(q_max[j], std::fmax(q_min[j], c.q_ref));
-  }
-}
+SensorGap::SensorGap(const PlantGap& gap, size_t imus, size_t forces, uint64_t seed)
+    : model_(GapSensors(gap, imus, forces), seed) {}
 
 }  // namespace ohrp::hw::udp

@@ -22,10 +22,10 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <vector>
 
+#include "robot_model/sensor_params.h"
 #include "shm_bridge/layout.h"
 
 struct mjModel_;
@@ -90,25 +90,24 @@ class CommandDelay {
   size_t head_ = 0;
 };
 
-// The sensors as the robot's give them: bias and white noise (no allocation).
+// The sensors as the robot's give them: bias and white noise through the one sensor model
+// (robot_model/sensor_params.h, which sim_host's --sensor-file uses too); no allocation after
+// construction.
 class SensorGap {
  public:
-  SensorGap(const PlantGap& gap, uint64_t seed) : gap_(gap), rng_(seed) {}
-  double Encoder(int j, double q) {
-    const JointGap& g = gap_.joint[j];
-    return q + g.bias + (gap_.encoder_noise > 0 ? gap_.encoder_noise * normal_(rng_) : 0.0);
-  }
-  void Imu(shm::Imu* u);
-  void ForceTorque(shm::ForceTorque* f);
+  // `imus`, `forces`: how many the robot has (each gets the gap's IMU / F/T bias and noise)
+  SensorGap(const PlantGap& gap, size_t imus, size_t forces, uint64_t seed);
+  double Encoder(int j, double q) { return model_.Encoder(j, q); }
+  void Imu(int u, shm::Imu* imu) { model_.Imu(u, imu->gyro, imu->accel); }
+  void ForceTorque(int f, shm::ForceTorque* ft) { model_.ForceTorque(f, ft->force, ft->torque); }
   // the references the boards' PD acts on: a position reference in the encoder's frame becomes
   // one in the joint's (bias taken out; kept within [q_min, q_max] when it was)
-  void ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const;
+  void ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const {
+    model_.ToJointFrame(q_min, q_max, b);
+  }
 
  private:
-  double Noise(double std) { return std > 0 ? std * normal_(rng_) : 0.0; }
-  const PlantGap& gap_;
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
+  model::SensorModel model_;
 };
 
 }  // namespace ohrp::hw::udp

@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
                "the recording is a data log of the robot standing still (hw_driver --log, sim_host "
                "--log while posture holds): the IMUs' gyro bias and noise, accelerometer noise and "
                "bias, the F/T sensors' and the encoders' noise, with standard errors "
-               "(identify/sensors.h); writes DIR/sensors.json");
+               "(identify/sensors.h); writes DIR/sensors.json and DIR/sensors.yaml (sim_host --sensor-file)");
   app.add_option("--from", sensor_options.from, "--sensors: [s] the still window's start (log time)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--to", sensor_options.to, "--sensors: [s] the still window's end (log time)")

@@ -259,7 +259,12 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
     std::fprintf(stderr, "ohrp_identify: cannot write %s\n", path.c_str());
     return 2;
   }
-  std::printf("(%s)\n", path.c_str());
+  const std::string yaml = out_dir + "/sensors.yaml";
+  if (!WriteSensorFile(s, log, yaml, &error)) {
+    std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
+    return 2;
+  }
+  std::printf("(%s; %s for sim_host --sensor-file)\n", path.c_str(), yaml.c_str());
   return 0;
 }
 

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "identify/joints.h"
+#include "robot_model/sensor_params.h"
 
 namespace ohrp::identify {
 
@@ -67,6 +68,13 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
                      std::string* error);
 
 // ohrp identify --sensors: the table on stdout, OUT_DIR/sensors.json. Exit code 0 or 2.
+// The estimates as the simulator's sensor file (robot_model/sensor_params.h): the noise of every
+// channel, the gyro bias, the accelerometer bias when the orientation was logged (else 0), the
+// encoder and F/T bias 0 (not identified); each entry's standard errors as its note.
+model::SensorParams SensorFileOf(const SensorEstimates& s);
+bool WriteSensorFile(const SensorEstimates& s, const std::string& log, const std::string& path,
+                     std::string* error);
+
 int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o);
 
 // The actuator's bandwidth from a chirp on the reference: per window of two of the reference's
