@@ -48,9 +48,31 @@ def truth_file(imu):
     return path
 
 
-def run(name, sensor_file, seed):
+HUNG = """name: stand
+description: HRP-1S on the rig (the WAIST welded, no floor), posture ramps to half-sitting and holds
+scene: %s
+keyframe: rig
+duration: 10
+physics_dt: 0.001
+control_period: 0.005
+integrator: euler
+contact: native
+controllers:
+  - program: posture
+    args: [--ramp, "2.0"]
+checks:
+  - type: max_rejected
+    max: 0
+"""
+LH_BIAS, LH_NOISE = [-2.0, 1.0, 0.5, 0.05, 0.0, -0.1], [1.0, 1.0, 1.0, 0.05, 0.05, 0.05]
+
+
+def run(name, sensor_file, seed, hung=False):
     with open(os.path.join(SRC, "scenarios", "stand.yaml")) as f:
-        text = f.read().replace("name: stand", "name: " + name)
+        text = f.read()
+    if hung:
+        text = HUNG % os.path.join(SRC, "mjcf/hrp1s/scene_hung.xml")
+    text = text.replace("name: stand", "name: " + name)
     text = text.replace("checks:", "sim_args: [--sensor-file, \"%s\", --sensor-seed, \"%d\"]\nchecks:"
                         % (sensor_file, seed))
     path = os.path.join(OUT, name + ".yaml")
@@ -65,10 +87,10 @@ def run(name, sensor_file, seed):
     return out
 
 
-def identify(folder):
+def identify(folder, model=()):
     out = folder + "_identified"
     r = subprocess.run([os.path.join(BIN, "ohrp_identify"), "--sensors", os.path.join(folder, "log.csv"),
-                        "--from", "5", "--out", out], capture_output=True, text=True)
+                        "--from", "5", "--out", out] + list(model), capture_output=True, text=True)
     check(r.returncode == 0, "ohrp_identify --sensors on %s: exit %d%s" % (
         os.path.basename(folder), r.returncode, "" if r.returncode == 0 else "\n" + r.stdout + r.stderr))
     with open(os.path.join(out, "sensors.json")) as f:
@@ -129,6 +151,31 @@ def main():
     same = run("robot_again", truth_file("imu"), 7)
     with open(os.path.join(robot, "log.csv")) as a, open(os.path.join(same, "log.csv")) as b:
         check(a.read() == b.read(), "the same seed gives the same log")
+    # the F/T offsets on the rig (feet and hands hanging free) against the model's static load
+    hung_truth = os.path.join(OUT, "truth_hung.yaml")
+    with open(hung_truth, "w") as f:
+        f.write("force_torque:\n  rfsensor: {bias: %s, noise: %s}\n  lhsensor: {bias: %s, noise: %s}\n"
+                % (FT_BIAS, FT_NOISE, LH_BIAS, LH_NOISE))
+    hung = run("hung", hung_truth, 3, hung=True)
+    hung_id, jh = identify(hung, ["--model", os.path.join(SRC, "mjcf/hrp1s/scene_hung.xml"),
+                                  "--keyframe", "rig"])
+    ft = {e["name"]: e for e in jh["force_torque"]}
+    for name, bias in (("rfsensor", FT_BIAS), ("lhsensor", LH_BIAS), ("lfsensor", [0] * 6)):
+        for k, a in enumerate(["fx", "fy", "fz", "tx", "ty", "tz"]):
+            if name == "lfsensor":  # noise-free: the closed form's residual, absolute
+                v = ft[name]["bias_" + a]["value"]
+                check(abs(v) < 1e-3, "hung: %s offset %s %.3g (no offset, noise-free: under 1e-3)" % (name, a, v))
+            else:
+                near("hung: %s offset %s" % (name, a), ft[name]["bias_" + a], bias[k])
+    with open(os.path.join(hung_id, "sensors.yaml")) as f:
+        check("rfsensor: {bias: [" in f.read(), "sensors.yaml carries the identified F/T offsets")
+    # standing, a foot's offset is not observable this way: refused, saying why
+    r = subprocess.run([os.path.join(BIN, "ohrp_identify"), "--sensors", os.path.join(robot, "log.csv"),
+                        "--from", "5", "--model", os.path.join(SRC, "mjcf/hrp1s/scene_flat.xml"),
+                        "--keyframe", "halfsit", "--out", os.path.join(OUT, "standing_offsets")],
+                       capture_output=True, text=True)
+    check(r.returncode == 2 and "contact below the sensor" in r.stderr,
+          "F/T offsets of a standing robot refused (exit %d): %s" % (r.returncode, r.stderr.strip()))
     refused("encoders:\n  NO_SUCH_JOINT: {noise: 1e-4}\n", "NO_SUCH_JOINT: the robot has no such sensor")
     refused("encoders:\n  RLEG_KNEE: {noise: -1e-4}\n", "bad_sensors.yaml:2: encoders: RLEG_KNEE: noise")
     refused("imus:\n  imu: {gyro_bias: [1, 2]}\n", "wants a list of 3 numbers")

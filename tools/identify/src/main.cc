@@ -103,7 +103,9 @@ int main(int argc, char** argv) {
   app.add_option("--model", joint_model.model,
                  "--joints: the model the excitation ran on (MJCF, VRML, URDF or robot profile): "
                  "also writes DIR/joints.yaml, the joints' armature (the identified inertia less "
-                 "the links'), damping and frictionloss for sim_host --joint-file")
+                 "the links'), damping and frictionloss for sim_host --joint-file; --sensors: the "
+                 "F/T sensors' offsets against the model's static load of what hangs below them "
+                 "(the robot on the rig, e.g. mjcf/hrp1s/scene_hung.xml --keyframe rig)")
       ->check(CLI::ExistingFile);
   app.add_option("--keyframe", joint_model.keyframe,
                  "--joints --model: the keyframe the other joints held (default: the model's "
@@ -115,13 +117,13 @@ int main(int argc, char** argv) {
       "without a push, no oscillation in the recording). docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   if (sensors) {
-    if (joints || !joint_model.model.empty() || sensor_options.to <= sensor_options.from) {
-      std::fprintf(stderr, "ohrp_identify: --sensors goes without --joints/--model, and --to after --from\n");
+    if (joints || sensor_options.to <= sensor_options.from) {
+      std::fprintf(stderr, "ohrp_identify: --sensors goes without --joints, and --to after --from\n");
       return 2;
     }
     std::error_code made;
     fs::create_directories(o.out_dir, made);
-    return ohrp::identify::IdentifySensors(o.recording, o.out_dir, sensor_options);
+    return ohrp::identify::IdentifySensors(o.recording, o.out_dir, sensor_options, joint_model);
   }
   if (joints) {
     std::error_code made;

@@ -150,11 +150,13 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
   for (const std::string& j : out->joints) {
     const auto& q = t.col["q_" + j];
     out->encoder_noise.push_back(NoiseStd(q, o.width));
+    out->joint_mean.push_back(MeanOf(q).value);
     if (!Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
   }
   for (const std::string& f : out->forces)
     for (const char* a : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"})
-      out->ft_noise.push_back(NoiseStd(t.col[f + a], o.width));
+      out->ft_noise.push_back(NoiseStd(t.col[f + a], o.width)),
+          out->ft_mean.push_back(MeanOf(t.col[f + a]));
   for (ImuEstimate& u : out->imus) {
     const char* axis = "xyz";
     double m[3];
@@ -194,10 +196,12 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
   return true;
 }
 
-int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o) {
+int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o,
+                    const JointModel& model) {
   SensorEstimates s;
   std::string error;
-  if (!EstimateSensors(log, o, &s, &error)) {
+  if (!EstimateSensors(log, o, &s, &error) ||
+      (!model.model.empty() && !EstimateForceBias(model, o.gravity, &s, &error))) {
     std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
     return 2;
   }
@@ -240,6 +244,16 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
       jf[std::string("noise_") + ft[k]] = J(e);
     }
     std::printf("  [N, N m]\n");
+    if (!s.ft_bias.empty()) {
+      std::printf("F/T %s offset (mean - the model's static load of its subtree):", s.forces[f].c_str());
+      for (int k = 0; k < 6; ++k) {
+        const Stat& e = s.ft_bias[6 * f + k];
+        std::printf(" %s %.4g+-%.1g", ft[k], e.value, e.se);
+        jf[std::string("bias_") + ft[k]] = J(e);
+        jf[std::string("static_load_") + ft[k]] = s.ft_expected[6 * f + k];
+      }
+      std::printf("  [N, N m]\n");
+    }
     j["force_torque"].push_back(jf);
   }
   if (!s.joints.empty()) std::printf("%-18s %12s %10s  (encoder noise [rad])\n", "joint", "noise", "+-");

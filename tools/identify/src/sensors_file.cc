@@ -45,7 +45,11 @@ model::SensorParams SensorFileOf(const SensorEstimates& s) {
     model::SensorParams::ForceTorque m;
     m.name = s.forces[f];
     for (int k = 0; k < 6; ++k) m.noise[k] = s.ft_noise[6 * f + k].value;
-    m.note = Se("noise", &s.ft_noise[6 * f], 6) + "; bias not identified";
+    if (!s.ft_bias.empty())
+      for (int k = 0; k < 6; ++k) m.bias[k] = s.ft_bias[6 * f + k].value;
+    m.note = Se("noise", &s.ft_noise[6 * f], 6) +
+             (s.ft_bias.empty() ? std::string("; bias not identified")
+                                : "; " + Se("bias", &s.ft_bias[6 * f], 6));
     p.forces.push_back(m);
   }
   return p;
@@ -59,7 +63,10 @@ bool WriteSensorFile(const SensorEstimates& s, const std::string& log, const std
       path, SensorFileOf(s),
       {"written by ohrp identify --sensors from " + log + " (" + window + ")",
        "for sim_host --sensor-file (robot_model/sensor_params.h); the comments: standard errors",
-       "encoder bias: not observable from a still log (0 here); F/T bias: not identified (0)"},
+       s.ft_bias.empty()
+           ? "encoder bias: not observable from a still log (0 here); F/T bias: not identified (0)"
+           : "encoder bias: not observable from a still log (0 here); F/T bias: against the "
+             "model's static load (the subtrees hanging free)"},
       error);
 }
 

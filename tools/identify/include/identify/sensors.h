@@ -59,6 +59,11 @@ struct SensorEstimates {
   std::vector<std::string> joints, forces;
   std::vector<Stat> encoder_noise;  // per joint [rad]
   std::vector<Stat> ft_noise;       // per F/T sensor, 6 axes [N, N m]
+  std::vector<double> joint_mean;   // per joint, its mean position [rad]
+  std::vector<Stat> ft_mean;        // per F/T sensor, 6 axes: the mean reading
+  // with a model (EstimateForceBias): the static load of each sensor's subtree and the offset
+  std::vector<double> ft_expected;
+  std::vector<Stat> ft_bias;
   std::vector<ImuEstimate> imus;
 };
 
@@ -75,7 +80,16 @@ model::SensorParams SensorFileOf(const SensorEstimates& s);
 bool WriteSensorFile(const SensorEstimates& s, const std::string& log, const std::string& path,
                      std::string* error);
 
-int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o);
+// The F/T offsets (`ft_bias`) of a log whose F/T sensors' subtrees hang free (the rig), against
+// the model's static load at the logged joints' means (the rest of the posture the keyframe's):
+// sensors_ft_bias.cc has the closed form. False with `*error` when the model lacks a joint or
+// sensor site, or when a subtree touches something at that posture (a foot on the floor).
+bool EstimateForceBias(const JointModel& model, double gravity, SensorEstimates* s,
+                       std::string* error);
+
+// `model`: when given (--model), the F/T offsets too (EstimateForceBias)
+int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o,
+                    const JointModel& model = {});
 
 // The actuator's bandwidth from a chirp on the reference: per window of two of the reference's
 // periods (between its upward crossings of its mean), a sinusoid fitted to ref and to q; the
