@@ -182,8 +182,11 @@ void HostRun::ApplySensorFile(shm::SensorBlock* s) noexcept {
     for (size_t f = 0; f < robot.forces.size(); ++f)
       sensors->ForceTorque(static_cast<int>(f), s->force[f].force, s->force[f].torque);
   if (selection.gyro || selection.accel)
-    for (size_t u = 0; u < robot.imus.size(); ++u)
-      sensors->Imu(static_cast<int>(u), s->imu[u].gyro, s->imu[u].accel);
+    for (size_t u = 0; u < robot.imus.size(); ++u) {
+      double unused[3] = {};  // a sensor the run does not give stays unread (its draws still made)
+      sensors->Imu(static_cast<int>(u), selection.gyro ? s->imu[u].gyro : unused,
+                   selection.accel ? s->imu[u].accel : unused);
+    }
 }
 
 void HostRun::Accept() {

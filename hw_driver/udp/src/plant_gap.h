@@ -17,6 +17,7 @@
 //   --imu-bias G,A | GX,GY,GZ,AX,AY,AZ    added to the IMUs' rates [rad/s] and specific forces [m/s^2]
 //   --imu-noise G,A                       white noise std on each rate / acceleration axis
 //   --ft-noise F,T                        white noise std on each force [N] / torque [N m] axis
+//   --ft-bias F,T | FX,FY,FZ,TX,TY,TZ     added to every F/T sensor's force [N] / torque [N m]
 // JOINT is a joint's name or index; later entries override earlier ones (all=..., then one joint).
 // Velocities, torques and passive joints are reported as simulated.
 #pragma once
@@ -42,7 +43,7 @@ struct GapOptions {
   std::vector<std::string> friction, armature, encoder_bias;
   double delay_ms = 0;
   double encoder_noise = 0;
-  std::string imu_bias, imu_noise, ft_noise;
+  std::string imu_bias, imu_noise, ft_noise, ft_bias;
 };
 
 struct JointGap {
@@ -57,6 +58,7 @@ struct PlantGap {
   double encoder_noise = 0;
   double gyro_bias[3] = {}, accel_bias[3] = {};
   double gyro_noise = 0, accel_noise = 0, force_noise = 0, torque_noise = 0;
+  double force_bias[3] = {}, torque_bias[3] = {};
 };
 
 // Parses the options for a robot with these joints and board cycle `period` [s]. Returns false
