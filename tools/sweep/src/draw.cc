@@ -2,13 +2,14 @@
 //   draw: {distribution: uniform, from: A, to: B, n: N, seed: S}
 //   draw: {distribution: normal, mean: M, std: S, clip: [LO, HI], n: N, seed: S}
 // uniform on [A, B); normal truncated to [LO, HI] by redrawing (not clamped: no pile-up at the
-// ends; default clip mean +- 3 std). The draws become the parameter's values (in the order drawn,
+// ends; default clip mean +- 3 std), each rounded to 6 significant digits. The draws become the parameter's values (in the order drawn,
 // recorded in sweep.json with the distribution and seed), so the rest of the sweep (grid, zip,
 // folders, report, plots) is as for listed values. Same seed, same draws (std::mt19937_64).
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "draw.h"
@@ -88,11 +89,12 @@ bool ReadDraw(const YAML::Node& d, const std::string& path, const std::string& w
         return *error = runner::At(path, d, "sweep") + w + "clip: no draw within it in a million "
                         "tries (widen it)", false;
     }
+    char six[32];  // 6 significant digits: readable in the table, far below any spread drawn
+    std::snprintf(six, sizeof(six), "%.6g", x);
     Value v;
     v.numeric = true;
-    v.number = x;
-    v.text = NumberText(x);
-    v.number = std::stod(v.text);  // the value the scenario gets
+    v.number = std::strtod(six, nullptr);  // the value the scenario gets
+    v.text = NumberText(v.number);
     p->values.push_back(v);
   }
   p->draw = text;
