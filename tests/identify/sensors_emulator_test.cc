@@ -6,6 +6,7 @@
 #include <complex>
 #include <cstdio>
 #include <fstream>
+#include <map>
 
 #include "../hw_udp/emulator_fixture.h"
 #include "elbow_inertia.h"
@@ -136,9 +137,10 @@ TEST_F(SensorsOnTheEmulator, BiasAndNoiseAreRecovered) {
 }
 
 
-// The F/T offsets on the rig (issue 35): HRP-1S hung (scene_hung.xml, keyframe rig: feet and hands
-// in the air) on hw_emulator with --ft-bias and --ft-noise the fit is not told; --sensors --model
-// against the model's static load of each sensor's subtree (identify/sensors_ft_bias.cc).
+// The F/T offsets and encoder biases on the rig (issue 35): HRP-1S hung (scene_hung.xml, keyframe
+// rig: feet and hands in the air) on hw_emulator with --ft-bias, --ft-noise and --encoder-bias the
+// fit is not told; --sensors --model against the model's static load of each sensor's subtree
+// (identify/sensors_ft_bias.cc) and its gravity torques (sensors_encoder_bias.cc).
 TEST_F(SensorsOnTheEmulator, ForceTorqueOffsetsOnTheRig) {
 #ifdef OHRP_SANITIZE
   GTEST_SKIP() << "the emulator's boards run in real time: not in a sanitizer build";
@@ -146,7 +148,9 @@ TEST_F(SensorsOnTheEmulator, ForceTorqueOffsetsOnTheRig) {
   constexpr double kBias[6] = {1.5, -0.8, 4.0, 0.12, -0.3, 0.05};  // [N], [N m]
   const std::string hung = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_hung.xml";
   const int port = Start({"--duration", "6", "--keyframe", "rig", "--contact", "native", "--ft-bias",
-                          "1.5,-0.8,4.0,0.12,-0.3,0.05", "--ft-noise", "1,0.05"}, "30", hung);
+                          "1.5,-0.8,4.0,0.12,-0.3,0.05", "--ft-noise", "1,0.05", "--encoder-bias",
+                          "RLEG_KNEE=0.02", "--encoder-bias", "LARM_SHOULDER_P=-0.015",
+                          "--encoder-bias", "LLEG_HIP_P=0.01"}, "30", hung);
   ASSERT_GT(port, 0);
   OpenIo(port, {"timeout_ms=500"});
   const std::string csv = ohrp::testing::ScratchPath("hung", ".csv");
@@ -157,6 +161,8 @@ TEST_F(SensorsOnTheEmulator, ForceTorqueOffsetsOnTheRig) {
   SensorEstimates e;
   std::string error;
   ASSERT_TRUE(EstimateSensors(csv, o, &e, &error)) << error << " (" << csv << ")";
+  // the encoders' biases first: the F/T sensors' static loads are computed where the joints are
+  ASSERT_TRUE(EstimateEncoderBias({hung, "rig"}, o.min_gravity_stiffness, &e, &error)) << error;
   ASSERT_TRUE(EstimateForceBias({hung, "rig"}, o.gravity, &e, &error)) << error;
   std::printf("[ figures  ] %zu still rows of %zu\n", e.samples, rows);
   ASSERT_FALSE(e.forces.empty());
@@ -168,6 +174,23 @@ TEST_F(SensorsOnTheEmulator, ForceTorqueOffsetsOnTheRig) {
       // within 4 standard errors and a floor for the model's residual (5e-4 N noise-free)
       EXPECT_NEAR(b.value, kBias[k], 4 * b.se + 1e-3) << e.forces[i] << " axis " << k;
     }
+  // the encoder biases against the model's gravity torque: the three biased joints within 10 %
+  // (first order in the bias: the gravity stiffness changes over it) and 4 standard errors; the
+  // other observable joints within 1e-3 rad of 0
+  const std::map<std::string, double> truth = {{"RLEG_KNEE", 0.02}, {"LARM_SHOULDER_P", -0.015},
+                                               {"LLEG_HIP_P", 0.01}};
+  for (size_t j = 0; j < e.joints.size(); ++j) {
+    const auto it = truth.find(e.joints[j]);
+    const double b = it == truth.end() ? 0.0 : it->second;
+    if (!e.encoder_observable[j]) {
+      EXPECT_EQ(b, 0.0) << e.joints[j] << " (stiffness " << e.gravity_stiffness[j] << ")";
+      continue;
+    }
+    const Stat& x = e.encoder_bias[j];
+    std::printf("[ figures  ] %s encoder bias %.5f +- %.5f (truth %.4f; gravity stiffness %.2f)\n",
+                e.joints[j].c_str(), x.value, x.se, b, e.gravity_stiffness[j]);
+    EXPECT_NEAR(x.value, b, 4 * x.se + 0.1 * std::fabs(b) + 1e-3) << e.joints[j];
+  }
 }
 
 // The elbow with 100 kg m^2 of armature the fit is not told (its -3 dB brought down to about

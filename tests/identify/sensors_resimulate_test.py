@@ -174,8 +174,8 @@ def main():
                         "--from", "5", "--model", os.path.join(SRC, "mjcf/hrp1s/scene_flat.xml"),
                         "--keyframe", "halfsit", "--out", os.path.join(OUT, "standing_offsets")],
                        capture_output=True, text=True)
-    check(r.returncode == 2 and "contact below the sensor" in r.stderr,
-          "F/T offsets of a standing robot refused (exit %d): %s" % (r.returncode, r.stderr.strip()))
+    check(r.returncode == 2 and "touches something" in r.stderr,
+          "offsets and encoder biases of a standing robot refused (exit %d): %s" % (r.returncode, r.stderr.strip()))
     refused("encoders:\n  NO_SUCH_JOINT: {noise: 1e-4}\n", "NO_SUCH_JOINT: the robot has no such sensor")
     refused("encoders:\n  RLEG_KNEE: {noise: -1e-4}\n", "bad_sensors.yaml:2: encoders: RLEG_KNEE: noise")
     refused("imus:\n  imu: {gyro_bias: [1, 2]}\n", "wants a list of 3 numbers")

@@ -151,6 +151,7 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     const auto& q = t.col["q_" + j];
     out->encoder_noise.push_back(NoiseStd(q, o.width));
     out->joint_mean.push_back(MeanOf(q).value);
+    out->joint_tau.push_back(t.Has("tau_" + j) ? MeanOf(t.col["tau_" + j]) : Stat{NAN, NAN});
     if (!Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
   }
   for (const std::string& f : out->forces)
@@ -201,7 +202,8 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
   SensorEstimates s;
   std::string error;
   if (!EstimateSensors(log, o, &s, &error) ||
-      (!model.model.empty() && !EstimateForceBias(model, o.gravity, &s, &error))) {
+      (!model.model.empty() && (!EstimateEncoderBias(model, o.min_gravity_stiffness, &s, &error) ||
+                                !EstimateForceBias(model, o.gravity, &s, &error)))) {
     std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
     return 2;
   }
@@ -256,14 +258,30 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
     }
     j["force_torque"].push_back(jf);
   }
-  if (!s.joints.empty()) std::printf("%-18s %12s %10s  (encoder noise [rad])\n", "joint", "noise", "+-");
-  for (size_t k = 0; k < s.joints.size(); ++k) {
-    std::printf("%-18s %12.4g %10.2g\n", s.joints[k].c_str(), s.encoder_noise[k].value,
-                s.encoder_noise[k].se);
-    j["joints"].push_back({{"joint", s.joints[k]}, {"encoder_noise", J(s.encoder_noise[k])},
-                           {"encoder_bias", "not observable from a still log"}});
-  }
+  const bool biased = !s.encoder_bias.empty();
   if (!s.joints.empty())
+    std::printf("%-18s %12s %10s %12s %10s %12s  (encoder noise, bias [rad]; gravity stiffness "
+                "[N m/rad])\n", "joint", "noise", "+-", "bias", "+-", "stiffness");
+  for (size_t k = 0; k < s.joints.size(); ++k) {
+    std::printf("%-18s %12.4g %10.2g", s.joints[k].c_str(), s.encoder_noise[k].value,
+                s.encoder_noise[k].se);
+    nlohmann::json jj{{"joint", s.joints[k]}, {"encoder_noise", J(s.encoder_noise[k])}};
+    if (biased && s.encoder_observable[k]) {
+      std::printf(" %12.4g %10.2g %12.4g\n", s.encoder_bias[k].value, s.encoder_bias[k].se,
+                  s.gravity_stiffness[k]);
+      jj["encoder_bias"] = J(s.encoder_bias[k]);
+      jj["gravity_stiffness"] = s.gravity_stiffness[k];
+    } else if (biased) {
+      std::printf(" %23s %12.4g\n", "not observable", s.gravity_stiffness[k]);
+      jj["encoder_bias"] = "not observable: gravity stiffness below the threshold";
+      jj["gravity_stiffness"] = s.gravity_stiffness[k];
+    } else {
+      std::printf("\n");
+      jj["encoder_bias"] = "not observable from a still log";
+    }
+    j["joints"].push_back(jj);
+  }
+  if (!s.joints.empty() && !biased)
     std::printf("(encoder bias: not observable from a still log: a held joint reads q + bias and "
                 "nothing in the log tells q)\n");
   const std::string path = out_dir + "/sensors.json";

@@ -23,9 +23,13 @@ std::string Se(const char* what, const Stat* s, int n) {
 model::SensorParams SensorFileOf(const SensorEstimates& s) {
   model::SensorParams p;
   // encoders: the noise (the bias is not observable from a still log: left at 0)
-  for (size_t k = 0; k < s.joints.size(); ++k)
-    p.encoders.push_back({s.joints[k], 0.0, s.encoder_noise[k].value,
-                          Se("noise", &s.encoder_noise[k], 1)});
+  for (size_t k = 0; k < s.joints.size(); ++k) {
+    const bool biased = !s.encoder_bias.empty() && s.encoder_observable[k];
+    p.encoders.push_back({s.joints[k], biased ? s.encoder_bias[k].value : 0.0,
+                          s.encoder_noise[k].value,
+                          (biased ? Se("bias", &s.encoder_bias[k], 1) + "; " : std::string()) +
+                              Se("noise", &s.encoder_noise[k], 1)});
+  }
   for (const ImuEstimate& u : s.imus) {
     model::SensorParams::Imu m;
     m.name = u.name;
@@ -65,8 +69,8 @@ bool WriteSensorFile(const SensorEstimates& s, const std::string& log, const std
        "for sim_host --sensor-file (robot_model/sensor_params.h); the comments: standard errors",
        s.ft_bias.empty()
            ? "encoder bias: not observable from a still log (0 here); F/T bias: not identified (0)"
-           : "encoder bias: not observable from a still log (0 here); F/T bias: against the "
-             "model's static load (the subtrees hanging free)"},
+           : "encoder bias: against the model's gravity torque (joints without a note: not "
+             "observable, 0); F/T bias: against the model's static load (the subtrees hanging free)"},
       error);
 }
 

@@ -6,7 +6,8 @@
 // body), mass M, centre of mass c, hanging from the site at p with orientation R (world z up):
 //   force  = R^T (0, 0, -M g)              (MuJoCo's force and torque sensors: the load the
 //   torque = R^T ((c - p) x (0, 0, -M g))   subtree puts on the site, its weight and moment)
-// the joints at their logged means, the rest at the keyframe. The offset is the logged mean less
+// the joints at their logged means less their encoders' biases where EstimateEncoderBias found
+// them (a biased reading puts the subtree elsewhere), the rest at the keyframe. The offset is the logged mean less
 // that; its standard error the mean's (batch means). A subtree touching anything (a foot on the
 // floor) carries other loads: its offset is not this (refused: a contact on the subtree).
 #include <mujoco/mujoco.h>
@@ -27,7 +28,9 @@ bool EstimateForceBias(const JointModel& model_in, double gravity, SensorEstimat
   for (size_t k = 0; k < s->joints.size(); ++k) {
     const int j = mj_name2id(m, mjOBJ_JOINT, s->joints[k].c_str());
     if (j < 0) return *error = s->joints[k] + ": " + model_in.model + " has no such joint", false;
-    d->qpos[m->jnt_qposadr[j]] = s->joint_mean[k];
+    // the joint where it is: its reading less the encoder's bias when that was identified
+    const bool biased = k < s->encoder_bias.size() && s->encoder_observable[k];
+    d->qpos[m->jnt_qposadr[j]] = s->joint_mean[k] - (biased ? s->encoder_bias[k].value : 0.0);
   }
   mju_zero(d->qvel, m->nv);
   mj_forward(m, d);

@@ -43,6 +43,7 @@ struct SensorOptions {
   double joint_still = 2e-3;    // [rad] tolerated slow motion of a joint
   double gyro_still = 5e-3;     // [rad/s]
   double accel_still = 0.05;    // [m/s^2]
+  double min_gravity_stiffness = 2.0;  // [N m/rad] --model: below it an encoder bias is not observable
 };
 
 struct ImuEstimate {
@@ -60,6 +61,11 @@ struct SensorEstimates {
   std::vector<Stat> encoder_noise;  // per joint [rad]
   std::vector<Stat> ft_noise;       // per F/T sensor, 6 axes [N, N m]
   std::vector<double> joint_mean;   // per joint, its mean position [rad]
+  std::vector<Stat> joint_tau;      // per joint, its mean torque (tau_J; value NaN without it)
+  // with a model (EstimateEncoderBias): per joint the bias, its gravity stiffness, observable
+  std::vector<Stat> encoder_bias;
+  std::vector<double> gravity_stiffness;  // [N m/rad] -dG_j/dq_j at the posture
+  std::vector<bool> encoder_observable;
   std::vector<Stat> ft_mean;        // per F/T sensor, 6 axes: the mean reading
   // with a model (EstimateForceBias): the static load of each sensor's subtree and the offset
   std::vector<double> ft_expected;
@@ -86,6 +92,13 @@ bool WriteSensorFile(const SensorEstimates& s, const std::string& log, const std
 // sensor site, or when a subtree touches something at that posture (a foot on the floor).
 bool EstimateForceBias(const JointModel& model, double gravity, SensorEstimates* s,
                        std::string* error);
+
+// The encoder biases of a still log of the robot on the rig (its base fixed, nothing touching),
+// from the servos' steady torques against the model's gravity torques (sensors_encoder_bias.cc
+// has the closed form). Joints whose gravity stiffness is below `min_stiffness` [N m/rad] are not
+// observable (left out, said). False with `*error` without torque columns or model joints.
+bool EstimateEncoderBias(const JointModel& model, double min_stiffness, SensorEstimates* s,
+                         std::string* error);
 
 // `model`: when given (--model), the F/T offsets too (EstimateForceBias)
 int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o,
