@@ -104,8 +104,9 @@ int main(int argc, char** argv) {
                  "--joints: the model the excitation ran on (MJCF, VRML, URDF or robot profile): "
                  "also writes DIR/joints.yaml, the joints' armature (the identified inertia less "
                  "the links'), damping and frictionloss for sim_host --joint-file; --sensors: the "
-                 "F/T sensors' offsets against the model's static load of what hangs below them "
-                 "(the robot on the rig, e.g. mjcf/hrp1s/scene_hung.xml --keyframe rig)")
+                 "encoders' biases (the servos' steady torques against the model's gravity torques) "
+                 "and the F/T sensors' offsets (against the static load of what hangs below them), "
+                 "the robot on the rig (e.g. mjcf/hrp1s/scene_hung.xml --keyframe rig)")
       ->check(CLI::ExistingFile);
   app.add_option("--keyframe", joint_model.keyframe,
                  "--joints --model: the keyframe the other joints held (default: the model's "
