@@ -9,7 +9,8 @@ still window from 5 s) must recover each value within K standard errors of its o
 (K = 4; the noise's standard error s / sqrt(2 (n - 1)) is about 1.3 % at n = 3000 rows), then
 the sensors.yaml it writes, given back to sim_host, must read the same again (the round trip).
 
-Also: the summary records the file and the seed; the same seed gives the same log, another seed
+Also: the summary records the file and the seed; a robot profile's sensor_file is applied; the same
+seed gives the same log, another seed
 another one; bad files are refused with exit 2 before anything runs, naming file, line and key.
 
 Usage: sensors_resimulate_test.py BIN_DIR SOURCE_DIR OUT_DIR
@@ -130,6 +131,32 @@ def refused(text, expect):
           "refused (exit %d): %s" % (r.returncode, r.stderr.strip().splitlines()[-1] if r.stderr.strip() else ""))
 
 
+def profile_key():
+    """a robot profile's sensor_file: applied when no --sensor-file is given (robots/h1.yaml copied)"""
+    src = os.path.join(SRC, "robots", "h1.yaml")
+    with open(src) as f:
+        text = f.read()
+    model = os.path.normpath(os.path.join(SRC, "robots", "../../shared/external/menagerie/unitree_h1/scene.xml"))
+    if not os.path.exists(model):
+        print("skipped the profile key: %s is not here" % model)
+        return
+    sensors = os.path.join(OUT, "h1_sensors.yaml")
+    with open(sensors, "w") as f:
+        f.write("encoders:\n  left_knee: {noise: 1e-3}\n")
+    profile = os.path.join(OUT, "h1_with_sensors.yaml")
+    with open(profile, "w") as f:
+        f.write(text.replace("model: ../../shared/external/menagerie/unitree_h1/scene.xml", "model: " + model)
+                + "sensor_file: h1_sensors.yaml\n")
+    summary = os.path.join(OUT, "h1_summary.json")
+    r = subprocess.run([os.path.join(BIN, "sim_host"), "--scene", profile, "--segment", "sensors_h1",
+                        "--duration", "0.1", "--wait-controller", "0", "--summary", summary],
+                       capture_output=True, text=True)
+    ok = r.returncode == 0 and os.path.exists(summary)
+    got = json.load(open(summary)).get("sensor_file", "") if ok else ""
+    check(ok and got == sensors, "a profile's sensor_file is applied (exit %d, summary sensor_file '%s')%s"
+          % (r.returncode, got, "" if ok else "\n" + r.stderr))
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
     # HRP-1S: one IMU, "imu"
@@ -180,6 +207,7 @@ def main():
     refused("encoders:\n  RLEG_KNEE: {noise: -1e-4}\n", "bad_sensors.yaml:2: encoders: RLEG_KNEE: noise")
     refused("imus:\n  imu: {gyro_bias: [1, 2]}\n", "wants a list of 3 numbers")
     refused("force_torque:\n  rfsensor: {offset: [0, 0, 0, 0, 0, 0]}\n", "offset: unknown key (bias, noise)")
+    profile_key()
     print("%d failures" % len(failures))
     return 1 if failures else 0
 
