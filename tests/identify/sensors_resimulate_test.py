@@ -9,9 +9,11 @@ still window from 5 s) must recover each value within K standard errors of its o
 (K = 4; the noise's standard error s / sqrt(2 (n - 1)) is about 1.3 % at n = 3000 rows), then
 the sensors.yaml it writes, given back to sim_host, must read the same again (the round trip).
 
+On the rig (scene_hung.xml, keyframe rig) with F/T offsets on two sensors, `--sensors --model`
+recovers them within K standard errors and finds no offset on a clean sensor (within 1e-3).
 Also: the summary records the file and the seed; a robot profile's sensor_file is applied; the same
-seed gives the same log, another seed
-another one; bad files are refused with exit 2 before anything runs, naming file, line and key.
+seed gives the same log; a standing log is refused for offsets; bad files are refused with exit 2
+before anything runs, naming file, line and key.
 
 Usage: sensors_resimulate_test.py BIN_DIR SOURCE_DIR OUT_DIR
 """
