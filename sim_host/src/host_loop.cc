@@ -59,6 +59,7 @@ void HostRun::Publish(uint32_t flags, bool record) noexcept {
   shm::SensorBlock& s = producer->BeginSensors();
   model::FillSensors(robot, m, d, selection, &s);
   if (noise) noise->Apply(robot, &s);
+  if (sensors) ApplySensorFile(&s);
   s.cycle = st.cycles;
   s.time = d->time;
   s.status = shm::status::kRunning | shm::status::kSimulated | extra_status | flags |
@@ -173,6 +174,21 @@ HostRun::Next HostRun::TakeCommands() {
 }
 
 // a command block: the guard's holds as events, the servo's references, the rejections
+// --sensor-file: each reading's bias and noise (no allocation)
+void HostRun::ApplySensorFile(shm::SensorBlock* s) noexcept {
+  if (selection.q)
+    for (size_t j = 0; j < robot.joints.size(); ++j) s->q[j] = sensors->Encoder(static_cast<int>(j), s->q[j]);
+  if (selection.force_torque)
+    for (size_t f = 0; f < robot.forces.size(); ++f)
+      sensors->ForceTorque(static_cast<int>(f), s->force[f].force, s->force[f].torque);
+  if (selection.gyro || selection.accel)
+    for (size_t u = 0; u < robot.imus.size(); ++u) {
+      double unused[3] = {};  // a sensor the run does not give stays unread (its draws still made)
+      sensors->Imu(static_cast<int>(u), selection.gyro ? s->imu[u].gyro : unused,
+                   selection.accel ? s->imu[u].accel : unused);
+    }
+}
+
 void HostRun::Accept() {
   if (st.commands++ == 0) {
     st.wall_first_command = MonotonicSeconds();
@@ -183,6 +199,8 @@ void HostRun::Accept() {
   // the controller's self-collision guard: a hold's begin and end are events
   if (int64_t hold = 0; const int change = guard.Update(cmd.guard, d->time, st.cycles, &hold))
     st.Record(d->time, change > 0 ? "guard_hold_begin" : "guard_hold_end", hold);
+  // the controller's references are in its (biased) encoders' frame, the servo's in the joints'
+  if (sensors) sensors->ToJointFrame(q_min.data(), q_max.data(), &cmd);
   if (const int rejected = servo->Accept(cmd); rejected > 0) {
     extra_status |= shm::status::kCommandRejected;
     if (!rejecting) st.Record(d->time, "commands_rejected", rejected);

@@ -61,6 +61,10 @@ int HostRun::SetUp(bool* ran_enough) {
   }
   selection = SelectSensors(effects);
   if (effects.on(Effect::kNoise)) noise = std::make_unique<SensorNoise>(effects.noise, selection);
+  if (!BindSensorFile(&error)) {
+    std::fprintf(stderr, "sim_host: %s\n", error.c_str());
+    return kExitUsage;
+  }
   if (!CreateSegment(&error)) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
@@ -142,6 +146,26 @@ bool HostRun::ApplyJointFile(std::string* why) {
     return false;
   }
   return scene->Reset(o.keyframe, why);
+}
+
+// the sensors as identified (--sensor-file): the file's names bound to the robot's sensors
+bool HostRun::BindSensorFile(std::string* why) {
+  if (o.sensor_file.empty()) return true;
+  std::vector<std::string> joints, imus, forces;
+  for (const model::JointMap& j : robot.joints) {
+    joints.push_back(j.name);
+    q_min.push_back(j.q_min);
+    q_max.push_back(j.q_max);
+  }
+  for (const auto& u : robot.imus) imus.push_back(u.name);
+  for (const auto& f : robot.forces) forces.push_back(f.name);
+  model::SensorParams bound;
+  if (!model::BindSensorParams(o.sensors, joints, imus, forces, &bound, why)) {
+    why->insert(0, "--sensor-file " + o.sensor_file + ": ");
+    return false;
+  }
+  sensors = std::make_unique<model::SensorModel>(std::move(bound), o.sensor_seed);
+  return true;
 }
 
 // --record-images: the robot's cameras, on, into the run folder (image_recorder.h)

@@ -47,6 +47,10 @@ void PrintStart(const HostText& t) {
   if (!o.joints.empty())
     std::fprintf(stderr, "sim_host: joints from %s: %s\n", o.joint_file.c_str(),
                  model::DescribeJointParams(o.joints).c_str());
+  if (!o.sensor_file.empty())
+    std::fprintf(stderr, "sim_host: sensors from %s (seed %llu): %s\n", o.sensor_file.c_str(),
+                 static_cast<unsigned long long>(o.sensor_seed),
+                 model::DescribeSensorParams(o.sensors).c_str());
   if (t.self_collision)
     std::fprintf(stderr, "sim_host: self_collision: %s\n", t.self_collision->Describe().c_str());
   if (t.soft && !t.soft->impact_note().empty())

@@ -63,6 +63,17 @@ int main(int argc, char** argv) {
                  "DIR/joints.yaml): replace the model's values of those joints; default: a robot "
                  "profile's joint_file")
       ->check(CLI::ExistingFile);
+  app.add_option("--sensor-file", o.sensor_file,
+                 "the sensors as identified (encoders: {NAME: {bias: ..., noise: ...}}, imus: "
+                 "{NAME: {gyro_bias: [3], gyro_noise: [3], accel_bias: [3], accel_noise: [3]}}, "
+                 "force_torque: {NAME: {bias: [6], noise: [6]}}, as `ohrp identify --sensors` "
+                 "writes DIR/sensors.yaml): each reading gets its bias and white noise; a position "
+                 "reference is taken in the biased encoder's frame; default: a robot profile's "
+                 "sensor_file")
+      ->check(CLI::ExistingFile);
+  app.add_option("--sensor-seed", o.sensor_seed,
+                 "the seed of --sensor-file's noise (same seed, same noise; in the summary)")
+      ->capture_default_str();
   std::vector<std::string> pushes;
   app.add_option("--push", pushes,
                  "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
@@ -157,15 +168,21 @@ int main(int argc, char** argv) {
       "completely (disk full, I/O error: the file and the error are named), 130 interrupted.\n"
       "Architecture and the segment's protocol: docs/architecture.md.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
-  // a robot profile's joints file, when no --joint-file is given
-  if (o.joint_file.empty() && ohrp::model::IsProfilePath(o.scene)) {
+  // a robot profile's joints and sensors files, when no --joint-file / --sensor-file is given
+  if ((o.joint_file.empty() || o.sensor_file.empty()) && ohrp::model::IsProfilePath(o.scene)) {
     ohrp::model::RobotProfile profile;
     std::string error;
     if (!ohrp::model::ReadProfile(o.scene, &profile, &error)) {
       std::fprintf(stderr, "sim_host: --scene: %s\n", error.c_str());
       return ohrp::sim::kExitUsage;
     }
-    o.joint_file = profile.joint_file;
+    if (o.joint_file.empty()) o.joint_file = profile.joint_file;
+    if (o.sensor_file.empty()) o.sensor_file = profile.sensor_file;
+  }
+  if (std::string error; !o.sensor_file.empty() &&
+                         !ohrp::model::ReadSensorParamsFile(o.sensor_file, &o.sensors, &error)) {
+    std::fprintf(stderr, "sim_host: --sensor-file: %s\n", error.c_str());
+    return ohrp::sim::kExitUsage;
   }
   if (std::string error; !o.joint_file.empty() &&
                          !ohrp::model::ReadJointParamsFile(o.joint_file, &o.joints, &error)) {

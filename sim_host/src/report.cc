@@ -211,6 +211,11 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const model::Ro
     }
     j["joint_params"] = joints;
   }
+  if (!o.sensor_file.empty()) {
+    // the sensors' bias and noise as they ran (robot_model/sensor_params.h) and their seed
+    j["sensor_file"] = o.sensor_file;
+    j["sensor_seed"] = o.sensor_seed;
+  }
   j["fcl_queries"] = st.fcl_queries;
   j["contact_pairs"] = st.contact_pairs;
   j["contact_pairs_bounded"] = st.contact_pairs_bounded;

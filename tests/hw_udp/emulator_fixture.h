@@ -83,8 +83,9 @@ class EmulatorTest : public ::testing::Test {
   }
 
   // starts hw_emulator on HRP-1S with `extra` options, on a free port; returns the port
-  int Start(std::vector<std::string> extra, const char* wait_driver = "30") {
-    std::vector<std::string> args = {"--model", kScene, "--wait-driver", wait_driver};
+  int Start(std::vector<std::string> extra, const char* wait_driver = "30",
+            const std::string& model = kScene) {
+    std::vector<std::string> args = {"--model", model, "--wait-driver", wait_driver};
     args.insert(args.end(), extra.begin(), extra.end());
     Spawn(args);
     const auto t0 = Clock::now();

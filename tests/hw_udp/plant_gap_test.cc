@@ -117,7 +117,7 @@ TEST(SensorGap, BiasAndNoiseHaveTheirMeanAndStd) {
   g.gyro_bias[1] = 0.05;
   g.accel_noise = 0.1;
   g.force_noise = 2.0;
-  SensorGap s(g, 42);
+  SensorGap s(g, 1, 1, 42);
   constexpr int kN = 20000;
   double sum = 0, sum2 = 0, gyro = 0, acc2 = 0, f2 = 0;
   for (int i = 0; i < kN; ++i) {
@@ -125,12 +125,12 @@ TEST(SensorGap, BiasAndNoiseHaveTheirMeanAndStd) {
     sum += e;
     sum2 += e * e;
     shm::Imu u{};
-    s.Imu(&u);
+    s.Imu(0, &u);
     gyro += u.gyro[1];
     acc2 += u.accel[2] * u.accel[2];
     EXPECT_EQ(u.gyro[0], 0.0);  // no noise asked on the rates
     shm::ForceTorque f{};
-    s.ForceTorque(&f);
+    s.ForceTorque(0, &f);
     f2 += f.force[0] * f.force[0];
     EXPECT_EQ(f.torque[2], 0.0);
   }

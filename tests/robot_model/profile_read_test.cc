@@ -28,7 +28,7 @@ std::string Error(const std::string& yaml) {
 TEST(ProfileRead, ErrorsNameTheFileLineKeyAndRange) {
   EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\nhands: 2\n"),
             "p.yaml:5: hands: unknown key (known: actuators, base, chains, contact, contact_file, feet, force_torque, "
-            "groups, imu, joint_file, model, self_collision, servo, sole_thickness, stand, walking)");
+            "groups, imu, joint_file, model, self_collision, sensor_file, servo, sole_thickness, stand, walking)");
   // a self-collision file that is not there, with the profile's line
   EXPECT_EQ(Error("model: a.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n"
                   "self_collision: none.yaml\n").substr(0, 40),

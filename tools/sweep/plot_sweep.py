@@ -4,7 +4,8 @@
     plot_sweep.py sweep.csv --plot CHECK PARAMETER OUT.png linear|log [--plot ...]
 
 One figure per --plot: CHECK's value (a column of sweep.csv: a check, real_time_factor,
-wall_time or sim_time) against PARAMETER, one line per combination of the other parameters;
+wall_time or sim_time) against PARAMETER, one line per combination of the other parameters (those
+zipped with it, --zip P1|P2|..., left out: they vary along the same line);
 a variant whose check failed is drawn with a red cross, one that gave no value (it failed to
 run, timed out, was cancelled) is listed under the axes. Exit 2 on bad input.
 """
@@ -33,6 +34,9 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("--plot", nargs=4, action="append", required=True,
                     metavar=("CHECK", "PARAMETER", "OUT", "SCALE"))
+    ap.add_argument("--zip", action="append", default=[], metavar="P1|P2|...",
+                    help="parameters varied together (a zip group, e.g. random draws): a plot "
+                         "against one of them does not split its lines by the others")
     a = ap.parse_args()
     try:
         with open(a.csv, newline="") as f:
@@ -51,7 +55,8 @@ def main():
         if param not in params:
             print(f"plot_sweep.py: no parameter '{param}' (have {', '.join(params)})", file=sys.stderr)
             return 2
-        others = [p for p in params if p != param]
+        group = next((z.split("|") for z in a.zip if param in z.split("|")), [param])
+        others = [p for p in params if p not in group]
         series, missing = {}, []
         for r in rows:
             x, y = number(r[param]), number(r.get(check, ""))

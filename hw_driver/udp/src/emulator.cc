@@ -96,7 +96,8 @@ bool Emulator::SetUp(int* exit_code) {
     return false;
   }
   ApplyGapToModel(gap_, dofs, m_, d_);
-  sensor_gap_ = std::make_unique<SensorGap>(gap_, o_.seed + 0x5eed);
+  sensor_gap_ = std::make_unique<SensorGap>(gap_, robot_.imus.size(), robot_.forces.size(),
+                                            o_.seed + 0x5eed);
   if (!scene_->Reset(o_.keyframe, &error)) {
     std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
     return false;

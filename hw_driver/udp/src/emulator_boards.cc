@@ -295,7 +295,7 @@ void Emulator::SendStates(double now) {
   sp.h.time_ns = t_ns;
   for (int i = 0; i < sp.h.count; ++i) {
     shm::ForceTorque f = sensors_.force[i];
-    sensor_gap_->ForceTorque(&f);
+    sensor_gap_->ForceTorque(i, &f);
     if (faults_.stuck & (1u << i)) {
       if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
       frozen_ |= 1u << i;
@@ -312,7 +312,7 @@ void Emulator::SendStates(double now) {
   for (int i = 0; i < sp.h.first; ++i) {
     const uint32_t bit = 1u << (8 + i);
     shm::Imu u = sensors_.imu[i];
-    sensor_gap_->Imu(&u);
+    sensor_gap_->Imu(i, &u);
     if (faults_.stuck & bit) {
       if (!(frozen_ & bit)) frozen_imu_[i] = u;
       frozen_ |= bit;

@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
                  "G,A: white noise std on each IMU rate [rad/s] and acceleration [m/s^2] axis");
   app.add_option("--ft-noise", o.gap.ft_noise,
                  "F,T: white noise std on each F/T force [N] and torque [N m] axis");
+  app.add_option("--ft-bias", o.gap.ft_bias,
+                 "F,T or FX,FY,FZ,TX,TY,TZ: offset added to every F/T sensor's force [N] and "
+                 "torque [N m] (in the sensor's frame)");
   app.add_option("--log", o.log_path,
                  "CSV log: robot time, base height and tilt, servos, faults, base x, y and yaw");
   app.add_option("--log-every", o.log_every, "cycles between log rows")->capture_default_str()

@@ -88,7 +88,8 @@ bool ParsePair(const char* option, const std::string& s, bool six, bool signed_o
   for (double x : v) ok = ok && (signed_ok || x >= 0);
   if (!ok) {
     *error = std::string(option) + " " + s + ": expected " +
-             (six ? "G,A or GX,GY,GZ,AX,AY,AZ (numbers, rad/s and m/s^2)"
+             (six ? (std::string(option) == "--ft-bias" ? "F,T or FX,FY,FZ,TX,TY,TZ (numbers, N and N m)"
+                                                        : "G,A or GX,GY,GZ,AX,AY,AZ (numbers, rad/s and m/s^2)")
                   : "two non-negative numbers separated by a comma");
     return false;
   }
@@ -141,7 +142,8 @@ bool ParseGap(const GapOptions& o, const std::vector<std::string>& names, double
          ParsePair("--imu-noise", o.imu_noise, false, false, &gap->gyro_noise, &gap->accel_noise,
                    error) &&
          ParsePair("--ft-noise", o.ft_noise, false, false, &gap->force_noise, &gap->torque_noise,
-                   error);
+                   error) &&
+         ParsePair("--ft-bias", o.ft_bias, true, true, gap->force_bias, gap->torque_bias, error);
 }
 
 void ApplyGapToModel(const PlantGap& gap, const std::vector<int>& dof_adr, mjModel* m,
@@ -177,6 +179,9 @@ std::string DescribeGap(const PlantGap& gap) {
   if (imu_bias) s << "IMU bias; ";
   if (gap.gyro_noise > 0 || gap.accel_noise > 0)
     s << "IMU noise " << gap.gyro_noise << " rad/s, " << gap.accel_noise << " m/s^2; ";
+  bool ft_bias = false;
+  for (int k = 0; k < 3; ++k) ft_bias |= gap.force_bias[k] != 0 || gap.torque_bias[k] != 0;
+  if (ft_bias) s << "F/T bias; ";
   if (gap.force_noise > 0 || gap.torque_noise > 0)
     s << "F/T noise " << gap.force_noise << " N, " << gap.torque_noise << " N m; ";
   std::string text = s.str();
@@ -200,29 +205,29 @@ void CommandDelay::Override(int j, const shm::JointCommand& c) {
   for (shm::CommandBlock& b : ring_) b.joint[j] = c;
 }
 
-void SensorGap::Imu(shm::Imu* u) {
-  for (int k = 0; k < 3; ++k) {
-    u->gyro[k] += gap_.gyro_bias[k] + Noise(gap_.gyro_noise);
-    u->accel[k] += gap_.accel_bias[k] + Noise(gap_.accel_noise);
-  }
+namespace {
+
+model::SensorParams GapSensors(const PlantGap& gap, size_t imus, size_t forces) {
+  model::SensorParams p;
+  for (const JointGap& g : gap.joint) p.encoders.push_back({"", g.bias, gap.encoder_noise, ""});
+  p.imus.resize(imus);
+  for (model::SensorParams::Imu& u : p.imus)
+    for (int k = 0; k < 3; ++k) {
+      u.gyro_bias[k] = gap.gyro_bias[k], u.gyro_noise[k] = gap.gyro_noise;
+      u.accel_bias[k] = gap.accel_bias[k], u.accel_noise[k] = gap.accel_noise;
+    }
+  p.forces.resize(forces);
+  for (model::SensorParams::ForceTorque& f : p.forces)
+    for (int k = 0; k < 3; ++k) {
+      f.noise[k] = gap.force_noise, f.noise[3 + k] = gap.torque_noise;
+      f.bias[k] = gap.force_bias[k], f.bias[3 + k] = gap.torque_bias[k];
+    }
+  return p;
 }
 
-void SensorGap::ForceTorque(shm::ForceTorque* f) {
-  for (int k = 0; k < 3; ++k) {
-    f->force[k] += Noise(gap_.force_noise);
-    f->torque[k] += Noise(gap_.torque_noise);
-  }
-}
+}  // namespace
 
-void SensorGap::ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const {
-  for (int j = 0; j < b->njoint && j < static_cast<int>(gap_.joint.size()); ++j) {
-    const double bias = gap_.joint[j].bias;
-    shm::JointCommand& c = b->joint[j];
-    if (bias == 0 || c.mode != shm::JointMode::kPosition) continue;
-    const bool inside = c.q_ref >= q_min[j] && c.q_ref <= q_max[j];
-    c.q_ref -= bias;
-    if (inside) c.q_ref = std::fmin(q_max[j], std::fmax(q_min[j], c.q_ref));
-  }
-}
+SensorGap::SensorGap(const PlantGap& gap, size_t imus, size_t forces, uint64_t seed)
+    : model_(GapSensors(gap, imus, forces), seed) {}
 
 }  // namespace ohrp::hw::udp

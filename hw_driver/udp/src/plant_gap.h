@@ -17,15 +17,16 @@
 //   --imu-bias G,A | GX,GY,GZ,AX,AY,AZ    added to the IMUs' rates [rad/s] and specific forces [m/s^2]
 //   --imu-noise G,A                       white noise std on each rate / acceleration axis
 //   --ft-noise F,T                        white noise std on each force [N] / torque [N m] axis
+//   --ft-bias F,T | FX,FY,FZ,TX,TY,TZ     added to every F/T sensor's force [N] / torque [N m]
 // JOINT is a joint's name or index; later entries override earlier ones (all=..., then one joint).
 // Velocities, torques and passive joints are reported as simulated.
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <vector>
 
+#include "robot_model/sensor_params.h"
 #include "shm_bridge/layout.h"
 
 struct mjModel_;
@@ -42,7 +43,7 @@ struct GapOptions {
   std::vector<std::string> friction, armature, encoder_bias;
   double delay_ms = 0;
   double encoder_noise = 0;
-  std::string imu_bias, imu_noise, ft_noise;
+  std::string imu_bias, imu_noise, ft_noise, ft_bias;
 };
 
 struct JointGap {
@@ -57,6 +58,7 @@ struct PlantGap {
   double encoder_noise = 0;
   double gyro_bias[3] = {}, accel_bias[3] = {};
   double gyro_noise = 0, accel_noise = 0, force_noise = 0, torque_noise = 0;
+  double force_bias[3] = {}, torque_bias[3] = {};
 };
 
 // Parses the options for a robot with these joints and board cycle `period` [s]. Returns false
@@ -90,25 +92,24 @@ class CommandDelay {
   size_t head_ = 0;
 };
 
-// The sensors as the robot's give them: bias and white noise (no allocation).
+// The sensors as the robot's give them: bias and white noise through the one sensor model
+// (robot_model/sensor_params.h, which sim_host's --sensor-file uses too); no allocation after
+// construction.
 class SensorGap {
  public:
-  SensorGap(const PlantGap& gap, uint64_t seed) : gap_(gap), rng_(seed) {}
-  double Encoder(int j, double q) {
-    const JointGap& g = gap_.joint[j];
-    return q + g.bias + (gap_.encoder_noise > 0 ? gap_.encoder_noise * normal_(rng_) : 0.0);
-  }
-  void Imu(shm::Imu* u);
-  void ForceTorque(shm::ForceTorque* f);
+  // `imus`, `forces`: how many the robot has (each gets the gap's IMU / F/T bias and noise)
+  SensorGap(const PlantGap& gap, size_t imus, size_t forces, uint64_t seed);
+  double Encoder(int j, double q) { return model_.Encoder(j, q); }
+  void Imu(int u, shm::Imu* imu) { model_.Imu(u, imu->gyro, imu->accel); }
+  void ForceTorque(int f, shm::ForceTorque* ft) { model_.ForceTorque(f, ft->force, ft->torque); }
   // the references the boards' PD acts on: a position reference in the encoder's frame becomes
   // one in the joint's (bias taken out; kept within [q_min, q_max] when it was)
-  void ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const;
+  void ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const {
+    model_.ToJointFrame(q_min, q_max, b);
+  }
 
  private:
-  double Noise(double std) { return std > 0 ? std * normal_(rng_) : 0.0; }
-  const PlantGap& gap_;
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
+  model::SensorModel model_;
 };
 
 }  // namespace ohrp::hw::udp

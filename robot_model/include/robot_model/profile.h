@@ -69,6 +69,9 @@ struct RobotProfile {
   // `ohrp identify --joints --model` writes DIR/joints.yaml) sim_host applies when no
   // --joint-file is given, resolved against the profile's folder; "": none
   std::string joint_file;
+  // the sensors as identified (bias and noise: robot_model/sensor_params.h, as `ohrp identify
+  // --sensors` writes DIR/sensors.yaml) sim_host applies when no --sensor-file is given; "": none
+  std::string sensor_file;
   // the robot's self-collision file (ohrp_selfcollision --model PROFILE), resolved against the
   // profile's folder: a controller's default when the segment's model hash is its; "": none
   std::string self_collision_file;

@@ -184,7 +184,7 @@ class Reader {
   void Read(const YAML::Node& root, RobotProfile* p) const {
     Keys(root, "", {"model", "contact", "feet", "sole_thickness", "force_torque", "imu", "stand",
                     "chains", "groups", "walking", "base", "actuators", "servo", "contact_file",
-                    "joint_file", "self_collision"});
+                    "joint_file", "sensor_file", "self_collision"});
     if (!root["model"]) Fail(root, "model", "missing (the robot's MJCF, VRML or URDF file)");
     const std::string model = Text(root["model"], "model");
     const std::filesystem::path base = std::filesystem::path(file_).parent_path();
@@ -225,6 +225,9 @@ class Reader {
     if (root["joint_file"])
       p->joint_file = FileBeside(root["joint_file"], "joint_file", base,
                                  "the joints as identified, as ohrp identify --joints writes DIR/joints.yaml");
+    if (root["sensor_file"])
+      p->sensor_file = FileBeside(root["sensor_file"], "sensor_file", base,
+                                  "the sensors as identified, as ohrp identify --sensors writes DIR/sensors.yaml");
     if (root["self_collision"])
       p->self_collision_file = FileBeside(root["self_collision"], "self_collision", base,
                                           "the self-collision file, as ohrp_selfcollision writes it");

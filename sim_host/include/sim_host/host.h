@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "robot_model/joint_params.h"
+#include "robot_model/sensor_params.h"
 #include "robot_model/output_file.h"
 
 #include "shm_bridge/controller_loss.h"
@@ -72,6 +73,9 @@ struct HostOptions {
   std::string contact_file;        // where feet.params came from (--contact-file), or empty
   std::string joint_file;          // the joints as identified (--joint-file), or empty
   std::vector<model::JointParams> joints;  // its values, applied to the model at set-up
+  std::string sensor_file;         // the sensors as identified (--sensor-file), or empty
+  model::SensorParams sensors;     // its values (by name), applied to the sensors' readings
+  uint64_t sensor_seed = 1;        // the seed of their noise (--sensor-seed)
   std::vector<Perturbation> pushes; // external pushes on the base (none by default)
   double duration = 0;             // simulated time to run [s]; 0: until Ctrl-C
   bool realtime = false;           // pace cycles to the wall clock

@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
                "the recording is a data log of the robot standing still (hw_driver --log, sim_host "
                "--log while posture holds): the IMUs' gyro bias and noise, accelerometer noise and "
                "bias, the F/T sensors' and the encoders' noise, with standard errors "
-               "(identify/sensors.h); writes DIR/sensors.json");
+               "(identify/sensors.h); writes DIR/sensors.json and DIR/sensors.yaml (sim_host --sensor-file)");
   app.add_option("--from", sensor_options.from, "--sensors: [s] the still window's start (log time)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--to", sensor_options.to, "--sensors: [s] the still window's end (log time)")
@@ -103,7 +103,10 @@ int main(int argc, char** argv) {
   app.add_option("--model", joint_model.model,
                  "--joints: the model the excitation ran on (MJCF, VRML, URDF or robot profile): "
                  "also writes DIR/joints.yaml, the joints' armature (the identified inertia less "
-                 "the links'), damping and frictionloss for sim_host --joint-file")
+                 "the links'), damping and frictionloss for sim_host --joint-file; --sensors: the "
+                 "encoders' biases (the servos' steady torques against the model's gravity torques) "
+                 "and the F/T sensors' offsets (against the static load of what hangs below them), "
+                 "the robot on the rig (e.g. mjcf/hrp1s/scene_hung.xml --keyframe rig)")
       ->check(CLI::ExistingFile);
   app.add_option("--keyframe", joint_model.keyframe,
                  "--joints --model: the keyframe the other joints held (default: the model's "
@@ -115,13 +118,13 @@ int main(int argc, char** argv) {
       "without a push, no oscillation in the recording). docs/identify.md has the method.");
   if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
   if (sensors) {
-    if (joints || !joint_model.model.empty() || sensor_options.to <= sensor_options.from) {
-      std::fprintf(stderr, "ohrp_identify: --sensors goes without --joints/--model, and --to after --from\n");
+    if (joints || sensor_options.to <= sensor_options.from) {
+      std::fprintf(stderr, "ohrp_identify: --sensors goes without --joints, and --to after --from\n");
       return 2;
     }
     std::error_code made;
     fs::create_directories(o.out_dir, made);
-    return ohrp::identify::IdentifySensors(o.recording, o.out_dir, sensor_options);
+    return ohrp::identify::IdentifySensors(o.recording, o.out_dir, sensor_options, joint_model);
   }
   if (joints) {
     std::error_code made;

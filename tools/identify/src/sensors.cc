@@ -150,11 +150,14 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
   for (const std::string& j : out->joints) {
     const auto& q = t.col["q_" + j];
     out->encoder_noise.push_back(NoiseStd(q, o.width));
+    out->joint_mean.push_back(MeanOf(q).value);
+    out->joint_tau.push_back(t.Has("tau_" + j) ? MeanOf(t.col["tau_" + j]) : Stat{NAN, NAN});
     if (!Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
   }
   for (const std::string& f : out->forces)
     for (const char* a : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"})
-      out->ft_noise.push_back(NoiseStd(t.col[f + a], o.width));
+      out->ft_noise.push_back(NoiseStd(t.col[f + a], o.width)),
+          out->ft_mean.push_back(MeanOf(t.col[f + a]));
   for (ImuEstimate& u : out->imus) {
     const char* axis = "xyz";
     double m[3];
@@ -194,10 +197,13 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
   return true;
 }
 
-int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o) {
+int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o,
+                    const JointModel& model) {
   SensorEstimates s;
   std::string error;
-  if (!EstimateSensors(log, o, &s, &error)) {
+  if (!EstimateSensors(log, o, &s, &error) ||
+      (!model.model.empty() && (!EstimateEncoderBias(model, o.min_gravity_stiffness, &s, &error) ||
+                                !EstimateForceBias(model, o.gravity, &s, &error)))) {
     std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
     return 2;
   }
@@ -240,16 +246,42 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
       jf[std::string("noise_") + ft[k]] = J(e);
     }
     std::printf("  [N, N m]\n");
+    if (!s.ft_bias.empty()) {
+      std::printf("F/T %s offset (mean - the model's static load of its subtree):", s.forces[f].c_str());
+      for (int k = 0; k < 6; ++k) {
+        const Stat& e = s.ft_bias[6 * f + k];
+        std::printf(" %s %.4g+-%.1g", ft[k], e.value, e.se);
+        jf[std::string("bias_") + ft[k]] = J(e);
+        jf[std::string("static_load_") + ft[k]] = s.ft_expected[6 * f + k];
+      }
+      std::printf("  [N, N m]\n");
+    }
     j["force_torque"].push_back(jf);
   }
-  if (!s.joints.empty()) std::printf("%-18s %12s %10s  (encoder noise [rad])\n", "joint", "noise", "+-");
-  for (size_t k = 0; k < s.joints.size(); ++k) {
-    std::printf("%-18s %12.4g %10.2g\n", s.joints[k].c_str(), s.encoder_noise[k].value,
-                s.encoder_noise[k].se);
-    j["joints"].push_back({{"joint", s.joints[k]}, {"encoder_noise", J(s.encoder_noise[k])},
-                           {"encoder_bias", "not observable from a still log"}});
-  }
+  const bool biased = !s.encoder_bias.empty();
   if (!s.joints.empty())
+    std::printf("%-18s %12s %10s %12s %10s %12s  (encoder noise, bias [rad]; gravity stiffness "
+                "[N m/rad])\n", "joint", "noise", "+-", "bias", "+-", "stiffness");
+  for (size_t k = 0; k < s.joints.size(); ++k) {
+    std::printf("%-18s %12.4g %10.2g", s.joints[k].c_str(), s.encoder_noise[k].value,
+                s.encoder_noise[k].se);
+    nlohmann::json jj{{"joint", s.joints[k]}, {"encoder_noise", J(s.encoder_noise[k])}};
+    if (biased && s.encoder_observable[k]) {
+      std::printf(" %12.4g %10.2g %12.4g\n", s.encoder_bias[k].value, s.encoder_bias[k].se,
+                  s.gravity_stiffness[k]);
+      jj["encoder_bias"] = J(s.encoder_bias[k]);
+      jj["gravity_stiffness"] = s.gravity_stiffness[k];
+    } else if (biased) {
+      std::printf(" %23s %12.4g\n", "not observable", s.gravity_stiffness[k]);
+      jj["encoder_bias"] = "not observable: gravity stiffness below the threshold";
+      jj["gravity_stiffness"] = s.gravity_stiffness[k];
+    } else {
+      std::printf("\n");
+      jj["encoder_bias"] = "not observable from a still log";
+    }
+    j["joints"].push_back(jj);
+  }
+  if (!s.joints.empty() && !biased)
     std::printf("(encoder bias: not observable from a still log: a held joint reads q + bias and "
                 "nothing in the log tells q)\n");
   const std::string path = out_dir + "/sensors.json";
@@ -259,7 +291,12 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
     std::fprintf(stderr, "ohrp_identify: cannot write %s\n", path.c_str());
     return 2;
   }
-  std::printf("(%s)\n", path.c_str());
+  const std::string yaml = out_dir + "/sensors.yaml";
+  if (!WriteSensorFile(s, log, yaml, &error)) {
+    std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
+    return 2;
+  }
+  std::printf("(%s; %s for sim_host --sensor-file)\n", path.c_str(), yaml.c_str());
   return 0;
 }
 

@@ -59,6 +59,7 @@ bool LoadSweepFolder(const std::string& out_dir, SweepSpec* out, std::string* er
       Parameter param;
       param.key = p.at("key").get<std::string>();
       param.log_scale = p.value("log_scale", false);
+      param.draw = p.value("draw", std::string());
       for (const auto& v : p.at("values")) param.values.push_back(ValueOf(v.get<std::string>()));
       s.parameters.push_back(param);
     }

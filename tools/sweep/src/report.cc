@@ -158,6 +158,21 @@ bool WriteReport(const SweepSpec& spec, const std::vector<VariantResult>& result
     const std::string file = (fs::path(out_dir) / ("plot_" + Slug(p.check) + "_vs_" + Slug(p.against) + ".png")).string();
     argv.insert(argv.end(), {"--plot", p.check, p.against, file, log_scale ? "log" : "linear"});
   }
+  // the zip groups (parameters whose value index is the same in every variant): a plot against one
+  // of them draws one line per combination of the parameters outside its group
+  const size_t np = spec.parameters.size();
+  std::vector<bool> grouped(np, false);
+  for (size_t a = 0; a < np; ++a) {
+    if (grouped[a]) continue;
+    std::string group = spec.parameters[a].key;
+    for (size_t b = a + 1; b < np; ++b) {
+      bool same = spec.parameters[a].values.size() == spec.parameters[b].values.size();
+      for (size_t v = 0; v < spec.variants.size() && same; ++v)
+        same = spec.variants[v].value_index[a] == spec.variants[v].value_index[b];
+      if (same && spec.variants.size() > 1) grouped[b] = true, group += "|" + spec.parameters[b].key;
+    }
+    if (group != spec.parameters[a].key) argv.insert(argv.end(), {"--zip", group});
+  }
   // an argument vector, no shell (tool_process/run_command.h); the file is the last attempt's
   const std::string plot_stderr = out_dir + "/plot.stderr";
   fs::remove(plot_stderr);

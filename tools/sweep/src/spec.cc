@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "runner/scenario.h"
+#include "draw.h"
 #include "keys.h"
 #include "sweep/sweep.h"
 #include "yaml_read.h"  // the runner's typed reads (ReadNumber, ReadText, ...)
@@ -27,7 +28,7 @@ using runner::ReadText;
 
 const std::set<std::string> kTopKeys = {"name", "scenario", "time_limit", "set", "parameters",
                                         "plots"};
-const std::set<std::string> kParameterKeys = {"key", "values", "range", "zip"};
+const std::set<std::string> kParameterKeys = {"key", "values", "range", "draw", "zip"};
 const std::set<std::string> kRangeKeys = {"from", "to", "steps", "scale"};
 const std::set<std::string> kPlotKeys = {"check", "against"};
 // figures of every run that a plot may use besides the checks
@@ -80,10 +81,12 @@ bool ReadParameter(const YAML::Node& n, const std::string& path, const std::stri
     *error = AtKey(path, n, "zip") + where + "a zip group cannot hold another";
     return false;
   }
-  if (!!n["values"] == !!n["range"]) {
-    *error = At(path, n) + where + p->key + ": give either 'values' (a list) or 'range' ({from, to, steps, scale})";
+  if (!!n["values"] + !!n["range"] + !!n["draw"] != 1) {
+    *error = At(path, n) + where + p->key + ": give one of 'values' (a list), 'range' ({from, to, "
+             "steps, scale}) or 'draw' ({distribution, ..., n, seed})";
     return false;
   }
+  if (n["draw"]) return ReadDraw(n["draw"], path, where, p, error);
   if (n["values"]) {
     const YAML::Node list = n["values"];
     if (!list.IsSequence() || list.size() == 0) {

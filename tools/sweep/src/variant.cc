@@ -79,6 +79,7 @@ bool Prepare(const SweepSpec& spec, const std::string& out_dir, std::string* err
     nlohmann::json values = nlohmann::json::array();
     for (const auto& v : p.values) values.push_back(v.text);
     j["parameters"].push_back({{"key", p.key}, {"values", values}, {"log_scale", p.log_scale}});
+    if (!p.draw.empty()) j["parameters"].back()["draw"] = p.draw;
   }
   j["variants"] = spec.variants.size();
   j["plots"] = nlohmann::json::array();

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "identify/joints.h"
+#include "robot_model/sensor_params.h"
 
 namespace ohrp::identify {
 
@@ -42,6 +43,7 @@ struct SensorOptions {
   double joint_still = 2e-3;    // [rad] tolerated slow motion of a joint
   double gyro_still = 5e-3;     // [rad/s]
   double accel_still = 0.05;    // [m/s^2]
+  double min_gravity_stiffness = 2.0;  // [N m/rad] --model: below it an encoder bias is not observable
 };
 
 struct ImuEstimate {
@@ -58,6 +60,16 @@ struct SensorEstimates {
   std::vector<std::string> joints, forces;
   std::vector<Stat> encoder_noise;  // per joint [rad]
   std::vector<Stat> ft_noise;       // per F/T sensor, 6 axes [N, N m]
+  std::vector<double> joint_mean;   // per joint, its mean position [rad]
+  std::vector<Stat> joint_tau;      // per joint, its mean torque (tau_J; value NaN without it)
+  // with a model (EstimateEncoderBias): per joint the bias, its gravity stiffness, observable
+  std::vector<Stat> encoder_bias;
+  std::vector<double> gravity_stiffness;  // [N m/rad] -dG_j/dq_j at the posture
+  std::vector<bool> encoder_observable;
+  std::vector<Stat> ft_mean;        // per F/T sensor, 6 axes: the mean reading
+  // with a model (EstimateForceBias): the static load of each sensor's subtree and the offset
+  std::vector<double> ft_expected;
+  std::vector<Stat> ft_bias;
   std::vector<ImuEstimate> imus;
 };
 
@@ -67,7 +79,30 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
                      std::string* error);
 
 // ohrp identify --sensors: the table on stdout, OUT_DIR/sensors.json. Exit code 0 or 2.
-int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o);
+// The estimates as the simulator's sensor file (robot_model/sensor_params.h): the noise of every
+// channel, the gyro bias, the accelerometer bias when the orientation was logged (else 0), the
+// encoder and F/T bias 0 (not identified); each entry's standard errors as its note.
+model::SensorParams SensorFileOf(const SensorEstimates& s);
+bool WriteSensorFile(const SensorEstimates& s, const std::string& log, const std::string& path,
+                     std::string* error);
+
+// The F/T offsets (`ft_bias`) of a log whose F/T sensors' subtrees hang free (the rig), against
+// the model's static load at the logged joints' means (the rest of the posture the keyframe's):
+// sensors_ft_bias.cc has the closed form. False with `*error` when the model lacks a joint or
+// sensor site, or when a subtree touches something at that posture (a foot on the floor).
+bool EstimateForceBias(const JointModel& model, double gravity, SensorEstimates* s,
+                       std::string* error);
+
+// The encoder biases of a still log of the robot on the rig (its base fixed, nothing touching),
+// from the servos' steady torques against the model's gravity torques (sensors_encoder_bias.cc
+// has the closed form). Joints whose gravity stiffness is below `min_stiffness` [N m/rad] are not
+// observable (left out, said). False with `*error` without torque columns or model joints.
+bool EstimateEncoderBias(const JointModel& model, double min_stiffness, SensorEstimates* s,
+                         std::string* error);
+
+// `model`: when given (--model), the F/T offsets too (EstimateForceBias)
+int IdentifySensors(const std::string& log, const std::string& out_dir, const SensorOptions& o,
+                    const JointModel& model = {});
 
 // The actuator's bandwidth from a chirp on the reference: per window of two of the reference's
 // periods (between its upward crossings of its mean), a sinusoid fitted to ref and to q; the

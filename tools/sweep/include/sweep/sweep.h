@@ -49,6 +49,7 @@ struct Parameter {
   std::string key;            // path in the scenario: a.b, list[2].c
   std::vector<Value> values;
   bool log_scale = false;     // given as a log range (the plots use a log axis)
+  std::string draw;           // drawn at random (draw: ...): the distribution, n and seed; "" listed
   int line = 0;               // where the sweep file gives it
 };
 
