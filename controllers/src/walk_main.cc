@@ -84,6 +84,14 @@ int main(int argc, char** argv) {
   app.add_option("--socket", o.socket,
                  "take the same live commands on a local stream socket at this path (one client at "
                  "a time; one reply line per command: 'ok: ...' or 'error: ...')");
+  app.add_option("--live-record", o.live_record,
+                 "with --socket / --listen: write each live command as the cycle took it, 'T LINE' "
+                 "a line (T the cycle's time [s]; a goal_now as its goal_at in the plan frame), "
+                 "when the walk ends (for --live-replay)");
+  app.add_option("--live-replay", o.live_replay,
+                 "play a --live-record's commands back, each at the cycle it was taken (a "
+                 "hand-driven run as a scenario; the cycle plans them itself: for lock-step runs)")
+      ->check(CLI::ExistingFile);
   bool stepping = false;
   app.add_flag("--stepping", stepping,
                "experimental: move a swing foot's landing where the measured capture point needs "

@@ -12,6 +12,7 @@ namespace ohrp::controllers {
 
 void WalkController::on_close() {
   if (channel_) channel_->Close();  // no more commands; its counts stay for the report
+  WriteLiveRecord();
   if (walk_options_.log_file.empty()) return;
   std::string text =
       "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
