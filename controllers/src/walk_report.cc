@@ -101,6 +101,9 @@ void WalkController::report(std::ostream& out) const {
   if (channel_) {
     std::snprintf(commands, sizeof commands, "%d commands (live: %d received, %d refused)",
                   w.commands_done, channel_->received(), channel_->refused());
+  } else if (!replay_.empty()) {
+    std::snprintf(commands, sizeof commands, "%d commands (--live-replay: %d recorded)", w.commands_done,
+                  static_cast<int>(replay_.size()));
   } else {
     std::snprintf(commands, sizeof commands, "%d of %d commands", w.commands_done,
                   static_cast<int>(chunks_.size()));

@@ -93,6 +93,7 @@ def main():
     ap.add_argument("--build", default=os.path.join(SOURCE, "build"), help="the build folder (bin/ in it)")
     ap.add_argument("--runs", type=int, default=3, help="runs of each kind (alternating)")
     ap.add_argument("--seconds", type=float, default=12, help="simulated seconds of each run")
+    ap.add_argument("--keep", action="store_true", help="keep the runs' folders (printed)")
     a = ap.parse_args()
     bin_dir = os.path.join(a.build, "bin")
     for b in ("sim_host", "walk", "ohrp_view"):
@@ -121,7 +122,10 @@ def main():
               min(r["late"] for r in sel), max(r["late"] for r in sel)))
     print("with a page / without: %s" % ("%.2f" % (mean[True] / mean[False]) if mean[False] > 0 else
                                          "n/a (none late without)"))
-    shutil.rmtree(work, ignore_errors=True)
+    if a.keep:
+        print("the runs' folders: " + work)
+    else:
+        shutil.rmtree(work, ignore_errors=True)
     return 0
 
 
