@@ -78,9 +78,10 @@ int main(int argc, char** argv) {
       ->default_val(b.gains.k_dcm)->check(ohrp::cli::Plausible("rate"));
   app.add_flag("--listen", o.listen,
                "take live walk commands on stdin, one a line: a --command (goal, velocity, steps, "
-               "random; 'velocity VX VY WZ_DEG' without a duration walks until the next command) "
-               "or 'stop'; each replaces what is planned after the step under way; replies on "
-               "stderr (docs/walking.md)");
+               "random; 'velocity VX VY WZ_DEG' without a duration walks until the next command; "
+               "'goal_now X Y YAW_DEG' a goal from the feet as they are now, at most 5 m) or "
+               "'stop'; each replaces what is planned after the step under way; replies on stderr "
+               "(docs/walking.md)");
   app.add_option("--socket", o.socket,
                  "take the same live commands on a local stream socket at this path (one client at "
                  "a time; one reply line per command: 'ok: ...' or 'error: ...')");

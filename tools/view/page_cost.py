@@ -41,6 +41,24 @@ def stop(p, timeout=10):
             p.wait()
 
 
+def cpu_seconds(root):
+    """CPU time [s] of process `root` and its descendants (user + system, from /proc)"""
+    stats = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                f = open("/proc/%s/stat" % d).read().rsplit(")", 1)[1].split()
+                stats[int(d)] = (int(f[1]), (int(f[11]) + int(f[12])) / os.sysconf("SC_CLK_TCK"))
+            except (OSError, IndexError, ValueError):
+                pass
+    total, todo = 0.0, [root]
+    while todo:
+        p = todo.pop()
+        total += stats.get(p, (0, 0.0))[1]
+        todo += [c for c, (pp, _) in stats.items() if pp == p]
+    return total
+
+
 def one_run(bin_dir, seconds, page, work, index):
     out = os.path.join(work, "run%d_%s" % (index, "page" if page else "none"))
     os.makedirs(out)
@@ -79,13 +97,15 @@ def one_run(bin_dir, seconds, page, work, index):
         [os.path.join(bin_dir, "walk"), "--segment", segment, "--attach-timeout", "20",
          "--command", "velocity 0.2 0 0 %g" % (seconds - 2)],
         stdout=open(os.path.join(out, "walk.txt"), "w"), stderr=subprocess.STDOUT)
+    cpu = [cpu_seconds(p.pid) for p in procs]  # the viewer's and the browser's, before the walk
     sim.wait(seconds + 60)
+    cpu = [cpu_seconds(p.pid) - c for p, c in zip(procs, cpu)]
     stop(walk)
     for p in reversed(procs):
         stop(p)
     s = json.load(open(summary))
     return {"page": page, "late": s["late_commands"], "commands": s["commands"], "load": load,
-            "rtf": s.get("real_time_factor")}
+            "rtf": s.get("real_time_factor"), "cpu": cpu}
 
 
 def main():
@@ -111,9 +131,11 @@ def main():
     for i in range(2 * a.runs):
         r = one_run(bin_dir, a.seconds, i % 2 == 1, work, i)
         rows.append(r)
-        print("run %d %-9s late %5d of %6d commands (%.2f %%), load %.2f at the start, rtf %s"
+        print("run %d %-9s late %5d of %6d commands (%.2f %%), load %.2f at the start%s"
               % (i, "page" if r["page"] else "no page", r["late"], r["commands"],
-                 100.0 * r["late"] / max(1, r["commands"]), r["load"], r["rtf"]), flush=True)
+                 100.0 * r["late"] / max(1, r["commands"]), r["load"],
+                 "; CPU during the walk: viewer %.1f s, browser %.1f s" % tuple(r["cpu"]) if r["cpu"] else ""),
+              flush=True)
     mean = {}
     for page in (False, True):
         sel = [r for r in rows if r["page"] == page]
