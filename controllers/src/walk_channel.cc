@@ -34,7 +34,8 @@ void WalkChannel::Publish(const walking::FeetPose& feet, uint64_t version,
   have_stance_ = true;
 }
 
-WalkChannel::Got WalkChannel::Poll(uint64_t version, std::vector<walking::Footstep>* steps, double t) noexcept {
+WalkChannel::Got WalkChannel::Poll(uint64_t version, std::vector<walking::Footstep>* steps,
+                                   double t) noexcept {
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return Got::kNothing;
   const auto log = [&](const std::string& text) {
@@ -80,7 +81,8 @@ void WalkChannel::Line(const std::string& line, int reply) {
   const bool ok = stop || (verb == "goal_now" ? GoalNow(line, nullptr, nullptr, &error)
                                               : verb != "goal_at" && ParseWalkCommand(text, &c, &error) &&
                                                     c.kind != WalkCommand::Kind::kWait);
-  if (!ok && error.empty() && verb == "goal_at") error = "\"" + line + "\": goal_at is the walk's own (use goal_now)";
+  if (!ok && error.empty() && verb == "goal_at")
+    error = "\"" + line + "\": goal_at is the walk's own form (send goal_now or goal)";
   if (!ok && error.empty())
     error = "\"" + line + "\": wait is not a live command (send the next one when it is due)";
   {
@@ -145,8 +147,9 @@ void WalkChannel::Plan() {
                      " steps planned" + (note.empty() ? "" : "; " + note));
 }
 
-bool WalkChannel::PlanText(const std::string& text, const walking::FeetPose& feet, const LivePlanning& planning,
-                           std::vector<walking::Footstep>* steps, std::string* note, std::string* error) {
+bool WalkChannel::PlanText(const std::string& text, const walking::FeetPose& feet,
+                           const LivePlanning& planning, std::vector<walking::Footstep>* steps,
+                           std::string* note, std::string* error) {
   const std::string command = text.rfind("goal_at ", 0) == 0 ? GoalFrom(text, feet) : text;
   WalkCommand c;
   if (!ParseWalkCommand(command, &c, error) ||

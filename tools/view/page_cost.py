@@ -59,7 +59,7 @@ def cpu_seconds(root):
     return total
 
 
-def one_run(bin_dir, seconds, page, work, index):
+def one_run(bin_dir, seconds, page, work, index, viewer_args=(), query=""):
     out = os.path.join(work, "run%d_%s" % (index, "page" if page else "none"))
     os.makedirs(out)
     segment = "pagecost%d_%d" % (os.getpid(), index)
@@ -73,7 +73,8 @@ def one_run(bin_dir, seconds, page, work, index):
     viewer_out = os.path.join(out, "viewer.txt")
     if page:  # the viewer first, so that it watches the whole walk
         procs.append(subprocess.Popen(
-            [os.path.join(bin_dir, "ohrp_view"), segment, "--attach-timeout", "20", "--port", "0"],
+            [os.path.join(bin_dir, "ohrp_view"), segment, "--attach-timeout", "20", "--port", "0"] +
+            list(viewer_args),
             stdout=open(viewer_out, "w"), stderr=subprocess.STDOUT))
         url = []
 
@@ -89,7 +90,7 @@ def one_run(bin_dir, seconds, page, work, index):
         procs.append(subprocess.Popen(
             ["chromium", "--headless", "--no-sandbox", "--enable-unsafe-swiftshader",
              "--remote-debugging-port=0", "--no-first-run", "--user-data-dir=" + profile,
-             "--window-size=1280,720", url[0]],
+             "--window-size=1280,720", url[0] + query],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=dict(os.environ, TMPDIR=out)))
         time.sleep(3)  # the page loads and starts drawing
     load = os.getloadavg()[0]
@@ -113,6 +114,9 @@ def main():
     ap.add_argument("--build", default=os.path.join(SOURCE, "build"), help="the build folder (bin/ in it)")
     ap.add_argument("--runs", type=int, default=3, help="runs of each kind (alternating)")
     ap.add_argument("--seconds", type=float, default=12, help="simulated seconds of each run")
+    ap.add_argument("--viewer-arg", action="append", default=[],
+                    help="an option for ohrp_view (repeatable; e.g. --viewer-arg=--rate --viewer-arg=10)")
+    ap.add_argument("--query", default="", help="appended to the page's URL (e.g. '?fps=10')")
     ap.add_argument("--keep", action="store_true", help="keep the runs' folders (printed)")
     a = ap.parse_args()
     bin_dir = os.path.join(a.build, "bin")
@@ -129,7 +133,7 @@ def main():
     work = tempfile.mkdtemp(prefix="page_cost_")
     rows = []
     for i in range(2 * a.runs):
-        r = one_run(bin_dir, a.seconds, i % 2 == 1, work, i)
+        r = one_run(bin_dir, a.seconds, i % 2 == 1, work, i, a.viewer_arg, a.query)
         rows.append(r)
         print("run %d %-9s late %5d of %6d commands (%.2f %%), load %.2f at the start%s"
               % (i, "page" if r["page"] else "no page", r["late"], r["commands"],

@@ -195,7 +195,7 @@ let renderPending = false;
 function render() {
   if (renderPending) return;
   renderPending = true;
-  requestAnimationFrame(() => {
+  paceDraw(() => {  // pace.js: at most ?fps= draws a second
     renderPending = false;
     placeCamera();
     renderer.render(scene3, camera);
