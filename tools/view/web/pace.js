@@ -1,7 +1,7 @@
 // How often the 3D view is drawn (docs/view.md "The page's cost to a real-time run"): at most
 // ?fps= times a second (default 15; 1-60). Software rendering of the scene is most of what a
-// page costs the machine (a headless Chromium at 30 draws a second took 0.85 of a core, at 10
-// about 0.4), and on a two-core machine that time is taken from a real-time run. Loaded before
+// page costs the machine (a headless Chromium drawing 30 times a second took 0.85 of a core, 15
+// times 0.6), and on a two-core machine that time is taken from a real-time run. Loaded before
 // view.js, whose render() draws through paceDraw.
 'use strict';
 
