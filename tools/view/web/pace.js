@@ -1,6 +1,7 @@
 // How often the 3D view is drawn (docs/view.md "The page's cost to a real-time run"). Software
 // rendering of the scene is most of what a page costs the machine (a headless Chromium drawing
-// 30 times a second took 0.85 of a core, 15 times 0.65, 5 times 0.4), and on a two-core machine
+// 30 times a second took 0.85 of a core, 15 times 0.65, 5 times 0.4; a walk still had 1.3x the
+// late commands with a page drawing 5 times a second), and on a two-core machine
 // that time is taken from a real-time run. So a live page draws at most 5 times a second
 // (?fps=N for 1-60), and at up to 60 while the mouse moves the camera, drags or turns the wheel
 // (and 0.5 s after); a replay draws at up to 60. Loaded before view.js, whose render() draws
