@@ -78,12 +78,21 @@ int main(int argc, char** argv) {
       ->default_val(b.gains.k_dcm)->check(ohrp::cli::Plausible("rate"));
   app.add_flag("--listen", o.listen,
                "take live walk commands on stdin, one a line: a --command (goal, velocity, steps, "
-               "random; 'velocity VX VY WZ_DEG' without a duration walks until the next command) "
-               "or 'stop'; each replaces what is planned after the step under way; replies on "
-               "stderr (docs/walking.md)");
+               "random; 'velocity VX VY WZ_DEG' without a duration walks until the next command; "
+               "'goal_now X Y YAW_DEG' a goal from the feet as they are now, at most 5 m) or "
+               "'stop'; each replaces what is planned after the step under way; replies on stderr "
+               "(docs/walking.md)");
   app.add_option("--socket", o.socket,
                  "take the same live commands on a local stream socket at this path (one client at "
                  "a time; one reply line per command: 'ok: ...' or 'error: ...')");
+  app.add_option("--live-record", o.live_record,
+                 "with --socket / --listen: write each live command as the cycle took it, 'T LINE' "
+                 "a line (T the cycle's time [s]; a goal_now as its goal_at in the plan frame), "
+                 "when the walk ends (for --live-replay)");
+  app.add_option("--live-replay", o.live_replay,
+                 "play a --live-record's commands back, each at the cycle it was taken (a "
+                 "hand-driven run as a scenario; the cycle plans them itself: for lock-step runs)")
+      ->check(CLI::ExistingFile);
   bool stepping = false;
   app.add_flag("--stepping", stepping,
                "experimental: move a swing foot's landing where the measured capture point needs "

@@ -12,6 +12,7 @@ namespace ohrp::controllers {
 
 void WalkController::on_close() {
   if (channel_) channel_->Close();  // no more commands; its counts stay for the report
+  WriteLiveRecord();
   if (walk_options_.log_file.empty()) return;
   std::string text =
       "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
@@ -100,6 +101,9 @@ void WalkController::report(std::ostream& out) const {
   if (channel_) {
     std::snprintf(commands, sizeof commands, "%d commands (live: %d received, %d refused)",
                   w.commands_done, channel_->received(), channel_->refused());
+  } else if (!replay_.empty()) {
+    std::snprintf(commands, sizeof commands, "%d commands (--live-replay: %d recorded)", w.commands_done,
+                  static_cast<int>(replay_.size()));
   } else {
     std::snprintf(commands, sizeof commands, "%d of %d commands", w.commands_done,
                   static_cast<int>(chunks_.size()));

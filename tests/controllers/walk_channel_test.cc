@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -154,6 +155,45 @@ TEST(WalkChannel, TheSocketRepliesToEachCommandOneClientAtATime) {
   close(a);
   ch.Close();
   EXPECT_NE(access(path.c_str(), F_OK), 0);  // the socket file is removed
+}
+
+// goal_now: a goal from the feet as they are now (the viewer's click on the floor), planned from
+// the stance after the step under way; farther than kLiveGoalRange refused with the distance
+TEST(WalkChannel, AGoalFromTheFeetNowIsPlannedFromTheStanceAfterTheStep) {
+  const std::string path = ohrp::testing::ScratchPath("walk_goal", ".sock");
+  WalkChannel ch;
+  std::string error;
+  ASSERT_TRUE(ch.Open(-1, path, Planning(), &error)) << error;
+  const int a = Connect(path);
+  ASSERT_GE(a, 0);
+  // the feet now: turned 90 deg left about the origin; the step under way ends 0.2 m further on
+  walking::FeetPose now = Stance(0), after = Stance(0);
+  for (int f : {walking::kLeft, walking::kRight}) {
+    now.p[f] = Eigen::Vector3d(-Stance(0).p[f].y(), 0, 0);
+    now.yaw[f] = M_PI / 2;
+    after.p[f] = now.p[f] + Eigen::Vector3d(0, 0.2, 0);
+    after.yaw[f] = M_PI / 2;
+  }
+  ch.Publish(after, 1, now);
+  const std::string line = "goal_now 0.6 0 -90\n";
+  ASSERT_EQ(write(a, line.data(), line.size()), static_cast<ssize_t>(line.size()));
+  const std::string reply = ReadLine(a);
+  EXPECT_EQ(reply.rfind("ok: \"goal_now 0.6 0 -90\": ", 0), 0u) << reply;
+  std::vector<walking::Footstep> steps;
+  ASSERT_EQ(Wait(&ch, after, 1, &steps), WalkChannel::Got::kSteps);
+  walking::FeetPose end = after;
+  for (const auto& s : steps) end = walking::After(end, s);
+  // 0.6 m ahead of the feet now (along +y), facing +x again
+  const walking::Frame2 m = walking::MidFrame(end);
+  EXPECT_NEAR(m.p.x(), 0.0, 1e-9);
+  EXPECT_NEAR(m.p.y(), 0.6, 1e-9);
+  EXPECT_NEAR(m.yaw, 0.0, 1e-9);
+  const std::string far = "goal_now 4 3.1 0\n";
+  ASSERT_EQ(write(a, far.data(), far.size()), static_cast<ssize_t>(far.size()));
+  EXPECT_EQ(ReadLine(a), "error: \"goal_now 4 3.1 0\": 5.06 m from the feet, farther than the 5 m a "
+                         "live goal may be (choose a nearer point)");
+  close(a);
+  ch.Close();
 }
 
 TEST(WalkChannel, APathThatIsNotASocketIsRefused) {

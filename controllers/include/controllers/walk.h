@@ -101,6 +101,8 @@ struct WalkOptions {
                                  // most to rest on one plane (walking/terrain.h)
   bool listen = false;           // live commands on stdin (walk_channel.h)
   std::string socket;            // live commands on this local socket ("": none)
+  std::string live_record;       // each live command as applied, "T LINE" a line ("": none)
+  std::string live_replay;       // a live record played back at its cycles ("": none)
   std::string log_file;          // CSV log of the walk (plan frame), empty: none
   double log_seconds = 900;      // [s] of log kept in memory at most
 };
@@ -297,6 +299,16 @@ class WalkController : public BalanceController {
   std::vector<walking::Footstep> live_steps_;  // swapped with the channel's plans
   uint64_t live_version_ = 0;                  // of the stance a live command starts from
   int live_started_ = -2;                      // the gait's step under way at the last publish
+  struct Replayed {
+    double t;
+    std::string text;
+  };
+  std::vector<Replayed> replay_;  // --live-replay: the recorded commands, in time order
+  size_t replay_next_ = 0;        // the next one due
+  LivePlanning replay_planning_;
+  void ReplayCycle() noexcept;
+  void WriteLiveRecord();
+  void TakeLive(bool stop) noexcept;
   walking::StepLimits recovery_limits_;  // the stepping strategy's: as far as a leg reaches
   int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
   walking::Footstep adjust_planned_;  // its landing as planned

@@ -69,18 +69,18 @@ function setupControl(hello) {
         '<button id="c_step">step</button><button id="c_reset">reset</button> ' +
         'push <select id="push_body">' + bodies.map((b) => '<option>' + b + '</option>').join('') +
         '</select> dir <input id="push_dir" value="0" size="3"> deg, <input id="push_impulse" value="10" ' +
-        'size="3"> N s <button id="c_push">push</button> ';
+        'size="3"> N s <button id="c_push">push</button> (or drag on a body) ';
     }
     if (can.walk) {
       html += 'walk <button id="w_left">&#8630;</button><button id="w_forward">&#8593;</button>' +
         '<button id="w_back">&#8595;</button><button id="w_right">&#8631;</button>' +
-        '<button id="w_stop">stop</button> (keys: arrows / WASD, space stops; a game pad) ';
+        '<button id="w_stop">stop</button> (keys: arrows / WASD, space stops; a game pad; ' +
+        'Ctrl-click the floor: a goal, Ctrl-drag: its heading) ';
     }
     panel.innerHTML = html + '<span id="control_reply"></span>';
     if (can.sim) {
       for (const c of ['pause', 'resume', 'step', 'reset']) $('c_' + c).onclick = () => sendControl('sim', c);
       $('c_push').onclick = () => sendControl('sim', pushLine());
-      pickBodies();
     }
     if (can.walk) {
       for (const w of Object.keys(kWalk)) $('w_' + w).onclick = () => walk(w);
@@ -93,28 +93,8 @@ function setupControl(hello) {
       });
       setInterval(pollGamepad, 100);
     }
+    setupWorkbench(can);  // the mouse in the 3D view: drag a body to push, Ctrl-click a goal
     stateEl.dataset.control = 'ready';
-  });
-}
-
-// a click (not a drag) on the robot picks the body under the mouse for the push
-function pickBodies() {
-  let down = null;
-  canvas.addEventListener('mousedown', (e) => { down = {x: e.clientX, y: e.clientY}; });
-  canvas.addEventListener('click', (e) => {
-    if (!down || Math.abs(e.clientX - down.x) + Math.abs(e.clientY - down.y) > 3) return;
-    const r = canvas.getBoundingClientRect();
-    const ndc = new THREE.Vector2(2 * (e.clientX - r.left) / r.width - 1, 1 - 2 * (e.clientY - r.top) / r.height);
-    const ray = new THREE.Raycaster();
-    placeCamera();
-    camera.updateMatrixWorld();
-    ray.setFromCamera(ndc, camera);
-    const hit = ray.intersectObjects(moving.filter((o) => o), true)[0];
-    if (!hit) return;
-    let o = hit.object;
-    while (o && moving.indexOf(o) < 0) o = o.parent;
-    const body = o && o.userData.body;
-    if (body) $('push_body').value = body;
   });
 }
 

@@ -195,7 +195,7 @@ let renderPending = false;
 function render() {
   if (renderPending) return;
   renderPending = true;
-  requestAnimationFrame(() => {
+  paceDraw(() => {  // pace.js: live at most 5 draws a second (?fps=N), more while the mouse moves it
     renderPending = false;
     placeCamera();
     renderer.render(scene3, camera);
