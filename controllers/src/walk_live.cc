@@ -13,10 +13,8 @@ namespace {
 
 constexpr int kLiveSteps = 10000;  // room for a live command's steps (the gait's and the swap's)
 
-}  // namespace
-
 // a --live-record file: "T LINE" per line, T not decreasing; false with *error (file:line: why)
-static bool ReadLiveRecord(const std::string& path, std::vector<std::pair<double, std::string>>* out,
+bool ReadLiveRecord(const std::string& path, std::vector<std::pair<double, std::string>>* out,
                     std::string* error) {
   std::ifstream in(path);
   if (!in) {
@@ -40,6 +38,8 @@ static bool ReadLiveRecord(const std::string& path, std::vector<std::pair<double
   }
   return true;
 }
+
+}  // namespace
 
 ConfigStatus WalkController::OpenChannel() {
   if (!walk_options_.live_replay.empty()) {
@@ -137,6 +137,13 @@ void WalkController::WriteLiveRecord() {
   }
   std::string error;
   if (!model::WriteWholeFile(walk_options_.live_record, text, &error)) notes_.push_back("--live-record: " + error);
+  // the record's room is reserved at open (the cycle never allocates): past it, said here
+  const size_t taken = static_cast<size_t>(channel_->applied());
+  if (taken > channel_->applied_log().size())
+    notes_.push_back("--live-record: " + walk_options_.live_record + " holds the first " +
+                     std::to_string(channel_->applied_log().size()) + " of the " +
+                     std::to_string(taken) + " live commands taken (its room, kAppliedLog): a "
+                     "replay of it stops there");
 }
 
 }  // namespace ohrp::controllers
