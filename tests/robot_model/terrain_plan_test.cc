@@ -88,65 +88,63 @@ void Print(const std::vector<Footstep>& steps) {
     std::printf("[ plan     ] %-5s x %.3f y %.3f z %.3f\n", SideName(s.foot), s.p.x(), s.p.y(), s.p.z());
 }
 
-TEST(TerrainPlan, UpTheStairsOneStairAtATime) {
-  auto t = Load("scene_stairs.xml");
-  ASSERT_TRUE(t);
-  const StepLimits lim = Hrp1sStairLimits();
-  const FeetPose start = Start(lim);
-  std::vector<Footstep> steps;
-  std::string error;
-  ASSERT_TRUE(t->PlanGoalAcross(start, 1.3, 0, 0, lim, 0.05, &steps, &error)) << error;
-  Print(steps);
-  const std::vector<int> levels = CheckOneStairAtATime(*t, start, steps, lim, 0.1);
+// A goal `x` m straight ahead across a scene, planned from the standing start with HRP-1S's
+// stair limits (lim_, which a test may change first) and printed.
+class TerrainPlan : public ::testing::Test {
+ protected:
+  // false when the scene does not load or the planner refuses (its reason in error_)
+  bool PlanAcross(const std::string& scene, double x) {
+    terrain_ = Load(scene);
+    if (!terrain_) return false;
+    start_ = Start(lim_);
+    steps_.clear();
+    if (!terrain_->PlanGoalAcross(start_, x, 0, 0, lim_, 0.05, &steps_, &error_)) return false;
+    Print(steps_);
+    return true;
+  }
+
+  StepLimits lim_ = Hrp1sStairLimits();
+  std::unique_ptr<TerrainMap> terrain_;
+  FeetPose start_;
+  std::vector<Footstep> steps_;
+  std::string error_;
+};
+
+TEST_F(TerrainPlan, UpTheStairsOneStairAtATime) {
+  ASSERT_TRUE(PlanAcross("scene_stairs.xml", 1.3)) << error_;
+  const std::vector<int> levels = CheckOneStairAtATime(*terrain_, start_, steps_, lim_, 0.1);
   EXPECT_EQ(levels, (std::vector<int>{1, 2, 3}));
   // at the goal, the feet side by side on the top
-  FeetPose feet = start;
-  for (const Footstep& s : steps) feet = After(feet, s);
+  FeetPose feet = start_;
+  for (const Footstep& s : steps_) feet = After(feet, s);
   const Frame2 end = MidFrame(feet);
   EXPECT_NEAR(end.p.x(), 1.3, 1e-6);
   EXPECT_NEAR(end.p.y(), 0, 1e-6);
   EXPECT_NEAR(end.p.z(), 0.3, 1e-3);
 }
 
-TEST(TerrainPlan, DownTheStairsOneStairAtATime) {
-  auto t = Load("scene_stairs15_down.xml");
-  ASSERT_TRUE(t);
-  const StepLimits lim = Hrp1sStairLimits();
-  const FeetPose start = Start(lim);
-  std::vector<Footstep> steps;
-  std::string error;
-  ASSERT_TRUE(t->PlanGoalAcross(start, 1.2, 0, 0, lim, 0.05, &steps, &error)) << error;
-  Print(steps);
-  const std::vector<int> levels = CheckOneStairAtATime(*t, start, steps, lim, -0.15);
+TEST_F(TerrainPlan, DownTheStairsOneStairAtATime) {
+  ASSERT_TRUE(PlanAcross("scene_stairs15_down.xml", 1.2)) << error_;
+  const std::vector<int> levels = CheckOneStairAtATime(*terrain_, start_, steps_, lim_, -0.15);
   EXPECT_EQ(levels, (std::vector<int>{-1, -2}));
 }
 
-TEST(TerrainPlan, ATreadBeyondTheStrideIsRefusedNamingTheLimit) {
-  auto t = Load("scene_stairs.xml");
-  ASSERT_TRUE(t);
-  StepLimits lim = Hrp1sStairLimits();
-  lim.max_forward = 0.25;  // from the edge of one tread to the middle of the next is 0.3 m
-  std::vector<Footstep> steps;
-  std::string error;
-  EXPECT_FALSE(t->PlanGoalAcross(Start(lim), 1.3, 0, 0, lim, 0.05, &steps, &error));
-  EXPECT_NE(error.find("max_forward 0.25"), std::string::npos) << error;
+TEST_F(TerrainPlan, ATreadBeyondTheStrideIsRefusedNamingTheLimit) {
+  lim_.max_forward = 0.25;  // from the edge of one tread to the middle of the next is 0.3 m
+  EXPECT_FALSE(PlanAcross("scene_stairs.xml", 1.3));
+  EXPECT_NE(error_.find("max_forward 0.25"), std::string::npos) << error_;
 }
 
 // a slope has no rise: strides as PlaceSteps places them, not a step-to gait
-TEST(TerrainPlan, ASlopeIsWalkedWithStrides) {
-  auto t = Load("scene_ramp_updown.xml");
-  ASSERT_TRUE(t);
-  StepLimits lim = Hrp1sStairLimits();
-  lim.max_forward = 0.25;
-  const FeetPose start = Start(lim);
-  std::vector<Footstep> across, placed = PlanToGoal(start, 2.0, 0, 0, lim);
-  std::string error;
-  ASSERT_TRUE(t->PlanGoalAcross(start, 2.0, 0, 0, lim, 0.05, &across, &error)) << error;
-  ASSERT_TRUE(t->PlaceSteps(&placed, start, lim, 0.05, &error)) << error;
-  ASSERT_EQ(across.size(), placed.size());
-  for (size_t k = 0; k < across.size(); ++k) {
-    EXPECT_NEAR((across[k].p - placed[k].p).norm(), 0, 1e-9) << "step " << k + 1;
-    EXPECT_NEAR(across[k].pitch, placed[k].pitch, 1e-9);
+TEST_F(TerrainPlan, ASlopeIsWalkedWithStrides) {
+  lim_.max_forward = 0.25;
+  ASSERT_TRUE(PlanAcross("scene_ramp_updown.xml", 2.0)) << error_;
+  std::vector<Footstep> placed = PlanToGoal(start_, 2.0, 0, 0, lim_);
+  ASSERT_TRUE(terrain_->PlaceSteps(&placed, start_, lim_, 0.05, &error_)) << error_;
+  ASSERT_EQ(steps_.size(), placed.size());
+  for (size_t k = 0; k < steps_.size(); ++k) {
+    EXPECT_NEAR((steps_[k].p - placed[k].p).norm(), 0, 1e-9) << "step " << k + 1;
+    EXPECT_NEAR(steps_[k].pitch, placed[k].pitch, 1e-9);
   }
 }
 
