@@ -53,11 +53,22 @@ TEST(ViewWorkbench, DragPushesAndCtrlClickSendsAGoal) {
   };
   page.Eval("document.getElementById('follow').checked = false");  // the camera stays put
 
-  // a drag from the base 80 px to the right: a push along the camera's right vector
-  const nlohmann::json waist = page.Eval(
-      "(() => { const p = moving.find((o) => o && o.userData.body === 'WAIST').getWorldPosition(new THREE.Vector3());"
-      " return [p.x, p.y, p.z]; })()");
-  const nlohmann::json from = pixel(waist[0].get<double>(), waist[1].get<double>(), waist[2].get<double>());
+  // a drag from the base 80 px to the right: a push along the camera's right vector. The press is
+  // on a pixel where the base is the first thing under the mouse (the base's origin may lie behind
+  // a hip link as the camera sees it): the nearest such pixel to the origin's, searched in rings.
+  const nlohmann::json from = page.Eval(
+      "(() => { placeCamera(); camera.updateMatrixWorld();"
+      " const c = moving.find((o) => o && o.userData.body === 'WAIST').getWorldPosition(new THREE.Vector3()).project(camera);"
+      " const b = canvas.getBoundingClientRect(); const ray = new THREE.Raycaster();"
+      " for (let r = 0; r <= 60; r += 3) for (let a = 0; a < (r ? 24 : 1); ++a) {"
+      "   const px = b.x + (c.x + 1) / 2 * b.width + r * Math.cos(a * Math.PI / 12);"
+      "   const py = b.y + (1 - c.y) / 2 * b.height + r * Math.sin(a * Math.PI / 12);"
+      "   ray.setFromCamera(new THREE.Vector2(2 * (px - b.x) / b.width - 1, 1 - 2 * (py - b.y) / b.height), camera);"
+      "   const hit = ray.intersectObjects(moving.filter((o) => o), true)[0];"
+      "   let o = hit && hit.object; while (o && moving.indexOf(o) < 0) o = o.parent;"
+      "   if (o && o.userData.body === 'WAIST') return [px, py]; }"
+      " return null; })()");
+  ASSERT_TRUE(from.is_array()) << "no pixel within 60 px of the base's origin shows the base";
   const nlohmann::json right = page.Eval("(() => { const r = new THREE.Vector3().setFromMatrixColumn("
                                          "camera.matrixWorld, 0); return [r.x, r.y, r.z]; })()");
   int before = replies();
