@@ -151,13 +151,16 @@ bool ReadSensorParamsFile(const std::string& path, SensorParams* p, std::string*
   const bool ok =
       ReadSection(path, root, "encoders", &out.encoders, [&](SensorParams::Encoder* e) {
         return std::vector<Key>{{"bias", 1, kMaxEncoderBias, false, &e->bias},
-                                {"noise", 1, kMaxEncoderNoise, true, &e->noise}};
+                                {"noise", 1, kMaxEncoderNoise, true, &e->noise},
+                                {"velocity_noise", 1, kMaxVelocityNoise, true, &e->velocity_noise},
+                                {"torque_noise", 1, kMaxTorque, true, &e->torque_noise}};
       }, error) &&
       ReadSection(path, root, "imus", &out.imus, [&](SensorParams::Imu* u) {
         return std::vector<Key>{{"gyro_bias", 3, kMaxGyro, false, u->gyro_bias},
                                 {"gyro_noise", 3, kMaxGyro, true, u->gyro_noise},
                                 {"accel_bias", 3, kMaxAccel, false, u->accel_bias},
-                                {"accel_noise", 3, kMaxAccel, true, u->accel_noise}};
+                                {"accel_noise", 3, kMaxAccel, true, u->accel_noise},
+                                {"orientation_noise", 1, kMaxOrientationNoise, true, &u->orientation_noise}};
       }, error) &&
       ReadSection(path, root, "force_torque", &out.forces, [&](SensorParams::ForceTorque* f) {
         return std::vector<Key>{{"bias", 6, kMaxForce, false, f->bias},
@@ -194,6 +197,8 @@ bool WriteSensorParamsFile(const std::string& path, const SensorParams& p,
     bool first = true;
     List(b, "bias", &e.bias, 1, &first);
     List(b, "noise", &e.noise, 1, &first);
+    List(b, "velocity_noise", &e.velocity_noise, 1, &first);
+    List(b, "torque_noise", &e.torque_noise, 1, &first);
     if (!first) Line(s, e.joint, b, e.note);
   }
   if (!p.imus.empty()) s << "imus:\n";
@@ -205,6 +210,7 @@ bool WriteSensorParamsFile(const std::string& path, const SensorParams& p,
     List(b, "gyro_noise", u.gyro_noise, 3, &first);
     List(b, "accel_bias", u.accel_bias, 3, &first);
     List(b, "accel_noise", u.accel_noise, 3, &first);
+    List(b, "orientation_noise", &u.orientation_noise, 1, &first);
     if (!first) Line(s, u.name, b, u.note);
   }
   if (!p.forces.empty()) s << "force_torque:\n";
@@ -237,7 +243,7 @@ bool BindSensorParams(const SensorParams& file, const std::vector<std::string>& 
 
 std::string DescribeSensorParams(const SensorParams& p) {
   int noise = 0, bias = 0;
-  for (const auto& e : p.encoders) noise += e.noise > 0, bias += e.bias != 0;
+  for (const auto& e : p.encoders) noise += e.noise > 0 || e.velocity_noise > 0 || e.torque_noise > 0, bias += e.bias != 0;
   std::ostringstream s;
   s << "encoders: " << noise << " with noise, " << bias << " with bias";
   auto any = [](const double* v, int n) {
@@ -246,13 +252,61 @@ std::string DescribeSensorParams(const SensorParams& p) {
     return false;
   };
   for (const auto& u : p.imus)
-    if (any(u.gyro_bias, 3) || any(u.gyro_noise, 3) || any(u.accel_bias, 3) || any(u.accel_noise, 3))
+    if (any(u.gyro_bias, 3) || any(u.gyro_noise, 3) || any(u.accel_bias, 3) || any(u.accel_noise, 3) ||
+        u.orientation_noise > 0)
       s << "; IMU " << u.name << (any(u.gyro_bias, 3) || any(u.accel_bias, 3) ? " bias" : "")
-        << (any(u.gyro_noise, 3) || any(u.accel_noise, 3) ? " noise" : "");
+        << (any(u.gyro_noise, 3) || any(u.accel_noise, 3) || u.orientation_noise > 0 ? " noise" : "");
   for (const auto& f : p.forces)
     if (any(f.bias, 6) || any(f.noise, 6))
       s << "; F/T " << f.name << (any(f.bias, 6) ? " bias" : "") << (any(f.noise, 6) ? " noise" : "");
   return s.str();
+}
+
+void AddSensorParams(const SensorParams& more, SensorParams* p) {
+  auto add = [](double* to, const double* from, int n, bool noise) {
+    for (int k = 0; k < n; ++k) to[k] = noise ? std::hypot(to[k], from[k]) : to[k] + from[k];
+  };
+  for (size_t j = 0; j < p->encoders.size() && j < more.encoders.size(); ++j) {
+    SensorParams::Encoder& e = p->encoders[j];
+    const SensorParams::Encoder& m = more.encoders[j];
+    add(&e.bias, &m.bias, 1, false);
+    add(&e.noise, &m.noise, 1, true);
+    add(&e.velocity_noise, &m.velocity_noise, 1, true);
+    add(&e.torque_noise, &m.torque_noise, 1, true);
+  }
+  for (size_t i = 0; i < p->imus.size() && i < more.imus.size(); ++i) {
+    SensorParams::Imu& u = p->imus[i];
+    const SensorParams::Imu& m = more.imus[i];
+    add(u.gyro_bias, m.gyro_bias, 3, false);
+    add(u.gyro_noise, m.gyro_noise, 3, true);
+    add(u.accel_bias, m.accel_bias, 3, false);
+    add(u.accel_noise, m.accel_noise, 3, true);
+    add(&u.orientation_noise, &m.orientation_noise, 1, true);
+  }
+  for (size_t f = 0; f < p->forces.size() && f < more.forces.size(); ++f) {
+    add(p->forces[f].bias, more.forces[f].bias, 6, false);
+    add(p->forces[f].noise, more.forces[f].noise, 6, true);
+  }
+}
+
+void SensorModel::Orientation(int u, double quat[4]) {
+  if (u < 0 || u >= static_cast<int>(p_.imus.size()) || !(p_.imus[u].orientation_noise > 0)) return;
+  const double std = p_.imus[u].orientation_noise;
+  const double v[3] = {Noise(std), Noise(std), Noise(std)};
+  const double angle = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  double d[4] = {1, 0, 0, 0};  // the error's rotation, w x y z
+  if (angle > 0) {
+    const double s = std::sin(0.5 * angle) / angle;
+    d[0] = std::cos(0.5 * angle);
+    for (int k = 0; k < 3; ++k) d[1 + k] = s * v[k];
+  }
+  const double* a = quat;  // quat * d, normalised
+  double r[4] = {a[0] * d[0] - a[1] * d[1] - a[2] * d[2] - a[3] * d[3],
+                 a[0] * d[1] + a[1] * d[0] + a[2] * d[3] - a[3] * d[2],
+                 a[0] * d[2] - a[1] * d[3] + a[2] * d[0] + a[3] * d[1],
+                 a[0] * d[3] + a[1] * d[2] - a[2] * d[1] + a[3] * d[0]};
+  const double n = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
+  for (int k = 0; k < 4; ++k) quat[k] = n > 0 ? r[k] / n : quat[k];
 }
 
 void SensorModel::Imu(int u, double gyro[3], double accel[3]) {

@@ -58,8 +58,7 @@ void HostRun::StartLoop() {
 void HostRun::Publish(uint32_t flags, bool record) noexcept {
   shm::SensorBlock& s = producer->BeginSensors();
   model::FillSensors(robot, m, d, selection, &s);
-  if (noise) noise->Apply(robot, &s);
-  if (sensors) ApplySensorFile(&s);
+  if (sensors) ApplySensorModel(robot, selection, sensors.get(), &s);
   s.cycle = st.cycles;
   s.time = d->time;
   s.status = shm::status::kRunning | shm::status::kSimulated | extra_status | flags |
@@ -174,21 +173,6 @@ HostRun::Next HostRun::TakeCommands() {
 }
 
 // a command block: the guard's holds as events, the servo's references, the rejections
-// --sensor-file: each reading's bias and noise (no allocation)
-void HostRun::ApplySensorFile(shm::SensorBlock* s) noexcept {
-  if (selection.q)
-    for (size_t j = 0; j < robot.joints.size(); ++j) s->q[j] = sensors->Encoder(static_cast<int>(j), s->q[j]);
-  if (selection.force_torque)
-    for (size_t f = 0; f < robot.forces.size(); ++f)
-      sensors->ForceTorque(static_cast<int>(f), s->force[f].force, s->force[f].torque);
-  if (selection.gyro || selection.accel)
-    for (size_t u = 0; u < robot.imus.size(); ++u) {
-      double unused[3] = {};  // a sensor the run does not give stays unread (its draws still made)
-      sensors->Imu(static_cast<int>(u), selection.gyro ? s->imu[u].gyro : unused,
-                   selection.accel ? s->imu[u].accel : unused);
-    }
-}
-
 void HostRun::Accept() {
   if (st.commands++ == 0) {
     st.wall_first_command = MonotonicSeconds();

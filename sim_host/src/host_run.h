@@ -48,8 +48,7 @@ class HostRun {
   bool LoadScene(std::string* error);
   bool SetUpWatches(std::string* error);
   bool ApplyJointFile(std::string* error);
-  bool BindSensorFile(std::string* error);
-  void ApplySensorFile(shm::SensorBlock* s) noexcept;
+  bool SetUpSensorModel(std::string* error);
   bool OpenImages(std::string* error);
   void EndImages();
   bool OpenLog(std::string* error);
@@ -100,8 +99,7 @@ class HostRun {
   std::unique_ptr<SelfCollisionWatch> self_collision;
   std::unique_ptr<datalog::Recorder> recorder;
   model::SensorSelection selection{};
-  std::unique_ptr<SensorNoise> noise;
-  std::unique_ptr<model::SensorModel> sensors;  // --sensor-file's bias and noise
+  std::unique_ptr<model::SensorModel> sensors;  // --sensor-file's bias and noise, noise=on's noise
   std::vector<double> q_min, q_max;             // the joints' limits, for its encoder bias
   std::unique_ptr<shm::Producer> producer;
   std::unique_ptr<Cameras> cameras;

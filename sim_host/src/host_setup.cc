@@ -60,8 +60,7 @@ int HostRun::SetUp(bool* ran_enough) {
     return kExitUsage;
   }
   selection = SelectSensors(effects);
-  if (effects.on(Effect::kNoise)) noise = std::make_unique<SensorNoise>(effects.noise, selection);
-  if (!BindSensorFile(&error)) {
+  if (!SetUpSensorModel(&error)) {
     std::fprintf(stderr, "sim_host: %s\n", error.c_str());
     return kExitUsage;
   }
@@ -148,9 +147,10 @@ bool HostRun::ApplyJointFile(std::string* why) {
   return scene->Reset(o.keyframe, why);
 }
 
-// the sensors as identified (--sensor-file): the file's names bound to the robot's sensors
-bool HostRun::BindSensorFile(std::string* why) {
-  if (o.sensor_file.empty()) return true;
+// the sensors as identified (--sensor-file: the file's names bound to the robot's sensors) and
+// the noise effect (--effects noise=on), added: one sensor model. Its seed is --sensor-seed with
+// a file, the effect's noise.seed without.
+bool HostRun::SetUpSensorModel(std::string* why) {
   std::vector<std::string> joints, imus, forces;
   for (const model::JointMap& j : robot.joints) {
     joints.push_back(j.name);
@@ -159,12 +159,17 @@ bool HostRun::BindSensorFile(std::string* why) {
   }
   for (const auto& u : robot.imus) imus.push_back(u.name);
   for (const auto& f : robot.forces) forces.push_back(f.name);
-  model::SensorParams bound;
-  if (!model::BindSensorParams(o.sensors, joints, imus, forces, &bound, why)) {
+  const bool noise = effects.on(Effect::kNoise);
+  if (o.sensor_file.empty() && !noise) return true;
+  model::SensorParams bound;  // the file's (none: every sensor as simulated), in the robot's order
+  if (!model::BindSensorParams(o.sensor_file.empty() ? model::SensorParams{} : o.sensors, joints,
+                               imus, forces, &bound, why)) {
     why->insert(0, "--sensor-file " + o.sensor_file + ": ");
     return false;
   }
-  sensors = std::make_unique<model::SensorModel>(std::move(bound), o.sensor_seed);
+  if (noise) model::AddSensorParams(NoiseAsSensorParams(effects.noise, robot), &bound);
+  sensors = std::make_unique<model::SensorModel>(std::move(bound),
+                                                 o.sensor_file.empty() ? effects.noise.seed : o.sensor_seed);
   return true;
 }
 

@@ -1,6 +1,5 @@
-// The sensor selection of an effects plan and the Gaussian sensor noise (effects.h).
-#include <cmath>
-
+// The sensor selection of an effects plan, the noise effect as sensor parameters, and the
+// sensor model on a published block (effects.h).
 #include "sim_host/effects.h"
 
 namespace ohrp::sim {
@@ -17,46 +16,51 @@ model::SensorSelection SelectSensors(const EffectsPlan& p) {
   return s;
 }
 
-SensorNoise::SensorNoise(const NoiseOptions& options, const model::SensorSelection& selection)
-    : o_(options), sel_(selection), rng_(options.seed) {}
-
-void SensorNoise::Apply(const model::RobotMap& robot, shm::SensorBlock* s) {
-  const int nj = static_cast<int>(robot.joints.size());
-  if (sel_.q && o_.q > 0)
-    for (int i = 0; i < nj; ++i) s->q[i] += o_.q * Gauss();
-  if (sel_.dq && o_.dq > 0)
-    for (int i = 0; i < nj; ++i) s->dq[i] += o_.dq * Gauss();
-  if (sel_.tau && o_.tau > 0)
-    for (int i = 0; i < nj; ++i) s->tau[i] += o_.tau * Gauss();
-  if (sel_.force_torque) {
-    for (size_t f = 0; f < robot.forces.size(); ++f) {
-      for (int k = 0; k < 3; ++k) {
-        if (o_.force > 0) s->force[f].force[k] += o_.force * Gauss();
-        if (o_.torque > 0) s->force[f].torque[k] += o_.torque * Gauss();
-      }
-    }
+model::SensorParams NoiseAsSensorParams(const NoiseOptions& o, const model::RobotMap& robot) {
+  model::SensorParams p;
+  for (const model::JointMap& j : robot.joints) {
+    model::SensorParams::Encoder e;
+    e.joint = j.name;
+    e.noise = o.q;
+    e.velocity_noise = o.dq;
+    e.torque_noise = o.tau;
+    p.encoders.push_back(e);
   }
+  for (const auto& imu : robot.imus) {
+    model::SensorParams::Imu u;
+    u.name = imu.name;
+    for (int k = 0; k < 3; ++k) u.gyro_noise[k] = o.gyro, u.accel_noise[k] = o.accel;
+    u.orientation_noise = o.orientation;
+    p.imus.push_back(u);
+  }
+  for (const auto& force : robot.forces) {
+    model::SensorParams::ForceTorque f;
+    f.name = force.name;
+    for (int k = 0; k < 3; ++k) f.noise[k] = o.force, f.noise[3 + k] = o.torque;
+    p.forces.push_back(f);
+  }
+  return p;
+}
+
+void ApplySensorModel(const model::RobotMap& robot, const model::SensorSelection& selection,
+                      model::SensorModel* sensors, shm::SensorBlock* s) noexcept {
+  const int nj = static_cast<int>(robot.joints.size());
+  if (selection.q)
+    for (int j = 0; j < nj; ++j) s->q[j] = sensors->Encoder(j, s->q[j]);
+  if (selection.dq)
+    for (int j = 0; j < nj; ++j) s->dq[j] = sensors->Velocity(j, s->dq[j]);
+  if (selection.tau)
+    for (int j = 0; j < nj; ++j) s->tau[j] = sensors->Torque(j, s->tau[j]);
+  if (selection.force_torque)
+    for (size_t f = 0; f < robot.forces.size(); ++f)
+      sensors->ForceTorque(static_cast<int>(f), s->force[f].force, s->force[f].torque);
   for (size_t u = 0; u < robot.imus.size(); ++u) {
-    shm::Imu& imu = s->imu[u];
-    for (int k = 0; k < 3; ++k) {
-      if (sel_.gyro && o_.gyro > 0) imu.gyro[k] += o_.gyro * Gauss();
-      if (sel_.accel && o_.accel > 0) imu.accel[k] += o_.accel * Gauss();
+    if (selection.gyro || selection.accel) {
+      double unused[3] = {};  // a sensor the run does not give stays unread (its draws still made)
+      sensors->Imu(static_cast<int>(u), selection.gyro ? s->imu[u].gyro : unused,
+                   selection.accel ? s->imu[u].accel : unused);
     }
-    if (sel_.orientation && o_.orientation > 0) {
-      // a small rotation, its vector Gaussian per axis, applied in the IMU's frame
-      double v[3] = {o_.orientation * Gauss(), o_.orientation * Gauss(), o_.orientation * Gauss()};
-      const double angle = mju_norm3(v);
-      double dq[4] = {1, 0, 0, 0};
-      if (angle > 0) {
-        const double sn = std::sin(0.5 * angle) / angle;
-        dq[0] = std::cos(0.5 * angle);
-        for (int k = 0; k < 3; ++k) dq[1 + k] = sn * v[k];
-      }
-      double q[4];
-      mju_mulQuat(q, imu.quat_WI, dq);
-      mju_normalize4(q);
-      for (int k = 0; k < 4; ++k) imu.quat_WI[k] = q[k];
-    }
+    if (selection.orientation) sensors->Orientation(static_cast<int>(u), s->imu[u].quat_WI);
   }
 }
 

@@ -69,7 +69,7 @@ class EstimatedRobot {
     kin_ = Kinematics::Load(std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/scene_flat.xml", &error);
     ASSERT_TRUE(kin_) << error;
     est_ = std::make_unique<BaseEstimator>(kin_.get());
-    if (noise) noise_ = std::make_unique<sim::SensorNoise>(sim::NoiseOptions{}, SensorSelection{});
+    if (noise) noise_ = std::make_unique<SensorModel>(sim::NoiseAsSensorParams(sim::NoiseOptions{}, sim_.robot()), 1);
   }
 
   // one control cycle: the physics steps with `push` [N] on the base (world frame, at its
@@ -83,7 +83,7 @@ class EstimatedRobot {
     }
     for (int i = 0; i < 3; ++i) d->xfrc_applied[6 * base + i] = 0;
     FillSensors(sim_.robot(), sim_.m(), d, &s_);
-    if (noise_) noise_->Apply(sim_.robot(), &s_);
+    if (noise_) sim::ApplySensorModel(sim_.robot(), SensorSelection{}, noise_.get(), &s_);
   }
 
   void Settle(double duration) {
@@ -159,7 +159,7 @@ class EstimatedRobot {
   sim::testing::LeaningRobot sim_;
   std::unique_ptr<Kinematics> kin_;
   std::unique_ptr<BaseEstimator> est_;
-  std::unique_ptr<sim::SensorNoise> noise_;
+  std::unique_ptr<SensorModel> noise_;  // --effects noise=on's
   shm::SensorBlock s_{};
   Eigen::Vector3d p0_est_ = Eigen::Vector3d::Zero(), p0_true_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_prev_ = Eigen::Vector3d::Zero();

@@ -171,24 +171,29 @@ TEST(EffectsNoise, OffIsExact) {
   EXPECT_EQ(s.imu[0].gyro[1], d->sensordata[l.robot.imus[0].gyro_adr + 1]);
 }
 
+// --effects noise=on is the sensor model (robot_model/sensor_params.h) with every sensor's noise
+// set from the effect's standard deviations: applied on a block as sim_host does
 TEST(EffectsNoise, StandardDeviationAndSeed) {
   model::InstallMujocoHandlers(nullptr);
   Loaded l = Load(kFlat);
-  EffectsPlan p = Resolve(l, "noise=on,noise.force=2.5,noise.q=0.001,noise.seed=42");
+  EffectsPlan p = Resolve(l, "noise=on,noise.force=2.5,noise.q=0.001,noise.tau=0.3,noise.seed=42");
   EXPECT_EQ(p.noise.force, 2.5);
   EXPECT_EQ(p.noise.gyro, NoiseOptions{}.gyro);  // the documented default
   const model::SensorSelection sel = SelectSensors(p);
-  SensorNoise noise(p.noise, sel);
+  auto model_of = [&](const NoiseOptions& o) { return model::SensorModel(NoiseAsSensorParams(o, l.robot), o.seed); };
+  model::SensorModel noise = model_of(p.noise);
   // N samples of zero-valued fields: the sample standard deviation of a Gaussian has a
   // relative spread of 1/sqrt(2N) = 0.3 % at N = 50000; allow 2 %
   const int n = 50000;
-  double sq = 0, sf = 0, sg = 0, mean_f = 0, so = 0;
+  double sq = 0, sdq = 0, stau = 0, sf = 0, sg = 0, mean_f = 0, so = 0;
   shm::SensorBlock s{};
   for (int i = 0; i < n; ++i) {
     s = shm::SensorBlock{};
     s.imu[0].quat_WI[0] = 1;
-    noise.Apply(l.robot, &s);
+    ApplySensorModel(l.robot, sel, &noise, &s);
     sq += s.q[5] * s.q[5];
+    sdq += s.dq[2] * s.dq[2];
+    stau += s.tau[7] * s.tau[7];
     sf += s.force[1].force[2] * s.force[1].force[2];
     mean_f += s.force[1].force[2];
     sg += s.imu[0].gyro[0] * s.imu[0].gyro[0];
@@ -196,29 +201,55 @@ TEST(EffectsNoise, StandardDeviationAndSeed) {
     so += 4 * s.imu[0].quat_WI[1] * s.imu[0].quat_WI[1];
   }
   EXPECT_NEAR(std::sqrt(sq / n), 0.001, 0.02 * 0.001);
+  EXPECT_NEAR(std::sqrt(sdq / n), NoiseOptions{}.dq, 0.02 * NoiseOptions{}.dq);
+  EXPECT_NEAR(std::sqrt(stau / n), 0.3, 0.02 * 0.3);
   EXPECT_NEAR(std::sqrt(sf / n), 2.5, 0.02 * 2.5);
   EXPECT_NEAR(mean_f / n, 0.0, 4 * 2.5 / std::sqrt(n));
   EXPECT_NEAR(std::sqrt(sg / n), NoiseOptions{}.gyro, 0.02 * NoiseOptions{}.gyro);
   EXPECT_NEAR(std::sqrt(so / n), NoiseOptions{}.orientation, 0.02 * NoiseOptions{}.orientation);
   // the same seed gives the same noise, another seed another
-  SensorNoise a(p.noise, sel), b(p.noise, sel);
+  model::SensorModel a = model_of(p.noise), b = model_of(p.noise);
   NoiseOptions other = p.noise;
   other.seed = 43;
-  SensorNoise c(other, sel);
+  model::SensorModel c = model_of(other);
   shm::SensorBlock sa{}, sb{}, sc{};
-  a.Apply(l.robot, &sa);
-  b.Apply(l.robot, &sb);
-  c.Apply(l.robot, &sc);
+  ApplySensorModel(l.robot, sel, &a, &sa);
+  ApplySensorModel(l.robot, sel, &b, &sb);
+  ApplySensorModel(l.robot, sel, &c, &sc);
   EXPECT_EQ(sa.q[0], sb.q[0]);
   EXPECT_EQ(sa.force[0].torque[1], sb.force[0].torque[1]);
   EXPECT_NE(sa.q[0], sc.q[0]);
   // kinds that are off stay NaN
   p = Resolve(l, "noise=on,force_torque=off");
-  SensorNoise d(p.noise, SelectSensors(p));
+  model::SensorModel d = model_of(p.noise);
   shm::SensorBlock sd{};
   sd.force[0].force[0] = std::nan("");
-  d.Apply(l.robot, &sd);
+  ApplySensorModel(l.robot, SelectSensors(p), &d, &sd);
   EXPECT_TRUE(std::isnan(sd.force[0].force[0]));
+}
+
+// a sensor file's noise and the effect's are independent: their standard deviations add in
+// quadrature, the file's bias stays
+TEST(EffectsNoise, AddsToASensorFileInQuadrature) {
+  model::InstallMujocoHandlers(nullptr);
+  Loaded l = Load(kFlat);
+  std::vector<std::string> joints, imus, forces;
+  for (const auto& j : l.robot.joints) joints.push_back(j.name);
+  for (const auto& u : l.robot.imus) imus.push_back(u.name);
+  for (const auto& f : l.robot.forces) forces.push_back(f.name);
+  model::SensorParams file, bound;
+  file.encoders.push_back({joints[3], 0.01, 0.003, ""});
+  std::string error;
+  ASSERT_TRUE(model::BindSensorParams(file, joints, imus, forces, &bound, &error)) << error;
+  NoiseOptions o;
+  o.q = 0.004;
+  model::AddSensorParams(NoiseAsSensorParams(o, l.robot), &bound);
+  EXPECT_DOUBLE_EQ(bound.encoders[3].noise, 0.005);  // sqrt(0.003^2 + 0.004^2)
+  EXPECT_DOUBLE_EQ(bound.encoders[3].bias, 0.01);
+  EXPECT_DOUBLE_EQ(bound.encoders[4].noise, 0.004);
+  EXPECT_DOUBLE_EQ(bound.encoders[4].velocity_noise, o.dq);
+  EXPECT_DOUBLE_EQ(bound.forces[0].noise[4], o.torque);
+  EXPECT_DOUBLE_EQ(bound.imus[0].orientation_noise, o.orientation);
 }
 
 }  // namespace

@@ -68,7 +68,7 @@ struct Setup {
   std::unique_ptr<ohrp::model::Servo> servo;
   std::unique_ptr<ohrp::contact::SoftFootContact> soft;
   ohrp::model::SensorSelection selection;
-  std::unique_ptr<SensorNoise> noise;
+  std::unique_ptr<ohrp::model::SensorModel> noise;
   std::unique_ptr<ohrp::datalog::Recorder> recorder;
   std::unique_ptr<SelfCollisionWatch> watch;
   bool bare = false;
@@ -112,7 +112,9 @@ std::unique_ptr<Setup> Make(const std::string& path, const std::string& key, con
       Fail(c.label + ": " + error);
     ApplyEffects(s->plan, s->robot, m);
     s->selection = SelectSensors(s->plan);
-    if (s->plan.on(Effect::kNoise)) s->noise = std::make_unique<SensorNoise>(s->plan.noise, s->selection);
+    if (s->plan.on(Effect::kNoise))
+      s->noise = std::make_unique<ohrp::model::SensorModel>(NoiseAsSensorParams(s->plan.noise, s->robot),
+                                                            s->plan.noise.seed);
     if (s->plan.on(Effect::kLog)) {
       ohrp::datalog::RecorderChannels ch;
       ch.base = s->plan.on(Effect::kLogBase);
@@ -153,7 +155,7 @@ double Run(Setup* s, int cycles, int warmup) {
       if (c == warmup) t0 = ohrp::ThreadCpuSeconds();
       for (int k = 0; k < kStepsPerCycle; ++k) step.Step(k == kStepsPerCycle - 1);
       ohrp::model::FillSensors(s->robot, m, d, s->selection, &block);
-      if (s->noise) s->noise->Apply(s->robot, &block);
+      if (s->noise) ApplySensorModel(s->robot, s->selection, s->noise.get(), &block);
       if (s->recorder) s->recorder->Push(block, &s->servo->reference(0));
       if (s->watch) s->watch->Check(d, d->time, c);
     }

@@ -209,7 +209,12 @@ namespace {
 
 model::SensorParams GapSensors(const PlantGap& gap, size_t imus, size_t forces) {
   model::SensorParams p;
-  for (const JointGap& g : gap.joint) p.encoders.push_back({"", g.bias, gap.encoder_noise, ""});
+  for (const JointGap& g : gap.joint) {
+    model::SensorParams::Encoder e;
+    e.bias = g.bias;
+    e.noise = gap.encoder_noise;
+    p.encoders.push_back(e);
+  }
   p.imus.resize(imus);
   for (model::SensorParams::Imu& u : p.imus)
     for (int k = 0; k < 3; ++k) {

@@ -8,15 +8,18 @@
 //   # written by ohrp identify --sensors (the comments give the standard errors)
 //   encoders:
 //     LARM_ELBOW: {noise: 2.0e-4}           # a key left out is 0
-//     RLEG_KNEE: {bias: 0.01, noise: 2.0e-4}
+//     RLEG_KNEE: {bias: 0.01, noise: 2.0e-4, velocity_noise: 1.0e-3, torque_noise: 0.1}
 //   imus:
 //     gyrometer: {gyro_bias: [0.01, -0.02, 0.005], gyro_noise: [0.003, 0.003, 0.003],
-//                 accel_bias: [0.05, -0.1, 0.2], accel_noise: [0.03, 0.03, 0.03]}
+//                 accel_bias: [0.05, -0.1, 0.2], accel_noise: [0.03, 0.03, 0.03],
+//                 orientation_noise: 1.0e-3}  # per axis of the orientation's error [rad]
 //   force_torque:                           # fx fy fz [N] tx ty tz [N m]
 //     rfsensor: {bias: [0, 0, 1.5, 0, 0, 0], noise: [2, 2, 2, 0.1, 0.1, 0.1]}
 //
 // A channel the file does not name reads as simulated. The reading is value + bias + std * n,
-// n drawn from one seeded generator per SensorModel (the same seed, the same noise).
+// n drawn from one seeded generator per SensorModel (the same seed, the same noise). sim_host's
+// `--effects noise=on` is the same model with every sensor's noise set from the effect's
+// standard deviations (sim_host/effects.h NoiseAsSensorParams), added to a file's.
 #pragma once
 
 #include <cstdint>
@@ -33,11 +36,14 @@ struct SensorParams {
     std::string joint;
     double bias = 0, noise = 0;  // [rad]
     std::string note;            // written as a comment after the entry
+    double velocity_noise = 0;   // [rad/s]
+    double torque_noise = 0;     // [N m]
   };
   struct Imu {
     std::string name;
     double gyro_bias[3] = {}, gyro_noise[3] = {};    // [rad/s]
     double accel_bias[3] = {}, accel_noise[3] = {};  // [m/s^2]
+    double orientation_noise = 0;  // per axis of the rotation vector of the orientation's error [rad]
     std::string note;
   };
   struct ForceTorque {
@@ -52,6 +58,7 @@ struct SensorParams {
 
 // The largest magnitude each value may take (a mistake, not a sensor, beyond it).
 inline constexpr double kMaxEncoderBias = 0.5, kMaxEncoderNoise = 0.1;
+inline constexpr double kMaxVelocityNoise = 1.0, kMaxOrientationNoise = 0.1;
 inline constexpr double kMaxGyro = 1.0, kMaxAccel = 5.0, kMaxForce = 500.0, kMaxTorque = 50.0;
 
 // Reads the file. False with `*error` as "FILE:LINE: KEY: what is wrong (what would do)".
@@ -67,6 +74,10 @@ bool BindSensorParams(const SensorParams& file, const std::vector<std::string>& 
                       const std::vector<std::string>& imus, const std::vector<std::string>& forces,
                       SensorParams* by_index, std::string* error);
 
+// `more`'s noise added to `p`'s (independent: the standard deviations add in quadrature; the
+// biases add); both in the robot's order (BindSensorParams), `more` as large as `p` or larger.
+void AddSensorParams(const SensorParams& more, SensorParams* p);
+
 // "encoders: 29 noise, 1 bias; IMU gyrometer bias+noise; F/T rfsensor noise; ..."
 std::string DescribeSensorParams(const SensorParams& p);
 
@@ -81,6 +92,15 @@ class SensorModel {
     const SensorParams::Encoder& e = p_.encoders[j];
     return q + e.bias + Noise(e.noise);
   }
+  double Velocity(int j, double dq) {
+    return j >= 0 && j < static_cast<int>(p_.encoders.size()) ? dq + Noise(p_.encoders[j].velocity_noise) : dq;
+  }
+  double Torque(int j, double tau) {
+    return j >= 0 && j < static_cast<int>(p_.encoders.size()) ? tau + Noise(p_.encoders[j].torque_noise) : tau;
+  }
+  // the orientation (w x y z, world from IMU) turned by a small rotation in the IMU's frame
+  // whose rotation vector has the IMU's orientation_noise per axis
+  void Orientation(int u, double quat[4]);
   void Imu(int u, double gyro[3], double accel[3]);
   void ForceTorque(int f, double force[3], double torque[3]);
   // the references a servo acting on the true angle gets: a position reference in the encoder's

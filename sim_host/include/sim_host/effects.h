@@ -7,8 +7,9 @@
 // or a request (`sim_host --effects`, the scenario key `effects:`) calls for it, directly or
 // because something that is on needs it. ResolveEffects decides and records the reason of each
 // decision; ApplyEffects puts the decision into the mjModel (MuJoCo 2.2.2 disable flags, the
-// stage of each MuJoCo sensor, a contact filter for switched-off pairs); SensorNoise adds the
-// noise. docs/effects.md lists the effects, their defaults and their dependencies.
+// stage of each MuJoCo sensor, a contact filter for switched-off pairs); the noise is the
+// sensor model's (NoiseAsSensorParams). docs/effects.md lists the effects, their defaults and
+// their dependencies.
 //
 // Resolution rules, in order:
 //   1. each effect starts from what the scene declares (its default) or from its request;
@@ -24,13 +25,13 @@
 
 #include <array>
 #include <cstdint>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "shm_bridge/layout.h"
 #include "sim_host/feet.h"
 #include "robot_model/model.h"
+#include "robot_model/sensor_params.h"
 #include "robot_model/sensors.h"
 #include "robot_model/servo.h"
 
@@ -156,19 +157,14 @@ void ClearContactFilter();
 // Which of the segment's sensor fields FillSensors measures (the others are NaN).
 model::SensorSelection SelectSensors(const EffectsPlan& plan);
 
-// Gaussian sensor noise on the published block, per sensor kind (EffectsPlan::noise). Holds
-// its generator; Apply never allocates. Fields that are not measured (NaN) stay NaN.
-class SensorNoise {
- public:
-  SensorNoise(const NoiseOptions& options, const model::SensorSelection& selection);
-  void Apply(const model::RobotMap& robot, shm::SensorBlock* s);
+// `--effects noise=on` as sensor parameters (robot_model/sensor_params.h): every joint, IMU and
+// F/T sensor of the robot, in the robot's order, with the effect's standard deviations and no
+// bias. sim_host adds them to a sensor file's (AddSensorParams) and runs one SensorModel.
+model::SensorParams NoiseAsSensorParams(const NoiseOptions& options, const model::RobotMap& robot);
 
- private:
-  double Gauss() { return normal_(rng_); }
-  NoiseOptions o_;
-  model::SensorSelection sel_;
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
-};
+// The sensor model on a published block: each field `selection` measures gets its bias and
+// noise; the others (NaN) stay as they are. Never allocates.
+void ApplySensorModel(const model::RobotMap& robot, const model::SensorSelection& selection,
+                      model::SensorModel* sensors, shm::SensorBlock* s) noexcept;
 
 }  // namespace ohrp::sim
