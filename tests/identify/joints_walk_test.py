@@ -76,8 +76,13 @@ for j in LEGS:
     ident = os.path.join(out, "identify")
     r = subprocess.run([os.path.join(BIN, "ohrp_identify"), "--joints", os.path.join(out, "excite.csv"),
                         "--model", os.path.join(SRC, "mjcf/hrp1s/scene_hung.xml"), "--keyframe", "rig",
-                        "--out", ident], capture_output=True, text=True)
+                        "--out", ident, "--draws-for", "walk_push", "--draws", "4"], capture_output=True, text=True)
     check(r.returncode == 0, "%s identified (exit %d)%s" % (j, r.returncode, "" if r.returncode == 0 else r.stderr))
+    # the same parameters drawn within their standard errors, as a sweep of walk_push
+    with open(os.path.join(ident, "joints_draws.yaml")) as f:
+        draws = f.read()
+    check("scenario: walk_push" in draws and ("{key: joint_params.%s.armature, draw: {distribution: normal" % j) in draws,
+          "%s: joints_draws.yaml draws its armature for walk_push" % j)
     with open(os.path.join(ident, "joints.yaml")) as f:
         for line in f:
             m = re.match(r"\s+(\w+): \{([^}]*)\}", line)

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -151,7 +152,9 @@ int WriteJointFile(const std::string& log, const std::vector<JointLog>& joints,
     return 2;
   }
   std::printf("the model's joint parameters: %s (sim_host --joint-file)\n", path.c_str());
-  return 0;
+  if (model.draws_for.empty()) return 0;
+  return WriteDrawSweep(log, params, estimates, model,
+                        (std::filesystem::path(path).parent_path() / "joints_draws.yaml").string());
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "identify/identify.h"
 #include "identify/joints.h"
 #include "identify/sensors.h"
+#include "runner/scenario.h"
 #include "sweep/executor_options.h"
 #include "tool_process/run_command.h"
 
@@ -111,6 +112,12 @@ int main(int argc, char** argv) {
   app.add_option("--keyframe", joint_model.keyframe,
                  "--joints --model: the keyframe the other joints held (default: the model's "
                  "initial posture)");
+  app.add_option("--draws-for", joint_model.draws_for,
+                 "--joints --model: also writes DIR/joints_draws.yaml, a sweep of this scenario (a "
+                 "name in scenarios/ or a file) with each identified parameter drawn about its "
+                 "estimate within its standard error (ohrp sweep DIR/joints_draws.yaml)");
+  app.add_option("--draws", joint_model.draws, "--draws-for: how many draws (variants)")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
   ohrp::sweep::AddExecutorOptions(&app, &o.executor, "simulations of a stage");
   app.footer(
       "Exit codes: 0 identified, 1 a simulation failed or the refinement could not proceed,\n"
@@ -127,13 +134,30 @@ int main(int argc, char** argv) {
     return ohrp::identify::IdentifySensors(o.recording, o.out_dir, sensor_options, joint_model);
   }
   if (joints) {
+    if (!joint_model.draws_for.empty()) {
+      // the scenario the draws are for, read before the fit (a name in scenarios/ or a file)
+      if (joint_model.model.empty()) {
+        std::fprintf(stderr, "ohrp_identify: --draws-for needs --model (the parameters it draws "
+                     "are the model's)\n");
+        return 2;
+      }
+      const std::string& s = joint_model.draws_for;
+      const bool file = s.find('/') != std::string::npos || (s.size() > 5 && s.substr(s.size() - 5) == ".yaml");
+      ohrp::runner::Scenario scenario;
+      std::string error;
+      if (!ohrp::runner::LoadScenario(file ? s : ohrp::cli::DataDir() + "/scenarios/" + s + ".yaml",
+                                      &scenario, &error)) {
+        std::fprintf(stderr, "ohrp_identify: --draws-for %s: %s\n", s.c_str(), error.c_str());
+        return 2;
+      }
+    }
     std::error_code made;
     fs::create_directories(o.out_dir, made);
     return ohrp::identify::IdentifyJoints(o.recording, o.out_dir, ohrp::identify::JointFitOptions{},
                                           joint_model);
   }
-  if (!joint_model.model.empty() || !joint_model.keyframe.empty()) {
-    std::fprintf(stderr, "ohrp_identify: --model and --keyframe go with --joints\n");
+  if (!joint_model.model.empty() || !joint_model.keyframe.empty() || !joint_model.draws_for.empty()) {
+    std::fprintf(stderr, "ohrp_identify: --model, --keyframe and --draws-for go with --joints\n");
     return 2;
   }
   o.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();

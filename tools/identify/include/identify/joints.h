@@ -67,8 +67,12 @@ bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate*
 
 // The model the excitation ran on: its file (MJCF, VRML, URDF or robot profile) and the
 // keyframe the other joints held (empty: the model's initial posture).
+// With `draws_for`, also a sweep of that scenario with the parameters drawn `draws` times within
+// their standard errors (WriteDrawSweep).
 struct JointModel {
   std::string model, keyframe;
+  std::string draws_for;
+  int draws = 8;
 };
 
 // The estimates as the model's joint parameters (robot_model/joint_params.h): armature = the
@@ -81,6 +85,15 @@ bool JointParamsFromEstimates(const std::vector<JointLog>& logs,
                               const std::vector<JointEstimate>& estimates,
                               const JointModel& model, std::vector<model::JointParams>* out,
                               std::vector<std::string>* warnings, std::string* error);
+
+// OUT_DIR/joints_draws.yaml: a sweep of `model.draws_for` (a scenario name or file) with each
+// parameter of `params` that has a value and a positive standard error drawn `model.draws`
+// times from a normal distribution about it (std: the estimate's standard error; clipped to 3
+// of them and to >= 0; seeds 1, 2, ...), zipped into one axis; checked as `ohrp sweep` reads
+// it before it is written. Returns the exit code (2 with the reason on stderr).
+int WriteDrawSweep(const std::string& log, const std::vector<model::JointParams>& params,
+                   const std::vector<JointEstimate>& estimates, const JointModel& model,
+                   const std::string& path);
 
 // ohrp identify --joints LOG: every joint of the excite log fitted, a table on stdout and
 // OUT_DIR/joints.json; with `model.model` also OUT_DIR/joints.yaml, the file sim_host's
