@@ -43,7 +43,7 @@ bool ReadEntry(const std::string& path, const YAML::Node& name, const YAML::Node
   p->joint = name.Scalar();
   if (!entry.IsMap() || entry.size() == 0) {
     *error = At(path, name) + "joints: " + p->joint +
-             ": wants a mapping of armature, damping and/or frictionloss, e.g. {damping: 2.0}";
+             ": wants a mapping of armature, damping, frictionloss and/or delay, e.g. {damping: 2.0}";
     return false;
   }
   for (const auto& kv : entry) {
@@ -55,9 +55,11 @@ bool ReadEntry(const std::string& path, const YAML::Node& name, const YAML::Node
       ok = ReadValue(path, p->joint, kv.first, kv.second, kMaxDamping, &p->damping, error);
     else if (key == "frictionloss")
       ok = ReadValue(path, p->joint, kv.first, kv.second, kMaxFrictionloss, &p->frictionloss, error);
+    else if (key == "delay")
+      ok = ReadValue(path, p->joint, kv.first, kv.second, kMaxDelay, &p->delay, error);
     else
       *error = At(path, kv.first) + "joints: " + p->joint + ": " + key +
-               ": unknown key (armature, damping, frictionloss)";
+               ": unknown key (armature, damping, frictionloss, delay)";
     if (!ok) return false;
   }
   return true;
@@ -113,6 +115,7 @@ bool WriteJointParamsFile(const std::string& path, const std::vector<JointParams
     Put(s, "armature", p.armature, &first);
     Put(s, "damping", p.damping, &first);
     Put(s, "frictionloss", p.frictionloss, &first);
+    Put(s, "delay", p.delay, &first);
     s << "}";
     if (!p.note.empty()) s << "  # " << p.note;
     s << "\n";
@@ -168,8 +171,28 @@ std::string DescribeJointParams(const std::vector<JointParams>& joints) {
     if (!std::isnan(p.armature)) s << " armature " << p.armature;
     if (!std::isnan(p.damping)) s << " damping " << p.damping;
     if (!std::isnan(p.frictionloss)) s << " frictionloss " << p.frictionloss;
+    if (!std::isnan(p.delay)) s << " delay " << p.delay << " s";
   }
   return s.str();
+}
+
+bool JointDelayCycles(const std::vector<JointParams>& joints, const std::vector<std::string>& joint_names,
+                      double period, std::vector<int>* cycles, std::string* error) {
+  cycles->assign(joint_names.size(), 0);
+  for (const JointParams& p : joints) {
+    if (std::isnan(p.delay)) continue;
+    const double n = p.delay / period;
+    if (std::fabs(n - std::round(n)) > 1e-6) {
+      std::ostringstream s;
+      s << "joints: " << p.joint << ": delay " << p.delay << " s is not a whole number of control periods ("
+        << period << " s): e.g. " << std::floor(n) * period << " or " << std::ceil(n) * period;
+      *error = s.str();
+      return false;
+    }
+    for (size_t j = 0; j < joint_names.size(); ++j)
+      if (joint_names[j] == p.joint) (*cycles)[j] = static_cast<int>(std::lround(n));
+  }
+  return true;
 }
 
 }  // namespace ohrp::model

@@ -185,7 +185,8 @@ void HostRun::Accept() {
     st.Record(d->time, change > 0 ? "guard_hold_begin" : "guard_hold_end", hold);
   // the controller's references are in its (biased) encoders' frame, the servo's in the joints'
   if (sensors) sensors->ToJointFrame(q_min.data(), q_max.data(), &cmd);
-  if (const int rejected = servo->Accept(cmd); rejected > 0) {
+  // the actuators' delay (the joint file's delay:): each joint's command of that many cycles ago
+  if (const int rejected = servo->Accept(delay.Shift(cmd)); rejected > 0) {
     extra_status |= shm::status::kCommandRejected;
     if (!rejecting) st.Record(d->time, "commands_rejected", rejected);
     rejecting = true;

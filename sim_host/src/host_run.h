@@ -18,6 +18,7 @@
 #include "sim_host/guard_watch.h"
 #include "sim_host/host.h"
 #include "robot_model/model.h"
+#include "robot_model/command_delay.h"
 #include "robot_model/sensors.h"
 #include "robot_model/servo.h"
 #include "datalog/recorder.h"
@@ -49,6 +50,7 @@ class HostRun {
   bool SetUpWatches(std::string* error);
   bool ApplyJointFile(std::string* error);
   bool SetUpSensorModel(std::string* error);
+  void SetUpCommandDelay();
   bool OpenImages(std::string* error);
   void EndImages();
   bool OpenLog(std::string* error);
@@ -99,6 +101,8 @@ class HostRun {
   std::unique_ptr<SelfCollisionWatch> self_collision;
   std::unique_ptr<datalog::Recorder> recorder;
   model::SensorSelection selection{};
+  std::vector<int> delay_cycles;                // per joint, the joint file's delay: in cycles
+  model::CommandDelay delay;                     // the servo applies the commands of then
   std::unique_ptr<model::SensorModel> sensors;  // --sensor-file's bias and noise, noise=on's noise
   std::vector<double> q_min, q_max;             // the joints' limits, for its encoder bias
   std::unique_ptr<shm::Producer> producer;

@@ -85,6 +85,7 @@ int HostRun::SetUp(bool* ran_enough) {
   }
   servo = std::make_unique<model::Servo>(robot);
   servo->HoldCurrent(d);
+  SetUpCommandDelay();
   if (!o.quiet) PrintStart(text);
   if (!o.quiet) std::fprintf(stderr, "sim_host: %s\n", fall->Describe().c_str());
   return kExitOk;
@@ -140,11 +141,23 @@ bool HostRun::SetUpWatches(std::string* why) {
 bool HostRun::ApplyJointFile(std::string* why) {
   identity_hash = model::ModelHash(m, robot);
   if (o.joints.empty()) return true;
-  if (!model::ApplyJointParams(o.joints, m, d, why)) {
+  std::vector<std::string> names;
+  for (const model::JointMap& j : robot.joints) names.push_back(j.name);
+  if (!model::ApplyJointParams(o.joints, m, d, why) ||
+      !model::JointDelayCycles(o.joints, names, o.control_period, &delay_cycles, why)) {
     why->insert(0, "--joint-file " + o.joint_file + ": ");
     return false;
   }
   return scene->Reset(o.keyframe, why);
+}
+
+// the actuators' command delay (the joint file's delay:): the ring starts with what the servo
+// holds before the first command
+void HostRun::SetUpCommandDelay() {
+  shm::CommandBlock initial{};
+  initial.njoint = static_cast<int32_t>(robot.joints.size());
+  for (int j = 0; j < initial.njoint; ++j) initial.joint[j] = servo->reference(j);
+  delay.SetUp(delay_cycles, initial);
 }
 
 // the sensors as identified (--sensor-file: the file's names bound to the robot's sensors) and

@@ -1,6 +1,7 @@
 // End-of-run report and summary (see report.h).
 #include "sim_host/report.h"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <algorithm>
@@ -207,7 +208,8 @@ bool WriteSummary(const std::string& path, const HostOptions& o, const model::Ro
     for (const model::JointParams& p : o.joints) {
       const int dof = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, p.joint.c_str())];
       joints.push_back({{"joint", p.joint}, {"armature", m->dof_armature[dof]},
-                        {"damping", m->dof_damping[dof]}, {"frictionloss", m->dof_frictionloss[dof]}});
+                        {"damping", m->dof_damping[dof]}, {"frictionloss", m->dof_frictionloss[dof]},
+                        {"delay", std::isnan(p.delay) ? 0.0 : p.delay}});
     }
     j["joint_params"] = joints;
   }

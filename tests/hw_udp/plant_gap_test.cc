@@ -89,26 +89,6 @@ TEST(PlantGap, BadValuesAndNamesAreRefusedWithTheReason) {
   }
 }
 
-TEST(CommandDelay, ABlockComesOutTheGivenNumberOfShiftsLater) {
-  shm::CommandBlock initial{}, b{};
-  initial.njoint = b.njoint = 1;
-  CommandDelay d;
-  d.SetUp(3, initial);
-  for (int k = 1; k <= 10; ++k) {
-    b.joint[0].q_ref = k;
-    const double out = d.Shift(b).joint[0].q_ref;
-    EXPECT_EQ(out, k > 3 ? k - 3 : 0.0) << k;  // the initial block for the first 3
-  }
-  shm::JointCommand off{};
-  off.q_ref = -1;
-  d.Override(0, off);  // every pending block
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(d.Shift(b).joint[0].q_ref, -1.0);
-  EXPECT_EQ(d.Shift(b).joint[0].q_ref, 10.0);
-  CommandDelay none;
-  none.SetUp(0, initial);
-  EXPECT_EQ(none.Shift(b).joint[0].q_ref, 10.0);  // no delay: the block itself
-}
-
 TEST(SensorGap, BiasAndNoiseHaveTheirMeanAndStd) {
   PlantGap g;
   g.joint.assign(2, JointGap{});

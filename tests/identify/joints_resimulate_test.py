@@ -3,7 +3,7 @@
 
 The "robot" is HRP-1S whose left elbow has a rotor, viscous and Coulomb friction the model lacks
 (sim_host --joint-file with values this test sets: armature 15 instead of 12 kg m^2, damping 2.0
-instead of 0.1 N m s/rad, frictionloss 1.5 instead of 0 N m). The experiment
+instead of 0.1 N m s/rad, frictionloss 1.5 instead of 0 N m, and its commands applied 4 ms late). The experiment
 (scenarios/excite_elbow.yaml: excite's chirp on the elbow) is recorded on it; `ohrp identify
 --joints --model` fits the log and writes joints.yaml; the same experiment is then simulated on
 the nominal model and on the model with the identified file, and each is compared with the
@@ -11,7 +11,8 @@ recording, sample by sample (lock-step: the same cycle times).
 
 Checks, from the truth this test set (not from a previous run):
 - the identified armature within 2 % of 15; damping and frictionloss within 10 % of 2.0 and 1.5
-  (the fit's known bias from MuJoCo's soft friction constraint is 2-7 %: docs/identify.md);
+  (the fit's known bias from MuJoCo's soft friction constraint is 2-7 %: docs/identify.md); the
+  delay exactly 4 ms (the servo's lag of 5 cycles less sim_host's own one);
 - the RMS of the elbow's angle and torque against the recording at least 20x and 10x smaller with
   the identified file than with the nominal model;
 - sim_host's summary reports the values it ran with;
@@ -27,7 +28,7 @@ import subprocess
 import sys
 
 BIN, SRC, OUT = sys.argv[1], sys.argv[2], sys.argv[3]
-TRUTH = {"armature": 15.0, "damping": 2.0, "frictionloss": 1.5}
+TRUTH = {"armature": 15.0, "damping": 2.0, "frictionloss": 1.5, "delay": 0.004}
 failures = []
 
 
@@ -87,8 +88,8 @@ def refused(text, what, expect):
 os.makedirs(OUT, exist_ok=True)
 truth_file = os.path.join(OUT, "truth_joints.yaml")
 with open(truth_file, "w") as f:
-    f.write("joints:\n  LARM_ELBOW: {armature: %g, damping: %g, frictionloss: %g}\n"
-            % (TRUTH["armature"], TRUTH["damping"], TRUTH["frictionloss"]))
+    f.write("joints:\n  LARM_ELBOW: {armature: %g, damping: %g, frictionloss: %g, delay: %g}\n"
+            % (TRUTH["armature"], TRUTH["damping"], TRUTH["frictionloss"], TRUTH["delay"]))
 
 # 1. the experiment on the "robot"
 robot = run("excite_elbow_robot", truth_file)
@@ -110,7 +111,8 @@ with open(os.path.join(ident, "joints.yaml")) as f:
         if line.strip().startswith("LARM_ELBOW:"):
             body = line.split("{", 1)[1].split("}", 1)[0]
             found = {k.strip(): float(v) for k, v in (p.split(":") for p in body.split(","))}
-tolerance = {"armature": 0.02, "damping": 0.10, "frictionloss": 0.10}
+# the delay: the servo's lag less sim_host's own cycle, exactly 4 of the 1 ms cycles
+tolerance = {"armature": 0.02, "damping": 0.10, "frictionloss": 0.10, "delay": 1e-9}
 for k, v in TRUTH.items():
     got = found.get(k, float("nan"))
     check(abs(got - v) <= tolerance[k] * v,
@@ -132,7 +134,9 @@ check(identified[3] * 10 <= nominal[3],
 # 4. bad files refused before anything runs
 refused("joints:\n  NO_SUCH_JOINT: {damping: 1}\n", "an unknown joint", "NO_SUCH_JOINT: the model has no such joint")
 refused("joints:\n  LARM_ELBOW: {damping: -1}\n", "a negative damping", ":2: joints: LARM_ELBOW: damping: must be in [0, ")
-refused("joints:\n  LARM_ELBOW: {stiffness: 1}\n", "an unknown key", "stiffness: unknown key (armature, damping, frictionloss)")
+refused("joints:\n  LARM_ELBOW: {stiffness: 1}\n", "an unknown key", "stiffness: unknown key (armature, damping, frictionloss, delay)")
+refused("joints:\n  LARM_ELBOW: {delay: 0.0015}\n", "a delay between control periods",
+        "joints: LARM_ELBOW: delay 0.0015 s is not a whole number of control periods (0.005 s): e.g. 0 or 0.005")
 refused("joints: []\n", "an empty list", "wants a mapping 'joints:'")
 
 print("%d failure(s)" % len(failures))

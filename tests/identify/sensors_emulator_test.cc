@@ -162,8 +162,10 @@ TEST_F(SensorsOnTheEmulator, ForceTorqueOffsetsOnTheRig) {
   std::string error;
   ASSERT_TRUE(EstimateSensors(csv, o, &e, &error)) << error << " (" << csv << ")";
   // the encoders' biases first: the F/T sensors' static loads are computed where the joints are
-  ASSERT_TRUE(EstimateEncoderBias({hung, "rig"}, o.min_gravity_stiffness, &e, &error)) << error;
-  ASSERT_TRUE(EstimateForceBias({hung, "rig"}, o.gravity, &e, &error)) << error;
+  JointModel rig;
+  rig.model = hung, rig.keyframe = "rig";
+  ASSERT_TRUE(EstimateEncoderBias(rig, o.min_gravity_stiffness, &e, &error)) << error;
+  ASSERT_TRUE(EstimateForceBias(rig, o.gravity, &e, &error)) << error;
   std::printf("[ figures  ] %zu still rows of %zu\n", e.samples, rows);
   ASSERT_FALSE(e.forces.empty());
   for (size_t i = 0; i < e.forces.size(); ++i)

@@ -149,7 +149,7 @@ bool Emulator::SetUp(int* exit_code) {
   for (int i = 0; i < block_.njoint; ++i) block_.joint[i] = shm::JointCommand{};  // kOff
   servo_->Accept(block_);
   wanted_ = block_;
-  delay_.SetUp(gap_.delay_cycles, block_);
+  delay_.SetUp(std::vector<int>(robot_.joints.size(), gap_.delay_cycles), block_);
   mj_forward(m_, d_);
   z0_ = BaseZ();
 

@@ -13,6 +13,7 @@
 #include "plant_gap.h"
 #include "hw_udp/protocol.h"
 #include "hw_udp/socket.h"
+#include "robot_model/command_delay.h"
 #include "robot_model/model.h"
 #include "robot_model/servo.h"
 #include "sim_host/contact_choice.h"
@@ -114,7 +115,7 @@ class Emulator {
   // the gap between the model and the robot (plant_gap.h)
   PlantGap gap_;
   std::unique_ptr<SensorGap> sensor_gap_;
-  CommandDelay delay_;
+  model::CommandDelay delay_;
   shm::CommandBlock wanted_{};       // the boards' references as accepted (encoders' frame)
   shm::CommandBlock servo_block_{};  // what goes to the servo (joints' frame, delayed)
   uint32_t refused_[shm::kMaxJoints] = {};         // commands refused per joint

@@ -188,23 +188,6 @@ std::string DescribeGap(const PlantGap& gap) {
   return text.empty() ? "none" : text.substr(0, text.size() - 2);
 }
 
-void CommandDelay::SetUp(int cycles, const shm::CommandBlock& initial) {
-  ring_.assign(static_cast<size_t>(cycles), initial);
-  head_ = 0;
-}
-
-const shm::CommandBlock& CommandDelay::Shift(const shm::CommandBlock& now) {
-  if (ring_.empty()) return now;
-  out_ = ring_[head_];
-  ring_[head_] = now;
-  head_ = (head_ + 1) % ring_.size();
-  return out_;
-}
-
-void CommandDelay::Override(int j, const shm::JointCommand& c) {
-  for (shm::CommandBlock& b : ring_) b.joint[j] = c;
-}
-
 namespace {
 
 model::SensorParams GapSensors(const PlantGap& gap, size_t imus, size_t forces) {

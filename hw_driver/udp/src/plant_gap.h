@@ -75,23 +75,6 @@ void ApplyGapToModel(const PlantGap& gap, const std::vector<int>& dof_adr, mjMod
 // One line for the start-up message ("none" when the robot is the model).
 std::string DescribeGap(const PlantGap& gap);
 
-// The actuator delay: a ring of preallocated command blocks.
-class CommandDelay {
- public:
-  // `cycles` blocks, each `initial`; allocates (set-up only)
-  void SetUp(int cycles, const shm::CommandBlock& initial);
-  int cycles() const { return static_cast<int>(ring_.size()); }
-  // enters `now`; returns the block entered `cycles` calls ago
-  const shm::CommandBlock& Shift(const shm::CommandBlock& now);
-  // joint `j` gets `c` in every pending block (what must act at once)
-  void Override(int j, const shm::JointCommand& c);
-
- private:
-  std::vector<shm::CommandBlock> ring_;
-  shm::CommandBlock out_{};
-  size_t head_ = 0;
-};
-
 // The sensors as the robot's give them: bias and white noise through the one sensor model
 // (robot_model/sensor_params.h, which sim_host's --sensor-file uses too); no allocation after
 // construction.

@@ -8,6 +8,8 @@
 //   joints:
 //     LARM_ELBOW: {armature: 15.0, damping: 2.05, frictionloss: 1.42}
 //     RARM_ELBOW: {damping: 1.9}          # a key left out keeps the model's value
+//     RLEG_KNEE: {delay: 0.02}            # [s] the actuator's command delay (a whole number
+//                                         # of control periods; sim_host's CommandDelay)
 //
 // Values replace the model's (they are not added). Set-up only: nothing here is for the
 // real-time path.
@@ -29,11 +31,13 @@ struct JointParams {
   double armature = NAN;      // [kg m^2] NaN: the model's
   double damping = NAN;       // [N m s/rad]
   double frictionloss = NAN;  // [N m]
+  double delay = NAN;         // [s] the actuator applies a command this long after it is sent
   std::string note;           // written as a comment after the entry (e.g. the standard errors)
 };
 
 // The largest value each key takes (a mistake, not a robot, beyond it).
 inline constexpr double kMaxArmature = 1e4, kMaxDamping = 1e5, kMaxFrictionloss = 1e5;
+inline constexpr double kMaxDelay = 0.1;
 
 // MuJoCo's friction loss is a soft constraint: under a torque below it a joint creeps. Its
 // impedance (solimp's first two values, MuJoCo's default 0.9) is raised to this on a joint given
@@ -59,6 +63,12 @@ bool ApplyJointParams(const std::vector<JointParams>& joints, mjModel* m, mjData
 
 // Sets one dof's Coulomb friction with kFrictionImpedance (the emulator's gap uses it too).
 void SetDofFrictionloss(mjModel* m, int dof, double coulomb);
+
+// Each model joint's command delay in control periods (0 where the file gives none), in the
+// order of `joint_names`. False with `*error` naming the joint whose delay is not a whole
+// number of `period`s (within 1e-6 of one).
+bool JointDelayCycles(const std::vector<JointParams>& joints, const std::vector<std::string>& joint_names,
+                      double period, std::vector<int>* cycles, std::string* error);
 
 // "LARM_ELBOW armature 15 damping 2.05 frictionloss 1.42; ..." for start-up lines and summaries.
 std::string DescribeJointParams(const std::vector<JointParams>& joints);

@@ -56,11 +56,14 @@ bool JointParamsFromEstimates(const std::vector<JointLog>& logs,
     p.armature = e.inertia - link;
     p.damping = e.viscous;
     p.frictionloss = e.coulomb;
+    // the servo's lag less the simulator's own cycle (a command reaches sim_host's servo one
+    // cycle after the sensors it answers): the actuator's delay to simulate
+    if (e.lag_cycles > 1) p.delay = (e.lag_cycles - 1) * e.period;
     std::ostringstream note;
     note.precision(3);
     note << "I " << e.inertia << " +- " << e.inertia_se << " less the links' " << link
          << " (model armature " << armature << "); b +- " << e.viscous_se << ", c +- "
-         << e.coulomb_se;
+         << e.coulomb_se << "; lag " << e.lag_cycles << " cycles";
     p.note = note.str();
     // a negative value is no parameter: the fit or the model is wrong there; kept out, said
     auto keep = [&](const char* key, double* v) {
