@@ -157,6 +157,18 @@ class Stabilizer {
   const StabilizerOutput& output() const { return out_; }
 
  private:
+  // Update's stages, in order (stabilizer.cc)
+  void MeasureZmpAtFeet(const StabilizerInput& in) noexcept;
+  void DesireZmpFromDcm(const StabilizerInput& in) noexcept;
+  void HoldZmpInsideSupport(const Support& s, const Eigen::Vector2d& c) noexcept;
+  Eigen::Vector2d ShareLoadBetweenFeet(const Support& s) noexcept;
+  void DampFoot(const StabilizerInput& in, int i, double fz_d, const Eigen::Vector2d& residual,
+                double dt) noexcept;
+  void AdaptRestToGround(const StabilizerInput& in, int i, double dt) noexcept;
+  void DampSoleHeights(const StabilizerInput& in, double fz_total, double dt) noexcept;
+  void CorrectComSlowly(const StabilizerInput& in, const Eigen::Vector2d& c, double dt) noexcept;
+  void SwayTorso(const StabilizerInput& in, const Eigen::Vector2d& excess, double dt) noexcept;
+
   StabilizerGains gains_;
   StabilizerOutput out_;
   double torso_rate_[2] = {0, 0};  // pitch, roll angular velocities of the torso offsets [rad/s]

@@ -247,42 +247,49 @@ void Emulator::FlushLate(double now) {
   }
 }
 
+// each motor board's state, then the sensor board's, stamped with the robot's time
 void Emulator::SendStates(double now) {
   const uint64_t t_ns = static_cast<uint64_t>(std::llround(d_->time * 1e9));
-  MotorStatePacket mp;
-  for (size_t bi = 0; bi < motor_.size(); ++bi) {
-    MotorBoard& b = motor_[bi];
-    const uint32_t seq = b.tx_seq++;
-    if (faults_.silent & (1u << bi)) continue;
-    mp.h = Header{};
-    mp.h.board = static_cast<uint8_t>(bi);
-    mp.h.first = static_cast<uint8_t>(b.first);
-    mp.h.count = static_cast<uint8_t>(b.count);
-    mp.h.seq = seq;
-    mp.h.ack = b.ack;
-    mp.h.time_ns = t_ns;
-    mp.h.flags = (b.reset_flag ? board_flag::kReset : 0) | (b.joint_fault ? board_flag::kJointFault : 0) |
-                 (b.foreign_flag > 0 ? board_flag::kForeign : 0) |
-                 (b.holding ? board_flag::kHolding : 0);
-    if (b.foreign_flag > 0) --b.foreign_flag;
-    for (int k = 0; k < b.count; ++k) {
-      const int j = b.first + k;
-      mp.joint[k].servo_on = servo_on_[j];
-      mp.joint[k].fault = refused_[j] > 0 ? 1 : 0;
-      mp.joint[k].q = j == faults_.value_joint ? faults_.value : sensor_gap_->Encoder(j, sensors_.q[j]);
-      mp.joint[k].dq = sensors_.dq[j];
-      mp.joint[k].tau = sensors_.tau[j];
-    }
-    if (Drop()) {
-      ++b.states_dropped;
-      continue;
-    }
-    const size_t n = EncodeMotorState(mp, buf_);
-    Send(buf_, n, now, true);
-    ++b.states_sent;
-  }
+  MotorStatePacket mp;  // one packet filled for each board in turn
+  for (size_t bi = 0; bi < motor_.size(); ++bi) SendMotorState(bi, t_ns, now, &mp);
+  SendSensorState(t_ns, now);
+}
 
-  // the sensor board, with its stuck and saturated sensors
+void Emulator::SendMotorState(size_t bi, uint64_t t_ns, double now, MotorStatePacket* packet) {
+  MotorStatePacket& mp = *packet;
+  MotorBoard& b = motor_[bi];
+  const uint32_t seq = b.tx_seq++;
+  if (faults_.silent & (1u << bi)) return;
+  mp.h = Header{};
+  mp.h.board = static_cast<uint8_t>(bi);
+  mp.h.first = static_cast<uint8_t>(b.first);
+  mp.h.count = static_cast<uint8_t>(b.count);
+  mp.h.seq = seq;
+  mp.h.ack = b.ack;
+  mp.h.time_ns = t_ns;
+  mp.h.flags = (b.reset_flag ? board_flag::kReset : 0) | (b.joint_fault ? board_flag::kJointFault : 0) |
+               (b.foreign_flag > 0 ? board_flag::kForeign : 0) |
+               (b.holding ? board_flag::kHolding : 0);
+  if (b.foreign_flag > 0) --b.foreign_flag;
+  for (int k = 0; k < b.count; ++k) {
+    const int j = b.first + k;
+    mp.joint[k].servo_on = servo_on_[j];
+    mp.joint[k].fault = refused_[j] > 0 ? 1 : 0;
+    mp.joint[k].q = j == faults_.value_joint ? faults_.value : sensor_gap_->Encoder(j, sensors_.q[j]);
+    mp.joint[k].dq = sensors_.dq[j];
+    mp.joint[k].tau = sensors_.tau[j];
+  }
+  if (Drop()) {
+    ++b.states_dropped;
+    return;
+  }
+  const size_t n = EncodeMotorState(mp, buf_);
+  Send(buf_, n, now, true);
+  ++b.states_sent;
+}
+
+// the sensor board, with its stuck and saturated sensors
+void Emulator::SendSensorState(uint64_t t_ns, double now) {
   const int sb = layout_.sensor_board();
   const uint32_t seq = sensor_tx_seq_++;
   if (faults_.silent & (1u << sb)) return;
@@ -293,39 +300,8 @@ void Emulator::SendStates(double now) {
   sp.h.ack = static_cast<uint32_t>(robot_.passive.size());  // the passive joints' encoders
   sp.h.seq = seq;
   sp.h.time_ns = t_ns;
-  for (int i = 0; i < sp.h.count; ++i) {
-    shm::ForceTorque f = sensors_.force[i];
-    sensor_gap_->ForceTorque(i, &f);
-    if (faults_.stuck & (1u << i)) {
-      if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
-      frozen_ |= 1u << i;
-      f = frozen_force_[i];
-    } else {
-      frozen_ &= ~(1u << i);
-    }
-    if (faults_.saturated & (1u << i)) {
-      for (double& v : f.force) v = Peg(v, kForceRange);
-      for (double& v : f.torque) v = Peg(v, kTorqueRange);
-    }
-    sp.force[i] = f;
-  }
-  for (int i = 0; i < sp.h.first; ++i) {
-    const uint32_t bit = 1u << (8 + i);
-    shm::Imu u = sensors_.imu[i];
-    sensor_gap_->Imu(i, &u);
-    if (faults_.stuck & bit) {
-      if (!(frozen_ & bit)) frozen_imu_[i] = u;
-      frozen_ |= bit;
-      u = frozen_imu_[i];
-    } else {
-      frozen_ &= ~bit;
-    }
-    if (faults_.saturated & bit) {
-      for (double& v : u.gyro) v = Peg(v, kGyroRange);
-      for (double& v : u.accel) v = Peg(v, kAccelRange);
-    }
-    sp.imu[i] = u;
-  }
+  ReadForceSensors(&sp);
+  ReadImus(&sp);
   for (uint32_t i = 0; i < sp.h.ack; ++i) {
     sp.passive_q[i] = sensors_.passive_q[i];
     sp.passive_dq[i] = sensors_.passive_dq[i];
@@ -342,6 +318,48 @@ void Emulator::SendStates(double now) {
   const size_t n = EncodeSensorState(sp, buf_);
   Send(buf_, n, now, true);
   ++sensor_sent_;
+}
+
+// the F/T sensors (sp->h.count) as the sensor board reads them: a stuck one repeats the value
+// it froze at, a saturated one is pegged at its range
+void Emulator::ReadForceSensors(SensorStatePacket* sp) {
+  for (int i = 0; i < sp->h.count; ++i) {
+    shm::ForceTorque f = sensors_.force[i];
+    sensor_gap_->ForceTorque(i, &f);
+    if (faults_.stuck & (1u << i)) {
+      if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
+      frozen_ |= 1u << i;
+      f = frozen_force_[i];
+    } else {
+      frozen_ &= ~(1u << i);
+    }
+    if (faults_.saturated & (1u << i)) {
+      for (double& v : f.force) v = Peg(v, kForceRange);
+      for (double& v : f.torque) v = Peg(v, kTorqueRange);
+    }
+    sp->force[i] = f;
+  }
+}
+
+// the IMUs (sp->h.first), stuck and saturated the same way (fault bits 8 and up)
+void Emulator::ReadImus(SensorStatePacket* sp) {
+  for (int i = 0; i < sp->h.first; ++i) {
+    const uint32_t bit = 1u << (8 + i);
+    shm::Imu u = sensors_.imu[i];
+    sensor_gap_->Imu(i, &u);
+    if (faults_.stuck & bit) {
+      if (!(frozen_ & bit)) frozen_imu_[i] = u;
+      frozen_ |= bit;
+      u = frozen_imu_[i];
+    } else {
+      frozen_ &= ~bit;
+    }
+    if (faults_.saturated & bit) {
+      for (double& v : u.gyro) v = Peg(v, kGyroRange);
+      for (double& v : u.accel) v = Peg(v, kAccelRange);
+    }
+    sp->imu[i] = u;
+  }
 }
 
 }  // namespace ohrp::hw::udp::emu

@@ -74,7 +74,11 @@ class Emulator {
   int ToServo(int first, int count);
   void ApplyDelayed();
   void EstopChanged();
-  void SendStates(double now);
+  void SendStates(double now);  // its stages:
+  void SendMotorState(size_t bi, uint64_t t_ns, double now, MotorStatePacket* packet);
+  void SendSensorState(uint64_t t_ns, double now);
+  void ReadForceSensors(SensorStatePacket* sp);
+  void ReadImus(SensorStatePacket* sp);
   void Send(const uint8_t* data, size_t n, double now, bool may_be_late);
   void FlushLate(double now);
   void PollControl();

@@ -9,20 +9,27 @@
 
 #include "push/push.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+using ohrp::push::Limit;
+
+// the command line as given, before it is resolved into the options
+struct Command {
   ohrp::push::PushOptions o;
   std::vector<std::string> controllers;
   std::vector<double> directions;
   std::vector<double> phases;
   std::vector<std::string> not_worse, require_settled;
   bool no_plot = false;
-  CLI::App app{
-      "ohrp_push: how hard a push the standing robot survives. Per controller and direction\n"
-      "(0 = +x forward, 90 = +y left), the largest impulse over --push-duration at the base after\n"
-      "which the robot still stands, by bisection; or with --settle IMPULSE the time the base and the\n"
-      "ankle torques take to settle after that push. Each trial is one headless lock-step run (soft\n"
-      "soles, 1 ms physics, 5 ms control) starting from --keyframe. Writes table.md (also printed),\n"
-      "push.csv, push.json and push.png into --out. Definitions: docs/scenarios.md."};
+  std::vector<std::pair<size_t, size_t>> pairs;  // --require-not-worse A:B as indices
+};
+
+// the trials: controllers, directions, the bisection or settling, the push
+void AddTrialOptions(CLI::App& app, Command& c) {
+  ohrp::push::PushOptions& o = c.o;
+  auto& controllers = c.controllers;
+  auto& directions = c.directions;
+  auto& phases = c.phases;
   app.add_option("--controller", controllers,
                  "controller command (program in build/bin and its arguments, one string); "
                  "repeat for a side-by-side table (default: posture)");
@@ -48,6 +55,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--window", o.window, "length of the standing window at the end of the run [s]")
       ->capture_default_str();
+}
+
+// the scene, the jobs, the output and the requirements
+void AddOutputOptions(CLI::App& app, Command& c) {
+  ohrp::push::PushOptions& o = c.o;
   app.add_option("--scene", o.scene, "scene (MJCF, or a robot profile .yaml), relative to the repository root")->capture_default_str();
   app.add_option("--keyframe", o.keyframe, "initial state")->capture_default_str();
   app.add_option("--foot-sensors", o.foot_sensors,
@@ -56,21 +68,25 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--jobs,-j", o.jobs, "trials at once (default: the number of cores)");
   app.add_option("--out", o.out_dir, "output folder (default: runs/push-<date>-<time>)");
-  app.add_option("--require-not-worse", not_worse,
+  app.add_option("--require-not-worse", c.not_worse,
                  "A:B - exit 1 unless controller A survives at least B's impulse in every direction "
                  "(bisection mode; A and B as given to --controller)");
-  app.add_option("--require-settled", require_settled,
+  app.add_option("--require-settled", c.require_settled,
                  "NAME - exit 1 unless controller NAME stands and settles within --settle-within in "
                  "every direction (settle mode)");
-  app.add_flag("--no-plot", no_plot, "do not draw push.png");
+  app.add_flag("--no-plot", c.no_plot, "do not draw push.png");
   app.footer(
       "Exit codes: 0 done (and every --require-* holds), 1 a --require-* does not hold, a trial\n"
       "could not run or the report could not be written, 2 bad option, 130 interrupted.");
-  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+}
 
-  if (!controllers.empty()) o.controllers = controllers;
-  if (!directions.empty()) o.directions = directions;
-  o.plot = !no_plot;
+// the defaults (controllers, output folder, foot sensors) and every check: 2 on bad options,
+// else -1
+int ResolveOptions(Command& c) {
+  ohrp::push::PushOptions& o = c.o;
+  if (!c.controllers.empty()) o.controllers = c.controllers;
+  if (!c.directions.empty()) o.directions = c.directions;
+  o.plot = !c.no_plot;
   o.source_dir = ohrp::cli::DataDir();
   o.bin_dir = std::filesystem::canonical("/proc/self/exe").parent_path().string();
   if (o.out_dir.empty()) {
@@ -92,9 +108,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
     return 2;
   }
-  // A:B pairs name two of the controllers
-  std::vector<std::pair<size_t, size_t>> pairs;
-  for (const auto& spec : not_worse) {
+  return -1;
+}
+
+// --require-not-worse A:B names two of the controllers, --require-settled one: 2 if not, else -1
+int ReadRequirements(Command& c) {
+  const ohrp::push::PushOptions& o = c.o;
+  for (const auto& spec : c.not_worse) {
     const auto colon = spec.find(':');
     auto find = [&](const std::string& name) {
       return static_cast<size_t>(std::find(o.controllers.begin(), o.controllers.end(), name) - o.controllers.begin());
@@ -106,9 +126,9 @@ int main(int argc, char** argv) {
                            "--controller commands (bisection mode only)\n", spec.c_str());
       return 2;
     }
-    pairs.push_back({a, b});
+    c.pairs.push_back({a, b});
   }
-  for (const auto& name : require_settled) {
+  for (const auto& name : c.require_settled) {
     if (std::find(o.controllers.begin(), o.controllers.end(), name) == o.controllers.end() ||
         o.settle_impulse <= 0) {
       std::fprintf(stderr, "ohrp_push: --require-settled '%s': name one of the --controller commands "
@@ -116,11 +136,16 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  return -1;
+}
 
-  // one run per push time (--phases), each in its own folder; then the combined table
-  std::vector<double> times = phases.empty() ? std::vector<double>{o.push_at} : phases;
-  std::vector<ohrp::push::Limit> results;
-  std::vector<std::vector<ohrp::push::Limit>> per_time;
+// one run per push time (--phases), each in its own folder; then the combined table: every time
+// checked before anything runs; 2 on a bad time, 1 if a report cannot be written, else -1
+int RunEachTime(const Command& c, const std::vector<double>& times,
+                std::vector<std::vector<Limit>>* per_time) {
+  const ohrp::push::PushOptions& o = c.o;
+  const auto& phases = c.phases;
+  std::string error;
   const std::string top = o.out_dir;
   for (double t : times) {  // every time checked before anything runs
     ohrp::push::PushOptions ot = o;
@@ -134,9 +159,9 @@ int main(int argc, char** argv) {
     ohrp::push::PushOptions ot = o;
     ot.push_at = t;
     if (!phases.empty()) ot.out_dir = top + "/at-" + std::to_string(t).substr(0, std::to_string(t).find('.') + 3);
-    per_time.push_back(ohrp::push::RunAll(ot));
+    per_time->push_back(ohrp::push::RunAll(ot));
     std::string markdown;
-    if (!ohrp::push::WriteReport(ot, per_time.back(), &markdown, &error)) {
+    if (!ohrp::push::WriteReport(ot, per_time->back(), &markdown, &error)) {
       std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
       return 1;
     }
@@ -144,14 +169,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ohrp_push: wrote table.md, push.csv, push.json%s in %s\n",
                  ot.plot && ot.settle_impulse <= 0 ? ", push.png" : "", ot.out_dir.c_str());
   }
-  if (!phases.empty() && !ohrp::push::WritePhases(o, times, per_time, &error)) {
+  if (!phases.empty() && !ohrp::push::WritePhases(o, times, *per_time, &error)) {
     std::fprintf(stderr, "ohrp_push: %s\n", error.c_str());
     return 1;
   }
-  for (const auto& r : per_time) results.insert(results.end(), r.begin(), r.end());
+  return -1;
+}
 
-  // the verdict: every trial ran, each A survives at least what B does, the named controllers
-  // settle
+// the verdict: every trial ran, each A survives at least what B does, the named controllers
+// settle
+int Verdict(const Command& c, const std::vector<double>& times, const std::vector<Limit>& results) {
+  const ohrp::push::PushOptions& o = c.o;
+  const auto& require_settled = c.require_settled;
   int rc = 0;
   for (const auto& l : results) {
     if (l.failed && l.detail == "interrupted") return 130;
@@ -161,7 +190,7 @@ int main(int argc, char** argv) {
     }
   }
   const size_t nd = o.directions.size();
-  for (const auto& [a, b] : pairs) {
+  for (const auto& [a, b] : c.pairs) {
     for (size_t d = 0; d < nd * times.size(); ++d) {
       const size_t base = d / nd * nd * o.controllers.size();
       const auto& la = results[base + a * nd + d % nd];
@@ -183,4 +212,28 @@ int main(int argc, char** argv) {
     }
   }
   return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Command c;
+  CLI::App app{
+      "ohrp_push: how hard a push the standing robot survives. Per controller and direction\n"
+      "(0 = +x forward, 90 = +y left), the largest impulse over --push-duration at the base after\n"
+      "which the robot still stands, by bisection; or with --settle IMPULSE the time the base and the\n"
+      "ankle torques take to settle after that push. Each trial is one headless lock-step run (soft\n"
+      "soles, 1 ms physics, 5 ms control) starting from --keyframe. Writes table.md (also printed),\n"
+      "push.csv, push.json and push.png into --out. Definitions: docs/scenarios.md."};
+  AddTrialOptions(app, c);
+  AddOutputOptions(app, c);
+  if (const int code = ohrp::cli::ParseCommandLine(&app, argc, argv); code >= 0) return code;
+  if (const int code = ResolveOptions(c); code >= 0) return code;
+  if (const int code = ReadRequirements(c); code >= 0) return code;
+  const std::vector<double> times = c.phases.empty() ? std::vector<double>{c.o.push_at} : c.phases;
+  std::vector<std::vector<Limit>> per_time;
+  if (const int code = RunEachTime(c, times, &per_time); code >= 0) return code;
+  std::vector<Limit> results;
+  for (const auto& r : per_time) results.insert(results.end(), r.begin(), r.end());
+  return Verdict(c, times, results);
 }

@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "runner/scenario.h"
-#include "draw.h"
 #include "keys.h"
+#include "spec_parameters.h"
 #include "sweep/sweep.h"
 #include "yaml_read.h"  // the runner's typed reads (ReadNumber, ReadText, ...)
 
@@ -22,20 +22,16 @@ namespace {
 
 using runner::JoinNames;
 using runner::KnownKeysOnly;
-using runner::ReadInteger;
 using runner::ReadNumber;
 using runner::ReadText;
 
 const std::set<std::string> kTopKeys = {"name", "scenario", "time_limit", "set", "parameters",
                                         "plots"};
-const std::set<std::string> kParameterKeys = {"key", "values", "range", "draw", "zip"};
-const std::set<std::string> kRangeKeys = {"from", "to", "steps", "scale"};
 const std::set<std::string> kPlotKeys = {"check", "against"};
 // figures of every run that a plot may use besides the checks
 const std::set<std::string> kRunFigures = {"real_time_factor", "wall_time", "sim_time"};
 
 constexpr size_t kMaxVariants = 100000;
-constexpr long long kMaxSteps = 10000;
 constexpr double kMaxTimeLimit = 1e6;  // [s]
 
 // the messages' "sweep 'FILE': line N: ", through the runner's reads
@@ -43,118 +39,6 @@ constexpr const char* kSweep = "sweep";
 std::string At(const std::string& path, const YAML::Node& n) { return runner::At(path, n, kSweep); }
 std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key) {
   return runner::AtKey(path, map, key, kSweep);
-}
-
-// a scalar as a parameter value: numbers in their shortest exact form
-bool ReadValue(const YAML::Node& n, Value* v, std::string* why) {
-  if (!ReadText(n, &v->text, why)) return false;
-  double x = 0;
-  std::string ignored;
-  if (n.Tag() != "!" && ReadNumber(n, &x, &ignored)) {  // "!": a quoted scalar stays text
-    v->numeric = true;
-    v->number = x;
-    v->text = NumberText(x);
-  }
-  return true;
-}
-
-// the parameters of one `parameters` entry (one, or a zip group); each group is one axis
-bool ReadParameter(const YAML::Node& n, const std::string& path, const std::string& where,
-                   bool in_zip, Parameter* p, std::string* error) {
-  if (!n.IsMap()) {
-    *error = At(path, n) + where + "must be a mapping, e.g. {key: contact_params.stiffness, values: [1e6, 3e6]}";
-    return false;
-  }
-  if (!KnownKeysOnly(n, kParameterKeys, path, where, error, kSweep)) return false;
-  p->line = n.Mark().line + 1;
-  std::string why;
-  if (!n["key"] || !ReadText(n["key"], &p->key, &why) || p->key.empty()) {
-    *error = AtKey(path, n, "key") + where + "'key' is required: the scenario key to vary, e.g. contact_params.stiffness";
-    return false;
-  }
-  std::vector<Token> tokens;
-  if (!SplitKey(p->key, &tokens, &why)) {
-    *error = AtKey(path, n, "key") + where + "key: " + why;
-    return false;
-  }
-  if (in_zip && n["zip"]) {
-    *error = AtKey(path, n, "zip") + where + "a zip group cannot hold another";
-    return false;
-  }
-  if (!!n["values"] + !!n["range"] + !!n["draw"] != 1) {
-    *error = At(path, n) + where + p->key + ": give one of 'values' (a list), 'range' ({from, to, "
-             "steps, scale}) or 'draw' ({distribution, ..., n, seed})";
-    return false;
-  }
-  if (n["draw"]) return ReadDraw(n["draw"], path, where, p, error);
-  if (n["values"]) {
-    const YAML::Node list = n["values"];
-    if (!list.IsSequence() || list.size() == 0) {
-      *error = AtKey(path, n, "values") + where + p->key + ": values: must be a non-empty list, e.g. [1e6, 3e6]";
-      return false;
-    }
-    for (size_t i = 0; i < list.size(); ++i) {
-      Value v;
-      if (!ReadValue(list[i], &v, &why)) {
-        *error = At(path, list[i]) + where + p->key + ": values[" + std::to_string(i) + "]: " + why;
-        return false;
-      }
-      p->values.push_back(v);
-    }
-    return true;
-  }
-  // a range: from, to, steps, linear or log
-  const YAML::Node r = n["range"];
-  const std::string rw = where + p->key + ": range: ";
-  if (!r.IsMap()) {
-    *error = AtKey(path, n, "range") + rw + "must be a mapping, e.g. {from: 1e6, to: 1e7, steps: 5, scale: log}";
-    return false;
-  }
-  if (!KnownKeysOnly(r, kRangeKeys, path, rw, error, kSweep)) return false;
-  double from = 0, to = 0;
-  long long steps = 0;
-  for (const char* k : {"from", "to", "steps"}) {
-    if (!r[k]) {
-      *error = At(path, r) + rw + "'" + k + "' is required";
-      return false;
-    }
-  }
-  if (!ReadNumber(r["from"], &from, &why) || !ReadNumber(r["to"], &to, &why)) {
-    *error = AtKey(path, r, ReadNumber(r["from"], &from, &why) ? "to" : "from") + rw + why;
-    return false;
-  }
-  if (!ReadInteger(r["steps"], &steps, &why) || steps < 1 || steps > kMaxSteps) {
-    *error = AtKey(path, r, "steps") + rw + "steps: must be a whole number in [1, " +
-             std::to_string(kMaxSteps) + "], not '" + r["steps"].Scalar() + "'";
-    return false;
-  }
-  std::string scale = "linear";
-  if (r["scale"] && !runner::ReadChoice(r["scale"], {"linear", "log"}, &scale, &why)) {
-    *error = AtKey(path, r, "scale") + rw + "scale: " + why;
-    return false;
-  }
-  p->log_scale = scale == "log";
-  if (p->log_scale && !(from > 0 && to > 0)) {
-    *error = AtKey(path, r, from > 0 ? "to" : "from") + rw + "a log range needs from > 0 and to > 0";
-    return false;
-  }
-  if (steps == 1 && from != to) {
-    *error = AtKey(path, r, "steps") + rw + "steps: 1 gives one value: from and to must then be equal";
-    return false;
-  }
-  for (long long i = 0; i < steps; ++i) {
-    const double f = steps == 1 ? 0 : static_cast<double>(i) / static_cast<double>(steps - 1);
-    double x = p->log_scale ? std::exp(std::log(from) + f * (std::log(to) - std::log(from)))
-                            : from + f * (to - from);
-    if (i == 0) x = from;  // the ends exactly
-    if (i == steps - 1 && steps > 1) x = to;
-    Value v;
-    v.numeric = true;
-    v.number = x;
-    v.text = NumberText(x);
-    p->values.push_back(v);
-  }
-  return true;
 }
 
 // the YAML of the scenario with the `set` keys and the variant's values
@@ -222,6 +106,149 @@ std::string ScenarioPath(const std::string& name, const std::string& sweep_path,
   return (fs::path(sweep_path).parent_path() / name).lexically_normal().string();
 }
 
+// name: the file's name unless given, plain enough to name a folder and a Slurm job
+bool ReadName(const YAML::Node& root, const std::string& path, SweepSpec* s, std::string* error) {
+  std::string why;
+  s->name = fs::path(path).filename().string();
+  if (s->name.size() > 5 && s->name.substr(s->name.size() - 5) == ".yaml") s->name.resize(s->name.size() - 5);
+  if (root["name"] && !ReadText(root["name"], &s->name, &why)) s->name.clear();
+  const bool plain = !s->name.empty() && s->name.size() <= 100 &&
+                     s->name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                               "0123456789_-.") == std::string::npos;
+  if (!plain) {
+    *error = (root["name"] ? AtKey(path, root, "name") : "sweep '" + path + "': ") + "name: '" + s->name +
+             "' must be 1 to 100 letters, digits, '_', '-' or '.' (it names the output folder and the Slurm job)" +
+             (root["name"] ? "" : "; give 'name:' since the file's name is not one");
+    return false;
+  }
+  return true;
+}
+
+// scenario: the file named, and its text
+bool ReadScenarioFile(const YAML::Node& root, const std::string& path, const std::string& source_dir,
+                      SweepSpec* s, std::string* error) {
+  std::string scenario, why;
+  if (!root["scenario"] || !ReadText(root["scenario"], &scenario, &why) || scenario.empty()) {
+    *error = (root["scenario"] ? AtKey(path, root, "scenario") : "sweep '" + path + "': ") +
+             "'scenario' is required: a name in scenarios/ (e.g. stand) or a path to a scenario file";
+    return false;
+  }
+  s->scenario_file = ScenarioPath(scenario, path, source_dir);
+  std::ifstream in(s->scenario_file);
+  if (!in) {
+    *error = AtKey(path, root, "scenario") + "scenario: '" + s->scenario_file +
+             "' does not exist (a bare name is scenarios/NAME.yaml; a path is relative to the sweep file)";
+    return false;
+  }
+  std::stringstream ss;
+  ss << in.rdbuf();
+  s->scenario_text = ss.str();
+  return true;
+}
+
+bool ReadTimeLimit(const YAML::Node& root, const std::string& path, SweepSpec* s, std::string* error) {
+  std::string why;
+  if (root["time_limit"]) {
+    if (!ReadNumber(root["time_limit"], &s->time_limit, &why) || !(s->time_limit > 0) ||
+        s->time_limit > kMaxTimeLimit) {
+      *error = AtKey(path, root, "time_limit") + "time_limit: must be wall seconds per variant in (0, 1e6]" +
+               (why.empty() ? "" : ", " + why);
+      return false;
+    }
+  }
+  return true;
+}
+
+// set: keys given to every variant, each one set on the scenario with those before it
+bool ReadSet(const YAML::Node& root, const std::string& path, SweepSpec* s, std::string* error) {
+  if (!root["set"]) return true;
+  std::string why;
+  const YAML::Node set = root["set"];
+  if (!set.IsMap()) {
+    *error = AtKey(path, root, "set") + "set: must be a mapping of scenario keys to values, e.g. {duration: 2.0}";
+    return false;
+  }
+  for (const auto& kv : set) {
+    std::vector<Token> tokens;
+    Value v;
+    std::string key = kv.first.Scalar();
+    if (!SplitKey(key, &tokens, &why) || !ReadValue(kv.second, &v, &why)) {
+      *error = At(path, kv.first) + "set: " + key + ": " + why;
+      return false;
+    }
+    std::string text = s->scenario_text;
+    for (const auto& [k, value] : s->set) SetKey(text, k, value, &text, &why);
+    if (!SetKey(text, key, v, &text, &why)) {
+      *error = At(path, kv.first) + "set: " + key + ": " + why;
+      return false;
+    }
+    s->set.push_back({key, v});
+  }
+  return true;
+}
+
+// the grid: the first axis varies slowest
+bool BuildGrid(const YAML::Node& root, const std::string& path,
+               const std::vector<std::vector<size_t>>& axes, SweepSpec* s, std::string* error) {
+  size_t total = 1;
+  for (const auto& axis : axes) {
+    total *= s->parameters[axis[0]].values.size();
+    if (total > kMaxVariants) {
+      *error = AtKey(path, root, "parameters") + "parameters: more than " + std::to_string(kMaxVariants) + " variants";
+      return false;
+    }
+  }
+  for (size_t n = 0; n < total; ++n) {
+    Variant v;
+    v.id = static_cast<int>(n);
+    v.value_index.assign(s->parameters.size(), 0);
+    size_t rest = n;
+    for (size_t a = axes.size(); a-- > 0;) {
+      const size_t count = s->parameters[axes[a][0]].values.size();
+      for (size_t k : axes[a]) v.value_index[k] = static_cast<int>(rest % count);
+      rest /= count;
+    }
+    s->variants.push_back(v);
+  }
+  return true;
+}
+
+// plots: a check of the scenario (`figures`, or a run's figure) against a parameter (`keys`)
+bool ReadPlots(const YAML::Node& root, const std::string& path, const std::set<std::string>& figures,
+               const std::set<std::string>& keys, SweepSpec* s, std::string* error) {
+  if (!root["plots"]) return true;
+  std::string why;
+  const YAML::Node plots = root["plots"];
+  if (!plots.IsSequence()) {
+    *error = AtKey(path, root, "plots") + "plots: must be a list, e.g. - {check: base_height, against: contact_params.stiffness}";
+    return false;
+  }
+  for (size_t i = 0; i < plots.size(); ++i) {
+    const std::string where = "plots[" + std::to_string(i) + "]: ";
+    if (!plots[i].IsMap()) {
+      *error = At(path, plots[i]) + where + "must be a mapping {check, against}";
+      return false;
+    }
+    if (!KnownKeysOnly(plots[i], kPlotKeys, path, where, error, kSweep)) return false;
+    PlotSpec p;
+    p.line = plots[i].Mark().line + 1;
+    if (!plots[i]["check"] || !ReadText(plots[i]["check"], &p.check, &why) ||
+        !(figures.count(p.check) || p.check.rfind("base_displacement", 0) == 0)) {
+      *error = AtKey(path, plots[i], "check") + where + "check: must be one of the scenario's checks or a run's figure (" +
+               JoinNames(figures) + ")";
+      return false;
+    }
+    if (!plots[i]["against"] || !ReadText(plots[i]["against"], &p.against, &why) || !keys.count(p.against)) {
+      *error = AtKey(path, plots[i], "against") + where + "against: must be one of the parameters (" + JoinNames(keys) + ")";
+      return false;
+    }
+    s->plots.push_back(p);
+  }
+  return true;
+}
+
+// the file's stages in order: name, scenario, time limit, set, parameters, the grid, every
+// variant's scenario, plots
 bool ReadSweep(const YAML::Node& root, const std::string& path, const std::string& source_dir,
                SweepSpec* out, std::string* error) {
   if (!root.IsMap()) {
@@ -231,172 +258,22 @@ bool ReadSweep(const YAML::Node& root, const std::string& path, const std::strin
   if (!KnownKeysOnly(root, kTopKeys, path, "", error, kSweep)) return false;
   SweepSpec s;
   s.file = path;
-  std::string why;
-  // name, scenario, time limit
-  s.name = fs::path(path).filename().string();
-  if (s.name.size() > 5 && s.name.substr(s.name.size() - 5) == ".yaml") s.name.resize(s.name.size() - 5);
-  if (root["name"] && !ReadText(root["name"], &s.name, &why)) s.name.clear();
-  const bool plain = !s.name.empty() && s.name.size() <= 100 &&
-                     s.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                              "0123456789_-.") == std::string::npos;
-  if (!plain) {
-    *error = (root["name"] ? AtKey(path, root, "name") : "sweep '" + path + "': ") + "name: '" + s.name +
-             "' must be 1 to 100 letters, digits, '_', '-' or '.' (it names the output folder and the Slurm job)" +
-             (root["name"] ? "" : "; give 'name:' since the file's name is not one");
-    return false;
-  }
-  std::string scenario;
-  if (!root["scenario"] || !ReadText(root["scenario"], &scenario, &why) || scenario.empty()) {
-    *error = (root["scenario"] ? AtKey(path, root, "scenario") : "sweep '" + path + "': ") +
-             "'scenario' is required: a name in scenarios/ (e.g. stand) or a path to a scenario file";
-    return false;
-  }
-  s.scenario_file = ScenarioPath(scenario, path, source_dir);
-  {
-    std::ifstream in(s.scenario_file);
-    if (!in) {
-      *error = AtKey(path, root, "scenario") + "scenario: '" + s.scenario_file +
-               "' does not exist (a bare name is scenarios/NAME.yaml; a path is relative to the sweep file)";
-      return false;
-    }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    s.scenario_text = ss.str();
-  }
-  if (root["time_limit"]) {
-    if (!ReadNumber(root["time_limit"], &s.time_limit, &why) || !(s.time_limit > 0) ||
-        s.time_limit > kMaxTimeLimit) {
-      *error = AtKey(path, root, "time_limit") + "time_limit: must be wall seconds per variant in (0, 1e6]" +
-               (why.empty() ? "" : ", " + why);
-      return false;
-    }
-  }
-  // set: keys given to every variant
-  if (root["set"]) {
-    const YAML::Node set = root["set"];
-    if (!set.IsMap()) {
-      *error = AtKey(path, root, "set") + "set: must be a mapping of scenario keys to values, e.g. {duration: 2.0}";
-      return false;
-    }
-    for (const auto& kv : set) {
-      std::vector<Token> tokens;
-      Value v;
-      std::string key = kv.first.Scalar();
-      if (!SplitKey(key, &tokens, &why) || !ReadValue(kv.second, &v, &why)) {
-        *error = At(path, kv.first) + "set: " + key + ": " + why;
-        return false;
-      }
-      std::string text = s.scenario_text;
-      for (const auto& [k, value] : s.set) SetKey(text, k, value, &text, &why);
-      if (!SetKey(text, key, v, &text, &why)) {
-        *error = At(path, kv.first) + "set: " + key + ": " + why;
-        return false;
-      }
-      s.set.push_back({key, v});
-    }
-  }
-  // parameters: the axes of the grid, each one parameter or a zip group
-  const YAML::Node list = root["parameters"];
-  if (!list || !list.IsSequence() || list.size() == 0) {
-    *error = (list ? AtKey(path, root, "parameters") : "sweep '" + path + "': ") +
-             "'parameters' must be a non-empty list, e.g. - {key: contact_params.stiffness, values: [1e6, 3e6]}";
-    return false;
-  }
   std::vector<std::vector<size_t>> axes;
   std::set<std::string> keys;
-  for (size_t i = 0; i < list.size(); ++i) {
-    const std::string where = "parameters[" + std::to_string(i) + "]: ";
-    std::vector<size_t> axis;
-    const YAML::Node zip = list[i].IsMap() ? list[i]["zip"] : YAML::Node();
-    if (zip) {
-      if (list[i].size() != 1 || !zip.IsSequence() || zip.size() < 2) {
-        *error = At(path, list[i]) + where + "zip: must be the entry's only key, a list of two or more parameters varied together";
-        return false;
-      }
-      for (size_t k = 0; k < zip.size(); ++k) {
-        Parameter p;
-        if (!ReadParameter(zip[k], path, where + "zip[" + std::to_string(k) + "]: ", true, &p, error)) return false;
-        if (!s.parameters.empty() && !axis.empty() && p.values.size() != s.parameters[axis[0]].values.size()) {
-          *error = At(path, zip[k]) + where + "zip: " + p.key + " has " + std::to_string(p.values.size()) +
-                   " values, " + s.parameters[axis[0]].key + " " + std::to_string(s.parameters[axis[0]].values.size()) +
-                   " (zipped parameters need as many values each)";
-          return false;
-        }
-        axis.push_back(s.parameters.size());
-        s.parameters.push_back(p);
-      }
-    } else {
-      Parameter p;
-      if (!ReadParameter(list[i], path, where, false, &p, error)) return false;
-      axis.push_back(s.parameters.size());
-      s.parameters.push_back(p);
-    }
-    for (size_t k : axis) {
-      if (!keys.insert(s.parameters[k].key).second) {
-        *error = "sweep '" + path + "': line " + std::to_string(s.parameters[k].line) + ": " + where +
-                 "'" + s.parameters[k].key + "' is varied twice";
-        return false;
-      }
-    }
-    axes.push_back(axis);
-  }
-  // the grid: the first axis varies slowest
-  size_t total = 1;
-  for (const auto& axis : axes) {
-    total *= s.parameters[axis[0]].values.size();
-    if (total > kMaxVariants) {
-      *error = AtKey(path, root, "parameters") + "parameters: more than " + std::to_string(kMaxVariants) + " variants";
-      return false;
-    }
-  }
-  for (size_t n = 0; n < total; ++n) {
-    Variant v;
-    v.id = static_cast<int>(n);
-    v.value_index.assign(s.parameters.size(), 0);
-    size_t rest = n;
-    for (size_t a = axes.size(); a-- > 0;) {
-      const size_t count = s.parameters[axes[a][0]].values.size();
-      for (size_t k : axes[a]) v.value_index[k] = static_cast<int>(rest % count);
-      rest /= count;
-    }
-    s.variants.push_back(v);
-  }
-  // plots: a check of the scenario (or a run's figure) against a parameter
+  if (!ReadName(root, path, &s, error) || !ReadScenarioFile(root, path, source_dir, &s, error) ||
+      !ReadTimeLimit(root, path, &s, error) || !ReadSet(root, path, &s, error) ||
+      !ReadParameters(root, path, &s, &axes, &keys, error) || !BuildGrid(root, path, axes, &s, error))
+    return false;
   double duration = 0;
   if (!CheckVariants(&s, root, &duration, error)) return false;
+  // the figures a plot may use: the base variant's checks and a run's
+  std::string why;
   runner::Scenario base;
   runner::ParseScenario(s.variant_scenarios[0], s.scenario_file, &base, &why);
   std::set<std::string> figures = kRunFigures;
   figures.insert("sim_host_completed");
   for (const auto& c : base.checks) figures.insert(c.type);
-  if (root["plots"]) {
-    const YAML::Node plots = root["plots"];
-    if (!plots.IsSequence()) {
-      *error = AtKey(path, root, "plots") + "plots: must be a list, e.g. - {check: base_height, against: contact_params.stiffness}";
-      return false;
-    }
-    for (size_t i = 0; i < plots.size(); ++i) {
-      const std::string where = "plots[" + std::to_string(i) + "]: ";
-      if (!plots[i].IsMap()) {
-        *error = At(path, plots[i]) + where + "must be a mapping {check, against}";
-        return false;
-      }
-      if (!KnownKeysOnly(plots[i], kPlotKeys, path, where, error, kSweep)) return false;
-      PlotSpec p;
-      p.line = plots[i].Mark().line + 1;
-      if (!plots[i]["check"] || !ReadText(plots[i]["check"], &p.check, &why) ||
-          !(figures.count(p.check) || p.check.rfind("base_displacement", 0) == 0)) {
-        *error = AtKey(path, plots[i], "check") + where + "check: must be one of the scenario's checks or a run's figure (" +
-                 JoinNames(figures) + ")";
-        return false;
-      }
-      if (!plots[i]["against"] || !ReadText(plots[i]["against"], &p.against, &why) || !keys.count(p.against)) {
-        *error = AtKey(path, plots[i], "against") + where + "against: must be one of the parameters (" + JoinNames(keys) + ")";
-        return false;
-      }
-      s.plots.push_back(p);
-    }
-  }
+  if (!ReadPlots(root, path, figures, keys, &s, error)) return false;
   if (s.time_limit <= 0) s.time_limit = 60 + 30 * duration;  // ohrp_run's own default
   *out = s;
   return true;

@@ -234,6 +234,8 @@ int Serve(Source* source, const ServerOptions& options, bool exit_when_ended) {
             {"/control.js", options.web_dir + "/control.js", "text/javascript"},
             {"/workbench.js", options.web_dir + "/workbench.js", "text/javascript"},
             {"/pace.js", options.web_dir + "/pace.js", "text/javascript"},
+            {"/scene.js", options.web_dir + "/scene.js", "text/javascript"},
+            {"/images.js", options.web_dir + "/images.js", "text/javascript"},
             {"/lib/three.min.js", options.three_js, "text/javascript"},
             {"/lib/chart.min.js", options.chart_js, "text/javascript"}};
   for (const Asset& a : assets)
