@@ -4,7 +4,9 @@
 // ... measured from the map) and down the two 0.15 m stairs of scene_stairs15_down.xml: every
 // sole wholly on one tread with its margin, one stair at a time (a step onto a new level is
 // followed by the other foot beside it), the goal reached; a slope is walked with strides, not
-// one level at a time; a tread the limits cannot reach is refused naming max_forward.
+// one level at a time; a tread the limits cannot reach is refused naming max_forward; up and
+// down scene_stairs15_updown.xml with every toe kToeClearance from a riser ahead; a goal across a
+// nose moved onto one level; a footstep file's step too near a riser moved back or refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -127,6 +129,90 @@ TEST_F(TerrainPlan, DownTheStairsOneStairAtATime) {
   ASSERT_TRUE(PlanAcross("scene_stairs15_down.xml", 1.2)) << error_;
   const std::vector<int> levels = CheckOneStairAtATime(*terrain_, start_, steps_, lim_, -0.15);
   EXPECT_EQ(levels, (std::vector<int>{-1, -2}));
+}
+
+// scene_stairs15_updown.xml: risers at x = 0.5 and 0.8 m of the world (up to 0.15 and 0.3 m),
+// noses at 1.7 and 2.0 m (down to 0.15 m and the floor); in the start frame less origin().x()
+constexpr double kUpDownRisers[] = {0.5, 0.8}, kUpDownNoses[] = {1.7, 2.0};
+
+// up two stairs, across the landing and down two: one stair at a time, each level z = 0.15 k,
+// every sole's toes kToeClearance or more from the riser ahead (the closed form from the scene)
+TEST_F(TerrainPlan, UpAndDownTheStairsOneStairAtATime) {
+  ASSERT_TRUE(PlanAcross("scene_stairs15_updown.xml", 2.2)) << error_;
+  const double x0 = terrain_->origin().x();
+  std::vector<int> levels;
+  FeetPose feet = start_;
+  for (size_t k = 0; k < steps_.size(); ++k) {
+    const Footstep& s = steps_[k];
+    EXPECT_EQ(CheckStep(feet, s, lim_), "") << "step " << k + 1;
+    const int level = static_cast<int>(std::lround(s.p.z() / 0.15));
+    EXPECT_NEAR(s.p.z(), 0.15 * level, 1e-3) << "step " << k + 1;
+    if (std::fabs(s.p.z() - feet.p[1 - s.foot].z()) > 0.075) {
+      levels.push_back(level);
+      ASSERT_LT(k + 1, steps_.size());
+      EXPECT_EQ(steps_[k + 1].foot, 1 - s.foot);  // the other foot closes beside it
+      EXPECT_NEAR(steps_[k + 1].p.z(), s.p.z(), 1e-3);
+    }
+    const double toe = s.p.x() + lim_.sole_half_size.x();
+    for (double riser : kUpDownRisers)
+      if (toe < riser - x0) EXPECT_GE(riser - x0 - toe, TerrainMap::kToeClearance - 1e-4) << "step " << k + 1;
+    feet = After(feet, s);
+  }
+  EXPECT_EQ(levels, (std::vector<int>{1, 2, 1, 0}));
+  EXPECT_NEAR(MidFrame(feet).p.x(), 2.2, 1e-6);
+  EXPECT_NEAR(MidFrame(feet).p.z(), 0, 1e-3);
+}
+
+// a goal whose heels would rest across the bottom nose (at 2.0 - x0): moved forward to the
+// nearest spot (1 cm grid) with the heels kLevelMargin past it, and the note says so
+TEST_F(TerrainPlan, AGoalAcrossANoseIsMovedOntoOneLevel) {
+  terrain_ = Load("scene_stairs15_updown.xml");
+  ASSERT_TRUE(terrain_);
+  start_ = Start(lim_);
+  std::string note;
+  const double nose = kUpDownNoses[1] - terrain_->origin().x();
+  const double goal = nose + 0.05;  // the heels 7.5 cm behind the nose
+  ASSERT_TRUE(terrain_->PlanGoalAcross(start_, goal, 0, 0, lim_, 0.05, &steps_, &error_, &note)) << error_;
+  FeetPose feet = start_;
+  for (const Footstep& s : steps_) feet = After(feet, s);
+  const double end = MidFrame(feet).p.x();
+  const double heel_spot = nose + lim_.sole_half_size.x() + TerrainMap::kLevelMargin;
+  EXPECT_GE(end, heel_spot - 1e-9);
+  EXPECT_LT(end, heel_spot + 0.01);
+  EXPECT_NE(note.find("the goal moved"), std::string::npos) << note;
+  EXPECT_NE(note.find("forward"), std::string::npos) << note;
+}
+
+// every goal along the scene, 10 cm apart, plans (none refused for "changes of level": the goals
+// whose soles rest across a nose went back and forth across it)
+TEST_F(TerrainPlan, EveryGoalAcrossTheUpAndDownStairsPlans) {
+  for (double g = 1.0; g < 2.85; g += 0.1) EXPECT_TRUE(PlanAcross("scene_stairs15_updown.xml", g)) << g << ": " << error_;
+}
+
+// a footstep 2 mm before a riser (a file's, not the planner's) is moved back until its toes are
+// kToeClearance from the riser; with no search room it is refused naming the clearance
+TEST_F(TerrainPlan, AFootstepTooNearARiserIsMovedOrRefused) {
+  terrain_ = Load("scene_stairs15_updown.xml");
+  ASSERT_TRUE(terrain_);
+  start_ = Start(lim_);
+  const double riser = kUpDownRisers[0] - terrain_->origin().x();
+  const double x = riser - 0.002 - lim_.sole_half_size.x();
+  std::vector<Footstep> steps(2);
+  steps[0].foot = kRight;
+  steps[0].p = Eigen::Vector3d(x, -0.5 * lim_.width, 0);
+  steps[1].foot = kLeft;
+  steps[1].p = Eigen::Vector3d(x, 0.5 * lim_.width, 0);
+  std::vector<Footstep> placed = steps;
+  ASSERT_TRUE(terrain_->PlaceSteps(&placed, start_, lim_, 0.05, &error_)) << error_;
+  for (const Footstep& s : placed) {
+    const double clearance = riser - (s.p.x() + lim_.sole_half_size.x());
+    EXPECT_GE(clearance, TerrainMap::kToeClearance - 1e-4);
+    EXPECT_LT(clearance, TerrainMap::kToeClearance + 0.01);  // the nearest spot on the 1 cm grid
+    EXPECT_NEAR(terrain_->ToeClearance(s, lim_, 0.1), clearance, 2e-4);
+  }
+  placed = steps;
+  EXPECT_FALSE(terrain_->PlaceSteps(&placed, start_, lim_, 0.02, &error_));
+  EXPECT_NE(error_.find("its toes 2 mm from a riser ahead; a sole keeps 30 mm"), std::string::npos) << error_;
 }
 
 TEST_F(TerrainPlan, ATreadBeyondTheStrideIsRefusedNamingTheLimit) {

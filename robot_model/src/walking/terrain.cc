@@ -186,10 +186,15 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
       *error = "step " + std::to_string(k + 1) + " (" + SideName(s.foot) + "): " + why;
       return false;
     }
-    // a sole across an edge (a stone's, a stair's nose) rests on a line: move it, within
-    // `search`, to where the surface under it is one plane
-    // (and where the step and the next one still keep the limits)
-    if (!sample.planar) {
+    // a sole across an edge (a stone's, a stair's nose) rests on a line, and one whose toes come
+    // nearer a riser than kToeClearance puts the shin against it: move it, within `search`, to
+    // where the surface under it is one plane and the toes clear a riser (and where the step
+    // and the next one still keep the limits)
+    Footstep placed = s;
+    placed.p.z() = sample.z;
+    const double clearance = ToeClearance(placed, limits, kToeClearance);
+    if (!sample.planar || clearance < kToeClearance) {
+      bool found = false;
       for (const Eigen::Vector2d& d : shifts) {
         SurfaceSample other;
         std::string ignored;
@@ -198,11 +203,23 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
         if (!CheckStep(feet, moved, limits).empty()) continue;
         if (k + 1 < steps->size() && !CheckStep(After(feet, moved), (*steps)[k + 1], limits).empty())
           continue;
-        if (SurfaceUnder(moved.p.head<2>(), s.yaw, half, &other, &ignored) && other.planar) {
-          s.p.head<2>() = moved.p.head<2>();
-          sample = other;
-          break;
-        }
+        if (!SurfaceUnder(moved.p.head<2>(), s.yaw, half, &other, &ignored) || !other.planar) continue;
+        moved.p.z() = other.z;
+        if (ToeClearance(moved, limits, kToeClearance) < kToeClearance) continue;
+        s.p.head<2>() = moved.p.head<2>();
+        sample = other;
+        found = true;
+        break;
+      }
+      if (!found && clearance < kToeClearance) {
+        *error = "step " + std::to_string(k + 1) + " (" + SideName(s.foot) + "): its toes " +
+                 std::to_string(static_cast<int>(std::round(clearance * 1000))) +
+                 " mm from a riser ahead; a sole keeps " +
+                 std::to_string(static_cast<int>(std::round(kToeClearance * 1000))) +
+                 " mm from a riser that rises above it (TerrainMap::kToeClearance: the shin leans "
+                 "over the toes as the robot rises onto a stair) and no spot within the step "
+                 "search (" + std::to_string(search).substr(0, 4) + " m) does within the limits";
+        return false;
       }
     }
     s.p.z() = sample.z;
