@@ -5,12 +5,13 @@
 // sole wholly on one tread with its margin, one stair at a time (a step onto a new level is
 // followed by the other foot beside it), the goal reached; a slope is walked with strides, not
 // one level at a time; a tread the limits cannot reach is refused naming max_forward; up and
-// down scene_stairs15_updown.xml with every toe kToeClearance from a riser ahead; a goal across a
+// down scene_stairs15_updown.xml with every toe kShinLean x its height from a riser ahead; a goal across a
 // nose moved onto one level; a footstep file's step too near a riser moved back or refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "walking/terrain.h"
 
@@ -136,7 +137,7 @@ TEST_F(TerrainPlan, DownTheStairsOneStairAtATime) {
 constexpr double kUpDownRisers[] = {0.5, 0.8}, kUpDownNoses[] = {1.7, 2.0};
 
 // up two stairs, across the landing and down two: one stair at a time, each level z = 0.15 k,
-// every sole's toes kToeClearance or more from the riser ahead (the closed form from the scene)
+// every sole's toes kShinLean x 0.15 m or more from the riser ahead (the closed form from the scene)
 TEST_F(TerrainPlan, UpAndDownTheStairsOneStairAtATime) {
   ASSERT_TRUE(PlanAcross("scene_stairs15_updown.xml", 2.2)) << error_;
   const double x0 = terrain_->origin().x();
@@ -155,7 +156,9 @@ TEST_F(TerrainPlan, UpAndDownTheStairsOneStairAtATime) {
     }
     const double toe = s.p.x() + lim_.sole_half_size.x();
     for (double riser : kUpDownRisers)
-      if (toe < riser - x0) EXPECT_GE(riser - x0 - toe, TerrainMap::kToeClearance - 1e-4) << "step " << k + 1;
+      if (toe < riser - x0) {
+        EXPECT_GE(riser - x0 - toe, TerrainMap::kShinLean * 0.15 - 1e-4) << "step " << k + 1;
+      }
     feet = After(feet, s);
   }
   EXPECT_EQ(levels, (std::vector<int>{1, 2, 1, 0}));
@@ -189,8 +192,8 @@ TEST_F(TerrainPlan, EveryGoalAcrossTheUpAndDownStairsPlans) {
   for (double g = 1.0; g < 2.85; g += 0.1) EXPECT_TRUE(PlanAcross("scene_stairs15_updown.xml", g)) << g << ": " << error_;
 }
 
-// a footstep 2 mm before a riser (a file's, not the planner's) is moved back until its toes are
-// kToeClearance from the riser; with no search room it is refused naming the clearance
+// a footstep 2 mm before a 0.15 m riser (a file's, not the planner's) is moved back until its toes
+// are kShinLean x 0.15 m from the riser; with no search room it is refused naming the clearance
 TEST_F(TerrainPlan, AFootstepTooNearARiserIsMovedOrRefused) {
   terrain_ = Load("scene_stairs15_updown.xml");
   ASSERT_TRUE(terrain_);
@@ -206,13 +209,53 @@ TEST_F(TerrainPlan, AFootstepTooNearARiserIsMovedOrRefused) {
   ASSERT_TRUE(terrain_->PlaceSteps(&placed, start_, lim_, 0.05, &error_)) << error_;
   for (const Footstep& s : placed) {
     const double clearance = riser - (s.p.x() + lim_.sole_half_size.x());
-    EXPECT_GE(clearance, TerrainMap::kToeClearance - 1e-4);
-    EXPECT_LT(clearance, TerrainMap::kToeClearance + 0.01);  // the nearest spot on the 1 cm grid
-    EXPECT_NEAR(terrain_->ToeClearance(s, lim_, 0.1), clearance, 2e-4);
+    const double need = TerrainMap::kShinLean * 0.15;  // the riser 0.15 m above the floor
+    EXPECT_GE(clearance, need - 1e-4);
+    EXPECT_LT(clearance, need + 0.01);  // the nearest spot on the 1 cm grid
+    double measured_need = 0;
+    EXPECT_NEAR(terrain_->ToeClearance(s, lim_, &measured_need), clearance, 2e-4);
+    EXPECT_NEAR(measured_need, need, 1e-9);
   }
   placed = steps;
   EXPECT_FALSE(terrain_->PlaceSteps(&placed, start_, lim_, 0.02, &error_));
-  EXPECT_NE(error_.find("its toes 2 mm from a riser ahead; a sole keeps 30 mm"), std::string::npos) << error_;
+  EXPECT_NE(error_.find("its toes 2 mm from a riser 150 mm high ahead; a sole keeps 0.20 of a "
+                        "riser's height from it (30 mm"),
+            std::string::npos)
+      << error_;
+}
+
+// a step over a 0.1 m bar between its ends (floor to floor) swings above the bar: clear_z is the
+// bar's top (the highest terrain under the sole's way, the ends' own surfaces left out); one
+// backwards, away from it: the floor
+TEST_F(TerrainPlan, TheSwingClearsTheHighestTerrainOnItsWay) {
+  const std::string dir = ::testing::TempDir();
+  const std::string scene = dir + "/terrain_plan_bar.xml";
+  // MuJoCo includes relative to the scene's folder
+  const std::string robot =
+      std::filesystem::relative(kSource + "/mjcf/hrp1s/hrp1s.xml", dir).string();
+  {
+    FILE* f = std::fopen(scene.c_str(), "w");
+    ASSERT_TRUE(f);
+    std::fprintf(f,
+                 "<mujoco><include file=\"%s\"/><worldbody>"
+                 "<geom name=\"floor\" type=\"plane\" size=\"5 5 0.1\"/>"
+                 "<geom name=\"bar\" type=\"box\" size=\"0.025 0.6 0.05\" pos=\"0.4 0 0.05\"/>"
+                 "</worldbody></mujoco>\n",
+                 robot.c_str());
+    std::fclose(f);
+  }
+  std::string error;
+  auto t = TerrainMap::Load(scene, "halfsit", &error);
+  ASSERT_TRUE(t != nullptr) << error;
+  start_ = Start(lim_);
+  std::vector<Footstep> steps(1);
+  steps[0].foot = kRight;
+  steps[0].p = Eigen::Vector3d(0.7, -0.5 * lim_.width, 0);  // the bar at 0.375-0.425 - x0: between
+  t->SetSwingClearance(&steps, start_, lim_);
+  EXPECT_NEAR(steps[0].clear_z, 0.1, 1e-6);
+  steps[0].p.x() = -0.35;  // backwards, away from the bar: the floor
+  t->SetSwingClearance(&steps, start_, lim_);
+  EXPECT_NEAR(steps[0].clear_z, 0.0, 1e-6);
 }
 
 TEST_F(TerrainPlan, ATreadBeyondTheStrideIsRefusedNamingTheLimit) {

@@ -52,34 +52,45 @@ double TerrainMap::LargestRise(const Eigen::Vector2d& a, const Eigen::Vector2d& 
   return largest;
 }
 
-double TerrainMap::ToeClearance(const Footstep& s, const StepLimits& limits, double reach) const {
+double TerrainMap::ToeClearance(const Footstep& s, const StepLimits& limits, double* need) const {
   const Eigen::Rotation2Dd R0(yaw_);
   const Eigen::Vector2d along(std::cos(s.yaw), std::sin(s.yaw)), across(-along.y(), along.x());
   const Eigen::Vector2d toe = s.p.head<2>() + limits.sole_half_size.x() * along;
-  // the terrain `d` ahead of the toe on line `side` (-1, 0, 1: right edge, centre, left edge)
-  // stands above the sole by more than a level change
-  auto riser = [&](double d, double side) {
-    const Eigen::Vector2d q =
-        origin_.head<2>() + R0 * (toe + d * along + side * limits.sole_half_size.y() * across);
+  // the sole's plane (its surface's tilt: normal Rx(roll) Ry(pitch) e_z)
+  const Eigen::Vector3d n = Eigen::AngleAxisd(s.roll, Eigen::Vector3d::UnitX()) *
+                            Eigen::AngleAxisd(s.pitch, Eigen::Vector3d::UnitY()) * Eigen::Vector3d::UnitZ();
+  // the terrain's height above that plane `d` ahead of the toe on line `side` (-1, 0, 1: right
+  // edge, centre, left edge); very low where there is none
+  auto above = [&](double d, double side) {
+    const Eigen::Vector2d p = toe + d * along + side * limits.sole_half_size.y() * across;
+    const Eigen::Vector2d q = origin_.head<2>() + R0 * p;
     double h = 0;
-    return Height(q.x(), q.y(), &h) && h - origin_.z() > s.p.z() + kLevelChange;
+    if (!Height(q.x(), q.y(), &h)) return -1e9;
+    const Eigen::Vector2d off = p - s.p.head<2>();
+    return h - origin_.z() - (s.p.z() - (n.x() * off.x() + n.y() * off.y()) / n.z());
   };
-  const int n = static_cast<int>(std::ceil(reach / kRiseSample));
-  for (int i = 0; i <= n; ++i) {
-    const double d = std::min(i * kRiseSample, reach);
+  if (need) *need = 0;
+  const int n_samples = static_cast<int>(std::ceil(kToeReach / kRiseSample));
+  for (int i = 0; i <= n_samples; ++i) {
+    const double d = std::min(i * kRiseSample, kToeReach);
     for (double side : {-1.0, 0.0, 1.0}) {
-      if (!riser(d, side)) continue;
-      if (i == 0) return 0;
+      if (!(above(d, side) > kLevelChange)) continue;
       // the riser lies between the last sample clear of it and this one: bisected to 0.1 mm
-      double lo = d - kRiseSample, hi = d;
-      for (int b = 0; b < 6; ++b) {
+      double lo = std::max(d - kRiseSample, 0.0), hi = d;
+      for (int b = 0; b < 6 && i > 0; ++b) {
         const double mid = 0.5 * (lo + hi);
-        (riser(mid, side) ? hi : lo) = mid;
+        (above(mid, side) > kLevelChange ? hi : lo) = mid;
       }
-      return lo;
+      if (need) *need = kShinLean * above(hi + 0.001, side);  // the riser's top, 1 mm behind its face
+      return i == 0 ? 0.0 : lo;
     }
   }
-  return reach;
+  return kToeReach;
+}
+
+bool TerrainMap::ToesClear(const Footstep& s, const StepLimits& limits) const {
+  double need = 0;
+  return ToeClearance(s, limits, &need) >= need;
 }
 
 TerrainMap::LevelMargin TerrainMap::MarginFor(bool down) {
@@ -118,7 +129,7 @@ bool TerrainMap::PlaceOnLevel(const FeetPose& feet, Footstep* s, const StepLimit
     m->roll = sample.roll;
     m->pitch = sample.pitch;
     if (!CheckStep(feet, *m, limits).empty()) return false;
-    if (ToeClearance(*m, limits, kToeClearance) < kToeClearance) return false;
+    if (!ToesClear(*m, limits)) return false;
     if ((LargestRise(stance, m->p.head<2>()) > kLevelChange) != new_level) return false;
     // onto a new level from beside the other foot: the swing no longer than a stride
     return !new_level || (m->p - feet.p[m->foot]).head<2>().norm() <= limits.max_forward + 1e-9;
@@ -169,8 +180,10 @@ bool TerrainMap::GoalOnOneLevel(Frame2* g, const StepLimits& limits) const {
       std::string ignored;
       if (!SurfaceUnder(s.p.head<2>(), s.yaw, limits.sole_half_size, &sample, &ignored)) return false;
       s.p.z() = sample.z;
+      s.roll = sample.roll;
+      s.pitch = sample.pitch;
       if (SoleAcrossRise(s, limits, kLevelMargin)) return false;
-      if (ToeClearance(s, limits, kToeClearance) < kToeClearance) return false;
+      if (!ToesClear(s, limits)) return false;
     }
     return true;
   };
@@ -248,16 +261,19 @@ bool TerrainMap::PlanGoalAcross(const FeetPose& start, double x, double y, doubl
       rise_on_way = LargestRise(feet.p[1 - plan[k].foot].head<2>(), plan[k].p.head<2>()) > kLevelChange;
       Footstep on = plan[k];
       on.p.z() = sample.z;
-      if (rise_on_way || SoleAcrossRise(plan[k], limits) ||
-          ToeClearance(on, limits, kToeClearance) < kToeClearance)
-        break;
+      on.roll = sample.roll;
+      on.pitch = sample.pitch;
+      if (rise_on_way || SoleAcrossRise(plan[k], limits) || !ToesClear(on, limits)) break;
       std::vector<Footstep> one = {plan[k]};
       if (k + 1 < plan.size()) one.push_back(plan[k + 1]);
       if (!PlaceSteps(&one, feet, limits, search, error)) return false;
       steps->push_back(one.front());
       feet = After(feet, one.front());
     }
-    if (k == plan.size()) return true;  // at the goal on this level
+    if (k == plan.size()) {  // at the goal on this level
+      SetSwingClearance(steps, start, limits);
+      return true;
+    }
     // onto the next level: the step lands where its whole sole (and a margin) rests on the new
     // level, and the other foot closes beside it
     Footstep next = plan[k];
