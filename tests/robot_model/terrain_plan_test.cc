@@ -186,6 +186,14 @@ TEST_F(TerrainPlan, AGoalAcrossANoseIsMovedOntoOneLevel) {
   EXPECT_NE(note.find("forward"), std::string::npos) << note;
 }
 
+// a goal off the terrain (the floor ends 20 m from the world's origin) is not moved: the plan
+// names the step with no surface under it
+TEST_F(TerrainPlan, AGoalOffTheTerrainIsRefusedNamingTheStep) {
+  EXPECT_FALSE(PlanAcross("scene_stairs15_updown.xml", 21.0));
+  EXPECT_EQ(error_.find("rest across a rise"), std::string::npos) << error_;
+  EXPECT_EQ(error_.rfind("step ", 0), 0u) << error_;
+}
+
 // every goal along the scene, 10 cm apart, plans (none refused for "changes of level": the goals
 // whose soles rest across a nose went back and forth across it)
 TEST_F(TerrainPlan, EveryGoalAcrossTheUpAndDownStairsPlans) {

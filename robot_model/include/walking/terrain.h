@@ -148,6 +148,7 @@ class TerrainMap {
   bool SoleAcrossRise(const Footstep& s, const StepLimits& limits, double margin = 0) const;
   // the goal `g` moved along its heading to the nearest spot (within a sole's length) where
   // both soles of the stance rest on one level with kLevelMargin, the toes clear; false if none
+  // (a goal with no surface under a sole is left where it is)
   bool GoalOnOneLevel(Frame2* g, const StepLimits& limits) const;
   // the other foot's step beside `last` (limits.width apart, parallel) on its level, appended to
   // `steps` and `feet`; false with `*error` when the spot is not on one plane with `margin`

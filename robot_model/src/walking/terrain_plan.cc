@@ -169,7 +169,9 @@ bool TerrainMap::SoleAcrossRise(const Footstep& s, const StepLimits& limits, dou
 bool TerrainMap::GoalOnOneLevel(Frame2* g, const StepLimits& limits) const {
   const Eigen::Vector2d along(std::cos(g->yaw), std::sin(g->yaw)), left(-along.y(), along.x());
   // both soles of the stance at `p`: on one level with the margin, their toes clear of a riser
-  auto fits = [&](const Eigen::Vector3d& p) {
+  // (false with *missing when a sole has no surface under it)
+  auto fits = [&](const Eigen::Vector3d& p, bool* missing) {
+    *missing = false;
     for (int foot : {kLeft, kRight}) {
       Footstep s;
       s.foot = foot;
@@ -178,7 +180,10 @@ bool TerrainMap::GoalOnOneLevel(Frame2* g, const StepLimits& limits) const {
       s.p.head<2>() += (foot == kLeft ? 0.5 : -0.5) * limits.width * left;
       SurfaceSample sample;
       std::string ignored;
-      if (!SurfaceUnder(s.p.head<2>(), s.yaw, limits.sole_half_size, &sample, &ignored)) return false;
+      if (!SurfaceUnder(s.p.head<2>(), s.yaw, limits.sole_half_size, &sample, &ignored)) {
+        *missing = true;
+        return false;
+      }
       s.p.z() = sample.z;
       s.roll = sample.roll;
       s.pitch = sample.pitch;
@@ -187,12 +192,15 @@ bool TerrainMap::GoalOnOneLevel(Frame2* g, const StepLimits& limits) const {
     }
     return true;
   };
+  bool missing = false;
+  // a goal off the terrain stays where it is: the plan names the step with no surface under it
+  if (fits(g->p, &missing) || missing) return true;
   const int n = static_cast<int>(std::ceil(2 * limits.sole_half_size.x() / kAlongStep));
-  for (int k = 0; k <= 2 * n; ++k) {
+  for (int k = 1; k <= 2 * n; ++k) {
     const int i = k % 2 ? (k + 1) / 2 : -k / 2;  // the nearest first, forward before back
     Eigen::Vector3d p = g->p;
     p.head<2>() += i * kAlongStep * along;
-    if (!fits(p)) continue;
+    if (!fits(p, &missing)) continue;
     g->p = p;
     return true;
   }
