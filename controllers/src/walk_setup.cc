@@ -342,9 +342,10 @@ ConfigStatus WalkController::PlanCommands() {
     if (terrain_ && c.kind == WalkCommand::Kind::kGoal) {
       // a goal across the terrain: one level (stair) at a time (walking/terrain.h)
       if (!terrain_->PlanGoalAcross(feet, c.x, c.y, c.yaw, lim, walk_options_.step_search, &steps,
-                                    &error))
+                                    &error, &note))
         return ConfigStatus::Fail(ConfigError::kOption, "\"" + c.text + "\" on --terrain " +
                                                             walk_options_.terrain + ": " + error);
+      if (!note.empty()) notes_.push_back("\"" + c.text + "\": " + note);
     } else {
       if (!PlanWalkCommand(c, feet, lim, walk_options_.gait.step_time, &steps, &note, &error))
         return ConfigStatus::Fail(ConfigError::kOption, error);

@@ -52,6 +52,27 @@ Gait StepOnto(const GaitOptions& o, double height, double pitch) {
   return g;
 }
 
+// a swing over terrain higher than both its ends (Footstep::clear_z, from the scene): its apex
+// is `height` above that terrain, reached at mid-swing; without it, above the higher end
+TEST(StepUp, TheSwingApexIsAboveTheHighestTerrainOnItsWay) {
+  const GaitOptions o = StairOptions();
+  for (double clear : {0.1, -1e9}) {
+    Gait g = StepOnto(o, 0.0, 0);
+    Footstep s;
+    s.foot = kRight;
+    s.p = Eigen::Vector3d(0.3, -0.09, 0);
+    s.clear_z = clear;
+    g.Replace(0, {s});
+    double top = -1;
+    GaitState st;
+    for (double t = g.step_lift(0); t <= g.step_land(0); t += 1e-3) {
+      g.At(t, &st);
+      top = std::max(top, st.feet.p[kRight].z());
+    }
+    EXPECT_NEAR(top, std::max(clear, 0.0) + o.step_height, 1e-6) << clear;
+  }
+}
+
 TEST(StepUp, TheGroundRisesOverTheStepOntoTheStair) {
   const GaitOptions o = StairOptions();
   const double height = 0.15;

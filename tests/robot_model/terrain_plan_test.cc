@@ -4,11 +4,14 @@
 // ... measured from the map) and down the two 0.15 m stairs of scene_stairs15_down.xml: every
 // sole wholly on one tread with its margin, one stair at a time (a step onto a new level is
 // followed by the other foot beside it), the goal reached; a slope is walked with strides, not
-// one level at a time; a tread the limits cannot reach is refused naming max_forward.
+// one level at a time; a tread the limits cannot reach is refused naming max_forward; up and
+// down scene_stairs15_updown.xml with every toe kShinLean x its height from a riser ahead; a goal across a
+// nose moved onto one level; a footstep file's step too near a riser moved back or refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "walking/terrain.h"
 
@@ -127,6 +130,140 @@ TEST_F(TerrainPlan, DownTheStairsOneStairAtATime) {
   ASSERT_TRUE(PlanAcross("scene_stairs15_down.xml", 1.2)) << error_;
   const std::vector<int> levels = CheckOneStairAtATime(*terrain_, start_, steps_, lim_, -0.15);
   EXPECT_EQ(levels, (std::vector<int>{-1, -2}));
+}
+
+// scene_stairs15_updown.xml: risers at x = 0.5 and 0.8 m of the world (up to 0.15 and 0.3 m),
+// noses at 1.7 and 2.0 m (down to 0.15 m and the floor); in the start frame less origin().x()
+constexpr double kUpDownRisers[] = {0.5, 0.8}, kUpDownNoses[] = {1.7, 2.0};
+
+// up two stairs, across the landing and down two: one stair at a time, each level z = 0.15 k,
+// every sole's toes kShinLean x 0.15 m or more from the riser ahead (the closed form from the scene)
+TEST_F(TerrainPlan, UpAndDownTheStairsOneStairAtATime) {
+  ASSERT_TRUE(PlanAcross("scene_stairs15_updown.xml", 2.2)) << error_;
+  const double x0 = terrain_->origin().x();
+  std::vector<int> levels;
+  FeetPose feet = start_;
+  for (size_t k = 0; k < steps_.size(); ++k) {
+    const Footstep& s = steps_[k];
+    EXPECT_EQ(CheckStep(feet, s, lim_), "") << "step " << k + 1;
+    const int level = static_cast<int>(std::lround(s.p.z() / 0.15));
+    EXPECT_NEAR(s.p.z(), 0.15 * level, 1e-3) << "step " << k + 1;
+    if (std::fabs(s.p.z() - feet.p[1 - s.foot].z()) > 0.075) {
+      levels.push_back(level);
+      ASSERT_LT(k + 1, steps_.size());
+      EXPECT_EQ(steps_[k + 1].foot, 1 - s.foot);  // the other foot closes beside it
+      EXPECT_NEAR(steps_[k + 1].p.z(), s.p.z(), 1e-3);
+    }
+    const double toe = s.p.x() + lim_.sole_half_size.x();
+    for (double riser : kUpDownRisers)
+      if (toe < riser - x0) {
+        EXPECT_GE(riser - x0 - toe, TerrainMap::kShinLean * 0.15 - 1e-4) << "step " << k + 1;
+      }
+    feet = After(feet, s);
+  }
+  EXPECT_EQ(levels, (std::vector<int>{1, 2, 1, 0}));
+  EXPECT_NEAR(MidFrame(feet).p.x(), 2.2, 1e-6);
+  EXPECT_NEAR(MidFrame(feet).p.z(), 0, 1e-3);
+}
+
+// a goal whose heels would rest across the bottom nose (at 2.0 - x0): moved forward to the
+// nearest spot (1 cm grid) with the heels kLevelMargin past it, and the note says so
+TEST_F(TerrainPlan, AGoalAcrossANoseIsMovedOntoOneLevel) {
+  terrain_ = Load("scene_stairs15_updown.xml");
+  ASSERT_TRUE(terrain_);
+  start_ = Start(lim_);
+  std::string note;
+  const double nose = kUpDownNoses[1] - terrain_->origin().x();
+  const double goal = nose + 0.05;  // the heels 7.5 cm behind the nose
+  ASSERT_TRUE(terrain_->PlanGoalAcross(start_, goal, 0, 0, lim_, 0.05, &steps_, &error_, &note)) << error_;
+  FeetPose feet = start_;
+  for (const Footstep& s : steps_) feet = After(feet, s);
+  const double end = MidFrame(feet).p.x();
+  const double heel_spot = nose + lim_.sole_half_size.x() + TerrainMap::kLevelMargin;
+  EXPECT_GE(end, heel_spot - 1e-9);
+  EXPECT_LT(end, heel_spot + 0.01);
+  EXPECT_NE(note.find("the goal moved"), std::string::npos) << note;
+  EXPECT_NE(note.find("forward"), std::string::npos) << note;
+}
+
+// a goal off the terrain (the floor ends 20 m from the world's origin) is not moved: the plan
+// names the step with no surface under it
+TEST_F(TerrainPlan, AGoalOffTheTerrainIsRefusedNamingTheStep) {
+  EXPECT_FALSE(PlanAcross("scene_stairs15_updown.xml", 21.0));
+  EXPECT_EQ(error_.find("rest across a rise"), std::string::npos) << error_;
+  EXPECT_EQ(error_.rfind("step ", 0), 0u) << error_;
+}
+
+// every goal along the scene, 10 cm apart, plans (none refused for "changes of level": the goals
+// whose soles rest across a nose went back and forth across it)
+TEST_F(TerrainPlan, EveryGoalAcrossTheUpAndDownStairsPlans) {
+  for (double g = 1.0; g < 2.85; g += 0.1) EXPECT_TRUE(PlanAcross("scene_stairs15_updown.xml", g)) << g << ": " << error_;
+}
+
+// a footstep 2 mm before a 0.15 m riser (a file's, not the planner's) is moved back until its toes
+// are kShinLean x 0.15 m from the riser; with no search room it is refused naming the clearance
+TEST_F(TerrainPlan, AFootstepTooNearARiserIsMovedOrRefused) {
+  terrain_ = Load("scene_stairs15_updown.xml");
+  ASSERT_TRUE(terrain_);
+  start_ = Start(lim_);
+  const double riser = kUpDownRisers[0] - terrain_->origin().x();
+  const double x = riser - 0.002 - lim_.sole_half_size.x();
+  std::vector<Footstep> steps(2);
+  steps[0].foot = kRight;
+  steps[0].p = Eigen::Vector3d(x, -0.5 * lim_.width, 0);
+  steps[1].foot = kLeft;
+  steps[1].p = Eigen::Vector3d(x, 0.5 * lim_.width, 0);
+  std::vector<Footstep> placed = steps;
+  ASSERT_TRUE(terrain_->PlaceSteps(&placed, start_, lim_, 0.05, &error_)) << error_;
+  for (const Footstep& s : placed) {
+    const double clearance = riser - (s.p.x() + lim_.sole_half_size.x());
+    const double need = TerrainMap::kShinLean * 0.15;  // the riser 0.15 m above the floor
+    EXPECT_GE(clearance, need - 1e-4);
+    EXPECT_LT(clearance, need + 0.01);  // the nearest spot on the 1 cm grid
+    double measured_need = 0;
+    EXPECT_NEAR(terrain_->ToeClearance(s, lim_, &measured_need), clearance, 2e-4);
+    EXPECT_NEAR(measured_need, need, 1e-9);
+  }
+  placed = steps;
+  EXPECT_FALSE(terrain_->PlaceSteps(&placed, start_, lim_, 0.02, &error_));
+  EXPECT_NE(error_.find("its toes 2 mm from a riser 150 mm high ahead; a sole keeps 0.20 of a "
+                        "riser's height from it (30 mm"),
+            std::string::npos)
+      << error_;
+}
+
+// a step over a 0.1 m bar between its ends (floor to floor) swings above the bar: clear_z is the
+// bar's top (the highest terrain under the sole's way, the ends' own surfaces left out); one
+// backwards, away from it: the floor
+TEST_F(TerrainPlan, TheSwingClearsTheHighestTerrainOnItsWay) {
+  const std::string dir = ::testing::TempDir();
+  const std::string scene = dir + "/terrain_plan_bar.xml";
+  // MuJoCo includes relative to the scene's folder
+  const std::string robot =
+      std::filesystem::relative(kSource + "/mjcf/hrp1s/hrp1s.xml", dir).string();
+  {
+    FILE* f = std::fopen(scene.c_str(), "w");
+    ASSERT_TRUE(f);
+    std::fprintf(f,
+                 "<mujoco><include file=\"%s\"/><worldbody>"
+                 "<geom name=\"floor\" type=\"plane\" size=\"5 5 0.1\"/>"
+                 "<geom name=\"bar\" type=\"box\" size=\"0.025 0.6 0.05\" pos=\"0.4 0 0.05\"/>"
+                 "</worldbody></mujoco>\n",
+                 robot.c_str());
+    std::fclose(f);
+  }
+  std::string error;
+  auto t = TerrainMap::Load(scene, "halfsit", &error);
+  ASSERT_TRUE(t != nullptr) << error;
+  start_ = Start(lim_);
+  std::vector<Footstep> steps(1);
+  steps[0].foot = kRight;
+  steps[0].p = Eigen::Vector3d(0.7, -0.5 * lim_.width, 0);  // the bar at 0.375-0.425 - x0: between
+  t->SetSwingClearance(&steps, start_, lim_);
+  EXPECT_NEAR(steps[0].clear_z, 0.1, 1e-6);
+  steps[0].p.x() = -0.35;  // backwards, away from the bar: the floor
+  t->SetSwingClearance(&steps, start_, lim_);
+  EXPECT_NEAR(steps[0].clear_z, 0.0, 1e-6);
 }
 
 TEST_F(TerrainPlan, ATreadBeyondTheStrideIsRefusedNamingTheLimit) {

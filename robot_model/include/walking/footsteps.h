@@ -40,6 +40,10 @@ struct Footstep {
   // for a sole resting across an edge) [m]
   Eigen::Vector2d contact_centre = Eigen::Vector2d::Zero();
   Eigen::Vector2d contact_half = Eigen::Vector2d(-1, -1);
+  // the highest terrain under the sole on its way from lift-off to landing (start frame; terrain.h
+  // fills it from a scene): the swing's apex (`height`) is above the higher of it and the two
+  // ends, whoever wrote the step [m]; below any ground: none known
+  double clear_z = -1e9;
 };
 
 // Both soles now (index kLeft, kRight).

@@ -60,8 +60,26 @@ class TerrainMap {
   // under it) is moved to the nearest spot within `search` [m] (1 cm grid) where it rests on one
   // plane and where it and the next step keep `limits`, and stays (tilted on the edge) if there
   // is none; false with `*error` naming the step (counted from 1) that has no surface under it
+  // A step whose toes come nearer a riser ahead (terrain higher than the sole's plane by more
+  // than kLevelChange) than kShinLean of the riser's height is moved the same way to the
+  // nearest spot that keeps it; with none within `search`, false with `*error` naming the step,
+  // the clearance and the limit.
   bool PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start, const StepLimits& limits,
                   double search, std::string* error) const;
+  // each step's clear_z: the highest terrain under its sole swept from where that foot stands
+  // before it (from `start` on) to where it lands (the sole's yaw interpolated; sampled every
+  // 5 mm of the way on an 11 x 3 grid of the sole, its edges included)
+  void SetSwingClearance(std::vector<Footstep>* steps, const FeetPose& start,
+                         const StepLimits& limits) const;
+  // the distance [m] from the toe of `s` (its sole's front edge, limits.sole_half_size) to the
+  // nearest point ahead, within kToeReach, where the terrain stands higher than the sole's plane
+  // (through s.p, tilted by s.roll, s.pitch) by more than kLevelChange (a riser), on the sole's
+  // centre line and its two side edges (sampled every 5 mm, the riser's face bisected to
+  // 0.1 mm); kToeReach when there is none. `*need`: kShinLean times that riser's height above
+  // the plane (0 when none)
+  double ToeClearance(const Footstep& s, const StepLimits& limits, double* need = nullptr) const;
+  // the toes of `s` at least kShinLean of its height from a riser ahead
+  bool ToesClear(const Footstep& s, const StepLimits& limits) const;
 
   // A goal (x, y, yaw in the start's mid frame, as PlanToGoal) across the terrain, one level
   // at a time: PlanToGoal's strides placed as PlaceSteps places them, until a step's way from
@@ -76,11 +94,23 @@ class TerrainMap {
   // the rest is planned again from there. Each step carries its height and tilt. False with
   // `*error` naming the step that has no surface, no spot on the new level within the limits
   // (a tread shorter than the sole and the margins, or beyond max_forward) or no spot beside it.
+  // A goal whose soles (side by side, limits.width apart) would rest across a rise, or within
+  // kLevelMargin of one, is moved along its heading to the nearest spot (within a sole's length)
+  // where both rest on one level with that margin, and `*note` (when given) says how far; none:
+  // false naming the goal. A step towards the edge of a level that does not bring the feet
+  // nearer the goal is refused (no way on towards it) rather than walked back and forth.
+  // Every step keeps its toes clear of a riser ahead (ToesClear).
   bool PlanGoalAcross(const FeetPose& start, double x, double y, double yaw,
                       const StepLimits& limits, double search, std::vector<Footstep>* steps,
-                      std::string* error) const;
+                      std::string* error, std::string* note = nullptr) const;
   static constexpr double kLevelChange = 0.02;  // [m] a rise between two levels
   static constexpr double kLevelMargin = 0.02;  // [m] around a sole landing on a new level
+  // [m per m] a sole's toes keep this share of a riser's height (above the sole) from it: the
+  // stance shin leans forward over the toes while the CoM rises onto the stair, and reaches a
+  // higher riser's nose sooner (HRP-1S, a 0.15 m riser: at 1.8 cm the left shin touched the
+  // nose, at 3.0 cm = 0.2 x 0.15 m it cleared; docs/walking.md)
+  static constexpr double kShinLean = 0.2;
+  static constexpr double kToeReach = 0.1;  // [m] risers looked for this far ahead of the toes
 
   // the start frame in the scene's world: origin and yaw
   const Eigen::Vector3d& origin() const { return origin_; }
@@ -113,8 +143,13 @@ class TerrainMap {
   // (with `fixed`, that margin; otherwise MarginFor the step's way down or not)
   bool PlaceOnLevel(const FeetPose& feet, Footstep* s, const StepLimits& limits, bool new_level,
                     bool farthest, const LevelMargin* fixed = nullptr) const;
-  // the surface under the sole of `s` rises by more than kLevelChange (along or across it)
-  bool SoleAcrossRise(const Footstep& s, const StepLimits& limits) const;
+  // the surface under the sole of `s` (and `margin` around it) rises by more than kLevelChange
+  // (along or across it)
+  bool SoleAcrossRise(const Footstep& s, const StepLimits& limits, double margin = 0) const;
+  // the goal `g` moved along its heading to the nearest spot (within a sole's length) where
+  // both soles of the stance rest on one level with kLevelMargin, the toes clear; false if none
+  // (a goal with no surface under a sole is left where it is)
+  bool GoalOnOneLevel(Frame2* g, const StepLimits& limits) const;
   // the other foot's step beside `last` (limits.width apart, parallel) on its level, appended to
   // `steps` and `feet`; false with `*error` when the spot is not on one plane with `margin`
   bool CloseBeside(FeetPose* feet, const Footstep& last, const LevelMargin& margin,

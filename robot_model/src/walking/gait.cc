@@ -382,7 +382,8 @@ void Gait::At(double t, GaitState* s) const {
   s->feet.roll[sw] = p.before.roll[sw] + f * (p.step.roll - p.before.roll[sw]);
   s->feet.pitch[sw] = p.before.pitch[sw] + f * (p.step.pitch - p.before.pitch[sw]);
   const double f_travel = f;
-  const double top = std::max(a.z(), b.z()) + p.height;
+  // the apex above the higher end, or above the highest terrain the sole passes over
+  const double top = std::max({a.z(), b.z(), p.step.clear_z}) + p.height;
   // up to the top by mid-swing, down from it after mid-swing (off a step: once over the lower
   // stair)
   const double rise_end = 0.5, fall_start = down ? 1 - vf_land : 0.5;

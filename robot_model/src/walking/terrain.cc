@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "robot_model/kinematics.h"
 #include "robot_model/model.h"
@@ -186,10 +187,18 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
       *error = "step " + std::to_string(k + 1) + " (" + SideName(s.foot) + "): " + why;
       return false;
     }
-    // a sole across an edge (a stone's, a stair's nose) rests on a line: move it, within
-    // `search`, to where the surface under it is one plane
-    // (and where the step and the next one still keep the limits)
-    if (!sample.planar) {
+    // a sole across an edge (a stone's, a stair's nose) rests on a line, and one whose toes come
+    // nearer a riser than kShinLean of its height puts the shin against it: move it, within
+    // `search`, to where the surface under it is one plane and the toes clear a riser (and where
+    // the step and the next one still keep the limits)
+    Footstep placed = s;
+    placed.p.z() = sample.z;
+    placed.roll = sample.roll;
+    placed.pitch = sample.pitch;
+    double need = 0;
+    const double clearance = ToeClearance(placed, limits, &need);
+    if (!sample.planar || clearance < need) {
+      bool found = false;
       for (const Eigen::Vector2d& d : shifts) {
         SurfaceSample other;
         std::string ignored;
@@ -198,11 +207,27 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
         if (!CheckStep(feet, moved, limits).empty()) continue;
         if (k + 1 < steps->size() && !CheckStep(After(feet, moved), (*steps)[k + 1], limits).empty())
           continue;
-        if (SurfaceUnder(moved.p.head<2>(), s.yaw, half, &other, &ignored) && other.planar) {
-          s.p.head<2>() = moved.p.head<2>();
-          sample = other;
-          break;
-        }
+        if (!SurfaceUnder(moved.p.head<2>(), s.yaw, half, &other, &ignored) || !other.planar) continue;
+        moved.p.z() = other.z;
+        moved.roll = other.roll;
+        moved.pitch = other.pitch;
+        if (!ToesClear(moved, limits)) continue;
+        s.p.head<2>() = moved.p.head<2>();
+        sample = other;
+        found = true;
+        break;
+      }
+      if (!found && clearance < need) {
+        char buf[400];
+        std::snprintf(buf, sizeof buf,
+                      "step %zu (%s): its toes %.0f mm from a riser %.0f mm high ahead; a sole keeps "
+                      "%.2f of a riser's height from it (%.0f mm; TerrainMap::kShinLean: the shin "
+                      "leans over the toes as the robot rises onto a stair) and no spot within the "
+                      "step search (%.2f m) does within the limits",
+                      k + 1, SideName(s.foot), clearance * 1000, need / kShinLean * 1000, kShinLean,
+                      need * 1000, search);
+        *error = buf;
+        return false;
       }
     }
     s.p.z() = sample.z;
@@ -214,7 +239,47 @@ bool TerrainMap::PlaceSteps(std::vector<Footstep>* steps, const FeetPose& start,
     }
     feet = After(feet, s);
   }
+  SetSwingClearance(steps, start, limits);
   return true;
+}
+
+void TerrainMap::SetSwingClearance(std::vector<Footstep>* steps, const FeetPose& start,
+                                   const StepLimits& limits) const {
+  constexpr double kWay = 0.005;      // [m] between the sole's positions along its way
+  constexpr int kAlong = 11, kAcross = 3;
+  const Eigen::Rotation2Dd R0(yaw_);
+  const Eigen::Vector2d& half = limits.sole_half_size;
+  FeetPose feet = start;
+  for (Footstep& s : *steps) {
+    const Eigen::Vector2d a = feet.p[s.foot].head<2>(), b = s.p.head<2>();
+    const double turn = std::remainder(s.yaw - feet.yaw[s.foot], 2 * M_PI);
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kWay)));
+    // a point under the sole where it stands or lands: that surface is the ends' own (on a
+    // slope the toes' end of the landing sole is higher than its centre, and the sole is tilted
+    // with it)
+    auto on_end = [&](const Eigen::Vector2d& q, const Eigen::Vector2d& c, double yaw) {
+      const Eigen::Vector2d l = Eigen::Rotation2Dd(-yaw) * (q - c);
+      return std::fabs(l.x()) <= half.x() + 1e-9 && std::fabs(l.y()) <= half.y() + 1e-9;
+    };
+    double highest = -1e9;
+    for (int i = 0; i <= n; ++i) {
+      const double f = static_cast<double>(i) / n;
+      const Eigen::Rotation2Dd Rs(feet.yaw[s.foot] + f * turn);
+      for (int u = 0; u < kAlong; ++u) {
+        for (int v = 0; v < kAcross; ++v) {
+          const Eigen::Vector2d local((2.0 * u / (kAlong - 1) - 1) * half.x(),
+                                      (2.0 * v / (kAcross - 1) - 1) * half.y());
+          const Eigen::Vector2d p = a + f * (b - a) + Rs * local;
+          if (on_end(p, a, feet.yaw[s.foot]) || on_end(p, b, s.yaw)) continue;
+          const Eigen::Vector2d q = origin_.head<2>() + R0 * p;
+          double h = 0;
+          if (Height(q.x(), q.y(), &h)) highest = std::max(highest, h - origin_.z());
+        }
+      }
+    }
+    s.clear_z = highest;
+    feet = After(feet, s);
+  }
 }
 
 }  // namespace ohrp::walking

@@ -1,6 +1,7 @@
 // A goal across the terrain, one level at a time (see terrain.h, TerrainMap::PlanGoalAcross).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <Eigen/Geometry>
 
@@ -10,6 +11,9 @@ namespace ohrp::walking {
 namespace {
 
 constexpr double kAlongStep = 0.01;   // [m] spots tried along the heading
+// [m] spots tried along the heading onto a level: finer than the run left on a 0.3 m tread for
+// a 0.25 m sole between its heel's margin and its toes' clearance (5 mm)
+constexpr double kPlaceStep = 0.0025;
 constexpr double kRiseSample = 0.005; // [m] the terrain's height sampled along a step's way
 constexpr int kMaxLevels = 200;       // level changes on one goal (a staircase of 200 stairs)
 
@@ -48,6 +52,47 @@ double TerrainMap::LargestRise(const Eigen::Vector2d& a, const Eigen::Vector2d& 
   return largest;
 }
 
+double TerrainMap::ToeClearance(const Footstep& s, const StepLimits& limits, double* need) const {
+  const Eigen::Rotation2Dd R0(yaw_);
+  const Eigen::Vector2d along(std::cos(s.yaw), std::sin(s.yaw)), across(-along.y(), along.x());
+  const Eigen::Vector2d toe = s.p.head<2>() + limits.sole_half_size.x() * along;
+  // the sole's plane (its surface's tilt: normal Rx(roll) Ry(pitch) e_z)
+  const Eigen::Vector3d n = Eigen::AngleAxisd(s.roll, Eigen::Vector3d::UnitX()) *
+                            Eigen::AngleAxisd(s.pitch, Eigen::Vector3d::UnitY()) * Eigen::Vector3d::UnitZ();
+  // the terrain's height above that plane `d` ahead of the toe on line `side` (-1, 0, 1: right
+  // edge, centre, left edge); very low where there is none
+  auto above = [&](double d, double side) {
+    const Eigen::Vector2d p = toe + d * along + side * limits.sole_half_size.y() * across;
+    const Eigen::Vector2d q = origin_.head<2>() + R0 * p;
+    double h = 0;
+    if (!Height(q.x(), q.y(), &h)) return -1e9;
+    const Eigen::Vector2d off = p - s.p.head<2>();
+    return h - origin_.z() - (s.p.z() - (n.x() * off.x() + n.y() * off.y()) / n.z());
+  };
+  if (need) *need = 0;
+  const int n_samples = static_cast<int>(std::ceil(kToeReach / kRiseSample));
+  for (int i = 0; i <= n_samples; ++i) {
+    const double d = std::min(i * kRiseSample, kToeReach);
+    for (double side : {-1.0, 0.0, 1.0}) {
+      if (!(above(d, side) > kLevelChange)) continue;
+      // the riser lies between the last sample clear of it and this one: bisected to 0.1 mm
+      double lo = std::max(d - kRiseSample, 0.0), hi = d;
+      for (int b = 0; b < 6 && i > 0; ++b) {
+        const double mid = 0.5 * (lo + hi);
+        (above(mid, side) > kLevelChange ? hi : lo) = mid;
+      }
+      if (need) *need = kShinLean * above(hi + 0.001, side);  // the riser's top, 1 mm behind its face
+      return i == 0 ? 0.0 : lo;
+    }
+  }
+  return kToeReach;
+}
+
+bool TerrainMap::ToesClear(const Footstep& s, const StepLimits& limits) const {
+  double need = 0;
+  return ToeClearance(s, limits, &need) >= need;
+}
+
 TerrainMap::LevelMargin TerrainMap::MarginFor(bool down) {
   // going down the toes may come to the next nose (it is a drop); the heel keeps off the nose
   return down ? LevelMargin{kLevelMargin, 0.0} : LevelMargin{kLevelMargin, kLevelMargin};
@@ -74,7 +119,7 @@ bool TerrainMap::PlaceOnLevel(const FeetPose& feet, Footstep* s, const StepLimit
   // `planned` moved by i spots along its heading, if it fits there
   auto at = [&](int i, Footstep* m) {
     *m = planned;
-    m->p.head<2>() += i * kAlongStep * along;
+    m->p.head<2>() += i * kPlaceStep * along;
     SurfaceSample sample;
     std::string ignored;
     if (!SurfaceUnder(m->p.head<2>(), m->yaw, limits.sole_half_size, &sample, &ignored)) return false;
@@ -84,12 +129,13 @@ bool TerrainMap::PlaceOnLevel(const FeetPose& feet, Footstep* s, const StepLimit
     m->roll = sample.roll;
     m->pitch = sample.pitch;
     if (!CheckStep(feet, *m, limits).empty()) return false;
+    if (!ToesClear(*m, limits)) return false;
     if ((LargestRise(stance, m->p.head<2>()) > kLevelChange) != new_level) return false;
     // onto a new level from beside the other foot: the swing no longer than a stride
     return !new_level || (m->p - feet.p[m->foot]).head<2>().norm() <= limits.max_forward + 1e-9;
   };
   const int n = static_cast<int>(std::ceil((limits.max_forward + limits.max_backward +
-                                            2 * limits.sole_half_size.x()) / kAlongStep));
+                                            2 * limits.sole_half_size.x()) / kPlaceStep));
   Footstep m;
   for (int k = 0; k <= 2 * n; ++k) {
     // the farthest forward first, or the nearest the planned spot
@@ -112,11 +158,53 @@ bool TerrainMap::PlaceOnLevel(const FeetPose& feet, Footstep* s, const StepLimit
   return false;
 }
 
-bool TerrainMap::SoleAcrossRise(const Footstep& s, const StepLimits& limits) const {
+bool TerrainMap::SoleAcrossRise(const Footstep& s, const StepLimits& limits, double margin) const {
   const Eigen::Vector2d along(std::cos(s.yaw), std::sin(s.yaw)), across(-along.y(), along.x());
   const Eigen::Vector2d c = s.p.head<2>();
-  const Eigen::Vector2d a = limits.sole_half_size.x() * along, b = limits.sole_half_size.y() * across;
+  const Eigen::Vector2d a = (limits.sole_half_size.x() + margin) * along;
+  const Eigen::Vector2d b = (limits.sole_half_size.y() + margin) * across;
   return LargestRise(c - a, c + a) > kLevelChange || LargestRise(c - b, c + b) > kLevelChange;
+}
+
+bool TerrainMap::GoalOnOneLevel(Frame2* g, const StepLimits& limits) const {
+  const Eigen::Vector2d along(std::cos(g->yaw), std::sin(g->yaw)), left(-along.y(), along.x());
+  // both soles of the stance at `p`: on one level with the margin, their toes clear of a riser
+  // (false with *missing when a sole has no surface under it)
+  auto fits = [&](const Eigen::Vector3d& p, bool* missing) {
+    *missing = false;
+    for (int foot : {kLeft, kRight}) {
+      Footstep s;
+      s.foot = foot;
+      s.yaw = g->yaw;
+      s.p = p;
+      s.p.head<2>() += (foot == kLeft ? 0.5 : -0.5) * limits.width * left;
+      SurfaceSample sample;
+      std::string ignored;
+      if (!SurfaceUnder(s.p.head<2>(), s.yaw, limits.sole_half_size, &sample, &ignored)) {
+        *missing = true;
+        return false;
+      }
+      s.p.z() = sample.z;
+      s.roll = sample.roll;
+      s.pitch = sample.pitch;
+      if (SoleAcrossRise(s, limits, kLevelMargin)) return false;
+      if (!ToesClear(s, limits)) return false;
+    }
+    return true;
+  };
+  bool missing = false;
+  // a goal off the terrain stays where it is: the plan names the step with no surface under it
+  if (fits(g->p, &missing) || missing) return true;
+  const int n = static_cast<int>(std::ceil(2 * limits.sole_half_size.x() / kAlongStep));
+  for (int k = 1; k <= 2 * n; ++k) {
+    const int i = k % 2 ? (k + 1) / 2 : -k / 2;  // the nearest first, forward before back
+    Eigen::Vector3d p = g->p;
+    p.head<2>() += i * kAlongStep * along;
+    if (!fits(p, &missing)) continue;
+    g->p = p;
+    return true;
+  }
+  return false;
 }
 
 bool TerrainMap::CloseBeside(FeetPose* feet, const Footstep& last, const LevelMargin& margin,
@@ -139,9 +227,27 @@ bool TerrainMap::CloseBeside(FeetPose* feet, const Footstep& last, const LevelMa
 
 bool TerrainMap::PlanGoalAcross(const FeetPose& start, double x, double y, double yaw,
                                 const StepLimits& limits, double search,
-                                std::vector<Footstep>* steps, std::string* error) const {
+                                std::vector<Footstep>* steps, std::string* error,
+                                std::string* note) const {
   steps->clear();
-  const Frame2 goal = GoalInWorld(start, x, y, yaw);
+  Frame2 goal = GoalInWorld(start, x, y, yaw);
+  const Frame2 asked = goal;
+  if (!GoalOnOneLevel(&goal, limits)) {
+    *error = "the goal's soles would rest across a rise (a stair's nose or riser) or within " +
+             std::to_string(static_cast<int>(kLevelMargin * 1000)) + " mm of one, and no spot " +
+             "within a sole's length along its heading rests on one level";
+    return false;
+  }
+  if (note && (goal.p - asked.p).norm() > 1e-9) {
+    const Eigen::Vector3d d = goal.p - asked.p;
+    const bool ahead = d.x() * std::cos(goal.yaw) + d.y() * std::sin(goal.yaw) > 0;
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "the goal moved %.2f m %s along its heading: its soles would rest across a rise "
+                  "(a stair's nose or riser) or within %d mm of one",
+                  d.norm(), ahead ? "forward" : "back", static_cast<int>(kLevelMargin * 1000));
+    *note = buf;
+  }
   FeetPose feet = start;
   for (int level = 0; level <= kMaxLevels; ++level) {
     const Eigen::Vector3d rel = GoalFrom(feet, goal);
@@ -161,14 +267,21 @@ bool TerrainMap::PlanGoalAcross(const FeetPose& start, double x, double y, doubl
         return false;
       }
       rise_on_way = LargestRise(feet.p[1 - plan[k].foot].head<2>(), plan[k].p.head<2>()) > kLevelChange;
-      if (rise_on_way || SoleAcrossRise(plan[k], limits)) break;
+      Footstep on = plan[k];
+      on.p.z() = sample.z;
+      on.roll = sample.roll;
+      on.pitch = sample.pitch;
+      if (rise_on_way || SoleAcrossRise(plan[k], limits) || !ToesClear(on, limits)) break;
       std::vector<Footstep> one = {plan[k]};
       if (k + 1 < plan.size()) one.push_back(plan[k + 1]);
       if (!PlaceSteps(&one, feet, limits, search, error)) return false;
       steps->push_back(one.front());
       feet = After(feet, one.front());
     }
-    if (k == plan.size()) return true;  // at the goal on this level
+    if (k == plan.size()) {  // at the goal on this level
+      SetSwingClearance(steps, start, limits);
+      return true;
+    }
     // onto the next level: the step lands where its whole sole (and a margin) rests on the new
     // level, and the other foot closes beside it
     Footstep next = plan[k];
@@ -190,6 +303,16 @@ bool TerrainMap::PlanGoalAcross(const FeetPose& start, double x, double y, doubl
     steps->push_back(next);
     feet = After(feet, next);
     if (!CloseBeside(&feet, next, MarginFor(false), limits, steps, error)) return false;
+    // the edge of this level must bring the feet nearer the goal: else they would go back and
+    // forth across the rise (a goal beyond this level's edge that the next level does not lead to)
+    const double to_goal = (goal.p - before.p).head<2>().norm();
+    if ((MidFrame(feet).p - before.p).head<2>().norm() >= kAlongStep &&
+        (goal.p - MidFrame(feet).p).head<2>().norm() >= to_goal) {
+      *error = "step " + std::to_string(steps->size()) + " (" + SideName(next.foot) +
+               "): the way to the goal crosses a rise that no step within the limits leads over "
+               "from this level (its edge is no nearer the goal)";
+      return false;
+    }
     if ((MidFrame(feet).p - before.p).head<2>().norm() < kAlongStep) {
       *error = "step " + std::to_string(steps->size() + 1) + " (" + SideName(next.foot) +
                "): the next level has no spot for the whole sole (and " +
