@@ -67,6 +67,13 @@ WalkIkResult WalkIk::Solve(const Eigen::Vector3d& com, const Eigen::Quaterniond&
   return r;
 }
 
+namespace {
+// a supporting sole's flatness before the CoM's sideways place: a roll error of 1 mrad weighs
+// as 1 cm of CoM error, so that a CoM asked beyond the base roll's reach costs a tilt of the
+// soles of a tenth of a mrad per mm short, not the tilt that would put it there [m/rad]
+constexpr double kSoleFirst = 10.0;
+}  // namespace
+
 bool WalkIk::Evaluate(const Eigen::Vector3d& com, const Eigen::Matrix3d& R_H,
                       const Eigen::Vector3d p_WS[2], const Eigen::Matrix3d R_WS[2],
                       const double weights[3], const Eigen::Vector3d& p_WB, double roll, double* q,
@@ -84,7 +91,7 @@ bool WalkIk::Evaluate(const Eigen::Vector3d& com, const Eigen::Matrix3d& R_H,
   for (int i = 0; i < 2; ++i) {
     // the sole's roll about its target's forward axis
     const Eigen::Matrix3d R = R_WS[i].transpose() * kin_->R_WSole(sole_[i]);
-    (*residual)[i] = weights[i] * std::atan2(R(2, 1), R(2, 2));
+    (*residual)[i] = kSoleFirst * weights[i] * std::atan2(R(2, 1), R(2, 2));
   }
   (*residual)[2] = weights[2] * R_H.col(1).dot(*e_com);
   return legs_ok && std::isfinite(e_com->norm());
