@@ -11,8 +11,9 @@
 // base's roll plus the hip roll, so a hip shifted sideways over its foot tilts the sole) is
 // solved with the base's roll free (Solve's `roll`): the base's sideways position and roll
 // are found by Gauss-Newton (a numerical 3 x 2 Jacobian) so that the supporting soles come out
-// flat (their roll error times a metre) and, with the weight the caller gives, the CoM's
-// sideways place is the planned one; the roll is kept within `max_roll`. The soles' position,
+// flat first (each roll error weighed 10 m/rad against the CoM's error) and, with the weight
+// the caller gives, the CoM's sideways place is the planned one; the roll is kept within
+// `max_roll`. The soles' position,
 // pitch and yaw are met by the legs as before; what is left of the roll is the consequence.
 // Solve allocates nothing and throws nothing.
 #pragma once
@@ -58,7 +59,7 @@ class WalkIk {
                      double tolerance = 1e-5) noexcept;
   // a leg has fewer than 6 joints: its sole's roll follows the base's
   bool rolls_base() const { return rolls_base_; }
-  double max_roll = 0.25; // [rad] the base's roll at most (rolls_base())
+  double max_roll = 0.25;  // [rad] the base's roll at most (rolls_base()); chosen, not derived
 
   model::Kinematics& kin() { return *kin_; }
   model::LimbIk& leg(int i) { return *leg_[i]; }
