@@ -30,6 +30,15 @@ using walk_geometry::YawOf;
 
 void WalkController::RequestWalkStop() noexcept { g_walk_stop = 1; }
 
+double WalkController::base_tilt() const noexcept {
+  const double tilt = BalanceController::base_tilt();
+  if (!started_ || roll_ == 0 || !std::isfinite(tilt)) return tilt;
+  const Eigen::Matrix3d R = estimator_->estimate().quat_WB.toRotationMatrix();
+  const Eigen::Vector3d want = Rz(YawOf(R)) * Rx(roll_) * Eigen::Vector3d::UnitZ();
+  const double c = (R * Eigen::Vector3d::UnitZ()).dot(want);
+  return std::isfinite(c) ? std::acos(std::clamp(c, -1.0, 1.0)) : tilt;
+}
+
 bool WalkController::done() const {
   return started_ && !gen_.walking() && next_command_ >= static_cast<int>(chunks_plan_.size());
 }
@@ -80,6 +89,7 @@ void WalkController::StartWalking(const shm::SensorBlock& s) noexcept {
   p_WB_ = R * (-mid_B) + Eigen::Vector3d(mid_est.x(), mid_est.y(), 0);
   p_WB_.z() = -mid_B.z();
   p_WB_plan_ = p_WB_;
+  roll_ = roll_plan_ = 0;
   plan_valid_ = false;
   // the generator walks at its configured height; the lowering is made by the controller
   z_lower_ = com.z() - gen_.zc();
@@ -274,7 +284,8 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
     // the tilt about the plan's axes (the base's orientation in the plan frame, its yaw taken
     // off on the right): the feet's offsets below are in the plan frame at any heading
     const Eigen::Matrix3d R_PB = Rz(frame_yaw_) * estimator_->estimate().quat_WB.toRotationMatrix();
-    const Eigen::Matrix3d R_tilt = R_PB * Rz(-YawOf(R_PB));
+    // (less the roll the legs' solution gives the base on purpose: legs without an ankle roll)
+    const Eigen::Matrix3d R_tilt = R_PB * Rz(-YawOf(R_PB)) * Rx(-roll_);
     const Eigen::AngleAxisd aa(R_tilt.transpose());
     const Eigen::Matrix3d R_back(Eigen::AngleAxisd(walk_options_.swing_tilt_compensation * aa.angle(), aa.axis()));
     p[sw] = p[st] + R_back * (p[sw] - p[st]);
@@ -287,11 +298,15 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
   com.z() += z_offset;
   std::array<double, shm::kMaxJoints> trial = q_ik_;
   Eigen::Vector3d p_WB = p_WB_;
-  const walking::WalkIkResult r = walk_ik_->Solve(com, quat, p, Rs, trial.data(), &p_WB);
+  double weights[3];
+  SoleWeights(w.gait, weights);
+  double roll = roll_;
+  const walking::WalkIkResult r = walk_ik_->Solve(com, quat, p, Rs, weights, trial.data(), &p_WB, &roll);
   CountIk(!r.ok);
   if (r.ok) {
     q_ik_ = trial;
     p_WB_ = p_WB;
+    roll_ = roll;
   } else {
     if (walk_stats_.ik_failures++ == 0) {
       walk_stats_.first_ik_failure = w.t;
@@ -312,12 +327,24 @@ void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking:
   q_plan_prev_ = q_plan_;
   trial = q_plan_;
   p_WB = p_WB_plan_;
-  if (walk_ik_->Solve(com, quat, p, Rs, trial.data(), &p_WB).ok) {
+  roll = roll_plan_;
+  if (walk_ik_->Solve(com, quat, p, Rs, weights, trial.data(), &p_WB, &roll).ok) {
     q_plan_ = trial;
     p_WB_plan_ = p_WB;
+    roll_plan_ = roll;
     if (!plan_valid_) q_plan_prev_ = q_plan_;  // the first solution: no rate yet
     plan_valid_ = true;
   }
+}
+
+void WalkController::SoleWeights(const walking::GaitState& g, double weights[3]) noexcept {
+  // legs without an ankle roll (WalkIk::rolls_base): a supporting sole comes out flat, the
+  // swinging one as the base's roll leaves it until the last fifth of its swing, where it is
+  // brought flat for the landing; the CoM's sideways place as planned (the base's roll about
+  // the hips standing over the flat soles moves it)
+  const double land = std::clamp((g.swing_phase - 0.8) / 0.2, 0.0, 1.0);
+  for (int i = 0; i < 2; ++i) weights[i] = g.support[i] ? 1.0 : land * land * (3 - 2 * land);
+  weights[2] = 1.0;
 }
 
 void WalkController::LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept {
@@ -329,7 +356,7 @@ void WalkController::LogRow(const walking::WalkSample& w, const StabilizerOutput
                   f.p[0].x(), f.p[0].y(), f.p[0].z(), f.yaw[0], f.p[1].x(), f.p[1].y(), f.p[1].z(),
                   f.yaw[1], w.gait.support[0] ? 1.0 : 0.0, w.gait.support[1] ? 1.0 : 0.0,
                   frame_p_.x(), frame_p_.y(), frame_yaw_, out.foot_roll[0], out.foot_pitch[0],
-                  out.foot_roll[1], out.foot_pitch[1]});
+                  out.foot_roll[1], out.foot_pitch[1], roll_});
 }
 
 }  // namespace ohrp::controllers

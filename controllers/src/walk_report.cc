@@ -18,7 +18,7 @@ void WalkController::on_close() {
       "t,com_ref_x,com_ref_y,com_ref_z,com_x,com_y,com_z,zmp_ref_x,zmp_ref_y,zmp_des_x,"
       "zmp_des_y,zmp_x,zmp_y,dcm_x,dcm_y,left_x,left_y,left_z,left_yaw,right_x,right_y,"
       "right_z,right_yaw,support_left,support_right,frame_x,frame_y,frame_yaw,"
-      "foot_roll_left,foot_pitch_left,foot_roll_right,foot_pitch_right\n";
+      "foot_roll_left,foot_pitch_left,foot_roll_right,foot_pitch_right,base_roll\n";
   char value[32];
   for (const auto& row : log_) {
     for (size_t c = 0; c < row.size(); ++c) {

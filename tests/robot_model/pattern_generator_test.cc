@@ -269,6 +269,7 @@ TEST(WalkIk, LegsReproduceThePlannedFeetAndCoM) {
   EXPECT_LT(max_com, 1e-4);
 }
 
+
 }  // namespace
 }  // namespace ohrp::walking
 
@@ -333,6 +334,38 @@ TEST(Gait, StepDownLowersTheCoMAsFarAsTheLandingLegNeeds) {
   EXPECT_GT(most, 0.5 * std::asin(o.step_height / o.sole_half_length));
   h.At(t_lift + swing - 1e-6, &st);
   EXPECT_NEAR(st.feet.pitch[kRight], 0.0, 1e-6);
+}
+
+
+// start_push: a step from standing starts its double support with the ZMP on the swinging
+// sole (the right one here) and moves it linearly onto the stance sole (the left) by the
+// lift-off; without it the double support starts from the feet's middle
+TEST(Gait, StartPushBeginsTheFirstDoubleSupportOnTheSwingingSole) {
+  GaitOptions o;
+  o.start_push = true;
+  Footstep s;
+  s.foot = kRight;
+  s.p = Eigen::Vector3d(0.1, -0.08, 0);
+  const FeetPose feet = Stance();
+  const double t0 = o.start_delay, t_lift = o.start_delay + o.start_time;
+  GaitState st;
+  for (bool push : {true, false}) {
+    o.start_push = push;
+    Gait g;
+    g.Start(0, feet, o);
+    g.Replace(0, {s});
+    const Eigen::Vector2d from = push ? Eigen::Vector2d(feet.p[kRight].head<2>())
+                                      : Eigen::Vector2d(0.5 * (feet.p[0] + feet.p[1]).head<2>());
+    const Eigen::Vector2d to = feet.p[kLeft].head<2>();
+    g.At(t0 + 1e-9, &st);
+    EXPECT_LT((st.zmp.head<2>() - from).norm(), 1e-6) << push;
+    g.At(0.5 * (t0 + t_lift), &st);
+    EXPECT_LT((st.zmp.head<2>() - 0.5 * (from + to)).norm(), 1e-6) << push;
+    g.At(t_lift, &st);
+    EXPECT_LT((st.zmp.head<2>() - to).norm(), 1e-6) << push;
+    g.At(t0 - 1e-3, &st);  // standing before: the middle either way
+    EXPECT_LT((st.zmp.head<2>() - 0.5 * (feet.p[0] + feet.p[1]).head<2>()).norm(), 1e-6) << push;
+  }
 }
 
 }  // namespace

@@ -161,6 +161,9 @@ class WalkController : public BalanceController {
   bool walking() const { return started_ && gen_.walking(); }
   // all commands walked and the ZMP back between the feet
   bool done() const;
+  // the base's tilt from the orientation the legs' solution gives it (upright, or rolled on
+  // purpose by legs without an ankle roll), for the fall watch
+  double base_tilt() const noexcept override;
   // done(), and verified from the measurements at the end: every step landed (measured), both
   // feet carrying load and the base upright; "" then, else what is missing
   std::string Unverified() const;
@@ -221,6 +224,8 @@ class WalkController : public BalanceController {
   void UpdateFrame(double dt, bool first) noexcept;
   Eigen::Vector3d ToPlan(const Eigen::Vector3d& p_est) const;
   void FillWalkInput(const shm::SensorBlock& s, const walking::WalkSample& w) noexcept;
+  // how much each sole must come out flat and the CoM's sideways place count (WalkIk)
+  static void SoleWeights(const walking::GaitState& g, double weights[3]) noexcept;
   void SolveWalkJoints(const StabilizerOutput& out, const walking::WalkSample& w,
                        double z_offset) noexcept;
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
@@ -266,8 +271,10 @@ class WalkController : public BalanceController {
   std::array<double, shm::kMaxJoints> q_plan_{}, q_plan_prev_{};
   std::array<double, shm::kMaxJoints> rate_{};     // their rate [rad/s]
   Eigen::Vector3d p_WB_plan_ = Eigen::Vector3d::Zero();
+  // the base's roll in the legs' solutions (WalkIk::rolls_base: legs without an ankle roll)
+  double roll_ = 0, roll_plan_ = 0;
   bool plan_valid_ = false;                        // q_plan_prev_ holds a solution
-  std::vector<std::array<double, 32>> log_;
+  std::vector<std::array<double, 33>> log_;
   std::string log_error_;                      // the log could not be written: why
   std::vector<std::string> notes_;             // what planning changed (reported)
   std::unique_ptr<walking::TerrainMap> terrain_;

@@ -42,6 +42,11 @@ struct GaitOptions {
                                       // (the preview), so it needs time to start smoothly
   double start_time = 0.8;            // [s] first double support (from standing)
   double end_time = 0.8;              // [s] final double support (to standing)
+  // a step from standing starts its double support with the ZMP on the swinging sole (a push
+  // off it) instead of the feet's middle: the CoM crosses to the stance sole at the gait's
+  // sideways speed instead of first shifting onto it (legs without an ankle roll: their CoM can
+  // shift sideways over both feet only as far as the base's roll carries it)
+  bool start_push = false;
   double zmp_forward = 0.0;           // [m] ZMP ahead of the stance sole's centre, along the sole
   // the legs' reach, from the robot (0: not known, no step-down lowering): a step down lowers
   // the CoM over that step by as much as the landing leg needs to reach its foot with the hip

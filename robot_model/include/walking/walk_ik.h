@@ -7,6 +7,14 @@
 // base at p_WB, CoM of the whole model, p_WB += (c_target - c) scaled by the share of the mass
 // that moves with the base (measured on the model at set-up). Warm-started from the last
 // solution, one or two iterations per control cycle suffice.
+// A leg of fewer than 6 joints (a 5-joint leg without an ankle roll: the sole's roll is the
+// base's roll plus the hip roll, so a hip shifted sideways over its foot tilts the sole) is
+// solved with the base's roll free (Solve's `roll`): the base's sideways position and roll
+// are found by Gauss-Newton (a numerical 3 x 2 Jacobian) so that the supporting soles come out
+// flat first (each roll error weighed 10 m/rad against the CoM's error) and, with the weight
+// the caller gives, the CoM's sideways place is the planned one; the roll is kept within
+// `max_roll`. The soles' position,
+// pitch and yaw are met by the legs as before; what is left of the roll is the consequence.
 // Solve allocates nothing and throws nothing.
 #pragma once
 
@@ -14,6 +22,7 @@
 #include <Eigen/Geometry>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "robot_model/ik.h"
 #include "robot_model/kinematics.h"
@@ -39,6 +48,18 @@ class WalkIk {
   WalkIkResult Solve(const Eigen::Vector3d& com, const Eigen::Quaterniond& quat_WB,
                      const Eigen::Vector3d p_WS[2], const Eigen::Matrix3d R_WS[2], double* q,
                      Eigen::Vector3d* p_WB, double tolerance = 1e-5) noexcept;
+  // with the base's roll free when the legs are short (rolls_base()): `roll` [rad] about the
+  // heading's forward axis (quat_WB then gives the heading), start guess and result;
+  // weights[0..1] how much each sole must come out flat (1: supporting, 0: free), weights[2]
+  // how much the CoM's sideways place counts against that. Legs of 6 joints: the Solve above
+  // (roll left at 0)
+  WalkIkResult Solve(const Eigen::Vector3d& com, const Eigen::Quaterniond& quat_WB,
+                     const Eigen::Vector3d p_WS[2], const Eigen::Matrix3d R_WS[2],
+                     const double weights[3], double* q, Eigen::Vector3d* p_WB, double* roll,
+                     double tolerance = 1e-5) noexcept;
+  // a leg has fewer than 6 joints: its sole's roll follows the base's
+  bool rolls_base() const { return rolls_base_; }
+  double max_roll = 0.25;  // [rad] the base's roll at most (rolls_base()); chosen, not derived
 
   model::Kinematics& kin() { return *kin_; }
   model::LimbIk& leg(int i) { return *leg_[i]; }
@@ -50,6 +71,15 @@ class WalkIk {
   std::unique_ptr<model::LimbIk> leg_[2];
   int sole_[2] = {-1, -1};
   double base_share_ = 1.0;  // d(CoM)/d(base) with the feet held [-]
+  bool rolls_base_ = false;
+  std::vector<double> q_try_;  // njoint: the Jacobian's trial solutions
+  // the legs at the base pose (p_WB, heading R_H rolled by `roll`) from q; the residuals
+  // (the soles' roll errors [rad], weighted, and the CoM's sideways error [m], weighted) and
+  // the CoM error; false when a leg did not converge (r->leg says which)
+  bool Evaluate(const Eigen::Vector3d& com, const Eigen::Matrix3d& R_H,
+                const Eigen::Vector3d p_WS[2], const Eigen::Matrix3d R_WS[2],
+                const double weights[3], const Eigen::Vector3d& p_WB, double roll, double* q,
+                Eigen::Vector3d* residual, Eigen::Vector3d* e_com, WalkIkResult* r) noexcept;
 };
 
 }  // namespace ohrp::walking

@@ -138,6 +138,8 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     p.t0 = follows ? steps_[k - 1].t_land
                    : std::max(now, k > 0 ? steps_[k - 1].t_land : t_start_) + options_.start_delay;
     p.zmp_from = Zmp(p.t0);  // the timeline so far: continuous
+    // start_push: from standing the double support begins on the swinging sole (gait.h)
+    if (!follows && options_.start_push) p.zmp_from = StancePoint(FeetAfter(k - 1), s.foot);
     const double ds = follows ? options_.double_support_ratio * T : options_.start_time;
     p.t_lift = p.t0 + ds;
     p.t_land = p.t_lift + (1 - options_.double_support_ratio) * T;
