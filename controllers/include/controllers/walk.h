@@ -146,6 +146,8 @@ struct WalkStats {
                                 // landing, went on down and met it (walk_touchdown.cc)
   int late_missed = 0;          // of those, feet that reached the leg's reach without contact
   double max_late_depth = 0;    // the deepest below the planned landing they met it [m]
+  int late_dcm_cut = 0;         // late landings taken before contact: the DCM at the stance
+                                // sole's edge (the foot searched on in support)
   bool stopped = false;         // SIGUSR1 stopped a walk
   double walk_start = -1;       // producer time the generator started [s]
 };
@@ -288,7 +290,16 @@ class WalkController : public BalanceController {
   // the planned landing the foot has gone on [m] (<= 0) and the most it may (the leg's reach) [m]
   bool late_[2] = {false, false};
   double late_dz_[2] = {0, 0}, late_depth_[2] = {0, 0};
-  double com_dz_ = 0;  // the CoM's height below the plan's with a lower floor found [m] (<= 0)
+  double com_dz_ = 0;  // the CoM's height off the plan's with the ground found [m]
+  // the ground's height off the plan's where a foot last touched [m]: the later steps land there
+  double floor_dz_ = 0;
+  // a late foot's landing taken (the DCM at its support's edge, or its hold over): it searches on
+  // down in support
+  bool late_landed_[2] = {false, false};
+  // touchdown stages (walk_touchdown.cc)
+  double SoleLag(int i, const walking::GaitState& g) const noexcept;
+  void LateDescent(int i, const walking::GaitState& g, double dt) noexcept;
+  bool DcmPastStance(const walking::GaitState& g) const noexcept;
   // the swing foot's sensor in the air (the mean of its vertical force over the first half of
   // the swing after lift-off) [N], the cycles it has read a touch in a row
   double air_fz_[2] = {0, 0}, air_sum_[2] = {0, 0};
