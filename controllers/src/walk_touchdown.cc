@@ -66,9 +66,13 @@ double WalkController::SoleLag(int i, const walking::GaitState& g) const noexcep
 void WalkController::LateDescent(int i, const walking::GaitState& g, double dt) noexcept {
   const double lag = SoleLag(i, g);
   const double step = std::min(kLateSpeed * dt, std::max(kLead - lag, 0.0));
+  // the leg's reach below the plan, and as much more as the hips have gone down since the search
+  // began (the CoM follows the foot), at most a swing height more (the stance knee bends)
+  const double depth = late_depth_[i] + std::clamp(late_com0_[i] - com_dz_, 0.0,
+                                                   gen_.gait().options().step_height);
   const double before = late_dz_[i];
-  late_dz_[i] = std::max(late_dz_[i] - step, -late_depth_[i]);
-  if (before > -late_depth_[i] && late_dz_[i] <= -late_depth_[i]) ++walk_stats_.late_missed;
+  late_dz_[i] = std::max(late_dz_[i] - step, -depth);
+  if (before > -depth && late_dz_[i] <= -depth) ++walk_stats_.late_missed;
 }
 
 bool WalkController::DcmPastStance(const walking::GaitState& g) const noexcept {
@@ -147,6 +151,7 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
                                      g.zmp.z(), step.p, g.feet.p[1 - i]);
           const double hold = late_depth_[i] / kLateSpeed + kLateSettle;
           if (late_depth_[i] > 0 && gen_.DelayLanding(g.step, hold)) late_[i] = true;
+          late_com0_[i] = com_dz_;
         }
       }
     } else if (late_[i] && !touched_[i] && std::isfinite(fz)) {

@@ -296,6 +296,7 @@ class WalkController : public BalanceController {
   // a late foot's landing taken (the DCM at its support's edge, or its hold over): it searches on
   // down in support
   bool late_landed_[2] = {false, false};
+  double late_com0_[2] = {0, 0};  // com_dz_ when its search began [m]
   // touchdown stages (walk_touchdown.cc)
   double SoleLag(int i, const walking::GaitState& g) const noexcept;
   void LateDescent(int i, const walking::GaitState& g, double dt) noexcept;
