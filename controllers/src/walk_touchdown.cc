@@ -13,9 +13,10 @@
 //   the DCM (measured) leaves the stance sole (less the stabilizer's margin): the CoM cannot
 //   wait longer there, so the landing is taken where the foot is, and the foot searches on
 //   down in support until it touches.
-// The plan is re-based on the touched ground: where a foot touched (early or late) is the
-// ground's height for the later steps (floor_dz_): each swing blends its foot's offset from
-// where it lifted off to that by its landing. The CoM goes with the lower of the feet's
+// The plan is re-based on the touched ground: where a foot touched (early or late), measured
+// (the soles' height difference from the estimate's kinematics, against the plan's, on top of
+// the stance foot's own ground) is the ground's height for the later steps (floor_dz_): each
+// swing blends its foot's offset from where it lifted off to that by its landing. The CoM goes with the lower of the feet's
 // offsets (com_dz_), so the legs keep the plan's reach.
 #include <algorithm>
 #include <cmath>
@@ -61,6 +62,16 @@ double WalkController::SoleLag(int i, const walking::GaitState& g) const noexcep
   const double dz = (i == 0 ? 1.0 : -1.0) * stabilizer_.output().dz;
   const double target = g.feet.p[i].z() + foot_dz_[i] - g.feet.p[1 - i].z() - foot_dz_[1 - i] + dz;
   return measured - target;
+}
+
+double WalkController::MeasuredGround(int i, const walking::GaitState& g) noexcept {
+  // the ground under foot i off the plan's: the other foot's ground and the soles' measured
+  // height difference against the plan's (both on their grounds now)
+  const model::Kinematics& k = *kin_est_;
+  const double measured = k.p_WSole(sole_[i]).z() - k.p_WSole(sole_[1 - i]).z();
+  const double planned = gen_.gait().step(g.step >= 0 ? g.step : 0).p.z() - g.feet.p[1 - i].z();
+  ground_dz_[i] = ground_dz_[1 - i] + measured - planned;
+  return ground_dz_[i];
 }
 
 void WalkController::LateDescent(int i, const walking::GaitState& g, double dt) noexcept {
@@ -124,7 +135,7 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
           // held where the sole is (the servo lags: its target is below it while it descends)
           touch_z_[i] = z_plan + foot_dz_[i] + std::max(SoleLag(i, g), 0.0);
           const double rise = above - floor_dz_;  // over the ground it was looking for
-          floor_dz_ = touch_z_[i] - step.p.z();
+          floor_dz_ = MeasuredGround(i, g);
           if (late_[i]) {  // met it below the plan: it lands now, the weight may move
             ++walk_stats_.late_touchdowns;
             walk_stats_.max_late_depth = std::max(walk_stats_.max_late_depth, -floor_dz_);
@@ -161,7 +172,7 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
       if (touch_cycles_[i] >= 2) {
         touched_[i] = true;
         touch_z_[i] = z_plan + foot_dz_[i];
-        floor_dz_ = foot_dz_[i];
+        floor_dz_ = MeasuredGround(i, g);
         ++walk_stats_.late_touchdowns;
         walk_stats_.max_late_depth = std::max(walk_stats_.max_late_depth, -floor_dz_);
       } else {

@@ -299,6 +299,8 @@ class WalkController : public BalanceController {
   double late_com0_[2] = {0, 0};  // com_dz_ when its search began [m]
   // touchdown stages (walk_touchdown.cc)
   double SoleLag(int i, const walking::GaitState& g) const noexcept;
+  double MeasuredGround(int i, const walking::GaitState& g) noexcept;
+  double ground_dz_[2] = {0, 0};  // the ground under each foot off the plan's, measured [m]
   void LateDescent(int i, const walking::GaitState& g, double dt) noexcept;
   bool DcmPastStance(const walking::GaitState& g) const noexcept;
   // the swing foot's sensor in the air (the mean of its vertical force over the first half of
