@@ -227,10 +227,12 @@ class WalkController : public BalanceController {
                        double z_offset) noexcept;
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
   // touchdown (walk_touchdown.cc): a swing foot whose sensor carries load in the last part of
-  // its descent has met ground higher than the plan's: it is held where it touched, and stays
-  // there while it supports; its next swing blends that offset back out by its landing. One
-  // without contact at its planned landing goes on down within the leg's reach, the landing
-  // held (Gait::DelayLanding), and the CoM goes down with it; a lower floor's offset is kept
+  // its descent has met ground higher than the plan's: it is held where it touched (and lands
+  // at once when it is over its landing). One without contact at its planned landing goes on
+  // down (its target at most 1 cm below the measured sole), the landing held
+  // (Gait::DelayLanding) while the measured DCM stays on the stance sole, then taken, the foot
+  // searching on down in support. The touched ground, measured, re-bases the later steps and
+  // the CoM
   void Touchdown(const shm::SensorBlock& s, const walking::WalkSample& w, double dt) noexcept;
   // the steps whose landing window has come: landed when the foot's sensor carries load
   void CountLandings(const shm::SensorBlock& s, double t) noexcept;
