@@ -153,8 +153,9 @@ void WalkController::report(std::ostream& out) const {
     std::snprintf(buf, sizeof buf,
                   "walk: touchdown: %d swing foot/feet had not met the ground at their planned "
                   "landing, went on down (the landing held) and met it, up to %.1f mm below the "
-                  "plan's ground; %d reached the leg's reach without contact\n",
-                  w.late_touchdowns, w.max_late_depth * 1e3, w.late_missed);
+                  "plan's ground; %d reached the leg's reach without contact; %d landed before "
+                  "contact (the DCM at the stance sole's edge) and searched on in support\n",
+                  w.late_touchdowns, w.max_late_depth * 1e3, w.late_missed, w.late_dcm_cut);
     out << buf;
   }
   if (w.ik_failures > 0) {

@@ -34,11 +34,15 @@ struct Count {
 
 // a 1 m walk; with `stepping`, the stepping strategy on and a push from the side at `push_at`
 // (0.1 s, `impulse` N s towards -y) that makes it move a landing; with `late`, touchdown on and
-// 0.3 m steps off an unseen 3 cm step down (late touchdowns: the landing held, the foot on down)
-void WalksWithoutAllocating(bool stepping, double push_at, double impulse, bool late = false) {
+// 0.3 m steps off an unseen 3 cm step down (late touchdowns: the landing held, the foot on down);
+// with `early`, onto an unseen 3 cm step up (early touchdowns: the swing ended, the plan re-based)
+void WalksWithoutAllocating(bool stepping, double push_at, double impulse, bool late = false,
+                            bool early = false) {
   sim::InProcessOptions io;
   io.scene = std::string(OHRP_SOURCE_DIR) +
-             (late ? "/mjcf/hrp1s/scene_unseen_step_down.xml" : "/mjcf/hrp1s/scene_flat.xml");
+             (late    ? "/mjcf/hrp1s/scene_unseen_step_down.xml"
+              : early ? "/mjcf/hrp1s/scene_unseen_step_up.xml"
+                      : "/mjcf/hrp1s/scene_flat.xml");
   io.keyframe = "halfsit";
   if (stepping) {
     sim::Perturbation push;
@@ -57,11 +61,12 @@ void WalksWithoutAllocating(bool stepping, double push_at, double impulse, bool 
   o.balance.load_feedforward = 1;  // its gravity torques and Jacobians run in the cycle too
   WalkCommand goal;
   const std::string command =
-      late ? "steps " + std::string(OHRP_SOURCE_DIR) + "/scenarios/steps/unseen_step_down.yaml"
-           : std::string("goal 1 0 0");
+      late    ? "steps " + std::string(OHRP_SOURCE_DIR) + "/scenarios/steps/unseen_step_down.yaml"
+      : early ? "steps " + std::string(OHRP_SOURCE_DIR) + "/scenarios/steps/unseen_step_up.yaml"
+              : std::string("goal 1 0 0");
   ASSERT_TRUE(ParseWalkCommand(command, &goal, &error)) << error;
   o.commands.push_back(goal);
-  if (late) {
+  if (late || early) {
     o.touchdown = true;
     o.limits.max_forward = 0.3;
   }
@@ -107,11 +112,13 @@ void WalksWithoutAllocating(bool stepping, double push_at, double impulse, bool 
   // down: late touchdowns, the walk not yet done: docs/walking.md, "Not done")
   if (late) {
     EXPECT_GT(w.late_touchdowns + w.late_missed, 0) << report.str();  // the late path ran
+  } else if (early) {
+    EXPECT_GT(w.early_touchdowns, 0) << report.str();  // the early path ran
   } else {
     EXPECT_TRUE(walk->done()) << report.str();
   }
   EXPECT_GE(w.steps_done, 4);
-  if (!stepping && !late) {  // stepping re-plans the steps
+  if (!stepping && !late && !early) {  // stepping re-plans the steps
     EXPECT_EQ(w.steps_done, w.steps_planned);
   }
   EXPECT_EQ(n.walking, 0) << "heap allocations in WalkController::update while walking (first "
@@ -131,6 +138,11 @@ TEST(WalkAllocation, TheSteppingStrategyAllocatesNothing) { WalksWithoutAllocati
 
 // a late touchdown's cycle (the landing and the later steps delayed, the foot and the CoM on down)
 TEST(WalkAllocation, ALateTouchdownAllocatesNothing) { WalksWithoutAllocating(false, 0, 0, true); }
+
+// an early touchdown's cycle (the swing ended, the later steps re-timed, the plan re-based)
+TEST(WalkAllocation, AnEarlyTouchdownAllocatesNothing) {
+  WalksWithoutAllocating(false, 0, 0, false, true);
+}
 
 #else
 TEST(WalkAllocation, NeedsTheCounter) {

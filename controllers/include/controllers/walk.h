@@ -146,6 +146,8 @@ struct WalkStats {
                                 // landing, went on down and met it (walk_touchdown.cc)
   int late_missed = 0;          // of those, feet that reached the leg's reach without contact
   double max_late_depth = 0;    // the deepest below the planned landing they met it [m]
+  int late_dcm_cut = 0;         // late landings taken before contact: the DCM at the stance
+                                // sole's edge (the foot searched on in support)
   bool stopped = false;         // SIGUSR1 stopped a walk
   double walk_start = -1;       // producer time the generator started [s]
 };
@@ -230,10 +232,12 @@ class WalkController : public BalanceController {
                        double z_offset) noexcept;
   void LogRow(const walking::WalkSample& w, const StabilizerOutput& out) noexcept;
   // touchdown (walk_touchdown.cc): a swing foot whose sensor carries load in the last part of
-  // its descent has met ground higher than the plan's: it is held where it touched, and stays
-  // there while it supports; its next swing blends that offset back out by its landing. One
-  // without contact at its planned landing goes on down within the leg's reach, the landing
-  // held (Gait::DelayLanding), and the CoM goes down with it; a lower floor's offset is kept
+  // its descent has met ground higher than the plan's: it is held where it touched (and lands
+  // at once when it is over its landing). One without contact at its planned landing goes on
+  // down (its target at most 1 cm below the measured sole), the landing held
+  // (Gait::DelayLanding) while the measured DCM stays on the stance sole, then taken, the foot
+  // searching on down in support. The touched ground, measured, re-bases the later steps and
+  // the CoM
   void Touchdown(const shm::SensorBlock& s, const walking::WalkSample& w, double dt) noexcept;
   // the steps whose landing window has come: landed when the foot's sensor carries load
   void CountLandings(const shm::SensorBlock& s, double t) noexcept;
@@ -295,7 +299,19 @@ class WalkController : public BalanceController {
   // the planned landing the foot has gone on [m] (<= 0) and the most it may (the leg's reach) [m]
   bool late_[2] = {false, false};
   double late_dz_[2] = {0, 0}, late_depth_[2] = {0, 0};
-  double com_dz_ = 0;  // the CoM's height below the plan's with a lower floor found [m] (<= 0)
+  double com_dz_ = 0;  // the CoM's height off the plan's with the ground found [m]
+  // the ground's height off the plan's where a foot last touched [m]: the later steps land there
+  double floor_dz_ = 0;
+  // a late foot's landing taken (the DCM at its support's edge, or its hold over): it searches on
+  // down in support
+  bool late_landed_[2] = {false, false};
+  double late_com0_[2] = {0, 0};  // com_dz_ when its search began [m]
+  // touchdown stages (walk_touchdown.cc)
+  double SoleLag(int i, const walking::GaitState& g) const noexcept;
+  double MeasuredGround(int i, const walking::GaitState& g) noexcept;
+  double ground_dz_[2] = {0, 0};  // the ground under each foot off the plan's, measured [m]
+  void LateDescent(int i, const walking::GaitState& g, double dt) noexcept;
+  bool DcmPastStance(const walking::GaitState& g) const noexcept;
   // the swing foot's sensor in the air (the mean of its vertical force over the first half of
   // the swing after lift-off) [N], the cycles it has read a touch in a row
   double air_fz_[2] = {0, 0}, air_sum_[2] = {0, 0};
