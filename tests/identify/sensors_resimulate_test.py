@@ -20,6 +20,7 @@ Usage: sensors_resimulate_test.py BIN_DIR SOURCE_DIR OUT_DIR
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -146,9 +147,14 @@ def profile_key():
     with open(sensors, "w") as f:
         f.write("encoders:\n  left_knee: {noise: 1e-3}\n")
     profile = os.path.join(OUT, "h1_with_sensors.yaml")
+    # the copy's paths point back at the originals: the model, and the self-collision file
+    # (self_collision: is read relative to the profile, which now lives in OUT)
+    text = text.replace("model: ../../shared/external/menagerie/unitree_h1/scene.xml", "model: " + model)
+    text = re.sub(r"^self_collision: *(\S+)",
+                  lambda m: "self_collision: " + os.path.join(SRC, "robots", m.group(1)), text,
+                  flags=re.M)
     with open(profile, "w") as f:
-        f.write(text.replace("model: ../../shared/external/menagerie/unitree_h1/scene.xml", "model: " + model)
-                + "sensor_file: h1_sensors.yaml\n")
+        f.write(text + "sensor_file: h1_sensors.yaml\n")
     summary = os.path.join(OUT, "h1_summary.json")
     r = subprocess.run([os.path.join(BIN, "sim_host"), "--scene", profile, "--segment", "sensors_h1",
                         "--duration", "0.1", "--wait-controller", "0", "--summary", summary],

@@ -6,7 +6,7 @@
 
 menagerie's Unitree G1 through its profile (robots/g1.yaml), standing free on its soft soles
 from the profile's stance; `posture --pose` swings the right arm in (shoulder roll 0.6 rad,
-yaw 0.8 rad from the stance's -0.2 and 0): the wrist goes into the right hip links. Each
+yaw 0.8 rad from the stance's -0.35 and 0): the wrist goes into the right hip links. Each
 --ramps value is posture's --ramp [s] (shorter: faster; 0: a jump), with G1's self-collision
 file given explicitly (--self-collision robots/g1_selfcollision.yaml) or the check off. The
 figure of a trial is sim_host's closest approach of any two non-adjacent links over the run
