@@ -160,89 +160,107 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
 }
 
 bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
-  bool clear = Predict(sensors, *c);
-  if (measuring_) {
-    // the first cycle after activation: no acceleration measured yet, so the load the joints
-    // carry is unknown (within the gravity bound: a box metres wide on G1's light rotors). The
-    // command is replaced by the brake from the measured state (a hold where the joints stand
-    // still), whose acceleration and torque the next cycle measures; not a hold episode
-    measuring_ = false;
-    braking_ = false;
-    if (monitor_only_) return false;  // monitoring: the commands are left alone
-    std::fill(braked_.begin(), braked_.end(), 0);  // Brake starts each joint from its measurement
-    Brake(sensors, c);
-    return true;
-  }
-  if (!clear) {
-    // a measurement is not finite: nothing to predict from, so nothing is judged (the
-    // controller's own non-finite handling holds); a brake under way goes on (it needs none)
-    ++unjudged_cycles_;
-    if (!braking_) return false;
-    ++held_cycles_;
-    Brake(sensors, c);
-    return true;
-  }
+  const bool predicted = Predict(sensors, *c);
+  if (measuring_) return MeasureFirstCycle(sensors, c);
+  if (!predicted) return Unjudged(sensors, c);
+  TrackMeasuredLimits();
   int worst = -1;
-  double predicted = INFINITY;
-  if (clear) {
-    // the measured posture's distances: each pair's limit follows its farthest distance since
-    // (a close pair may leave, not creep closer); one below its limit is counted
-    check_->MoveTo(q_);
-    ListPairs();
-    check_->Check(list_, check_cutoff_);
-    for (int i : list_) {
-      const double d = check_->distance(i);
-      if (d < limit_[i] - 1e-6) {
-        ++violations_;
-        if (d < violation_distance_) violation_distance_ = d, violation_pair_ = every_[i];
-        limit_[i] = d - tolerance_;
-      } else {
-        limit_[i] = std::min(base_limit_[i], std::max(limit_[i], d - tolerance_));
-      }
-    }
-    budget_ = kBudget;
-    last_evaluations_ = 0;
-    // the pairs the brake acts on first (the work bound is theirs), then those moved by support
-    // legs only: monitored, never braked
-    int unbrakeable = -1;
-    double unbrakeable_bound = INFINITY;
-    for (int pass = 0; pass < 2 && clear && unbrakeable < 0; ++pass) {
-      // the monitored pairs change no command: a small share of the work, and a pair left
-      // uncertified by it is not reported
-      if (pass == 1) budget_ = std::min(budget_, kMonitorBudget);
-      for (int i : list_) {
-        if (BrakeHelps(i) != (pass == 0)) continue;
-        double b = INFINITY;
-        if (Certify(i, &b)) continue;
-        if (pass == 1) {
-          if (budget_ <= 0) break;  // out of work: not judged
-          unbrakeable = i, unbrakeable_bound = b;
-          break;
-        }
-        clear = false;
-        worst = i;
-        predicted = b;
-        if (budget_ <= 0) ++uncertified_cycles_;
-        break;
-      }
-    }
-    if (clear && unbrakeable >= 0) {
-      ++warned_cycles_;
-      if (unbrakeable_bound < warned_distance_)
-        warned_distance_ = unbrakeable_bound, warned_pair_ = every_[unbrakeable];
-    }
-  }
-  if (clear) {
+  double bound = INFINITY;
+  if (CertifyMotion(&worst, &bound)) {
     braking_ = false;
     std::fill(braked_.begin(), braked_.end(), 0);
     return false;
   }
   if (monitor_only_) {  // counted, the commands left alone
     ++warned_cycles_;
-    if (worst >= 0 && predicted < warned_distance_) warned_distance_ = predicted, warned_pair_ = every_[worst];
+    if (worst >= 0 && bound < warned_distance_) warned_distance_ = bound, warned_pair_ = every_[worst];
     braking_ = false;
     return false;
   }
+  Hold(sensors, worst, bound, c);
+  return true;
+}
+
+bool SelfCollisionGuard::MeasureFirstCycle(const shm::SensorBlock& sensors,
+                                           shm::CommandBlock* c) noexcept {
+  // the first cycle after activation: no acceleration measured yet, so the load the joints
+  // carry is unknown (within the gravity bound: a box metres wide on G1's light rotors). The
+  // command is replaced by the brake from the measured state (a hold where the joints stand
+  // still), whose acceleration and torque the next cycle measures; not a hold episode
+  measuring_ = false;
+  braking_ = false;
+  if (monitor_only_) return false;  // monitoring: the commands are left alone
+  std::fill(braked_.begin(), braked_.end(), 0);  // Brake starts each joint from its measurement
+  Brake(sensors, c);
+  return true;
+}
+
+bool SelfCollisionGuard::Unjudged(const shm::SensorBlock& sensors, shm::CommandBlock* c) noexcept {
+  // a measurement is not finite: nothing to predict from, so nothing is judged (the
+  // controller's own non-finite handling holds); a brake under way goes on (it needs none)
+  ++unjudged_cycles_;
+  if (!braking_) return false;
+  ++held_cycles_;
+  Brake(sensors, c);
+  return true;
+}
+
+void SelfCollisionGuard::TrackMeasuredLimits() noexcept {
+  // the measured posture's distances: each pair's limit follows its farthest distance since
+  // (a close pair may leave, not creep closer); one below its limit is counted
+  check_->MoveTo(q_);
+  ListPairs();
+  check_->Check(list_, check_cutoff_);
+  for (int i : list_) {
+    const double d = check_->distance(i);
+    if (d < limit_[i] - 1e-6) {
+      ++violations_;
+      if (d < violation_distance_) violation_distance_ = d, violation_pair_ = every_[i];
+      limit_[i] = d - tolerance_;
+    } else {
+      limit_[i] = std::min(base_limit_[i], std::max(limit_[i], d - tolerance_));
+    }
+  }
+}
+
+bool SelfCollisionGuard::CertifyMotion(int* worst, double* predicted) noexcept {
+  bool clear = true;
+  budget_ = kBudget;
+  last_evaluations_ = 0;
+  // the pairs the brake acts on first (the work bound is theirs), then those moved by support
+  // legs only: monitored, never braked
+  int unbrakeable = -1;
+  double unbrakeable_bound = INFINITY;
+  for (int pass = 0; pass < 2 && clear && unbrakeable < 0; ++pass) {
+    // the monitored pairs change no command: a small share of the work, and a pair left
+    // uncertified by it is not reported
+    if (pass == 1) budget_ = std::min(budget_, kMonitorBudget);
+    for (int i : list_) {
+      if (BrakeHelps(i) != (pass == 0)) continue;
+      double b = INFINITY;
+      if (Certify(i, &b)) continue;
+      if (pass == 1) {
+        if (budget_ <= 0) break;  // out of work: not judged
+        unbrakeable = i, unbrakeable_bound = b;
+        break;
+      }
+      clear = false;
+      *worst = i;
+      *predicted = b;
+      if (budget_ <= 0) ++uncertified_cycles_;
+      break;
+    }
+  }
+  if (clear && unbrakeable >= 0) {
+    ++warned_cycles_;
+    if (unbrakeable_bound < warned_distance_)
+      warned_distance_ = unbrakeable_bound, warned_pair_ = every_[unbrakeable];
+  }
+  return clear;
+}
+
+void SelfCollisionGuard::Hold(const shm::SensorBlock& sensors, int worst, double predicted,
+                              shm::CommandBlock* c) noexcept {
   // brake: from the measured state when the hold begins, then along the ramp
   if (!braking_) {
     ++holds_;
@@ -263,7 +281,6 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
     }
   }
   Brake(sensors, c);
-  return true;
 }
 
 }  // namespace ohrp::controllers

@@ -10,7 +10,7 @@ namespace ohrp::controllers {
 namespace {
 
 // the servo's torque for the command at (q, dq), unclamped; NaN when it cannot be told
-double Servo(const shm::JointCommand& c, double q, double dq) {
+double Servo(const shm::JointCommand& c, double q, double dq) noexcept {
   switch (c.mode) {
     case shm::JointMode::kPosition: return c.kp * (c.q_ref - q) + c.kd * (c.dq_ref - dq) + c.tau_ff;
     case shm::JointMode::kVelocity: return c.kd * (c.dq_ref - dq) + c.tau_ff;
@@ -122,7 +122,7 @@ void SelfCollisionGuard::Excursion(double v, double a_lo, double a_hi, double ho
   *hi = up;
 }
 
-bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c) {
+bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c) noexcept {
   const double horizon = 2 * period_;  // this command's period and one of latency
   // the fastest joint: how much the load can change over the horizon (below)
   double speed = 0;
@@ -134,91 +134,124 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
       have_last_ = false;
       return false;
     }
-    const collision::JointDynamics& d = file_.dynamics[j];
-    // the inertia the joint drives: the links beyond alone while their force sensor says they
-    // carry no weight (UpdateLoads), else the bound under any contact
-    const double inertia = CarriesFoot(j) && !loaded_[j] ? d.inertia_free : d.inertia_max;
-    // the joint's acceleration over the last period and the servo's torque that made it: the
-    // next acceleration is that one plus the change of torque over the (unknown, common)
-    // inertia, the load changing by at most the gravity bound times the angle turned over the
-    // horizon. Without a last period (a measurement was not finite): the load is anywhere
-    // within the gravity bound. At activation the joints are taken as not accelerating.
-    const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
-    const bool observed = std::isfinite(a_last) && std::isfinite(sensors.tau[j]);
-    const double slack = observed ? d.gravity_max * std::min(1.0, 3 * speed * period_) + d.damping * std::abs(v)
-                                  : d.gravity_max;
-    const double base = observed ? sensors.tau[j] : 0.0;  // the torque the acceleration answers
-    const double a0 = observed ? a_last : 0.0;
-    // the servo's torque along the period (at the start and where the velocity carries the
-    // joint), clamped to the limit; a command that cannot be told gives the whole range
-    const double t0 = Servo(c.joint[j], q, v), t1 = Servo(c.joint[j], q + v * horizon, v);
-    double tau_lo = -tau_max_[j], tau_hi = tau_max_[j];
-    if (std::isfinite(t0) && std::isfinite(t1)) {
-      tau_lo = std::clamp(std::min(t0, t1), -tau_max_[j], tau_max_[j]);
-      tau_hi = std::clamp(std::max(t0, t1), -tau_max_[j], tau_max_[j]);
-    }
-    if (!std::isfinite(tau_lo) || !std::isfinite(tau_hi)) return false;  // no limit, no command
-    const double f_lo = tau_lo - base - slack, f_hi = tau_hi - base + slack;
-    const double a_lo = a0 + std::min(f_lo / d.inertia_min, f_lo / inertia);
-    const double a_hi = a0 + std::max(f_hi / d.inertia_min, f_hi / inertia);
-    // braking: the limit less the largest load (the torque less what accelerated the joint),
-    // over the inertia
-    const double load = observed ? std::max(std::abs(base - d.inertia_min * a0), std::abs(base - inertia * a0)) + slack
-                                 : d.gravity_max;
-    decel_[j] = Decelerate(j, load, inertia);
-    // the velocity band: the speed limit, and the servo's damping (VelocityBand)
-    double v_floor = d.velocity_max > 0 ? std::min(v, -d.velocity_max) : -INFINITY;
-    double v_ceil = d.velocity_max > 0 ? std::max(v, d.velocity_max) : INFINITY;
-    {
-      // the load the joint carries: what the measured torque did not spend on the measured
-      // acceleration (for any inertia within the bounds), changing by the slack; unmeasured:
-      // within the gravity bound
-      // (the measured acceleration of a light joint is large and its inertia uncertain: the
-      // load is also kept within the gravity bound and the slack, as the brake's rate is)
-      const double l_lo = observed ? std::max(std::min(base - d.inertia_min * a0, base - inertia * a0),
-                                              -d.gravity_max) - slack
-                                   : -d.gravity_max;
-      const double l_hi = observed ? std::min(std::max(base - d.inertia_min * a0, base - inertia * a0),
-                                              d.gravity_max) + slack
-                                   : d.gravity_max;
-      double band_lo = v + std::min(a_lo, 0.0) * horizon, band_hi = v + std::max(a_hi, 0.0) * horizon;
-      VelocityBand(c.joint[j], q, v, l_lo, l_hi, tau_max_[j], horizon, &band_lo, &band_hi);
-      v_floor = std::max(v_floor, band_lo);
-      v_ceil = std::min(v_ceil, band_hi);
-    }
+    JointMotion m;
+    if (!BoundAcceleration(j, sensors, c.joint[j], speed, horizon, &m)) return false;
+    BoundVelocity(j, q, v, c.joint[j], horizon, &m);
     double lo = 0, hi = 0;
-    Excursion(v, a_lo, a_hi, horizon, v_floor, v_ceil, decel_[j], &lo, &hi);
+    Excursion(v, m.a_lo, m.a_hi, horizon, m.v_floor, m.v_ceil, decel_[j], &lo, &hi);
     q_[j] = q;
     box_lo_[j] = q + lo;
     box_hi_[j] = q + hi;
-    // the nominal motion (the middle acceleration, then the brake) and how far the motion
-    // within the bounds can be from it at any time: the acceleration's spread over the
-    // horizon, and the brake's stopping point from the extreme velocities (two brakes at one
-    // rate from v and v' differ by at most their stopping points' difference at any time)
-    // Within the band the velocity at time s lies in [max(v + a_lo s, v_floor), min(v + a_hi s,
-    // v_ceil)] (v_floor <= v <= v_ceil); the nominal velocity v + a_mid s, a_mid in [a_lo, a_hi]
-    // the middle of the band's end velocities. The position's deviation at t <= horizon is
-    // at most the integral of the velocity's: both 0.5 max(a_hi - a_mid, a_mid - a_lo) t^2
-    // (the accelerations) and t (max(v_ceil - v, v - v_floor) + |a_mid| t) (the band)
-    v_ceil = std::max(v, v_ceil);
-    v_floor = std::min(v, v_floor);
-    const double v_up = std::min(v + a_hi * horizon, v_ceil);
-    const double v_down = std::max(v + a_lo * horizon, v_floor);
-    const double a_mid = std::clamp((0.5 * (v_up + v_down) - v) / horizon, a_lo, a_hi);
-    const double v1 = v + a_mid * horizon;
-    const auto stop = [&](double u) { return u * std::abs(u) / (2 * decel_[j]); };
-    v0_[j] = v;
-    a_mid_[j] = a_mid;
-    v1_[j] = v1;
-    q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
-    stop_[j] = std::abs(v1) / decel_[j];
-    speed_[j] = std::max(std::abs(v), std::abs(v1));  // the nominal's (the envelope the rest)
-    const double spread =
-        std::min(0.5 * std::max(a_hi - a_mid, a_mid - a_lo) * horizon * horizon,
-                 horizon * (std::max(v_ceil - v, v - v_floor) + std::abs(a_mid) * horizon));
-    envelope_[j] = spread + std::max(std::abs(stop(v_up) - stop(v1)), std::abs(stop(v_down) - stop(v1)));
+    PlanNominal(j, q, v, horizon, &m);
   }
   horizon_end_ = horizon + *std::max_element(stop_.begin(), stop_.end());
+  if (!PredictPassive(sensors)) return false;
+  for (int j = 0; j < njoint_; ++j) last_dq_[j] = sensors.dq[j];
+  have_last_ = true;
+  return true;
+}
+
+bool SelfCollisionGuard::BoundAcceleration(int j, const shm::SensorBlock& sensors,
+                                           const shm::JointCommand& c, double speed,
+                                           double horizon, JointMotion* m) noexcept {
+  const double q = sensors.q[j], v = sensors.dq[j];
+  const collision::JointDynamics& d = file_.dynamics[j];
+  // the inertia the joint drives: the links beyond alone while their force sensor says they
+  // carry no weight (UpdateLoads), else the bound under any contact
+  const double inertia = CarriesFoot(j) && !loaded_[j] ? d.inertia_free : d.inertia_max;
+  // the joint's acceleration over the last period and the servo's torque that made it: the
+  // next acceleration is that one plus the change of torque over the (unknown, common)
+  // inertia, the load changing by at most the gravity bound times the angle turned over the
+  // horizon. Without a last period (a measurement was not finite): the load is anywhere
+  // within the gravity bound. At activation the joints are taken as not accelerating.
+  const double a_last = have_last_ ? (v - last_dq_[j]) / period_ : NAN;
+  const bool observed = std::isfinite(a_last) && std::isfinite(sensors.tau[j]);
+  const double slack = observed ? d.gravity_max * std::min(1.0, 3 * speed * period_) + d.damping * std::abs(v)
+                                : d.gravity_max;
+  const double base = observed ? sensors.tau[j] : 0.0;  // the torque the acceleration answers
+  const double a0 = observed ? a_last : 0.0;
+  // the servo's torque along the period (at the start and where the velocity carries the
+  // joint), clamped to the limit; a command that cannot be told gives the whole range
+  const double t0 = Servo(c, q, v), t1 = Servo(c, q + v * horizon, v);
+  double tau_lo = -tau_max_[j], tau_hi = tau_max_[j];
+  if (std::isfinite(t0) && std::isfinite(t1)) {
+    tau_lo = std::clamp(std::min(t0, t1), -tau_max_[j], tau_max_[j]);
+    tau_hi = std::clamp(std::max(t0, t1), -tau_max_[j], tau_max_[j]);
+  }
+  if (!std::isfinite(tau_lo) || !std::isfinite(tau_hi)) return false;  // no limit, no command
+  const double f_lo = tau_lo - base - slack, f_hi = tau_hi - base + slack;
+  m->a_lo = a0 + std::min(f_lo / d.inertia_min, f_lo / inertia);
+  m->a_hi = a0 + std::max(f_hi / d.inertia_min, f_hi / inertia);
+  // braking: the limit less the largest load (the torque less what accelerated the joint),
+  // over the inertia
+  const double load = observed ? std::max(std::abs(base - d.inertia_min * a0), std::abs(base - inertia * a0)) + slack
+                               : d.gravity_max;
+  decel_[j] = Decelerate(j, load, inertia);
+  m->inertia = inertia;
+  m->observed = observed;
+  m->slack = slack;
+  m->base = base;
+  m->a0 = a0;
+  return true;
+}
+
+void SelfCollisionGuard::BoundVelocity(int j, double q, double v, const shm::JointCommand& c,
+                                       double horizon, JointMotion* m) const noexcept {
+  const collision::JointDynamics& d = file_.dynamics[j];
+  const double inertia = m->inertia, slack = m->slack, base = m->base, a0 = m->a0;
+  const bool observed = m->observed;
+  // the velocity band: the speed limit, and the servo's damping (VelocityBand)
+  m->v_floor = d.velocity_max > 0 ? std::min(v, -d.velocity_max) : -INFINITY;
+  m->v_ceil = d.velocity_max > 0 ? std::max(v, d.velocity_max) : INFINITY;
+  // the load the joint carries: what the measured torque did not spend on the measured
+  // acceleration (for any inertia within the bounds), changing by the slack; unmeasured:
+  // within the gravity bound
+  // (the measured acceleration of a light joint is large and its inertia uncertain: the
+  // load is also kept within the gravity bound and the slack, as the brake's rate is)
+  const double l_lo = observed ? std::max(std::min(base - d.inertia_min * a0, base - inertia * a0),
+                                          -d.gravity_max) - slack
+                               : -d.gravity_max;
+  const double l_hi = observed ? std::min(std::max(base - d.inertia_min * a0, base - inertia * a0),
+                                          d.gravity_max) + slack
+                               : d.gravity_max;
+  double band_lo = v + std::min(m->a_lo, 0.0) * horizon, band_hi = v + std::max(m->a_hi, 0.0) * horizon;
+  VelocityBand(c, q, v, l_lo, l_hi, tau_max_[j], horizon, &band_lo, &band_hi);
+  m->v_floor = std::max(m->v_floor, band_lo);
+  m->v_ceil = std::min(m->v_ceil, band_hi);
+}
+
+void SelfCollisionGuard::PlanNominal(int j, double q, double v, double horizon,
+                                     const JointMotion* m) noexcept {
+  const double a_lo = m->a_lo, a_hi = m->a_hi;
+  // the nominal motion (the middle acceleration, then the brake) and how far the motion
+  // within the bounds can be from it at any time: the acceleration's spread over the
+  // horizon, and the brake's stopping point from the extreme velocities (two brakes at one
+  // rate from v and v' differ by at most their stopping points' difference at any time)
+  // Within the band the velocity at time s lies in [max(v + a_lo s, v_floor), min(v + a_hi s,
+  // v_ceil)] (v_floor <= v <= v_ceil); the nominal velocity v + a_mid s, a_mid in [a_lo, a_hi]
+  // the middle of the band's end velocities. The position's deviation at t <= horizon is
+  // at most the integral of the velocity's: both 0.5 max(a_hi - a_mid, a_mid - a_lo) t^2
+  // (the accelerations) and t (max(v_ceil - v, v - v_floor) + |a_mid| t) (the band)
+  const double v_ceil = std::max(v, m->v_ceil);
+  const double v_floor = std::min(v, m->v_floor);
+  const double v_up = std::min(v + a_hi * horizon, v_ceil);
+  const double v_down = std::max(v + a_lo * horizon, v_floor);
+  const double a_mid = std::clamp((0.5 * (v_up + v_down) - v) / horizon, a_lo, a_hi);
+  const double v1 = v + a_mid * horizon;
+  const auto stop = [&](double u) { return u * std::abs(u) / (2 * decel_[j]); };
+  v0_[j] = v;
+  a_mid_[j] = a_mid;
+  v1_[j] = v1;
+  q1_[j] = q + v * horizon + 0.5 * a_mid * horizon * horizon;
+  stop_[j] = std::abs(v1) / decel_[j];
+  speed_[j] = std::max(std::abs(v), std::abs(v1));  // the nominal's (the envelope the rest)
+  const double spread =
+      std::min(0.5 * std::max(a_hi - a_mid, a_mid - a_lo) * horizon * horizon,
+               horizon * (std::max(v_ceil - v, v - v_floor) + std::abs(a_mid) * horizon));
+  envelope_[j] = spread + std::max(std::abs(stop(v_up) - stop(v1)), std::abs(stop(v_down) - stop(v1)));
+}
+
+bool SelfCollisionGuard::PredictPassive(const shm::SensorBlock& sensors) noexcept {
   // passive joints: measured, never commanded nor braked; taken to keep their measured speed
   // over the whole motion (their deviation from standing still is all envelope)
   for (int k = njoint_; k < nq_; ++k) {
@@ -232,8 +265,6 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     box_lo_[k] = q - envelope_[k];
     box_hi_[k] = q + envelope_[k];
   }
-  for (int j = 0; j < njoint_; ++j) last_dq_[j] = sensors.dq[j];
-  have_last_ = true;
   return true;
 }
 

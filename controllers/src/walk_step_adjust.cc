@@ -35,12 +35,21 @@ void WalkController::AdjustStep() noexcept {
   }
   const double remaining = gait.step_land(k) - w.t;
   if (remaining < kLastMove) return;
+  DcmExcess x;
+  if (!DcmBeyondAnkle(w, 1 - sw, &x)) return;
+  walking::Footstep best;
+  double best_rest = remaining;
+  ChooseLanding(k, remaining, x, &best, &best_rest);
+  MoveLanding(k, remaining, best, best_rest);
+}
+
+bool WalkController::DcmBeyondAnkle(const walking::WalkSample& w, int st,
+                                    DcmExcess* x) const noexcept {
   // the DCM error now (the stabilizer's last cycle), in the stance sole's frame
   const StabilizerOutput& out = stabilizer_.output();
   const double h = std::max(input_.c.z() - input_.support.ground_z, 0.1);
   const double omega = std::sqrt(kGravity / h);
   const Eigen::Vector2d dcm_ref = input_.c_ref + input_.dc_ref / omega;
-  const int st = 1 - sw;
   const Eigen::Rotation2Dd R(w.gait.feet.yaw[st]);
   const Eigen::Vector2d e = R.inverse() * (out.dcm - dcm_ref);
   // what the ankle takes back: the ZMP anywhere in the sole (less the stabilizer's margin);
@@ -50,7 +59,15 @@ void WalkController::AdjustStep() noexcept {
   Eigen::Vector2d beyond;
   for (int a = 0; a < 2; ++a)
     beyond[a] = std::copysign(std::max(std::abs(e[a]) - reach[a], 0.0), e[a]);
-  if (beyond.isZero()) return;
+  if (beyond.isZero()) return false;
+  x->omega = omega;
+  x->d_plan = dcm_ref - w.gait.feet.p[st].head<2>();
+  x->beyond = R * beyond;
+  return true;
+}
+
+void WalkController::ChooseLanding(int k, double remaining, const DcmExcess& x,
+                                   walking::Footstep* best, double* best_rest) const noexcept {
   // the landing times tried: as planned, then shorter. The landing for a rest of r: where the
   // measured DCM will be then (diverging from the stance point, less what the ankle takes back)
   // less the plan's DCM offset at its own landing, so that the later steps go on as planned
@@ -58,19 +75,22 @@ void WalkController::AdjustStep() noexcept {
   // the stance point, e the error beyond the ankle, T the planned rest. Each set within the
   // recovery limits (a leg's reach, no crossing) against the stance sole; the one whose
   // shortfall (the DCM's need it does not meet) plus the time it takes off is least
+  const walking::Gait& gait = gen_.gait();
+  const double t = gen_.sample().t, omega = x.omega;
   const walking::Footstep now_step = gait.step(k);
   const walking::FeetPose feet = gait.FeetAfter(k - 1);
   const double shortest = walk_options_.stepping_timing
-                              ? std::max(kMinRest, gait.step_lift(k) + kMinSwing - w.t)
+                              ? std::max(kMinRest, gait.step_lift(k) + kMinSwing - t)
                               : remaining;
-  const Eigen::Vector2d d_plan = dcm_ref - w.gait.feet.p[st].head<2>();
-  const Eigen::Vector2d e_beyond = R * beyond;
+  const Eigen::Vector2d& d_plan = x.d_plan;
+  const Eigen::Vector2d& e_beyond = x.beyond;
   // from the landing as first planned (the plan's DCM is not re-based: its error stays until the
   // new footholds take it back), at its planned time
   const Eigen::Vector2d nominal =
-      adjust_planned_.p.head<2>() - d_plan * std::exp(omega * (adjust_planned_land_ - w.t));
-  walking::Footstep best = now_step;
-  double best_rest = remaining, best_cost = std::numeric_limits<double>::infinity();
+      adjust_planned_.p.head<2>() - d_plan * std::exp(omega * (adjust_planned_land_ - t));
+  *best = now_step;
+  *best_rest = remaining;
+  double best_cost = std::numeric_limits<double>::infinity();
   for (double rest = remaining; rest >= shortest - 1e-9; rest -= kTimeStep) {
     walking::Footstep target = now_step;
     const Eigen::Vector2d ideal = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
@@ -81,21 +101,27 @@ void WalkController::AdjustStep() noexcept {
     const double cost = (want - target.p.head<2>()).norm() + walk_options_.stepping_time_cost * (remaining - rest);
     if (cost < best_cost) {
       best_cost = cost;
-      best = target;
-      best_rest = rest;
+      *best = target;
+      *best_rest = rest;
     }
   }
-  const Eigen::Vector2d now = now_step.p.head<2>();
+}
+
+void WalkController::MoveLanding(int k, double remaining, const walking::Footstep& best,
+                                 double best_rest) noexcept {
+  const walking::Gait& gait = gen_.gait();
+  const double t = gen_.sample().t;
+  const Eigen::Vector2d now = gait.step(k).p.head<2>();
   const bool sooner = remaining - best_rest >= kMinShorten;
   if ((best.p.head<2>() - now).norm() < kMinMove && !sooner) return;
-  const double t_land = sooner ? w.t + best_rest : gait.step_land(k);
+  const double t_land = sooner ? t + best_rest : gait.step_land(k);
   if (!gen_.AdjustStep(k, best.p.head<2>(), t_land, true)) return;
   // the later steps of the command go on from the new foothold (Remap adds this)
   recovery_shift_ += best.p.head<2>() - now;
   if (sooner) {
     walk_stats_.max_shorten = std::max(walk_stats_.max_shorten,
                                        adjust_planned_land_ - t_land);
-    if (adjust_planned_land_ - (remaining + w.t) < kMinShorten) ++walk_stats_.steps_shortened;
+    if (adjust_planned_land_ - (remaining + t) < kMinShorten) ++walk_stats_.steps_shortened;
   }
   // the plan goes on from the robot's state: its CoM and velocity onto the measured (the
   // stabilizer no longer pulls the robot back onto the plan it was pushed off)

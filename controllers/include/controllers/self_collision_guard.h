@@ -135,7 +135,38 @@ class SelfCollisionGuard {
  private:
   // each joint's interval of motion for `c` from the measured state into box_lo_/box_hi_
   // (absolute positions); false when a measured value is not finite
-  bool Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c);
+  bool Predict(const shm::SensorBlock& sensors, const shm::CommandBlock& c) noexcept;
+  // Predict's stages, per joint: what this cycle allows of one joint's motion
+  struct JointMotion {
+    double inertia = 0;   // [kg m^2] the inertia it drives (the links beyond alone, unloaded)
+    bool observed = false;  // last period's acceleration and the torque measured
+    double slack = 0;     // [N m] how much the load can change over the horizon
+    double base = 0, a0 = 0;  // the measured torque [N m] and acceleration [rad/s^2] (observed)
+    double a_lo = 0, a_hi = 0;        // [rad/s^2] the acceleration's bounds
+    double v_floor = 0, v_ceil = 0;   // [rad/s] the velocity's band over the horizon
+  };
+  // the acceleration's bounds from the servo law and the measured load, and the brake's rate
+  // (decel_); false when the command's torque cannot be bounded
+  bool BoundAcceleration(int j, const shm::SensorBlock& sensors, const shm::JointCommand& c,
+                         double speed, double horizon, JointMotion* m) noexcept;
+  // the velocity's band: the speed limit, and the servo's damping against the load's bounds
+  void BoundVelocity(int j, double q, double v, const shm::JointCommand& c, double horizon,
+                     JointMotion* m) const noexcept;
+  // the nominal motion (the middle acceleration, then the brake) and its envelope
+  void PlanNominal(int j, double q, double v, double horizon, const JointMotion* m) noexcept;
+  // the passive joints' boxes (their measured speed over the whole motion); false when a
+  // measured value is not finite
+  bool PredictPassive(const shm::SensorBlock& sensors) noexcept;
+  // Filter's stages: the first cycle after Activate (only measured, the brake from the measured
+  // state); a cycle whose measurement is not finite (a brake under way goes on); each pair's
+  // limit from the measured posture; the motion certified (false: the worst brakeable pair
+  // and its predicted lower bound); the hold begun or continued
+  bool MeasureFirstCycle(const shm::SensorBlock& sensors, shm::CommandBlock* c) noexcept;
+  bool Unjudged(const shm::SensorBlock& sensors, shm::CommandBlock* c) noexcept;
+  void TrackMeasuredLimits() noexcept;
+  bool CertifyMotion(int* worst, double* predicted) noexcept;
+  void Hold(const shm::SensorBlock& sensors, int worst, double predicted,
+            shm::CommandBlock* c) noexcept;
   // this cycle's pairs: the online ones, the structural ones with floors, the pairs of every
   // safe range the box leaves
   void ListPairs();

@@ -217,6 +217,18 @@ class WalkController : public BalanceController {
   // (within the recovery limits against the stance sole), and lands it sooner when that place
   // is out of reach; the later steps go on from the new foothold
   void AdjustStep() noexcept;
+  // its stages: the measured DCM's error beyond what the stance ankle takes back (false: none);
+  // the landing (place and rest) the DCM asks for, the least shortfall plus time taken off among
+  // the landing times tried; the landing moved, the later steps and the statistics after it
+  struct DcmExcess {
+    double omega = 0;                                  // [1/s] the LIPM's at the CoM's height
+    Eigen::Vector2d d_plan = Eigen::Vector2d::Zero();  // [m] the plan's DCM from the stance point
+    Eigen::Vector2d beyond = Eigen::Vector2d::Zero();  // [m] the error beyond the ankle, in W
+  };
+  bool DcmBeyondAnkle(const walking::WalkSample& w, int stance, DcmExcess* x) const noexcept;
+  void ChooseLanding(int k, double remaining, const DcmExcess& x, walking::Footstep* best,
+                     double* best_rest) const noexcept;
+  void MoveLanding(int k, double remaining, const walking::Footstep& best, double best_rest) noexcept;
   // live commands (walk_live.cc): the stance a new command starts from published to the
   // channel, a plan made from it taken and walked (what was planned after the step under way
   // replaced), or a stop

@@ -181,6 +181,11 @@ class Gait {
   // the toe, at most HeelLift's angle, level again by half its travel): the trailing leg reaches
   // its sole under a hip already moving up and over the upper stair
   void ToeOff(const Phase& p, double phase, double f_travel, GaitState* s) const;
+  // At's stages in a single support: the swinging foot along its travel (its place across and
+  // its turn and tilt; returns the travel's share), then its height (up to the apex, down onto
+  // the landing; off a stair the heel first)
+  double SwingAlong(const Phase& p, double t, GaitState* s) const noexcept;
+  void SwingHeight(const Phase& p, double phase, double f_travel, GaitState* s) const noexcept;
   // the swing's outward bend for `step` from `before` (zero when the straight path keeps the
   // gap, or the sole's size is not known)
   Eigen::Vector2d SwingDetour(const FeetPose& before, const Footstep& step) const;

@@ -11,6 +11,10 @@ namespace ohrp::walking {
 // `a` wrapped to [-pi, pi] [rad]
 double WrapAngle(double a);
 
+// a height change between lift-off and landing that the tilt of neither sole's surface explains
+// (a slope rises by its tilt over the travel): a stair's edge to clear (gait_at.cc)
+bool IsStepEdge(const FeetPose& before, const Footstep& step);
+
 // the horizontal position of `p` in the frame at `origin` turned by `yaw` about z [m]
 Eigen::Vector2d InFrame(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, double yaw);
 
