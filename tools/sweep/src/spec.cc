@@ -33,13 +33,7 @@ const std::set<std::string> kRunFigures = {"real_time_factor", "wall_time", "sim
 
 constexpr size_t kMaxVariants = 100000;
 constexpr double kMaxTimeLimit = 1e6;  // [s]
-
-// the messages' "sweep 'FILE': line N: ", through the runner's reads
-constexpr const char* kSweep = "sweep";
-std::string At(const std::string& path, const YAML::Node& n) { return runner::At(path, n, kSweep); }
-std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key) {
-  return runner::AtKey(path, map, key, kSweep);
-}
+constexpr const char* kSweep = "sweep";  // the messages' kind (the runner's reads)
 
 // the YAML of the scenario with the `set` keys and the variant's values
 bool VariantText(const SweepSpec& s, const Variant& v, std::string* out, std::string* why) {

@@ -21,13 +21,7 @@ using runner::ReadText;
 const std::set<std::string> kParameterKeys = {"key", "values", "range", "draw", "zip"};
 const std::set<std::string> kRangeKeys = {"from", "to", "steps", "scale"};
 constexpr long long kMaxSteps = 10000;
-
-// the messages' "sweep 'FILE': line N: ", through the runner's reads
-constexpr const char* kSweep = "sweep";
-std::string At(const std::string& path, const YAML::Node& n) { return runner::At(path, n, kSweep); }
-std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key) {
-  return runner::AtKey(path, map, key, kSweep);
-}
+constexpr const char* kSweep = "sweep";  // the messages' kind (the runner's reads)
 
 // the range's `steps` values, the ends exactly
 void FillRange(double from, double to, long long steps, Parameter* p) {
@@ -168,6 +162,11 @@ bool ReadZip(const YAML::Node& entry, const std::string& path, const std::string
 }
 
 }  // namespace
+
+std::string At(const std::string& path, const YAML::Node& n) { return runner::At(path, n, kSweep); }
+std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key) {
+  return runner::AtKey(path, map, key, kSweep);
+}
 
 // a scalar as a parameter value: numbers in their shortest exact form
 bool ReadValue(const YAML::Node& n, Value* v, std::string* why) {

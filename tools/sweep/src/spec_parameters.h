@@ -13,6 +13,11 @@ class Node;
 
 namespace ohrp::sweep {
 
+// the sweep file's messages' "sweep 'FILE': line N: " at node `n`, or at `map`'s `key` (the
+// runner's reads with kind "sweep"; spec.cc, spec_parameters.cc, draw.cc)
+std::string At(const std::string& path, const YAML::Node& n);
+std::string AtKey(const std::string& path, const YAML::Node& map, const std::string& key);
+
 // a scalar as a parameter value: numbers in their shortest exact form
 bool ReadValue(const YAML::Node& n, Value* v, std::string* why);
 
