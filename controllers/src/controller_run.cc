@@ -272,7 +272,7 @@ void ControllerRun::Release() {
 std::string ControllerRun::WhyItEnded() {
   if (fell_) {
     rep_.exit_code = kExitFell;
-    return watch_.Describe();
+    return watch_.Describe(controller_.tilt_reference());
   }
   if (stopped_by_signal_) {
     rep_.exit_code = kExitOk;

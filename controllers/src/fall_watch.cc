@@ -149,14 +149,14 @@ bool FallWatch::Update(const shm::SensorBlock& s, double base_tilt, double com_h
   return false;
 }
 
-std::string FallWatch::Describe() const {
+std::string FallWatch::Describe(const char* tilt_from) const {
   const FallEvent& e = event_;
   char buf[400];
   if (e.cause == FallCause::kTilt) {
     std::snprintf(buf, sizeof buf,
                   "the robot fell at t = %.3f s (cycle %llu): its base tilted %.1f deg from "
-                  "upright, beyond the limit %.1f deg, since t = %.3f s",
-                  e.time, static_cast<unsigned long long>(e.cycle), e.value / kDeg,
+                  "%s, beyond the limit %.1f deg, since t = %.3f s",
+                  e.time, static_cast<unsigned long long>(e.cycle), e.value / kDeg, tilt_from,
                   e.limit / kDeg, e.since);
   } else if (e.cause == FallCause::kUnloaded) {
     std::snprintf(buf, sizeof buf,

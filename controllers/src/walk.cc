@@ -39,6 +39,11 @@ double WalkController::base_tilt() const noexcept {
   return std::isfinite(c) ? std::acos(std::clamp(c, -1.0, 1.0)) : tilt;
 }
 
+const char* WalkController::tilt_reference() const noexcept {
+  return started_ && roll_ != 0 ? "its commanded orientation (the pelvis rolled on purpose)"
+                                : "upright";
+}
+
 bool WalkController::done() const {
   return started_ && !gen_.walking() && next_command_ >= static_cast<int>(chunks_plan_.size());
 }

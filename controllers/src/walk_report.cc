@@ -67,9 +67,9 @@ std::string WalkController::Unverified() const {
   }
   if (!(end_tilt_ >= 0 && end_tilt_ <= tipping)) {
     std::snprintf(buf, sizeof buf,
-                  "at the end the base is tilted %.1f deg from upright (the soles' tipping angle "
+                  "at the end the base is tilted %.1f deg from %s (the soles' tipping angle "
                   "is %.1f deg)",
-                  end_tilt_ * 180 / M_PI, tipping * 180 / M_PI);
+                  end_tilt_ * 180 / M_PI, tilt_reference(), tipping * 180 / M_PI);
     return buf;
   }
   return std::string();

@@ -167,7 +167,6 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
       }
     } else if (late_[i] && !touched_[i] && std::isfinite(fz)) {
       // landed in the plan before contact: it searches on down in support
-      const double carried = lift_dz_[i] + (floor_dz_ - lift_dz_[i]);
       touch_cycles_[i] = fz - air_fz_[i] >= touch_load_ ? touch_cycles_[i] + 1 : 0;
       if (touch_cycles_[i] >= 2) {
         touched_[i] = true;
@@ -177,7 +176,7 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
         walk_stats_.max_late_depth = std::max(walk_stats_.max_late_depth, -floor_dz_);
       } else {
         LateDescent(i, g, dt);
-        foot_dz_[i] = carried + late_dz_[i];
+        foot_dz_[i] = floor_dz_ + late_dz_[i];  // carried down to the ground last touched
       }
     }
     if (touched_[i]) foot_dz_[i] = touch_z_[i] - z_plan;  // held where it touched

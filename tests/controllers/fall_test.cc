@@ -64,6 +64,30 @@ TEST(FallWatch, QuietWhileStandingFiresWhenLimpWithTheCause) {
               limp, e.time, FallCauseName(e.cause), e.since, robot->sensors().sim_truth.p_WB[2]);
 }
 
+// the tilt's message names what the tilt is measured from: upright, unless the controller says
+// otherwise (Controller::tilt_reference: walk's rolling pelvis, its commanded orientation)
+TEST(FallWatch, TheTiltMessageNamesWhatTheTiltIsMeasuredFrom) {
+  std::string error;
+  auto robot = sim::InProcessRobot::Create(Hrp1sStanding(), &error);
+  ASSERT_TRUE(robot) << error;
+  FallWatch watch;
+  ASSERT_EQ(watch.Configure(robot->header(), DefaultFallLimits()), "");
+  // the standing robot's block (its feet loaded: armed) with the controller's estimate at twice
+  // the limit, held over the limit's time
+  shm::SensorBlock s = robot->sensors();
+  const double tilt = 2 * watch.limits().max_tilt;
+  for (int i = 0; i < 4000 && !watch.Update(s, tilt); ++i) {
+    s.time += 0.005;
+    ++s.cycle;
+  }
+  ASSERT_TRUE(watch.fallen());
+  ASSERT_EQ(watch.event().cause, FallCause::kTilt) << watch.Describe();
+  EXPECT_NE(watch.Describe().find(" deg from upright, beyond"), std::string::npos) << watch.Describe();
+  const std::string rolled = watch.Describe("its commanded orientation");
+  EXPECT_NE(rolled.find(" deg from its commanded orientation, beyond"), std::string::npos) << rolled;
+  EXPECT_EQ(rolled.find("upright"), std::string::npos) << rolled;
+}
+
 TEST(FallWatch, LimitsFromTheModelNarrowTheDefaults) {
   // a CoM 0.7 m over soles reaching 0.11 m: tipping at atan(0.11 / 0.7) = 8.9 deg
   const FallLimits l = FallLimitsFor(0.7, 0.11, 0.0);

@@ -80,6 +80,9 @@ class Controller {
   // the base's tilt from upright [rad], NaN when it has none (the IMU's orientation is used).
   virtual void fall_limits(FallLimits* limits) const { (void)limits; }
   virtual double base_tilt() const noexcept { return kNoTilt; }
+  // what base_tilt is measured from, for the fall's message: "upright" unless the controller
+  // tilts the base on purpose (walk's rolling pelvis: its commanded orientation)
+  virtual const char* tilt_reference() const noexcept { return "upright"; }
   // its estimate of the CoM's height over its lower sole [m], NaN when it has none
   virtual double com_height() const noexcept { return kNoTilt; }
   static constexpr double kNoTilt = std::numeric_limits<double>::quiet_NaN();

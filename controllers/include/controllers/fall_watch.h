@@ -83,8 +83,9 @@ class FallWatch {
   bool armed() const { return armed_; }
   const FallLimits& limits() const { return limits_; }
   double weight() const { return weight_; }
-  // "the robot fell at t = 3.215 s (cycle 643): base tilt 37.2 deg > 18.4 deg since t = 2.9 s"
-  std::string Describe() const;
+  // "the robot fell at t = 3.215 s (cycle 643): base tilt 37.2 deg > 18.4 deg since t = 2.9 s";
+  // `tilt_from`: what the tilt was measured from (Controller::tilt_reference)
+  std::string Describe(const char* tilt_from = "upright") const;
   // what the watch checks, for the start message: "fall watch: tilt > 18.4 deg for 0.27 s ..."
   std::string Summary() const;
 

@@ -166,6 +166,8 @@ class WalkController : public BalanceController {
   // the base's tilt from the orientation the legs' solution gives it (upright, or rolled on
   // purpose by legs without an ankle roll), for the fall watch
   double base_tilt() const noexcept override;
+  // from the commanded orientation while the pelvis rolls (base_tilt), else upright
+  const char* tilt_reference() const noexcept override;
   // done(), and verified from the measurements at the end: every step landed (measured), both
   // feet carrying load and the base upright; "" then, else what is missing
   std::string Unverified() const;
