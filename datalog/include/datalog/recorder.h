@@ -8,6 +8,7 @@
 //   time, base_x, base_y, base_z, base_qw, base_qx, base_qy, base_qz,   (simulation ground truth:
 //   base_vx, base_vy, base_vz,                                           sim_host only)
 //   q_<joint>... , qref_<joint>... , tau_<joint>...                      (joint-id order)
+//   dq_<joint>...                        (only with RecorderChannels::joint_velocities)
 //   q_<passive>... , dq_<passive>...                  (passive joints, read-only: header order)
 //   <ft>_fx, <ft>_fy, <ft>_fz, <ft>_tx, <ft>_ty, <ft>_tz ...             (segment convention)
 //   <imu>_gx, <imu>_gy, <imu>_gz, <imu>_ax, <imu>_ay, <imu>_az,
@@ -38,6 +39,7 @@ namespace ohrp::datalog {
 struct RecorderChannels {
   bool base = true;          // base_x ... base_vz
   bool joints = true;        // q_, qref_, tau_; the passive joints' q_, dq_
+  bool joint_velocities = false;  // with joints: dq_<joint> after tau_ (sim_host/hw_driver --log-dq)
   bool force_torque = true;  // <ft>_fx ... <ft>_tz
   bool imu = true;           // <imu>_gx ... <imu>_qz
 };
@@ -136,7 +138,7 @@ class Recorder {
   double failure_time_ = 0, limit_time_ = 0;
   uint64_t failure_cycle_ = 0, limit_cycle_ = 0;
   std::string error_;  // set once, before failed_
-  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0;  // 0 when the channel is off
+  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0, ndq_ = 0;  // 0 when the channel is off
   bool base_ = true;
   bool closed_ = false;
   std::atomic<bool> stop_{false};

@@ -84,6 +84,81 @@ bool Still(const std::string& name, const std::vector<double>& x, const Stat& no
 
 nlohmann::json J(const Stat& e) { return {{"value", e.value}, {"se", e.se}}; }
 
+// the row times' central difference of x (one-sided at the ends): the encoder's velocity
+std::vector<double> Derivative(const std::vector<double>& t, const std::vector<double>& x) {
+  std::vector<double> d(x.size(), 0.0);
+  for (size_t k = 0; k < x.size() && x.size() > 1; ++k) {
+    const size_t a = k == 0 ? 0 : k - 1, b = k + 1 == x.size() ? k : k + 1;
+    d[k] = (x[b] - x[a]) / (t[b] - t[a]);
+  }
+  return d;
+}
+
+void Explained(const std::string& what, double share, const SensorOptions& o,
+               std::vector<std::string>* warnings) {
+  if (!(share > o.max_explained)) return;
+  char buf[320];
+  std::snprintf(buf, sizeof(buf), "the robot's own motion explains %.0f %% of %s's high-passed "
+                "variance: its noise is the remainder, trust it less (a stiller window?)",
+                100 * share, what.c_str());
+  warnings->push_back(buf);
+}
+
+// joint j's velocity noise (against the encoder's central difference) and torque noise (against
+// its angle and velocity), beyond the motion those explain
+void MotionNoise(Table& t, const std::string& j, const SensorOptions& o, SensorEstimates* out) {
+  const std::vector<double>& q = t.col["q_" + j];
+  const std::vector<double> dq_enc = Derivative(t.col["time"], q);
+  double share = 0;
+  const bool has_dq = t.Has("dq_" + j);
+  if (has_dq) {
+    out->velocity_noise.push_back(NoiseBeyondMotion(t.col["dq_" + j], {dq_enc}, o.width, &share));
+    out->velocity_explained.push_back(share);
+    Explained("dq_" + j, share, o, &out->warnings);
+  }
+  if (!t.Has("tau_" + j)) {
+    out->torque_noise.push_back({NAN, NAN}), out->torque_explained.push_back(NAN);
+    return;
+  }
+  // the angle, the encoder's velocity and the logged one: each regressor's own noise only
+  // attenuates what it explains; the least noisy carries the motion
+  std::vector<std::vector<double>> motion{q, dq_enc};
+  if (has_dq) motion.push_back(t.col["dq_" + j]);
+  out->torque_noise.push_back(NoiseBeyondMotion(t.col["tau_" + j], motion, o.width, &share));
+  out->torque_explained.push_back(share);
+  Explained("tau_" + j, share, o, &out->warnings);
+}
+
+// the IMU's orientation noise per axis beyond the turn its gyro's integral explains; refused
+// when the orientation turns slowly by more than tolerated
+bool OrientationNoise(Table& t, const SensorOptions& o, ImuEstimate* u,
+                      std::vector<std::string>* warnings, std::string* error) {
+  const std::string qn = u->name + "_q";
+  std::vector<double> e[3];
+  OrientationErrors(t.col[qn + "w"], t.col[qn + "x"], t.col[qn + "y"], t.col[qn + "z"], e);
+  const std::vector<double>& time = t.col["time"];
+  std::vector<std::vector<double>> turn(3, std::vector<double>(time.size(), 0.0));
+  const char* axis = "xyz";
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<double>& g = t.col[u->name + "_g" + axis[k]];
+    for (size_t r = 1; r < time.size(); ++r)  // the gyro's integral (trapezoids), small angles
+      turn[k][r] = turn[k][r - 1] + 0.5 * (g[r] + g[r - 1]) * (time[r] - time[r - 1]);
+  }
+  double var = 0, dof = 0;
+  for (int k = 0; k < 3; ++k) {
+    Stat& s = u->orientation_noise[k];
+    s = NoiseBeyondMotion(e[k], turn, o.width, &u->orientation_explained[k]);
+    if (!Still(u->name + " orientation about " + axis[k], e[k], s, o.width, o.orientation_still, error))
+      return false;
+    Explained(u->name + "'s orientation about " + std::string(1, axis[k]),
+              u->orientation_explained[k], o, warnings);
+    const double n = s.se > 0 ? 0.5 * std::pow(s.value / s.se, 2) : 0;
+    var += n * s.value * s.value, dof += n;
+  }
+  if (dof > 0) u->orientation_noise_pooled = {std::sqrt(var / dof), std::sqrt(var / dof / (2 * dof))};
+  return true;
+}
+
 }  // namespace
 
 Stat MeanOf(const std::vector<double>& x) {
@@ -153,6 +228,7 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     out->joint_mean.push_back(MeanOf(q).value);
     out->joint_tau.push_back(t.Has("tau_" + j) ? MeanOf(t.col["tau_" + j]) : Stat{NAN, NAN});
     if (!Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
+    MotionNoise(t, j, o, out);
   }
   for (const std::string& f : out->forces)
     for (const char* a : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"})
@@ -193,6 +269,7 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     if (!unit) continue;  // not an orientation (zeros: a board without one)
     u.oriented = true;
     for (int k = 0; k < 3; ++k) u.accel_bias[k] = MeanOf(d[k]);
+    if (!OrientationNoise(t, o, &u, &out->warnings, error)) return false;
   }
   return true;
 }
@@ -234,6 +311,19 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
     else
       std::printf("  accelerometer bias across gravity: not observable (no orientation logged: "
                   "indistinguishable from a tilt)\n");
+    if (u.oriented) {
+      std::printf("  orientation noise beyond the gyro's turn (x, y, z; pooled): %.4g +- %.2g, "
+                  "%.4g +- %.2g, %.4g +- %.2g; %.4g +- %.2g rad\n", u.orientation_noise[0].value,
+                  u.orientation_noise[0].se, u.orientation_noise[1].value, u.orientation_noise[1].se,
+                  u.orientation_noise[2].value, u.orientation_noise[2].se,
+                  u.orientation_noise_pooled.value, u.orientation_noise_pooled.se);
+      ju["orientation_noise"] = J(u.orientation_noise_pooled);
+      for (int k = 0; k < 3; ++k) {
+        const std::string a(1, axis[k]);
+        ju["orientation_noise_" + a] = J(u.orientation_noise[k]);
+        ju["orientation_explained_" + a] = u.orientation_explained[k];
+      }
+    }
     j["imus"].push_back(ju);
   }
   const char* ft[6] = {"fx", "fy", "fz", "tx", "ty", "tz"};
@@ -279,8 +369,30 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
       std::printf("\n");
       jj["encoder_bias"] = "not observable from a still log";
     }
+    if (!s.velocity_noise.empty()) {
+      jj["velocity_noise"] = J(s.velocity_noise[k]);
+      jj["velocity_explained"] = s.velocity_explained[k];
+    }
+    if (std::isfinite(s.torque_noise[k].value)) {
+      jj["torque_noise"] = J(s.torque_noise[k]);
+      jj["torque_explained"] = s.torque_explained[k];
+    }
     j["joints"].push_back(jj);
   }
+  if (!s.joints.empty())
+    std::printf("%-18s %12s %10s %8s %12s %10s %8s  (beyond the motion; expl.: the share of the "
+                "high-passed variance the motion explains)\n", "joint", "dq noise", "+-", "expl.",
+                "tau noise", "+-", "expl.");
+  for (size_t k = 0; k < s.joints.size(); ++k) {
+    std::printf("%-18s", s.joints[k].c_str());
+    if (s.velocity_noise.empty()) std::printf(" %32s", "no dq_ column (--log-dq)");
+    else std::printf(" %12.4g %10.2g %8.3f", s.velocity_noise[k].value, s.velocity_noise[k].se,
+                     s.velocity_explained[k]);
+    std::printf(" %12.4g %10.2g %8.3f\n", s.torque_noise[k].value, s.torque_noise[k].se,
+                s.torque_explained[k]);
+  }
+  for (const std::string& w : s.warnings) std::fprintf(stderr, "ohrp_identify: warning: %s\n", w.c_str());
+  j["warnings"] = s.warnings;
   if (!s.joints.empty() && !biased)
     std::printf("(encoder bias: not observable from a still log: a held joint reads q + bias and "
                 "nothing in the log tells q)\n");
