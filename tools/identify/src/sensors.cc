@@ -94,9 +94,12 @@ std::vector<double> Derivative(const std::vector<double>& t, const std::vector<d
   return d;
 }
 
-void Explained(const std::string& what, double share, const SensorOptions& o,
-               std::vector<std::string>* warnings) {
-  if (!(share > o.max_explained)) return;
+// a warning when the motion took more than max_explained of the channel's high-passed variance
+// and the noise left is above `floor` (below it the channel is noise-free: a simulation without
+// noise, whose tiny remainder the motion explains whole)
+void Explained(const std::string& what, double share, double noise, double floor,
+               const SensorOptions& o, std::vector<std::string>* warnings) {
+  if (!(share > o.max_explained) || !(noise > floor)) return;
   char buf[320];
   std::snprintf(buf, sizeof(buf), "the robot's own motion explains %.0f %% of %s's high-passed "
                 "variance: its noise is the remainder, trust it less (a stiller window?)",
@@ -114,7 +117,7 @@ void MotionNoise(Table& t, const std::string& j, const SensorOptions& o, SensorE
   if (has_dq) {
     out->velocity_noise.push_back(NoiseBeyondMotion(t.col["dq_" + j], {dq_enc}, o.width, &share));
     out->velocity_explained.push_back(share);
-    Explained("dq_" + j, share, o, &out->warnings);
+    Explained("dq_" + j, share, out->velocity_noise.back().value, 1e-6, o, &out->warnings);
   }
   if (!t.Has("tau_" + j)) {
     out->torque_noise.push_back({NAN, NAN}), out->torque_explained.push_back(NAN);
@@ -126,7 +129,7 @@ void MotionNoise(Table& t, const std::string& j, const SensorOptions& o, SensorE
   if (has_dq) motion.push_back(t.col["dq_" + j]);
   out->torque_noise.push_back(NoiseBeyondMotion(t.col["tau_" + j], motion, o.width, &share));
   out->torque_explained.push_back(share);
-  Explained("tau_" + j, share, o, &out->warnings);
+  Explained("tau_" + j, share, out->torque_noise.back().value, 1e-4, o, &out->warnings);
 }
 
 // the IMU's orientation noise per axis beyond the turn its gyro's integral explains; refused
@@ -151,7 +154,7 @@ bool OrientationNoise(Table& t, const SensorOptions& o, ImuEstimate* u,
     if (!Still(u->name + " orientation about " + axis[k], e[k], s, o.width, o.orientation_still, error))
       return false;
     Explained(u->name + "'s orientation about " + std::string(1, axis[k]),
-              u->orientation_explained[k], o, warnings);
+              u->orientation_explained[k], s.value, 1e-7, o, warnings);
     const double n = s.se > 0 ? 0.5 * std::pow(s.value / s.se, 2) : 0;
     var += n * s.value * s.value, dof += n;
   }
