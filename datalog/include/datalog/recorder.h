@@ -39,9 +39,11 @@ namespace ohrp::datalog {
 struct RecorderChannels {
   bool base = true;          // base_x ... base_vz
   bool joints = true;        // q_, qref_, tau_; the passive joints' q_, dq_
-  bool joint_velocities = false;  // with joints: dq_<joint> after tau_ (sim_host/hw_driver --log-dq)
   bool force_torque = true;  // <ft>_fx ... <ft>_tz
   bool imu = true;           // <imu>_gx ... <imu>_qz
+  // with joints: dq_<joint> after tau_ (sim_host/hw_driver --log-dq); last, so that the brace
+  // initialisations {base, joints, force_torque, imu} keep their meaning
+  bool joint_velocities = false;
 };
 
 // the names the columns are made of, in the segment's order
