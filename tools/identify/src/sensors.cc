@@ -1,5 +1,6 @@
 // ohrp identify --sensors (see identify/sensors.h).
 #include "identify/sensors.h"
+#include "sensors_table.h"
 
 #include <nlohmann/json.hpp>
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <sstream>
 
 namespace ohrp::identify {
+using detail::Table;
 namespace {
 
 // the centred moving average of `width` samples at rows [h, n - h)
@@ -26,12 +28,6 @@ std::vector<double> MovingAverage(const std::vector<double>& x, int width) {
   return m;
 }
 
-// the log's columns by name, the rows within [from, to]
-struct Table {
-  std::vector<std::string> names;
-  std::map<std::string, std::vector<double>> col;
-  bool Has(const std::string& n) const { return col.count(n) != 0; }
-};
 
 bool ReadTable(const std::string& path, const SensorOptions& o, Table* t, std::string* error) {
   std::ifstream in(path);
@@ -69,6 +65,12 @@ bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
+nlohmann::json J(const Stat& e) { return {{"value", e.value}, {"se", e.se}}; }
+
+}  // namespace
+
+namespace detail {
+
 // refused when the channel's slow part moves more than tolerated (or than its noise explains)
 bool Still(const std::string& name, const std::vector<double>& x, const Stat& noise, int width,
            double tolerance, std::string* error) {
@@ -82,87 +84,7 @@ bool Still(const std::string& name, const std::vector<double>& x, const Stat& no
   return false;
 }
 
-nlohmann::json J(const Stat& e) { return {{"value", e.value}, {"se", e.se}}; }
-
-// the row times' central difference of x (one-sided at the ends): the encoder's velocity
-std::vector<double> Derivative(const std::vector<double>& t, const std::vector<double>& x) {
-  std::vector<double> d(x.size(), 0.0);
-  for (size_t k = 0; k < x.size() && x.size() > 1; ++k) {
-    const size_t a = k == 0 ? 0 : k - 1, b = k + 1 == x.size() ? k : k + 1;
-    d[k] = (x[b] - x[a]) / (t[b] - t[a]);
-  }
-  return d;
-}
-
-// a warning when the motion took more than max_explained of the channel's high-passed variance
-// and the noise left is above `floor` (below it the channel is noise-free: a simulation without
-// noise, whose tiny remainder the motion explains whole)
-void Explained(const std::string& what, double share, double noise, double floor,
-               const SensorOptions& o, std::vector<std::string>* warnings) {
-  if (!(share > o.max_explained) || !(noise > floor)) return;
-  char buf[320];
-  std::snprintf(buf, sizeof(buf), "the robot's own motion explains %.0f %% of %s's high-passed "
-                "variance: its noise is the remainder, trust it less (a stiller window?)",
-                100 * share, what.c_str());
-  warnings->push_back(buf);
-}
-
-// joint j's velocity noise (against the encoder's central difference) and torque noise (against
-// its angle and velocity), beyond the motion those explain
-void MotionNoise(Table& t, const std::string& j, const SensorOptions& o, SensorEstimates* out) {
-  const std::vector<double>& q = t.col["q_" + j];
-  const std::vector<double> dq_enc = Derivative(t.col["time"], q);
-  double share = 0;
-  const bool has_dq = t.Has("dq_" + j);
-  if (has_dq) {
-    out->velocity_noise.push_back(NoiseBeyondMotion(t.col["dq_" + j], {dq_enc}, o.width, &share));
-    out->velocity_explained.push_back(share);
-    Explained("dq_" + j, share, out->velocity_noise.back().value, 1e-6, o, &out->warnings);
-  }
-  if (!t.Has("tau_" + j)) {
-    out->torque_noise.push_back({NAN, NAN}), out->torque_explained.push_back(NAN);
-    return;
-  }
-  // the angle, the encoder's velocity and the logged one: each regressor's own noise only
-  // attenuates what it explains; the least noisy carries the motion
-  std::vector<std::vector<double>> motion{q, dq_enc};
-  if (has_dq) motion.push_back(t.col["dq_" + j]);
-  out->torque_noise.push_back(NoiseBeyondMotion(t.col["tau_" + j], motion, o.width, &share));
-  out->torque_explained.push_back(share);
-  Explained("tau_" + j, share, out->torque_noise.back().value, 1e-4, o, &out->warnings);
-}
-
-// the IMU's orientation noise per axis beyond the turn its gyro's integral explains; refused
-// when the orientation turns slowly by more than tolerated
-bool OrientationNoise(Table& t, const SensorOptions& o, ImuEstimate* u,
-                      std::vector<std::string>* warnings, std::string* error) {
-  const std::string qn = u->name + "_q";
-  std::vector<double> e[3];
-  OrientationErrors(t.col[qn + "w"], t.col[qn + "x"], t.col[qn + "y"], t.col[qn + "z"], e);
-  const std::vector<double>& time = t.col["time"];
-  std::vector<std::vector<double>> turn(3, std::vector<double>(time.size(), 0.0));
-  const char* axis = "xyz";
-  for (int k = 0; k < 3; ++k) {
-    const std::vector<double>& g = t.col[u->name + "_g" + axis[k]];
-    for (size_t r = 1; r < time.size(); ++r)  // the gyro's integral (trapezoids), small angles
-      turn[k][r] = turn[k][r - 1] + 0.5 * (g[r] + g[r - 1]) * (time[r] - time[r - 1]);
-  }
-  double var = 0, dof = 0;
-  for (int k = 0; k < 3; ++k) {
-    Stat& s = u->orientation_noise[k];
-    s = NoiseBeyondMotion(e[k], turn, o.width, &u->orientation_explained[k]);
-    if (!Still(u->name + " orientation about " + axis[k], e[k], s, o.width, o.orientation_still, error))
-      return false;
-    Explained(u->name + "'s orientation about " + std::string(1, axis[k]),
-              u->orientation_explained[k], s.value, 1e-7, o, warnings);
-    const double n = s.se > 0 ? 0.5 * std::pow(s.value / s.se, 2) : 0;
-    var += n * s.value * s.value, dof += n;
-  }
-  if (dof > 0) u->orientation_noise_pooled = {std::sqrt(var / dof), std::sqrt(var / dof / (2 * dof))};
-  return true;
-}
-
-}  // namespace
+}  // namespace detail
 
 Stat MeanOf(const std::vector<double>& x) {
   Stat e;
@@ -230,8 +152,8 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     out->encoder_noise.push_back(NoiseStd(q, o.width));
     out->joint_mean.push_back(MeanOf(q).value);
     out->joint_tau.push_back(t.Has("tau_" + j) ? MeanOf(t.col["tau_" + j]) : Stat{NAN, NAN});
-    if (!Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
-    MotionNoise(t, j, o, out);
+    if (!detail::Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
+    detail::MotionNoise(t, j, o, out);
   }
   for (const std::string& f : out->forces)
     for (const char* a : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"})
@@ -245,8 +167,8 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
       const auto& a = t.col[u.name + "_a" + axis[k]];
       u.gyro_bias[k] = MeanOf(g), u.gyro_noise[k] = NoiseStd(g, o.width);
       u.accel_mean[k] = MeanOf(a), u.accel_noise[k] = NoiseStd(a, o.width);
-      if (!Still(u.name + "_g" + axis[k], g, u.gyro_noise[k], o.width, o.gyro_still, error) ||
-          !Still(u.name + "_a" + axis[k], a, u.accel_noise[k], o.width, o.accel_still, error))
+      if (!detail::Still(u.name + "_g" + axis[k], g, u.gyro_noise[k], o.width, o.gyro_still, error) ||
+          !detail::Still(u.name + "_a" + axis[k], a, u.accel_noise[k], o.width, o.accel_still, error))
         return false;
       m[k] = u.accel_mean[k].value;
     }
@@ -272,7 +194,7 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     if (!unit) continue;  // not an orientation (zeros: a board without one)
     u.oriented = true;
     for (int k = 0; k < 3; ++k) u.accel_bias[k] = MeanOf(d[k]);
-    if (!OrientationNoise(t, o, &u, &out->warnings, error)) return false;
+    if (!detail::OrientationNoise(t, o, &u, &out->warnings, error)) return false;
   }
   return true;
 }
