@@ -113,6 +113,11 @@ bool Scene::Reset(const std::string& keyframe, std::string* error) {
 bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
   *robot = RobotMap{};
   robot->name = m->names[0] ? std::string(m->names) : std::string("robot");
+  // the model's name only labels the segment (the model hash identifies it): a long name is
+  // cut to the header's room rather than refusing the robot (issue 31: a generated model named
+  // 'test_humanoid_camel_motor_1.1333_70', 35 bytes, was refused by sim_host)
+  if (robot->name.size() >= static_cast<size_t>(shm::kNameLen))
+    robot->name.resize(shm::kNameLen - 1);
 
   // base: the first free joint's body
   for (int j = 0; j < m->njnt; ++j) {
