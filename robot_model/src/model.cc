@@ -26,7 +26,7 @@ constexpr double kFootBand = 0.05;   // [m] bodies this close to the lowest are 
 // stiffness on the joint's inertia). Otherwise (a <motor>): a critically damped joint closing
 // at kServoFrequency on its own inertia at qpos0.
 void SuggestGains(const ActuatorLaw& law, double inertia, double load_stiffness,
-                  double max_damping, double* kp, double* kd) {
+                  double max_damping, bool implicit_damping, double* kp, double* kd) {
   const double w = 2.0 * M_PI * kServoFrequency;
   *kp = inertia * w * w;
   *kd = 2.0 * kServoDamping * inertia * w;
@@ -34,6 +34,9 @@ void SuggestGains(const ActuatorLaw& law, double inertia, double load_stiffness,
   if (stiffness > 0) {
     *kp = stiffness;
     *kd = law.Damping() > 0 ? law.Damping() : 2.0 * kServoDamping * std::sqrt(stiffness * inertia);
+    // under MuJoCo's implicit integrator the author's damping is the actuator's own, taken
+    // implicitly (G1); otherwise sim_host's servo applies it explicitly, as for a motor
+    if (!implicit_damping) *kd = std::min(*kd, max_damping);
     return;
   }
   // a leg joint of a standing robot carries the body above it: at least kLoadMargin times the
@@ -225,8 +228,8 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     jm.tau_max = jm.law.TorqueLimit(kNoLimit);
     const double inertia = M[static_cast<size_t>(jm.dof_adr) * m->nv + jm.dof_adr];
     const double max_damping = kStepDamping * effective[jm.dof_adr] / m->opt.timestep;
-    SuggestGains(jm.law, inertia, load_stiffness[jm.joint_id], max_damping, &jm.default_kp,
-                 &jm.default_kd);
+    SuggestGains(jm.law, inertia, load_stiffness[jm.joint_id], max_damping,
+                 m->opt.integrator == mjINT_IMPLICIT, &jm.default_kp, &jm.default_kd);
     robot->joints.push_back(jm);
   }
   if (robot->joints.empty()) {
