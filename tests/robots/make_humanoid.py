@@ -161,6 +161,12 @@ def actuators_xml(a, d, legs, arms):
     return out
 
 
+def command_line(a):
+    """The parameters that made the model (not --out: the text is the same wherever it goes)."""
+    return (f"--scale {a.scale:g} --mass {a.mass:g} --names {a.names} --actuator {a.actuator} "
+            f"--timestep {a.timestep:g} --armature {a.armature:g} --damping {a.damping:g}")
+
+
 def model_xml(a):
     d = dimensions(a.scale)
     st = a.names
@@ -183,7 +189,7 @@ def model_xml(a):
     head_z = 2 * d["torso_z"] + 0.05 * a.scale + d["head_r"]
     lines = [
         f'<mujoco model="test_humanoid_{st}_{a.actuator}_{a.scale:g}_{a.mass:g}">',
-        f'  <!-- written by tests/robots/make_humanoid.py {" ".join(sys.argv[1:])} -->',
+        f'  <!-- written by tests/robots/make_humanoid.py {command_line(a)} -->',
         '  <compiler autolimits="true" angle="radian"/>',
         f'  <option timestep="{a.timestep:g}"/>',
         '  <default><geom contype="0" conaffinity="0" rgba="0.7 0.7 0.75 1"/></default>',
