@@ -118,7 +118,13 @@ int Gait::PhaseAt(double t) const {
 }
 
 double Gait::end_time() const {
-  return steps_.empty() ? t_start_ : steps_.back().t_land + options_.end_time;
+  return steps_.empty() ? t_start_ : steps_.back().t_land + StopHold() + options_.end_time;
+}
+
+double Gait::StopHold() const {
+  if (!options_.stop_rock || steps_.empty()) return 0;
+  const double T = steps_.back().step.duration > 0 ? steps_.back().step.duration : options_.step_time;
+  return 0.5 * (1 - options_.double_support_ratio) * T;
 }
 
 static bool IsStepEdge(const FeetPose& before, const Footstep& step);
@@ -140,7 +146,12 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     p.zmp_from = Zmp(p.t0);  // the timeline so far: continuous
     // start_push: from standing the double support begins on the swinging sole (gait.h)
     if (!follows && options_.start_push) p.zmp_from = StancePoint(FeetAfter(k - 1), s.foot);
-    const double ds = follows ? options_.double_support_ratio * T : options_.start_time;
+    // start_rock: half a single support on the swinging sole first (gait.h)
+    p.hold = !follows && options_.start_rock;
+    if (p.hold) p.zmp_from = StancePoint(FeetAfter(k - 1), s.foot);
+    const double ds = follows ? options_.double_support_ratio * T
+                      : p.hold ? 0.5 * (1 - options_.double_support_ratio) * T
+                               : options_.start_time;
     p.t_lift = p.t0 + ds;
     p.t_land = p.t_lift + (1 - options_.double_support_ratio) * T;
     p.before = FeetAfter(k - 1);
@@ -350,8 +361,11 @@ void Gait::At(double t, GaitState* s) const {
   if (t >= p.t_land) {
     // after the last step: back to the middle of the final stance, then standing
     s->feet = FeetAfter(k);
-    blend(p.zmp_to, MidPoint(s->feet), p.t_land, p.t_land + options_.end_time,
-          p.t_land + options_.end_time);
+    // stop_rock: first on the sole that landed for StopHold (gait.h)
+    const double hold = StopHold();
+    const Eigen::Vector3d from = hold > 0 ? StancePoint(s->feet, p.step.foot) : p.zmp_to;
+    const double t_mid = p.t_land + hold + (hold > 0 ? 0 : options_.end_time);
+    blend(from, MidPoint(s->feet), p.t_land + hold, t_mid, p.t_land + hold + options_.end_time);
     return;
   }
   s->step = k;
@@ -359,6 +373,7 @@ void Gait::At(double t, GaitState* s) const {
   // the ground height moves over the whole step (the CoM rises or falls on the stance leg while
   // the other swings), the ZMP over the double support
   blend(p.zmp_from, p.zmp_to, p.t0, p.t_lift, p.t_land);
+  if (p.hold && t < p.t_lift) s->zmp.head<2>() = p.zmp_from.head<2>();
   if (t < p.t_lift) return;
   // single support: the swing foot from its lift-off pose to the landing
   const int sw = p.step.foot;
