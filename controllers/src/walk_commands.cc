@@ -196,7 +196,8 @@ ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, Wa
       {"max_forward", &l.max_forward},
       {"max_backward", &l.max_backward}, {"max_side", &l.max_side}, {"min_width", &l.min_width},
       {"max_turn_deg", nullptr}, {"max_turn_in_deg", nullptr}, {"clearance", &l.clearance},
-      {"max_stride_change", &l.max_stride_change}, {"start_push", nullptr}};
+      {"max_stride_change", &l.max_stride_change}, {"start_push", nullptr},
+      {"start_rock", nullptr}, {"stop_rock", nullptr}};
   // the quantity of each key with a row in the plausible-range table
   static const std::map<std::string, const char*> kQuantity = {
       {"step_time", "step_time"},       {"double_support_ratio", "fraction"},
@@ -235,6 +236,8 @@ ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, Wa
         return ConfigStatus::Fail(ConfigError::kOption, e);
     }
     if (key == "start_push") g.start_push = v != 0;
+    else if (key == "start_rock") g.start_rock = v != 0;
+    else if (key == "stop_rock") g.stop_rock = v != 0;
     else if (key == "max_turn_deg") l.max_turn = v * kDeg;
     else if (key == "max_turn_in_deg") l.max_turn_in = v * kDeg;
     else *it->second = v;

@@ -1,6 +1,7 @@
 // Scene loading and the robot map (see model.h).
 #include "robot_model/model.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -15,13 +16,17 @@ namespace {
 // suggested servo: a critically damped joint closing at kServoFrequency on its own inertia
 constexpr double kServoFrequency = 6.0;  // [Hz]
 constexpr double kServoDamping = 1.0;    // damping ratio [-]
+constexpr double kLoadMargin = 2.0;  // a leg joint's stiffness over its load's gravity stiffness
+constexpr double kStepDamping = 0.25;  // the servo's kd dt / I_effective at most (explicit: < 2)
+constexpr double kFootBand = 0.05;   // [m] bodies this close to the lowest are feet (qpos0)
 
 // The servo gains suggested to controllers (default_kp, default_kd in the segment's header).
 // A position servo the author built into the actuator (<position kp kv>) is the servo the
 // robot was tuned with: its stiffness, and its damping (else critical damping of that
 // stiffness on the joint's inertia). Otherwise (a <motor>): a critically damped joint closing
 // at kServoFrequency on its own inertia at qpos0.
-void SuggestGains(const ActuatorLaw& law, double inertia, double* kp, double* kd) {
+void SuggestGains(const ActuatorLaw& law, double inertia, double load_stiffness,
+                  double max_damping, bool implicit_damping, double* kp, double* kd) {
   const double w = 2.0 * M_PI * kServoFrequency;
   *kp = inertia * w * w;
   *kd = 2.0 * kServoDamping * inertia * w;
@@ -29,7 +34,20 @@ void SuggestGains(const ActuatorLaw& law, double inertia, double* kp, double* kd
   if (stiffness > 0) {
     *kp = stiffness;
     *kd = law.Damping() > 0 ? law.Damping() : 2.0 * kServoDamping * std::sqrt(stiffness * inertia);
+    // under MuJoCo's implicit integrator the author's damping is the actuator's own, taken
+    // implicitly (G1); otherwise sim_host's servo applies it explicitly, as for a motor
+    if (!implicit_damping) *kd = std::min(*kd, max_damping);
+    return;
   }
+  // a leg joint of a standing robot carries the body above it: at least kLoadMargin times the
+  // gravity stiffness of that load, critically damped on the joint's own inertia
+  if (load_stiffness > *kp) {
+    *kp = load_stiffness;
+    *kd = std::max(*kd, 2.0 * kServoDamping * std::sqrt(*kp * inertia));
+  }
+  // the servo's damping acts explicitly at every physics step: beyond max_damping (from the
+  // joint's effective inertia and the step) it rings at the step's rate
+  *kd = std::min(*kd, max_damping);
 }
 
 void (*g_on_fatal)(const char*) = nullptr;
@@ -58,6 +76,39 @@ bool InSubtree(const mjModel* m, int body, int root) {
     if (b == root) return true;
   }
   return false;
+}
+
+// The gravity stiffness of the load each leg joint carries when the robot stands on its feet:
+// for a joint whose subtree holds one of the robot's lowest bodies (a foot, at qpos0), the mass
+// outside its subtree, m_c, whose centre of mass stands h_c above the joint, tips about it with
+// the stiffness m_c g h_c; two legs share it, and the floor asks kLoadMargin times the share.
+// 0 for other joints and for a robot without a free base. (issue 31: a 70 kg robot of <motor>s
+// with 0.01 kg m^2 rotors got 28 N m/rad at its ankles from the 6 Hz rule and fell under posture.)
+std::vector<double> LoadStiffness(const mjModel* m, const mjData* d, int base_body) {
+  std::vector<double> out(m->njnt, 0.0);
+  if (base_body < 0) return out;
+  double lowest = 1e300;
+  for (int b = base_body; b < m->nbody; ++b)
+    if (InSubtree(m, b, base_body)) lowest = std::min(lowest, d->xpos[3 * b + 2]);
+  const double M = m->body_subtreemass[base_body];
+  const double* c = d->subtree_com + 3 * base_body;
+  for (int j = 0; j < m->njnt; ++j) {
+    const int jb = m->jnt_bodyid[j];
+    if (m->jnt_type[j] != mjJNT_HINGE || !InSubtree(m, jb, base_body) || jb == base_body) continue;
+    bool holds_foot = false;
+    for (int b = jb; b < m->nbody && !holds_foot; ++b)
+      holds_foot = InSubtree(m, b, jb) && d->xpos[3 * b + 2] < lowest + kFootBand;
+    const double m_sub = m->body_subtreemass[jb];
+    const double m_c = M - m_sub;
+    if (!holds_foot || m_c <= 0) continue;
+    const double z_c = (M * c[2] - m_sub * d->subtree_com[3 * jb + 2]) / m_c;
+    const double h_c = z_c - d->xanchor[3 * j + 2];
+    // gravity tips the load about a horizontal axis only (a hip yaw carries none)
+    const double* ax = d->xaxis + 3 * j;
+    const double horizontal = std::sqrt(ax[0] * ax[0] + ax[1] * ax[1]);
+    if (h_c > 0) out[j] = kLoadMargin * m_c * 9.81 * h_c * horizontal / 2.0;
+  }
+  return out;
 }
 
 }  // namespace
@@ -113,6 +164,11 @@ bool Scene::Reset(const std::string& keyframe, std::string* error) {
 bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
   *robot = RobotMap{};
   robot->name = m->names[0] ? std::string(m->names) : std::string("robot");
+  // the model's name only labels the segment (the model hash identifies it): a long name is
+  // cut to the header's room rather than refusing the robot (issue 31: a generated model named
+  // 'test_humanoid_camel_motor_1.1333_70', 35 bytes, was refused by sim_host)
+  if (robot->name.size() >= static_cast<size_t>(shm::kNameLen))
+    robot->name.resize(shm::kNameLen - 1);
 
   // base: the first free joint's body
   for (int j = 0; j < m->njnt; ++j) {
@@ -133,6 +189,18 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
   mjData* d = mj_makeData(m);
   mj_forward(m, d);
   mj_fullM(m, M.data(), d->qM);
+  const std::vector<double> load_stiffness = LoadStiffness(m, d, robot->base_body);
+  // each joint's effective inertia 1 / (M^-1)_jj: what a torque on it alone accelerates, the
+  // other joints free (the swinging leg; co-located hip joints on light links make it far
+  // smaller than M_jj)
+  std::vector<mjtNum> unit(m->nv, 0.0), column(m->nv, 0.0);
+  std::vector<double> effective(m->nv, 0.0);
+  for (int v = 0; v < m->nv; ++v) {
+    unit[v] = 1.0;
+    mj_solveM(m, d, column.data(), unit.data(), 1);
+    unit[v] = 0.0;
+    effective[v] = column[v] > 0 ? 1.0 / column[v] : 0.0;
+  }
   mj_deleteData(d);
   std::vector<int> driven_by(m->njnt, -1);  // actuator driving each joint
   for (int a = 0; a < m->nu; ++a) {
@@ -159,7 +227,9 @@ bool MapRobot(const mjModel* m, RobotMap* robot, std::string* error) {
     }
     jm.tau_max = jm.law.TorqueLimit(kNoLimit);
     const double inertia = M[static_cast<size_t>(jm.dof_adr) * m->nv + jm.dof_adr];
-    SuggestGains(jm.law, inertia, &jm.default_kp, &jm.default_kd);
+    const double max_damping = kStepDamping * effective[jm.dof_adr] / m->opt.timestep;
+    SuggestGains(jm.law, inertia, load_stiffness[jm.joint_id], max_damping,
+                 m->opt.integrator == mjINT_IMPLICIT, &jm.default_kp, &jm.default_kd);
     robot->joints.push_back(jm);
   }
   if (robot->joints.empty()) {

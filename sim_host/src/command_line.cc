@@ -111,6 +111,9 @@ void AddOutputOptions(CLI::App* app, HostOptions* o, RawHostOptions* r) {
   app->add_option("--log", o->log_path,
                  "CSV data log (base pose, joints, F/T, IMU per cycle), checked writable before "
                  "the run; a failed write (disk full...) ends the run with exit code 9");
+  app->add_flag("--log-dq", o->log_dq,
+               "the data log also records each joint's velocity as the controller reads it "
+               "(dq_<joint>, after tau_: ohrp identify --sensors estimates its noise)");
   app->add_option("--log-every", o->log_every, "record one row every N control cycles")
       ->capture_default_str()->check(ohrp::cli::Plausible("cycles"));
   app->add_option("--log-max", r->log_max,

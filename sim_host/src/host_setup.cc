@@ -211,6 +211,7 @@ bool HostRun::OpenLog(std::string* why) {
   datalog::RecorderChannels channels;
   channels.base = effects.on(Effect::kLogBase);
   channels.joints = effects.on(Effect::kLogJoints);
+  channels.joint_velocities = o.log_dq;
   channels.force_torque = effects.on(Effect::kLogForceTorque);
   channels.imu = effects.on(Effect::kLogImu);
   recorder = datalog::Recorder::Open(o.log_path, model::LogNamesOf(robot), why, 8192, channels, o.log_max);

@@ -64,6 +64,22 @@ TEST(WalkParams, ReadsTheParameters) {
   EXPECT_DOUBLE_EQ(o.com_lower, 0.05);
 }
 
+// the gait's switches (stored as flags, no value of their own: a null slot in the key table)
+TEST(WalkParams, ReadsTheGaitSwitches) {
+  WalkOptions o;
+  const ConfigStatus s = LoadWalkParams(
+      Temp("switches.yaml", "start_push: 1\nstart_rock: 1\nstop_rock: 1\nmax_turn_deg: 10\n"), &o);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_TRUE(o.gait.start_push);
+  EXPECT_TRUE(o.gait.start_rock);
+  EXPECT_TRUE(o.gait.stop_rock);
+  EXPECT_NEAR(o.limits.max_turn, 10 * M_PI / 180, 1e-12);
+  WalkOptions off;
+  ASSERT_TRUE(LoadWalkParams(Temp("off.yaml", "start_rock: 0\nstop_rock: 0\n"), &off).ok());
+  EXPECT_FALSE(off.gait.start_rock);
+  EXPECT_FALSE(off.gait.stop_rock);
+}
+
 TEST(WalkParams, RefusesUnknownKeysAndWrongTypesWithTheLine) {
   WalkOptions o;
   ConfigStatus s = LoadWalkParams(Temp("typo.yaml", "step_time: 1.0\nstep_hieght: 0.05\n"), &o);

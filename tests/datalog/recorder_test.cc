@@ -137,6 +137,29 @@ TEST(Recorder, PassiveJointsAreLoggedWithTheirPositionAndVelocity) {
             "guard_holding\n0.25,0.5,0,0,-0.125,1.5,2,-3,0,0,0\n");
 }
 
+// --log-dq (issue 35: the velocity's noise is identified from the log): dq_<joint> after tau_,
+// before the passive joints' columns; off by default (the header above has none)
+TEST(Recorder, JointVelocitiesAreLoggedWhenAsked) {
+  const std::string path = ScratchPath("dq", ".csv");
+  const LogNames names{{"HIP", "KNEE"}, {}, {}, {"SHIN"}};
+  std::string error;
+  RecorderChannels channels{false, true, true, true};
+  channels.joint_velocities = true;
+  auto r = Recorder::Open(path, names, &error, 16, channels);
+  ASSERT_TRUE(r) << error;
+  shm::SensorBlock s{};
+  s.time = 0.5;
+  s.dq[0] = 0.25;
+  s.dq[1] = -1.5;
+  s.passive_dq[0] = 2.0;
+  shm::JointCommand refs[2] = {};
+  EXPECT_TRUE(r->Push(s, refs));
+  EXPECT_TRUE(r->Close());
+  EXPECT_EQ(ReadFile(path),
+            "time,q_HIP,q_KNEE,qref_HIP,qref_KNEE,tau_HIP,tau_KNEE,dq_HIP,dq_KNEE,q_SHIN,dq_SHIN,"
+            "status,rejected,guard_holding\n0.5,0,0,0,0,0,0,0.25,-1.5,0,2,0,0,0\n");
+}
+
 // RLIMIT_FSIZE (SIGXFSZ ignored, as sim_host and hw_driver do): write(2) writes up to the limit,
 // mid-row, then fails with EFBIG; the file is cut back to its last whole row
 TEST(Recorder, AWriteStoppedByTheFileSizeLimitIsAFailureAndNoHalfRowStays) {

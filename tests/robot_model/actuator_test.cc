@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -238,6 +239,8 @@ TEST(RobotMap, RefusesTwoActuatorsOnOneJoint) {
 // The suggested gains (the segment's default_kp/kd): a position servo the author built into
 // the actuator is the servo the robot was tuned with (G1's kp 500 stands it; 6 Hz on its ankle's
 // own inertia gave 18 N m/rad and it fell); a <motor> closes at 6 Hz on the joint's inertia.
+// Outside MuJoCo's implicit integrator the damping is at most 0.25 I / dt (one joint: its
+// effective inertia is its own, I; sim_host's servo applies it explicitly each step).
 TEST(RobotMap, SuggestedGainsAreTheAuthorsPositionServoElseSixHertzOnTheInertia) {
   struct Expect {
     const char* actuator;
@@ -257,7 +260,9 @@ TEST(RobotMap, SuggestedGainsAreTheAuthorsPositionServoElseSixHertzOnTheInertia)
     const double inertia = l->m->dof_M0[0];
     const double w = 2 * M_PI * 6.0;
     const double kp = e.kp > 0 ? e.kp : inertia * w * w;
-    const double kd = e.kd > 0 ? e.kd : (e.kp > 0 ? 2 * std::sqrt(kp * inertia) : 2 * inertia * w);
+    const double kd =
+        std::min(e.kd > 0 ? e.kd : (e.kp > 0 ? 2 * std::sqrt(kp * inertia) : 2 * inertia * w),
+                 0.25 * inertia / l->m->opt.timestep);
     EXPECT_NEAR(robot.joints[0].default_kp, kp, 1e-9 * kp) << e.actuator;
     EXPECT_NEAR(robot.joints[0].default_kd, kd, 1e-9 * kd) << e.actuator;
   }
@@ -285,5 +290,42 @@ TEST(Servo, PdTorqueReachesAGearedJointAndAPositionActuatorAlike) {
   }
 }
 
+
+// A leg joint of a free robot carries the body above it: a <motor>'s suggested stiffness is at
+// least 2 x the gravity stiffness of its share of that load, m_c g h_c / 2 (two legs), about a
+// horizontal axis only. Closed form: a 10 kg base 0.3 m above a hip (yaw, then pitch) with a
+// 0.5 m leg ending in a 0.01 kg foot: the pitch hinge's own inertia gives 6 Hz ~ 0.0025 x
+// 37.7^2 = 3.6 N m/rad; the floor m_c g h_c = 10.001 x 9.81 x 0.3 = 29.4 N m/rad (m_c the base
+// and the hip link). The yaw hinge carries no gravity stiffness: the 6 Hz rule.
+TEST(RobotMap, SuggestedStiffnessOfAMotorLegJointCarriesTheLoadAboveIt) {
+  const std::string xml =
+      R"(<mujoco model="a_model_whose_name_is_longer_than_the_header_has_room_for">
+    <compiler autolimits="true" angle="radian"/><option timestep="0.001"/><worldbody>
+    <body name="base" pos="0 0 1"><freejoint/><geom type="sphere" size="0.05" mass="10"/>
+      <body name="hip" pos="0 0 -0.3"><joint name="yaw" axis="0 0 1" range="-1 1"/>
+        <geom type="sphere" size="0.001" mass="0.001"/>
+        <body name="leg"><joint name="pitch" axis="0 1 0" range="-1 1"/>
+          <geom type="sphere" size="0.01" pos="0 0 -0.5" mass="0.01"/></body></body>
+    </body></worldbody>
+    <actuator><motor joint="yaw"/><motor joint="pitch"/></actuator></mujoco>)";
+  auto l = Load(xml);
+  RobotMap robot;
+  std::string error;
+  ASSERT_TRUE(MapRobot(l->m, &robot, &error)) << error;
+  ASSERT_EQ(robot.joints.size(), 2u);
+  const JointMap& yaw = robot.joints[0];
+  const JointMap& pitch = robot.joints[1];
+  const double w = 2 * M_PI * 6.0;
+  EXPECT_NEAR(yaw.default_kp, l->m->dof_M0[6] * w * w, 1e-9) << "a yaw axis: the 6 Hz rule";
+  const double m_c = 10.001;                           // the base and the hip link
+  const double h_c = (10 * 1.0 + 0.001 * 0.7) / m_c - 0.7;  // their CoM above the pitch hinge
+  EXPECT_NEAR(pitch.default_kp, 2 * m_c * 9.81 * h_c / 2, 1e-9);
+  const double own = l->m->dof_M0[7];
+  EXPECT_GT(pitch.default_kp, 5 * own * w * w) << "the floor binds";
+  EXPECT_LE(pitch.default_kd, 0.25 * own / 0.001 + 1e-12) << "within the explicit step's bound";
+  EXPECT_GT(pitch.default_kd, 0);
+  // the model's name is cut to the segment header's 31 bytes, not refused
+  EXPECT_EQ(robot.name.size(), 31u);
+}
 }  // namespace
 }  // namespace ohrp::model

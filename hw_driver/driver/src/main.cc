@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
                  "thread off the servo loop, flushed at the end (also after SIGINT/SIGTERM)");
   app.add_option("--log-every", d.log_every, "cycles between rows of --log")
       ->capture_default_str()->check(ohrp::cli::Positive());
+  app.add_flag("--log-dq", o.log_dq, "--log also records each joint's velocity (dq_<joint>)");
   std::string log_max;
   app.add_option("--log-max", log_max,
                  "bound on --log's size: bytes, or with k, M, G (e.g. 50M); rows past it are not "

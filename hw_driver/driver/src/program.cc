@@ -209,6 +209,7 @@ int RunProgram(const ProgramOptions& o) {
   if (!o.log_path.empty()) {
     datalog::RecorderChannels channels;
     channels.base = false;
+    channels.joint_velocities = o.log_dq;
     log = datalog::Recorder::Open(o.log_path,
                                   {robot.joint_names, robot.force_names, robot.imu_names,
                                    robot.passive_names},

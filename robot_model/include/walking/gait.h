@@ -47,6 +47,18 @@ struct GaitOptions {
   // sideways speed instead of first shifting onto it (legs without an ankle roll: their CoM can
   // shift sideways over both feet only as far as the base's roll carries it)
   bool start_push = false;
+  // a step from standing starts with half a single support on the swinging sole: the ZMP held
+  // on it (not moved across) over a first double support of half the single support
+  // ((1 - double_support_ratio) step_time / 2; start_time is not used), then on the stance sole
+  // from the lift-off. With the CoM at rest beside the middle this is the second half of the
+  // linear inverted pendulum's periodic orbit: the CoM crosses the middle at the orbit's speed,
+  // and the sideways sway stays the orbit's d (1 - 1 / cosh(omega T_single / 2)) from the first
+  // step (d the soles' half spacing) instead of the start's transient
+  bool start_rock = false;
+  // its mirror for the stop: after the last landing the ZMP is held on the sole that landed for
+  // half a single support (the CoM comes to rest beside the middle, the orbit's first half),
+  // then goes to the middle at once (the CoM comes over it at rest), end_time then standing
+  bool stop_rock = false;
   double zmp_forward = 0.0;           // [m] ZMP ahead of the stance sole's centre, along the sole
   // the legs' reach, from the robot (0: not known, no step-down lowering): a step down lowers
   // the CoM over that step by as much as the landing leg needs to reach its foot with the hip
@@ -150,6 +162,8 @@ class Gait {
   const Footstep* Standing(int foot, double t) const;
   // when the ZMP reaches the middle of the final stance [s]
   double end_time() const;
+  // how long the ZMP stays on the last sole that landed before it goes to the middle (stop_rock)
+  double StopHold() const;
   const GaitOptions& options() const { return options_; }
 
  private:
@@ -161,6 +175,7 @@ class Gait {
     FeetPose before;           // both soles when the step begins
     Eigen::Vector3d zmp_from;  // where the double support starts (and its ground height)
     Eigen::Vector3d zmp_to;    // the stance point
+    bool hold = false;         // the ZMP stays at zmp_from until the lift-off (start_rock)
     double height;             // swing apex above the higher end [m]
     Eigen::Vector2d detour = Eigen::Vector2d::Zero();  // the swing's bend at mid-travel [m]
     // a landing moved during the swing (AdjustLanding): from where the foot was then, and its

@@ -118,7 +118,13 @@ int Gait::PhaseAt(double t) const {
 }
 
 double Gait::end_time() const {
-  return steps_.empty() ? t_start_ : steps_.back().t_land + options_.end_time;
+  return steps_.empty() ? t_start_ : steps_.back().t_land + StopHold() + options_.end_time;
+}
+
+double Gait::StopHold() const {
+  if (!options_.stop_rock || steps_.empty()) return 0;
+  const double T = steps_.back().step.duration > 0 ? steps_.back().step.duration : options_.step_time;
+  return 0.5 * (1 - options_.double_support_ratio) * T;
 }
 
 int Gait::Replace(double now, const std::vector<Footstep>& steps) {
@@ -138,7 +144,12 @@ int Gait::Replace(double now, const std::vector<Footstep>& steps) {
     p.zmp_from = Zmp(p.t0);  // the timeline so far: continuous
     // start_push: from standing the double support begins on the swinging sole (gait.h)
     if (!follows && options_.start_push) p.zmp_from = StancePoint(FeetAfter(k - 1), s.foot);
-    const double ds = follows ? options_.double_support_ratio * T : options_.start_time;
+    // start_rock: half a single support on the swinging sole first (gait.h)
+    p.hold = !follows && options_.start_rock;
+    if (p.hold) p.zmp_from = StancePoint(FeetAfter(k - 1), s.foot);
+    const double ds = follows ? options_.double_support_ratio * T
+                      : p.hold ? 0.5 * (1 - options_.double_support_ratio) * T
+                               : options_.start_time;
     p.t_lift = p.t0 + ds;
     p.t_land = p.t_lift + (1 - options_.double_support_ratio) * T;
     p.before = FeetAfter(k - 1);

@@ -130,8 +130,11 @@ void Gait::At(double t, GaitState* s) const {
   if (t >= p.t_land) {
     // after the last step: back to the middle of the final stance, then standing
     s->feet = FeetAfter(k);
-    Blend(p.zmp_to, MidPoint(s->feet), t, p.t_land, p.t_land + options_.end_time,
-          p.t_land + options_.end_time, s);
+    // stop_rock: first on the sole that landed for StopHold (gait.h)
+    const double hold = StopHold();
+    const Eigen::Vector3d from = hold > 0 ? StancePoint(s->feet, p.step.foot) : p.zmp_to;
+    const double t_mid = p.t_land + hold + (hold > 0 ? 0 : options_.end_time);
+    Blend(from, MidPoint(s->feet), t, p.t_land + hold, t_mid, p.t_land + hold + options_.end_time, s);
     return;
   }
   s->step = k;
@@ -139,6 +142,7 @@ void Gait::At(double t, GaitState* s) const {
   // the ground height moves over the whole step (the CoM rises or falls on the stance leg while
   // the other swings), the ZMP over the double support
   Blend(p.zmp_from, p.zmp_to, t, p.t0, p.t_lift, p.t_land, s);
+  if (p.hold && t < p.t_lift) s->zmp.head<2>() = p.zmp_from.head<2>();
   if (t < p.t_lift) return;
   // single support: the swing foot from its lift-off pose to the landing
   const int sw = p.step.foot;

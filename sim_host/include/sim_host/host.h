@@ -84,6 +84,7 @@ struct HostOptions {
   ControllerLoss on_loss = ControllerLoss::kEnd;
   std::string log_path;            // CSV data log; empty: none
   int log_every = 1;               // record one row every N control cycles
+  bool log_dq = false;             // the log also records the joints' velocities (dq_<joint>)
   uint64_t log_max = 0;            // [bytes] the log's size bound (--log-max): rows past it are
                                    // not written, and counted; 0: none
   std::string summary_path;        // JSON summary at the end; empty: none

@@ -1,5 +1,6 @@
 // ohrp identify --sensors (see identify/sensors.h).
 #include "identify/sensors.h"
+#include "sensors_table.h"
 
 #include <nlohmann/json.hpp>
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <sstream>
 
 namespace ohrp::identify {
+using detail::Table;
 namespace {
 
 // the centred moving average of `width` samples at rows [h, n - h)
@@ -26,12 +28,6 @@ std::vector<double> MovingAverage(const std::vector<double>& x, int width) {
   return m;
 }
 
-// the log's columns by name, the rows within [from, to]
-struct Table {
-  std::vector<std::string> names;
-  std::map<std::string, std::vector<double>> col;
-  bool Has(const std::string& n) const { return col.count(n) != 0; }
-};
 
 bool ReadTable(const std::string& path, const SensorOptions& o, Table* t, std::string* error) {
   std::ifstream in(path);
@@ -69,6 +65,12 @@ bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
+nlohmann::json J(const Stat& e) { return {{"value", e.value}, {"se", e.se}}; }
+
+}  // namespace
+
+namespace detail {
+
 // refused when the channel's slow part moves more than tolerated (or than its noise explains)
 bool Still(const std::string& name, const std::vector<double>& x, const Stat& noise, int width,
            double tolerance, std::string* error) {
@@ -82,9 +84,7 @@ bool Still(const std::string& name, const std::vector<double>& x, const Stat& no
   return false;
 }
 
-nlohmann::json J(const Stat& e) { return {{"value", e.value}, {"se", e.se}}; }
-
-}  // namespace
+}  // namespace detail
 
 Stat MeanOf(const std::vector<double>& x) {
   Stat e;
@@ -152,7 +152,8 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     out->encoder_noise.push_back(NoiseStd(q, o.width));
     out->joint_mean.push_back(MeanOf(q).value);
     out->joint_tau.push_back(t.Has("tau_" + j) ? MeanOf(t.col["tau_" + j]) : Stat{NAN, NAN});
-    if (!Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
+    if (!detail::Still("joint " + j, q, out->encoder_noise.back(), o.width, o.joint_still, error)) return false;
+    detail::MotionNoise(t, j, o, out);
   }
   for (const std::string& f : out->forces)
     for (const char* a : {"_fx", "_fy", "_fz", "_tx", "_ty", "_tz"})
@@ -166,8 +167,8 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
       const auto& a = t.col[u.name + "_a" + axis[k]];
       u.gyro_bias[k] = MeanOf(g), u.gyro_noise[k] = NoiseStd(g, o.width);
       u.accel_mean[k] = MeanOf(a), u.accel_noise[k] = NoiseStd(a, o.width);
-      if (!Still(u.name + "_g" + axis[k], g, u.gyro_noise[k], o.width, o.gyro_still, error) ||
-          !Still(u.name + "_a" + axis[k], a, u.accel_noise[k], o.width, o.accel_still, error))
+      if (!detail::Still(u.name + "_g" + axis[k], g, u.gyro_noise[k], o.width, o.gyro_still, error) ||
+          !detail::Still(u.name + "_a" + axis[k], a, u.accel_noise[k], o.width, o.accel_still, error))
         return false;
       m[k] = u.accel_mean[k].value;
     }
@@ -193,6 +194,7 @@ bool EstimateSensors(const std::string& path, const SensorOptions& o, SensorEsti
     if (!unit) continue;  // not an orientation (zeros: a board without one)
     u.oriented = true;
     for (int k = 0; k < 3; ++k) u.accel_bias[k] = MeanOf(d[k]);
+    if (!detail::OrientationNoise(t, o, &u, &out->warnings, error)) return false;
   }
   return true;
 }
@@ -234,6 +236,19 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
     else
       std::printf("  accelerometer bias across gravity: not observable (no orientation logged: "
                   "indistinguishable from a tilt)\n");
+    if (u.oriented) {
+      std::printf("  orientation noise beyond the gyro's turn (x, y, z; pooled): %.4g +- %.2g, "
+                  "%.4g +- %.2g, %.4g +- %.2g; %.4g +- %.2g rad\n", u.orientation_noise[0].value,
+                  u.orientation_noise[0].se, u.orientation_noise[1].value, u.orientation_noise[1].se,
+                  u.orientation_noise[2].value, u.orientation_noise[2].se,
+                  u.orientation_noise_pooled.value, u.orientation_noise_pooled.se);
+      ju["orientation_noise"] = J(u.orientation_noise_pooled);
+      for (int k = 0; k < 3; ++k) {
+        const std::string a(1, axis[k]);
+        ju["orientation_noise_" + a] = J(u.orientation_noise[k]);
+        ju["orientation_explained_" + a] = u.orientation_explained[k];
+      }
+    }
     j["imus"].push_back(ju);
   }
   const char* ft[6] = {"fx", "fy", "fz", "tx", "ty", "tz"};
@@ -279,8 +294,30 @@ int IdentifySensors(const std::string& log, const std::string& out_dir, const Se
       std::printf("\n");
       jj["encoder_bias"] = "not observable from a still log";
     }
+    if (!s.velocity_noise.empty()) {
+      jj["velocity_noise"] = J(s.velocity_noise[k]);
+      jj["velocity_explained"] = s.velocity_explained[k];
+    }
+    if (std::isfinite(s.torque_noise[k].value)) {
+      jj["torque_noise"] = J(s.torque_noise[k]);
+      jj["torque_explained"] = s.torque_explained[k];
+    }
     j["joints"].push_back(jj);
   }
+  if (!s.joints.empty())
+    std::printf("%-18s %12s %10s %8s %12s %10s %8s  (beyond the motion; expl.: the share of the "
+                "high-passed variance the motion explains)\n", "joint", "dq noise", "+-", "expl.",
+                "tau noise", "+-", "expl.");
+  for (size_t k = 0; k < s.joints.size(); ++k) {
+    std::printf("%-18s", s.joints[k].c_str());
+    if (s.velocity_noise.empty()) std::printf(" %32s", "no dq_ column (--log-dq)");
+    else std::printf(" %12.4g %10.2g %8.3f", s.velocity_noise[k].value, s.velocity_noise[k].se,
+                     s.velocity_explained[k]);
+    std::printf(" %12.4g %10.2g %8.3f\n", s.torque_noise[k].value, s.torque_noise[k].se,
+                s.torque_explained[k]);
+  }
+  for (const std::string& w : s.warnings) std::fprintf(stderr, "ohrp_identify: warning: %s\n", w.c_str());
+  j["warnings"] = s.warnings;
   if (!s.joints.empty() && !biased)
     std::printf("(encoder bias: not observable from a still log: a held joint reads q + bias and "
                 "nothing in the log tells q)\n");

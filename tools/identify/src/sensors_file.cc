@@ -1,5 +1,6 @@
 // ohrp identify --sensors: the estimates written as the simulator's sensor file (DIR/sensors.yaml,
 // robot_model/sensor_params.h), which sim_host --sensor-file applies.
+#include <cmath>
 #include <cstdio>
 
 #include "identify/sensors.h"
@@ -25,10 +26,20 @@ model::SensorParams SensorFileOf(const SensorEstimates& s) {
   // encoders: the noise (the bias is not observable from a still log: left at 0)
   for (size_t k = 0; k < s.joints.size(); ++k) {
     const bool biased = !s.encoder_bias.empty() && s.encoder_observable[k];
-    p.encoders.push_back({s.joints[k], biased ? s.encoder_bias[k].value : 0.0,
-                          s.encoder_noise[k].value,
-                          (biased ? Se("bias", &s.encoder_bias[k], 1) + "; " : std::string()) +
-                              Se("noise", &s.encoder_noise[k], 1)});
+    model::SensorParams::Encoder e{s.joints[k], biased ? s.encoder_bias[k].value : 0.0,
+                                   s.encoder_noise[k].value,
+                                   (biased ? Se("bias", &s.encoder_bias[k], 1) + "; " : std::string()) +
+                                       Se("noise", &s.encoder_noise[k], 1)};
+    // the velocity's noise (with dq_ columns) and the torque's, each beyond the motion
+    if (!s.velocity_noise.empty()) {
+      e.velocity_noise = s.velocity_noise[k].value;
+      e.note += "; " + Se("velocity_noise", &s.velocity_noise[k], 1);
+    }
+    if (k < s.torque_noise.size() && std::isfinite(s.torque_noise[k].value)) {
+      e.torque_noise = s.torque_noise[k].value;
+      e.note += "; " + Se("torque_noise", &s.torque_noise[k], 1);
+    }
+    p.encoders.push_back(e);
   }
   for (const ImuEstimate& u : s.imus) {
     model::SensorParams::Imu m;
@@ -39,10 +50,12 @@ model::SensorParams SensorFileOf(const SensorEstimates& s) {
       // across gravity a bias is a tilt unless the orientation was logged: then 0
       if (u.oriented) m.accel_bias[k] = u.accel_bias[k].value;
     }
+    if (u.oriented) m.orientation_noise = u.orientation_noise_pooled.value;
     m.note = Se("gyro_bias", u.gyro_bias, 3) + "; " + Se("gyro_noise", u.gyro_noise, 3) + "; " +
              (u.oriented ? Se("accel_bias", u.accel_bias, 3)
                          : std::string("accel_bias not observable (no orientation logged)")) +
-             "; " + Se("accel_noise", u.accel_noise, 3);
+             "; " + Se("accel_noise", u.accel_noise, 3) +
+             (u.oriented ? "; " + Se("orientation_noise", &u.orientation_noise_pooled, 1) : std::string());
     p.imus.push_back(m);
   }
   for (size_t f = 0; f < s.forces.size(); ++f) {

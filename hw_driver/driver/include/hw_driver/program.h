@@ -21,6 +21,7 @@ struct ProgramOptions {
   std::string summary_path;           // JSON summary at the end; empty: none
   std::string stats_path;             // JSON stats rewritten every stats_interval; empty: none
   std::string log_path;               // CSV data log (datalog/recorder.h); empty: none
+  bool log_dq = false;                // --log-dq: the log also records dq_<joint>
   uint64_t log_max = 0;               // [bytes] --log-max: the log's size bound; 0: none
   double stats_interval = 1.0;        // [s]
   bool quiet = false;                 // errors and warnings only

@@ -36,6 +36,22 @@ Stat NoiseStd(const std::vector<double>& x, int width);
 // the range (max - min) of the centred moving average of `width` samples: the slow motion
 double SlowRange(const std::vector<double>& x, int width);
 
+// The noise of a channel that the robot's own motion moves too (a joint's velocity or torque, the
+// IMU's orientation): x and each of `motion` (the signals that measure that motion, as long as
+// x) high-passed by the centred moving average of `width` samples; x's part fitted away by least
+// squares on them (with a constant); the noise the std of the remainder over its degrees of
+// freedom (n - the fit's rank), divided by sqrt(1 - 1/width) as NoiseStd; standard error
+// s / sqrt(2 dof). `*explained`: the share of x's high-passed variance the fit took (0..1).
+// No regressors: NoiseStd's estimate (less the constant's degree of freedom).
+Stat NoiseBeyondMotion(const std::vector<double>& x, const std::vector<std::vector<double>>& motion,
+                       int width, double* explained = nullptr);
+// The rotation vector [rad] of each logged orientation (w x y z, world from IMU) relative to the
+// first, in the first's frame (for small motion, the IMU's): the orientation's error per axis
+// as the sensor model makes it (robot_model/sensor_params.h SensorModel::Orientation).
+void OrientationErrors(const std::vector<double>& w, const std::vector<double>& x,
+                       const std::vector<double>& y, const std::vector<double>& z,
+                       std::vector<double> out[3]);
+
 struct SensorOptions {
   double from = 0, to = 1e300;  // [s] the still window in the log's time
   int width = 51;               // moving average [samples]
@@ -44,6 +60,8 @@ struct SensorOptions {
   double gyro_still = 5e-3;     // [rad/s]
   double accel_still = 0.05;    // [m/s^2]
   double min_gravity_stiffness = 2.0;  // [N m/rad] --model: below it an encoder bias is not observable
+  double orientation_still = 2e-3;  // [rad] tolerated slow turn of the IMU's orientation
+  double max_explained = 0.5;  // a warning when the motion explains more of a channel's variance
 };
 
 struct ImuEstimate {
@@ -52,6 +70,10 @@ struct ImuEstimate {
   Stat accel_bias_along_g;     // |mean| - g
   bool oriented = false;           // the log has the IMU's orientation
   Stat accel_bias[3];          // with it: mean - R^T (0, 0, g) per axis
+  // with it: the orientation's noise per axis of its error's rotation vector [rad], beyond what
+  // the gyro's integral explains, and all three pooled (the sensor file's one value)
+  Stat orientation_noise[3], orientation_noise_pooled;
+  double orientation_explained[3] = {};
 };
 
 struct SensorEstimates {
@@ -71,6 +93,12 @@ struct SensorEstimates {
   std::vector<double> ft_expected;
   std::vector<Stat> ft_bias;
   std::vector<ImuEstimate> imus;
+  // per joint, beyond the motion (NoiseBeyondMotion): the velocity's noise (dq_J columns:
+  // sim_host/hw_driver --log-dq; empty without) against the encoder's central difference, the
+  // torque's (tau_J; value NaN without) against the joint's angle and velocity
+  std::vector<Stat> velocity_noise, torque_noise;
+  std::vector<double> velocity_explained, torque_explained;
+  std::vector<std::string> warnings;  // the motion explains more than max_explained of a channel
 };
 
 // Reads a data log's columns (time, then q_J/qref_J, F_fx.., IMU_gx..) within the window and
