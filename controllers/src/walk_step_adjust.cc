@@ -20,44 +20,12 @@ constexpr double kMinRest = 0.1;        // [s] and its rest (the foot comes down
 constexpr double kTimeStep = 0.02;      // [s] the landing times tried
 constexpr double kMinShorten = 0.01;    // [s] a change of the landing time smaller than this is none
 
-// where the swing is now: its phase and its travel's share done (gait.h: the travel follows a
-// minimum-jerk profile over the single support less its vertical shares)
-struct SwingReach {
-  double phase = 0;      // [0, 1] of the single support
-  double travel = 0;     // [0, 1] of the horizontal travel done
-  double vertical = 0;   // the vertical share at each end
-  double accel = std::numeric_limits<double>::infinity();  // [m/s^2] the hip's limit
-};
-
-SwingReach MakeSwingReach(double phase, double vertical, double accel) {
-  SwingReach r;
-  r.phase = std::clamp(phase, 0.0, 1.0);
-  r.vertical = std::clamp(vertical, 0.0, 0.49);
-  r.accel = accel;
-  double f, df, ddf;
-  walking::MinJerk(std::clamp((r.phase - r.vertical) / (1 - 2 * r.vertical), 0.0, 1.0), &f, &df,
-                   &ddf);
-  r.travel = f;
-  return r;
-}
-
-// the farthest the foot may still travel if the swing ends `rest` [s] from now: the gait goes on
-// with the remainder of its minimum-jerk travel (a share 1 - travel of a whole one) over the
-// remaining phase at the new rate; the whole profile's peak acceleration is 10/sqrt(3) distance
-// over its duration squared, so a distance d in what is left peaks at
-// 10/sqrt(3) d / ((1 - travel) Tu^2), Tu the whole travel's duration at that rate
-double SwingReachDistance(const SwingReach& r, double rest) {
-  if (std::isinf(r.accel)) return std::numeric_limits<double>::infinity();
-  const double Tu = rest * (1 - 2 * r.vertical) / std::max(1 - r.phase, 1e-6);
-  return r.accel * std::max(1 - r.travel, 0.0) * Tu * Tu * std::sqrt(3.0) / 10;
-}
-
 // `target` (a landing within the step limits) pulled back along the line to `current` (the
-// landing planned now) until the foot at `foot` reaches it over `rest`: false when not even the
-// current landing can be reached then (that landing time is out of the question)
-bool WithinSwingReach(const SwingReach& r, double rest, const Eigen::Vector2d& foot,
+// landing planned now) until it is within `D` [m] of the foot at `foot` (walking::
+// SwingReachDistance over the rest tried): false when not even the current landing is (that
+// landing time is out of the question)
+bool WithinSwingReach(double D, const Eigen::Vector2d& foot,
                       const Eigen::Vector2d& current, walking::Footstep* target) {
-  const double D = SwingReachDistance(r, rest);
   const Eigen::Vector2d b = current - foot;
   if (b.norm() > D) return false;
   const Eigen::Vector2d a = target->p.head<2>() - current;
@@ -119,8 +87,6 @@ void WalkController::AdjustStep() noexcept {
   // new footholds take it back), at its planned time
   const Eigen::Vector2d nominal =
       adjust_planned_.p.head<2>() - d_plan * std::exp(omega * (adjust_planned_land_ - w.t));
-  const SwingReach swing_reach =
-      MakeSwingReach(w.gait.swing_phase, gait.options().vertical_fraction, swing_accel_limit_);
   const Eigen::Vector2d foot = w.gait.feet.p[sw].head<2>();
   walking::Footstep best = now_step;
   double best_rest = remaining, best_cost = std::numeric_limits<double>::infinity();
@@ -133,7 +99,9 @@ void WalkController::AdjustStep() noexcept {
     walking::FitStep(feet, &target, recovery_limits_);
     // landing time and place together: the foot travels no farther than the hip can swing it
     // over this rest (a landing out of that reach is brought back towards the current one)
-    if (!WithinSwingReach(swing_reach, rest, foot, now_step.p.head<2>(), &target)) continue;
+    const double reach_d = walking::SwingReachDistance(
+        swing_accel_limit_, w.gait.swing_phase, gait.options().vertical_fraction, rest);
+    if (!WithinSwingReach(reach_d, foot, now_step.p.head<2>(), &target)) continue;
     const double cost = (want - target.p.head<2>()).norm() + walk_options_.stepping_time_cost * (remaining - rest);
     if (cost < best_cost) {
       best_cost = cost;
