@@ -65,6 +65,8 @@ void WalkController::AdjustStep() noexcept {
   // beyond it the error grows as exp(omega t) until the landing
   const Eigen::Vector2d reach = (input_.support.half_size[st].array() -
                                  stabilizer_.gains().support_margin).max(0.0);
+  const Eigen::Vector2d land_reach = (input_.support.half_size[sw].array() -
+                                      stabilizer_.gains().support_margin).max(0.0);
   Eigen::Vector2d beyond;
   for (int a = 0; a < 2; ++a)
     beyond[a] = std::copysign(std::max(std::abs(e[a]) - reach[a], 0.0), e[a]);
@@ -93,8 +95,14 @@ void WalkController::AdjustStep() noexcept {
   for (double rest = remaining; rest >= shortest - 1e-9; rest -= kTimeStep) {
     walking::Footstep target = now_step;
     const Eigen::Vector2d ideal = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
-    const Eigen::Vector2d want = adjust_planned_.p.head<2>() +
-                                 walk_options_.stepping_gain * (ideal - adjust_planned_.p.head<2>());
+    // the landed sole's ankle takes back as much as the stance one: the landing moves only by
+    // what the DCM's offset from the plan at landing needs beyond that (the stance sole's frame)
+    Eigen::Vector2d shift = R.inverse() * (ideal - adjust_planned_.p.head<2>());
+    if (walk_options_.stepping_deadband)
+      for (int a = 0; a < 2; ++a)
+        shift[a] = std::copysign(std::max(std::abs(shift[a]) - land_reach[a], 0.0), shift[a]);
+    const Eigen::Vector2d want =
+        adjust_planned_.p.head<2>() + walk_options_.stepping_gain * (R * shift);
     target.p.head<2>() = want;
     walking::FitStep(feet, &target, recovery_limits_);
     // landing time and place together: the foot travels no farther than the hip can swing it

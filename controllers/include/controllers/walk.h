@@ -87,6 +87,7 @@ struct WalkOptions {
                                      // (0.6 measured better than 0.8 and 1 in the push tables)
   double stepping_gain = 1.0;        // share of the DCM's landing change applied [-]
   bool stepping_rebase = false;  // and the plan's CoM re-based on the measured state
+  bool stepping_deadband = false;  // the landing moved only beyond what its own ankle takes back
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
