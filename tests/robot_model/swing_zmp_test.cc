@@ -157,7 +157,9 @@ TEST(SwingReachDistance, ARetimedSwingPeaksAtTheLimit) {
                              a.feet.p[kRight].head<2>()).norm() / (h * h));
     }
     EXPECT_LE(peak, accel * 1.01) << "phase " << phase;
-    if (phase == 0) EXPECT_NEAR(peak, accel, 0.01 * accel);
+    if (phase == 0) {
+      EXPECT_NEAR(peak, accel, 0.01 * accel);
+    }
   }
   EXPECT_TRUE(std::isinf(SwingReachDistance(std::numeric_limits<double>::infinity(), 0.5, vf, 0.2)));
 }
