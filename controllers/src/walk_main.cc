@@ -98,9 +98,12 @@ int main(int argc, char** argv) {
                "experimental: move a swing foot's landing where the measured capture point needs "
                "it, and land sooner when that place is out of reach (a stepping strategy against "
                "pushes; better in some cells of the push table, worse in others: docs/walking.md)");
-  bool no_timing = false, rebase = false;
+  bool no_timing = false, rebase = false, deadband = false;
   app.add_flag("--stepping-no-timing", no_timing,
                "with --stepping: move the landing only, never land sooner");
+  app.add_flag("--stepping-deadband", deadband,
+               "with --stepping: move the landing only by what the DCM needs beyond what the "
+               "landed sole's ankle takes back (its half size less the stabilizer's margin)");
   app.add_flag("--stepping-rebase", rebase,
                "with --stepping: re-base the plan's CoM on the measured state at each adjustment");
   app.add_option("--stepping-time-cost", o.stepping_time_cost,
@@ -124,6 +127,7 @@ int main(int argc, char** argv) {
   o.stepping = stepping;
   o.stepping_timing = !no_timing;
   o.stepping_rebase = rebase;
+  o.stepping_deadband = deadband;
   o.touchdown = touchdown;
   for (const std::string& text : commands) {
     WalkCommand c;

@@ -317,6 +317,7 @@ ConfigStatus WalkController::FitSwing() {
   const double behind = (1 - 2 * f) * stride;
   const double tau_g = leg_mass_ * 9.81 * leg_depth_ * std::sin(std::atan2(behind, g.hip_height));
   const double limit = walking::SwingAccelerationLimit(tau_max, tau_g, M(col, col), g.hip_height);
+  swing_accel_limit_ = limit;
   const double need = walking::SwingPeakAcceleration(g, 2 * stride);
   if (need <= limit) return ConfigStatus::Ok();
   char buf[600];

@@ -20,6 +20,24 @@ constexpr double kMinRest = 0.1;        // [s] and its rest (the foot comes down
 constexpr double kTimeStep = 0.02;      // [s] the landing times tried
 constexpr double kMinShorten = 0.01;    // [s] a change of the landing time smaller than this is none
 
+// `target` (a landing within the step limits) pulled back along the line to `current` (the
+// landing planned now) until it is within `D` [m] of the foot at `foot` (walking::
+// SwingReachDistance over the rest tried): false when not even the current landing is (that
+// landing time is out of the question)
+bool WithinSwingReach(double D, const Eigen::Vector2d& foot,
+                      const Eigen::Vector2d& current, walking::Footstep* target) {
+  const Eigen::Vector2d b = current - foot;
+  if (b.norm() > D) return false;
+  const Eigen::Vector2d a = target->p.head<2>() - current;
+  if ((target->p.head<2>() - foot).norm() <= D) return true;
+  // |b + lambda a| = D, the root in (0, 1]
+  const double aa = a.squaredNorm(), ab = a.dot(b);
+  const double lambda = (-ab + std::sqrt(std::max(ab * ab - aa * (b.squaredNorm() - D * D), 0.0))) /
+                        std::max(aa, 1e-12);
+  target->p.head<2>() = current + std::clamp(lambda, 0.0, 1.0) * a;
+  return true;
+}
+
 }  // namespace
 
 void WalkController::AdjustStep() noexcept {
@@ -84,20 +102,37 @@ void WalkController::ChooseLanding(int k, double remaining, const DcmExcess& x,
                               : remaining;
   const Eigen::Vector2d& d_plan = x.d_plan;
   const Eigen::Vector2d& e_beyond = x.beyond;
+  const walking::WalkSample& w = gen_.sample();
+  const int sw = w.gait.swing;
+  const Eigen::Rotation2Dd R(w.gait.feet.yaw[1 - sw]);  // the stance sole's frame
+  const Eigen::Vector2d land_reach = (input_.support.half_size[sw].array() -
+                                      stabilizer_.gains().support_margin).max(0.0);
   // from the landing as first planned (the plan's DCM is not re-based: its error stays until the
   // new footholds take it back), at its planned time
   const Eigen::Vector2d nominal =
       adjust_planned_.p.head<2>() - d_plan * std::exp(omega * (adjust_planned_land_ - t));
+  const Eigen::Vector2d foot = w.gait.feet.p[sw].head<2>();
   *best = now_step;
   *best_rest = remaining;
   double best_cost = std::numeric_limits<double>::infinity();
   for (double rest = remaining; rest >= shortest - 1e-9; rest -= kTimeStep) {
     walking::Footstep target = now_step;
     const Eigen::Vector2d ideal = nominal + (d_plan + e_beyond) * std::exp(omega * rest);
-    const Eigen::Vector2d want = adjust_planned_.p.head<2>() +
-                                 walk_options_.stepping_gain * (ideal - adjust_planned_.p.head<2>());
+    // the landed sole's ankle takes back as much as the stance one: the landing moves only by
+    // what the DCM's offset from the plan at landing needs beyond that (the stance sole's frame)
+    Eigen::Vector2d shift = R.inverse() * (ideal - adjust_planned_.p.head<2>());
+    if (walk_options_.stepping_deadband)
+      for (int a = 0; a < 2; ++a)
+        shift[a] = std::copysign(std::max(std::abs(shift[a]) - land_reach[a], 0.0), shift[a]);
+    const Eigen::Vector2d want =
+        adjust_planned_.p.head<2>() + walk_options_.stepping_gain * (R * shift);
     target.p.head<2>() = want;
     walking::FitStep(feet, &target, recovery_limits_);
+    // landing time and place together: the foot travels no farther than the hip can swing it
+    // over this rest (a landing out of that reach is brought back towards the current one)
+    const double reach_d = walking::SwingReachDistance(
+        swing_accel_limit_, w.gait.swing_phase, gait.options().vertical_fraction, rest);
+    if (!WithinSwingReach(reach_d, foot, now_step.p.head<2>(), &target)) continue;
     const double cost = (want - target.p.head<2>()).norm() + walk_options_.stepping_time_cost * (remaining - rest);
     if (cost < best_cost) {
       best_cost = cost;

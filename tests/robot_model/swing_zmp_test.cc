@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "walking/pattern_generator.h"
 
@@ -115,6 +116,52 @@ TEST(SwingAccelerationLimit, TorqueLessGravityOverInertiaAtTheFoot) {
   EXPECT_NEAR(SwingAccelerationLimit(400, 25, 15, 0.6), 375 * 0.6 / 15, 1e-12);
   EXPECT_EQ(SwingAccelerationLimit(400, 500, 15, 0.6), 0);
   EXPECT_TRUE(std::isinf(SwingAccelerationLimit(400, 25, 0, 0.6)));
+}
+
+// a swing retimed (Gait::AdjustStep) at `phase` to land `rest` later, SwingReachDistance away
+// from where the foot is: its horizontal acceleration over the rest (second differences every
+// 0.1 ms) peaks at the limit given when the remaining travel still holds the profile's peak (at
+// lift-off), and never above it later in the swing
+TEST(SwingReachDistance, ARetimedSwingPeaksAtTheLimit) {
+  const double accel = 40, vf = 0.05;
+  GaitOptions o;
+  o.step_time = 0.8;
+  o.double_support_ratio = 0.1;
+  o.vertical_fraction = vf;
+  for (double phase : {0.0, 0.3}) {
+    FeetPose f;
+    f.p[kLeft] = Eigen::Vector3d(0, 0.09, 0);
+    f.p[kRight] = Eigen::Vector3d(0, -0.09, 0);
+    Gait gait;
+    gait.Start(0, f, o);
+    Footstep s;
+    s.foot = kRight;
+    s.p = Eigen::Vector3d(0.2, -0.09, 0);
+    gait.Replace(0, {s});
+    const double t_lift = gait.step_lift(0), single = gait.step_land(0) - t_lift;
+    const double now = t_lift + phase * single + 1e-9, rest = 0.3;
+    GaitState g;
+    gait.At(now, &g);
+    const double D = SwingReachDistance(accel, g.swing_phase, vf, rest);
+    const Eigen::Vector2d foot = g.feet.p[kRight].head<2>();
+    const Eigen::Vector2d target = foot + D * Eigen::Vector2d(1, 0);
+    ASSERT_TRUE(gait.AdjustStep(0, target, now + rest, false, now));
+    const double h = 1e-4;
+    double peak = 0;
+    GaitState a, b, c;
+    for (double t = now + h; t < now + rest - h; t += h) {
+      gait.At(t - h, &a);
+      gait.At(t, &b);
+      gait.At(t + h, &c);
+      peak = std::max(peak, (c.feet.p[kRight].head<2>() - 2 * b.feet.p[kRight].head<2>() +
+                             a.feet.p[kRight].head<2>()).norm() / (h * h));
+    }
+    EXPECT_LE(peak, accel * 1.01) << "phase " << phase;
+    if (phase == 0) {
+      EXPECT_NEAR(peak, accel, 0.01 * accel);
+    }
+  }
+  EXPECT_TRUE(std::isinf(SwingReachDistance(std::numeric_limits<double>::infinity(), 0.5, vf, 0.2)));
 }
 
 }  // namespace

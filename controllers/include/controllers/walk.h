@@ -31,6 +31,7 @@
 
 #include <array>
 #include <atomic>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -86,6 +87,7 @@ struct WalkOptions {
                                      // (0.6 measured better than 0.8 and 1 in the push tables)
   double stepping_gain = 1.0;        // share of the DCM's landing change applied [-]
   bool stepping_rebase = false;  // and the plan's CoM re-based on the measured state
+  bool stepping_deadband = false;  // the landing moved only beyond what its own ankle takes back
   double swing_tilt_compensation = 1.0;  // share of the base's measured tilt taken out of the
                                          // swing foot's target (about the stance sole) [-]
   double inertia_feedforward = 1.0;  // share of each joint's own inertia times the references'
@@ -350,6 +352,10 @@ class WalkController : public BalanceController {
   int adjust_step_ = -1;       // the step whose landing the stepping strategy may move
   walking::Footstep adjust_planned_;  // its landing as planned
   double adjust_planned_land_ = 0;    // and its landing time [s]
+  // what the hip lets a swinging foot accelerate [m/s^2] (FitSwing: the hip pitch joint's torque
+  // less the leg's gravity load, over its inertia; infinite when not known): a landing moved or
+  // brought forward must stay within the travel this allows over the rest of the swing
+  double swing_accel_limit_ = std::numeric_limits<double>::infinity();
   // how far the stepping strategy has moved the footholds (plan frame [m]): the command's later
   // steps go on from there (Remap), not back onto the plan the robot was pushed off
   Eigen::Vector2d recovery_shift_ = Eigen::Vector2d::Zero();

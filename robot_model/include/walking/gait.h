@@ -100,6 +100,13 @@ double SwingPeakAcceleration(const GaitOptions& o, double travel);
 // inertia about its axis `inertia` [kg m^2] (the leg's and the rotor's):
 // (tau_max - tau_gravity) hip_height / inertia [m/s^2]; infinite for no inertia
 double SwingAccelerationLimit(double tau_max, double tau_gravity, double inertia, double hip_height);
+// the farthest [m] a swing foot at `phase` [0, 1] of its single support may still travel when it
+// lands `rest` [s] from now (Gait::AdjustStep: the remainder of the minimum-jerk travel over the
+// rest at the new rate) without its horizontal acceleration exceeding `accel` [m/s^2]: the
+// remainder is the share 1 - f of a whole profile (f the travel done) lasting
+// Tu = rest (1 - 2 vertical) / (1 - phase), whose peak is 10/sqrt(3) d / ((1 - f) Tu^2);
+// infinite for an infinite `accel`
+double SwingReachDistance(double accel, double phase, double vertical, double rest);
 
 // where everything is at one time
 struct GaitState {

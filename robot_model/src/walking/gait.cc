@@ -64,6 +64,16 @@ double SwingAccelerationLimit(double tau_max, double tau_gravity, double inertia
   return std::max(tau_max - tau_gravity, 0.0) * hip_height / inertia;
 }
 
+double SwingReachDistance(double accel, double phase, double vertical, double rest) {
+  if (std::isinf(accel)) return accel;
+  phase = std::clamp(phase, 0.0, 1.0);
+  vertical = std::clamp(vertical, 0.0, 0.49);
+  double f, df, ddf;
+  MinJerk(std::clamp((phase - vertical) / (1 - 2 * vertical), 0.0, 1.0), &f, &df, &ddf);
+  const double Tu = rest * (1 - 2 * vertical) / std::max(1 - phase, 1e-6);
+  return accel * std::max(1 - f, 0.0) * Tu * Tu * std::sqrt(3.0) / 10;
+}
+
 double StepDownDrop(const GaitOptions& o, double depth, double reach_xy) {
   if (!(depth > 0) || !(o.leg_reach > 0) || !(o.hip_height > 0)) return 0;
   // the hip midway between the soles at landing: horizontally half the step from the landing sole
