@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "controllers/balance.h"
+#include "controllers/derived_gait.h"
 #include "controllers/hip_strategy.h"
 #include "controllers/posture.h"
 #include "cli/data_dir.h"
@@ -125,6 +126,48 @@ TorsoAxis MeasureTorsoAxis(model::Kinematics& kin, const Eigen::MatrixXd& M, int
   return a;
 }
 
+
+// The load feed-forward when neither the command line nor the profile chose it: on when the
+// stance leg would sag under the whole weight by more than kSagLimit (derived_gait.h); said on
+// stderr with its figures. `k` is set to the stance pose (base upright at the origin).
+ConfigStatus DeriveLoadFeedforward(model::Kinematics& k, const Pose& pose, BalanceOptions* o) {
+  std::vector<std::string> names;
+  for (const model::JointMap& j : k.robot().joints) names.push_back(j.name);
+  std::vector<double> q;
+  if (ConfigStatus s = ResolvePose(pose, names, &q); !s.ok()) return s;
+  q.resize(std::max<size_t>(q.size(), names.size()), 0.0);
+  k.SetBasePose(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  k.SetJointPositions(q.data());
+  k.Update();
+  const int n = static_cast<int>(names.size());
+  std::vector<double> tau(n, 0.0), tau_max(n), kp(n);
+  const double scale = o->servo_frequency > 0 ? o->servo_frequency / 6.0 : 1.0;
+  for (int j = 0; j < n; ++j) {
+    tau_max[j] = k.robot().joints[j].tau_max;
+    kp[j] = k.robot().joints[j].default_kp * scale * scale;
+  }
+  const int sole[2] = {k.left_sole(), k.right_sole()};
+  LoadFeedforward ff(k, sole);
+  const double share[2] = {1, 0};  // the whole weight on the left sole, the CoM between the feet
+  ff.Compute(k, share, tau_max.data(), tau.data());
+  const std::vector<int> leg = k.Chain(k.robot().base_body, k.soles()[sole[0]].body_id);
+  const SagEstimate s = LargestSag(leg.data(), static_cast<int>(leg.size()), tau.data(), kp.data());
+  o->load_feedforward = s.sag > kSagLimit ? 1 : 0;
+  if (s.joint < 0) {
+    std::fprintf(stderr, "%s: load feed-forward off (derived: no leg joint with a stiffness)\n",
+                 o->program.c_str());
+  } else {
+    std::fprintf(stderr,
+                 "%s: load feed-forward %s (derived: the stance leg carrying the whole weight "
+                 "sags up to %.4f rad at %s, %.1f N m over kp %.0f N m/rad, %s the %.3f rad "
+                 "limit; --load-feedforward / --no-load-feedforward or the profile's "
+                 "servo.load_feedforward choose otherwise)\n",
+                 o->program.c_str(), o->load_feedforward ? "on" : "off", s.sag,
+                 k.robot().joints[s.joint].name.c_str(), std::abs(s.tau), s.kp,
+                 o->load_feedforward ? "beyond" : "within", kSagLimit);
+  }
+  return ConfigStatus::Ok();
+}
 }  // namespace
 
 void BalanceController::DeriveHipStrategy(StabilizerGains* g) {
@@ -178,7 +221,8 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
     if (!model::ReadProfile(o.model, &profile, &error))
       return ConfigStatus::Fail(ConfigError::kFile, "--model: " + error);
     if (o.servo_frequency == 0) o.servo_frequency = profile.servo_frequency;
-    if (o.load_feedforward < 0) o.load_feedforward = profile.load_feedforward ? 1 : 0;
+    if (o.load_feedforward < 0 && profile.load_feedforward_given)
+      o.load_feedforward = profile.load_feedforward ? 1 : 0;
   }
   *kin_est = model::Kinematics::Load(o.model, &error);
   *kin_ik = *kin_est ? model::Kinematics::Load(o.model, &error) : nullptr;
@@ -200,6 +244,9 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
                           (missing.size() > 1 ? "s" : "") + " missing (all listed):";
     for (const std::string& m : missing) message += "\n  - " + m;
     return ConfigStatus::Fail(ConfigError::kMismatch, message);
+  }
+  if (o.load_feedforward < 0) {
+    if (ConfigStatus s = DeriveLoadFeedforward(**kin_ik, *pose, &o); !s.ok()) return s;
   }
   // the support margin against this robot's soles: the desired ZMP kept that far inside a sole
   // must leave some of it (less than its smallest half size)

@@ -235,6 +235,7 @@ ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, Wa
       if (std::string e = cli::CheckPlausible(q->second, v, where); !e.empty())
         return ConfigStatus::Fail(ConfigError::kOption, e);
     }
+    o->given.push_back(key);
     if (key == "start_push") g.start_push = v != 0;
     else if (key == "start_rock") g.start_rock = v != 0;
     else if (key == "stop_rock") g.stop_rock = v != 0;

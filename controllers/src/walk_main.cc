@@ -143,6 +143,10 @@ int main(int argc, char** argv) {
     o.commands.push_back(c);
   }
 
+  // what the command line set of what walk otherwise derives from the robot
+  for (const auto& [flag, key] : {std::pair<const char*, const char*>{"--max-stride", "max_forward"},
+                                  {"--step-height", "step_height"}, {"--step-time", "step_time"}})
+    if (app.count(flag) > 0) o.given.push_back(key);
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;
   auto controller = WalkController::Create(o, &status);

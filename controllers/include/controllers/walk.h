@@ -94,6 +94,10 @@ struct WalkOptions {
                                      // acceleration sent as feed-forward torque [-]
   double swing_zmp = 1.0;  // share of the swinging legs' ZMP shift (walking::SwingZmpGain, from
                            // the model) the preview plans the CoM against [-]
+  // the gait's keys (those of a --params file) set by the command line, the robot profile's
+  // walking: or a --params file; max_forward, step_height and step_time not among them are
+  // derived from the leg's length (derived_gait.h)
+  std::vector<std::string> given;
   std::vector<WalkCommand> commands;
   std::string params_file;       // YAML: gait, preview and limit parameters (walk_commands.cc)
   std::string terrain;           // MJCF scene whose static geometry the steps are put on
@@ -204,6 +208,8 @@ class WalkController : public BalanceController {
   // refuses a max_forward and step timing whose swing needs more than the hip can accelerate
   ConfigStatus FitSwing();
   ConfigStatus FitPhysics(double leg_length);
+  // stride, swing height and step time from the leg's length where not given (derived_gait.h)
+  void DeriveGait(double leg_length);
   ConfigStatus LoadTerrain();
   // hip joint to sole along the left leg (the model) [m]; 0 when no chain is found; `*hip`:
   // the hip joint (the chain's first anchor) in the model's current pose
@@ -356,6 +362,7 @@ class WalkController : public BalanceController {
   // less the leg's gravity load, over its inertia; infinite when not known): a landing moved or
   // brought forward must stay within the travel this allows over the rest of the swing
   double swing_accel_limit_ = std::numeric_limits<double>::infinity();
+  bool gait_derived_ = false;  // DeriveGait has run (and said what it derived)
   // how far the stepping strategy has moved the footholds (plan frame [m]): the command's later
   // steps go on from there (Remap), not back onto the plan the robot was pushed off
   Eigen::Vector2d recovery_shift_ = Eigen::Vector2d::Zero();

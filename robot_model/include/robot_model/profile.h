@@ -78,6 +78,7 @@ struct RobotProfile {
   // the joints' servo balance and walk use by default (their --servo-hz, --load-feedforward)
   double servo_frequency = 0;      // [Hz], 0: the producer's suggested gains
   bool load_feedforward = false;
+  bool load_feedforward_given = false;  // the key is in the profile (else walk and balance derive it)
 };
 
 // True when `path` names a profile (".yaml" or ".yml").

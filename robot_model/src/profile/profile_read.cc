@@ -88,6 +88,7 @@ class Reader {
       if (!n["load_feedforward"].IsScalar() || !YAML::convert<bool>::decode(n["load_feedforward"], v))
         Fail(n["load_feedforward"], "servo.load_feedforward", "must be true or false");
       p->load_feedforward = v;
+      p->load_feedforward_given = true;
     }
   }
 
