@@ -1,0 +1,59 @@
+// The figures walk and balance derive from the robot (controllers/derived_gait.h) against their
+// closed forms.
+#include "controllers/derived_gait.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "controllers/walk.h"
+
+namespace ohrp::controllers {
+namespace {
+
+// dynamic similarity: lengths scale as L, times as sqrt(L / g)
+TEST(DerivedGait, LengthsScaleWithTheLegTimesWithItsSquareRoot) {
+  const DerivedGait d = ScaleGait(0.5, 2.0, 0.25, 0.04, 0.8);
+  EXPECT_DOUBLE_EQ(d.ratio, 0.25);
+  EXPECT_DOUBLE_EQ(d.max_forward, 0.0625);  // 0.25 x 0.25
+  EXPECT_DOUBLE_EQ(d.step_height, 0.01);    // 0.04 x 0.25
+  EXPECT_DOUBLE_EQ(d.step_time, 0.4);       // 0.8 x sqrt(0.25)
+  // the Froude number v^2 / (g L) of the walk, v = stride / step time, is the anchor's
+  const double v = d.max_forward / d.step_time, v0 = 0.25 / 0.8;
+  EXPECT_NEAR(v * v / 0.5, v0 * v0 / 2.0, 1e-12);
+}
+
+// HRP-1S's leg (and one within kSameLeg of it) keeps walk's defaults exactly
+TEST(DerivedGait, TheAnchorKeepsItsFigures) {
+  const walking::StepLimits lim;
+  const walking::GaitOptions gait;
+  for (double leg : {kAnchorLegLength, kAnchorLegLength * (1 + 0.9 * kSameLeg),
+                     kAnchorLegLength * (1 - 0.9 * kSameLeg)}) {
+    const DerivedGait d =
+        ScaleGait(leg, kAnchorLegLength, lim.max_forward, gait.step_height, gait.step_time);
+    EXPECT_EQ(d.ratio, 1.0);
+    EXPECT_EQ(d.max_forward, lim.max_forward);
+    EXPECT_EQ(d.step_height, gait.step_height);
+    EXPECT_EQ(d.step_time, gait.step_time);
+  }
+  const DerivedGait d = ScaleGait(kAnchorLegLength * (1 + 2 * kSameLeg), kAnchorLegLength, 0.25,
+                                  0.04, 0.8);
+  EXPECT_DOUBLE_EQ(d.ratio, 1 + 2 * kSameLeg);
+}
+
+// the sag is |tau| / kp at the joint where it is largest; joints without stiffness are skipped
+TEST(DerivedGait, LargestSagOverTheLegsJoints) {
+  const double tau[5] = {100, -30, 8, 50, 1000};
+  const double kp[5] = {1e4, 1000, 0, 2000, 10};
+  const int leg[4] = {0, 1, 2, 3};  // joint 4 is not the leg's
+  const SagEstimate s = LargestSag(leg, 4, tau, kp);
+  EXPECT_EQ(s.joint, 1);
+  EXPECT_DOUBLE_EQ(s.sag, 0.03);  // 30 / 1000 beats 50 / 2000 and 100 / 1e4
+  EXPECT_DOUBLE_EQ(s.tau, -30);
+  EXPECT_DOUBLE_EQ(s.kp, 1000);
+  const int none[1] = {2};
+  EXPECT_EQ(LargestSag(none, 1, tau, kp).joint, -1);
+}
+
+}  // namespace
+}  // namespace ohrp::controllers
