@@ -57,3 +57,55 @@ TEST(DerivedGait, LargestSagOverTheLegsJoints) {
 
 }  // namespace
 }  // namespace ohrp::controllers
+
+namespace ohrp::controllers {
+namespace {
+
+WalkOptions Options(const std::string& model, const std::string& keyframe) {
+  WalkOptions o;
+  o.balance.model = model;
+  o.balance.keyframe = keyframe;
+  o.commands.push_back({});
+  o.commands.back().x = 0.5;
+  o.commands.back().text = "goal 0.5 0 0";
+  return o;
+}
+
+// HRP-1S (the default model): its leg is the anchor, walk's defaults stay; its servo is stiff
+TEST(DerivedGait, HRP1SKeepsWalksDefaultsAndNoFeedforward) {
+  ConfigStatus status;
+  auto walk = WalkController::Create(Options("", ""), &status);
+  ASSERT_TRUE(walk) << status.message;
+  EXPECT_EQ(walk->walk_options().limits.max_forward, walking::StepLimits{}.max_forward);
+  EXPECT_EQ(walk->walk_options().gait.step_height, walking::GaitOptions{}.step_height);
+  EXPECT_EQ(walk->walk_options().gait.step_time, walking::GaitOptions{}.step_time);
+  EXPECT_EQ(walk->walk_options().balance.load_feedforward, 0);
+}
+
+// a leg of another length: the three figures by the one ratio r (lengths r, times sqrt(r));
+// a figure given (here the step time, as the command line or the profile gives it) stays
+TEST(DerivedGait, AnotherLegScalesTheFiguresByOneRatio) {
+  const std::string child = std::string(OHRP_SOURCE_DIR) + "/tests/robots/child_derived.yaml";
+  WalkOptions o = Options(child, "stand");
+  o.gait.step_time = 0.7;
+  o.given.push_back("step_time");
+  ConfigStatus status;
+  auto walk = WalkController::Create(o, &status);
+  ASSERT_TRUE(walk) << status.message;
+  const WalkOptions& w = walk->walk_options();
+  const double r = w.limits.max_forward / walking::StepLimits{}.max_forward;
+  EXPECT_GT(r, 0.3);
+  EXPECT_LT(r, 0.9);  // the child's leg is shorter than HRP-1S's
+  EXPECT_NEAR(w.gait.step_height, r * walking::GaitOptions{}.step_height, 1e-12);
+  EXPECT_EQ(w.gait.step_time, 0.7);
+  // its position servos sag beyond kSagLimit under its weight: the feed-forward is on
+  EXPECT_EQ(w.balance.load_feedforward, 1);
+  o = Options(child, "stand");
+  walk = WalkController::Create(o, &status);
+  ASSERT_TRUE(walk) << status.message;
+  EXPECT_NEAR(walk->walk_options().gait.step_time,
+              std::sqrt(r) * walking::GaitOptions{}.step_time, 1e-12);
+}
+
+}  // namespace
+}  // namespace ohrp::controllers

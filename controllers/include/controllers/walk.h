@@ -161,6 +161,8 @@ struct WalkStats {
 class WalkController : public BalanceController {
  public:
   static std::unique_ptr<WalkController> Create(const WalkOptions& options, ConfigStatus* status);
+  // the options as set up (the robot's figures derived, docs/robots.md "Derived from the robot")
+  const WalkOptions& walk_options() const { return walk_options_; }
   // SIGUSR1's handler calls this (async-signal-safe): stop the walk under way
   static void RequestWalkStop() noexcept;
 
