@@ -145,7 +145,8 @@ int main(int argc, char** argv) {
 
   // what the command line set of what walk otherwise derives from the robot
   for (const auto& [flag, key] : {std::pair<const char*, const char*>{"--max-stride", "max_forward"},
-                                  {"--step-height", "step_height"}, {"--step-time", "step_time"}})
+                                  {"--step-height", "step_height"}, {"--step-time", "step_time"},
+                                  {"--com-lower", "com_lower"}})
     if (app.count(flag) > 0) o.given.push_back(key);
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;
