@@ -145,8 +145,7 @@ int main(int argc, char** argv) {
 
   // what the command line set of what walk otherwise derives from the robot
   for (const auto& [flag, key] : {std::pair<const char*, const char*>{"--max-stride", "max_forward"},
-                                  {"--step-height", "step_height"}, {"--step-time", "step_time"},
-                                  {"--com-lower", "com_lower"}})
+                                  {"--step-height", "step_height"}, {"--step-time", "step_time"}})
     if (app.count(flag) > 0) o.given.push_back(key);
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;

@@ -213,10 +213,8 @@ ConfigStatus WalkController::FitStance(const double* q) {
     nominal_.p[i].z() = 0;
     nominal_.yaw[i] = sole_yaw_B_[i];
   }
-  Eigen::Vector3d hip = mid;
-  const double leg = LegLength(&hip);
-  DeriveGait(leg);  // before the walking CoM height: com_lower may be derived
   zc_ = kin_ik_->p_WCoM().z() - mid.z() - walk_options_.com_lower;
+  Eigen::Vector3d hip = mid;
   walking::StepLimits& lim = walk_options_.limits;
   lim.width = (p[0] - p[1]).head<2>().norm();
   const model::SoleMap& sole = kin_ik_->soles()[soles[0]];
@@ -227,6 +225,8 @@ ConfigStatus WalkController::FitStance(const double* q) {
   lim.min_width = std::min(lim.min_width, lim.width);
   if (const std::string e = walking::CheckLimits(lim); !e.empty())
     return ConfigStatus::Fail(ConfigError::kOption, "step limits: " + e);
+  const double leg = LegLength(&hip);
+  DeriveGait(leg);
   // the legs' reach for steps down (walking::StepDownDrop): a leg stretched to kLegReach of its
   // length (the knee still bent, away from its singularity), the hip joint at the walking height
   constexpr double kLegReach = 0.95;
@@ -271,15 +271,13 @@ void WalkController::DeriveGait(double leg) {
   take("max_forward", &walk_options_.limits.max_forward, d.max_forward, "m");
   take("step_height", &walk_options_.gait.step_height, d.step_height, "m");
   take("step_time", &walk_options_.gait.step_time, d.step_time, "s");
-  take("com_lower", &walk_options_.com_lower, d.ratio * WalkOptions{}.com_lower, "m");
   if (derived.empty()) return;
   std::fprintf(stderr,
                "%s: derived from the leg (%s; the rest given): leg %.4f m = %.3f x HRP-1S's "
-               "%.3f m; lengths scale with the leg (HRP-1S: stride %.2f m, swing %.3f m, CoM "
-               "%.3f m lower walking), times with sqrt(leg / g) (HRP-1S: %.2f s steps)\n",
+               "%.3f m; lengths scale with the leg (HRP-1S: stride %.2f m, swing %.3f m), times "
+               "with sqrt(leg / g) (HRP-1S: %.2f s steps)\n",
                walk_options_.balance.program.c_str(), derived.c_str(), leg, d.ratio,
-               kAnchorLegLength, lim0.max_forward, gait0.step_height, WalkOptions{}.com_lower,
-               gait0.step_time);
+               kAnchorLegLength, lim0.max_forward, gait0.step_height, gait0.step_time);
 }
 
 ConfigStatus WalkController::FitPhysics(double leg) {

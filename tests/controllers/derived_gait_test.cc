@@ -79,7 +79,6 @@ TEST(DerivedGait, HRP1SKeepsWalksDefaultsAndNoFeedforward) {
   EXPECT_EQ(walk->walk_options().limits.max_forward, walking::StepLimits{}.max_forward);
   EXPECT_EQ(walk->walk_options().gait.step_height, walking::GaitOptions{}.step_height);
   EXPECT_EQ(walk->walk_options().gait.step_time, walking::GaitOptions{}.step_time);
-  EXPECT_EQ(walk->walk_options().com_lower, WalkOptions{}.com_lower);
   EXPECT_EQ(walk->walk_options().balance.load_feedforward, 0);
 }
 
@@ -99,7 +98,6 @@ TEST(DerivedGait, AnotherLegScalesTheFiguresByOneRatio) {
   EXPECT_LT(r, 0.9);  // the child's leg is shorter than HRP-1S's
   EXPECT_NEAR(w.gait.step_height, r * walking::GaitOptions{}.step_height, 1e-12);
   EXPECT_EQ(w.gait.step_time, 0.7);
-  EXPECT_NEAR(w.com_lower, r * WalkOptions{}.com_lower, 1e-12);  // a length: the CoM's lowering
   // its position servos sag beyond kSagLimit under its weight: the feed-forward is on
   EXPECT_EQ(w.balance.load_feedforward, 1);
   o = Options(child, "stand");
