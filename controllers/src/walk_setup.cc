@@ -262,15 +262,17 @@ void WalkController::DeriveGait(double leg) {
                                   gait0.step_time);
   std::string derived;
   char buf[120];
-  auto take = [&](const char* key, double* value, double v, const char* unit) {
-    if (is_given(key)) return;
+  // a figure given, or set to another value than the default by a program building WalkOptions
+  // itself, stays
+  auto take = [&](const char* key, double* value, double v, double fallback, const char* unit) {
+    if (is_given(key) || *value != fallback) return;
     *value = v;
     std::snprintf(buf, sizeof buf, "%s%s %.3f %s", derived.empty() ? "" : ", ", key, v, unit);
     derived += buf;
   };
-  take("max_forward", &walk_options_.limits.max_forward, d.max_forward, "m");
-  take("step_height", &walk_options_.gait.step_height, d.step_height, "m");
-  take("step_time", &walk_options_.gait.step_time, d.step_time, "s");
+  take("max_forward", &walk_options_.limits.max_forward, d.max_forward, lim0.max_forward, "m");
+  take("step_height", &walk_options_.gait.step_height, d.step_height, gait0.step_height, "m");
+  take("step_time", &walk_options_.gait.step_time, d.step_time, gait0.step_time, "s");
   if (derived.empty()) return;
   std::fprintf(stderr,
                "%s: derived from the leg (%s; the rest given): leg %.4f m = %.3f x HRP-1S's "

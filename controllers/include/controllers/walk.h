@@ -95,7 +95,8 @@ struct WalkOptions {
   double swing_zmp = 1.0;  // share of the swinging legs' ZMP shift (walking::SwingZmpGain, from
                            // the model) the preview plans the CoM against [-]
   // the gait's keys (those of a --params file) set by the command line, the robot profile's
-  // walking: or a --params file; max_forward, step_height and step_time not among them are
+  // walking: or a --params file; max_forward, step_height and step_time not among them and still
+  // at their defaults (a program building WalkOptions may set them) are
   // derived from the leg's length (derived_gait.h)
   std::vector<std::string> given;
   std::vector<WalkCommand> commands;
