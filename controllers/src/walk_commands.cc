@@ -1,7 +1,9 @@
 // The walk controller's inputs: command lines and the YAML parameter file (see walk.h).
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -20,7 +22,8 @@ std::string At(const std::string& path, const YAML::Node& node) {
   return path + ":" + std::to_string(node.Mark().line + 1) + ": ";
 }
 
-ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, WalkOptions* o);
+ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, WalkOptions* o,
+                             const std::vector<std::string>& keep);
 
 }  // namespace
 
@@ -145,7 +148,8 @@ bool PlanWalkCommand(const WalkCommand& c, const walking::FeetPose& feet,
   return true;
 }
 
-ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
+ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o,
+                            const std::vector<std::string>& keep) {
   std::ifstream f(path);
   if (!f) return ConfigStatus::Fail(ConfigError::kFile, path + ": cannot be read");
   std::stringstream text;
@@ -159,10 +163,11 @@ ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o) {
   }
   if (!root.IsMap())
     return ConfigStatus::Fail(ConfigError::kFile, path + ": expected a map of parameters (docs/walking.md)");
-  return ApplyWalkParams(root, path, o);
+  return ApplyWalkParams(root, path, o, keep);
 }
 
-ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o) {
+ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o,
+                                   const std::vector<std::string>& keep) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(profile);
@@ -174,13 +179,15 @@ ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o) {
   if (!root["walking"].IsMap())
     return ConfigStatus::Fail(ConfigError::kFile, At(profile, root["walking"]) +
                                                       "walking: expected a map of walk's parameters (docs/walking.md)");
-  return ApplyWalkParams(root["walking"], profile, o);
+  return ApplyWalkParams(root["walking"], profile, o, keep);
 }
 
 namespace {
 
-// the parameters of map `root` (a --params file, or a profile's walking:) into `o`
-ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, WalkOptions* o) {
+// the parameters of map `root` (a --params file, or a profile's walking:) into `o`, but for
+// those in `keep` (the command line's), which are checked and said to be overridden
+ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, WalkOptions* o,
+                             const std::vector<std::string>& keep) {
   // every key and where its value goes
   walking::GaitOptions& g = o->gait;
   walking::StepLimits& l = o->limits;
@@ -234,6 +241,11 @@ ConfigStatus ApplyWalkParams(const YAML::Node& root, const std::string& path, Wa
       const std::string where = At(path, kv.second) + key;
       if (std::string e = cli::CheckPlausible(q->second, v, where); !e.empty())
         return ConfigStatus::Fail(ConfigError::kOption, e);
+    }
+    if (std::find(keep.begin(), keep.end(), key) != keep.end()) {
+      std::fprintf(stderr, "walk: %s%s: %g overridden by the command line\n",
+                   At(path, kv.second).c_str(), key.c_str(), v);
+      continue;
     }
     o->given.push_back(key);
     if (key == "start_push") g.start_push = v != 0;

@@ -143,9 +143,12 @@ int main(int argc, char** argv) {
     o.commands.push_back(c);
   }
 
-  // what the command line set of what walk otherwise derives from the robot
+  // what the command line set: kept over the profile's walking: and a --params file, and not
+  // derived from the robot
   for (const auto& [flag, key] : {std::pair<const char*, const char*>{"--max-stride", "max_forward"},
-                                  {"--step-height", "step_height"}, {"--step-time", "step_time"}})
+                                  {"--step-height", "step_height"}, {"--step-time", "step_time"},
+                                  {"--double-support", "double_support_ratio"},
+                                  {"--com-lower", "com_lower"}})
     if (app.count(flag) > 0) o.given.push_back(key);
   ohrp::model::InstallMujocoHandlers(OnMujocoFatal);
   ConfigStatus status;

@@ -48,13 +48,15 @@ using walk_geometry::YawOf;
 std::unique_ptr<WalkController> WalkController::Create(const WalkOptions& options,
                                                        ConfigStatus* status) {
   WalkOptions o = options;
-  // the robot profile's walking parameters, then the parameter file's
+  // the robot profile's walking parameters, then the parameter file's; what the command line
+  // set (the keys already given) stays
+  const std::vector<std::string> command_line = o.given;
   if (model::IsProfilePath(o.balance.model)) {
-    *status = LoadProfileWalkParams(o.balance.model, &o);
+    *status = LoadProfileWalkParams(o.balance.model, &o, command_line);
     if (!status->ok()) return nullptr;
   }
   if (!o.params_file.empty()) {
-    *status = LoadWalkParams(o.params_file, &o);
+    *status = LoadWalkParams(o.params_file, &o, command_line);
     if (!status->ok()) return nullptr;
   }
   *status = CheckWalkOptions(o);

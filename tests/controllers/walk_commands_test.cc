@@ -116,6 +116,27 @@ TEST(WalkParams, AProfilesWalkingMapIsRead) {
   EXPECT_NE(s.message.find("max_froward"), std::string::npos) << s.message;
 }
 
+// a key set on the command line (walk_main puts it in `given`) keeps its value over the profile's
+// walking: and a parameter file's; the others are read, and an unknown key is still refused
+TEST(WalkParams, TheCommandLineWinsOverTheProfileAndTheParameterFile) {
+  WalkOptions o;
+  o.gait.step_time = 1.1;
+  o.given = {"step_time"};
+  const std::string head = "model: robot.xml\nfeet:\n  left: {body: l}\n  right: {body: r}\n";
+  ConfigStatus s = LoadProfileWalkParams(
+      Temp("keep_profile.yaml", head + "walking: {step_time: 0.9, max_side: 0.05}\n"), &o,
+      o.given);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_DOUBLE_EQ(o.gait.step_time, 1.1);
+  EXPECT_DOUBLE_EQ(o.limits.max_side, 0.05);
+  s = LoadWalkParams(Temp("keep.yaml", "step_time: 0.7\nstep_height: 0.03\n"), &o, {"step_time"});
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_DOUBLE_EQ(o.gait.step_time, 1.1);
+  EXPECT_DOUBLE_EQ(o.gait.step_height, 0.03);
+  s = LoadWalkParams(Temp("keep_bad.yaml", "step_time: 99\n"), &o, {"step_time"});
+  EXPECT_EQ(s.code, ConfigError::kOption) << "a kept key is still checked: " << s.message;
+}
+
 // values out of range are refused when the controller is created (before anything runs)
 TEST(WalkOptions, RefusesValuesOutOfRange) {
   ConfigStatus status;

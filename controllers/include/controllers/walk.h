@@ -97,7 +97,8 @@ struct WalkOptions {
   // the gait's keys (those of a --params file) set by the command line, the robot profile's
   // walking: or a --params file; max_forward, step_height and step_time not among them and still
   // at their defaults (a program building WalkOptions may set them) are
-  // derived from the leg's length (derived_gait.h)
+  // derived from the leg's length (derived_gait.h); those the command line set before Create
+  // keep their values over the profile's and the --params file's
   std::vector<std::string> given;
   std::vector<WalkCommand> commands;
   std::string params_file;       // YAML: gait, preview and limit parameters (walk_commands.cc)
@@ -114,11 +115,14 @@ struct WalkOptions {
   double log_seconds = 900;      // [s] of log kept in memory at most
 };
 
-// the YAML parameter file into `o` (strict keys; errors name the file, line and key)
-ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o);
+// the YAML parameter file into `o` (strict keys; errors name the file, line and key); a key in
+// `keep` (set on the command line) is checked but keeps `o`'s value
+ConfigStatus LoadWalkParams(const std::string& path, WalkOptions* o,
+                            const std::vector<std::string>& keep = {});
 // a robot profile's walking: map (robot_model/profile.h) into `o`, the same keys as a parameter
 // file; nothing when the profile has none
-ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o);
+ConfigStatus LoadProfileWalkParams(const std::string& profile, WalkOptions* o,
+                                   const std::vector<std::string>& keep = {});
 
 struct WalkStats {
   uint64_t walk_cycles = 0;     // cycles under the generator
