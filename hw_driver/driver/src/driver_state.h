@@ -101,7 +101,6 @@ struct Driver::Impl {
   double time = 0;             // driver time of cycle k [s]
   datalog::Recorder* log = nullptr;  // the data log (--log), or none
   uint64_t logged_board_ns = 0;      // log_board_time: the boards' time of the last row
-  uint64_t log_repeats = 0;          // log_board_time: cycles not logged (no new board data)
 
   void Record(EventKind kind, int64_t value = 0, int board = -1, int joint = -1,
               double reading = 0) noexcept {
@@ -151,11 +150,9 @@ struct Driver::Impl {
     if (!record || !log || k % static_cast<uint64_t>(opt.log_every) != 0) return;
     if (!opt.log_board_time) {
       log->Push(s, guard.references(), cmd.guard.holding);  // the last accepted block's guard
-    } else if (in.time_ns > logged_board_ns) {  // the boards' time: new data only
-      logged_board_ns = in.time_ns;
+    } else if (in.time_ns > logged_board_ns) {  // the boards' time: new data only (the gaps
+      logged_board_ns = in.time_ns;              // in the log's time show the cycles left out)
       log->Push(s, guard.references(), cmd.guard.holding, static_cast<double>(in.time_ns) * 1e-9);
-    } else {
-      ++log_repeats;
     }
   }
 
