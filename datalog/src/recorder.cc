@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -114,7 +115,7 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
 Recorder::~Recorder() { Close(); }
 
 bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs,
-                    uint32_t guard_holding) {
+                    uint32_t guard_holding, double time) {
   const uint64_t head = head_.load(std::memory_order_relaxed);
   if (head - tail_.load(std::memory_order_acquire) >= capacity_) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
@@ -123,7 +124,7 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs,
   cycles_[head % capacity_] = s.cycle;
   double* row = &ring_[(head % capacity_) * width_];
   size_t k = 0;
-  row[k++] = s.time;
+  row[k++] = std::isnan(time) ? s.time : time;
   if (base_) {
     for (int i = 0; i < 3; ++i) row[k++] = s.sim_truth.p_WB[i];
     for (int i = 0; i < 4; ++i) row[k++] = s.sim_truth.quat_WB[i];

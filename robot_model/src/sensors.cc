@@ -106,4 +106,35 @@ void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
   (void)m;
 }
 
+bool BindSensorParams(const SensorParams& file, const RobotMap& robot, SensorParams* by_index,
+                      std::string* error) {
+  std::vector<std::string> joints, imus, forces;
+  for (const JointMap& j : robot.joints) joints.push_back(j.name);
+  for (const auto& u : robot.imus) imus.push_back(u.name);
+  for (const auto& f : robot.forces) forces.push_back(f.name);
+  return BindSensorParams(file, joints, imus, forces, by_index, error);
+}
+
+void ApplySensorModel(const RobotMap& robot, const SensorSelection& selection,
+                      SensorModel* sensors, shm::SensorBlock* s) noexcept {
+  const int nj = static_cast<int>(robot.joints.size());
+  if (selection.q)
+    for (int j = 0; j < nj; ++j) s->q[j] = sensors->Encoder(j, s->q[j]);
+  if (selection.dq)
+    for (int j = 0; j < nj; ++j) s->dq[j] = sensors->Velocity(j, s->dq[j]);
+  if (selection.tau)
+    for (int j = 0; j < nj; ++j) s->tau[j] = sensors->Torque(j, s->tau[j]);
+  if (selection.force_torque)
+    for (size_t f = 0; f < robot.forces.size(); ++f)
+      sensors->ForceTorque(static_cast<int>(f), s->force[f].force, s->force[f].torque);
+  for (size_t u = 0; u < robot.imus.size(); ++u) {
+    if (selection.gyro || selection.accel) {
+      double unused[3] = {};  // a sensor the run does not give stays unread (its draws still made)
+      sensors->Imu(static_cast<int>(u), selection.gyro ? s->imu[u].gyro : unused,
+                   selection.accel ? s->imu[u].accel : unused);
+    }
+    if (selection.orientation) sensors->Orientation(static_cast<int>(u), s->imu[u].quat_WI);
+  }
+}
+
 }  // namespace ohrp::model

@@ -164,19 +164,15 @@ void HostRun::SetUpCommandDelay() {
 // the noise effect (--effects noise=on), added: one sensor model. Its seed is --sensor-seed with
 // a file, the effect's noise.seed without.
 bool HostRun::SetUpSensorModel(std::string* why) {
-  std::vector<std::string> joints, imus, forces;
   for (const model::JointMap& j : robot.joints) {
-    joints.push_back(j.name);
     q_min.push_back(j.q_min);
     q_max.push_back(j.q_max);
   }
-  for (const auto& u : robot.imus) imus.push_back(u.name);
-  for (const auto& f : robot.forces) forces.push_back(f.name);
   const bool noise = effects.on(Effect::kNoise);
   if (o.sensor_file.empty() && !noise) return true;
   model::SensorParams bound;  // the file's (none: every sensor as simulated), in the robot's order
-  if (!model::BindSensorParams(o.sensor_file.empty() ? model::SensorParams{} : o.sensors, joints,
-                               imus, forces, &bound, why)) {
+  if (!model::BindSensorParams(o.sensor_file.empty() ? model::SensorParams{} : o.sensors, robot,
+                               &bound, why)) {
     why->insert(0, "--sensor-file " + o.sensor_file + ": ");
     return false;
   }

@@ -1,5 +1,4 @@
-// The sensor selection of an effects plan, the noise effect as sensor parameters, and the
-// sensor model on a published block (effects.h).
+// The sensor selection of an effects plan and the noise effect as sensor parameters (effects.h).
 #include "sim_host/effects.h"
 
 namespace ohrp::sim {
@@ -40,28 +39,6 @@ model::SensorParams NoiseAsSensorParams(const NoiseOptions& o, const model::Robo
     p.forces.push_back(f);
   }
   return p;
-}
-
-void ApplySensorModel(const model::RobotMap& robot, const model::SensorSelection& selection,
-                      model::SensorModel* sensors, shm::SensorBlock* s) noexcept {
-  const int nj = static_cast<int>(robot.joints.size());
-  if (selection.q)
-    for (int j = 0; j < nj; ++j) s->q[j] = sensors->Encoder(j, s->q[j]);
-  if (selection.dq)
-    for (int j = 0; j < nj; ++j) s->dq[j] = sensors->Velocity(j, s->dq[j]);
-  if (selection.tau)
-    for (int j = 0; j < nj; ++j) s->tau[j] = sensors->Torque(j, s->tau[j]);
-  if (selection.force_torque)
-    for (size_t f = 0; f < robot.forces.size(); ++f)
-      sensors->ForceTorque(static_cast<int>(f), s->force[f].force, s->force[f].torque);
-  for (size_t u = 0; u < robot.imus.size(); ++u) {
-    if (selection.gyro || selection.accel) {
-      double unused[3] = {};  // a sensor the run does not give stays unread (its draws still made)
-      sensors->Imu(static_cast<int>(u), selection.gyro ? s->imu[u].gyro : unused,
-                   selection.accel ? s->imu[u].accel : unused);
-    }
-    if (selection.orientation) sensors->Orientation(static_cast<int>(u), s->imu[u].quat_WI);
-  }
 }
 
 }  // namespace ohrp::sim

@@ -97,22 +97,26 @@ TEST(SensorGap, BiasAndNoiseHaveTheirMeanAndStd) {
   g.gyro_bias[1] = 0.05;
   g.accel_noise = 0.1;
   g.force_noise = 2.0;
-  SensorGap s(g, 1, 1, 42);
+  SensorGap s(g, 1, 1, {}, 42);
+  ohrp::model::RobotMap robot;  // two joints, one IMU, one F/T sensor
+  robot.joints.resize(2);
+  robot.imus.resize(1);
+  robot.forces.resize(1);
   constexpr int kN = 20000;
   double sum = 0, sum2 = 0, gyro = 0, acc2 = 0, f2 = 0;
   for (int i = 0; i < kN; ++i) {
-    const double e = s.Encoder(1, 0.7) - 0.7;
+    shm::SensorBlock b{};
+    b.q[1] = 0.7;
+    s.Apply(robot, &b);
+    const double e = b.q[1] - 0.7;
     sum += e;
     sum2 += e * e;
-    shm::Imu u{};
-    s.Imu(0, &u);
-    gyro += u.gyro[1];
-    acc2 += u.accel[2] * u.accel[2];
-    EXPECT_EQ(u.gyro[0], 0.0);  // no noise asked on the rates
-    shm::ForceTorque f{};
-    s.ForceTorque(0, &f);
-    f2 += f.force[0] * f.force[0];
-    EXPECT_EQ(f.torque[2], 0.0);
+    gyro += b.imu[0].gyro[1];
+    acc2 += b.imu[0].accel[2] * b.imu[0].accel[2];
+    EXPECT_EQ(b.imu[0].gyro[0], 0.0);  // no noise asked on the rates
+    EXPECT_EQ(b.dq[1], 0.0);            // nor on the velocities
+    f2 += b.force[0].force[0] * b.force[0].force[0];
+    EXPECT_EQ(b.force[0].torque[2], 0.0);
   }
   const double mean = sum / kN, std = std::sqrt(sum2 / kN - mean * mean);
   // mean within 4 standard errors, std within 4 % (its standard error is 1/sqrt(2N) = 0.5 %)

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <atomic>
+#include <limits>
 #include <cstdint>
 #include <condition_variable>
 #include <memory>
@@ -78,8 +79,10 @@ class Recorder {
   ~Recorder();  // Close()
 
   // Queues one row (copies the values; no allocation, no lock). Returns false and counts a drop
-  // when the ring is full (the writer fell behind).
-  bool Push(const shm::SensorBlock& s, const shm::JointCommand* refs, uint32_t guard_holding = 0);
+  // when the ring is full (the writer fell behind). `time` (not NaN) is the row's time instead
+  // of s.time (hw_driver --log-time board: the boards' timestamp).
+  bool Push(const shm::SensorBlock& s, const shm::JointCommand* refs, uint32_t guard_holding = 0,
+            double time = std::numeric_limits<double>::quiet_NaN());
 
   // Writes out everything queued so far (not real-time safe).
   void Flush();

@@ -100,6 +100,7 @@ struct Driver::Impl {
   uint64_t k = 0;
   double time = 0;             // driver time of cycle k [s]
   datalog::Recorder* log = nullptr;  // the data log (--log), or none
+  uint64_t logged_board_ns = 0;      // log_board_time: the boards' time of the last row
 
   void Record(EventKind kind, int64_t value = 0, int board = -1, int joint = -1,
               double reading = 0) noexcept {
@@ -146,8 +147,13 @@ struct Driver::Impl {
     producer->PublishSensors();
     // the data log, as sim_host's: the block just published and the references the servos held
     // over the interval it ends (written in the previous cycle); a copy into the log's ring
-    if (record && log && k % static_cast<uint64_t>(opt.log_every) == 0)
+    if (!record || !log || k % static_cast<uint64_t>(opt.log_every) != 0) return;
+    if (!opt.log_board_time) {
       log->Push(s, guard.references(), cmd.guard.holding);  // the last accepted block's guard
+    } else if (in.time_ns > logged_board_ns) {  // the boards' time: new data only (the gaps
+      logged_board_ns = in.time_ns;              // in the log's time show the cycles left out)
+      log->Push(s, guard.references(), cmd.guard.holding, static_cast<double>(in.time_ns) * 1e-9);
+    }
   }
 
   void Write() noexcept {

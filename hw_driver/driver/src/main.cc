@@ -87,6 +87,11 @@ int main(int argc, char** argv) {
   app.add_option("--log-every", d.log_every, "cycles between rows of --log")
       ->capture_default_str()->check(ohrp::cli::Positive());
   app.add_flag("--log-dq", o.log_dq, "--log also records each joint's velocity (dq_<joint>)");
+  std::string log_time = "driver";
+  app.add_option("--log-time", log_time,
+                 "--log's time: driver (the servo cycle's) or board (the boards' timestamp of the "
+                 "data, the robot's time; a cycle without new board data is not logged)")
+      ->capture_default_str()->check(CLI::IsMember({"driver", "board"}));
   std::string log_max;
   app.add_option("--log-max", log_max,
                  "bound on --log's size: bytes, or with k, M, G (e.g. 50M); rows past it are not "
@@ -115,6 +120,7 @@ int main(int argc, char** argv) {
     return ohrp::hw::kExitUsage;
   }
   d.rt.lock_memory = !no_mlock;
+  d.log_board_time = log_time == "board";
   ohrp::hw::ParseWakeMode(wake, &d.wake.mode);  // one of the choices above
   ohrp::shm::ParseControllerLoss(loss, &d.on_controller_loss);  // one of the choices above
   return ohrp::hw::RunProgram(o);

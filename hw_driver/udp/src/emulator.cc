@@ -96,7 +96,17 @@ bool Emulator::SetUp(int* exit_code) {
     return false;
   }
   ApplyGapToModel(gap_, dofs, m_, d_);
-  sensor_gap_ = std::make_unique<SensorGap>(gap_, robot_.imus.size(), robot_.forces.size(),
+  model::SensorParams file;  // --sensor-file's, in the robot's order
+  if (!o_.gap.sensor_file.empty()) {
+    model::SensorParams read;
+    if (!model::ReadSensorParamsFile(o_.gap.sensor_file, &read, &error) ||
+        !model::BindSensorParams(read, robot_, &file, &error)) {
+      std::fprintf(stderr, "hw_emulator: --sensor-file %s: %s\n", o_.gap.sensor_file.c_str(),
+                   error.c_str());
+      return false;
+    }
+  }
+  sensor_gap_ = std::make_unique<SensorGap>(gap_, robot_.imus.size(), robot_.forces.size(), file,
                                             o_.seed + 0x5eed);
   if (!scene_->Reset(o_.keyframe, &error)) {
     std::fprintf(stderr, "hw_emulator: %s\n", error.c_str());
@@ -186,6 +196,9 @@ bool Emulator::SetUp(int* exit_code) {
                  LayoutString(layout_).c_str(), layout_.sensor_board(), o_.host.c_str(),
                  socket_.port(), o_.period, steps_per_cycle_, sim::ContactModelName(contact_), o_.loss, o_.late_rate, o_.late_ms,
                  DescribeGap(gap_).c_str());
+    if (!o_.gap.sensor_file.empty())
+      std::fprintf(stderr, "hw_emulator: --sensor-file %s: %s\n", o_.gap.sensor_file.c_str(),
+                   model::DescribeSensorParams(sensor_gap_->params()).c_str());
   }
   *exit_code = kEmuExitOk;
   return true;

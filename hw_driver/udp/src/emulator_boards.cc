@@ -128,7 +128,7 @@ void Emulator::HoldIdleBoards(double now) {
       shm::JointCommand& c = block_.joint[j];
       c = shm::JointCommand{};
       c.mode = shm::JointMode::kPosition;
-      c.q_ref = sensors_.q[j] + gap_.joint[j].bias;  // where its encoder reads it
+      c.q_ref = sensors_.q[j] + sensor_gap_->params().encoders[j].bias;  // where its encoder reads it
       c.kp = robot_.joints[j].default_kp;
       c.kd = robot_.joints[j].default_kd;
     }
@@ -250,6 +250,8 @@ void Emulator::FlushLate(double now) {
 // each motor board's state, then the sensor board's, stamped with the robot's time
 void Emulator::SendStates(double now) {
   const uint64_t t_ns = static_cast<uint64_t>(std::llround(d_->time * 1e9));
+  reported_ = sensors_;  // the readings as the robot's sensors give them: bias and noise
+  sensor_gap_->Apply(robot_, &reported_);
   MotorStatePacket mp;  // one packet filled for each board in turn
   for (size_t bi = 0; bi < motor_.size(); ++bi) SendMotorState(bi, t_ns, now, &mp);
   SendSensorState(t_ns, now);
@@ -275,9 +277,9 @@ void Emulator::SendMotorState(size_t bi, uint64_t t_ns, double now, MotorStatePa
     const int j = b.first + k;
     mp.joint[k].servo_on = servo_on_[j];
     mp.joint[k].fault = refused_[j] > 0 ? 1 : 0;
-    mp.joint[k].q = j == faults_.value_joint ? faults_.value : sensor_gap_->Encoder(j, sensors_.q[j]);
-    mp.joint[k].dq = sensors_.dq[j];
-    mp.joint[k].tau = sensors_.tau[j];
+    mp.joint[k].q = j == faults_.value_joint ? faults_.value : reported_.q[j];
+    mp.joint[k].dq = reported_.dq[j];
+    mp.joint[k].tau = reported_.tau[j];
   }
   if (Drop()) {
     ++b.states_dropped;
@@ -324,8 +326,7 @@ void Emulator::SendSensorState(uint64_t t_ns, double now) {
 // it froze at, a saturated one is pegged at its range
 void Emulator::ReadForceSensors(SensorStatePacket* sp) {
   for (int i = 0; i < sp->h.count; ++i) {
-    shm::ForceTorque f = sensors_.force[i];
-    sensor_gap_->ForceTorque(i, &f);
+    shm::ForceTorque f = reported_.force[i];
     if (faults_.stuck & (1u << i)) {
       if (!(frozen_ & (1u << i))) frozen_force_[i] = f;
       frozen_ |= 1u << i;
@@ -345,8 +346,7 @@ void Emulator::ReadForceSensors(SensorStatePacket* sp) {
 void Emulator::ReadImus(SensorStatePacket* sp) {
   for (int i = 0; i < sp->h.first; ++i) {
     const uint32_t bit = 1u << (8 + i);
-    shm::Imu u = sensors_.imu[i];
-    sensor_gap_->Imu(i, &u);
+    shm::Imu u = reported_.imu[i];
     if (faults_.stuck & bit) {
       if (!(frozen_ & bit)) frozen_imu_[i] = u;
       frozen_ |= bit;

@@ -113,6 +113,7 @@ class Emulator {
   bool servo_on_[shm::kMaxJoints] = {};  // per joint, what the motor boards report
   shm::CommandBlock block_{};
   shm::SensorBlock sensors_{};
+  shm::SensorBlock reported_{};  // sensors_ through the sensor gap (SendStates)
   shm::ForceTorque frozen_force_[shm::kMaxForceSensors] = {};
   shm::Imu frozen_imu_[shm::kMaxImus] = {};
   uint32_t frozen_ = 0;    // sensors whose frozen value is taken

@@ -99,6 +99,11 @@ int main(int argc, char** argv) {
   app.add_option("--ft-bias", o.gap.ft_bias,
                  "F,T or FX,FY,FZ,TX,TY,TZ: offset added to every F/T sensor's force [N] and "
                  "torque [N m] (in the sensor's frame)");
+  app.add_option("--sensor-file", o.gap.sensor_file,
+                 "the sensors as identified (ohrp identify --sensors' sensors.yaml, sim_host "
+                 "--sensor-file's format: encoder bias and noise, velocity, torque and orientation "
+                 "noise, IMU and F/T bias and noise per sensor), through sim_host's sensor model; "
+                 "added to the options above")->check(CLI::ExistingFile);
   app.add_option("--log", o.log_path,
                  "CSV log: robot time, base height and tilt, servos, faults, base x, y and yaw");
   app.add_option("--log-every", o.log_every, "cycles between log rows")->capture_default_str()

@@ -213,9 +213,22 @@ model::SensorParams GapSensors(const PlantGap& gap, size_t imus, size_t forces) 
   return p;
 }
 
+model::SensorParams GapAndFile(const PlantGap& gap, size_t imus, size_t forces,
+                               const model::SensorParams& file) {
+  model::SensorParams p = GapSensors(gap, imus, forces);
+  if (file.encoders.size() == p.encoders.size() && file.imus.size() == imus &&
+      file.forces.size() == forces) {
+    model::SensorParams sum = file;
+    model::AddSensorParams(p, &sum);
+    return sum;
+  }
+  return p;
+}
+
 }  // namespace
 
-SensorGap::SensorGap(const PlantGap& gap, size_t imus, size_t forces, uint64_t seed)
-    : model_(GapSensors(gap, imus, forces), seed) {}
+SensorGap::SensorGap(const PlantGap& gap, size_t imus, size_t forces,
+                     const model::SensorParams& file, uint64_t seed)
+    : model_(GapAndFile(gap, imus, forces, file), seed) {}
 
 }  // namespace ohrp::hw::udp

@@ -19,7 +19,12 @@
 //   --ft-noise F,T                        white noise std on each force [N] / torque [N m] axis
 //   --ft-bias F,T | FX,FY,FZ,TX,TY,TZ     added to every F/T sensor's force [N] / torque [N m]
 // JOINT is a joint's name or index; later entries override earlier ones (all=..., then one joint).
-// Velocities, torques and passive joints are reported as simulated.
+//   --sensor-file FILE                    the sensors as identified (ohrp identify --sensors'
+//                                         sensors.yaml, sim_host --sensor-file's format): per
+//                                         joint encoder bias and noise, velocity and torque noise,
+//                                         per IMU gyro, accelerometer and orientation bias/noise,
+//                                         per F/T sensor offset and noise, added to the above
+// Passive joints are reported as simulated.
 #pragma once
 
 #include <cstdint>
@@ -27,6 +32,7 @@
 #include <vector>
 
 #include "robot_model/sensor_params.h"
+#include "robot_model/sensors.h"
 #include "shm_bridge/layout.h"
 
 struct mjModel_;
@@ -44,6 +50,7 @@ struct GapOptions {
   double delay_ms = 0;
   double encoder_noise = 0;
   std::string imu_bias, imu_noise, ft_noise, ft_bias;
+  std::string sensor_file;
 };
 
 struct JointGap {
@@ -76,20 +83,25 @@ void ApplyGapToModel(const PlantGap& gap, const std::vector<int>& dof_adr, mjMod
 std::string DescribeGap(const PlantGap& gap);
 
 // The sensors as the robot's give them: bias and white noise through the one sensor model
-// (robot_model/sensor_params.h, which sim_host's --sensor-file uses too); no allocation after
-// construction.
+// (robot_model/sensors.h ApplySensorModel, which sim_host uses on what it publishes: the same
+// draws for the same parameters and seed); no allocation after construction.
 class SensorGap {
  public:
-  // `imus`, `forces`: how many the robot has (each gets the gap's IMU / F/T bias and noise)
-  SensorGap(const PlantGap& gap, size_t imus, size_t forces, uint64_t seed);
-  double Encoder(int j, double q) { return model_.Encoder(j, q); }
-  void Imu(int u, shm::Imu* imu) { model_.Imu(u, imu->gyro, imu->accel); }
-  void ForceTorque(int f, shm::ForceTorque* ft) { model_.ForceTorque(f, ft->force, ft->torque); }
+  // `imus`, `forces`: how many the robot has (each gets the gap's IMU / F/T bias and noise);
+  // `file`: --sensor-file's entries in the robot's order (model::BindSensorParams; empty: none),
+  // added to the options' (biases add, noise in quadrature)
+  SensorGap(const PlantGap& gap, size_t imus, size_t forces, const model::SensorParams& file,
+            uint64_t seed);
+  // every reading of `s` (FillSensors's) as the boards report it
+  void Apply(const model::RobotMap& robot, shm::SensorBlock* s) {
+    model::ApplySensorModel(robot, model::SensorSelection{}, &model_, s);
+  }
   // the references the boards' PD acts on: a position reference in the encoder's frame becomes
   // one in the joint's (bias taken out; kept within [q_min, q_max] when it was)
   void ToJointFrame(const double* q_min, const double* q_max, shm::CommandBlock* b) const {
     model_.ToJointFrame(q_min, q_max, b);
   }
+  const model::SensorParams& params() const { return model_.params(); }
 
  private:
   model::SensorModel model_;

@@ -1,9 +1,9 @@
 // A robot's sensors as identified (issue 35): per channel a constant bias and the std of white
 // Gaussian noise, so that a simulated sensor reads like the robot's. `ohrp identify --sensors`
 // writes the file (DIR/sensors.yaml); sim_host (`--sensor-file`, or a robot profile's
-// `sensor_file:`) applies it to what its sensors report; hw_emulator's sensor options
-// (--encoder-bias, --imu-bias, --ft-noise ...: hw_driver/udp/src/plant_gap.h) go through the
-// same SensorModel. SI units: rad, rad/s, m/s^2, N, N m.
+// `sensor_file:`) applies it to what its sensors report, and so does hw_emulator (`--sensor-file`,
+// its sensor options --encoder-bias, --imu-bias, --ft-noise ... added: hw_driver/udp/src/
+// plant_gap.h), both through model::ApplySensorModel (robot_model/sensors.h). SI units: rad, rad/s, m/s^2, N, N m.
 //
 //   # written by ohrp identify --sensors (the comments give the standard errors)
 //   encoders:

@@ -3,6 +3,7 @@
 
 #include "shm_bridge/bridge.h"
 #include "robot_model/model.h"
+#include "robot_model/sensor_params.h"
 
 namespace ohrp::model {
 
@@ -27,5 +28,18 @@ struct SensorSelection {
 // are set to NaN (not measured) and their MuJoCo sensors are not read.
 void FillSensors(const RobotMap& robot, const mjModel* m, const mjData* d,
                  const SensorSelection& selection, shm::SensorBlock* out);
+
+// A sensor file's entries (ReadSensorParamsFile) bound to `robot`'s joints, IMUs and F/T sensors
+// by name (BindSensorParams), in the robot's order. False with `*error` naming an entry the robot
+// does not have.
+bool BindSensorParams(const SensorParams& file, const RobotMap& robot, SensorParams* by_index,
+                      std::string* error);
+
+// The sensor model on a block FillSensors filled: each field `selection` measures gets its bias
+// and noise; the others (NaN) stay as they are. One draw order (encoders, velocities, torques,
+// F/T, IMUs), whoever calls it: sim_host on what it publishes, hw_emulator on what its boards
+// report. Never allocates.
+void ApplySensorModel(const RobotMap& robot, const SensorSelection& selection,
+                      SensorModel* sensors, shm::SensorBlock* s) noexcept;
 
 }  // namespace ohrp::model

@@ -162,9 +162,7 @@ model::SensorSelection SelectSensors(const EffectsPlan& plan);
 // bias. sim_host adds them to a sensor file's (AddSensorParams) and runs one SensorModel.
 model::SensorParams NoiseAsSensorParams(const NoiseOptions& options, const model::RobotMap& robot);
 
-// The sensor model on a published block: each field `selection` measures gets its bias and
-// noise; the others (NaN) stay as they are. Never allocates.
-void ApplySensorModel(const model::RobotMap& robot, const model::SensorSelection& selection,
-                      model::SensorModel* sensors, shm::SensorBlock* s) noexcept;
+// The sensor model on a published block: robot_model/sensors.h (hw_emulator's too).
+using model::ApplySensorModel;
 
 }  // namespace ohrp::sim

@@ -11,23 +11,9 @@
 #include <sstream>
 
 namespace ohrp::identify {
+using detail::MovingAverage;
 using detail::Table;
 namespace {
-
-// the centred moving average of `width` samples at rows [h, n - h)
-std::vector<double> MovingAverage(const std::vector<double>& x, int width) {
-  const size_t h = static_cast<size_t>(width / 2);
-  std::vector<double> m;
-  if (x.size() < 2 * h + 1) return m;
-  double sum = 0;
-  for (size_t k = 0; k < 2 * h + 1; ++k) sum += x[k];
-  for (size_t k = h; k + h < x.size(); ++k) {
-    m.push_back(sum / (2 * h + 1));
-    if (k + h + 1 < x.size()) sum += x[k + h + 1] - x[k - h];
-  }
-  return m;
-}
-
 
 bool ReadTable(const std::string& path, const SensorOptions& o, Table* t, std::string* error) {
   std::ifstream in(path);
@@ -70,6 +56,19 @@ nlohmann::json J(const Stat& e) { return {{"value", e.value}, {"se", e.se}}; }
 }  // namespace
 
 namespace detail {
+
+std::vector<double> MovingAverage(const std::vector<double>& x, int width) {
+  const size_t h = static_cast<size_t>(width / 2);
+  std::vector<double> m;
+  if (x.size() < 2 * h + 1) return m;
+  double sum = 0;
+  for (size_t k = 0; k < 2 * h + 1; ++k) sum += x[k];
+  for (size_t k = h; k + h < x.size(); ++k) {
+    m.push_back(sum / (2 * h + 1));
+    if (k + h + 1 < x.size()) sum += x[k + h + 1] - x[k - h];
+  }
+  return m;
+}
 
 // refused when the channel's slow part moves more than tolerated (or than its noise explains)
 bool Still(const std::string& name, const std::vector<double>& x, const Stat& noise, int width,

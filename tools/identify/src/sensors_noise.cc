@@ -24,15 +24,9 @@ namespace {
 
 // v less its centred moving average of `width` samples, at rows [h, n - h)
 std::vector<double> HighPass(const std::vector<double>& v, int width) {
-  const size_t h = static_cast<size_t>(width / 2), n = v.size();
-  std::vector<double> out;
-  if (n < 2 * h + 1) return out;
-  double sum = 0;
-  for (size_t k = 0; k < 2 * h + 1; ++k) sum += v[k];
-  for (size_t k = h; k + h < n; ++k) {
-    out.push_back(v[k] - sum / (2 * h + 1));
-    if (k + h + 1 < n) sum += v[k + h + 1] - v[k - h];
-  }
+  std::vector<double> out = detail::MovingAverage(v, width);
+  const size_t h = static_cast<size_t>(width / 2);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = v[h + i] - out[i];
   return out;
 }
 

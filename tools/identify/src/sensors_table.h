@@ -17,6 +17,10 @@ struct Table {
   bool Has(const std::string& n) const { return col.count(n) != 0; }
 };
 
+// the centred moving average of `width` samples at rows [h, n - h), h = width / 2 (empty when x
+// is shorter than width); a high-pass is x[h + i] less its i-th value
+std::vector<double> MovingAverage(const std::vector<double>& x, int width);
+
 // refused (false, `*error` naming the channel) when x's slow part (its moving average) spans more
 // than max(tolerance, 8 noise / sqrt(width))
 bool Still(const std::string& name, const std::vector<double>& x, const Stat& noise, int width,

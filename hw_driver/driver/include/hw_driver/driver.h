@@ -133,6 +133,10 @@ struct DriverOptions {
   rt::RtSettings rt;
   WakeOptions wake;                // how each cycle waits for its start (wake.h)
   int log_every = 1;               // cycles between rows of the data log (Driver::SetLog)
+  // the data log's time: the boards' timestamp of the data (IoState::time_ns, the robot's time)
+  // instead of the driver's cycle; a cycle whose boards' time did not advance past the last
+  // row's is not logged (its data repeat a row's: a read that found no new state)
+  bool log_board_time = false;
   double tracking_time = 0.25;     // [s] a tracking error may last this long (board_checks.h)
   double reset_ramp_time = 0.2;    // [s] after a board reset: its joints ramp back from the
                                    // measured posture to their references
