@@ -157,6 +157,7 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   loaded_.assign(njoint_, 0);
   for (int j = 0; j < njoint_; ++j) loaded_[j] = CarriesFoot(j) ? 1 : 0;  // until measured
   braked_.assign(njoint_, 0);
+  chain_.assign(njoint_, 1);
   q_.assign(nq_, 0.0);
   box_lo_.assign(nq_, 0.0);
   box_hi_.assign(nq_, 0.0);

@@ -24,7 +24,9 @@
 //             evaluations a cycle (uncertified: brake, the safe side). A pair's limit is the margin (a structural
 //             pair's floor), or, for a pair already closer, the largest distance it had since,
 //             less a tolerance: moving away is allowed, creeping closer is not.
-//   brake     a command that is not certified is replaced, for the arms, the torso and every
+//   brake     a command that is not certified is replaced, for the joints on the chains of
+//             the pairs it could not certify (between each pair's links and their common
+//             ancestor; every joint when the work bound ran out) among the arms, the torso and every
 //             leg whose foot carries no load (never a loaded leg: braking a stance leg drops
 //             the robot), by the braking trajectory from the
 //             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
@@ -210,6 +212,13 @@ class SelfCollisionGuard {
                                  // leg whose foot may leave the ground); braked when one of
                                  // them is not Supports() this cycle
   std::vector<char> loaded_;     // per joint: carries load this cycle (UpdateLoads)
+  // per joint: on the chain of a pair this cycle's check could not certify (a joint that
+  // moves one of its links relative to the other: between the two links and their common
+  // ancestor); only those are braked, the others follow the controller (balance's waist when
+  // the pair is arm / leg below it, the other arm). Every joint when the work bound ran out.
+  std::vector<char> chain_;
+  // marks the chain of pair i (index into every_) in chain_
+  void MarkChain(int i) noexcept;
   std::vector<char> braked_;     // per joint: under the brake last cycle (Brake starts a joint
                                  // from its measured state when not: a foot that left the ground)
   long leg_brake_cycles_ = 0;    // cycles a leg with a foot (unloaded) was braked
