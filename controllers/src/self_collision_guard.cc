@@ -117,7 +117,7 @@ bool SelfCollisionGuard::BrakeHelps(int i) {
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
   bool leg = false;
   for (int j = 0; j < njoint_; ++j) {
-    if (Supports(j)) {  // a loaded leg keeps the controller's command
+    if (Supports(j) || !chain_[j]) {  // a loaded leg, a joint off the chains: the controller's
       braked_[j] = 0;
       continue;
     }
@@ -191,6 +191,7 @@ bool SelfCollisionGuard::MeasureFirstCycle(const shm::SensorBlock& sensors,
   braking_ = false;
   if (monitor_only_) return false;  // monitoring: the commands are left alone
   std::fill(braked_.begin(), braked_.end(), 0);  // Brake starts each joint from its measurement
+  std::fill(chain_.begin(), chain_.end(), 1);    // nothing judged yet: every joint
   Brake(sensors, c);
   return true;
 }
@@ -223,10 +224,19 @@ void SelfCollisionGuard::TrackMeasuredLimits() noexcept {
   }
 }
 
+void SelfCollisionGuard::MarkChain(int i) noexcept {
+  // the joints that move one link of the pair relative to the other (coef_ > 0: a common
+  // ancestor's joint moves both links and has none)
+  const double* c = &coef_[static_cast<size_t>(i) * nq_];
+  for (int j = 0; j < njoint_; ++j)
+    if (c[j] > 0) chain_[j] = 1;
+}
+
 bool SelfCollisionGuard::CertifyMotion(int* worst, double* predicted) noexcept {
   bool clear = true;
   budget_ = kBudget;
   last_evaluations_ = 0;
+  std::fill(chain_.begin(), chain_.end(), 0);
   // the pairs the brake acts on first (the work bound is theirs), then those moved by support
   // legs only: monitored, never braked
   int unbrakeable = -1;
@@ -244,11 +254,17 @@ bool SelfCollisionGuard::CertifyMotion(int* worst, double* predicted) noexcept {
         unbrakeable = i, unbrakeable_bound = b;
         break;
       }
+      // not certified: its chain is braked; the other braked pairs are judged too (each
+      // brings its own chain), until the work bound runs out: then every joint (the pairs
+      // not judged may need any of them)
+      if (clear || b < *predicted) *worst = i, *predicted = b;
       clear = false;
-      *worst = i;
-      *predicted = b;
-      if (budget_ <= 0) ++uncertified_cycles_;
-      break;
+      MarkChain(i);
+      if (budget_ <= 0) {
+        ++uncertified_cycles_;
+        std::fill(chain_.begin(), chain_.end(), 1);
+        break;
+      }
     }
   }
   if (clear && unbrakeable >= 0) {

@@ -169,6 +169,52 @@ TEST_F(GuardTest, BrakesAnArmMovingFastIntoTheLegAlongARamp) {
   EXPECT_EQ(g.holds(), 0u);
 }
 
+// Only the chain of the pair it cannot certify is braked (the joints between its two links and
+// their common ancestor): the right arm swinging into the right leg brakes the right arm and the
+// torso above it (WAIST_P, WAIST_R, CHEST carry the arm), while the left arm, on no chain of an
+// uncertified pair, keeps following its command (issue 29: a hold during a walk braked
+// balance's torso too, for pairs it does not move).
+TEST_F(GuardTest, BrakesOnlyTheChainOfTheUncertifiedPair) {
+  constexpr int kLarmShoulderR = 20, kWaistP = 26, kChest = 28;
+  double q[shm::kMaxJoints] = {};
+  q[kLarmShoulderR] = 0.3;  // the left arm moves outwards, away from everything
+  q[kWaistP] = 0.01;        // the torso is commanded to pitch a little
+  Command(q, header_.njoint, &commands_);
+  sensors_.dq[kRarmShoulderR] = 2.0;  // the right arm swings inwards, into the right leg
+  guard_.Activate(sensors_);
+  Measure(&guard_);
+  ASSERT_TRUE(guard_.Filter(sensors_, &commands_));
+  ASSERT_TRUE(guard_.holding());
+  const std::string a = file_.robot.links[guard_.hold_pair().a].name,
+                    b = file_.robot.links[guard_.hold_pair().b].name;
+  EXPECT_TRUE(a.rfind("RARM_", 0) == 0 || b.rfind("RARM_", 0) == 0) << a << " / " << b;
+  // the right arm is braked along its ramp
+  EXPECT_LT(commands_.joint[kRarmShoulderR].dq_ref, 2.0);
+  EXPECT_GT(commands_.joint[kRarmShoulderR].q_ref, 0.0);
+  // the left arm is on no uncertified pair's chain: its command passes unchanged
+  EXPECT_EQ(commands_.joint[kLarmShoulderR].q_ref, 0.3);
+  EXPECT_EQ(commands_.joint[kLarmShoulderR].tau_ff, 0.0);
+  // the torso carries the right arm against the leg: braked (from rest: held where it stands)
+  EXPECT_EQ(commands_.joint[kWaistP].q_ref, 0.0);  // not the commanded 0.01
+  EXPECT_EQ(commands_.joint[kChest].dq_ref, 0.0);
+  // the legs are loaded (no force sensor in this header): never braked
+  EXPECT_EQ(guard_.leg_brake_cycles(), 0);
+  // under a controller that balances with the torso (balance's hip strategy:
+  // Controller::guard_balance_joints) the torso is never braked, like a loaded leg: its command
+  // passes, the right arm is still braked
+  SelfCollisionGuard g;
+  ASSERT_EQ(g.Configure(kFile, header_), "");
+  g.set_balance_joints({kWaistP, 27});  // WAIST_P, WAIST_R
+  Command(q, header_.njoint, &commands_);
+  g.Activate(sensors_);
+  Measure(&g);
+  ASSERT_TRUE(g.Filter(sensors_, &commands_));
+  EXPECT_LT(commands_.joint[kRarmShoulderR].dq_ref, 2.0);
+  EXPECT_EQ(commands_.joint[kWaistP].q_ref, 0.01);
+  EXPECT_EQ(commands_.joint[kChest].q_ref, 0.0);  // not balance's: on the chain, braked
+  EXPECT_EQ(commands_.joint[kLarmShoulderR].q_ref, 0.3);
+}
+
 // the brake commands its ramp's deceleration as a feed-forward torque on top of the
 // controller's own (the period's mean deceleration at the joint's SMALLEST inertia: the largest
 // one's torque reversed G1's light rotors within a period): a servo that must first build a

@@ -24,7 +24,9 @@
 //             evaluations a cycle (uncertified: brake, the safe side). A pair's limit is the margin (a structural
 //             pair's floor), or, for a pair already closer, the largest distance it had since,
 //             less a tolerance: moving away is allowed, creeping closer is not.
-//   brake     a command that is not certified is replaced, for the arms, the torso and every
+//   brake     a command that is not certified is replaced, for the joints on the chains of
+//             the pairs it could not certify (between each pair's links and their common
+//             ancestor; every joint when the work bound ran out) among the arms, the torso and every
 //             leg whose foot carries no load (never a loaded leg: braking a stance leg drops
 //             the robot), by the braking trajectory from the
 //             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
@@ -95,6 +97,11 @@ class SelfCollisionGuard {
   // balance moves the legs (Controller::guard_may_brake_legs: balance, walk): every leg with a
   // foot is then never braked, as a loaded one (the inertia still follows the measured load).
   void set_brake_unloaded_legs(bool on) { brake_legs_ = on; }
+  // Joints the controller balances with besides the legs (Controller::guard_balance_joints:
+  // balance's and walk's hip strategy, the torso's pitch and roll): never braked, like a loaded
+  // leg; the pairs only they and the legs move are monitored. After Configure; ids out of range
+  // are ignored.
+  void set_balance_joints(const std::vector<int>& joints);
   bool monitor_only() const { return monitor_only_; }
   long warned_cycles() const { return warned_cycles_; }
   // cycles in which a leg with a foot was braked (its foot unloaded: UpdateLoads)
@@ -199,8 +206,10 @@ class SelfCollisionGuard {
   // and braking it mid-step drops the robot (walk_samplepd_4ms: a swing ankle braked 2.0 mm
   // from the stance one; the walks fell with their swing legs braked)
   bool Supports(int j) const {
-    return CarriesFoot(j) && (loaded_[j] != 0 || standing_ || !brake_legs_);
+    return balance_joint_[j] != 0 ||
+           (CarriesFoot(j) && (loaded_[j] != 0 || standing_ || !brake_legs_));
   }
+  std::vector<char> balance_joint_;  // per joint: set_balance_joints
   bool standing_ = true;    // some foot carries load this cycle (UpdateLoads)
   bool brake_legs_ = true;  // set_brake_unloaded_legs
   // each joint's loaded_ from the measured forces: loaded above the file's support_force (a
@@ -210,6 +219,13 @@ class SelfCollisionGuard {
                                  // leg whose foot may leave the ground); braked when one of
                                  // them is not Supports() this cycle
   std::vector<char> loaded_;     // per joint: carries load this cycle (UpdateLoads)
+  // per joint: on the chain of a pair this cycle's check could not certify (a joint that
+  // moves one of its links relative to the other: between the two links and their common
+  // ancestor); only those are braked, the others follow the controller (balance's waist when
+  // the pair is arm / leg below it, the other arm). Every joint when the work bound ran out.
+  std::vector<char> chain_;
+  // marks the chain of pair i (index into every_) in chain_
+  void MarkChain(int i) noexcept;
   std::vector<char> braked_;     // per joint: under the brake last cycle (Brake starts a joint
                                  // from its measured state when not: a foot that left the ground)
   long leg_brake_cycles_ = 0;    // cycles a leg with a foot (unloaded) was braked
