@@ -72,7 +72,7 @@ inline constexpr HostOption kHostOptions[] = {
    "initial state: a keyframe of the scene (default: the model's pose)"},
   {"realtime", "--realtime", OptionType::kFlag, "", 0, 0, "", false, "false",
    "pace cycles to the wall clock instead of lock-step"},
-  {"contact", "--contact", OptionType::kChoice, "auto|soft|native|rigid", 0, 0, "", false, "",
+  {"contact", "--contact", OptionType::kChoice, "soft|native|rigid|auto", 0, 0, "", false, "",
    "contact under the soles: soft (the paper's spring-damper on FCL), native (MuJoCo's), rigid "
    "(MuJoCo's, near-rigid), auto (soft when the model has *_SOLE geoms, else native)"},
   {"on_fall", "--on-fall", OptionType::kChoice, "end|continue", 0, 0, "", false, "end",
