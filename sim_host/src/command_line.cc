@@ -1,9 +1,11 @@
-// sim_host's command line (see command_line.h).
+// sim_host's command line (see command_line.h). The options a scenario can set are registered from
+// their table (cli/host_options.h: name, range, help); the others are written here.
 #include "command_line.h"
 
 #include <cstdio>
 
 #include "cli/command_line.h"
+#include "cli/host_options.h"
 #include "robot_model/profile.h"
 #include "sim_host/contact_choice.h"
 
@@ -16,24 +18,15 @@ void AddModelOptions(CLI::App* app, HostOptions* o) {
       ->required()->check(CLI::ExistingFile);
   app->add_option("--segment", o->segment, "segment name the controller attaches to")
       ->capture_default_str();
-  app->add_option("--keyframe", o->keyframe, "initial state: a keyframe of the scene (default: the model's pose)");
-  app->add_option("--physics-dt", o->physics_dt, "physics step [s] (default: the scene's timestep)")
-      ->check(ohrp::cli::Plausible("physics_dt"));
-  app->add_option("--control-period", o->control_period,
-                 "sensor/command cycle [s], a whole multiple of the physics step (default: the "
-                 "multiple nearest 5 ms, e.g. 4 ms on a 2 ms step)")
-      ->check(ohrp::cli::Plausible("control_period"));
-  app->add_option("--integrator", o->integrator, "euler | rk4 | implicit (default: the scene's)")
-      ->check(CLI::IsMember({"euler", "rk4", "implicit"}));
+  ohrp::cli::AddTableOption(app, "keyframe", &o->keyframe);
+  ohrp::cli::AddTableOption(app, "physics_dt", &o->physics_dt);
+  ohrp::cli::AddTableOption(app, "control_period", &o->control_period);
+  ohrp::cli::AddTableOption(app, "integrator", &o->integrator);
 }
 
 // the contact under the soles and the soft soles' parameters
 void AddContactOptions(CLI::App* app, HostOptions* o, RawHostOptions* r) {
-  app->add_option("--contact", r->contact,
-                 "contact under the soles: soft (the paper's spring-damper on FCL), native "
-                 "(MuJoCo's), rigid (MuJoCo's, near-rigid), auto (soft when the model has "
-                 "*_SOLE geoms, else native)")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "soft", "native", "rigid"}));
+  ohrp::cli::AddTableOption(app, "contact", &r->contact);
   app->add_option("--soles", o->feet.soles, "sole geoms (default: every geom named *_SOLE)")
       ->delimiter(',');
   auto& cp = o->feet.params;
@@ -81,29 +74,20 @@ void AddIdentifiedOptions(CLI::App* app, HostOptions* o) {
 
 // pushes, the control channel, timing and the controller's loss
 void AddRunOptions(CLI::App* app, HostOptions* o, RawHostOptions* r) {
-  app->add_option("--push", r->pushes,
-                 "external push on the base: t0,t1,fx,fy,fz,tx,ty,tz (simulated s; world-frame "
-                 "N and N m at the base's centre of mass); may be given several times, "
-                 "overlapping pushes add")
+  ohrp::cli::AddTableOption(app, "pushes", &r->pushes)
       ->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app->add_option("--control-socket", o->control_socket,
                  "a local stream socket for control lines (pause, resume, step [N], reset "
                  "[KEYFRAME], push BODY FX FY FZ DURATION, status), applied between control cycles "
                  "and recorded in actions.jsonl beside --summary (docs/architecture.md \"Control "
                  "channel\"); default: none");
-  app->add_option("--duration", o->duration, "simulated time to run [s]; 0 runs until Ctrl-C")
-      ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("duration"));
-  app->add_flag("--realtime", o->realtime, "pace cycles to the wall clock instead of lock-step");
+  ohrp::cli::AddTableOption(app, "duration", &o->duration);
+  ohrp::cli::AddTableOption(app, "realtime", &o->realtime);
   app->add_option("--wait-controller", o->wait_controller,
                  "wall time to wait for the first controller [s]; 0 runs without one (joints hold)")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("timeout"));
-  app->add_option("--controller-timeout", o->controller_timeout,
-                 "wall time a lock-step controller may take to answer a cycle [s]")
-      ->capture_default_str()->check(ohrp::cli::Plausible("timeout"));
-  app->add_option("--on-controller-loss", r->loss,
-                 "when the controller dies, hangs or detaches: end the run, wait for a new one, or "
-                 "continue holding (a hung controller is dropped: resumed, it exits 7)")
-      ->capture_default_str()->check(CLI::IsMember({"end", "wait", "continue"}));
+  ohrp::cli::AddTableOption(app, "controller_timeout", &o->controller_timeout);
+  ohrp::cli::AddTableOption(app, "on_controller_loss", &r->loss);
 }
 
 // the data log, the summary and progress
@@ -114,8 +98,7 @@ void AddOutputOptions(CLI::App* app, HostOptions* o, RawHostOptions* r) {
   app->add_flag("--log-dq", o->log_dq,
                "the data log also records each joint's velocity as the controller reads it "
                "(dq_<joint>, after tau_: ohrp identify --sensors estimates its noise)");
-  app->add_option("--log-every", o->log_every, "record one row every N control cycles")
-      ->capture_default_str()->check(ohrp::cli::Plausible("cycles"));
+  ohrp::cli::AddTableOption(app, "log_every", &o->log_every);
   app->add_option("--log-max", r->log_max,
                  "bound on the data log's size: bytes, or with k, M, G (e.g. 50M); the rows past "
                  "it are not written, and the report and summary say how many (the log keeps the "
@@ -126,38 +109,20 @@ void AddOutputOptions(CLI::App* app, HostOptions* o, RawHostOptions* r) {
   app->add_option("--progress", o->progress, "wall seconds between progress lines; 0: none")
       ->capture_default_str()->check(ohrp::cli::InRange(0, 0) | ohrp::cli::Plausible("timeout"));
   app->add_flag("--quiet,-q", o->quiet, "print errors only");
-  app->add_option("--on-fall", r->on_fall,
-                 "when the robot falls (a body other than the feet touches the ground, the base "
-                 "sinks below half its start height over the soles or tilts past 60 deg; "
-                 "docs/architecture.md): end the run at once, or continue simulating; either way "
-                 "the fall is an event of the summary and the exit code is 6")
-      ->capture_default_str()->check(CLI::IsMember({"end", "continue"}));
-  app->add_option("--fall-allow-contact", o->fall.allow_contact,
-                 "bodies of the robot (with the bodies below them) allowed to touch the ground "
-                 "without it being a fall, e.g. the hands: BODY,BODY")
-      ->delimiter(',');
+  ohrp::cli::AddTableOption(app, "on_fall", &r->on_fall);
+  ohrp::cli::AddTableOption(app, "fall_allow_contact", &o->fall.allow_contact);
 }
 
 // effects, self-collision, cameras, --explain
 void AddEffectOptions(CLI::App* app, HostOptions* o, RawHostOptions* r) {
-  app->add_option("--effects", r->effects,
-                 "switch effects on or off: NAME=on|off, contact:BODY1/BODY2=on|off, "
-                 "noise.KIND=STD (q dq tau force torque gyro accel orientation, SI units), "
-                 "noise.seed=N; comma-separated, repeatable (e.g. gravity=off,noise=on). "
-                 "Effects: gravity joint_limits passive native_contact self_contact self_collision "
-                 "soft_contact encoders joint_velocities joint_torques force_torque gyro "
-                 "accelerometer orientation rne_post other_sensors noise cameras log log_base "
-                 "log_joints log_force_torque log_imu (docs/effects.md)");
+  ohrp::cli::AddTableOption(app, "effects", &r->effects);
   app->add_option("--self-collision", o->self_collision_file,
                  "check the robot's link pairs listed in this file of ohrp_selfcollision every "
                  "control cycle and report those in contact after the run (switches the "
                  "self_collision effect on; without it, self_collision=on checks every "
                  "non-adjacent pair; docs/selfcollision.md)")
       ->check(CLI::ExistingFile);
-  app->add_option("--camera-rate", o->cameras.rate,
-                 "frames per second of simulated time of each camera an attached program asks "
-                 "for (rendered offscreen only while asked)")
-      ->capture_default_str()->check(ohrp::cli::InRange(0.1, 1000.0));
+  ohrp::cli::AddTableOption(app, "camera_rate", &o->cameras.rate);
   app->add_option("--camera-size", r->camera_size,
                  "size WIDTHxHEIGHT of the cameras' images, at most 640x480")
       ->capture_default_str();

@@ -63,6 +63,13 @@ bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* 
   return true;
 }
 
+std::string PerturbationText(const Perturbation& p) {
+  char b[320];
+  std::snprintf(b, sizeof(b), "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", p.t0, p.t1,
+                p.force[0], p.force[1], p.force[2], p.torque[0], p.torque[1], p.torque[2]);
+  return b;
+}
+
 void ApplyPushes(const std::vector<Perturbation>& pushes, const mjModel* m, mjData* d, int body,
                  double pushed[6]) {
   double want[6];

@@ -45,6 +45,11 @@ struct Perturbation {
 // Returns false with `*error` saying what is wrong and how to write it.
 bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* error);
 
+// The `--push` value of `p`, "t0,t1,fx,fy,fz,tx,ty,tz" (%.17g: ParsePerturbation reads back the
+// same numbers). The runner writes a scenario's pushes with it (a scenario's push is this window
+// and force, given as a direction and an impulse or a force: runner/scenario.h's PushSpec).
+std::string PerturbationText(const Perturbation& p);
+
 // The total push wrench at simulated time `time` with physics step `dt`: the sum over the
 // pushes whose window holds the step starting at `time` (see Perturbation). Writes 6 numbers
 // (force then torque); no allocation.

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "host_keys.h"
+
 namespace ohrp::runner {
 namespace {
 
@@ -44,23 +46,21 @@ std::string ExpandPlaceholders(const std::string& arg, const std::string& out_di
 std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& sim_host,
                                         const std::string& scene, const std::string& segment,
                                         const std::string& out_dir) {
-  // the run's settings
+  // the run's files
   std::vector<std::string> argv = {
       sim_host, "--scene", scene, "--segment", segment,
-      "--duration", Num(s.duration),
-      "--on-controller-loss", s.on_controller_loss,
-      "--controller-timeout", Num(s.controller_timeout),
       "--wait-controller", s.controllers.empty() ? "0" : "20",
-      "--log", out_dir + "/log.csv", "--log-every", std::to_string(s.log_every),
-      "--summary", out_dir + "/sim_summary.json"};
-  if (s.control_period > 0) argv.insert(argv.end(), {"--control-period", Num(s.control_period)});
-  if (s.physics_dt > 0) argv.insert(argv.end(), {"--physics-dt", Num(s.physics_dt)});
-  if (!s.integrator.empty()) argv.insert(argv.end(), {"--integrator", s.integrator});
-  if (s.camera_rate > 0) argv.insert(argv.end(), {"--camera-rate", Num(s.camera_rate)});
-  if (!s.keyframe.empty()) argv.insert(argv.end(), {"--keyframe", s.keyframe});
-  if (s.realtime) argv.push_back("--realtime");
-  // the contact under the soles
-  if (!s.contact.empty()) argv.insert(argv.end(), {"--contact", s.contact});
+      "--log", out_dir + "/log.csv", "--summary", out_dir + "/sim_summary.json"};
+  // a self_collisions check needs sim_host's self_collision effect (the scenario's own
+  // effects come later and win)
+  for (const auto& c : s.checks) {
+    if (c.type != "self_collisions") continue;
+    argv.insert(argv.end(), {"--effects", "self_collision=on"});
+    break;
+  }
+  // the scenario's keys that are sim_host options, from their table (cli/host_options.h)
+  AppendHostOptions(s, &argv);
+  // the soft soles' parameters
   for (const auto& [key, value] : s.contact_params) {
     std::string flag = "--contact-" + key;
     std::replace(flag.begin(), flag.end(), '_', '-');
@@ -68,22 +68,7 @@ std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& si
   }
   // the joints' parameters: the file the runner writes into the run folder (runner.cc)
   if (!s.joint_params.empty()) argv.insert(argv.end(), {"--joint-file", out_dir + "/joint_params.yaml"});
-  // a self_collisions check needs sim_host's self_collision effect (the scenario's own
-  // effects, in sim_args below, come later and win)
-  for (const auto& c : s.checks) {
-    if (c.type != "self_collisions") continue;
-    argv.insert(argv.end(), {"--effects", "self_collision=on"});
-    break;
-  }
-  // falls (sim_host/fall.h)
-  if (s.on_fall != "end") argv.insert(argv.end(), {"--on-fall", s.on_fall});
-  if (!s.fall_allow_contact.empty()) {
-    std::string bodies;
-    for (const auto& b : s.fall_allow_contact) bodies += (bodies.empty() ? "" : ",") + b;
-    argv.insert(argv.end(), {"--fall-allow-contact", bodies});
-  }
-  // pushes, then the scenario's own arguments
-  for (const auto& p : s.pushes) argv.insert(argv.end(), {"--push", PushArgument(p)});
+  // the scenario's own arguments
   for (const auto& a : s.sim_args) argv.push_back(ExpandPlaceholders(a, out_dir));
   return argv;
 }

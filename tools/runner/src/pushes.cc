@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <set>
 
+#include "sim_host/host.h"
 #include "yaml_read.h"
 
 namespace ohrp::runner {
@@ -53,12 +54,12 @@ void PushSpec::Force(double f_W[3]) const {
 }
 
 std::string PushArgument(const PushSpec& p) {
-  double f[3];
-  p.Force(f);
-  char b[256];
-  std::snprintf(b, sizeof(b), "%.17g,%.17g,%.17g,%.17g,%.17g,0,0,0", p.at, p.at + p.duration, f[0],
-                f[1], f[2]);
-  return b;
+  // the one representation of a push (sim_host/host.h): a window and a wrench on the base
+  sim::Perturbation window;
+  window.t0 = p.at;
+  window.t1 = p.at + p.duration;
+  p.Force(window.force);
+  return sim::PerturbationText(window);
 }
 
 bool ParsePushes(const YAML::Node& list, const std::string& path, std::vector<PushSpec>* out,

@@ -7,31 +7,31 @@
 #include <set>
 
 #include "check_parse.h"
-#include "cli/plausible.h"
+#include "cli/host_options.h"
+#include "host_keys.h"
 #include "runner/check_keys.h"
 #include "runner/commands.h"
-#include "pushes.h"
-#include "sim_host/effects.h"
 #include "scenario_params.h"
 #include "yaml_read.h"
 
 namespace ohrp::runner {
 namespace {
 
-const std::set<std::string> kTopKeys = {
-    "name", "description", "scene", "keyframe", "duration", "physics_dt", "control_period",
-    "integrator", "realtime", "on_controller_loss", "controller_timeout", "wall_timeout",
-    "log_every", "sim_args", "controllers", "checks", "plot_joints", "plot_torques", "contact",
-    "contact_params", "joint_params", "effects", "pushes", "camera_rate", "expect_fall", "on_fall",
-    "fall_allow_contact"};
+// the runner's own keys; the keys that are sim_host options are in cli/host_options.h
+const std::set<std::string> kRunnerKeys = {
+    "name", "description", "scene", "wall_timeout", "sim_args", "controllers", "checks",
+    "plot_joints", "plot_torques", "contact_params", "joint_params", "expect_fall"};
+
+// every top-level key: the runner's and the table's
+std::set<std::string> TopKeys() {
+  std::set<std::string> keys = kRunnerKeys;
+  for (const cli::HostOption& o : cli::kHostOptions) keys.insert(o.key);
+  return keys;
+}
 const std::set<std::string> kControllerKeys = {"program", "args"};
 
-// bounds of the run's numbers (the time steps: cli/plausible.h)
-constexpr double kMaxCameraRate = 1000.0;    // [frames per simulated s], sim_host's bounds: [0.1, 1000]
-constexpr double kMaxDuration = 1e5;         // [s] simulated, about 28 hours
-constexpr double kMaxControllerTimeout = 3600;  // [s] wall
+// bounds of the runner's own numbers (sim_host's: cli/host_options.h)
 constexpr double kMaxWallTimeout = 1e6;      // [s] wall
-constexpr long long kMaxLogEvery = 1000000;
 
 // reads root[key] with `read` when present; false with the file, line and key otherwise
 template <typename Read>
@@ -60,17 +60,6 @@ auto NumberIn(double* out, double lo, double hi, bool lo_open, const char* unit)
   };
 }
 
-// a number in the plausible range of `quantity` (cli/plausible.h)
-auto PlausibleNumber(double* out, const char* quantity) {
-  return [=](const YAML::Node& n, std::string* why) {
-    if (!ReadNumber(n, out, why)) return false;
-    const cli::PlausibleRange* r = cli::FindPlausible(quantity);
-    if (r && cli::IsPlausible(*r, *out)) return true;
-    *why = n.Scalar() + " is outside " + (r ? cli::PlausibleRangeText(*r) : std::string("?"));
-    return false;
-  };
-}
-
 auto NonEmptyText(std::string* out) {
   return [=](const YAML::Node& n, std::string* why) {
     if (!ReadText(n, out, why)) return false;
@@ -81,10 +70,6 @@ auto NonEmptyText(std::string* out) {
 
 auto TextList(std::vector<std::string>* out) {
   return [=](const YAML::Node& n, std::string* why) { return ReadTextList(n, out, why); };
-}
-
-auto Choice(std::string* out, std::vector<std::string> choices) {
-  return [=](const YAML::Node& n, std::string* why) { return ReadChoice(n, choices, out, why); };
 }
 
 // a name fit for a folder and a segment name
@@ -111,47 +96,23 @@ bool KnownPlaceholders(const YAML::Node& map, const char* key, const std::string
 
 //---------------- sections ----------------
 
-// the scalar keys of the run, each in its range
+// the runner's scalar keys, then the sim_host options (cli/host_options.h), each in its range
 bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::string* error) {
-  long long log_every = s->log_every;
   const bool ok =
       Optional(root, "name", path, error, NonEmptyText(&s->name)) &&
       Optional(root, "description", path, error,
                [&](const YAML::Node& n, std::string* why) { return ReadText(n, &s->description, why); }) &&
       Optional(root, "scene", path, error, NonEmptyText(&s->scene)) &&
-      Optional(root, "keyframe", path, error, NonEmptyText(&s->keyframe)) &&
-      Optional(root, "physics_dt", path, error, PlausibleNumber(&s->physics_dt, "physics_dt")) &&
-      Optional(root, "control_period", path, error, PlausibleNumber(&s->control_period, "control_period")) &&
-      Optional(root, "duration", path, error, NumberIn(&s->duration, 0, kMaxDuration, true, "s")) &&
-      Optional(root, "camera_rate", path, error,
-               NumberIn(&s->camera_rate, 0.1, kMaxCameraRate, false, "frames per simulated s")) &&
-      Optional(root, "integrator", path, error, Choice(&s->integrator, {"euler", "rk4", "implicit"})) &&
-      Optional(root, "realtime", path, error,
-               [&](const YAML::Node& n, std::string* why) { return ReadBool(n, &s->realtime, why); }) &&
-      Optional(root, "on_controller_loss", path, error,
-               Choice(&s->on_controller_loss, {"end", "wait", "continue"})) &&
-      Optional(root, "controller_timeout", path, error,
-               NumberIn(&s->controller_timeout, 0, kMaxControllerTimeout, true, "s")) &&
       Optional(root, "wall_timeout", path, error,
                NumberIn(&s->wall_timeout, 0, kMaxWallTimeout, false, "s (0: derived)")) &&
-      Optional(root, "log_every", path, error,
-               [&](const YAML::Node& n, std::string* why) {
-                 if (!ReadInteger(n, &log_every, why)) return false;
-                 if (log_every >= 1 && log_every <= kMaxLogEvery) return true;
-                 *why = "must be in [1, " + std::to_string(kMaxLogEvery) + "] control cycles";
-                 return false;
-               }) &&
-      Optional(root, "contact", path, error, Choice(&s->contact, {"soft", "native", "rigid", "auto"})) &&
       Optional(root, "sim_args", path, error, TextList(&s->sim_args)) &&
       Optional(root, "plot_joints", path, error, TextList(&s->plot_joints)) &&
       Optional(root, "plot_torques", path, error, TextList(&s->plot_torques)) &&
       Optional(root, "expect_fall", path, error,
                [&](const YAML::Node& n, std::string* why) { return ReadBool(n, &s->expect_fall, why); }) &&
-      Optional(root, "on_fall", path, error, Choice(&s->on_fall, {"end", "continue"})) &&
-      Optional(root, "fall_allow_contact", path, error, TextList(&s->fall_allow_contact)) &&
-      KnownPlaceholders(root, "sim_args", path, "", error);
+      KnownPlaceholders(root, "sim_args", path, "", error) &&
+      ReadHostKeys(root, path, s, error);
   if (!ok) return false;
-  s->log_every = static_cast<int>(log_every);
 
   // the scene is required; the control period is whole physics steps; the run has a cycle
   const std::string file = "scenario '" + path + "': ";
@@ -180,37 +141,6 @@ bool ReadRun(const YAML::Node& root, const std::string& path, Scenario* s, std::
              "' must be letters, digits, '_', '-' or '.' (it names the output folder and the segment)";
     return false;
   }
-  return true;
-}
-
-// effects: NAME: on|off, contact:BODY1/BODY2: on|off, noise.KIND: STD, noise.seed: N, each
-// checked by sim_host's own parser (docs/effects.md); passed on as sim_args --effects
-bool ReadEffects(const YAML::Node& root, const std::string& path, Scenario* s, std::string* error) {
-  const YAML::Node n = root["effects"];
-  if (!n.IsMap()) {
-    *error = AtKey(path, root, "effects") + "'effects' must be a mapping, e.g. {noise: on, gravity: off}";
-    return false;
-  }
-  std::string list;
-  for (const auto& kv : n) {
-    std::string key, value, why;
-    if (!ReadText(kv.first, &key, &why) || !ReadText(kv.second, &value, &why)) {
-      *error = At(path, kv.first) + "effects: each entry must be NAME: on, off or a number";
-      return false;
-    }
-    if (key.find_first_of(",=") != std::string::npos || value.find_first_of(",=") != std::string::npos) {
-      *error = At(path, kv.first) + "effects: '" + key + "' has a ',' or '='";
-      return false;
-    }
-    sim::EffectRequests requests;
-    if (!sim::ParseEffectRequests(key + "=" + value, &requests, &why)) {
-      *error = At(path, kv.first) + why;
-      return false;
-    }
-    s->effects[key] = value;
-    list += (list.empty() ? "" : ",") + key + "=" + value;
-  }
-  if (!list.empty()) s->sim_args.insert(s->sim_args.begin(), {"--effects", list});
   return true;
 }
 
@@ -304,7 +234,7 @@ bool ReadScenario(const YAML::Node& root, const std::string& path, Scenario* out
   }
   Scenario s;
   s.file = path;
-  if (!KnownKeysOnly(root, kTopKeys, path, "", error)) return false;
+  if (!KnownKeysOnly(root, TopKeys(), path, "", error)) return false;
   for (const auto& kv : root) s.lines[kv.first.Scalar()] = kv.first.Mark().line + 1;
   if (!root["name"]) {
     // the file's name without .yaml
@@ -315,9 +245,7 @@ bool ReadScenario(const YAML::Node& root, const std::string& path, Scenario* out
   if (!ReadRun(root, path, &s, error)) return false;
   if (root["contact_params"] && !ReadContactParams(root, path, &s, error)) return false;
   if (root["joint_params"] && !ReadJointParams(root, path, &s, error)) return false;
-  if (root["effects"] && !ReadEffects(root, path, &s, error)) return false;
   if (root["pushes"]) {
-    if (!ParsePushes(root["pushes"], path, &s.pushes, error)) return false;
     for (size_t i = 0; i < s.pushes.size(); ++i) {
       if (s.pushes[i].at + s.pushes[i].duration > s.duration) {
         *error = At(path, root["pushes"][i]) + "pushes[" + std::to_string(i) +

@@ -30,8 +30,10 @@ std::string ExpandPlaceholders(const std::string& arg, const std::string& out_di
 bool WriteJointParams(const Scenario& s, const std::string& path, std::string* error);
 
 // sim_host's command line for scenario `s`: the program `sim_host` (a path), the resolved
-// `scene`, the segment, the log and summary in `out_dir` (absolute), the scenario's settings,
-// its pushes and its `sim_args` with placeholders expanded.
+// `scene`, the segment, the log and summary in `out_dir` (absolute), a self_collisions check's
+// effect, the scenario's keys that are sim_host options (from their table, cli/host_options.h:
+// the run's settings, its pushes, its effects), the soft soles' parameters, the joints' file,
+// and last its `sim_args` with placeholders expanded (so they win).
 std::vector<std::string> SimHostCommand(const Scenario& s, const std::string& sim_host,
                                         const std::string& scene, const std::string& segment,
                                         const std::string& out_dir);

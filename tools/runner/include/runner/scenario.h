@@ -69,7 +69,11 @@ struct Scenario {
   // --joint-file: robot_model/joint_params.h)
   std::map<std::string, std::map<std::string, double>> joint_params;
   std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
-                                               // LoadScenario passes them as sim_args --effects
+                                               // passed on as --effects (host_options)
+  // the values of the keys of sim_host's option table (cli/host_options.h) that have no field
+  // here, as sim_host's option takes them (e.g. effects: "gravity=off,noise=on" in the file's
+  // order); SimHostCommand passes them on
+  std::map<std::string, std::string> host_options;
   std::vector<std::string> sim_args;  // extra sim_host arguments (`{out}` as in controllers)
   std::vector<PushSpec> pushes;       // RunScenario passes each as sim_host --push
   std::vector<ControllerSpec> controllers;
@@ -85,10 +89,9 @@ struct Scenario {
 };
 
 // Reads and validates a scenario: unknown or repeated keys at every level, values of the wrong
-// type or out of range (physics_dt and control_period in their plausible ranges (cli/plausible.h),
-// control_period a whole multiple of physics_dt,
-// duration from one control period to 1e5 s, integrator, contact, effects as sim_host takes
-// them), placeholders other than `{out}` in controller args and sim_args, unknown check types
+// type or out of range (the keys that are sim_host options against their type and range in the
+// one table of them, cli/host_options.h; control_period a whole multiple of physics_dt,
+// duration at least one control period, effects as sim_host's parser takes them), placeholders other than `{out}` in controller args and sim_args, unknown check types
 // and check keys, check times outside the run, a missing `checks`
 // (or an empty list) and a missing `controllers` (write `controllers: []` to run without one)
 // are refused. Returns false with `*error` naming the file, the line, the key and what would do.
