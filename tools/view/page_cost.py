@@ -97,7 +97,9 @@ def one_run(bin_dir, seconds, page, work, index, viewer_args=(), query="", rt_pr
              "--remote-debugging-port=0", "--no-first-run", "--user-data-dir=" + profile,
              "--window-size=1280,720", url[0] + query],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=dict(os.environ, TMPDIR=out)))
-        time.sleep(3)  # the page loads and starts drawing
+    # the page loads and starts drawing; without a page the same wait, so that walk starts as
+    # long after sim_host in both kinds of run (sim_host's own start-up not overlapping either)
+    time.sleep(3)
     load = os.getloadavg()[0]
     walk = subprocess.Popen(
         [os.path.join(bin_dir, "walk"), "--segment", segment, "--attach-timeout", "20",
