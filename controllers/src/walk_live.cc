@@ -50,6 +50,7 @@ ConfigStatus WalkController::OpenChannel() {
     if (!ReadLiveRecord(walk_options_.live_replay, &lines, &error))
       return ConfigStatus::Fail(ConfigError::kOption, error);
     for (auto& [t, text] : lines) replay_.push_back({t, text});
+    replay_taken_.reserve(replay_.size());  // --live-record: what the replay took, when
     gen_.Reserve(gen_.gait().step_count() + walk_stats_.steps_planned + kLiveSteps + 8);
     replay_planning_.limits = walk_options_.limits;
     replay_planning_.step_time = walk_options_.gait.step_time;
@@ -57,7 +58,8 @@ ConfigStatus WalkController::OpenChannel() {
     return ConfigStatus::Ok();
   }
   if (!walk_options_.live_record.empty() && !walk_options_.listen && walk_options_.socket.empty())
-    return ConfigStatus::Fail(ConfigError::kOption, "--live-record records live commands: give --socket or --listen");
+    return ConfigStatus::Fail(ConfigError::kOption,
+                              "--live-record records live commands: give --socket, --listen or --live-replay");
   if (!walk_options_.listen && walk_options_.socket.empty()) return ConfigStatus::Ok();
   // what the cycle needs for the largest plan, allocated now
   gen_.Reserve(gen_.gait().step_count() + walk_stats_.steps_planned + kLiveSteps + 8);
@@ -111,6 +113,7 @@ void WalkController::TakeLive(bool stop) noexcept {
 void WalkController::ReplayCycle() noexcept {
   const double t = gen_.sample().t;
   while (replay_next_ < replay_.size() && t >= replay_[replay_next_].t - 1e-7) {
+    replay_taken_.emplace_back(t, replay_next_);  // reserved: no allocation
     const Replayed& r = replay_[replay_next_++];
     if (r.text == "stop") {
       TakeLive(true);
@@ -127,16 +130,25 @@ void WalkController::ReplayCycle() noexcept {
   }
 }
 
+// the commands as the cycles took them; a replay's: each replayed line at the cycle that took it
+// (the same file as the record played, when every line was taken at its recorded cycle)
 void WalkController::WriteLiveRecord() {
-  if (walk_options_.live_record.empty() || !channel_) return;
+  if (walk_options_.live_record.empty() || (!channel_ && replay_.empty())) return;
   std::string text;
   char t[32];
-  for (const WalkChannel::Applied& a : channel_->applied_log()) {
-    std::snprintf(t, sizeof t, "%.6f ", a.t);
-    text += t + std::string(a.text) + "\n";
+  if (channel_) {
+    for (const WalkChannel::Applied& a : channel_->applied_log()) {
+      std::snprintf(t, sizeof t, "%.6f ", a.t);
+      text += t + std::string(a.text) + "\n";
+    }
+  }
+  for (const auto& [at, which] : replay_taken_) {
+    std::snprintf(t, sizeof t, "%.6f ", at);
+    text += t + replay_[which].text + "\n";
   }
   std::string error;
   if (!model::WriteWholeFile(walk_options_.live_record, text, &error)) notes_.push_back("--live-record: " + error);
+  if (!channel_) return;
   // the record's room is reserved at open (the cycle never allocates): past it, said here
   const size_t taken = static_cast<size_t>(channel_->applied());
   if (taken > channel_->applied_log().size())

@@ -88,7 +88,8 @@ int main(int argc, char** argv) {
   app.add_option("--live-record", o.live_record,
                  "with --socket / --listen: write each live command as the cycle took it, 'T LINE' "
                  "a line (T the cycle's time [s]; a goal_now as its goal_at in the plan frame), "
-                 "when the walk ends (for --live-replay)");
+                 "when the walk ends (for --live-replay); with --live-replay: each replayed line "
+                 "at the cycle that took it");
   app.add_option("--live-replay", o.live_replay,
                  "play a --live-record's commands back, each at the cycle it was taken (a "
                  "hand-driven run as a scenario; the cycle plans them itself: for lock-step runs)")

@@ -88,8 +88,10 @@ inline PixelCount CountPixels(const std::string& png_path, int x0, int y0, int x
 class Browser {
  public:
   // Starts chromium (window `width` x `height`) and opens `url` in a new page. ok() is false,
-  // with error(), when chromium does not start or its protocol does not answer.
-  Browser(const std::string& url, int width = 1200, int height = 700) {
+  // with error(), when chromium does not start or its protocol does not answer. `init_script`,
+  // when given, runs in the page before any of its own scripts (DevTools
+  // Page.addScriptToEvaluateOnNewDocument), e.g. to give it what a headless browser lacks.
+  Browser(const std::string& url, int width = 1200, int height = 700, const std::string& init_script = "") {
     profile_ = ohrp::testing::ScratchFolder("chromium_profile");
     // chromium's own temporary folders (org.chromium.Chromium.*) go to the scratch folder too
     pid_ = ohrp::testing::Spawn(
@@ -112,11 +114,16 @@ class Browser {
     port_ = port;
     try {
       Connect(browser_path);
-      const nlohmann::json target = Call("Target.createTarget", {{"url", url}});
+      const nlohmann::json target =
+          Call("Target.createTarget", {{"url", init_script.empty() ? url : "about:blank"}});
       const std::string id = target["result"].value("targetId", "");
       ws_.reset();
       Connect("/devtools/page/" + id);
       Call("Page.enable", nlohmann::json::object());
+      if (!init_script.empty()) {  // the script first, then the page
+        Call("Page.addScriptToEvaluateOnNewDocument", {{"source", init_script}});
+        Call("Page.navigate", {{"url", url}});
+      }
     } catch (const std::exception& e) {
       error_ = std::string("chromium's protocol: ") + e.what();
     }

@@ -3,7 +3,9 @@
 // the page's pause stops simulated time, its step advances it by one control period, its push
 // on the base changes the base's velocity in sim_host's log (more than standing does, less than
 // impulse / mass), the arrow
-// keys and space reach walk as commands, and a request without the run's token is refused (403).
+// keys and space reach walk as commands, so does a game pad (a fake one given to the page before
+// its scripts run: its left stick pushed forward, then its button 1), and a request without the
+// run's token is refused (403).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -68,7 +70,10 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
                         sim_sock, "--walk-socket", walk_sock, "--control-record",
                         (dir / "view_actions.jsonl").string()}, (dir / "viewer.txt").string());
   ASSERT_NE(viewer.url.find("?token="), std::string::npos) << ReadFile(viewer.out_file);
-  Browser page(viewer.url);
+  // the game pad: headless Chromium has none; this one's state is set by the test (none at first)
+  Browser page(viewer.url, 1200, 700,
+               "window.fakePad = null; Object.defineProperty(Navigator.prototype, 'getGamepads', "
+               "{configurable: true, value: () => [window.fakePad, null, null, null]});");
   ASSERT_TRUE(page.ok()) << page.error();
   const std::string state = "document.getElementById('state').dataset";
   ASSERT_TRUE(page.WaitTrue(state + ".control === 'ready' && Number(" + state + ".t) > 1.5", 40))
@@ -126,6 +131,19 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
   page.Key(" ", "Space", 32);
   EXPECT_TRUE(shm::testing::WaitFor([&] { return replies() > before; }, 15));
   EXPECT_EQ(reply(), "ok: stop");
+  // the game pad (polled every 0.1 s): the left stick pushed fully forward (axis 1 at -1) is
+  // 0.2 m/s forward, then button 1 stops
+  auto pad = [&](double axis1, bool button1) {
+    const int before_pad = replies();
+    page.Eval("window.fakePad = {id: 'fake', connected: true, axes: [0, " + std::to_string(axis1) +
+              ", 0, 0], buttons: [{pressed: false}, {pressed: " + (button1 ? "true" : "false") + "}]}");
+    EXPECT_TRUE(shm::testing::WaitFor([&] { return replies() > before_pad; }, 15));
+  };
+  pad(-1.0, false);
+  EXPECT_EQ(reply().rfind("ok: \"velocity 0.20 0 0", 0), 0u) << reply();
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  pad(-1.0, true);
+  EXPECT_EQ(reply(), "ok: stop");
   // no token: refused
   page.Eval("fetch('/control?to=sim&line=pause').then((r) => { " + state + ".noToken = r.status; })");
   EXPECT_TRUE(page.WaitTrue(state + ".noToken === '403'", 10));
@@ -176,10 +194,10 @@ TEST(ViewControl, PausesStepsPushesAndWalksFromThePage) {
     }
     if (j["to"] == "sim") ++sim_lines;
   }
-  EXPECT_EQ(walk_lines, (std::vector<std::string>{"velocity 0.2 0 0", "stop"}));
+  EXPECT_EQ(walk_lines, (std::vector<std::string>{"velocity 0.2 0 0", "stop", "velocity 0.20 0 0", "stop"}));
   EXPECT_EQ(sim_lines, 4);  // pause, step, push, resume
   const std::string walk_out = ReadFile(dir / "walk.txt");
-  EXPECT_NE(walk_out.find("live: 2 received, 0 refused"), std::string::npos) << walk_out;
+  EXPECT_NE(walk_out.find("live: 4 received, 0 refused"), std::string::npos) << walk_out;
   shm::testing::RemoveSegment(segment);
   fs::remove_all(dir);
 }

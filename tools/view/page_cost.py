@@ -4,10 +4,12 @@
 Runs HRP-1S walking in real time (sim_host --realtime, walk --command 'velocity 0.2 0 0 T')
 RUNS times without a viewer and RUNS times with ohrp_view and a headless Chromium page open on
 it (the 3D view and the plots live), alternating, and prints each run's late commands (sim_host's
-summary: cycles whose command came after the cycle's deadline), commands, and the load average
-at the start; then the means and the ratio.
+summary: cycles whose command came after the cycle's deadline), those of them after walk's first
+command (the others are walk setting up), commands, and the load average at the start; then the
+means and the ratios.
 
   tools/view/page_cost.py --build build --runs 3 --seconds 12
+  tools/view/page_cost.py --build build --runs 4 --seconds 10 --rt-priority 70
 """
 import argparse
 import json
@@ -59,13 +61,16 @@ def cpu_seconds(root):
     return total
 
 
-def one_run(bin_dir, seconds, page, work, index, viewer_args=(), query=""):
+def one_run(bin_dir, seconds, page, work, index, viewer_args=(), query="", rt_priority=0):
     out = os.path.join(work, "run%d_%s" % (index, "page" if page else "none"))
     os.makedirs(out)
     segment = "pagecost%d_%d" % (os.getpid(), index)
     summary = os.path.join(out, "sim_summary.json")
+    # sim_host has no --rt-priority of its own: chrt starts it SCHED_FIFO (all its threads)
+    chrt = ["chrt", "-f", str(rt_priority)] if rt_priority > 0 else []
+    rt_walk = ["--rt-priority", str(rt_priority)] if rt_priority > 0 else []
     sim = subprocess.Popen(
-        [os.path.join(bin_dir, "sim_host"), os.path.join(SOURCE, "mjcf/hrp1s/scene_flat.xml"),
+        chrt + [os.path.join(bin_dir, "sim_host"), os.path.join(SOURCE, "mjcf/hrp1s/scene_flat.xml"),
          "--segment", segment, "--realtime", "--duration", str(seconds + 2), "--progress", "0",
          "--wait-controller", "20", "--keyframe", "halfsit", "--summary", summary],
         stdout=open(os.path.join(out, "sim_host.txt"), "w"), stderr=subprocess.STDOUT)
@@ -92,11 +97,13 @@ def one_run(bin_dir, seconds, page, work, index, viewer_args=(), query=""):
              "--remote-debugging-port=0", "--no-first-run", "--user-data-dir=" + profile,
              "--window-size=1280,720", url[0] + query],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=dict(os.environ, TMPDIR=out)))
-        time.sleep(3)  # the page loads and starts drawing
+    # the page loads and starts drawing; without a page the same wait, so that walk starts as
+    # long after sim_host in both kinds of run (sim_host's own start-up not overlapping either)
+    time.sleep(3)
     load = os.getloadavg()[0]
     walk = subprocess.Popen(
         [os.path.join(bin_dir, "walk"), "--segment", segment, "--attach-timeout", "20",
-         "--command", "velocity 0.2 0 0 %g" % (seconds - 2)],
+         "--command", "velocity 0.2 0 0 %g" % (seconds - 2)] + rt_walk,
         stdout=open(os.path.join(out, "walk.txt"), "w"), stderr=subprocess.STDOUT)
     cpu = [cpu_seconds(p.pid) for p in procs]  # the viewer's and the browser's, before the walk
     sim.wait(seconds + 60)
@@ -106,7 +113,19 @@ def one_run(bin_dir, seconds, page, work, index, viewer_args=(), query=""):
         stop(p)
     s = json.load(open(summary))
     return {"page": page, "late": s["late_commands"], "commands": s["commands"], "load": load,
-            "rtf": s.get("real_time_factor"), "cpu": cpu}
+            "rtf": s.get("real_time_factor"), "cpu": cpu,
+            "late_walking": s["late_commands"] - cycles_before_walk(os.path.join(out, "walk.txt"),
+                                                                    s["control_period"])}
+
+
+def cycles_before_walk(walk_txt, period):
+    """the cycles before walk's first command (late by definition: walk still setting up), from
+    walk's report 'stopped after N cycles (producer time T0 .. T1 s)': T0 / period"""
+    text = open(walk_txt).read()
+    at = text.find("(producer time ")
+    if at < 0:
+        sys.exit("page_cost: walk did not report its first cycle's time: " + walk_txt)
+    return int(round(float(text[at + len("(producer time "):].split()[0]) / period))
 
 
 def main():
@@ -117,6 +136,9 @@ def main():
     ap.add_argument("--viewer-arg", action="append", default=[],
                     help="an option for ohrp_view (repeatable; e.g. --viewer-arg=--rate --viewer-arg=10)")
     ap.add_argument("--query", default="", help="appended to the page's URL (e.g. '?fps=10')")
+    ap.add_argument("--rt-priority", type=int, default=0,
+                    help="run sim_host (through chrt) and walk (its --rt-priority) SCHED_FIFO at this "
+                         "priority (1-99; 0: SCHED_OTHER, the default)")
     ap.add_argument("--keep", action="store_true", help="keep the runs' folders (printed)")
     a = ap.parse_args()
     bin_dir = os.path.join(a.build, "bin")
@@ -127,27 +149,33 @@ def main():
     if not shutil.which("chromium"):
         print("page_cost: no chromium (./ohrp setup)", file=sys.stderr)
         return 2
-    if a.runs < 1 or not 4 <= a.seconds <= 600:
-        print("page_cost: --runs at least 1, --seconds in [4, 600]", file=sys.stderr)
+    if a.runs < 1 or not 4 <= a.seconds <= 600 or not 0 <= a.rt_priority <= 99:
+        print("page_cost: --runs at least 1, --seconds in [4, 600], --rt-priority in [0, 99]", file=sys.stderr)
+        return 2
+    if a.rt_priority > 0 and subprocess.call(["chrt", "-f", str(a.rt_priority), "true"]) != 0:
+        print("page_cost: SCHED_FIFO refused (chrt -f %d): run as root or with CAP_SYS_NICE"
+              % a.rt_priority, file=sys.stderr)
         return 2
     work = tempfile.mkdtemp(prefix="page_cost_")
     rows = []
     for i in range(2 * a.runs):
-        r = one_run(bin_dir, a.seconds, i % 2 == 1, work, i, a.viewer_arg, a.query)
+        r = one_run(bin_dir, a.seconds, i % 2 == 1, work, i, a.viewer_arg, a.query, a.rt_priority)
         rows.append(r)
-        print("run %d %-9s late %5d of %6d commands (%.2f %%), load %.2f at the start%s"
+        print("run %d %-9s late %5d of %6d commands (%.2f %%), %d of them after walk's first command, "
+              "load %.2f at the start%s"
               % (i, "page" if r["page"] else "no page", r["late"], r["commands"],
-                 100.0 * r["late"] / max(1, r["commands"]), r["load"],
+                 100.0 * r["late"] / max(1, r["commands"]), r["late_walking"], r["load"],
                  "; CPU during the walk: viewer %.1f s, browser %.1f s" % tuple(r["cpu"]) if r["cpu"] else ""),
               flush=True)
-    mean = {}
-    for page in (False, True):
-        sel = [r for r in rows if r["page"] == page]
-        mean[page] = sum(r["late"] for r in sel) / len(sel)
-        print("%-8s mean late commands %.1f (min %d, max %d)" % ("page" if page else "no page", mean[page],
-              min(r["late"] for r in sel), max(r["late"] for r in sel)))
-    print("with a page / without: %s" % ("%.2f" % (mean[True] / mean[False]) if mean[False] > 0 else
-                                         "n/a (none late without)"))
+    for key, what in (("late", "late commands"), ("late_walking", "late commands while walking")):
+        mean = {}
+        for page in (False, True):
+            sel = [r[key] for r in rows if r["page"] == page]
+            mean[page] = sum(sel) / len(sel)
+            print("%-8s mean %s %.1f (min %d, max %d)" % ("page" if page else "no page", what, mean[page],
+                  min(sel), max(sel)))
+        print("%s with a page / without: %s" % (what, "%.2f" % (mean[True] / mean[False]) if mean[False] > 0
+                                               else "n/a (none late without)"))
     if a.keep:
         print("the runs' folders: " + work)
     else:

@@ -357,6 +357,7 @@ class WalkController : public BalanceController {
   };
   std::vector<Replayed> replay_;  // --live-replay: the recorded commands, in time order
   size_t replay_next_ = 0;        // the next one due
+  std::vector<std::pair<double, size_t>> replay_taken_;  // (the cycle's time, which), reserved
   LivePlanning replay_planning_;
   void ReplayCycle() noexcept;
   void WriteLiveRecord();

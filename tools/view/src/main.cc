@@ -70,6 +70,9 @@ int main(int argc, char** argv) {
                  "its simulated time and reply, as JSON lines, to FILE (e.g. RUN/view_actions.jsonl)");
   app.footer("Examples: ohrp_view hrp1s                 (sim_host --segment hrp1s running)\n"
              "          ohrp_view runs/demo/stand --port 8080\n"
+             "A real-time run that a page must not disturb (few cores): run sim_host under\n"
+             "`chrt -f 70` and the controller with --rt-priority 70, and watch with --rate 10\n"
+             "(docs/view.md \"The page's cost to a real-time run\").\n"
              "Exit codes: 0 ended, 2 bad option, no such segment or run folder, a run folder\n"
              "without log.csv, a scene that does not hold the segment's robot, port in use;\n"
              "3 MuJoCo error.");

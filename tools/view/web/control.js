@@ -99,7 +99,8 @@ function setupControl(hello) {
 }
 
 // the game pad: left stick forward/back and turn, sent when the rounded command changes;
-// button 1 stops. (Headless browsers have no game pads: this is not tested.)
+// button 1 stops. (Headless browsers have no game pads: view_control_test gives the page a fake
+// navigator.getGamepads before its scripts run.)
 let padLine = '';
 function pollGamepad() {
   const pads = navigator.getGamepads ? navigator.getGamepads() : [];
