@@ -396,12 +396,4 @@ bool BalanceController::SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* 
   return true;
 }
 
-std::vector<int> BalanceController::guard_balance_joints() const {
-  std::vector<int> joints;
-  if (!stabilizer_.gains().hip_strategy) return joints;  // the torso is not balance's
-  for (int j : {torso_pitch_joint_, torso_roll_joint_})
-    if (j >= 0) joints.push_back(j);
-  return joints;
-}
-
 }  // namespace ohrp::controllers

@@ -147,7 +147,6 @@ bool ControllerRun::ConfigureGuard() {
     return false;
   }
   guard_.set_brake_unloaded_legs(controller_.guard_may_brake_legs());
-  guard_.set_balance_joints(controller_.guard_balance_joints());
   if (!controller_.guard_may_brake()) {
     guard_.set_monitor_only(true);
     out_ << prog_ << ": self-collision check: monitoring only (a brake mid-motion would topple "

@@ -158,7 +158,6 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   for (int j = 0; j < njoint_; ++j) loaded_[j] = CarriesFoot(j) ? 1 : 0;  // until measured
   braked_.assign(njoint_, 0);
   chain_.assign(njoint_, 1);
-  balance_joint_.assign(njoint_, 0);
   q_.assign(nq_, 0.0);
   box_lo_.assign(nq_, 0.0);
   box_hi_.assign(nq_, 0.0);
@@ -194,12 +193,6 @@ void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
   for (int j = 0; j < njoint_; ++j) last_dq_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
   have_last_ = false;
   measuring_ = true;
-}
-
-void SelfCollisionGuard::set_balance_joints(const std::vector<int>& joints) {
-  std::fill(balance_joint_.begin(), balance_joint_.end(), 0);
-  for (int j : joints)
-    if (j >= 0 && j < njoint_) balance_joint_[j] = 1;
 }
 
 }  // namespace ohrp::controllers

@@ -199,20 +199,6 @@ TEST_F(GuardTest, BrakesOnlyTheChainOfTheUncertifiedPair) {
   EXPECT_EQ(commands_.joint[kChest].dq_ref, 0.0);
   // the legs are loaded (no force sensor in this header): never braked
   EXPECT_EQ(guard_.leg_brake_cycles(), 0);
-  // under a controller that balances with the torso (balance's hip strategy:
-  // Controller::guard_balance_joints) the torso is never braked, like a loaded leg: its command
-  // passes, the right arm is still braked
-  SelfCollisionGuard g;
-  ASSERT_EQ(g.Configure(kFile, header_), "");
-  g.set_balance_joints({kWaistP, 27});  // WAIST_P, WAIST_R
-  Command(q, header_.njoint, &commands_);
-  g.Activate(sensors_);
-  Measure(&g);
-  ASSERT_TRUE(g.Filter(sensors_, &commands_));
-  EXPECT_LT(commands_.joint[kRarmShoulderR].dq_ref, 2.0);
-  EXPECT_EQ(commands_.joint[kWaistP].q_ref, 0.01);
-  EXPECT_EQ(commands_.joint[kChest].q_ref, 0.0);  // not balance's: on the chain, braked
-  EXPECT_EQ(commands_.joint[kLarmShoulderR].q_ref, 0.3);
 }
 
 // the brake commands its ramp's deceleration as a feed-forward torque on top of the

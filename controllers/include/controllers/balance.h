@@ -104,8 +104,6 @@ class BalanceController : public Controller {
   const BalanceStats& stats() const { return stats_; }
   // a leg that leaves the ground is part of the balance (a step): the guard does not brake it
   bool guard_may_brake_legs() const override { return false; }
-  // the hip strategy's torso joints (when it is on): what keeps the robot up besides the legs
-  std::vector<int> guard_balance_joints() const override;
   const StabilizerOutput& stabilizer_output() const { return stabilizer_.output(); }
   const model::BaseEstimate& estimate() const { return estimator_->estimate(); }
   bool standing() const { return phase_ == Phase::kStand; }

@@ -107,12 +107,6 @@ class Controller {
   // leaves the ground is part of the balance (a swing leg braked mid-step is not placed: the
   // walks fell), so every leg with a foot is treated as loaded and its pairs are monitored.
   virtual bool guard_may_brake_legs() const { return true; }
-  // Joints (segment ids) this controller balances with besides the legs, valid after
-  // configure: the guard never brakes them (SelfCollisionGuard::set_balance_joints; their pairs'
-  // approach is monitored as a support leg's). Balance and walk: the torso's pitch and roll
-  // joints of the hip strategy (braking them during a hold took away the torso correction that
-  // keeps the robot up: G1 fell).
-  virtual std::vector<int> guard_balance_joints() const { return {}; }
 
   // Camera images (shm_bridge/images.h). The cameras this controller wants (bit i: camera i of
   // the header), valid from kInactive on: the runner asks the producer for them after

@@ -97,11 +97,6 @@ class SelfCollisionGuard {
   // balance moves the legs (Controller::guard_may_brake_legs: balance, walk): every leg with a
   // foot is then never braked, as a loaded one (the inertia still follows the measured load).
   void set_brake_unloaded_legs(bool on) { brake_legs_ = on; }
-  // Joints the controller balances with besides the legs (Controller::guard_balance_joints:
-  // balance's and walk's hip strategy, the torso's pitch and roll): never braked, like a loaded
-  // leg; the pairs only they and the legs move are monitored. After Configure; ids out of range
-  // are ignored.
-  void set_balance_joints(const std::vector<int>& joints);
   bool monitor_only() const { return monitor_only_; }
   long warned_cycles() const { return warned_cycles_; }
   // cycles in which a leg with a foot was braked (its foot unloaded: UpdateLoads)
@@ -206,10 +201,8 @@ class SelfCollisionGuard {
   // and braking it mid-step drops the robot (walk_samplepd_4ms: a swing ankle braked 2.0 mm
   // from the stance one; the walks fell with their swing legs braked)
   bool Supports(int j) const {
-    return balance_joint_[j] != 0 ||
-           (CarriesFoot(j) && (loaded_[j] != 0 || standing_ || !brake_legs_));
+    return CarriesFoot(j) && (loaded_[j] != 0 || standing_ || !brake_legs_);
   }
-  std::vector<char> balance_joint_;  // per joint: set_balance_joints
   bool standing_ = true;    // some foot carries load this cycle (UpdateLoads)
   bool brake_legs_ = true;  // set_brake_unloaded_legs
   // each joint's loaded_ from the measured forces: loaded above the file's support_force (a
