@@ -16,19 +16,11 @@
 
 #include "common/scratch.h"
 #include "view/control.h"
+#include "send_when_up.h"
 #include "view_process.h"
 
 namespace ohrp::view::testing {
 namespace {
-
-std::string Send(const std::string& path, const std::string& line) {
-  std::string reply;
-  for (int i = 0; i < 200; ++i) {  // the socket appears once the program is up
-    if (SendLine(path, line, 60.0, &reply) || reply.rfind("cannot connect", 0) != 0) return reply;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return reply;
-}
 
 // sim_host for 12 s (`realtime` or lock-step) with walk `walk_args`; `hand` runs meanwhile
 void RunWalk(const fs::path& dir, const std::string& name, bool realtime,
@@ -75,10 +67,10 @@ TEST(WalkReplayRealTime, TheReplayTakesTheCommandsAtTheSameCycles) {
   // by hand, in real time: forward as soon as walk answers, stop 2 s later (wall clock)
   RunWalk(dir, "hand", true, {"--socket", walk_sock, "--live-record", record}, [&] {
     std::this_thread::sleep_for(std::chrono::seconds(1));
-    const std::string r = Send(walk_sock, "velocity 0.2 0 0");
+    const std::string r = SendWhenUp(walk_sock, "velocity 0.2 0 0");
     EXPECT_EQ(r.rfind("ok: \"velocity 0.2 0 0", 0), 0u) << r;
     std::this_thread::sleep_for(std::chrono::seconds(2));
-    EXPECT_EQ(Send(walk_sock, "stop"), "ok: stop");
+    EXPECT_EQ(SendWhenUp(walk_sock, "stop"), "ok: stop");
   });
   const std::string rec = ReadFile(record);
   std::printf("the real-time run's --live-record:\n%s", rec.c_str());

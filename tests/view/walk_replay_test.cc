@@ -16,19 +16,11 @@
 
 #include "common/scratch.h"
 #include "view/control.h"
+#include "send_when_up.h"
 #include "view_process.h"
 
 namespace ohrp::view::testing {
 namespace {
-
-std::string Send(const std::string& path, const std::string& line) {
-  std::string reply;
-  for (int i = 0; i < 200; ++i) {  // the socket appears once the program is up
-    if (SendLine(path, line, 60.0, &reply) || reply.rfind("cannot connect", 0) != 0) return reply;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return reply;
-}
 
 // sim_host lock-step for 14 s (its options plus `extra`); walk with `walk_args`
 void RunWalk(const fs::path& dir, const std::string& name, const std::vector<std::string>& extra,
@@ -40,7 +32,7 @@ void RunWalk(const fs::path& dir, const std::string& name, const std::vector<std
   sim.insert(sim.end(), extra.begin(), extra.end());
   const pid_t host = Start("sim_host", sim, (dir / (name + "_sim_host.txt")).string());
   if (hand) {  // paused before walk attaches: its first cycle waits for the hand
-    const std::string paused = Send((dir / "sim.sock").string(), "pause");
+    const std::string paused = SendWhenUp((dir / "sim.sock").string(), "pause");
     EXPECT_EQ(paused.rfind("ok: pause: t=0.0000 s", 0), 0u) << paused;
   }
   std::vector<std::string> w = {"--segment", segment, "--attach-timeout", "20",
@@ -65,18 +57,18 @@ TEST(WalkReplay, AHandDrivenWalkAndItsReplayWriteTheSameLog) {
   // the feet then), at 10 s stop; each command answered before the simulation goes on
   RunWalk(dir, "hand", {"--control-socket", sim_sock}, {"--socket", walk_sock, "--live-record", record}, [&] {
     const auto step_to = [&](const std::string& steps, const std::string& t) {
-      const std::string r = Send(sim_sock, "step " + steps);
+      const std::string r = SendWhenUp(sim_sock, "step " + steps);
       EXPECT_NE(r.find("t=" + t + " s"), std::string::npos) << r;
     };
     step_to("1200", "6.0000");
-    std::string r = Send(walk_sock, "velocity 0.2 0 0");
+    std::string r = SendWhenUp(walk_sock, "velocity 0.2 0 0");
     EXPECT_EQ(r.rfind("ok: \"velocity 0.2 0 0 600\"", 0), 0u) << r;
     step_to("400", "8.0000");
-    r = Send(walk_sock, "goal_now 0.3 0.2 30");
+    r = SendWhenUp(walk_sock, "goal_now 0.3 0.2 30");
     EXPECT_EQ(r.rfind("ok: \"goal_now 0.3 0.2 30\"", 0), 0u) << r;
     step_to("400", "10.0000");
-    EXPECT_EQ(Send(walk_sock, "stop"), "ok: stop");
-    EXPECT_EQ(Send(sim_sock, "resume").rfind("ok: resume", 0), 0u);
+    EXPECT_EQ(SendWhenUp(walk_sock, "stop"), "ok: stop");
+    EXPECT_EQ(SendWhenUp(sim_sock, "resume").rfind("ok: resume", 0), 0u);
   });
   // the record: each command at the first cycle after it came (the cycle's time)
   const std::string rec = ReadFile(record);
