@@ -13,62 +13,10 @@
 
 #include "../robot_model/count_allocations.h"
 #include "common/scratch.h"
+#include "self_collision_guard_fixture.h"
 
-namespace ohrp::controllers {
+namespace ohrp::controllers::guard_testing {
 namespace {
-
-const std::string kFile = std::string(OHRP_SOURCE_DIR) + "/mjcf/hrp1s/selfcollision.yaml";
-constexpr int kRarmShoulderR = 7, kRarmElbow = 9;
-
-// the header of HRP-1S as the file describes it; every joint's torque limit 200 N m
-shm::SegmentHeader Header(const collision::SelfCollisionFile& f) {
-  shm::SegmentHeader h{};
-  h.njoint = static_cast<int>(f.robot.joint_names.size());
-  h.model_hash = f.robot.model_hash;
-  h.control_period = 0.005;
-  std::strncpy(h.robot_name, f.robot.name.c_str(), sizeof(h.robot_name) - 1);
-  for (int j = 0; j < h.njoint; ++j) {
-    std::strncpy(h.joint_names[j], f.robot.joint_names[j].c_str(), shm::kNameLen - 1);
-    h.tau_max[j] = 200;
-    h.default_kp[j] = 100;
-    h.default_kd[j] = 1;
-  }
-  return h;
-}
-
-// position commands for every joint at q
-void Command(const double* q, int n, shm::CommandBlock* c) {
-  c->njoint = n;
-  for (int j = 0; j < n; ++j) c->joint[j] = {shm::JointMode::kPosition, 0, q[j], 0, 0, 100, 1};
-}
-
-class GuardTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::string error;
-    ASSERT_TRUE(collision::ReadSelfCollisionFile(kFile, &file_, &error)) << error;
-    header_ = Header(file_);
-    ASSERT_EQ(guard_.Configure(kFile, header_), "");
-    sensors_ = shm::SensorBlock{};
-    guard_.Activate(sensors_);  // the zero posture: arms hanging beside the thighs
-    Measure(&guard_);
-  }
-  // the first cycle after Activate only measures (the load is unknown until an acceleration
-  // has been measured): the command is replaced by the brake from the measured state, which is
-  // not a hold; the test's own command is kept for the next cycle
-  void Measure(SelfCollisionGuard* g) {
-    const shm::CommandBlock saved = commands_;
-    EXPECT_TRUE(g->Filter(sensors_, &commands_));
-    EXPECT_FALSE(g->holding());
-    EXPECT_EQ(g->holds(), 0u);
-    commands_ = saved;
-  }
-  collision::SelfCollisionFile file_;
-  shm::SegmentHeader header_;
-  shm::SensorBlock sensors_;
-  shm::CommandBlock commands_{};
-  SelfCollisionGuard guard_;
-};
 
 // the motion interval of one joint against closed forms: coasting for the horizon, then
 // v^2 / (2 a) to rest; the speed limit caps both
@@ -234,130 +182,6 @@ TEST_F(GuardTest, LetsSafeMotionAndMovingAwayThrough) {
   EXPECT_EQ(out.str(), "");
 }
 
-// A leg with a foot is braked while its foot carries no load (docs/selfcollision.md, "A leg
-// whose foot is in the air"): the header names the feet's F/T sensors; the right hip rolls
-// inwards at 3 rad/s from the zero posture (feet side by side) into the left leg. Feet in the
-// air (0 N): the leg is braked along a ramp. Both feet loaded (half the weight each): never
-// braked, the command kept (monitored). The load's hysteresis: loaded above the file's
-// support_force (a tenth of the weight), unloaded below half of it, unchanged between.
-class LegGuardTest : public GuardTest {
- protected:
-  static constexpr int kRlegHipR = 0, kLlegHipR = 13;
-  void SetUp() override {
-    std::string error;
-    ASSERT_TRUE(collision::ReadSelfCollisionFile(kFile, &file_, &error)) << error;
-    header_ = Header(file_);
-    header_.nforce = 2;
-    std::strncpy(header_.force_names[0], "rfsensor", shm::kNameLen - 1);
-    std::strncpy(header_.force_names[1], "lfsensor", shm::kNameLen - 1);
-    ASSERT_EQ(file_.dynamics[kRlegHipR].support_sensor, "rfsensor");
-    ASSERT_EQ(file_.dynamics[kLlegHipR].support_sensor, "lfsensor");
-    on_ = file_.dynamics[kRlegHipR].support_force;
-    sensors_ = shm::SensorBlock{};
-  }
-  void Feet(double fz) {
-    for (int f = 0; f < 2; ++f) sensors_.force[f].force[2] = fz;
-  }
-  // configured and activated with the right hip rolling inwards at 3 rad/s, the command holding
-  // the zero posture; true when the guard replaced the command in the cycle after measuring
-  bool Swing(SelfCollisionGuard* g) {
-    EXPECT_EQ(g->Configure(kFile, header_), "");
-    double q[shm::kMaxJoints] = {};
-    Command(q, header_.njoint, &commands_);
-    sensors_.dq[kRlegHipR] = 3.0;
-    g->Activate(sensors_);
-    Measure(g);
-    return g->Filter(sensors_, &commands_);
-  }
-  double on_ = 0;
-};
-
-TEST_F(LegGuardTest, BrakesALegWhoseFootIsInTheAir) {
-  Feet(5.0);  // the sole's own weight: in the air
-  SelfCollisionGuard g;
-  ASSERT_TRUE(Swing(&g));
-  EXPECT_FALSE(g.loaded(kRlegHipR));
-  EXPECT_TRUE(g.holding());
-  EXPECT_EQ(g.holds(), 1u);
-  EXPECT_GE(g.leg_brake_cycles(), 1);
-  const double v1 = commands_.joint[kRlegHipR].dq_ref;
-  EXPECT_GT(v1, 0.0);
-  EXPECT_LT(v1, 3.0);
-  EXPECT_NEAR(commands_.joint[kRlegHipR].q_ref, 0.5 * (3.0 + v1) * 0.005, 1e-12);
-  // the unloaded leg's rate: over the free links' inertia (inertia_free), the limit less the
-  // load: none measured (torque 0, no acceleration), the slack (gravity bound times the angle
-  // the fastest joint turns in three periods, the damping's torque)
-  const collision::JointDynamics& d = file_.dynamics[kRlegHipR];
-  const double load = d.gravity_max * std::min(1.0, 3 * 3.0 * 0.005) + d.damping * 3.0;
-  EXPECT_NEAR((3.0 - v1) / 0.005, (200 - std::min(d.gravity_max, load)) / d.inertia_free, 1e-6);
-}
-
-TEST_F(LegGuardTest, NeverBrakesALoadedLeg) {
-  Feet(5 * on_);  // standing: half the weight on each foot
-  SelfCollisionGuard g;
-  EXPECT_FALSE(Swing(&g));
-  EXPECT_TRUE(g.loaded(kRlegHipR));
-  EXPECT_EQ(g.holds(), 0u);
-  EXPECT_EQ(commands_.joint[kRlegHipR].q_ref, 0.0);  // the command kept
-  EXPECT_EQ(g.leg_brake_cycles(), 0);
-}
-
-// standing on the other foot, a leg in the air is not braked: its motion may be a step the
-// guard cannot see (braking it mid-step drops the robot)
-TEST_F(LegGuardTest, NotBrakedWhileTheOtherFootCarriesTheRobot) {
-  sensors_.force[1].force[2] = 10 * on_;  // the left foot carries the whole weight
-  SelfCollisionGuard g;
-  EXPECT_FALSE(Swing(&g));
-  EXPECT_FALSE(g.loaded(kRlegHipR));
-  EXPECT_TRUE(g.loaded(kLlegHipR));
-  EXPECT_EQ(commands_.joint[kRlegHipR].q_ref, 0.0);
-  EXPECT_EQ(g.leg_brake_cycles(), 0);
-}
-
-// a controller whose balance moves the legs (balance, walk: guard_may_brake_legs false): a leg
-// in the air is not braked either
-TEST_F(LegGuardTest, NotBrakedWhenTheControllerBalancesOnTheLegs) {
-  Feet(5.0);
-  SelfCollisionGuard g;
-  g.set_brake_unloaded_legs(false);
-  EXPECT_FALSE(Swing(&g));
-  EXPECT_FALSE(g.loaded(kRlegHipR));  // measured in the air all the same
-  EXPECT_EQ(commands_.joint[kRlegHipR].q_ref, 0.0);
-  EXPECT_EQ(g.leg_brake_cycles(), 0);
-}
-
-TEST_F(LegGuardTest, TheLoadHasHysteresis) {
-  SelfCollisionGuard g;
-  ASSERT_EQ(g.Configure(kFile, header_), "");
-  double q[shm::kMaxJoints] = {};
-  Command(q, header_.njoint, &commands_);
-  const auto cycle = [&](double fz) {
-    Feet(fz);
-    shm::CommandBlock c = commands_;
-    g.Filter(sensors_, &c);
-    return g.loaded(kRlegHipR);
-  };
-  Feet(0.75 * on_);  // within the band at activation: loaded (the conservative side)
-  g.Activate(sensors_);
-  EXPECT_TRUE(g.loaded(kRlegHipR));
-  EXPECT_FALSE(g.loaded(6));  // an arm has no foot
-  EXPECT_TRUE(cycle(0.75 * on_));
-  EXPECT_TRUE(cycle(0.51 * on_));   // above half: still loaded
-  EXPECT_FALSE(cycle(0.49 * on_));  // below half: unloaded
-  EXPECT_FALSE(cycle(0.99 * on_));  // below support_force: still unloaded
-  EXPECT_TRUE(cycle(1.01 * on_));   // above: loaded
-  EXPECT_TRUE(cycle(NAN));          // no finite reading: loaded
-  EXPECT_FALSE(cycle(0.0));
-  // a leg whose sensor the segment lacks is always loaded (never braked)
-  SelfCollisionGuard h;
-  header_.nforce = 1;  // the right foot's sensor only
-  ASSERT_EQ(h.Configure(kFile, header_), "");
-  Feet(0.0);
-  h.Activate(sensors_);
-  EXPECT_FALSE(h.loaded(kRlegHipR));
-  EXPECT_TRUE(h.loaded(kLlegHipR));
-}
-
 TEST_F(GuardTest, RefusesAFileForAnotherRobot) {
   shm::SegmentHeader other = header_;
   other.model_hash ^= 1;
@@ -422,4 +246,4 @@ TEST_F(LegGuardTest, BrakingALegAllocatesNothing) {
 #endif
 
 }  // namespace
-}  // namespace ohrp::controllers
+}  // namespace ohrp::controllers::guard_testing
