@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <limits>
 #include <cstdio>
 #include <ostream>
 
@@ -271,7 +272,11 @@ void WalkController::FillWalkInput(const shm::SensorBlock& s, const walking::Wal
 void WalkController::SolveWalkJoints(const StabilizerOutput& out, const walking::WalkSample& w,
                                      double z_offset) noexcept {
   for (int j = 0; j < njoint(); ++j) q_ik_[j] = std::isfinite(q_ik_[j]) ? q_ik_[j] : ramp_target_[j];
-  if (torso_pitch_joint_ >= 0) q_ik_[torso_pitch_joint_] = target_[torso_pitch_joint_] + out.torso_pitch;
+  // while a step up found by touch has the trailing leg on the lower ground, the hip strategy's
+  // torso pitch is limited (kStepUpTorsoPitch): the pelvis it moves stretched that leg straight
+  const double pitch_max = rise_foot_ >= 0 ? kStepUpTorsoPitch : std::numeric_limits<double>::infinity();
+  if (torso_pitch_joint_ >= 0)
+    q_ik_[torso_pitch_joint_] = target_[torso_pitch_joint_] + std::clamp(out.torso_pitch, -pitch_max, pitch_max);
   if (torso_roll_joint_ >= 0) q_ik_[torso_roll_joint_] = target_[torso_roll_joint_] + out.torso_roll;
   const walking::FeetPose& f = w.gait.feet;
   Eigen::Vector3d p[2];

@@ -148,6 +148,14 @@ void WalkController::report(std::ostream& out) const {
                   "plan's ground\n",
                   w.early_touchdowns, w.max_touch_height * 1e3);
     out << buf;
+    if (w.step_ups > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "walk: touchdown: %d of them found a step up (more than 5 mm above the ground "
+                    "looked for): the torso's pitch was limited to %.2f rad until the trailing foot "
+                    "was in the air\n",
+                    w.step_ups, WalkController::kStepUpTorsoPitch);
+      out << buf;
+    }
   }
   if (w.late_touchdowns > 0 || w.late_missed > 0) {
     std::snprintf(buf, sizeof buf,

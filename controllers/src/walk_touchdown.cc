@@ -142,6 +142,11 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
             gen_.AdjustStep(g.step, step.p.head<2>(), w.t + dt, false);
           } else {
             ++walk_stats_.early_touchdowns;
+            // a step up found: the other foot trails on the lower ground until it is in the air
+            if (rise > kEarlyRise) {
+              rise_foot_ = i;
+              ++walk_stats_.step_ups;
+            }
             walk_stats_.max_touch_height = std::max(walk_stats_.max_touch_height, above);
             // the swing ends: the landing (the weight's transfer) comes now
             const double travel = (step.p - g.feet.p[i]).head<2>().norm();
@@ -183,6 +188,7 @@ void WalkController::Touchdown(const shm::SensorBlock& s, const walking::WalkSam
   }
   // the CoM goes with the lower of the feet (a late foot going on down, the ground found lower
   // or higher): the legs keep the plan's reach; at most as fast as a late foot goes down
+  if (rise_foot_ >= 0 && g.swing == 1 - rise_foot_ && g.swing_phase >= 0.5) rise_foot_ = -1;  // it left
   const double target = std::min(foot_dz_[0], foot_dz_[1]);
   com_dz_ += std::clamp(target - com_dz_, -kLateSpeed * dt, kComRise * dt);
 }

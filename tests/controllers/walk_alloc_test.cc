@@ -114,6 +114,9 @@ void WalksWithoutAllocating(bool stepping, double push_at, double impulse, bool 
     EXPECT_GT(w.late_touchdowns + w.late_missed, 0) << report.str();  // the late path ran
   } else if (early) {
     EXPECT_GT(w.early_touchdowns, 0) << report.str();  // the early path ran
+    // and found the platform's rise (the torso's pitch limited while the trailing foot left)
+    EXPECT_GE(w.step_ups, 1) << report.str();
+    EXPECT_LE(w.step_ups, w.early_touchdowns) << report.str();
   } else {
     EXPECT_TRUE(walk->done()) << report.str();
   }

@@ -153,6 +153,7 @@ struct WalkStats {
   int early_touchdowns = 0;     // swing feet that met the ground before their planned landing
                                 // (walk_touchdown.cc) and were held there
   double max_touch_height = 0;  // the highest of them above the planned landing [m]
+  int step_ups = 0;             // of them, more than 5 mm above the ground looked for (torso limited)
   int late_touchdowns = 0;      // swing feet that had not met the ground at their planned
                                 // landing, went on down and met it (walk_touchdown.cc)
   int late_missed = 0;          // of those, feet that reached the leg's reach without contact
@@ -331,6 +332,12 @@ class WalkController : public BalanceController {
   double com_dz_ = 0;  // the CoM's height off the plan's with the ground found [m]
   // the ground's height off the plan's where a foot last touched [m]: the later steps land there
   double floor_dz_ = 0;
+  // the foot whose early touch found a step up (-1: none) until the other foot, trailing on the
+  // lower ground, is half way through its swing: the torso's pitch is limited meanwhile
+  int rise_foot_ = -1;
+  // that limit [rad] (measured, docs/walking.md "Touchdown": at the hip strategy's 0.35 rad the
+  // torso leaning back moved the pelvis 33-45 mm forward and the trailing knee went straight)
+  static constexpr double kStepUpTorsoPitch = 0.1;
   // a late foot's landing taken (the DCM at its support's edge, or its hold over): it searches on
   // down in support
   bool late_landed_[2] = {false, false};
