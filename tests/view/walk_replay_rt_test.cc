@@ -16,34 +16,11 @@
 
 #include "common/scratch.h"
 #include "view/control.h"
-#include "send_when_up.h"
 #include "view_process.h"
+#include "walk_run.h"
 
 namespace ohrp::view::testing {
 namespace {
-
-// sim_host for 12 s (`realtime` or lock-step) with walk `walk_args`; `hand` runs meanwhile
-void RunWalk(const fs::path& dir, const std::string& name, bool realtime,
-             const std::vector<std::string>& walk_args, const std::function<void()>& hand) {
-  const std::string segment = shm::testing::UniqueSegment("vwrt");
-  shm::testing::RemoveSegment(segment);
-  std::vector<std::string> sim = {kScene, "--segment", segment, "--duration", "12", "--progress", "0",
-                                  "--wait-controller", "20", "--summary", (dir / (name + "_summary.json")).string()};
-  if (realtime) sim.push_back("--realtime");
-  const pid_t host = Start("sim_host", sim, (dir / (name + "_sim_host.txt")).string());
-  std::vector<std::string> w = {"--segment", segment, "--attach-timeout", "20",
-                                "--log", (dir / (name + "_walk.csv")).string()};
-  w.insert(w.end(), walk_args.begin(), walk_args.end());
-  const pid_t walk = Start("walk", w, (dir / (name + "_walk.txt")).string());
-  if (hand) hand();
-  int status = 0;
-  EXPECT_EQ(waitpid(host, &status, 0), host);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << ReadFile(dir / (name + "_sim_host.txt"));
-  EXPECT_EQ(waitpid(walk, &status, 0), walk);
-  // walk's own verdict (done or not) is not this test's: only that it ran to the producer's end
-  EXPECT_TRUE(WIFEXITED(status)) << ReadFile(dir / (name + "_walk.txt"));
-  shm::testing::RemoveSegment(segment);
-}
 
 // the record's lines: (T, the command's first word)
 std::vector<std::pair<double, std::string>> Lines(const std::string& rec) {
@@ -65,7 +42,7 @@ TEST(WalkReplayRealTime, TheReplayTakesTheCommandsAtTheSameCycles) {
   const std::string walk_sock = (dir / "walk.sock").string();
   const std::string record = (dir / "hand_live.txt").string(), replayed = (dir / "replay_live.txt").string();
   // by hand, in real time: forward as soon as walk answers, stop 2 s later (wall clock)
-  RunWalk(dir, "hand", true, {"--socket", walk_sock, "--live-record", record}, [&] {
+  RunWalk(dir, "hand", {12, {"--realtime"}, false, false}, {"--socket", walk_sock, "--live-record", record}, [&] {
     std::this_thread::sleep_for(std::chrono::seconds(1));
     const std::string r = SendWhenUp(walk_sock, "velocity 0.2 0 0");
     EXPECT_EQ(r.rfind("ok: \"velocity 0.2 0 0", 0), 0u) << r;
@@ -83,7 +60,7 @@ TEST(WalkReplayRealTime, TheReplayTakesTheCommandsAtTheSameCycles) {
   EXPECT_NEAR(lines[1].first - lines[0].first, 2.0, 0.5) << rec;
   EXPECT_LT(lines[1].first, 11.0) << "the stop came near the run's end: a slow start? " << rec;
   // the lock-step re-run: the record played back, and what it took recorded
-  RunWalk(dir, "replay", false, {"--live-replay", record, "--live-record", replayed}, nullptr);
+  RunWalk(dir, "replay", {12, {}, false, false}, {"--live-replay", record, "--live-record", replayed}, nullptr);
   EXPECT_EQ(ReadFile(replayed), rec) << "the re-run took the commands at other cycles";
   const std::string out = ReadFile(dir / "replay_walk.txt");
   EXPECT_NE(out.find("(--live-replay: 2 recorded)"), std::string::npos) << out;

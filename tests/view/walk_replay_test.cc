@@ -16,37 +16,11 @@
 
 #include "common/scratch.h"
 #include "view/control.h"
-#include "send_when_up.h"
 #include "view_process.h"
+#include "walk_run.h"
 
 namespace ohrp::view::testing {
 namespace {
-
-// sim_host lock-step for 14 s (its options plus `extra`); walk with `walk_args`
-void RunWalk(const fs::path& dir, const std::string& name, const std::vector<std::string>& extra,
-         const std::vector<std::string>& walk_args, const std::function<void()>& hand) {
-  const std::string segment = shm::testing::UniqueSegment("vwr");
-  shm::testing::RemoveSegment(segment);
-  std::vector<std::string> sim = {kScene, "--segment", segment, "--duration", "14", "--progress", "0",
-                                  "--wait-controller", "20", "--summary", (dir / (name + "_summary.json")).string()};
-  sim.insert(sim.end(), extra.begin(), extra.end());
-  const pid_t host = Start("sim_host", sim, (dir / (name + "_sim_host.txt")).string());
-  if (hand) {  // paused before walk attaches: its first cycle waits for the hand
-    const std::string paused = SendWhenUp((dir / "sim.sock").string(), "pause");
-    EXPECT_EQ(paused.rfind("ok: pause: t=0.0000 s", 0), 0u) << paused;
-  }
-  std::vector<std::string> w = {"--segment", segment, "--attach-timeout", "20",
-                                "--log", (dir / (name + "_walk.csv")).string()};
-  w.insert(w.end(), walk_args.begin(), walk_args.end());
-  const pid_t walk = Start("walk", w, (dir / (name + "_walk.txt")).string());
-  if (hand) hand();
-  int status = 0;
-  EXPECT_EQ(waitpid(host, &status, 0), host);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << ReadFile(dir / (name + "_sim_host.txt"));
-  EXPECT_EQ(waitpid(walk, &status, 0), walk);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << ReadFile(dir / (name + "_walk.txt"));
-  shm::testing::RemoveSegment(segment);
-}
 
 TEST(WalkReplay, AHandDrivenWalkAndItsReplayWriteTheSameLog) {
   const fs::path dir = ohrp::testing::ScratchFolder("walk_replay");
@@ -55,7 +29,7 @@ TEST(WalkReplay, AHandDrivenWalkAndItsReplayWriteTheSameLog) {
   const std::string record = (dir / "walk_live.txt").string();
   // by hand: at 6 s walk forward, at 8 s a goal 0.3 m ahead and 0.2 m left turned 30 deg (from
   // the feet then), at 10 s stop; each command answered before the simulation goes on
-  RunWalk(dir, "hand", {"--control-socket", sim_sock}, {"--socket", walk_sock, "--live-record", record}, [&] {
+  RunWalk(dir, "hand", {14, {"--control-socket", sim_sock}, true, true}, {"--socket", walk_sock, "--live-record", record}, [&] {
     const auto step_to = [&](const std::string& steps, const std::string& t) {
       const std::string r = SendWhenUp(sim_sock, "step " + steps);
       EXPECT_NE(r.find("t=" + t + " s"), std::string::npos) << r;
@@ -90,7 +64,7 @@ TEST(WalkReplay, AHandDrivenWalkAndItsReplayWriteTheSameLog) {
   // each at the cycle after it came: 2 s of simulation apart, as they were sent
   for (int i = 1; i < 3; ++i) EXPECT_NEAR(times[i] - times[i - 1], 2.0, 1e-6) << rec;
   // the re-run: no hand, the record played back
-  RunWalk(dir, "replay", {}, {"--live-replay", record}, nullptr);
+  RunWalk(dir, "replay", {14, {}, false, true}, {"--live-replay", record}, nullptr);
   const std::string hand = ReadFile(dir / "hand_walk.csv"), replay = ReadFile(dir / "replay_walk.csv");
   EXPECT_GT(std::count(hand.begin(), hand.end(), '\n'), 1000);
   // byte for byte, but for the producer's last block (t = 14 s), which walk reads or not as the
