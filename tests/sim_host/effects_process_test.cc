@@ -98,7 +98,7 @@ TEST(EffectsScenario, TheKeyBecomesSimHostsEffectsOption) {
   runner::Scenario s;
   std::string error;
   ASSERT_TRUE(runner::LoadScenario(path, &s, &error)) << error;
-  EXPECT_EQ(s.effects.at("noise"), "on");
+  EXPECT_EQ(s.host_options.at("effects"), "gravity=off,noise=on,noise.force=2.5");
   // passed on as one --effects in the file's order (the option table, cli/host_options.h)
   const std::vector<std::string> argv = runner::SimHostCommand(s, "sim_host", s.scene, "seg", "/out");
   const auto at = std::find(argv.begin(), argv.end(), "--effects");

@@ -67,7 +67,6 @@ bool ReadEffects(const YAML::Node& n, const std::string& path, Scenario* s, std:
       *why = "\n" + at + *why;
       return false;
     }
-    s->effects[key] = value;
     *text += (text->empty() ? "" : ",") + key + "=" + value;
   }
   return true;
@@ -100,8 +99,10 @@ bool ReadOne(const HostOption& o, const YAML::Node& n, const std::string& path, 
       break;
     case OptionType::kText:
       if (!ReadText(n, &text, why)) return false;
-      if (text.empty()) *why = "must not be empty";
-      if (text.empty()) return false;
+      if (text.empty()) {
+        *why = "must not be empty";
+        return false;
+      }
       break;
     case OptionType::kFlag: {
       bool b = false;

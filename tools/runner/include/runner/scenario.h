@@ -68,8 +68,6 @@ struct Scenario {
   // per joint: armature, damping, frictionloss (written to the run folder for sim_host's
   // --joint-file: robot_model/joint_params.h)
   std::map<std::string, std::map<std::string, double>> joint_params;
-  std::map<std::string, std::string> effects;  // effects switched on/off (docs/effects.md);
-                                               // passed on as --effects (host_options)
   // the values of the keys of sim_host's option table (cli/host_options.h) that have no field
   // here, as sim_host's option takes them (e.g. effects: "gravity=off,noise=on" in the file's
   // order); SimHostCommand passes them on
