@@ -266,6 +266,37 @@ TEST_F(TerrainPlan, TheSwingClearsTheHighestTerrainOnItsWay) {
   EXPECT_NEAR(steps[0].clear_z, 0.0, 1e-6);
 }
 
+// one foot per stair (scene_stairs15_up.xml: risers 0.427, 0.727 m ahead of the start frame): the
+// left foot from the floor onto the second stair passes over the first; lift_z, the highest
+// terrain under the first half of its way, is that stair's 0.15 m, clear_z at least that.
+// Down scene_stairs15_down.xml (the platform's nose 0.445 m ahead): the left foot from the
+// platform onto the floor past the stair; land_z, over the second half, is the stair's -0.15 m
+TEST_F(TerrainPlan, AStrideOverAStairLiftsAboveItAndComesDownAboveIt) {
+  start_ = Start(lim_);
+  // the feet closed before the first riser (the platform's nose), then one foot per stair
+  const auto stairs = [&](double x0, double x1, double x2, double dz) {
+    std::vector<Footstep> s(4);
+    const double x[4] = {x0, x0, x1, x2}, z[4] = {0, 0, dz, 2 * dz};
+    for (int k = 0; k < 4; ++k) {
+      s[k].foot = k % 2 == 0 ? kRight : kLeft;
+      s[k].p = Eigen::Vector3d(x[k], (k % 2 == 0 ? -0.5 : 0.5) * lim_.width, z[k]);
+    }
+    return s;
+  };
+  auto up = Load("scene_stairs15_up.xml");
+  ASSERT_TRUE(up);
+  std::vector<Footstep> steps = stairs(0.27, 0.555, 0.855, 0.15);
+  up->SetSwingClearance(&steps, start_, lim_);
+  EXPECT_NEAR(steps[3].lift_z, 0.15, 1e-6);
+  EXPECT_GE(steps[3].clear_z, 0.15 - 1e-6);
+  auto down = Load("scene_stairs15_down.xml");
+  ASSERT_TRUE(down);
+  steps = stairs(0.28, 0.60, 0.90, -0.15);
+  down->SetSwingClearance(&steps, start_, lim_);
+  EXPECT_NEAR(steps[3].land_z, -0.15, 1e-6);
+  EXPECT_NEAR(steps[3].lift_z, 0.0, 1e-6);  // the first half over the platform
+}
+
 TEST_F(TerrainPlan, ATreadBeyondTheStrideIsRefusedNamingTheLimit) {
   lim_.max_forward = 0.25;  // from the edge of one tread to the middle of the next is 0.3 m
   EXPECT_FALSE(PlanAcross("scene_stairs.xml", 1.3));

@@ -44,6 +44,17 @@ struct Footstep {
   // fills it from a scene): the swing's apex (`height`) is above the higher of it and the two
   // ends, whoever wrote the step [m]; below any ground: none known
   double clear_z = -1e9;
+  // the highest terrain under the sole over the first half of its way (the lift-off's own
+  // footprint left out; terrain.h fills it): over a stair's edge the swing first rises above it
+  // and goes on up to the apex over the first half of its travel, so that a foot stepping over a
+  // stair onto the next (one foot per stair) does not climb the whole height behind the hip [m];
+  // below any ground: none known (the swing rises to its apex before it travels)
+  double lift_z = -1e9;
+  // the same over the second half of its way (the landing's own footprint left out): off a
+  // stair's edge the swing comes down to above it over the second half of its travel, before
+  // its vertical landing, so that a foot stepping past a stair onto the one below does not hang
+  // the whole height above the hip [m]; below any ground: none known
+  double land_z = -1e9;
 };
 
 // Both soles now (index kLeft, kRight).

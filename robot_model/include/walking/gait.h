@@ -208,6 +208,12 @@ class Gait {
   // the landing; off a stair the heel first)
   double SwingAlong(const Phase& p, double t, GaitState* s) const noexcept;
   void SwingHeight(const Phase& p, double phase, double f_travel, GaitState* s) const noexcept;
+  // the height the swing lifts to before it travels (Footstep::lift_z + the apex, over a stair's
+  // edge; else `top`, the apex above the highest terrain on the way)
+  double LiftTop(const Phase& p, double top) const noexcept;
+  // the height the swing comes down to before its vertical landing off a stair
+  // (Footstep::land_z + the apex; else `top`)
+  double LandTop(const Phase& p, double top) const noexcept;
   // the swing's outward bend for `step` from `before` (zero when the straight path keeps the
   // gap, or the sole's size is not known)
   Eigen::Vector2d SwingDetour(const FeetPose& before, const Footstep& step) const;

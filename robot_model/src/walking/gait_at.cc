@@ -36,7 +36,7 @@ void Gait::ToeOff(const Phase& p, double phase, double f_travel, GaitState* s) c
   // full by half the vertical lift, level again at half the travel
   const double lift_share = 0.5 * LandingShare(p);
   const double r =
-      std::clamp(std::min(phase / std::max(lift_share, 1e-9), 1 - 2 * f_travel), 0.0, 1.0);
+      std::clamp(std::min(phase / std::max(lift_share, 1e-9), 1 - f_travel), 0.0, 1.0);
   const double a = HeelLift(true, p.height) * r;
   if (!(a > 0)) return;
   // about the toe: the sole's centre up by half sin(a) and towards the toe by half (1 - cos(a))
@@ -174,6 +174,12 @@ double Gait::SwingAlong(const Phase& p, double t, GaitState* s) const noexcept {
   return f;
 }
 
+double Gait::LiftTop(const Phase& p, double top) const noexcept {
+  const double a = p.before.p[p.step.foot].z();
+  if (!(p.step.lift_z > -1e8) || !IsStepEdge(p.before, p.step)) return top;
+  return std::clamp(std::max(a, p.step.lift_z) + p.height, a, top);
+}
+
 void Gait::SwingHeight(const Phase& p, double phase, double f_travel, GaitState* s) const noexcept {
   const int sw = p.step.foot;
   const Eigen::Vector3d& a = p.before.p[sw];
@@ -186,20 +192,39 @@ void Gait::SwingHeight(const Phase& p, double phase, double f_travel, GaitState*
   // up to the top by mid-swing, down from it after mid-swing (off a step: once over the lower
   // stair)
   const double rise_end = 0.5, fall_start = down ? 1 - vf_land : 0.5;
+  // over a stair's edge with lower terrain over the first half of the way than the apex's (a
+  // stride over a stair onto the next): up to above that terrain by mid-swing, and on up to the
+  // top with the travel's first half (at mid-swing the travel is half done: Travel). Off a
+  // stair with lower terrain over the second half (a stride past a stair onto the one below):
+  // down to above it with the travel's second half, then the vertical landing from there
+  const double lift = LiftTop(p, top), land = down ? LandTop(p, top) : top;
+  double g, dg, ddg;
+  MinJerk(std::min(2 * f_travel, 1.0), &g, &dg, &ddg);
+  double h, dh, ddh;
+  MinJerk(std::max(2 * f_travel - 1, 0.0), &h, &dh, &ddh);
+  const double over = top - h * (top - land);  // the top, lowered past the first stair
   if (phase < rise_end) {
     MinJerk(phase / rise_end, &f, &df, &ddf);
-    s->feet.p[sw].z() = a.z() + f * (top - a.z());
+    s->feet.p[sw].z() = a.z() + f * (lift - a.z()) + g * (top - lift) - (top - over);
     // off a step: the heel first (toes down with the lift, level again over the lower stair)
     s->feet.pitch[sw] += HeelLift(down, p.height) * std::min(f, 1 - f_travel);
   } else if (down && phase < fall_start) {
-    s->feet.p[sw].z() = top;
+    s->feet.p[sw].z() = over;
     s->feet.pitch[sw] += HeelLift(down, p.height) * (1 - f_travel);
   } else if (phase < fall_start) {
     s->feet.p[sw].z() = top;
   } else {
+    // off a step the travel is done by fall_start: the fall starts from `land`
+    const double from = down ? land : top;
     MinJerk((phase - fall_start) / (1 - fall_start), &f, &df, &ddf);
-    s->feet.p[sw].z() = top + f * (b.z() - top);
+    s->feet.p[sw].z() = from + f * (b.z() - from);
   }
+}
+
+double Gait::LandTop(const Phase& p, double top) const noexcept {
+  const double b = p.step.p.z();
+  if (!(p.step.land_z > -1e8)) return top;
+  return std::clamp(std::max(b, p.step.land_z) + p.height, b, top);
 }
 
 }  // namespace ohrp::walking

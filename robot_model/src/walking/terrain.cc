@@ -261,7 +261,7 @@ void TerrainMap::SetSwingClearance(std::vector<Footstep>* steps, const FeetPose&
       const Eigen::Vector2d l = Eigen::Rotation2Dd(-yaw) * (q - c);
       return std::fabs(l.x()) <= half.x() + 1e-9 && std::fabs(l.y()) <= half.y() + 1e-9;
     };
-    double highest = -1e9;
+    double highest = -1e9, first_half = -1e9, second_half = -1e9;
     for (int i = 0; i <= n; ++i) {
       const double f = static_cast<double>(i) / n;
       const Eigen::Rotation2Dd Rs(feet.yaw[s.foot] + f * turn);
@@ -270,14 +270,23 @@ void TerrainMap::SetSwingClearance(std::vector<Footstep>* steps, const FeetPose&
           const Eigen::Vector2d local((2.0 * u / (kAlong - 1) - 1) * half.x(),
                                       (2.0 * v / (kAcross - 1) - 1) * half.y());
           const Eigen::Vector2d p = a + f * (b - a) + Rs * local;
-          if (on_end(p, a, feet.yaw[s.foot]) || on_end(p, b, s.yaw)) continue;
+          // the first half leaves out the lift-off's footprint, the second the landing's
+          const bool start = on_end(p, a, feet.yaw[s.foot]), landing = on_end(p, b, s.yaw);
+          const bool first = 2 * i <= n, second = 2 * i >= n;
+          if ((start || !first) && (landing || !second)) continue;
           const Eigen::Vector2d q = origin_.head<2>() + R0 * p;
           double h = 0;
-          if (Height(q.x(), q.y(), &h)) highest = std::max(highest, h - origin_.z());
+          if (!Height(q.x(), q.y(), &h)) continue;
+          h -= origin_.z();
+          if (!start && !landing) highest = std::max(highest, h);
+          if (first && !start) first_half = std::max(first_half, h);
+          if (second && !landing) second_half = std::max(second_half, h);
         }
       }
     }
     s.clear_z = highest;
+    s.lift_z = first_half;
+    s.land_z = second_half;
     feet = After(feet, s);
   }
 }
