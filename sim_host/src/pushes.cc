@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cli/plausible.h"
-#include "sim_host/host.h"
+#include "sim_host/pushes.h"
 
 namespace ohrp::sim {
 

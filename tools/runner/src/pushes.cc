@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <set>
 
-#include "sim_host/host.h"
+#include "sim_host/pushes.h"
 #include "yaml_read.h"
 
 namespace ohrp::runner {
