@@ -1,7 +1,7 @@
-// The joints as identified, read, written and applied (see joint_params.h).
+// The joints as identified, read and written (see joint_params.h; applied to a model:
+// joint_params_apply.cc, the one part that calls MuJoCo).
 #include "robot_model/joint_params.h"
 
-#include <mujoco/mujoco.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
@@ -127,38 +127,6 @@ bool WriteJointParamsFile(const std::string& path, const std::vector<JointParams
     *error = "cannot write " + path;
     return false;
   }
-  return true;
-}
-
-void SetDofFrictionloss(mjModel* m, int dof, double coulomb) {
-  m->dof_frictionloss[dof] = coulomb;
-  m->dof_solimp[dof * mjNIMP + 0] = kFrictionImpedance;
-  m->dof_solimp[dof * mjNIMP + 1] = kFrictionImpedance;
-}
-
-bool ApplyJointParams(const std::vector<JointParams>& joints, mjModel* m, mjData* data,
-                      std::string* error) {
-  std::vector<int> dof(joints.size());
-  for (size_t i = 0; i < joints.size(); ++i) {
-    const int j = mj_name2id(m, mjOBJ_JOINT, joints[i].joint.c_str());
-    if (j < 0) {
-      *error = joints[i].joint + ": the model has no such joint";
-      return false;
-    }
-    if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
-      *error = joints[i].joint + ": not a hinge or slide (a ball or free joint has no one armature)";
-      return false;
-    }
-    dof[i] = m->jnt_dofadr[j];
-  }
-  bool armature = false;
-  for (size_t i = 0; i < joints.size(); ++i) {
-    const JointParams& p = joints[i];
-    if (!std::isnan(p.armature)) m->dof_armature[dof[i]] = p.armature, armature = true;
-    if (!std::isnan(p.damping)) m->dof_damping[dof[i]] = p.damping;
-    if (!std::isnan(p.frictionloss)) SetDofFrictionloss(m, dof[i], p.frictionloss);
-  }
-  if (armature) mj_setConst(m, data);
   return true;
 }
 

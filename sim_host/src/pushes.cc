@@ -1,5 +1,5 @@
 // Pushes on the base: parsing `--push`, the wrench of the pushes at a step, and putting it on
-// the base's row of xfrc_applied (see host.h).
+// the base's row of xfrc_applied (see pushes.h).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cli/plausible.h"
-#include "sim_host/host.h"
+#include "sim_host/pushes.h"
 
 namespace ohrp::sim {
 

@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::SimHostProcess;
 
-constexpr int kExitFellCode = 6;  // sim_host/host.h kExitFell
+constexpr int kExitFellCode = 6;  // sim_host/exit_codes.h kExitFell
 
 // A rigid one-legged robot: a torso box (the free base) with a bar 0.6 m forward (arms held
 // out), a leg capsule and a foot body with the sole box F_SOLE 0.55 m below the torso's origin,

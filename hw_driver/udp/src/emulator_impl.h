@@ -18,7 +18,7 @@
 #include "robot_model/servo.h"
 #include "sim_host/contact_choice.h"
 #include "sim_host/feet.h"
-#include "sim_host/host.h"
+#include "sim_host/pushes.h"
 #include "sim_host/step.h"
 
 namespace ohrp::hw::udp::emu {

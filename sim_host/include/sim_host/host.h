@@ -19,6 +19,8 @@
 #include "sim_host/effects.h"
 #include "sim_host/fall.h"
 #include "sim_host/feet.h"
+#include "sim_host/exit_codes.h"
+#include "sim_host/pushes.h"
 
 namespace ohrp::sim {
 
@@ -28,43 +30,6 @@ namespace ohrp::sim {
 // kContinue keeps simulating with the last references held. A controller that hung is dropped
 // (its slot freed): it exits with the controllers' "dropped" code should it run again.
 using ControllerLoss = shm::ControllerLoss;
-
-// An external push on the base: a wrench (world frame, at the base's centre of mass) applied
-// from t0 to t1 of simulated time, e.g. to tilt the standing robot and release it. The wrench
-// acts on every physics step that starts in [t0, t1) (to half a step), so a push lasts
-// round((t1 - t0) / dt) steps and its impulse is force * that many steps * dt. Pushes whose
-// windows overlap add.
-struct Perturbation {
-  double t0 = 0, t1 = 0;        // [s]
-  double force[3] = {0, 0, 0};  // [N]
-  double torque[3] = {0, 0, 0}; // [N m]
-  bool active() const { return t1 > t0; }
-};
-
-// Parses one `--push` value "t0,t1,fx,fy,fz,tx,ty,tz" (8 finite numbers, t0 >= 0, t1 > t0).
-// Returns false with `*error` saying what is wrong and how to write it.
-bool ParsePerturbation(const std::string& spec, Perturbation* out, std::string* error);
-
-// The `--push` value of `p`, "t0,t1,fx,fy,fz,tx,ty,tz" (%.17g: ParsePerturbation reads back the
-// same numbers). The runner writes a scenario's pushes with it (a scenario's push is this window
-// and force, given as a direction and an impulse or a force: runner/scenario.h's PushSpec).
-std::string PerturbationText(const Perturbation& p);
-
-// The total push wrench at simulated time `time` with physics step `dt`: the sum over the
-// pushes whose window holds the step starting at `time` (see Perturbation). Writes 6 numbers
-// (force then torque); no allocation.
-void PushWrenchAt(const std::vector<Perturbation>& pushes, double time, double dt, double wrench[6]);
-
-// True when push `p` acts on the physics step starting at `time` (step `dt`): the step starts
-// in [t0, t1), to half a step (the rule of PushWrenchAt).
-bool PushActiveAt(const Perturbation& p, double time, double dt);
-
-// Puts the pushes' wrench for the step about to run on body `body`'s row of d->xfrc_applied.
-// MuJoCo never clears xfrc_applied, so the row changes by the difference between the wrench
-// wanted now and `pushed` (what the pushes put there before, updated here): other wrenches on
-// the row stay. No allocation.
-void ApplyPushes(const std::vector<Perturbation>& pushes, const mjModel* m, mjData* d, int body,
-                 double pushed[6]);
 
 struct HostOptions {
   std::string scene;               // MJCF file
@@ -108,18 +73,6 @@ struct HostOptions {
   FallOptions fall;                // the fall watch: end or continue, bodies allowed to touch
                                    // the ground (sim_host/fall.h)
 };
-
-// exit codes of sim_host
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitUsage = 2;           // bad option, model, keyframe or segment
-inline constexpr int kExitMujocoError = 3;
-inline constexpr int kExitDiverged = 4;
-inline constexpr int kExitControllerLost = 5;  // lost (or never got) a controller, policy "end"
-inline constexpr int kExitFell = 6;            // the robot fell (sim_host/fall.h), with --on-fall
-                                               // end or continue; 4, 5 and 3 take precedence
-inline constexpr int kExitOutputFailed = model::kExitOutputFailed;  // 9: the data log or the
-                                               // summary could not be written completely
-inline constexpr int kExitInterrupted = 130;   // SIGINT / SIGTERM: clean shutdown
 
 // Runs one simulation as described by `options`; returns an exit code above. Prints set-up
 // errors and the end-of-run report on stderr.

@@ -20,7 +20,7 @@
 #include "robot_model/servo.h"
 #include "sim_host/damping_fold.h"
 #include "sim_host/divergence.h"
-#include "sim_host/host.h"
+#include "sim_host/pushes.h"
 
 namespace ohrp::sim {
 

@@ -12,7 +12,7 @@
 #include "contact/params.h"
 #include "identify/rocking.h"
 #include "robot_model/model.h"
-#include "runner/checks.h"
+#include "datalog/table.h"
 #include "runner/scenario.h"
 #include "measure.h"
 #include "noise_spread.h"

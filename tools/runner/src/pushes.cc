@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <set>
 
-#include "sim_host/host.h"
+#include "sim_host/pushes.h"
 #include "yaml_read.h"
 
 namespace ohrp::runner {
@@ -54,7 +54,7 @@ void PushSpec::Force(double f_W[3]) const {
 }
 
 std::string PushArgument(const PushSpec& p) {
-  // the one representation of a push (sim_host/host.h): a window and a wrench on the base
+  // the one representation of a push (sim_host/pushes.h): a window and a wrench on the base
   sim::Perturbation window;
   window.t0 = p.at;
   window.t1 = p.at + p.duration;

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scenario_run.h"
-#include "sim_host/host.h"
+#include "sim_host/exit_codes.h"
 
 namespace fs = std::filesystem;
 
