@@ -32,6 +32,10 @@
 //             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
 //             and dq_ref consistent), then a hold where it stopped; any later command the check
 //             certifies resumes.
+//   retreat   a pair that a joint the guard may not brake (a loaded leg, a passive joint) is
+//             closing, predicted below its limit plus twice the tolerance from that side's
+//             measured motion: the brakeable joints on its chain move away along the gradient
+//             of its distance, within their limits and speed (self_collision_retreat.cc).
 //
 // Configure reads the file and checks it against the segment's header (model hash, joint
 // names, a `dynamics:` section); Filter runs every cycle and allocates, throws and logs
