@@ -116,9 +116,12 @@ bool SelfCollisionGuard::BrakeHelps(int i) {
 
 void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c) {
   bool leg = false;
+  // a retreating joint's ramp goes to its retreat velocity at its braking rate, every
+  // retreating joint's change scaled by one factor (the retreat's direction kept)
+  double factor = 1.0;
   for (int j = 0; j < njoint_; ++j) {
-    if (Supports(j) || !chain_[j]) {  // a loaded leg, a joint off the chains: the controller's
-      braked_[j] = 0;
+    if (Supports(j) || !(chain_[j] || retreat_[j])) {  // a loaded leg, a joint off the chains
+      braked_[j] = 0;                                    // and the retreat: the controller's
       continue;
     }
     if (!braked_[j]) {
@@ -129,9 +132,17 @@ void SelfCollisionGuard::Brake(const shm::SensorBlock& sensors, shm::CommandBloc
       brake_decel_[j] = decel_[j];
       braked_[j] = 1;
     }
+    const double change = std::abs(retreat_v_[j] - brake_v_[j]);
+    if (retreat_[j] && change > brake_decel_[j] * period_)
+      factor = std::min(factor, brake_decel_[j] * period_ / change);
+  }
+  for (int j = 0; j < njoint_; ++j) {
+    if (!braked_[j]) continue;
     leg = leg || CarriesFoot(j);
     const double v0 = brake_v_[j], dv = brake_decel_[j] * period_;
-    const double v1 = v0 > 0 ? std::max(0.0, v0 - dv) : std::min(0.0, v0 + dv);
+    const double v1 = retreat_[j] ? v0 + factor * (retreat_v_[j] - v0)
+                      : v0 > 0    ? std::max(0.0, v0 - dv)
+                                  : std::min(0.0, v0 + dv);
     brake_q_[j] += 0.5 * (v0 + v1) * period_;
     brake_v_[j] = v1;
     shm::JointCommand& jc = c->joint[j];
@@ -166,10 +177,24 @@ bool SelfCollisionGuard::Filter(const shm::SensorBlock& sensors, shm::CommandBlo
   TrackMeasuredLimits();
   int worst = -1;
   double bound = INFINITY;
-  if (CertifyMotion(&worst, &bound)) {
+  const bool certified = CertifyMotion(&worst, &bound);
+  // a pair a support leg is closing: the brakeable side moves away (self_collision_retreat.cc)
+  const bool retreat = PlanRetreat();
+  if (retreat) {
+    if (!retreating_) ++retreats_;
+    ++retreat_cycles_;
+  }
+  retreating_ = retreat;
+  if (certified && !retreat) {
     braking_ = false;
     std::fill(braked_.begin(), braked_.end(), 0);
     return false;
+  }
+  if (certified) {  // only the retreat: the other joints follow the controller
+    braking_ = false;
+    std::fill(chain_.begin(), chain_.end(), 0);
+    Brake(sensors, c);
+    return true;
   }
   if (monitor_only_) {  // counted, the commands left alone
     ++warned_cycles_;
@@ -192,6 +217,7 @@ bool SelfCollisionGuard::MeasureFirstCycle(const shm::SensorBlock& sensors,
   if (monitor_only_) return false;  // monitoring: the commands are left alone
   std::fill(braked_.begin(), braked_.end(), 0);  // Brake starts each joint from its measurement
   std::fill(chain_.begin(), chain_.end(), 1);    // nothing judged yet: every joint
+  std::fill(retreat_.begin(), retreat_.end(), 0);
   Brake(sensors, c);
   return true;
 }
@@ -200,6 +226,8 @@ bool SelfCollisionGuard::Unjudged(const shm::SensorBlock& sensors, shm::CommandB
   // a measurement is not finite: nothing to predict from, so nothing is judged (the
   // controller's own non-finite handling holds); a brake under way goes on (it needs none)
   ++unjudged_cycles_;
+  std::fill(retreat_.begin(), retreat_.end(), 0);  // nothing to retreat along: to rest
+  retreating_ = false;
   if (!braking_) return false;
   ++held_cycles_;
   Brake(sensors, c);

@@ -46,6 +46,9 @@ void SelfCollisionGuard::Report(const std::string& program, std::ostream& out) c
                   file_.robot.links[warned_pair_.b].name.c_str(), 1e3 * warned_distance_);
     out << w;
   }
+  if (retreat_cycles_ > 0)
+    out << program << ": self-collision: retreated from a pair a support leg was closing in "
+        << retreat_cycles_ << " cycles (" << retreats_ << " retreats)\n";
   if (held_cycles_ == 0 && violations_ == 0) return;
   const auto name = [&](collision::LinkPair p) {
     return p.a < 0 ? std::string("(none)")

@@ -169,6 +169,12 @@ std::string SelfCollisionGuard::Configure(const std::string& path,
   have_last_ = false;
   centre_.assign(nq_, 0.0);
   for (auto* v : {&v0_, &a_mid_, &v1_, &q1_, &stop_, &speed_, &envelope_}) v->assign(nq_, 0.0);
+  for (auto* v : {&meas_v_, &meas_a_, &grad_, &scratch_q_}) v->assign(nq_, 0.0);
+  retreat_v_.assign(njoint_, 0.0);
+  retreat_.assign(njoint_, 0);
+  retreat_pairs_.assign(kMaxRetreatPairs, -1);
+  retreat_grad_.assign(static_cast<size_t>(kMaxRetreatPairs) * nq_, 0.0);
+  retreat_rate_.assign(kMaxRetreatPairs, 0.0);
   return "";
 }
 
@@ -189,6 +195,7 @@ void SelfCollisionGuard::Activate(const shm::SensorBlock& sensors) {
   for (size_t i = 0; i < every_.size(); ++i)
     limit_[i] = std::min(base_limit_[i], check_->distance(static_cast<int>(i)) - tolerance_);
   braking_ = false;
+  retreating_ = false;
   // no acceleration measured yet: the first cycle measures (Filter)
   for (int j = 0; j < njoint_; ++j) last_dq_[j] = std::isfinite(sensors.dq[j]) ? sensors.dq[j] : 0.0;
   have_last_ = false;

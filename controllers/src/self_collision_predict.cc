@@ -140,6 +140,8 @@ bool SelfCollisionGuard::Predict(const shm::SensorBlock& sensors, const shm::Com
     double lo = 0, hi = 0;
     Excursion(v, m.a_lo, m.a_hi, horizon, m.v_floor, m.v_ceil, decel_[j], &lo, &hi);
     q_[j] = q;
+    meas_v_[j] = v;  // the retreat's support rate (self_collision_retreat.cc)
+    meas_a_[j] = have_last_ ? (v - last_dq_[j]) / period_ : 0.0;
     box_lo_[j] = q + lo;
     box_hi_[j] = q + hi;
     PlanNominal(j, q, v, horizon, &m);
@@ -261,6 +263,7 @@ bool SelfCollisionGuard::PredictPassive(const shm::SensorBlock& sensors) noexcep
       return false;
     }
     q_[k] = q1_[k] = q;
+    meas_v_[k] = v, meas_a_[k] = 0.0;
     envelope_[k] = std::abs(v) * horizon_end_;
     box_lo_[k] = q - envelope_[k];
     box_hi_[k] = q + envelope_[k];

@@ -32,6 +32,10 @@
 //             measured state (each joint's velocity ramped to zero at its deceleration, q_ref
 //             and dq_ref consistent), then a hold where it stopped; any later command the check
 //             certifies resumes.
+//   retreat   a pair that a joint the guard may not brake (a loaded leg, a passive joint) is
+//             closing, predicted below its limit plus twice the tolerance from that side's
+//             measured motion: the brakeable joints on its chain move away along the gradient
+//             of its distance, within their limits and speed (self_collision_retreat.cc).
 //
 // Configure reads the file and checks it against the segment's header (model hash, joint
 // names, a `dynamics:` section); Filter runs every cycle and allocates, throws and logs
@@ -79,7 +83,12 @@ class SelfCollisionGuard {
   // "pair A / B at X mm (predicted), N hold(s)" of the closest hold, for failure messages
   std::string HoldSummary() const;
 
-  bool holding() const { return braking_; }          // braking or holding this cycle
+  bool holding() const { return braking_ || retreating_; }  // braking, holding or retreating
+  // the retreat (self_collision_retreat.cc): cycles in which some brakeable joints moved away
+  // from a pair a support leg was closing, and the episodes
+  long retreat_cycles() const { return retreat_cycles_; }
+  uint64_t retreats() const { return retreats_; }
+  bool retreating() const { return retreating_; }
   uint64_t holds() const { return holds_; }          // hold episodes begun
   long held_cycles() const { return held_cycles_; }  // cycles braking or holding
   collision::LinkPair hold_pair() const { return closest_pair_; }  // the closest hold's pair
@@ -183,8 +192,46 @@ class SelfCollisionGuard {
   // legs): it is monitored this cycle, not braked. A pair the check only bounded is measured
   // first (one evaluation of the work bound; none left: braked)
   bool BrakeHelps(int i);
-  // the braking trajectory's next reference into `c`
+  // the braking trajectory's next reference into `c` (a retreating joint's ramp goes to its
+  // retreat velocity instead of rest)
   void Brake(const shm::SensorBlock& sensors, shm::CommandBlock* c);
+
+  // The retreat (self_collision_retreat.cc, issue 29): a pair of the list whose links a
+  // support leg (a joint the guard may not brake) is closing, measured within the leg's reach
+  // (its measured speed and acceleration over kRetreatLookahead periods) of its limit plus
+  // twice the tolerance: the gradient of its distance over the pair's joints (central
+  // differences at the measured posture: n^T (J_a - J_b) where the distance is smooth), the
+  // rate at which the support side closes it (the gradient times the measured velocities and
+  // accelerations), and the rate the brakeable side (the pair's other joints: arm, torso) must
+  // move away at so that the prediction stays above the limit plus the tolerance. The
+  // retreat velocity is the inertia-weighted least-norm solution of those rates (Kaczmarz over
+  // the pairs), then kept from pushing other close pairs of the same joints closer, within the
+  // joint limits (a joint that would cross one within the look-ahead is locked) and speed (one
+  // factor for all, so the direction is kept); Brake ramps each joint to it at its braking
+  // rate (one factor for all). False: no pair needs it.
+  bool PlanRetreat() noexcept;
+  // pair i's distance at posture q (its two links only); one evaluation
+  double PairDistance(int i, const std::vector<double>& q, double cutoff) noexcept;
+  // the gradient of pair i's distance over its joints into g (nq_), false when out of work
+  bool Gradient(int i, double d, int* budget, double* g) noexcept;
+  // the retreat velocity from the pairs' gradients and rates into retreat_v_
+  void SolveRetreat() noexcept;
+  // keeps retreat_v_ from bringing other measured pairs of the retreating joints closer
+  void ProjectOthers(int* budget) noexcept;
+  static constexpr int kMaxRetreatPairs = 4;
+  static constexpr int kRetreatBudget = 64;     // distance evaluations a cycle
+  static constexpr double kRetreatLookahead = 6;  // [periods]
+  static constexpr double kRetreatSpeed = 1.0;  // [rad/s] where the file states no limit
+  std::vector<double> meas_v_, meas_a_;  // per joint (nq_): measured velocity, acceleration
+  std::vector<double> grad_, scratch_q_;  // per joint (nq_): scratch
+  std::vector<double> retreat_v_;         // per joint: the retreat's velocity
+  std::vector<char> retreat_;             // per joint: retreating this cycle
+  std::vector<int> retreat_pairs_;        // the pairs retreated from (kMaxRetreatPairs)
+  std::vector<double> retreat_grad_, retreat_rate_;  // their gradients (nq_ each), rates [m/s]
+  int nretreat_ = 0;
+  bool retreating_ = false;
+  long retreat_cycles_ = 0;
+  uint64_t retreats_ = 0;
 
   collision::SelfCollisionFile file_;
   std::unique_ptr<collision::SelfCollision> checker_;
