@@ -5,7 +5,7 @@
 // at the boards' time, rows 2-10 board cycles apart where the driver missed cycles) recovering
 // them (issue 35). The emulator runs one physics step of 2 ms per board cycle, so that each
 // logged torque is the one that moved the joint to the state logged with it (identify/joints.h).
-// Real time: not under the sanitizers (no_sanitize). Skipped when the programs are not built.
+// Real time: skipped under the sanitizers (OHRP_SANITIZE). Skipped when the programs are not built.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +19,8 @@
 #include "../identify/elbow_inertia.h"
 #include "common/process.h"
 #include "common/scratch.h"
+#include "datalog/table.h"
+#include "shm_bridge/layout.h"
 #include "hw_chain.h"
 #include "identify/joints.h"
 
@@ -45,7 +47,23 @@ int Holds(const Chain& c) {
   return std::regex_search(c.emulator_out, m, std::regex("holds=(\\d+)")) ? std::stoi(m[1]) : -1;
 }
 
+// the rows of the driver's log in which it held the last references (its controller late past
+// the watchdog: the machine stalled excite)
+int DriverHeld(const std::string& log) {
+  datalog::Table t;
+  std::string e;
+  if (!t.Load(log, &e) || t.Column("status") < 0) return 0;
+  int n = 0;
+  for (double s : t.col(t.Column("status"))) n += (static_cast<uint32_t>(s) & shm::status::kHolding) != 0;
+  return n;
+}
+
 TEST(ExciteHw, TheElbowIsIdentifiedFromHwDriversLogOnTheBoardsTime) {
+#ifdef OHRP_SANITIZE
+  // real time through UDP: under the sanitizers the driver misses most cycles and its late
+  // commands jolt the arm (as identify_joints_emulator_test); the no_sanitize label's intent
+  GTEST_SKIP() << "the hardware chain's real-time excitation is not real time in a sanitizer build";
+#endif
   if (const std::string p = MissingHwProgram("excite"); !p.empty()) GTEST_SKIP() << p << " is not built";
   int elbow = -1;
   const double inertia = identify::testing::ModelElbowInertia(ChainScene(), &elbow) + kExtraArmature;
@@ -54,8 +72,10 @@ TEST(ExciteHw, TheElbowIsIdentifiedFromHwDriversLogOnTheBoardsTime) {
   identify::JointEstimate e;
   Chain c;
   // Real time on a shared machine: a driver stalled longer than the boards' hold time (50 ms)
-  // makes them hold the robot (the emulator's holds=N) and jolts the arm, which is the machine's,
-  // not what is tested: such a run whose figures are off is run again, at most twice, saying so.
+  // makes them hold the robot (the emulator's holds=N), and excite stalled past the driver's
+  // watchdog makes the driver hold (status kHolding in its log); either jolts the arm, which is
+  // the machine's, not what is tested: such a run that failed or whose figures are off is run
+  // again, at most twice, saying so.
   for (int attempt = 1; attempt <= 3; ++attempt) {
     c = RunChainOn(
         {ChainScene(), "halfsit", 0.002, {"--log", log, "--log-dq", "--log-time", "board"}}, "exc_hw",
@@ -67,6 +87,13 @@ TEST(ExciteHw, TheElbowIsIdentifiedFromHwDriversLogOnTheBoardsTime) {
         {"--period", "0.002", "--timestep", "0.002", "--friction", "LARM_ELBOW=2.5,3.0",
          "--armature", "LARM_ELBOW=4", "--delay-ms", "8"},
         9.0);
+    const int held = DriverHeld(log);
+    if ((c.driver != 0 || c.controller != 0) && (Holds(c) > 0 || held > 0) && attempt < 3) {
+      std::printf("run %d: driver exit %d, excite exit %d after the machine stalled the chain (the "
+                  "boards held %d times, the driver %d rows): again\n",
+                  attempt, c.driver, c.controller, Holds(c), held);
+      continue;
+    }
     ASSERT_EQ(c.driver, 0) << Diagnosis(c);
     ASSERT_EQ(c.controller, 0) << Diagnosis(c);
     std::vector<identify::JointLog> joints;
@@ -87,9 +114,10 @@ TEST(ExciteHw, TheElbowIsIdentifiedFromHwDriversLogOnTheBoardsTime) {
                      std::fabs(e.viscous - kViscous) > std::max(0.1 * kViscous, 3 * e.viscous_se) ||
                      std::fabs(e.coulomb - kCoulomb) > std::max(0.1 * kCoulomb, 3 * e.coulomb_se) ||
                      e.lag_cycles != kDelayCycles || std::fabs(e.kp - kp) > 0.01 * kp;
-    if (!(off && Holds(c) > 0 && attempt < 3)) break;
-    std::printf("run %d: the boards held %d times (the machine stalled the driver past 50 ms) and "
-                "the fit is off: again\n", attempt, Holds(c));
+    if (!(off && (Holds(c) > 0 || held > 0) && attempt < 3)) break;
+    std::printf("run %d: the boards held %d times (the driver stalled past their 50 ms), the driver "
+                "%d rows (excite late past its watchdog), and the fit is off: again\n", attempt,
+                Holds(c), held);
   }
   const auto s = Span(c, 1.0, 8.9);  // it stands while the arm moves
   EXPECT_NEAR(s[0], kHalfSitHeight, 0.02) << Diagnosis(c);
