@@ -56,7 +56,8 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
   r->nimu_ = channels.imu ? static_cast<int>(names.imus.size()) : 0;
   r->npassive_ = channels.joints ? static_cast<int>(names.passive.size()) : 0;
   r->ndq_ = channels.joint_velocities ? r->njoint_ : 0;
-  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + r->ndq_ + 2 * r->npassive_ + 6 * r->nforce_ +
+  r->ndqref_ = channels.reference_velocities ? r->njoint_ : 0;
+  r->width_ = 1 + (r->base_ ? 10 : 0) + 3 * r->njoint_ + r->ndq_ + r->ndqref_ + 2 * r->npassive_ + 6 * r->nforce_ +
               10 * r->nimu_ + 3;
   r->capacity_ = capacity;
   r->max_bytes_ = max_bytes;
@@ -74,6 +75,7 @@ std::unique_ptr<Recorder> Recorder::Open(const std::string& path, const LogNames
   for (const char* prefix : {"q_", "qref_", "tau_"})
     for (int i = 0; i < r->njoint_; ++i) column(prefix, names.joints[i].c_str());
   for (int i = 0; i < r->ndq_; ++i) column("dq_", names.joints[i].c_str());
+  for (int i = 0; i < r->ndqref_; ++i) column("dqref_", names.joints[i].c_str());
   for (const char* prefix : {"q_", "dq_"})
     for (int i = 0; i < r->npassive_; ++i) column(prefix, names.passive[i].c_str());
   for (int f = 0; f < r->nforce_; ++f)
@@ -134,6 +136,7 @@ bool Recorder::Push(const shm::SensorBlock& s, const shm::JointCommand* refs,
   for (int i = 0; i < njoint_; ++i) row[k++] = refs[i].q_ref;
   for (int i = 0; i < njoint_; ++i) row[k++] = s.tau[i];
   for (int i = 0; i < ndq_; ++i) row[k++] = s.dq[i];
+  for (int i = 0; i < ndqref_; ++i) row[k++] = refs[i].dq_ref;
   for (int i = 0; i < npassive_; ++i) row[k++] = s.passive_q[i];
   for (int i = 0; i < npassive_; ++i) row[k++] = s.passive_dq[i];
   for (int f = 0; f < nforce_; ++f) {

@@ -41,6 +41,8 @@ std::vector<EmulatorRow> ReadEmulatorLog(const std::string& path) {
 }
 }  // namespace
 
+std::string ChainScene() { return kScene; }
+
 Chain RunChain(const std::string& tag, const std::vector<std::string>& controller,
                const std::vector<std::string>& emulator_args, double duration,
                Tolerance tolerance) {
@@ -69,14 +71,14 @@ Chain RunChainOn(const ChainRobot& robot, const std::string& tag,
   EXPECT_NE(port, 0) << ReadFile(path("emu.out"));
   // the driver, then the controller once the segment exists
   const std::string segment = UniqueSegment(tag);
-  const pid_t driver = Spawn(
-      {Program("hw_driver"), "--model", robot.model, "--io", Program("../lib/libohrp_io_udp.so"),
+  std::vector<std::string> d = {Program("hw_driver"), "--model", robot.model, "--io", Program("../lib/libohrp_io_udp.so"),
        "--io-arg", "port=" + std::to_string(port), "--io-arg",
        "timeout_ms=" + std::to_string(tolerance.board_ms), "--segment", segment, "--period",
        std::to_string(robot.period), "--watchdog-cycles", std::to_string(tolerance.cycles), "--board-timeout-cycles",
        std::to_string(tolerance.cycles), "--rt-priority", "0", "--no-mlock", "--duration",
-       std::to_string(duration), "--summary", path("driver.json")},
-      path("driver.out"));
+       std::to_string(duration), "--summary", path("driver.json")};
+  d.insert(d.end(), robot.driver_args.begin(), robot.driver_args.end());
+  const pid_t driver = Spawn(d, path("driver.out"));
   const std::string shm_path = "/dev/shm/" + shm::SegmentObjectName(segment);
   for (double t = 0; !fs::exists(shm_path) && t < kWall && ohrp::testing::Running(driver); t += 0.01)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

@@ -53,7 +53,10 @@ struct ChainRobot {
   std::string model;     // a scene or robot profile
   std::string keyframe;  // the emulator's initial state
   double period = 0.002; // the driver's servo cycle = the controller's period [s]
+  std::vector<std::string> driver_args = {};  // added to hw_driver's (e.g. --log FILE)
 };
+// HRP-1S's flat scene, the robot RunChain runs on
+std::string ChainScene();
 // the same on another robot than HRP-1S's flat scene
 Chain RunChainOn(const ChainRobot& robot, const std::string& tag,
                  const std::vector<std::string>& controller,

@@ -9,6 +9,7 @@
 //   base_vx, base_vy, base_vz,                                           sim_host only)
 //   q_<joint>... , qref_<joint>... , tau_<joint>...                      (joint-id order)
 //   dq_<joint>...                        (only with RecorderChannels::joint_velocities)
+//   dqref_<joint>...                     (only with RecorderChannels::reference_velocities)
 //   q_<passive>... , dq_<passive>...                  (passive joints, read-only: header order)
 //   <ft>_fx, <ft>_fy, <ft>_fz, <ft>_tx, <ft>_ty, <ft>_tz ...             (segment convention)
 //   <imu>_gx, <imu>_gy, <imu>_gz, <imu>_ax, <imu>_ay, <imu>_az,
@@ -45,6 +46,9 @@ struct RecorderChannels {
   // with joints: dq_<joint> after tau_ (sim_host/hw_driver --log-dq); last, so that the brace
   // initialisations {base, joints, force_torque, imu} keep their meaning
   bool joint_velocities = false;
+  // with joints: dqref_<joint> after dq_, the reference velocity of the servos' commands
+  // (hw_driver --log-dq: on the boards' time the one the boards applied)
+  bool reference_velocities = false;
 };
 
 // the names the columns are made of, in the segment's order
@@ -143,7 +147,7 @@ class Recorder {
   double failure_time_ = 0, limit_time_ = 0;
   uint64_t failure_cycle_ = 0, limit_cycle_ = 0;
   std::string error_;  // set once, before failed_
-  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0, ndq_ = 0;  // 0 when the channel is off
+  int njoint_ = 0, nforce_ = 0, nimu_ = 0, npassive_ = 0, ndq_ = 0, ndqref_ = 0;  // 0 when the channel is off
   bool base_ = true;
   bool closed_ = false;
   std::atomic<bool> stop_{false};

@@ -101,6 +101,10 @@ struct Driver::Impl {
   double time = 0;             // driver time of cycle k [s]
   datalog::Recorder* log = nullptr;  // the data log (--log), or none
   uint64_t logged_board_ns = 0;      // log_board_time: the boards' time of the last row
+  // log_board_time with io_report::kAppliedReferences: the references the boards had when they
+  // measured the row's data (IoState::applied_q, applied_dq), the rest of each command the
+  // driver's (a copy: no allocation)
+  shm::JointCommand applied[shm::kMaxJoints] = {};
 
   void Record(EventKind kind, int64_t value = 0, int board = -1, int joint = -1,
               double reading = 0) noexcept {
@@ -152,7 +156,13 @@ struct Driver::Impl {
       log->Push(s, guard.references(), cmd.guard.holding);  // the last accepted block's guard
     } else if (in.time_ns > logged_board_ns) {  // the boards' time: new data only (the gaps
       logged_board_ns = in.time_ns;              // in the log's time show the cycles left out)
-      log->Push(s, guard.references(), cmd.guard.holding, static_cast<double>(in.time_ns) * 1e-9);
+      const shm::JointCommand* refs = guard.references();
+      if (in.reports & io_report::kAppliedReferences) {  // what the boards had, not the driver
+        std::memcpy(applied, refs, njoint * sizeof(shm::JointCommand));
+        for (int i = 0; i < njoint; ++i) applied[i].q_ref = in.applied_q[i], applied[i].dq_ref = in.applied_dq[i];
+        refs = applied;
+      }
+      log->Push(s, refs, cmd.guard.holding, static_cast<double>(in.time_ns) * 1e-9);
     }
   }
 

@@ -210,6 +210,7 @@ int RunProgram(const ProgramOptions& o) {
     datalog::RecorderChannels channels;
     channels.base = false;
     channels.joint_velocities = o.log_dq;
+    channels.reference_velocities = o.log_dq;  // dqref_: the servos' (the boards' on their time)
     log = datalog::Recorder::Open(o.log_path,
                                   {robot.joint_names, robot.force_names, robot.imu_names,
                                    robot.passive_names},

@@ -21,11 +21,12 @@
 
 namespace ohrp::hw {
 
-inline constexpr uint32_t kRobotIoAbiVersion = 5;  // 2: IoState::nonfinite_boards;
+inline constexpr uint32_t kRobotIoAbiVersion = 6;  // 2: IoState::nonfinite_boards;
                                                    // 3: cameras (IoConfig::cameras, images);
                                                    // 4: IoState::reports and the boards' masks;
                                                    // 5: passive joints (IoConfig::passive_names,
                                                    //    IoState::passive_q, passive_dq)
+                                                   // 6: IoState::applied_q, applied_dq
 inline constexpr const char* kRobotIoEntry = "ohrp_create_robot_io";
 
 // What the driver tells the boards at open: the robot (from its model) and the plugin's own
@@ -61,6 +62,9 @@ inline constexpr uint32_t kServoState = 1u << 0;      // servo_on[] is what the 
 inline constexpr uint32_t kFollowsCommands = 1u << 1; // the joints are driven by the commands
                                                       // written (not a replay): tracking checked
 inline constexpr uint32_t kBoards = 1u << 2;          // joint_board[] and the board masks below
+inline constexpr uint32_t kAppliedReferences = 1u << 3;  // applied_q[], applied_dq[]: the
+                                                      // references the boards had when they
+                                                      // measured these data
 }  // namespace io_report
 
 // The boards' latest measurements, as read once per cycle.
@@ -87,6 +91,12 @@ struct IoState {
   // the passive joints' encoders (IoConfig::passive_names order), read like the driven ones
   double passive_q[shm::kMaxPassiveJoints] = {};   // [rad or m]
   double passive_dq[shm::kMaxPassiveJoints] = {};  // [rad/s or m/s]
+  // with io_report::kAppliedReferences: per joint, the reference position and velocity of the
+  // command its board had accepted when it measured these data (the one its state
+  // acknowledges), before any delay of the board's own; the driver's data log records it as the
+  // reference in the boards' time (--log-time board)
+  double applied_q[shm::kMaxJoints] = {};   // [rad or m]
+  double applied_dq[shm::kMaxJoints] = {};  // [rad/s or m/s]
 };
 
 // What the driver sends the boards once per cycle: servo power and, per joint, the command

@@ -148,6 +148,7 @@ bool UdpIo::open(const IoConfig& config, std::string* error) {
     have_[b] = false;
     last_rx_ns_[b] = 0;
     for (Sent& s : sent_[b]) s = Sent{};
+    for (SentRefs& s : sent_refs_[b]) s.seq = 0;
     first_sent_ns_[b] = -1;
   }
   for (const auto& [b, ms] : board_timeouts) timeout_ns_[b] = static_cast<int64_t>(ms * 1e6);
@@ -229,6 +230,9 @@ IoResult UdpIo::write(const IoCommand& command) noexcept {
     }
     const size_t n = EncodeCommand(p, buf_);
     sent_[b][p.h.seq % kSentRing] = Sent{p.h.seq, now};
+    SentRefs& refs = sent_refs_[b][p.h.seq % kRefRing];
+    refs.seq = p.h.seq;
+    for (int k = 0; k < r.count; ++k) refs.q[k] = p.joint[k].cmd.q_ref, refs.dq[k] = p.joint[k].cmd.dq_ref;
     if (socket_.SendTo(boards_addr_, buf_, n)) {
       ++stats_.board[b].commands_sent;
     } else {

@@ -178,6 +178,9 @@ bool UdpIo::CopyMotorBoard(int b, IoState* state, uint64_t* time_ns) const {
     state->dq[j] = p.joint[k].dq;
     state->tau[j] = p.joint[k].tau;
     state->servo_on[j] = p.joint[k].servo_on;
+    // the command this state acknowledges (the last the board applied), while it is in the ring
+    const SentRefs& refs = sent_refs_[b][p.h.ack % kRefRing];
+    if (p.h.ack != 0 && refs.seq == p.h.ack) state->applied_q[j] = refs.q[k], state->applied_dq[j] = refs.dq[k];
     finite = finite && std::isfinite(p.joint[k].q) && std::isfinite(p.joint[k].dq) &&
              std::isfinite(p.joint[k].tau);
   }
@@ -196,7 +199,8 @@ void UdpIo::Publish(ReadMasks* m, IoState* state) {
   state->silent_boards = m->silent;
   state->nonfinite_boards = m->nonfinite;
   state->packets_lost = lost;
-  state->reports = io_report::kServoState | io_report::kFollowsCommands | io_report::kBoards;
+  state->reports = io_report::kServoState | io_report::kFollowsCommands | io_report::kBoards |
+                   io_report::kAppliedReferences;
   state->reset_boards = m->reset;
   state->unacked_boards = m->unacked;
   state->refused_boards = m->refused;

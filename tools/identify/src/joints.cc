@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 namespace ohrp::identify {
@@ -30,6 +31,30 @@ Fit LeastSquares(const Eigen::MatrixXd& a, const Eigen::VectorXd& y) {
   const Eigen::MatrixXd cov = s2 * (a.transpose() * a).completeOrthogonalDecomposition().pseudoInverse();
   f.se = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
   return f;
+}
+
+// The standard errors of x by a moving-block bootstrap of the residuals (joints.h): y* = A x + r*,
+// r* blocks of kBootstrapBlock consecutive residuals drawn with replacement, x* refitted; the std
+// of x* over kBootstrapRefits refits, from a fixed seed.
+Eigen::VectorXd BootstrapSe(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, const Eigen::VectorXd& x) {
+  const long n = a.rows();
+  const long block = std::min<long>(kBootstrapBlock, n);
+  const Eigen::VectorXd fitted = a * x, r = y - fitted;
+  std::mt19937_64 rng(kBootstrapSeed);
+  std::uniform_int_distribution<long> start(0, n - block);
+  const auto qr = a.colPivHouseholderQr();
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(x.size()), sum2 = sum, ys(n);
+  for (int i = 0; i < kBootstrapRefits; ++i) {
+    for (long k = 0; k < n; k += block) {
+      const long s = start(rng);
+      for (long m = 0; m < block && k + m < n; ++m) ys(k + m) = fitted(k + m) + r(s + m);
+    }
+    const Eigen::VectorXd xs = qr.solve(ys);
+    sum += xs;
+    sum2 += xs.cwiseProduct(xs);
+  }
+  const double m = kBootstrapRefits;
+  return ((sum2 - sum.cwiseProduct(sum) / m) / (m - 1)).cwiseMax(0.0).cwiseSqrt();
 }
 
 bool SplitNumbers(const std::string& line, std::vector<double>* out) {
@@ -70,18 +95,19 @@ bool FitDynamics(const JointLog& l, const JointFitOptions& o, JointEstimate* e, 
     y(i) = l.tau[k];
   }
   const Fit f = LeastSquares(a, y);
+  const Eigen::VectorXd se = BootstrapSe(a, y, f.x);
   e->moving = rows.size();
-  e->inertia = f.x(0), e->inertia_se = f.se(0);
-  e->viscous = f.x(1), e->viscous_se = f.se(1);
-  e->coulomb = f.x(2), e->coulomb_se = f.se(2);
+  e->inertia = f.x(0), e->inertia_se = se(0), e->inertia_se_ols = f.se(0);
+  e->viscous = f.x(1), e->viscous_se = se(1), e->viscous_se_ols = f.se(1);
+  e->coulomb = f.x(2), e->coulomb_se = se(2), e->coulomb_se_ols = f.se(2);
   e->dynamics_rms = f.rms;
   e->tau_rms = std::sqrt(y.squaredNorm() / static_cast<double>(y.size()));
   return true;
 }
 
 // the servo: tau_k = kp (ref_{k-L} - q_k) + kd (dref_{k-L} - qd_k) + tau0, the L of least residual
-// (the lag in cycles of the period: each row's cycle number from its time, the reference of a
-// cycle the logger missed the one before it)
+// (the lag in cycles of the period: each row's cycle number from its time; only the rows whose
+// last L + 2 cycles are all logged)
 void FitServo(const JointLog& l, const JointFitOptions& o, JointEstimate* e) {
   const long n = static_cast<long>(l.t.size());
   std::vector<long> cycle(n);
@@ -90,10 +116,18 @@ void FitServo(const JointLog& l, const JointFitOptions& o, JointEstimate* e) {
   // interval since its previous cycle)
   std::vector<double> ref(static_cast<size_t>(cycle.back() + 1), l.ref[0]);
   std::vector<double> rate(ref.size(), 0.0);
+  // per cycle, how many cycles up to it the log holds without a gap: a cycle the logger missed
+  // may have had the row before's reference or a newer one, and a board whose delay counts
+  // commands (hw_emulator --delay-ms) shifts nothing in a cycle without one (the driver's missed
+  // cycles in the boards' time base, docs/identify.md)
+  std::vector<long> run(ref.size(), 0);
   for (long k = 0, c = 0; c <= cycle.back(); ++c) {
     while (k + 1 < n && cycle[k + 1] <= c) ++k;
     ref[c] = l.ref[k];
-    rate[c] = k > 0 ? (l.ref[k] - l.ref[k - 1]) / (l.t[k] - l.t[k - 1]) : 0.0;
+    rate[c] = !l.dref.empty() ? l.dref[k]
+              : k > 0         ? (l.ref[k] - l.ref[k - 1]) / (l.t[k] - l.t[k - 1])
+                              : 0.0;
+    run[c] = cycle[k] == c ? (c > 0 ? run[c - 1] : 0) + 1 : 0;
   }
   // a servo at its torque limit is not the PD law: the rows within kSaturated of the largest
   // |tau| logged stay out
@@ -105,22 +139,34 @@ void FitServo(const JointLog& l, const JointFitOptions& o, JointEstimate* e) {
       rows.push_back(k);
   e->saturated = 0;
   for (double t : l.tau) e->saturated += std::fabs(t) >= (1 - kSaturated) * tau_max;
-  double best = -1;
-  for (int lag = 0; lag <= o.max_lag; ++lag) {
+  // the regression at lag L (false: too few rows)
+  const auto regress = [&](int lag, Eigen::MatrixXd* a, Eigen::VectorXd* y) {
     std::vector<long> use;
+    // the rows whose cycles back to the reference L cycles earlier and the one before it (its
+    // rate) are all in the log
     for (long k : rows)
-      if (cycle[k] - lag >= 1) use.push_back(k);
-    if (use.size() < 20) break;
-    Eigen::MatrixXd a(use.size(), 3);
-    Eigen::VectorXd y(use.size());
+      if (cycle[k] - lag >= 1 && run[cycle[k]] >= lag + 2) use.push_back(k);
+    if (use.size() < 20) return false;
+    a->resize(static_cast<long>(use.size()), 3);
+    y->resize(static_cast<long>(use.size()));
     for (size_t i = 0; i < use.size(); ++i) {
       const long k = use[i], c = cycle[k] - lag;
-      a.row(i) << ref[c] - l.q[k - 1], rate[c] - l.dq[k - 1], 1.0;
-      y(i) = l.tau[k];
+      a->row(static_cast<long>(i)) << ref[c] - l.q[k - 1], rate[c] - l.dq[k - 1], 1.0;
+      (*y)(static_cast<long>(i)) = l.tau[k];
     }
+    return true;
+  };
+  double best = -1;
+  Eigen::MatrixXd a;
+  Eigen::VectorXd y;
+  // each lag's residual relative to the torque's spread over its own rows (with gaps in the log
+  // a longer lag keeps fewer rows, the long runs the driver kept up, which need not move alike)
+  for (int lag = 0; lag <= o.max_lag && regress(lag, &a, &y); ++lag) {
     const Fit f = LeastSquares(a, y);
-    if (best < 0 || f.rms < best) {
-      best = f.rms;
+    const double spread = std::sqrt((y.array() - y.mean()).square().mean());
+    const double score = f.rms / std::fmax(spread, 1e-12);
+    if (best < 0 || score < best) {
+      best = score;
       e->lag_cycles = lag;
       e->kp = f.x(0);
       e->kd = f.x(1);
@@ -128,6 +174,11 @@ void FitServo(const JointLog& l, const JointFitOptions& o, JointEstimate* e) {
     }
   }
   e->lag = e->lag_cycles * e->period;
+  if (best >= 0 && regress(e->lag_cycles, &a, &y)) {
+    const Fit f = LeastSquares(a, y);
+    const Eigen::VectorXd se = BootstrapSe(a, y, f.x);
+    e->kp_se = se(0), e->kd_se = se(1);
+  }
 }
 
 // DIR/joints.yaml for sim_host --joint-file (robot_model/joint_params.h)
@@ -227,6 +278,7 @@ bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate*
     *error = log.joint + ": the log's time does not increase";
     return false;
   }
+  for (size_t k = 1; k < log.t.size(); ++k) e->gaps += log.t[k] - log.t[k - 1] > 1.5 * e->period;
   if (!FitDynamics(log, o, e, error)) return false;
   FitServo(log, o, e);
   return true;
@@ -235,11 +287,12 @@ bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate*
 int IdentifyJoints(const std::string& log, const std::string& out_dir, const JointFitOptions& o,
                    const JointModel& model) {
   std::vector<JointLog> joints;
-  std::string error;
-  if (!ReadExciteLog(log, &joints, &error)) {
+  std::string error, note;
+  if (!ReadJointLog(log, &joints, &note, &error)) {
     std::fprintf(stderr, "ohrp_identify: %s\n", error.c_str());
     return 2;
   }
+  if (!note.empty()) std::printf("%s: %s\n", log.c_str(), note.c_str());
   nlohmann::json all = nlohmann::json::array();
   std::printf("%-18s %9s %9s %9s %9s %9s %9s %7s %9s %8s\n", "joint", "I", "+-", "b", "+-", "c",
               "+-", "lag_ms", "kp", "kd");
@@ -258,6 +311,9 @@ int IdentifyJoints(const std::string& log, const std::string& out_dir, const Joi
                    {"inertia", e.inertia}, {"inertia_se", e.inertia_se},
                    {"viscous", e.viscous}, {"viscous_se", e.viscous_se},
                    {"coulomb", e.coulomb}, {"coulomb_se", e.coulomb_se},
+                   {"inertia_se_ols", e.inertia_se_ols}, {"viscous_se_ols", e.viscous_se_ols},
+                   {"coulomb_se_ols", e.coulomb_se_ols}, {"kp_se", e.kp_se}, {"kd_se", e.kd_se},
+                   {"gaps", e.gaps}, {"saturated", e.saturated},
                    {"dynamics_rms", e.dynamics_rms}, {"tau_rms", e.tau_rms},
                    {"lag_cycles", e.lag_cycles}, {"period", e.period}, {"lag", e.lag},
                    {"kp", e.kp}, {"kd", e.kd}, {"servo_rms", e.servo_rms}});

@@ -86,9 +86,10 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet,-q", o.quiet, "print the result only");
   bool joints = false;
   app.add_flag("--joints", joints,
-               "the recording is an excite log (controllers/excite.h): per joint, inertia, viscous "
-               "and Coulomb friction, the servo's lag and realised gains (identify/joints.h); "
-               "writes DIR/joints.json");
+               "the recording is an excite log (controllers/excite.h) or a data log of the excitation "
+               "(hw_driver --log --log-dq --log-time board: the joints whose reference moved): per "
+               "joint, inertia, viscous and Coulomb friction, the servo's lag and realised gains, "
+               "with bootstrap standard errors (identify/joints.h); writes DIR/joints.json");
   bool sensors = false;
   ohrp::identify::SensorOptions sensor_options;
   app.add_flag("--sensors", sensors,

@@ -124,6 +124,14 @@ class UdpIo final : public RobotIo {
     uint32_t seq = 0;
     int64_t ns = -1;
   };
+  // the references of the last kRefRing commands per board (by seq), for IoState::applied_q/dq:
+  // a state acknowledging an older command than these is a board that lost contact anyway
+  static constexpr int kRefRing = 64;
+  struct SentRefs {
+    uint32_t seq = 0;
+    double q[kMaxBoardJoints] = {}, dq[kMaxBoardJoints] = {};
+  };
+  SentRefs sent_refs_[kMaxBoards][kRefRing] = {};
   Sent sent_[kMaxBoards][kSentRing] = {};  // send time of recent commands, for the round trip
   uint64_t lost_at_last_read_ = 0;  // gaps + corrupted at the previous read
   UdpIoStats stats_;

@@ -23,6 +23,13 @@
 // included: one control cycle in sim_host), kp and kd the gains as realised. Rows whose |tau|
 // is within kSaturated of the largest logged are taken as the servo at its torque limit and left
 // out of this fit (not of the dynamics'): a saturated servo is not the PD law.
+//
+// Standard errors: each fit refitted kBootstrapRefits times on its residuals resampled in
+// blocks of kBootstrapBlock consecutive rows (a moving-block bootstrap with a fixed seed, so a
+// log gives the same figures every time): y* = A x + r*, x* refitted, the std of x* over the
+// refits. The blocks keep the residuals' correlation over neighbouring rows (a misfit that
+// varies slowly along the chirp), which the least-squares formula (kept as *_se_ols) takes for
+// independent noise. The servo's at its chosen lag.
 #pragma once
 
 #include <string>
@@ -33,10 +40,21 @@
 namespace ohrp::identify {
 
 inline constexpr double kSaturated = 0.02;
+inline constexpr int kBootstrapRefits = 50;
+inline constexpr int kBootstrapBlock = 32;         // rows
+inline constexpr unsigned kBootstrapSeed = 35;
+inline constexpr double kExcitedSpan = 1e-3;       // [rad] a data log's joint whose reference
+inline constexpr size_t kExcitedRows = 100;       // spans more, changing in this many rows
+                                                   // or more, was excited
 
 struct JointLog {
   std::string joint;
   std::vector<double> t, ref, q, dq, tau;
+  // the reference velocity as the servo had it (a data log's dqref_); empty: the reference's
+  // change since the row before (excite's rate), which on the boards' time is not the commands'
+  // when the driver's commands reach the boards irregularly (two in one board cycle, none in the
+  // next)
+  std::vector<double> dref;
 };
 
 struct JointFitOptions {
@@ -47,19 +65,41 @@ struct JointFitOptions {
 struct JointEstimate {
   std::string joint;
   size_t samples = 0, moving = 0;  // all, and those in the dynamics fit
-  double inertia = 0, inertia_se = 0;  // [kg m^2]
+  double inertia = 0, inertia_se = 0;  // [kg m^2]; se: the bootstrap's (above)
   double viscous = 0, viscous_se = 0;  // [N m s/rad]
   double coulomb = 0, coulomb_se = 0;  // [N m]
+  double inertia_se_ols = 0, viscous_se_ols = 0, coulomb_se_ols = 0;  // the formula's
   double dynamics_rms = 0, tau_rms = 0;  // residual and torque RMS [N m]
   int lag_cycles = 0;
   double period = 0;                   // [s] mean sample period
   double lag = 0;                      // [s] lag_cycles * period
   double kp = 0, kd = 0, servo_rms = 0;
+  double kp_se = 0, kd_se = 0;         // the bootstrap's at the chosen lag
+  size_t gaps = 0;                     // rows more than one period after the row before
   size_t saturated = 0;                // rows left out of the servo fit
 };
 
 // Reads an excite log (CSV: time, then JOINT_ref, JOINT_q, JOINT_dq, JOINT_tau per joint).
 bool ReadExciteLog(const std::string& path, std::vector<JointLog>* joints, std::string* error);
+
+// Reads a data log (hw_driver --log, best with --log-dq --log-time board; sim_host --log): the
+// joints whose reference (qref_) spans more than kExcitedSpan and changes in kExcitedRows rows
+// or more, each with its q_, qref_, tau_ and
+// dq_ (without dq_: the difference of q_ over the interval ending at the row), over the rows in
+// which the controller drove the servos (the status column: no kNoController, kHolding,
+// kServoOff, kEmergencyStop, kShuttingDown, kDiverged; the others are gaps). A row whose q, dq
+// and tau repeat the row before's bit for bit is a board without a new state (its time another
+// board's): left out of that joint (counted in `*repeated`), as a row the driver missed. In the
+// boards' time base rows are whole board cycles apart, some 2-10 (cycles the driver missed): the
+// fits take the period as the median interval, the dynamics only rows one period after the row
+// before, the servo's lag in those periods (a missed cycle's reference the row before's).
+bool ReadJointDataLog(const std::string& path, std::vector<JointLog>* joints, size_t* repeated,
+                      std::string* error);
+
+// Either: an excite log (its second column ends in _ref) or a data log. `*note` says which and
+// what was left out.
+bool ReadJointLog(const std::string& path, std::vector<JointLog>* joints, std::string* note,
+                  std::string* error);
 
 // Fits one joint's log. False with `*error` when there is too little motion to fit.
 bool EstimateJoint(const JointLog& log, const JointFitOptions& o, JointEstimate* e,
