@@ -127,9 +127,10 @@ TorsoAxis MeasureTorsoAxis(model::Kinematics& kin, const Eigen::MatrixXd& M, int
 }
 
 
-// The load feed-forward when neither the command line nor the profile chose it: on when the
-// stance leg would sag under the whole weight by more than kSagLimit (derived_gait.h); said on
-// stderr with its figures. `k` is set to the stance pose (base upright at the origin).
+// The stance leg's sag under the whole weight (o->stance_sag), and the load feed-forward when
+// neither the command line nor the profile chose it: on when that sag exceeds kSagLimit
+// (derived_gait.h); said on stderr with its figures. `k` is set to the stance pose (base
+// upright at the origin).
 ConfigStatus DeriveLoadFeedforward(model::Kinematics& k, const Pose& pose, BalanceOptions* o) {
   std::vector<std::string> names;
   for (const model::JointMap& j : k.robot().joints) names.push_back(j.name);
@@ -152,6 +153,8 @@ ConfigStatus DeriveLoadFeedforward(model::Kinematics& k, const Pose& pose, Balan
   ff.Compute(k, share, tau_max.data(), tau.data());
   const std::vector<int> leg = k.Chain(k.robot().base_body, k.soles()[sole[0]].body_id);
   const SagEstimate s = LargestSag(leg.data(), static_cast<int>(leg.size()), tau.data(), kp.data());
+  o->stance_sag = s.sag;
+  if (o->load_feedforward >= 0) return ConfigStatus::Ok();  // chosen: the sag only measured
   o->load_feedforward = s.sag > kSagLimit ? 1 : 0;
   if (s.joint < 0) {
     std::fprintf(stderr, "%s: load feed-forward off (derived: no leg joint with a stiffness)\n",
@@ -245,9 +248,8 @@ ConfigStatus BalanceController::LoadParts(const BalanceOptions& options, const c
     for (const std::string& m : missing) message += "\n  - " + m;
     return ConfigStatus::Fail(ConfigError::kMismatch, message);
   }
-  if (o.load_feedforward < 0) {
-    if (ConfigStatus s = DeriveLoadFeedforward(**kin_ik, *pose, &o); !s.ok()) return s;
-  }
+  // the stance leg's sag (walk's derived stride) and, when not chosen, the feed-forward
+  if (ConfigStatus s = DeriveLoadFeedforward(**kin_ik, *pose, &o); !s.ok()) return s;
   // the support margin against this robot's soles: the desired ZMP kept that far inside a sole
   // must leave some of it (less than its smallest half size)
   double half = INFINITY;
@@ -333,6 +335,7 @@ ConfigStatus BalanceController::on_configure(const shm::SegmentHeader& header) {
   } else {
     DeriveHipStrategy(&g);
   }
+  DeriveAnkleDamping(&g);
   // nominal soles in the base frame at the stance pose
   for (int i = 0; i < 2; ++i) {
     p_BS_nominal_[i] = kin_ik_->p_WSole(sole_[i]);

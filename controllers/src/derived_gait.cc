@@ -1,5 +1,6 @@
 #include "controllers/derived_gait.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ohrp::controllers {
@@ -24,6 +25,16 @@ SagEstimate LargestSag(const int* leg, int n, const double* tau, const double* k
     if (s.joint < 0 || sag > s.sag) s = {sag, j, tau[j], kp[j]};
   }
   return s;
+}
+
+double AnkleDamping(double kp, double default_d, double time_constant) {
+  if (!(kp > 0) || !std::isfinite(kp)) return default_d;
+  return std::min(default_d, kp * time_constant);
+}
+
+double CompliantStride(double stride, double leg, double sag) {
+  if (!(sag > kSagLimit) || !(leg > 0)) return stride;
+  return std::max(stride - leg * sag, 0.5 * stride);
 }
 
 }  // namespace ohrp::controllers

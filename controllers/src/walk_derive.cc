@@ -20,8 +20,11 @@ void WalkController::DeriveGait(double leg) {
   // HRP-1S's figures: the defaults of StepLimits and GaitOptions
   const walking::StepLimits lim0;
   const walking::GaitOptions gait0;
-  const DerivedGait d = ScaleGait(leg, kAnchorLegLength, lim0.max_forward, gait0.step_height,
-                                  gait0.step_time);
+  DerivedGait d = ScaleGait(leg, kAnchorLegLength, lim0.max_forward, gait0.step_height,
+                            gait0.step_time);
+  // a stance leg whose servos yield under the weight: a shorter stride
+  const double scaled_stride = d.max_forward;
+  d.max_forward = CompliantStride(d.max_forward, leg, walk_options_.balance.stance_sag);
   std::string derived;
   char buf[120];
   // a figure given, or set to another value than the default by a program building WalkOptions
@@ -36,6 +39,13 @@ void WalkController::DeriveGait(double leg) {
   take("step_height", &walk_options_.gait.step_height, d.step_height, gait0.step_height, "m");
   take("step_time", &walk_options_.gait.step_time, d.step_time, gait0.step_time, "s");
   if (derived.empty()) return;
+  if (d.max_forward != scaled_stride && derived.find("max_forward") != std::string::npos) {
+    std::snprintf(buf, sizeof buf,
+                  "; the stride %.3f m less the hip's %.3f m that the stance leg's sag %.4f rad "
+                  "allows",
+                  scaled_stride, scaled_stride - d.max_forward, walk_options_.balance.stance_sag);
+    derived += buf;
+  }
   std::fprintf(stderr,
                "%s: derived from the leg (%s; the rest given): leg %.4f m = %.3f x HRP-1S's "
                "%.3f m; lengths scale with the leg (HRP-1S: stride %.2f m, swing %.3f m), times "

@@ -17,6 +17,10 @@ namespace {
 constexpr double kServoFrequency = 6.0;  // [Hz]
 constexpr double kServoDamping = 1.0;    // damping ratio [-]
 constexpr double kLoadMargin = 2.0;  // a leg joint's stiffness over its load's gravity stiffness
+// a motor leg joint's axis' vertical part closes at least at this frequency on the load it turns
+// in single support (docs/robots.md, tall4: 6 Hz, the own-inertia rule's, made the tall robot's
+// derived turn fall with the derived foot damping; 3 Hz passes all its walks)
+constexpr double kYawLoadFrequency = 3.0;  // [Hz]
 constexpr double kStepDamping = 0.25;  // the servo's kd dt / I_effective at most (explicit: < 2)
 constexpr double kFootBand = 0.05;   // [m] bodies this close to the lowest are feet (qpos0)
 
@@ -78,6 +82,28 @@ bool InSubtree(const mjModel* m, int body, int root) {
   return false;
 }
 
+// The inertia about joint j's axis (through its anchor) of the robot's bodies outside the
+// joint body jb's subtree: what the joint turns when its foot stands on the ground.
+double LoadInertia(const mjModel* m, const mjData* d, int base_body, int jb, int j) {
+  const double* a = d->xaxis + 3 * j;
+  const double* p = d->xanchor + 3 * j;
+  double inertia = 0;
+  for (int b = base_body; b < m->nbody; ++b) {
+    if (!InSubtree(m, b, base_body) || InSubtree(m, b, jb)) continue;
+    const double* R = d->ximat + 9 * b;  // the body's principal axes (columns) in the world
+    for (int k = 0; k < 3; ++k) {
+      const double c = R[k] * a[0] + R[3 + k] * a[1] + R[6 + k] * a[2];
+      inertia += m->body_inertia[3 * b + k] * c * c;
+    }
+    double r[3], along = 0;
+    for (int k = 0; k < 3; ++k) along += (r[k] = d->xipos[3 * b + k] - p[k]) * a[k];
+    double dist2 = 0;
+    for (int k = 0; k < 3; ++k) dist2 += std::pow(r[k] - along * a[k], 2);
+    inertia += m->body_mass[b] * dist2;
+  }
+  return inertia;
+}
+
 // The gravity stiffness of the load each leg joint carries when the robot stands on its feet:
 // for a joint whose subtree holds one of the robot's lowest bodies (a foot, at qpos0), the mass
 // outside its subtree, m_c, whose centre of mass stands h_c above the joint, tips about it with
@@ -107,6 +133,13 @@ std::vector<double> LoadStiffness(const mjModel* m, const mjData* d, int base_bo
     const double* ax = d->xaxis + 3 * j;
     const double horizontal = std::sqrt(ax[0] * ax[0] + ax[1] * ax[1]);
     if (h_c > 0) out[j] = kLoadMargin * m_c * 9.81 * h_c * horizontal / 2.0;
+    // about the axis' vertical part gravity holds nothing: in single support the stance leg's
+    // joint alone turns the load (the rest of the robot) about it, so it closes at
+    // kYawLoadFrequency on that inertia, not on its own (issue 31: the tall robot's hip yaws had
+    // 46 N m/rad from their own inertia and yielded 0.08-0.14 rad at each step; it spun and
+    // fell, and standing after a walk its base stayed 6 deg turned on its feet)
+    const double w = 2.0 * M_PI * kYawLoadFrequency;
+    out[j] = std::max(out[j], w * w * LoadInertia(m, d, base_body, jb, j) * ax[2] * ax[2]);
   }
   return out;
 }

@@ -55,6 +55,22 @@ TEST(DerivedGait, LargestSagOverTheLegsJoints) {
   EXPECT_EQ(LargestSag(none, 1, tau, kp).joint, -1);
 }
 
+// a leg that yields: the stride less leg x sag, at least half; none within kSagLimit
+TEST(DerivedGait, AYieldingLegShortensTheStride) {
+  EXPECT_DOUBLE_EQ(CompliantStride(0.3, 0.8, 0.1), 0.3 - 0.08);
+  EXPECT_DOUBLE_EQ(CompliantStride(0.3, 0.8, 0.5), 0.15);         // at least half
+  EXPECT_DOUBLE_EQ(CompliantStride(0.3, 0.8, kSagLimit), 0.3);    // a stiff leg: unchanged
+  EXPECT_DOUBLE_EQ(CompliantStride(0.3, 0.8, 0.0), 0.3);
+}
+
+// D is the ankle's stiffness times the time constant, at most the default
+TEST(DerivedGait, FootDampingFromTheAnklesStiffness) {
+  EXPECT_DOUBLE_EQ(AnkleDamping(500, 300, 0.2), 100);      // 500 N m/rad x 0.2 s
+  EXPECT_DOUBLE_EQ(AnkleDamping(17000, 300, 0.2), 300);    // a stiff ankle keeps the default
+  EXPECT_DOUBLE_EQ(AnkleDamping(0, 300, 0.2), 300);        // no stiffness known
+  EXPECT_DOUBLE_EQ(AnkleDamping(INFINITY, 300, 0.2), 300);
+}
+
 }  // namespace
 }  // namespace ohrp::controllers
 
@@ -93,13 +109,17 @@ TEST(DerivedGait, AnotherLegScalesTheFiguresByOneRatio) {
   auto walk = WalkController::Create(o, &status);
   ASSERT_TRUE(walk) << status.message;
   const WalkOptions& w = walk->walk_options();
-  const double r = w.limits.max_forward / walking::StepLimits{}.max_forward;
+  const double r = w.gait.step_height / walking::GaitOptions{}.step_height;
   EXPECT_GT(r, 0.3);
   EXPECT_LT(r, 0.9);  // the child's leg is shorter than HRP-1S's
-  EXPECT_NEAR(w.gait.step_height, r * walking::GaitOptions{}.step_height, 1e-12);
   EXPECT_EQ(w.gait.step_time, 0.7);
-  // its position servos sag beyond kSagLimit under its weight: the feed-forward is on
+  // its position servos sag beyond kSagLimit under its weight: the feed-forward is on, and the
+  // stride is the scaled one less the leg (r HRP-1S's) times that sag
   EXPECT_EQ(w.balance.load_feedforward, 1);
+  EXPECT_GT(w.balance.stance_sag, kSagLimit);
+  EXPECT_NEAR(w.limits.max_forward,
+              r * walking::StepLimits{}.max_forward - r * kAnchorLegLength * w.balance.stance_sag,
+              1e-9);
   o = Options(child, "stand");
   walk = WalkController::Create(o, &status);
   ASSERT_TRUE(walk) << status.message;

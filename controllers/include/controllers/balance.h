@@ -72,6 +72,9 @@ struct BalanceOptions {
   // shares (load_feedforward.h), so the servo does not sag under it: 1 on (--load-feedforward),
   // 0 off (--no-load-feedforward), -1 the robot profile's servo.load_feedforward (else off)
   int load_feedforward = -1;
+  // set by the set-up (not an option): the stance leg's largest sag under the whole weight
+  // without the feed-forward (derived_gait.h, LargestSag) [rad]; 0 when not known
+  double stance_sag = 0;
 };
 
 // why the controller went to its hold (BalanceController::hold_reason)
@@ -150,6 +153,8 @@ class BalanceController : public Controller {
   bool SolveShiftOver(const Eigen::Vector2d& p_B, StanceShift* shift);
   // the hip strategy's per-axis inertia, share and clamp from the model (hip_strategy.h)
   void DeriveHipStrategy(StabilizerGains* g);
+  // the foot rotation damping D from the ankles' servo stiffness (balance_derive.cc)
+  void DeriveAnkleDamping(StabilizerGains* g);
   // one stance cycle, in stages:
   virtual void Stand(const shm::SensorBlock& s, double dt) noexcept;
   void FillStabilizerInput(const shm::SensorBlock& s, double t,

@@ -11,6 +11,7 @@
 // HRP-1S's figures do not change.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 namespace ohrp::controllers {
@@ -49,5 +50,32 @@ struct SagEstimate {
 
 // The largest sag over joints `leg` given their torques and stiffnesses (indexed by joint).
 SagEstimate LargestSag(const int* leg, int n, const double* tau, const double* kp);
+
+// The stabilizer's foot rotation damping control (stabilizer.h) turns a sole by
+//   d theta / dt = (n_measured - n_desired) / D
+// and the ankle's torque answers a turn theta with its servo's stiffness K: the measured
+// torque follows the desired one with the time constant D / K. HRP-1S's D (300 N m s/rad)
+// against its ankles' 17000 N m/rad gives 0.018 s (its torque then limited by the soles'
+// contact); a robot with soft ankle servos would follow in D / K (0.57 s on the tall robot's
+// 524 N m/rad ankles: longer than a step's single support, while the DCM diverges with the
+// pendulum's time constant sqrt(z / g), 0.29 s). D is kept at most K kAnkleTorqueShare
+// sqrt(z / g), z the stance CoM height over the soles.
+constexpr double kAnkleTorqueShare = 0.7;  // [-] of the pendulum's time constant
+// a joint is an ankle joint of an axis when |cos| between its axis and the base's is above this
+constexpr double kAnkleAxisAlignment = 0.95;
+
+struct AnkleStiffness {
+  double kp = INFINITY;  // [N m/rad] the least over the ankles' roll and pitch joints
+  int joint = -1;        // where (index in the robot's joints), -1: none
+};
+
+// D for ankles of stiffness `kp`: min(default_d, kp time_constant); default_d when kp is not > 0
+double AnkleDamping(double kp, double default_d, double time_constant);
+
+// The stride of a leg whose servos yield: a stance leg that would sag by `sag` [rad] under the
+// whole weight (LargestSag, before the feed-forward) lets the hip move up to leg x sag [m]; the
+// stride keeps that much less than the stiff leg's `stride` (at least half of it). Unchanged when
+// the sag is within kSagLimit (a leg that needs no feed-forward).
+double CompliantStride(double stride, double leg, double sag);
 
 }  // namespace ohrp::controllers
